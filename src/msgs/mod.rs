@@ -1,0 +1,1 @@
+//! Message types generated at build time from `msgs/` (the one source of truth).
