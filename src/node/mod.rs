@@ -7,3 +7,5 @@
 pub mod ros_args;
 pub mod settings;
 pub mod stats;
+pub mod engine;
+pub mod pipeline;
