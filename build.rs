@@ -618,7 +618,7 @@ fn full_text(root: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
     rec(root, specs, &mut seen, 50)
 }
 
-fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
+pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     let files = discover(msgs_dir)?;
     let mut errors = Vec::new();
     let mut specs: BTreeMap<String, MsgSpec> = BTreeMap::new();
