@@ -5,14 +5,14 @@
 mod build_script;
 
 fn parse(text: &str) -> Result<String, Vec<String>> {
-        let dir = tempfile::tempdir().unwrap();
-        let msg_dir = dir.path().join("demo_msgs/msg");
-        std::fs::create_dir_all(&msg_dir).unwrap();
-        std::fs::write(msg_dir.join("Thing.msg"), text).unwrap();
-        let vendored = dir.path().join("ros_interfaces/builtin_interfaces/msg");
-        std::fs::create_dir_all(&vendored).unwrap();
-        std::fs::write(vendored.join("Time.msg"), "int32 sec\nuint32 nanosec\n").unwrap();
-        build_script::generate(dir.path())
+    let dir = tempfile::tempdir().unwrap();
+    let msg_dir = dir.path().join("demo_msgs/msg");
+    std::fs::create_dir_all(&msg_dir).unwrap();
+    std::fs::write(msg_dir.join("Thing.msg"), text).unwrap();
+    let vendored = dir.path().join("ros_interfaces/builtin_interfaces/msg");
+    std::fs::create_dir_all(&vendored).unwrap();
+    std::fs::write(vendored.join("Time.msg"), "int32 sec\nuint32 nanosec\n").unwrap();
+    build_script::generate(dir.path())
 }
 
 #[test]
@@ -69,7 +69,10 @@ string[2] n [\"a\", \"b,c\"]
         "MSG: builtin_interfaces/Time",
         "MSG: demo_msgs/Thing2",
     ] {
-        assert!(code.contains(needle), "generated code lacks `{needle}`:\n{code}");
+        assert!(
+            code.contains(needle),
+            "generated code lacks `{needle}`:\n{code}"
+        );
     }
     // Deterministic: generating twice gives the same text.
     assert_eq!(code, build_script::generate(dir.path()).unwrap());
@@ -82,7 +85,10 @@ string[2] n [\"a\", \"b,c\"]
 fn expect_error(text: &str, line: usize, words: &str) {
     let errors = parse(text).expect_err(text);
     let joined = errors.join("\n");
-    assert!(joined.contains(&format!("Thing.msg:{line}: ")), "no file:line {line} in {joined}");
+    assert!(
+        joined.contains(&format!("Thing.msg:{line}: ")),
+        "no file:line {line} in {joined}"
+    );
     assert!(joined.contains(words), "expected `{words}` in {joined}");
 }
 
