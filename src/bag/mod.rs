@@ -6,6 +6,14 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+pub mod reader;
+mod recorder;
+pub mod rosbag2;
+pub mod writer;
+
+pub use recorder::Recorder;
+pub use rosbag2::{default_bag_dir, BagMetadata};
+
 /// Errors of the bag layer.
 #[derive(Debug, thiserror::Error)]
 pub enum BagError {
@@ -63,7 +71,7 @@ pub struct RecorderConfig {
     pub queue_capacity: usize,
 }
 
-/// Counters of a recorder, readable at any time.
+/// Counters of a recorder, readable at any time (`bytes` counts message payload bytes, CDR included).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RecorderStats {
     /// Messages written to disk.
