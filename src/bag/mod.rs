@@ -6,7 +6,9 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+pub mod info;
 pub mod reader;
+pub mod recover;
 mod recorder;
 pub mod rosbag2;
 pub mod writer;

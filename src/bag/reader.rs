@@ -28,6 +28,8 @@ pub struct ChannelInfo {
 pub struct MessageRef<'a> {
     /// Its channel.
     pub channel: &'a ChannelInfo,
+    /// The MCAP channel id in this file.
+    pub channel_id: u16,
     /// Per-channel sequence number.
     pub sequence: u32,
     /// Log (receive/publish) time, ns since the Unix epoch.
@@ -111,7 +113,11 @@ pub fn scan_file(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Res
     let mut scan = FileScan { path: path.to_path_buf(), size: bytes.len() as u64, ..FileScan::default() };
     let mut schemas: BTreeMap<u16, (String, String, String)> = BTreeMap::new();
     let mut reader = LinearReader::new_with_options(
-        LinearReaderOptions::default().with_emit_chunks(true).with_skip_end_magic(false),
+        LinearReaderOptions::default()
+            .with_emit_chunks(true)
+            .with_skip_end_magic(false)
+            // No record can be longer than the file; a longer length is a torn tail, not an allocation.
+            .with_record_length_limit(bytes.len()),
     );
     let mut offset = 0usize;
     let mut consumed_records_end = 0u64;
@@ -137,7 +143,11 @@ pub fn scan_file(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Res
                 consumed_records_end += 9 + data.len() as u64;
                 let record = match mcap::parse_record(opcode, data) {
                     Ok(record) => record,
-                    Err(_) => continue,
+                    // A record that does not parse means the framing can no longer be trusted: stop.
+                    Err(_) => {
+                        consumed_records_end -= 9 + data.len() as u64;
+                        break;
+                    }
                 };
                 match record {
                     Record::Header(h) => {
@@ -217,6 +227,7 @@ fn handle_record(
             if let Some(channel) = scan.channels.get(&header.channel_id) {
                 on_message(MessageRef {
                     channel,
+                    channel_id: header.channel_id,
                     sequence: header.sequence,
                     log_time_ns: header.log_time,
                     publish_time_ns: header.publish_time,

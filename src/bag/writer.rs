@@ -246,7 +246,10 @@ impl BagWriter {
             // Chunks must be well under the split size, or a file could not be seen growing before it closes.
             .chunk_size(Some(self.max_file_size.map_or(CHUNK_SIZE, |max| (max / 4).clamp(1024, CHUNK_SIZE))))
             // One compression thread: the writer thread must not compete with the node for cores.
-            .compression_threads(1);
+            .compression_threads(1)
+            // Buffer each chunk and write it whole when it closes: with seeking, a chunk is streamed to
+            // the file behind a placeholder length, and a crash would leave that placeholder on disk.
+            .disable_seeking(true);
         let mut writer = options.create(BufWriter::new(counting)).map_err(mcap_err(&path))?;
         let mut channels = Vec::with_capacity(self.topics.len());
         for topic in &self.topics {
