@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+pub mod export;
 pub mod info;
 pub mod reader;
 pub mod recover;
@@ -84,4 +85,11 @@ pub struct RecorderStats {
     pub bytes: u64,
     /// The last error, if recording failed (the node keeps running).
     pub error: Option<String>,
+}
+
+impl TopicInfo {
+    /// The topic description of a generated message type: its ROS type name and full `ros2msg` schema.
+    pub fn of<M: crate::msgs::RosMessage>(name: impl Into<String>, qos: RecordedQos) -> TopicInfo {
+        TopicInfo { name: name.into(), type_name: M::TYPE_NAME.to_string(), schema_text: M::SCHEMA_TEXT.to_string(), qos }
+    }
 }

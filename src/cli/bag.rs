@@ -24,6 +24,18 @@ pub enum BagCommand {
         /// Bag directory or .mcap file.
         path: PathBuf,
     },
+    /// One row per recorded swing: its inputs joined with the ExitVelocity and ModalEnergies computed for
+    /// it (matched by namespace and swing_id).
+    Export {
+        /// Bag directory or .mcap file.
+        path: PathBuf,
+        /// Write CSV (the only format so far; required so that future formats stay explicit).
+        #[arg(long, required = true)]
+        csv: bool,
+        /// Output file (default: stdout).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
 }
 
 /// Runs one `bag` subcommand.
@@ -31,6 +43,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
     match cmd {
         BagCommand::Info { path, json } => info(path, json),
         BagCommand::Recover { path } => recover(path),
+        BagCommand::Export { path, csv: _, output } => export(path, output),
     }
 }
 
@@ -93,5 +106,22 @@ fn recover(path: PathBuf) -> anyhow::Result<()> {
     if path.is_dir() {
         println!("{}: metadata.yaml rewritten", path.display());
     }
+    Ok(())
+}
+
+fn export(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
+    let (rows, counts) =
+        bag::export::swing_rows(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    match &output {
+        Some(file) => {
+            let out = std::fs::File::create(file).with_context(|| format!("creating {}", file.display()))?;
+            bag::export::write_csv(&rows, std::io::BufWriter::new(out)).map_err(flat)?;
+        }
+        None => bag::export::write_csv(&rows, std::io::stdout().lock()).map_err(flat)?,
+    }
+    eprintln!(
+        "exported {} swings ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
+        counts.swings, counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
+    );
     Ok(())
 }

@@ -29,11 +29,14 @@ def plain(value):
     if isinstance(value, (list, tuple)):
         return [plain(v) for v in value]
     if hasattr(value, "__dataclass_fields__"):
-        return {k: plain(getattr(value, k)) for k in value.__dataclass_fields__ if k != "__msgtype__"}
+        return {k: plain(getattr(value, k)) for k in value.__dataclass_fields__
+                if k != "__msgtype__" and not k.isupper()}
+    # Message constants (e.g. STATUS_OK) are class-level in one reader and instance-level in the other:
+    # fields are lower case in ROS 2, constants upper case, so keep only fields.
     if hasattr(value, "__slots__"):
-        return {k: plain(getattr(value, k)) for k in value.__slots__}
+        return {k: plain(getattr(value, k)) for k in value.__slots__ if not k.isupper()}
     if hasattr(value, "__dict__"):
-        return {k: plain(v) for k, v in vars(value).items() if not k.startswith("_")}
+        return {k: plain(v) for k, v in vars(value).items() if not k.startswith("_") and not k.isupper()}
     return repr(value)
 
 
