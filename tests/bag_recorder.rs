@@ -25,6 +25,8 @@ fn recorded_bag_reads_back_identically_with_project_and_python_readers() {
     assert!(matches!(recorder.register_topic(other), Err(BagError::Format(_))));
 
     assert!(recorder.record(params, cdr_string("bat r161"), T0, T0));
+    let settings = r#"{"time_step": 1e-6, "note": "quotes \" and\nnewlines: kept"}"#;
+    recorder.set_custom_data("sweetspot/settings", settings);
     for i in 0..1000u64 {
         let t = T0 + 1_000_000 * (i + 1);
         assert!(recorder.record(swings, cdr_string(&format!("swing {i}")), t, t - 500));
@@ -91,6 +93,9 @@ fn recorded_bag_reads_back_identically_with_project_and_python_readers() {
     assert_eq!(rb["/rig/fast"]["reliability"], "best_effort");
     assert_eq!(verdict["rosbags"]["metadata"]["message_count"], 1101);
     assert_eq!(verdict["rosbags"]["metadata"]["start_time"], T0);
+    // custom_data survives in metadata.yaml (read by rosbags) and in the file's rosbag2 record (read by us).
+    assert_eq!(verdict["rosbags"]["metadata"]["custom_data"]["sweetspot/settings"], settings);
+    assert_eq!(sweetspot::bag::info::custom_data_of(&scans)["sweetspot/settings"], settings);
 }
 
 #[test]

@@ -113,7 +113,18 @@ pub fn metadata_of(scans: &[FileScan]) -> BagMetadata {
             .collect(),
         compression_format: String::new(),
         ros_distro: std::env::var("ROS_DISTRO").unwrap_or_default(),
+        custom_data: custom_data_of(scans),
     }
+}
+
+/// The `custom_data` of the last `rosbag2` record found in the files (the most complete one).
+pub fn custom_data_of(scans: &[FileScan]) -> std::collections::BTreeMap<String, String> {
+    scans
+        .iter()
+        .rev()
+        .find_map(|s| s.rosbag2_metadata.as_deref())
+        .map(super::rosbag2::parse_custom_data)
+        .unwrap_or_default()
 }
 
 /// Scans a bag (directory or single `.mcap`) and summarizes it.

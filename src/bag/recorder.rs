@@ -29,6 +29,8 @@ struct Shared {
     bytes: AtomicU64,
     failed: AtomicBool,
     error: Mutex<Option<String>>,
+    custom_data: Mutex<std::collections::BTreeMap<String, String>>,
+    custom_data_changed: AtomicBool,
 }
 
 impl Shared {
@@ -150,6 +152,14 @@ impl Recorder {
         topics.push(topic);
         self.shared.topic_count.store(topics.len(), Ordering::Release);
         Ok(TopicId(id))
+    }
+
+    /// Stores a rosbag2 `custom_data` entry (e.g. the node settings a later `bag replay` needs). It is
+    /// written into the `rosbag2` record of every file closed from now on and into metadata.yaml.
+    pub fn set_custom_data(&self, key: impl Into<String>, value: impl Into<String>) {
+        let mut map = self.shared.custom_data.lock().unwrap_or_else(|p| p.into_inner());
+        map.insert(key.into(), value.into());
+        self.shared.custom_data_changed.store(true, Ordering::Release);
     }
 
     /// Queues one message (CDR bytes with their 4-byte encapsulation header). Never blocks: returns
@@ -295,8 +305,11 @@ fn writer_dir_display(err: &BagError) -> String {
     }
 }
 
-/// Declares in the file every topic registered since the last call.
+/// Declares in the file every topic registered since the last call, and picks up new custom data.
 fn sync_topics(writer: &mut BagWriter, shared: &Shared) -> Result<(), BagError> {
+    if shared.custom_data_changed.swap(false, Ordering::AcqRel) {
+        writer.set_custom_data(shared.custom_data.lock().unwrap_or_else(|p| p.into_inner()).clone());
+    }
     let known = writer.topics().len();
     if shared.topic_count.load(Ordering::Acquire) == known {
         return Ok(());

@@ -42,6 +42,8 @@ pub struct BagMetadata {
     pub compression_format: String,
     /// ROS distribution name, from `$ROS_DISTRO` if set.
     pub ros_distro: String,
+    /// rosbag2's free-form `custom_data` (string → string), e.g. the node settings a replay needs.
+    pub custom_data: std::collections::BTreeMap<String, String>,
 }
 
 impl BagMetadata {
@@ -113,7 +115,14 @@ impl BagMetadata {
                 let _ = writeln!(out, "{pad}    message_count: {}", file.message_count);
             }
         }
-        let _ = writeln!(out, "{pad}custom_data: ~");
+        if self.custom_data.is_empty() {
+            let _ = writeln!(out, "{pad}custom_data: ~");
+        } else {
+            let _ = writeln!(out, "{pad}custom_data:");
+            for (key, value) in &self.custom_data {
+                let _ = writeln!(out, "{pad}  {}: {}", yaml_string(key), yaml_string(value));
+            }
+        }
         let _ = writeln!(out, "{pad}ros_distro: {}", yaml_string(&self.ros_distro));
         out
     }
@@ -131,6 +140,32 @@ impl BagMetadata {
             .map_err(|source| super::BagError::Io { path: tmp.clone(), source })?;
         std::fs::rename(&tmp, &path).map_err(|source| super::BagError::Io { path, source })
     }
+}
+
+/// Reads `custom_data` back from metadata text written by [`BagMetadata::to_yaml_body`] (the `rosbag2`
+/// record or `metadata.yaml`). Only this writer's own layout (double-quoted keys and values) is understood.
+pub fn parse_custom_data(yaml: &str) -> std::collections::BTreeMap<String, String> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut lines = yaml.lines().skip_while(|l| l.trim_start() != "custom_data:");
+    let Some(first) = lines.next() else { return out };
+    let indent = first.len() - first.trim_start().len();
+    for line in lines {
+        let depth = line.len() - line.trim_start().len();
+        if depth <= indent {
+            break;
+        }
+        let entry = line.trim();
+        // `"key": "value"`: the key is a JSON string, so parse it to find where it ends.
+        let mut stream = serde_json::Deserializer::from_str(entry).into_iter::<String>();
+        let Some(Ok(key)) = stream.next() else { continue };
+        let rest = entry[stream.byte_offset()..].trim_start();
+        if let Some(value) = rest.strip_prefix(':') {
+            if let Ok(value) = serde_json::from_str::<String>(value.trim()) {
+                out.insert(key, value);
+            }
+        }
+    }
+    out
 }
 
 /// The `offered_qos_profiles` text of a topic: a YAML list with one profile, integer enums (rmw values:

@@ -73,6 +73,7 @@ pub struct BagWriter {
     current: Option<OpenFile>,
     next_index: usize,
     ros_distro: String,
+    custom_data: BTreeMap<String, String>,
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> BagError + '_ {
@@ -108,6 +109,7 @@ impl BagWriter {
             current: None,
             next_index: 0,
             ros_distro: std::env::var("ROS_DISTRO").unwrap_or_default(),
+            custom_data: BTreeMap::new(),
         };
         writer.open_next_file()?;
         Ok(writer)
@@ -187,6 +189,11 @@ impl BagWriter {
         Ok(())
     }
 
+    /// Sets rosbag2 `custom_data` entries (kept in every later `rosbag2` record and in metadata.yaml).
+    pub fn set_custom_data(&mut self, custom_data: BTreeMap<String, String>) {
+        self.custom_data = custom_data;
+    }
+
     /// Whether messages were written since the last [`Self::flush`].
     pub fn is_dirty(&self) -> bool {
         self.current.as_ref().is_some_and(|f| f.dirty)
@@ -213,6 +220,7 @@ impl BagWriter {
             files,
             compression_format: String::new(),
             ros_distro: self.ros_distro.clone(),
+            custom_data: self.custom_data.clone(),
         }
     }
 

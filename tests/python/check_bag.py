@@ -136,7 +136,8 @@ def check_with_rosbags(bag: Path):
                 t["first"] = data
             t["last"] = data
         meta = {"message_count": reader.message_count, "duration": reader.duration,
-                "start_time": reader.start_time, "end_time": reader.end_time}
+                "start_time": reader.start_time, "end_time": reader.end_time,
+                "custom_data": reader.storage.metadata.custom, "ros_distro": reader.ros_distro}
     for topic, t in topics.items():
         if t["count"] != t["metadata_count"]:
             fail(f"rosbags: {topic}: metadata.yaml says {t['metadata_count']} messages, read {t['count']}")
