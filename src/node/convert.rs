@@ -231,6 +231,8 @@ mod tests {
                 peak_force: 2e4,
                 impulse: 12.0,
                 max_compression: 0.012,
+                bat_cm_speed_after: 5.0,
+                bat_angular_speed_after: 10.0,
                 mode_energies: vec![
                     ModeEnergy { frequency: 170.0, energy: 3.0 },
                     ModeEnergy { frequency: 560.0, energy: 1.0 },

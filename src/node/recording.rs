@@ -131,7 +131,22 @@ pub fn topic_info<M: RosMessage>(name: &str, qos: RecordedQos) -> TopicInfo {
     TopicInfo { name: name.to_string(), type_name: M::TYPE_NAME.to_string(), schema_text: M::SCHEMA_TEXT.to_string(), qos }
 }
 
-/// Starts the bag's recorder for `config` (TEMPORARY until the bag branch is merged: always fails).
+/// Starts the bag's recorder (its writer thread) for `config`.
 pub fn start_backend(config: crate::bag::RecorderConfig) -> Result<Box<dyn RecordBackend>, BagError> {
-    Err(BagError::Format(format!("recorder not available yet (would record to {})", config.dir.display())))
+    Ok(Box::new(crate::bag::Recorder::start(config)?))
+}
+
+impl RecordBackend for crate::bag::Recorder {
+    fn register_topic(&mut self, topic: TopicInfo) -> Result<TopicId, BagError> {
+        crate::bag::Recorder::register_topic(self, topic)
+    }
+    fn record(&self, id: TopicId, cdr: Vec<u8>, log_time_ns: u64, publish_time_ns: u64) -> bool {
+        crate::bag::Recorder::record(self, id, cdr, log_time_ns, publish_time_ns)
+    }
+    fn stats(&self) -> RecorderStats {
+        crate::bag::Recorder::stats(self)
+    }
+    fn finish(self: Box<Self>) -> Result<RecorderStats, BagError> {
+        crate::bag::Recorder::finish(*self)
+    }
 }
