@@ -68,6 +68,8 @@ pub struct ResolvedConfig {
     pub names: NameResolver,
     /// Parameter values after defaults, params files, `-p` and `--no-record`.
     pub settings: NodeSettings,
+    /// Log to `/rosout` (`--disable-rosout-logs` turns it off).
+    pub rosout: bool,
 }
 
 impl NodeConfig {
@@ -80,7 +82,7 @@ impl NodeConfig {
         }
         let settings = NodeSettings::with_overrides(&overrides).map_err(|e| anyhow::anyhow!(e))?;
         let names = self.ros_args.resolver(&identity);
-        Ok(ResolvedConfig { identity, names, settings })
+        Ok(ResolvedConfig { identity, names, settings, rosout: self.ros_args.rosout_logs.unwrap_or(true) })
     }
 }
 
@@ -137,6 +139,13 @@ struct Log {
 
 impl Log {
     fn log(&self, level: LogLevel, message: &str) {
+        // Our own tracing line (target `sweetspot`), and the same text on /rosout for ROS tools.
+        match level {
+            LogLevel::Fatal | LogLevel::Error => tracing::error!("{message}"),
+            LogLevel::Warn => tracing::warn!("{message}"),
+            LogLevel::Info => tracing::info!("{message}"),
+            LogLevel::Debug => tracing::debug!("{message}"),
+        }
         if self.rosout {
             self.handle.rosout_raw(
                 ros2_client::builtin_interfaces::Time::now(),
@@ -147,13 +156,6 @@ impl Log {
                 "sweetspot::node",
                 line!(),
             );
-        } else {
-            match level {
-                LogLevel::Fatal | LogLevel::Error => tracing::error!("{message}"),
-                LogLevel::Warn => tracing::warn!("{message}"),
-                LogLevel::Info => tracing::info!("{message}"),
-                LogLevel::Debug => tracing::debug!("{message}"),
-            }
         }
     }
     fn info(&self, m: &str) {
@@ -201,7 +203,7 @@ enum Event {
 }
 
 async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
-    let ResolvedConfig { identity, names, settings } = resolved;
+    let ResolvedConfig { identity, names, settings, rosout } = resolved;
     let fqn = identity.fully_qualified_name();
     let started_utc = chrono::Utc::now();
     let stats = Arc::new(NodeStats::new());
@@ -213,7 +215,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let action_settings = Arc::clone(&shared_settings);
     let action_events = events_tx.clone();
     let mut options = NodeOptions::new()
-        .enable_rosout(true)
+        .enable_rosout(rosout)
         .start_parameter_services(true)
         .parameter_validator(Box::new(move |name, value| {
             let current = validator_settings.read().map_err(|_| "settings lock poisoned".to_string())?.clone();
@@ -241,7 +243,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let node_name = NodeName::new(&identity.namespace, &identity.name)
         .map_err(|e| anyhow::anyhow!("node name {fqn}: {e:?}"))?;
     let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
-    let log = Log { handle: Arc::new(node.logging_handle()), rosout: true };
+    let log = Log { handle: Arc::new(node.logging_handle()), rosout };
 
     // Topics: resolved here (namespace + remaps), handed to ros2-client as absolute names.
     let topic_names: BTreeMap<&str, String> = [
