@@ -12,4 +12,5 @@ pub mod pipeline;
 pub mod convert;
 pub mod recording;
 pub mod runtime;
-mod shim;
+#[doc(hidden)]
+pub mod shim;

@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use futures::StreamExt;
+use ros2_client::qos::{History, Reliability, WhenFull};
 use ros2_client::ros2::LogLevel;
 use ros2_client::rosout::RosoutRaw;
 use ros2_client::{
@@ -277,9 +278,17 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let dds = |e| anyhow::anyhow!("{e:?}");
     let bat_sub = node.create_subscription::<BatParams>(&bat_topic, None).map_err(dds)?;
     let ball_sub = node.create_subscription::<BallParams>(&ball_topic, None).map_err(dds)?;
-    let swing_sub = node.create_subscription::<Swing>(&swing_topic, None).map_err(dds)?;
-    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, None).map_err(dds)?);
-    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, None).map_err(dds)?;
+    // DDS acknowledges a sample when it reaches the reader's cache, not when the node takes it, so a burst
+    // faster than the node takes swings would overwrite a keep-last-1000 cache: size it like the pipeline.
+    let swing_reader_qos = swing_qos().history(History::KeepLast { depth: settings.queue_capacity.max(1000) });
+    let swing_sub = node.create_subscription::<Swing>(&swing_topic, Some(swing_reader_qos)).map_err(dds)?;
+    // A reliable writer never overwrites unacknowledged results; a wider window and a longer wait than the
+    // topic's defaults keep a briefly slow listener from costing results (beyond that: counted failures).
+    let results_writer_qos = results_qos()
+        .history(History::KeepLast { depth: 1000 })
+        .reliability(Reliability::Reliable { when_full: WhenFull::Wait(Duration::from_millis(500)) });
+    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_writer_qos.clone())).map_err(dds)?);
+    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, Some(results_writer_qos)).map_err(dds)?;
     let ss_pub = node.create_publisher::<SweetSpot>(&ss_topic, None).map_err(dds)?;
     let diag_pub = node.create_publisher::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
     let spinner = node.spinner().map_err(dds)?;
@@ -450,7 +459,6 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         Some(Err(e)) => eprintln!("{fqn}: closing the bag failed: {e}"),
         None => {}
     }
-    node.stop_spinner();
     Ok(())
 }
 
