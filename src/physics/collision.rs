@@ -431,6 +431,7 @@ enum Event {
 
 /// Finds τ in (0, h] where the event function (u̇ or u) crosses zero, by Illinois regula falsi on partial
 /// RK4 steps from the saved start state; leaves the state at τ and returns (τ, scalars, force at τ).
+#[allow(clippy::too_many_arguments)]
 fn locate(work: &mut Work, start: &Scalars, h: f64, law: &ForceLaw, inv_mass: f64, event: Event, g_start: f64, g_end: f64) -> (f64, Scalars) {
     let value = |work: &mut Work, tau: f64| -> Scalars {
         let Work { partial, w2, phi, .. } = work;

@@ -73,7 +73,7 @@ impl BandPencil {
     fn new(beam: &BeamMatrices) -> BandPencil {
         let size = beam.mass.len();
         let n = size / 2;
-        let block = |r: usize| if r % 2 == 0 { r / 2 } else { n + r / 2 };
+        let block = |r: usize| if r & 1 == 0 { r / 2 } else { n + r / 2 };
         let mut k = vec![[0.0; 2 * HALF_BAND + 1]; size];
         for (r, row) in k.iter_mut().enumerate() {
             for (d, v) in row.iter_mut().enumerate() {
@@ -89,7 +89,7 @@ impl BandPencil {
 
     /// Σ K-energy xᵀKx for the mode (y, φ) in block form.
     fn stiffness_energy(&self, y: &[f64], phi: &[f64]) -> f64 {
-        let x = |r: usize| if r % 2 == 0 { y[r / 2] } else { phi[r / 2] };
+        let x = |r: usize| if r & 1 == 0 { y[r / 2] } else { phi[r / 2] };
         let mut e = 0.0;
         for r in 0..self.size {
             let mut kr = 0.0;
@@ -104,9 +104,9 @@ impl BandPencil {
         e
     }
 
-    /// The eigenvector of K v = λ M v for the eigenvalue nearest `lambda_sym` (an eigenvalue of the
-    /// symmetric form, the same λ), by inverse iteration with a band LU of K − λM; returned in block form.
-    fn inverse_iteration(&self, lambda: f64, _mass: &DVector<f64>) -> Result<(Vec<f64>, Vec<f64>), PhysicsError> {
+    /// The eigenvector of K v = λ M v for the eigenvalue nearest `lambda` (an eigenvalue of the symmetric
+    /// form M^{-1/2} K M^{-1/2}, which has the same spectrum), by inverse iteration with a band LU of K − λM; returned in block form.
+    fn inverse_iteration(&self, lambda: f64) -> Result<(Vec<f64>, Vec<f64>), PhysicsError> {
         let size = self.size;
         // Band LU with partial pivoting. Row r holds columns r − HALF_BAND … r − HALF_BAND + LU_WIDTH − 1.
         let mut lu = vec![[0.0; LU_WIDTH]; size];
@@ -333,7 +333,7 @@ impl ModeSet {
                     let x = vectors.column(idx);
                     ((0..n).map(|i| x[i] * inv_sqrt_m[i]).collect(), (0..n).map(|i| x[n + i] * inv_sqrt_m[n + i]).collect())
                 }
-                None => band.inverse_iteration(eigenvalues[idx], &beam.mass)?,
+                None => band.inverse_iteration(eigenvalues[idx])?,
             };
             // M-orthogonalise against the exact rigid modes and the modes already kept, then renormalise.
             for r in &modes {
