@@ -520,3 +520,118 @@ pub(crate) fn mass_properties_of(slices: &[Slice], length: f64) -> MassPropertie
     let icm: f64 = slices.iter().map(|s| s.mass * (s.z - zcm).powi(2) + s.rotary_inertia).sum();
     MassProperties::from_totals(mass, length, zcm, icm)
 }
+
+/// A bat file (TOML), the documented way to describe a custom bat. SI units throughout.
+///
+/// ```toml
+/// name = "my-bat"
+/// slice_length = 0.01                  # m (the beam's slice thickness)
+/// profile = "my-bat.csv"               # CSV profile, path relative to this file (or give one of:)
+/// # profile_csv = """z,outer_radius,inner_radius
+/// # 0.0,0.0125,0.0
+/// # 0.84,0.033,0.0"""                   # the same CSV inline
+/// # slice_table = "r161.dat"            # Nathan's slice table (index, diameter in mm), path as above
+/// # [[stations]]                        # or explicit stations: z, outer_radius, inner_radius (m)
+///
+/// [shell]
+/// density = 649.0                      # kg/m³
+/// youngs_modulus = 1.814e10            # Pa
+/// shear_modulus = 1.05e9               # Pa
+///
+/// [core]                               # optional fill of the bore, e.g. cork
+/// z_start = 0.586
+/// z_end = 0.84
+/// material = { density = 200.0, youngs_modulus = 3.0e7, shear_modulus = 6.0e6 }
+/// ```
+///
+/// The CSV profile has the header `z,outer_radius` or `z,outer_radius,inner_radius` (m; missing inner radius
+/// = solid), one station per line, first at z = 0. Exactly one of `profile`, `profile_csv`, `slice_table`,
+/// `stations` must be given.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BatFile {
+    /// Bat name.
+    pub name: String,
+    /// Slice thickness, m.
+    pub slice_length: f64,
+    /// Shell material.
+    pub shell: Material,
+    /// Optional core fill.
+    #[serde(default)]
+    pub core: Option<CoreFill>,
+    /// Path of a CSV profile (resolved by the caller).
+    #[serde(default)]
+    pub profile: Option<String>,
+    /// Inline CSV profile.
+    #[serde(default)]
+    pub profile_csv: Option<String>,
+    /// Path of a slice table in Nathan's format (resolved by the caller).
+    #[serde(default)]
+    pub slice_table: Option<String>,
+    /// Explicit stations.
+    #[serde(default)]
+    pub stations: Option<Vec<Station>>,
+}
+
+impl BatFile {
+    /// Parses the TOML text of a bat file.
+    pub fn parse(text: &str) -> Result<BatFile, PhysicsError> {
+        toml::from_str(text).map_err(|e| PhysicsError::BadProfile(format!("bat file: {e}")))
+    }
+
+    /// Builds the bat; `read` returns the text of a file named in the bat file (the core does no I/O).
+    pub fn into_bat(self, read: impl Fn(&str) -> Result<String, String>) -> Result<Bat, PhysicsError> {
+        let given = [self.profile.is_some(), self.profile_csv.is_some(), self.slice_table.is_some(), self.stations.is_some()];
+        if given.iter().filter(|&&g| g).count() != 1 {
+            return Err(PhysicsError::BadProfile(
+                "bat file: give exactly one of profile, profile_csv, slice_table, stations".into(),
+            ));
+        }
+        let read = |path: &str| read(path).map_err(|e| PhysicsError::BadProfile(format!("bat file: cannot read '{path}': {e}")));
+        let stations = if let Some(path) = &self.slice_table {
+            let mut bat = Bat::from_slice_table(&self.name, &read(path)?, self.shell, self.slice_length)?;
+            bat.core = self.core;
+            bat.validate()?;
+            return Ok(bat);
+        } else if let Some(path) = &self.profile {
+            stations_from_csv(&read(path)?)?
+        } else if let Some(text) = &self.profile_csv {
+            stations_from_csv(text)?
+        } else {
+            self.stations.unwrap_or_default()
+        };
+        Bat::new(self.name, stations, self.shell, self.core, self.slice_length)
+    }
+}
+
+/// Parses a CSV profile (`z,outer_radius[,inner_radius]` header, metres) into stations.
+pub fn stations_from_csv(text: &str) -> Result<Vec<Station>, PhysicsError> {
+    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
+    let headers = reader.headers().map_err(|e| PhysicsError::BadProfile(format!("profile CSV: {e}")))?.clone();
+    let col = |name: &str| headers.iter().position(|h| h == name);
+    let (Some(zc), Some(oc)) = (col("z"), col("outer_radius")) else {
+        return Err(PhysicsError::BadProfile(format!(
+            "profile CSV: header must name z and outer_radius (and optionally inner_radius), got '{}'",
+            headers.iter().collect::<Vec<_>>().join(",")
+        )));
+    };
+    let ic = col("inner_radius");
+    let mut stations = Vec::new();
+    for (line, record) in reader.records().enumerate() {
+        let record = record.map_err(|e| PhysicsError::BadProfile(format!("profile CSV row {}: {e}", line + 1)))?;
+        let num = |i: usize, what: &str| -> Result<f64, PhysicsError> {
+            record.get(i).and_then(|v| v.parse::<f64>().ok()).ok_or_else(|| {
+                PhysicsError::BadProfile(format!("profile CSV row {}: {what} is not a number", line + 1))
+            })
+        };
+        stations.push(Station {
+            z: num(zc, "z")?,
+            outer_radius: num(oc, "outer_radius")?,
+            inner_radius: match ic {
+                Some(i) => num(i, "inner_radius")?,
+                None => 0.0,
+            },
+        });
+    }
+    Ok(stations)
+}
