@@ -32,8 +32,21 @@ fn publish(domain: u16, type_name: &str, topic: &str, qos: &str, messages: &Valu
     let out = cyclone(
         domain,
         &[
-            "pub", "--type", type_name, "--topic", topic, "--json", &messages.to_string(), "--qos", qos,
-            "--wait-subscribers", "1", "--timeout", "60", "--keep-alive", "0.5",
+            "pub",
+            "--type",
+            type_name,
+            "--topic",
+            topic,
+            "--json",
+            &messages.to_string(),
+            "--qos",
+            qos,
+            "--wait-subscribers",
+            "1",
+            "--timeout",
+            "60",
+            "--keep-alive",
+            "0.5",
         ],
     )
     .output()
@@ -93,8 +106,19 @@ fn cyclone_dds_peer_sends_params_and_swings_and_gets_the_library_numbers() {
     let listener: Child = cyclone(
         domain,
         &[
-            "sub", "--type", "sweetspot_msgs/msg/ExitVelocity", "--topic", "/exit_velocity", "--count", "3",
-            "--timeout", "120", "--qos", "results", "--ready-file", ready.to_str().unwrap(),
+            "sub",
+            "--type",
+            "sweetspot_msgs/msg/ExitVelocity",
+            "--topic",
+            "/exit_velocity",
+            "--count",
+            "3",
+            "--timeout",
+            "120",
+            "--qos",
+            "results",
+            "--ready-file",
+            ready.to_str().unwrap(),
         ],
     )
     .stdout(Stdio::piped())

@@ -172,7 +172,9 @@ impl Peer {
     /// Waits until `publisher` is matched with a subscription (the node's), or panics after 60 s.
     pub fn wait_for_reader<M: RosMessage>(&self, publisher: &Publisher<M>) {
         self.rt
-            .block_on(async { tokio::time::timeout(Duration::from_secs(60), publisher.wait_for_subscription(&self.node)).await })
+            .block_on(async {
+                tokio::time::timeout(Duration::from_secs(60), publisher.wait_for_subscription(&self.node)).await
+            })
             .expect("no subscription matched the test publisher within 60 s");
     }
 
