@@ -141,6 +141,7 @@ pub fn require_isolated_network() {
 pub struct Peer {
     pub rt: tokio::runtime::Runtime,
     pub node: Node,
+    pub context: ros2_client::Context,
 }
 
 impl Peer {
@@ -154,7 +155,7 @@ impl Peer {
             .expect("test node");
         let spinner = node.spinner().expect("spinner");
         rt.spawn(spinner.spin());
-        Peer { rt, node }
+        Peer { rt, node, context }
     }
 
     /// A publisher of `M` on the absolute topic `name` with `qos`.
