@@ -11,7 +11,10 @@ use std::time::Duration;
 pub enum BagError {
     /// Any I/O failure, with the path involved.
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// An MCAP-level failure.
     #[error("mcap: {0}")]
     Mcap(String),
