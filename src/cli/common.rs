@@ -7,6 +7,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use super::bat_file::load_bat_file;
+use crate::physics::collision::TIME_STEP_RANGE;
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
@@ -103,7 +104,7 @@ pub struct NumericArgs {
     /// Number of vibrational modes integrated, 0..=200 (0 = rigid bat).
     #[arg(long, value_name = "N", default_value_t = 18)]
     pub modes: usize,
-    /// RK4 time step, s (0 < dt ≤ 1e-4).
+    /// RK4 time step, s (1e-8 ≤ dt ≤ 1e-4).
     #[arg(long, value_name = "S", default_value_t = 5e-6, value_parser = finite_f64)]
     pub dt: f64,
 }
@@ -120,8 +121,9 @@ pub fn check_options(options: CollisionOptions) -> Result<CollisionOptions> {
     if options.modes > MAX_MODES {
         bail!("--modes / modes = {} is out of range: expected 0 ≤ modes ≤ {MAX_MODES}", options.modes);
     }
-    if !(options.time_step > 0.0 && options.time_step <= 1e-4) {
-        bail!("--dt / time_step = {} s is out of range: expected 0 < time_step ≤ 1e-4 s", options.time_step);
+    let (lo, hi) = TIME_STEP_RANGE;
+    if !(options.time_step >= lo && options.time_step <= hi) {
+        bail!("--dt / time_step = {} s is out of range: expected {lo:e} ≤ time_step ≤ {hi:e} s", options.time_step);
     }
     Ok(options)
 }

@@ -9,6 +9,7 @@ pub mod bat_file;
 pub mod bbcor;
 pub mod case_file;
 pub mod common;
+pub mod crisp_text;
 pub mod figures;
 pub mod modes;
 pub mod node;

@@ -29,8 +29,7 @@ pub struct ModeJson {
     pub frequency_hz: f64,
     /// Node positions (zeros of the transverse displacement), m from the knob, ascending.
     pub nodes: Vec<f64>,
-    /// Modal mass, kg: the mass that, moving with the mode's displacement at the barrel end, carries the
-    /// mode's kinetic energy (Σ m_i y_i² + Σ J_i φ_i²) / y_tip².
+    /// Modal mass, kg: Σ m_i y_i² + Σ J_i φ_i² with the shape scaled to a peak displacement of 1.
     pub modal_mass: f64,
 }
 
@@ -59,7 +58,8 @@ pub fn modes_document(bat: &crate::physics::Bat, count: usize) -> Result<ModesJs
             mode: i + 1,
             frequency_hz,
             nodes: set.nodes(i + 1),
-            modal_mass: set.modal_mass(i + 1),
+            // ModeSet indexes all modes: 0 translation, 1 rotation, 2… vibrational.
+            modal_mass: set.modal_mass(i + 2),
         })
         .collect();
     Ok(ModesJson { bat: BatJson::new(&bat.name, &props), modes })

@@ -27,8 +27,7 @@ impl Table {
         self
     }
 
-    /// The table as text, columns separated by two spaces, numbers right-aligned; the first column is
-    /// left-aligned when it holds words (key/value tables).
+    /// The table as text, columns separated by two spaces; columns of numbers right-aligned, others left.
     pub fn render(&self) -> String {
         let columns = self.rows.iter().map(Vec::len).chain([self.headers.len()]).max().unwrap_or(0);
         let mut widths = vec![0usize; columns];
@@ -37,7 +36,10 @@ impl Table {
                 widths[i] = widths[i].max(cell.chars().count());
             }
         }
-        let left_first = self.rows.iter().any(|r| r.first().is_some_and(|c| c.parse::<f64>().is_err()));
+        // Columns of numbers are right-aligned; a column holding any word (names, lists) is left-aligned.
+        let left: Vec<bool> = (0..columns)
+            .map(|i| self.rows.iter().any(|r| r.get(i).is_some_and(|c| !c.is_empty() && c.parse::<f64>().is_err())))
+            .collect();
         let mut out = String::new();
         let line = |row: &[String], out: &mut String| {
             let mut text = String::new();
@@ -47,7 +49,7 @@ impl Table {
                 if i > 0 {
                     text.push_str("  ");
                 }
-                if i == 0 && left_first {
+                if left[i] {
                     text.push_str(cell);
                     text.push_str(&" ".repeat(pad));
                 } else {

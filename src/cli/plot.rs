@@ -12,11 +12,13 @@ use anyhow::{anyhow, bail, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+pub use super::crisp_text::CrispText;
+
 /// Pixel size of a single chart.
 pub const CHART_SIZE: (u32, u32) = (1000, 640);
 
 /// The embedded font (Bitstream Vera licence, see `fonts/LICENSE-DejaVu.txt`).
-static FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
+pub(crate) static FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
 
 /// Okabe–Ito colour-blind-safe palette; [`Series::color`] indexes it (modulo its length).
 pub const PALETTE: [RGBColor; 8] = [
@@ -167,7 +169,7 @@ pub fn draw_panels(path: &Path, charts: &[LineChart], columns: usize, title: Opt
             render(&root, charts, columns, rows, title)
         }
         ImageFormat::Png => {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
+            let root = CrispText::new(BitMapBackend::new(path, size)).into_drawing_area();
             render(&root, charts, columns, rows, title)
         }
     };
