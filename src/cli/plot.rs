@@ -215,6 +215,25 @@ fn padded_range(values: impl Iterator<Item = f64>, margin: f64) -> Option<(f64, 
     Some((lo - margin * span, hi + margin * span))
 }
 
+/// Decimals that resolve about ten ticks over `range`.
+fn tick_decimals(range: (f64, f64)) -> usize {
+    let step = (range.1 - range.0).abs() / 10.0;
+    if !(step > 0.0) || !step.is_finite() {
+        return 2;
+    }
+    (-step.log10().floor()).clamp(0.0, 8.0) as usize
+}
+
+/// A tick label with `decimals` decimals and no "-0".
+fn tick_label(value: f64, decimals: usize) -> String {
+    let text = format!("{value:.decimals$}");
+    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        text.trim_start_matches('-').to_string()
+    } else {
+        text
+    }
+}
+
 fn render_chart<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, chart: &LineChart) -> Result<()>
 where
     DB::ErrorType: 'static,
@@ -235,7 +254,13 @@ where
         .y_label_area_size(70)
         .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
         .map_err(plot_err)?;
+    let x_decimals = tick_decimals(x_range);
+    let y_decimals = tick_decimals(y_range);
+    let x_format = move |v: &f64| tick_label(*v, x_decimals);
+    let y_format = move |v: &f64| tick_label(*v, y_decimals);
     ctx.configure_mesh()
+        .x_label_formatter(&x_format)
+        .y_label_formatter(&y_format)
         .x_desc(chart.x_label.as_str())
         .y_desc(chart.y_label.as_str())
         .axis_desc_style(("sans-serif", 18))
@@ -327,6 +352,15 @@ mod tests {
         assert_eq!(ImageFormat::from_path(Path::new("b.png")).ok(), Some(ImageFormat::Png));
         assert!(ImageFormat::from_path(Path::new("b.jpg")).is_err());
         assert!(ImageFormat::from_path(Path::new("b")).is_err());
+    }
+
+    #[test]
+    fn tick_labels_are_clean() {
+        assert_eq!(tick_label(-0.0, 1), "0.0");
+        assert_eq!(tick_label(-1e-17, 1), "0.0");
+        assert_eq!(tick_label(-0.5, 1), "-0.5");
+        assert_eq!(tick_decimals((0.0, 50.0)), 0);
+        assert_eq!(tick_decimals((0.5, 0.84)), 2);
     }
 
     #[test]
