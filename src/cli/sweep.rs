@@ -1,5 +1,8 @@
 //! `sweetspot sweep`: exit speed (flexible and rigid) over impact points, the sweet-spot set, and a plot.
 
+// Negated comparisons (`!(a < b)`) are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
