@@ -180,12 +180,14 @@ struct ForceLaw {
 impl ForceLaw {
     #[inline(always)]
     fn force(&self, u: f64) -> f64 {
+        // exp(α ln u) rather than powf: same accuracy here (|α ln u| < 100, relative error < 1e-13) and a
+        // shorter latency on the step's critical path.
         if u <= 0.0 {
             0.0
         } else if u >= self.um {
-            self.k1 * u.powf(self.alpha)
+            self.k1 * (self.alpha * u.ln()).exp()
         } else {
-            self.k2 * u.powf(self.beta)
+            self.k2 * (self.beta * u.ln()).exp()
         }
     }
 }

@@ -290,6 +290,7 @@ impl ModeSet {
         let mp = mass_properties_of(&slices, bat.length());
         let keep = max_modes.min(2 * n - 2);
 
+        let auto = solver == EigenSolver::Auto;
         let solver = match solver {
             EigenSolver::Auto if keep <= INVERSE_ITERATION_MAX_MODES => EigenSolver::InverseIteration,
             EigenSolver::Auto => EigenSolver::Dense,
@@ -333,7 +334,11 @@ impl ModeSet {
                     let x = vectors.column(idx);
                     ((0..n).map(|i| x[i] * inv_sqrt_m[i]).collect(), (0..n).map(|i| x[n + i] * inv_sqrt_m[n + i]).collect())
                 }
-                None => band.inverse_iteration(eigenvalues[idx])?,
+                None => match band.inverse_iteration(eigenvalues[idx]) {
+                    Ok(v) => v,
+                    Err(_) if auto => return Self::compute_with_solver(bat, max_modes, rule, EigenSolver::Dense),
+                    Err(e) => return Err(e),
+                },
             };
             // M-orthogonalise against the exact rigid modes and the modes already kept, then renormalise.
             for r in &modes {
@@ -344,6 +349,11 @@ impl ModeSet {
                 }
             }
             let norm = m_inner(&slices, &y, &phi, &y, &phi).sqrt();
+            // Both solvers deliver unit-M-norm vectors that are already orthogonal to the kept ones; a vector
+            // that loses norm here came from inverse iteration on (nearly) repeated eigenvalues.
+            if eigenvectors.is_none() && auto && !(norm > 0.99) {
+                return Self::compute_with_solver(bat, max_modes, rule, EigenSolver::Dense);
+            }
             if !(norm.is_finite() && norm > 0.0) {
                 return Err(PhysicsError::Numerical("degenerate mode from the eigen-solver".into()));
             }
