@@ -105,7 +105,7 @@ pub mod modes;
 pub mod rigid;
 
 pub use ball::Ball;
-pub use bat::{Bat, BatFile, CoreFill, MassProperties, Material, Slice, Station};
+pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
 pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
 pub use error::PhysicsError;
 pub use metrics::{BbcorReport, BesrReport, SweetSpotSet, SweepPoint};
