@@ -205,8 +205,8 @@ fn link_rules_agree_for_a_uniform_bat_and_differ_for_a_tapered_one() {
     let uniform = uniform_bat(0.8, 0.03, m, 80);
     let a = ModeSet::compute_with(&uniform, 3, LinkRule::KnobSide).expect("modes").frequencies_hz();
     let b = ModeSet::compute_with(&uniform, 3, LinkRule::Mean).expect("modes").frequencies_hz();
-    for n in 0..3 {
-        assert!((a[n] - b[n]).abs() < 1e-9 * a[n]);
+    for (fa, fb) in a.iter().zip(&b) {
+        assert!((fa - fb).abs() < 1e-9 * fa);
     }
     let r161 = Bat::preset("r161").expect("preset");
     let a = ModeSet::compute_with(&r161, 1, LinkRule::KnobSide).expect("modes").frequencies_hz();
