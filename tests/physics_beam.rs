@@ -105,6 +105,7 @@ fn timoshenko_hz(guess_hz: f64, length: f64, radius: f64, m: &Material) -> f64 {
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)]
 fn stubby_beam_shows_timoshenko_lowering_matching_the_continuum_solution() {
     // r/L = 0.08 and a wood-like Y/S ≈ 17: shear and rotary inertia lower the frequencies markedly.
     let m = Material { density: 649.0, youngs_modulus: 1.814e10, shear_modulus: 1.05e9 };
@@ -115,7 +116,8 @@ fn stubby_beam_shows_timoshenko_lowering_matching_the_continuum_solution() {
         let eb = euler_bernoulli_hz(length, radius, &m, n);
         let exact = timoshenko_hz(f[n], length, radius, &m);
         let rel = (f[n] - exact).abs() / exact;
-        assert!(rel < 2e-3, "mode {}: discrete {} Hz vs continuum Timoshenko {} Hz (rel {rel:e})", n + 1, f[n], exact);
+        eprintln!("mode {}: discrete {:.3} Hz, continuum Timoshenko {exact:.3} Hz, Euler–Bernoulli {eb:.3} Hz", n + 1, f[n]);
+        assert!(rel < 2e-4, "mode {}: discrete {} Hz vs continuum Timoshenko {} Hz (rel {rel:e})", n + 1, f[n], exact);
         assert!(exact < 0.9 * eb, "mode {}: Timoshenko {exact} Hz is not clearly below EB {eb} Hz", n + 1);
         assert!(f[n] < 0.9 * eb, "mode {}: discrete {} Hz is not clearly below EB {eb} Hz", n + 1, f[n]);
     }
