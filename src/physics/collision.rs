@@ -475,7 +475,7 @@ fn locate(work: &mut Work, start: &Scalars, h: f64, law: &ForceLaw, inv_mass: f6
             side = 1;
         }
     }
-    // Make sure the stored state is the one at the returned τ.
+    // The next-state buffers hold the last evaluation, which is the returned one.
     let tau = best.0;
     let sc = match best.1 {
         Some(sc) => sc,
@@ -528,7 +528,8 @@ fn integrate(work: &mut Work, law: &mut ForceLaw, ball: &Ball, ball_speed: f64, 
             just_peaked = true;
             continue;
         }
-        if u1 <= 0.0 && t + h > 0.0 && law.um > 0.0 {
+        if u1 <= 0.0 && law.um > 0.0 {
+            // Separation inside this step (u̇ < 0 here, so u crossed zero from above).
             let (tau, sc_sep) = locate(work, &start, h, law, inv_mass, Event::Separation, u0, u1);
             work.accept();
             t += tau;
