@@ -65,7 +65,12 @@ pub struct Pipeline<T> {
 
 impl<T: Send + 'static> Pipeline<T> {
     /// Starts `workers` threads and the sequencer feeding `sink`.
-    pub fn start(workers: usize, capacity: usize, stats: Arc<NodeStats>, sink: impl ResultSink<T>) -> std::io::Result<Pipeline<T>> {
+    pub fn start(
+        workers: usize,
+        capacity: usize,
+        stats: Arc<NodeStats>,
+        sink: impl ResultSink<T>,
+    ) -> std::io::Result<Pipeline<T>> {
         let capacity = capacity.max(1);
         let (job_tx, job_rx) = crossbeam_channel::bounded::<Job<T>>(capacity);
         // Bounded by `capacity` through the in-flight slots, so an unbounded channel cannot grow past it.
@@ -75,16 +80,18 @@ impl<T: Send + 'static> Pipeline<T> {
         let mut handles = Vec::new();
         for i in 0..workers.max(1) {
             let (rx, tx, stats, stop) = (job_rx.clone(), done_tx.clone(), Arc::clone(&stats), Arc::clone(&stop));
-            handles.push(std::thread::Builder::new().name(format!("sweetspot-worker-{i}")).spawn(move || {
-                worker_loop(rx, tx, &stats, &stop)
-            })?);
+            handles.push(
+                std::thread::Builder::new()
+                    .name(format!("sweetspot-worker-{i}"))
+                    .spawn(move || worker_loop(rx, tx, &stats, &stop))?,
+            );
         }
         drop(done_tx);
         let sequencer = {
-            let (in_flight, stats) = (Arc::clone(&in_flight), Arc::clone(&stats));
+            let (in_flight, stats, stop) = (Arc::clone(&in_flight), Arc::clone(&stats), Arc::clone(&stop));
             std::thread::Builder::new()
                 .name("sweetspot-sequencer".into())
-                .spawn(move || sequencer_loop(done_rx, sink, &in_flight, &stats))?
+                .spawn(move || sequencer_loop(done_rx, sink, &in_flight, &stats, &stop))?
         };
         Ok(Pipeline {
             jobs: Some(job_tx),
@@ -178,13 +185,23 @@ fn worker_loop<T>(jobs: Receiver<Job<T>>, done: Sender<Outcome<T>>, stats: &Node
     }
 }
 
-fn sequencer_loop<T>(done: Receiver<Outcome<T>>, mut sink: impl ResultSink<T>, in_flight: &AtomicUsize, stats: &NodeStats) {
+fn sequencer_loop<T>(
+    done: Receiver<Outcome<T>>,
+    mut sink: impl ResultSink<T>,
+    in_flight: &AtomicUsize,
+    stats: &NodeStats,
+    stop: &AtomicBool,
+) {
     let mut waiting: BTreeMap<u64, Outcome<T>> = BTreeMap::new();
     let mut next = 0u64;
-    // Ends when every worker has ended (all senders dropped); what still waits behind a gap is abandoned.
+    // Ends when every worker has ended (all senders dropped), or at once when stopped: what is left is
+    // abandoned (the swings are in the bag as inputs).
     for outcome in done.iter() {
         waiting.insert(outcome.seq, outcome);
         while let Some(outcome) = waiting.remove(&next) {
+            if stop.load(Ordering::Acquire) {
+                return;
+            }
             let delivered = sink.deliver(&outcome);
             match (&outcome.result, delivered) {
                 (_, false) => NodeStats::bump(&stats.publish_failures),

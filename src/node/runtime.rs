@@ -9,17 +9,15 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use futures::StreamExt;
+use ros2_client::qos::{History, Reliability, WhenFull};
 use ros2_client::ros2::LogLevel;
 use ros2_client::rosout::RosoutRaw;
-use ros2_client::{
-    MessageTypeName, Name, NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher, QosProfile,
-};
+use ros2_client::{NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher};
 
-use crate::bag::{RecordedQos, RecorderConfig};
+use crate::bag::RecorderConfig;
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
-use crate::msgs::RosMessage;
 
 use super::convert;
 use super::engine::{self, BatEntry, BatSummary, Registry};
@@ -101,34 +99,9 @@ pub fn run(config: NodeConfig) -> anyhow::Result<()> {
     result
 }
 
-/// QoS of each topic (the ROS 2 conventions of issue 3).
-fn params_qos() -> QosProfile {
-    super::shim::qos::params()
-}
-fn swing_qos() -> QosProfile {
-    super::shim::qos::swing()
-}
-fn results_qos() -> QosProfile {
-    super::shim::qos::results()
-}
-fn sweet_spot_qos() -> QosProfile {
-    super::shim::qos::latched_results()
-}
-fn diagnostics_qos() -> QosProfile {
-    super::shim::qos::diagnostics()
-}
-
-fn recorded_qos(q: &QosProfile) -> RecordedQos {
-    use ros2_client::qos::{Durability, History, Reliability};
-    RecordedQos {
-        reliable: matches!(q.reliability, Reliability::Reliable { .. }),
-        transient_local: q.durability == Durability::TransientLocal,
-        depth: match q.history {
-            History::KeepLast { depth } => depth as u32,
-            History::KeepAll => 0,
-        },
-    }
-}
+use crate::ros::{
+    diagnostics_qos, params_qos, recorded_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos,
+};
 
 /// rosout + tracing, from any thread.
 #[derive(Clone)]
@@ -221,7 +194,11 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
             let current = validator_settings.read().map_err(|_| "settings lock poisoned".to_string())?.clone();
             if READ_ONLY.contains(&name) {
                 let unchanged = current.declarations().into_iter().any(|(n, v)| n == name && v == *value);
-                return if unchanged { Ok(()) } else { Err(format!("{name} is read-only while the node runs: restart with -p {name}:=…")) };
+                return if unchanged {
+                    Ok(())
+                } else {
+                    Err(format!("{name} is read-only while the node runs: restart with -p {name}:=…"))
+                };
             }
             let mut probe = current;
             probe.apply(name, value).map(|_| ())
@@ -239,9 +216,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         options = options.declare_parameter(name, value);
     }
 
-    let context = super::shim::context().context("creating the DDS participant")?;
-    let node_name = NodeName::new(&identity.namespace, &identity.name)
-        .map_err(|e| anyhow::anyhow!("node name {fqn}: {e:?}"))?;
+    let (context, dds_config) = crate::ros::context_from_env().context("creating the DDS participant")?;
+    let node_name =
+        NodeName::new(&identity.namespace, &identity.name).map_err(|e| anyhow::anyhow!("node name {fqn}: {e:?}"))?;
     let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
     let log = Log { handle: Arc::new(node.logging_handle()), rosout };
 
@@ -260,11 +237,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     .collect();
     macro_rules! topic {
         ($key:expr, $ty:ty, $qos:expr) => {{
-            let name = &topic_names[$key];
-            let ros_name = Name::parse(name).map_err(|e| anyhow::anyhow!("topic {name}: {e:?}"))?;
-            let (package, ty) = <$ty as RosMessage>::TYPE_NAME.split_once("/msg/").unwrap_or(("", ""));
-            node.create_topic(&ros_name, MessageTypeName::new(package, ty), &$qos)
-                .map_err(|e| anyhow::anyhow!("topic {name}: {e:?}"))?
+            crate::ros::create_topic::<$ty>(&node, &topic_names[$key], &$qos)?
         }};
     }
     let bat_topic = topic!(topics::BAT_PARAMS, BatParams, params_qos());
@@ -272,18 +245,27 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let swing_topic = topic!(topics::SWING, Swing, swing_qos());
     let ev_topic = topic!(topics::EXIT_VELOCITY, ExitVelocity, results_qos());
     let me_topic = topic!(topics::MODAL_ENERGIES, ModalEnergies, results_qos());
-    let ss_topic = topic!(topics::SWEET_SPOT, SweetSpot, sweet_spot_qos());
+    let ss_topic = topic!(topics::SWEET_SPOT, SweetSpot, latched_results_qos());
     let diag_topic = topic!(topics::DIAGNOSTICS, DiagnosticArray, diagnostics_qos());
     let dds = |e| anyhow::anyhow!("{e:?}");
     let bat_sub = node.create_subscription::<BatParams>(&bat_topic, None).map_err(dds)?;
     let ball_sub = node.create_subscription::<BallParams>(&ball_topic, None).map_err(dds)?;
-    let swing_sub = node.create_subscription::<Swing>(&swing_topic, None).map_err(dds)?;
-    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, None).map_err(dds)?);
-    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, None).map_err(dds)?;
+    // DDS acknowledges a sample when it reaches the reader's cache, not when the node takes it, so a burst
+    // faster than the node takes swings would overwrite a keep-last-1000 cache: size it like the pipeline.
+    let swing_reader_qos = swing_qos().history(History::KeepLast { depth: settings.queue_capacity.max(1000) });
+    let swing_sub = node.create_subscription::<Swing>(&swing_topic, Some(swing_reader_qos)).map_err(dds)?;
+    // A reliable writer never overwrites unacknowledged results; a wider window and a longer wait than the
+    // topic's defaults keep a briefly slow listener from costing results (beyond that: counted failures).
+    let results_writer_qos = results_qos()
+        .history(History::KeepLast { depth: 1000 })
+        .reliability(Reliability::Reliable { when_full: WhenFull::Wait(Duration::from_millis(500)) });
+    let ev_pub =
+        Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_writer_qos.clone())).map_err(dds)?);
+    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, Some(results_writer_qos)).map_err(dds)?;
     let ss_pub = node.create_publisher::<SweetSpot>(&ss_topic, None).map_err(dds)?;
     let diag_pub = node.create_publisher::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
     let spinner = node.spinner().map_err(dds)?;
-    tokio::spawn(spinner.spin());
+    let spinning = tokio::spawn(spinner.spin());
 
     // Recording: every input as received and every output as published.
     let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names, &log));
@@ -296,7 +278,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     )
     .context("starting the worker threads")?;
     log.info(&format!(
-        "{fqn} up: {} workers, queue {} swings, swing on {}, answers on {}, recording {}",
+        "{fqn} up on ROS_DOMAIN_ID {} (discovery {}): {} workers, queue {} swings, swing on {}, answers on {}, recording {}",
+        dds_config.domain_id,
+        dds_config.range,
         settings.worker_count(),
         settings.queue_capacity,
         topic_names[topics::SWING],
@@ -315,112 +299,112 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let mut diagnostics = tokio::time::interval(Duration::from_secs_f64(settings.diagnostics_period));
     diagnostics.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let mut last_report = StatsSnapshot::default();
-    let mut bats = pin!(bat_sub.async_stream());
-    let mut balls = pin!(ball_sub.async_stream());
-    let mut swings = pin!(swing_sub.async_stream());
-    let mut shutdown = pin!(shutdown_signal());
+    // The streams borrow the subscriptions; the block ends the borrows before the orderly teardown below.
+    {
+        let mut bats = pin!(bat_sub.async_stream());
+        let mut balls = pin!(ball_sub.async_stream());
+        let mut swings = pin!(swing_sub.async_stream());
+        let mut shutdown = pin!(shutdown_signal());
 
-    loop {
-        tokio::select! {
-            biased;
-            signal = &mut shutdown => {
-                log.info(&format!("{signal}: shutting down"));
-                break;
-            }
-            Some(event) = events_rx.recv() => match event {
-                Event::ParameterChanged(effect) => {
-                    let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
-                    let refresh: Vec<Arc<BatEntry>> = match effect {
-                        SettingEffect::None => Vec::new(),
-                        SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
-                        SettingEffect::SweetSpotsChanged => registry.bats(),
-                    };
-                    for entry in refresh {
-                        spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
-                    }
+        loop {
+            tokio::select! {
+                biased;
+                signal = &mut shutdown => {
+                    log.info(&format!("{signal}: shutting down"));
+                    break;
                 }
-                Event::Summary(entry, result) => {
-                    // A summary of params that have since been replaced is stale.
-                    let current = registry.bats().into_iter().any(|e| Arc::ptr_eq(&e, &entry));
-                    match result {
-                        Ok(summary) if current => {
-                            let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
-                            let msg = convert::sweet_spot(&summary, header);
-                            tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
-                            if let Err(e) = ss_pub.publish(msg) {
-                                log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
-                            }
-                        }
-                        Ok(_) => {}
-                        Err(e) => log.warn(&format!("SweetSpot not published: {e}")),
-                    }
-                }
-            },
-            Some(received) = bats.next() => {
-                let log_time = convert::now_ns();
-                match received {
-                    Ok((params, _info)) => {
-                        tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                Some(event) = events_rx.recv() => match event {
+                    Event::ParameterChanged(effect) => {
                         let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
-                        match convert::bat_from_params(&params) {
-                            Ok(built) => {
-                                NodeStats::bump(&stats.params_accepted);
-                                let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
-                                log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
-                                spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
-                            }
-                            Err(reason) => {
-                                NodeStats::bump(&stats.params_rejected);
-                                reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.bat_id), &params.header, &params.bat_id, "", &ev_pub, &tape, &log);
-                            }
+                        let refresh: Vec<Arc<BatEntry>> = match effect {
+                            SettingEffect::None => Vec::new(),
+                            SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
+                            SettingEffect::SweetSpotsChanged => registry.bats(),
+                        };
+                        for entry in refresh {
+                            spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
                         }
                     }
-                    Err(e) => log.warn(&format!("bat/params: unreadable sample: {e:?}")),
-                }
-            }
-            Some(received) = balls.next() => {
-                let log_time = convert::now_ns();
-                match received {
-                    Ok((params, _info)) => {
-                        tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
-                        match convert::ball_from_params(&params) {
-                            Ok(ball) => {
-                                NodeStats::bump(&stats.params_accepted);
-                                registry.set_ball(&params.ball_id, ball);
-                                log.info(&format!("ball '{}' set", params.ball_id));
+                    Event::Summary(entry, result) => {
+                        // A summary of params that have since been replaced is stale.
+                        let current = registry.bats().into_iter().any(|e| Arc::ptr_eq(&e, &entry));
+                        match result {
+                            Ok(summary) if current => {
+                                let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
+                                let msg = convert::sweet_spot(&summary, header);
+                                tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
+                                if let Err(e) = ss_pub.publish(msg) {
+                                    log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
+                                }
                             }
-                            Err(reason) => {
-                                NodeStats::bump(&stats.params_rejected);
-                                reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.ball_id), &params.header, "", &params.ball_id, &ev_pub, &tape, &log);
-                            }
+                            Ok(_) => {}
+                            Err(e) => log.warn(&format!("SweetSpot not published: {e}")),
                         }
                     }
-                    Err(e) => log.warn(&format!("ball/params: unreadable sample: {e:?}")),
+                },
+                Some(received) = bats.next() => {
+                    let log_time = convert::now_ns();
+                    match received {
+                        Ok((params, _info)) => {
+                            tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                            let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                            match convert::bat_from_params(&params) {
+                                Ok(built) => {
+                                    NodeStats::bump(&stats.params_accepted);
+                                    let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
+                                    log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
+                                    spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
+                                }
+                                Err(reason) => {
+                                    NodeStats::bump(&stats.params_rejected);
+                                    reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.bat_id), &params.header, &params.bat_id, "", &ev_pub, &tape, &log);
+                                }
+                            }
+                        }
+                        Err(e) => log.warn(&format!("bat/params: unreadable sample: {e:?}")),
+                    }
                 }
-            }
-            _ = diagnostics.tick() => {
-                let now = stats.snapshot(pipeline.in_flight());
-                let report = health_report(&now, &last_report, &tape.state());
-                let msg = convert::diagnostic_array(&report, &fqn, convert::time_from_ns(convert::now_ns()));
-                if let Err(e) = diag_pub.publish(msg) {
-                    tracing::debug!("publishing diagnostics: {e:?}");
+                Some(received) = balls.next() => {
+                    let log_time = convert::now_ns();
+                    match received {
+                        Ok((params, _info)) => {
+                            tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                            match convert::ball_from_params(&params) {
+                                Ok(ball) => {
+                                    NodeStats::bump(&stats.params_accepted);
+                                    registry.set_ball(&params.ball_id, ball);
+                                    log.info(&format!("ball '{}' set", params.ball_id));
+                                }
+                                Err(reason) => {
+                                    NodeStats::bump(&stats.params_rejected);
+                                    reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.ball_id), &params.header, "", &params.ball_id, &ev_pub, &tape, &log);
+                                }
+                            }
+                        }
+                        Err(e) => log.warn(&format!("ball/params: unreadable sample: {e:?}")),
+                    }
                 }
-                last_report = now;
-            }
-            Some(received) = swings.next() => {
-                let log_time = convert::now_ns();
-                match received {
-                    Ok((swing, _info)) => on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx),
-                    Err(e) => log.warn(&format!("swing: unreadable sample: {e:?}")),
+                _ = diagnostics.tick() => {
+                    let now = stats.snapshot(pipeline.in_flight());
+                    let report = health_report(&now, &last_report, &tape.state());
+                    let msg = convert::diagnostic_array(&report, &fqn, convert::time_from_ns(convert::now_ns()));
+                    if let Err(e) = diag_pub.publish(msg) {
+                        tracing::debug!("publishing diagnostics: {e:?}");
+                    }
+                    last_report = now;
+                }
+                Some(received) = swings.next() => {
+                    let log_time = convert::now_ns();
+                    match received {
+                        Ok((swing, _info)) => on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx),
+                        Err(e) => log.warn(&format!("swing: unreadable sample: {e:?}")),
+                    }
                 }
             }
         }
     }
 
     // Shutdown: stop taking swings, let queued ones finish briefly, close the bag, report.
-    drop(swings);
-    drop(bats);
-    drop(balls);
     let pipeline_stats = Arc::clone(&stats);
     let tape_for_finish = Arc::clone(&tape);
     let (bag_result, final_stats) = tokio::task::spawn_blocking(move || {
@@ -450,7 +434,12 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         Some(Err(e)) => eprintln!("{fqn}: closing the bag failed: {e}"),
         None => {}
     }
-    node.stop_spinner();
+    // Entities before the participant: dropping the node stops the spinner, which must drop its parameter
+    // services while `context` still holds the participant (else RustDDS logs every removal as an error).
+    drop((ss_pub, diag_pub, ev_pub, bat_sub, ball_sub, swing_sub));
+    drop(node);
+    let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;
+    drop(context);
     Ok(())
 }
 
@@ -472,7 +461,8 @@ fn on_swing(
     NodeStats::bump(&stats.swings_received);
     tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
     let settings = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| fallback.clone());
-    let (plan, new_bat) = engine::plan_swing(registry, &settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+    let (plan, new_bat) =
+        engine::plan_swing(registry, &settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
     if let Some(entry) = new_bat {
         spawn_summary(entry, registry, shared_settings, stats, events);
     }
@@ -513,7 +503,9 @@ fn spawn_summary(
     stats: &Arc<NodeStats>,
     events: &tokio::sync::mpsc::UnboundedSender<Event>,
 ) {
-    let Ok((ball_id, ball)) = registry.resolve_ball("") else { return };
+    let Ok((ball_id, ball)) = registry.resolve_ball("") else {
+        return;
+    };
     let settings = settings.read().map(|s| s.clone()).unwrap_or_default();
     let (stats, events) = (Arc::clone(stats), events.clone());
     tokio::task::spawn_blocking(move || {
@@ -547,7 +539,7 @@ fn start_tape(
         topic_info::<Swing>(&topic_names[topics::SWING], recorded_qos(&swing_qos())),
         topic_info::<ExitVelocity>(&topic_names[topics::EXIT_VELOCITY], recorded_qos(&results_qos())),
         topic_info::<ModalEnergies>(&topic_names[topics::MODAL_ENERGIES], recorded_qos(&results_qos())),
-        topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&sweet_spot_qos())),
+        topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&latched_results_qos())),
     ];
     match super::recording::start_backend(config) {
         Ok(backend) => Tape::start(dir, backend, topics),
