@@ -22,7 +22,10 @@ pub use rosbag2::{default_bag_dir, BagMetadata};
 pub enum BagError {
     /// Any I/O failure, with the path involved.
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// An MCAP-level failure.
     #[error("mcap: {0}")]
     Mcap(String),

@@ -20,7 +20,13 @@ pub struct Ball {
 impl Default for Ball {
     /// A regulation baseball: 0.145 kg, 0.0366 m, k1 = 6.53e7 N/m^α, α = 1.84, e0 = 0.53.
     fn default() -> Self {
-        Ball { mass: 0.145, radius: 0.0366, stiffness: 6.53e7, exponent: 1.84, cor: 0.53 }
+        Ball {
+            mass: 0.145,
+            radius: 0.0366,
+            stiffness: 6.53e7,
+            exponent: 1.84,
+            cor: 0.53,
+        }
     }
 }
 

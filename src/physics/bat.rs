@@ -88,7 +88,13 @@ impl Bat {
         core: Option<CoreFill>,
         slice_length: f64,
     ) -> Result<Bat, PhysicsError> {
-        let bat = Bat { name: name.into(), stations, shell, core, slice_length };
+        let bat = Bat {
+            name: name.into(),
+            stations,
+            shell,
+            core,
+            slice_length,
+        };
         bat.validate()?;
         Ok(bat)
     }

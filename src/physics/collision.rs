@@ -26,7 +26,10 @@ pub struct CollisionOptions {
 
 impl Default for CollisionOptions {
     fn default() -> Self {
-        CollisionOptions { modes: 18, time_step: 5e-6 }
+        CollisionOptions {
+            modes: 18,
+            time_step: 5e-6,
+        }
     }
 }
 

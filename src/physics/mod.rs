@@ -23,6 +23,6 @@ pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Station};
 pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
 pub use error::PhysicsError;
-pub use metrics::{SweetSpotSet, SweepPoint};
+pub use metrics::{SweepPoint, SweetSpotSet};
 pub use modes::{Mode, ModeSet};
 pub use rigid::RigidBat;
