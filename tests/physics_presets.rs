@@ -189,3 +189,4 @@ fn centre_of_percussion_is_the_conjugate_point() {
     assert!((lhs - mp.radius_of_gyration.powi(2)).abs() < 1e-12);
     assert!(cop > mp.center_of_mass && cop < mp.length);
 }
+
