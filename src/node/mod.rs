@@ -12,5 +12,3 @@ pub mod pipeline;
 pub mod convert;
 pub mod recording;
 pub mod runtime;
-#[doc(hidden)]
-pub mod shim;

@@ -215,35 +215,34 @@ pub fn blocking(qos: QosProfile) -> QosProfile {
     qos.reliability(Reliability::Reliable { when_full: WhenFull::Block })
 }
 
-/// DDS plumbing of the tests (TEMPORARY local copy until the msgs helper's `sweetspot::ros` lands).
+/// DDS plumbing of the tests: the msgs helper's network-safe factory, topics and QoS.
 pub mod dds {
-    use std::net::{IpAddr, Ipv4Addr};
-
-    use ros2_client::{Context, MessageTypeName, Name, Node, QosProfile};
+    use ros2_client::{Context, Node, QosProfile};
     use sweetspot::msgs::RosMessage;
+    use sweetspot::ros::{DdsConfig, DiscoveryRange};
 
-    pub fn network_guard() -> Result<(), String> {
-        let dev = std::fs::read_to_string("/proc/self/net/dev").map_err(|e| e.to_string())?;
-        if dev.lines().skip(2).filter_map(|l| l.split(':').next()).map(str::trim).all(|n| n == "lo") {
-            Ok(())
-        } else {
-            Err("refusing to start DDS outside a private network namespace (run through scripts/test)".into())
-        }
-    }
+    pub use sweetspot::ros::network_guard;
 
+    /// A loopback-only context on `domain`.
     pub fn context(domain: u16) -> Context {
-        let participant = rustdds::DomainParticipantBuilder::new(domain)
-            .with_only_networks([IpAddr::V4(Ipv4Addr::LOCALHOST)])
-            .same_host_loopback(true)
-            .build()
-            .expect("participant");
-        Context::from_domain_participant(participant).expect("context")
+        sweetspot::ros::context(&DdsConfig { domain_id: domain, range: DiscoveryRange::Localhost }).expect("context")
     }
 
+    /// The topic `name` (absolute) for `M`.
     pub fn topic<M: RosMessage>(node: &Node, name: &str, qos: &QosProfile) -> rustdds::Topic {
-        let (package, ty) = M::TYPE_NAME.split_once("/msg/").unwrap();
-        node.create_topic(&Name::parse(name).unwrap(), MessageTypeName::new(package, ty), qos).expect("topic")
+        sweetspot::ros::create_topic::<M>(node, name, qos).expect("topic")
     }
 
-    pub use sweetspot::node::shim::qos::*;
+    pub fn params() -> QosProfile {
+        sweetspot::ros::params_qos()
+    }
+    pub fn swing() -> QosProfile {
+        sweetspot::ros::swing_qos()
+    }
+    pub fn results() -> QosProfile {
+        sweetspot::ros::results_qos()
+    }
+    pub fn latched_results() -> QosProfile {
+        sweetspot::ros::sweet_spot_qos()
+    }
 }
