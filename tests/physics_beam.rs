@@ -105,6 +105,7 @@ fn timoshenko_hz(guess_hz: f64, length: f64, radius: f64, m: &Material) -> f64 {
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)]
 fn stubby_beam_shows_timoshenko_lowering_matching_the_continuum_solution() {
     // r/L = 0.08 and a wood-like Y/S ≈ 17: shear and rotary inertia lower the frequencies markedly.
     let m = Material { density: 649.0, youngs_modulus: 1.814e10, shear_modulus: 1.05e9 };
@@ -115,7 +116,8 @@ fn stubby_beam_shows_timoshenko_lowering_matching_the_continuum_solution() {
         let eb = euler_bernoulli_hz(length, radius, &m, n);
         let exact = timoshenko_hz(f[n], length, radius, &m);
         let rel = (f[n] - exact).abs() / exact;
-        assert!(rel < 2e-3, "mode {}: discrete {} Hz vs continuum Timoshenko {} Hz (rel {rel:e})", n + 1, f[n], exact);
+        eprintln!("mode {}: discrete {:.3} Hz, continuum Timoshenko {exact:.3} Hz, Euler–Bernoulli {eb:.3} Hz", n + 1, f[n]);
+        assert!(rel < 2e-4, "mode {}: discrete {} Hz vs continuum Timoshenko {} Hz (rel {rel:e})", n + 1, f[n], exact);
         assert!(exact < 0.9 * eb, "mode {}: Timoshenko {exact} Hz is not clearly below EB {eb} Hz", n + 1);
         assert!(f[n] < 0.9 * eb, "mode {}: discrete {} Hz is not clearly below EB {eb} Hz", n + 1, f[n]);
     }
@@ -205,8 +207,8 @@ fn link_rules_agree_for_a_uniform_bat_and_differ_for_a_tapered_one() {
     let uniform = uniform_bat(0.8, 0.03, m, 80);
     let a = ModeSet::compute_with(&uniform, 3, LinkRule::KnobSide).expect("modes").frequencies_hz();
     let b = ModeSet::compute_with(&uniform, 3, LinkRule::Mean).expect("modes").frequencies_hz();
-    for n in 0..3 {
-        assert!((a[n] - b[n]).abs() < 1e-9 * a[n]);
+    for (fa, fb) in a.iter().zip(&b) {
+        assert!((fa - fb).abs() < 1e-9 * fa);
     }
     let r161 = Bat::preset("r161").expect("preset");
     let a = ModeSet::compute_with(&r161, 1, LinkRule::KnobSide).expect("modes").frequencies_hz();
@@ -236,5 +238,19 @@ fn inverse_iteration_and_dense_solvers_agree() {
             let peak = b.displacement.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             assert!(diff < 1e-7 * peak, "{name}: mode shapes differ by {diff:e} (peak {peak:e})");
         }
+    }
+}
+
+#[test]
+#[allow(clippy::needless_range_loop)]
+fn fine_slicing_stays_banded_and_converges() {
+    // 1000 slices (2000 coordinates): the default path never forms a dense 2N×2N matrix.
+    let m = Material { density: 7800.0, youngs_modulus: 2.0e11, shear_modulus: 2.0e12 };
+    let modes = ModeSet::compute(&uniform_bat(1.0, 0.002, m, 1000), 2).expect("modes");
+    let f = modes.frequencies_hz();
+    for n in 0..2 {
+        let exact = euler_bernoulli_hz(1.0, 0.002, &m, n);
+        // Floor: the continuum's own rotary-inertia and shear corrections at r/L = 0.002 (≈ 5e-5 for mode 2).
+        assert!((f[n] - exact).abs() < 1e-4 * exact, "mode {}: {} vs {exact}", n + 1, f[n]);
     }
 }

@@ -190,37 +190,3 @@ fn centre_of_percussion_is_the_conjugate_point() {
     assert!(cop > mp.center_of_mass && cop < mp.length);
 }
 
-#[test]
-fn bat_files_in_toml_with_csv_profiles() {
-    use sweetspot::physics::BatFile;
-    let toml = r#"
-name = "club"
-slice_length = 0.01
-profile = "club.csv"
-[shell]
-density = 649.0
-youngs_modulus = 1.814e10
-shear_modulus = 1.05e9
-[core]
-z_start = 0.6
-z_end = 0.84
-material = { density = 200.0, youngs_modulus = 3.0e7, shear_modulus = 6.0e6 }
-"#;
-    let csv = "z,outer_radius,inner_radius\n0.0,0.0125,0.0\n0.5,0.03,0.0\n0.59,0.033,0.0\n0.6,0.033,0.0127\n0.84,0.033,0.0127\n";
-    let bat = BatFile::parse(toml)
-        .expect("parses")
-        .into_bat(|path| if path == "club.csv" { Ok(csv.to_string()) } else { Err("no such file".into()) })
-        .expect("bat");
-    assert_eq!(bat.stations.len(), 5);
-    assert!((bat.length() - 0.84).abs() < 1e-12 && bat.core.is_some());
-    // The same bat with the profile inline.
-    let inline = toml.replace("profile = \"club.csv\"", &format!("profile_csv = \"\"\"{csv}\"\"\""));
-    let same = BatFile::parse(&inline).expect("parses").into_bat(|_| Err("unused".into())).expect("bat");
-    assert_eq!(bat.mass_properties(), same.mass_properties());
-    // Errors: unknown key, two profiles, unreadable file, bad CSV.
-    assert!(matches!(BatFile::parse(&format!("colour = 3\n{toml}")), Err(PhysicsError::BadProfile(_))));
-    let both = toml.replace("profile = \"club.csv\"", "profile = \"club.csv\"\nslice_table = \"r161.dat\"");
-    assert!(matches!(BatFile::parse(&both).expect("parses").into_bat(|_| Ok(String::new())), Err(PhysicsError::BadProfile(_))));
-    assert!(matches!(BatFile::parse(toml).expect("parses").into_bat(|_| Err("gone".into())), Err(PhysicsError::BadProfile(m)) if m.contains("gone")));
-    assert!(matches!(BatFile::parse(toml).expect("parses").into_bat(|_| Ok("z,r\n0,1\n".into())), Err(PhysicsError::BadProfile(_))));
-}

@@ -34,10 +34,11 @@
 //! alternative (≈ 1.4 % higher first frequency for the R161 at Δz = 1 cm).
 //!
 //! Normal modes solve K v = ω² M v. We diagonalise the symmetric A = M^{-1/2} K M^{-1/2} (real ω², orthonormal
-//! x, v = M^{-1/2} x is M-orthonormal): eigenvalues with nalgebra, and each kept mode's vector by inverse
-//! iteration on the banded pencil K − λM (or nalgebra's full dense decomposition, see
-//! [`modes::EigenSolver`]). The two zero modes are replaced by the exact, mass-normalised rigid modes
-//! (translation y = 1/√M; rotation about the CM y = (z − z_cm)/√I, φ = 1/√I, with M = Σm,
+//! x, v = M^{-1/2} x is M-orthonormal). A is banded (half-bandwidth 3 with y and φ interleaved): its lowest
+//! eigenvalues come from a band-to-tridiagonal reduction and Sturm bisection, and each kept mode's vector
+//! from inverse iteration on the banded pencil K − λM (nalgebra's full dense decomposition is the
+//! alternative, see [`modes::EigenSolver`]; a test checks that both agree). The two zero modes are replaced
+//! by the exact, mass-normalised rigid modes (translation y = 1/√M; rotation about the CM y = (z − z_cm)/√I, φ = 1/√I, with M = Σm,
 //! I = Σm (z − z_cm)² + ΣJ); the vibrational modes are M-orthogonalised against them and renormalised, and
 //! ω² is the Rayleigh quotient. Every mode has unit modal mass: Σ m y² + Σ J φ² = 1.
 //!
@@ -105,7 +106,7 @@ pub mod modes;
 pub mod rigid;
 
 pub use ball::Ball;
-pub use bat::{Bat, BatFile, CoreFill, MassProperties, Material, Slice, Station};
+pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
 pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
 pub use error::PhysicsError;
 pub use metrics::{BbcorReport, BesrReport, SweetSpotSet, SweepPoint};
