@@ -324,3 +324,28 @@ fn sigterm_ends_the_node_with_a_finished_bag_of_every_input_and_output() {
         got_energies.iter().map(|me| sweetspot::msgs::encode_cdr(me).unwrap()).collect::<Vec<_>>()
     );
 }
+
+#[test]
+fn an_unwritable_record_path_is_reported_and_the_node_keeps_answering() {
+    use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
+    let domain = domain(9);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "badbag_peer");
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let diagnostics = peer.subscription::<DiagnosticArray>("/diagnostics", keep_all(dds::results()));
+    // Not even root can create a directory under /proc.
+    let node = NodeProcess::spawn(domain, dir.path(), &["--ros-args", "-p", "record_path:=/proc/sweetspot/bag"]);
+    peer.wait_for_reader(&swing_pub);
+    swing_pub.publish(swing(1, "", 0.6)).unwrap();
+    let ev = &peer.collect(&answers, 1, WAIT)[0];
+    assert_eq!(ev.status, ExitVelocity::STATUS_OK, "{}", ev.message);
+    let report = &peer.collect(&diagnostics, 1, WAIT)[0].status[0];
+    assert_eq!(report.level, 2, "ERROR while recording is broken: {}", report.message);
+    assert!(report.message.contains("recording failed"), "{}", report.message);
+    let state = report.values.iter().find(|kv| kv.key == "recorder_state").map(|kv| kv.value.as_str());
+    assert_eq!(state, Some("failed"));
+    let (status, _, log) = node.stop_with(15);
+    assert!(status.success(), "{log}");
+    assert!(log.contains("/proc/sweetspot/bag"), "the log names the path: {log}");
+}
