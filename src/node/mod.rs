@@ -1,8 +1,47 @@
-//! The ROS 2 shell: topics, QoS, parameters, diagnostics.
+//! The ROS 2 shell (`sweetspot node`): topics, QoS, parameters, diagnostics, recording.
 //!
-//! Data flows one way: message → physics → result → publish + record. The pure parts (ROS argument parsing,
-//! parameters, statistics, message ↔ physics conversion) are plain functions tested without DDS; the DDS
-//! wiring lives in `runtime`.
+//! Data flows one way: message → physics → result → publish + record. The pure parts ([`ros_args`],
+//! [`settings`], [`stats`], [`convert`], [`engine`], [`pipeline`]) are plain functions and threads tested
+//! without DDS; the DDS wiring lives in [`runtime`].
+//!
+//! ```text
+//! sweetspot node [--no-record] [--ros-args -r __ns:=/rig3 -r __node:=NAME -r FROM:=TO -p NAME:=VALUE --params-file FILE]
+//! ```
+//!
+//! # Topics (relative names move with `-r __ns:=`)
+//!
+//! | topic            | type                               | direction | QoS                                           |
+//! |------------------|------------------------------------|-----------|-----------------------------------------------|
+//! | `bat/params`     | sweetspot_msgs/BatParams           | in        | reliable, transient-local (late joiners get it) |
+//! | `ball/params`    | sweetspot_msgs/BallParams          | in        | reliable, transient-local                     |
+//! | `swing`          | sweetspot_msgs/Swing               | in        | reliable, keep-last 1000 (reader cache = `queue_capacity`) |
+//! | `exit_velocity`  | sweetspot_msgs/ExitVelocity        | out       | reliable; one per swing, in swing order; REJECTED + reason for bad input |
+//! | `modal_energies` | sweetspot_msgs/ModalEnergies       | out       | reliable; one per OK swing                    |
+//! | `sweet_spot`     | sweetspot_msgs/SweetSpot           | out       | reliable, transient-local; on every bat change |
+//! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
+//! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout                          |
+//!
+//! # Behaviour
+//!
+//! - A swing's bat/ball: its `bat_id`/`ball_id`, empty = the latest received, before any params the
+//!   `default_bat` (preset `r161`) and the regulation `baseball`; any preset name is a valid bat_id.
+//! - Modes are computed once per bat (on first use, off the DDS thread) and cached; new params for a bat_id
+//!   replace its entry (swings already queued keep the bat they were sent for) and publish a new SweetSpot.
+//! - Collisions run on `workers` threads behind a bounded pipeline of `queue_capacity` swings in flight;
+//!   results are published in swing order. A swing arriving when the pipeline is full is dropped, counted
+//!   (`swings_dropped`) and warned about on /rosout (rate-limited); gaps in a publisher's DDS sequence numbers
+//!   are counted as `swings_lost_in_transport`.
+//! - Bad params are answered by an ExitVelocity REJECTED naming the message, id and field; the previous
+//!   params stay in force. Bad swings get REJECTED with the physics' error text; numbers are NaN.
+//! - Every input (as received) and output (as published) is recorded in-process to a rosbag2 MCAP directory,
+//!   `bags/<node>_<UTC time>/` unless `record_path` is set, off with `--no-record` or `-p record:=false`.
+//! - SIGINT/SIGTERM: stop taking swings, let queued ones finish for up to 0.6 s, close the bag, print a
+//!   summary (counts, latency p50/p99/max, mode-cache hits/misses) and exit 0.
+//!
+//! # Parameters
+//!
+//! See [`settings::DESCRIPTIONS`] (name, unit, meaning) and [`settings::NodeSettings::default`]; the
+//! read-only ones ([`settings::READ_ONLY`]) are refused by `ros2 param set` on a running node.
 
 pub mod convert;
 pub mod engine;
