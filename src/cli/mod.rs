@@ -5,8 +5,19 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod bag;
+pub mod bat_file;
+pub mod bbcor;
+pub mod case_file;
+pub mod common;
+pub mod crisp_text;
+pub mod figures;
+pub mod modes;
 pub mod node;
+pub mod output;
+pub mod plot;
 pub mod pubsub;
+pub mod simulate;
+pub mod sweep;
 
 /// sweetspot: bat–ball collision physics as a ROS 2 node, with MCAP recording.
 #[derive(Debug, Parser)]
@@ -28,6 +39,16 @@ pub enum Command {
     /// Inspect, replay, play, recover and export recorded bags.
     #[command(subcommand)]
     Bag(bag::BagCommand),
+    /// Mass properties and vibrational modes (frequency, nodes, modal mass) of a bat.
+    Modes(modes::ModesArgs),
+    /// One bat–ball collision per impact point, from flags or a case file.
+    Simulate(simulate::SimulateArgs),
+    /// Exit speed (flexible and rigid) over impact points, the sweet spots, and an optional plot.
+    Sweep(sweep::SweepArgs),
+    /// BBCOR (and BESR) of a bat under the certification protocol.
+    Bbcor(bbcor::BbcorArgs),
+    /// Redraws the seed paper's Figures 2, 5 and 6 and the mode shapes into a directory.
+    Figures(figures::FiguresArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand; errors are printed with context.
@@ -38,6 +59,11 @@ pub fn main() -> ExitCode {
         Command::Pub(args) => pubsub::run_pub(args),
         Command::Echo(args) => pubsub::run_echo(args),
         Command::Bag(cmd) => bag::run(cmd),
+        Command::Modes(args) => modes::run(args),
+        Command::Simulate(args) => simulate::run(args),
+        Command::Sweep(args) => sweep::run(args),
+        Command::Bbcor(args) => bbcor::run(args),
+        Command::Figures(args) => figures::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

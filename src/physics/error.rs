@@ -16,6 +16,9 @@ pub enum PhysicsError {
     /// No built-in preset has this name.
     #[error("unknown bat preset '{name}' (known: {known})")]
     UnknownPreset { name: String, known: String },
+    /// No built-in ball has this name.
+    #[error("unknown ball preset '{name}' (known: {known})")]
+    UnknownBallPreset { name: String, known: String },
     /// The impact point is not on the bat.
     #[error("impact_z = {impact_z} m is off the bat: expected {min} ≤ impact_z ≤ {max} m")]
     ImpactOffBat { impact_z: f64, min: f64, max: f64 },

@@ -20,9 +20,9 @@ pub mod modes;
 pub mod rigid;
 
 pub use ball::Ball;
-pub use bat::{Bat, CoreFill, MassProperties, Material, Station};
+pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
 pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
 pub use error::PhysicsError;
-pub use metrics::{SweepPoint, SweetSpotSet};
-pub use modes::{Mode, ModeSet};
+pub use metrics::{BbcorReport, BesrReport, SweetSpotSet, SweepPoint};
+pub use modes::{BeamMatrices, LinkRule, Mode, ModeSet};
 pub use rigid::RigidBat;

@@ -1,0 +1,189 @@
+//! The case file of `sweetspot simulate --case FILE.json`: one bat, one ball, one swing, one or more impact
+//! points. Missing fields take the command's defaults; unknown fields are an error naming them.
+//!
+//! ```json
+//! {
+//!   "bat": "r161",
+//!   "ball": {"cor": 0.5},
+//!   "ball_speed": 40.0,
+//!   "bat_cm_speed": 25.0,
+//!   "bat_angular_speed": 45.0,
+//!   "impact_z": [0.65, 0.70, 0.75],
+//!   "modes": 18,
+//!   "time_step": 5e-6
+//! }
+//! ```
+//!
+//! `bat` is a preset name, a path to a bat file (relative to the case file), or a bat object with the
+//! fields of the bat file format (`name`, `slice_length`, `shell`, optional `core`, and `station` as a list
+//! of `{z, outer_radius, inner_radius}`, or `profile` naming a CSV relative to the case file).
+
+use std::path::Path;
+
+use anyhow::{anyhow, bail, Context, Result};
+use serde::Deserialize;
+
+use super::bat_file::BatSpec;
+use super::common::{
+    check_options, resolve_bat, DEFAULT_BALL_SPEED, DEFAULT_BAT_ANGULAR_SPEED, DEFAULT_BAT_CM_SPEED,
+};
+use crate::physics::{Ball, Bat, CollisionOptions, Impact};
+
+/// The raw JSON document.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseSpec {
+    /// Preset name, bat file path, or bat object.
+    #[serde(default)]
+    pub bat: Option<serde_json::Value>,
+    /// Ball overrides.
+    #[serde(default)]
+    pub ball: Option<BallSpec>,
+    /// m/s toward the bat.
+    #[serde(default)]
+    pub ball_speed: Option<f64>,
+    /// m/s toward the ball.
+    #[serde(default)]
+    pub bat_cm_speed: Option<f64>,
+    /// rad/s, positive when the barrel leads.
+    #[serde(default)]
+    pub bat_angular_speed: Option<f64>,
+    /// One impact point or a list, m from the knob.
+    #[serde(default)]
+    pub impact_z: Option<OneOrMany>,
+    /// Vibrational modes integrated.
+    #[serde(default)]
+    pub modes: Option<usize>,
+    /// RK4 step, s.
+    #[serde(default)]
+    pub time_step: Option<f64>,
+}
+
+/// Ball fields, each optional.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BallSpec {
+    /// kg.
+    pub mass: Option<f64>,
+    /// m.
+    pub radius: Option<f64>,
+    /// k1, N/m^α.
+    pub stiffness: Option<f64>,
+    /// α.
+    pub exponent: Option<f64>,
+    /// e0.
+    pub cor: Option<f64>,
+}
+
+/// A number or a list of numbers.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum OneOrMany {
+    /// One value.
+    One(f64),
+    /// Several values.
+    Many(Vec<f64>),
+}
+
+/// A resolved case, ready to simulate.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// The bat.
+    pub bat: Bat,
+    /// The ball (validated).
+    pub ball: Ball,
+    /// The swing; `impact_z` is taken from `impact_zs`.
+    pub swing: Impact,
+    /// Impact points, m from the knob; empty means "use the command's default".
+    pub impact_zs: Vec<f64>,
+    /// Numerical options.
+    pub options: CollisionOptions,
+}
+
+/// Parses and resolves a case from its JSON text; relative bat paths are resolved against `base`.
+pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
+    let spec: CaseSpec = serde_json::from_str(text).map_err(|e| anyhow!("{e}"))?;
+    let bat = match &spec.bat {
+        None => Bat::preset("r161")?,
+        Some(serde_json::Value::String(name)) => resolve_bat(name, Some(base)).context("field `bat`")?,
+        Some(value @ serde_json::Value::Object(_)) => {
+            let bat_spec: BatSpec =
+                serde_json::from_value(value.clone()).map_err(|e| anyhow!("field `bat`: {e}"))?;
+            bat_spec
+                .into_bat("case-bat", |file| {
+                    let path = base.join(file);
+                    std::fs::read_to_string(&path).with_context(|| format!("cannot read '{}'", path.display()))
+                })
+                .context("field `bat`")?
+        }
+        Some(other) => bail!("field `bat`: expected a preset name, a bat file path or a bat object, found {other}"),
+    };
+    let overrides = spec.ball.unwrap_or_default();
+    let default = Ball::default();
+    let ball = Ball {
+        mass: overrides.mass.unwrap_or(default.mass),
+        radius: overrides.radius.unwrap_or(default.radius),
+        stiffness: overrides.stiffness.unwrap_or(default.stiffness),
+        exponent: overrides.exponent.unwrap_or(default.exponent),
+        cor: overrides.cor.unwrap_or(default.cor),
+    };
+    ball.validate().context("field `ball`")?;
+    let swing = Impact {
+        ball_speed: spec.ball_speed.unwrap_or(DEFAULT_BALL_SPEED),
+        bat_cm_speed: spec.bat_cm_speed.unwrap_or(DEFAULT_BAT_CM_SPEED),
+        bat_angular_speed: spec.bat_angular_speed.unwrap_or(DEFAULT_BAT_ANGULAR_SPEED),
+        impact_z: f64::NAN,
+    };
+    let impact_zs = match spec.impact_z {
+        None => Vec::new(),
+        Some(OneOrMany::One(z)) => vec![z],
+        Some(OneOrMany::Many(zs)) if zs.is_empty() => bail!("field `impact_z`: the list is empty"),
+        Some(OneOrMany::Many(zs)) => zs,
+    };
+    let defaults = CollisionOptions::default();
+    let options = check_options(CollisionOptions {
+        modes: spec.modes.unwrap_or(defaults.modes),
+        time_step: spec.time_step.unwrap_or(defaults.time_step),
+    })?;
+    Ok(Case { bat, ball, swing, impact_zs, options })
+}
+
+/// Reads and resolves a case file.
+pub fn load_case(path: &Path) -> Result<Case> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read case file '{}'", path.display()))?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    parse_case(&text, &base).with_context(|| format!("case file '{}'", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_fields_are_named() {
+        let err = parse_case(r#"{"ball_speeed": 40}"#, Path::new(".")).unwrap_err();
+        assert!(format!("{err:#}").contains("ball_speeed"), "{err:#}");
+        let err = parse_case(r#"{"ball": {"e0": 0.5}}"#, Path::new(".")).unwrap_err();
+        assert!(format!("{err:#}").contains("e0"), "{err:#}");
+    }
+
+    #[test]
+    fn malformed_json_is_an_error() {
+        assert!(parse_case("{\"bat\": ", Path::new(".")).is_err());
+        assert!(parse_case(r#"{"impact_z": "far"}"#, Path::new(".")).is_err());
+        assert!(parse_case(r#"{"bat": 3}"#, Path::new(".")).is_err());
+        assert!(parse_case(r#"{"impact_z": []}"#, Path::new(".")).is_err());
+    }
+
+    #[test]
+    fn inline_bat_object_parses() {
+        let text = r#"{"bat": {"name": "stick", "slice_length": 0.01,
+            "shell": {"density": 700, "youngs_modulus": 1.5e10, "shear_modulus": 1e9},
+            "station": [{"z": 0.0, "outer_radius": 0.02}, {"z": 0.8, "outer_radius": 0.03}]},
+            "impact_z": 0.7, "modes": 4}"#;
+        let case = parse_case(text, Path::new(".")).unwrap_or_else(|err| panic!("{err:#}"));
+        assert_eq!(case.bat.name, "stick");
+        assert_eq!(case.impact_zs, vec![0.7]);
+        assert_eq!(case.options.modes, 4);
+    }
+}

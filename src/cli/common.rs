@@ -1,0 +1,192 @@
+//! Arguments shared by the physics commands (`--bat`, ball overrides, `--modes`, `--dt`, swing speeds) and
+//! their resolution into physics values.
+
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+
+use super::bat_file::load_bat_file;
+use crate::physics::collision::TIME_STEP_RANGE;
+use crate::physics::{Ball, Bat, CollisionOptions, Impact};
+
+/// Default ball speed toward the bat, m/s (about 89 mph).
+pub const DEFAULT_BALL_SPEED: f64 = 40.0;
+/// Default bat centre-of-mass speed toward the ball, m/s.
+pub const DEFAULT_BAT_CM_SPEED: f64 = 25.0;
+/// Default bat angular speed, rad/s: with the CM speed above the R161 turns about a point near its knob,
+/// and the barrel 0.15 m beyond the CM moves at about 32 m/s (71 mph).
+pub const DEFAULT_BAT_ANGULAR_SPEED: f64 = 45.0;
+/// Largest number of vibrational modes the CLI accepts.
+pub const MAX_MODES: usize = 200;
+
+/// Parses a finite floating-point number (clap value parser), refusing NaN and ±∞.
+pub fn finite_f64(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number"))?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!("{value} is not allowed: expected a finite number"))
+    }
+}
+
+/// `--bat PRESET|FILE`.
+#[derive(Debug, Clone, Args)]
+pub struct BatArgs {
+    /// Bat: a preset name (r161, r161-corked, aluminum, torpedo) or a bat file (.toml, see docs/file-formats.md).
+    #[arg(long, value_name = "PRESET|FILE", default_value = "r161")]
+    pub bat: String,
+}
+
+impl BatArgs {
+    /// Loads the preset or the file.
+    pub fn load(&self) -> Result<Bat> {
+        resolve_bat(&self.bat, None)
+    }
+}
+
+/// A bat named by a preset or a path (relative paths are taken relative to `base`, if given).
+pub fn resolve_bat(spec: &str, base: Option<&Path>) -> Result<Bat> {
+    if Bat::preset_names().contains(&spec) {
+        return Bat::preset(spec).with_context(|| format!("bat preset '{spec}'"));
+    }
+    let path = match base {
+        Some(dir) => dir.join(spec),
+        None => Path::new(spec).to_path_buf(),
+    };
+    if path.is_file() {
+        return load_bat_file(&path);
+    }
+    bail!(
+        "--bat / bat: '{spec}' is neither a preset (known: {}) nor a bat file that exists",
+        Bat::preset_names().join(", ")
+    )
+}
+
+/// Ball overrides; anything not given keeps the regulation default.
+#[derive(Debug, Clone, Default, Args)]
+pub struct BallArgs {
+    /// Ball mass, kg [default 0.145].
+    #[arg(long, value_name = "KG", value_parser = finite_f64)]
+    pub ball_mass: Option<f64>,
+    /// Ball radius, m [default 0.0366].
+    #[arg(long, value_name = "M", value_parser = finite_f64)]
+    pub ball_radius: Option<f64>,
+    /// Ball coefficient of restitution e0 against a rigid wall, in (0, 1] [default 0.53].
+    #[arg(long, value_name = "E0", value_parser = finite_f64)]
+    pub ball_cor: Option<f64>,
+    /// Ball loading stiffness k1, N/m^α [default 6.53e7].
+    #[arg(long, value_name = "N/M^A", value_parser = finite_f64)]
+    pub ball_stiffness: Option<f64>,
+    /// Ball loading exponent α [default 1.84].
+    #[arg(long, value_name = "ALPHA", value_parser = finite_f64)]
+    pub ball_exponent: Option<f64>,
+}
+
+impl BallArgs {
+    /// `base` with the overrides applied, validated.
+    pub fn apply(&self, base: Ball) -> Result<Ball> {
+        let ball = Ball {
+            mass: self.ball_mass.unwrap_or(base.mass),
+            radius: self.ball_radius.unwrap_or(base.radius),
+            stiffness: self.ball_stiffness.unwrap_or(base.stiffness),
+            exponent: self.ball_exponent.unwrap_or(base.exponent),
+            cor: self.ball_cor.unwrap_or(base.cor),
+        };
+        ball.validate().context("invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent)")?;
+        Ok(ball)
+    }
+}
+
+/// `--modes N` and `--dt S`.
+#[derive(Debug, Clone, Args)]
+pub struct NumericArgs {
+    /// Number of vibrational modes integrated, 0..=200 (0 = rigid bat).
+    #[arg(long, value_name = "N", default_value_t = 18)]
+    pub modes: usize,
+    /// RK4 time step, s (1e-8 ≤ dt ≤ 1e-4).
+    #[arg(long, value_name = "S", default_value_t = 5e-6, value_parser = finite_f64)]
+    pub dt: f64,
+}
+
+impl NumericArgs {
+    /// The collision options, checked.
+    pub fn options(&self) -> Result<CollisionOptions> {
+        check_options(CollisionOptions { modes: self.modes, time_step: self.dt })
+    }
+}
+
+/// Checks the CLI's limits on the numerical options; the error names the field and its range.
+pub fn check_options(options: CollisionOptions) -> Result<CollisionOptions> {
+    if options.modes > MAX_MODES {
+        bail!("--modes / modes = {} is out of range: expected 0 ≤ modes ≤ {MAX_MODES}", options.modes);
+    }
+    let (lo, hi) = TIME_STEP_RANGE;
+    if !(options.time_step >= lo && options.time_step <= hi) {
+        bail!("--dt / time_step = {} s is out of range: expected {lo:e} ≤ time_step ≤ {hi:e} s", options.time_step);
+    }
+    Ok(options)
+}
+
+/// The swing: ball speed, bat CM speed and angular speed.
+#[derive(Debug, Clone, Args)]
+pub struct SwingArgs {
+    /// Ball speed toward the bat, m/s.
+    #[arg(long, value_name = "M/S", default_value_t = DEFAULT_BALL_SPEED, value_parser = finite_f64)]
+    pub ball_speed: f64,
+    /// Bat centre-of-mass speed toward the ball, m/s.
+    #[arg(long, value_name = "M/S", default_value_t = DEFAULT_BAT_CM_SPEED, value_parser = finite_f64)]
+    pub bat_cm_speed: f64,
+    /// Bat angular speed about its centre of mass, rad/s, positive when the barrel leads.
+    #[arg(long, value_name = "RAD/S", default_value_t = DEFAULT_BAT_ANGULAR_SPEED, value_parser = finite_f64, allow_negative_numbers = true)]
+    pub bat_angular_speed: f64,
+}
+
+impl SwingArgs {
+    /// An impact template at `impact_z`.
+    pub fn impact(&self, impact_z: f64) -> Impact {
+        Impact {
+            ball_speed: self.ball_speed,
+            bat_cm_speed: self.bat_cm_speed,
+            bat_angular_speed: self.bat_angular_speed,
+            impact_z,
+        }
+    }
+}
+
+/// `--json`.
+#[derive(Debug, Clone, Args)]
+pub struct OutputArgs {
+    /// Print one JSON document (snake_case fields, SI units; see docs/file-formats.md) instead of tables.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Prints `value` as pretty JSON on stdout.
+pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value).context("cannot serialise the output as JSON")?;
+    println!("{text}");
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finite_parser_refuses_nan_and_infinity() {
+        assert_eq!(finite_f64("1.5"), Ok(1.5));
+        assert!(finite_f64("NaN").is_err());
+        assert!(finite_f64("inf").is_err());
+        assert!(finite_f64("fast").is_err());
+    }
+
+    #[test]
+    fn options_are_bounded() {
+        assert!(check_options(CollisionOptions { modes: 18, time_step: 5e-6 }).is_ok());
+        let err = check_options(CollisionOptions { modes: 100_000, time_step: 5e-6 }).unwrap_err();
+        assert!(err.to_string().contains("modes"));
+        let err = check_options(CollisionOptions { modes: 18, time_step: 0.0 }).unwrap_err();
+        assert!(err.to_string().contains("time_step"));
+    }
+}

@@ -1,0 +1,350 @@
+//! Output of the physics commands: aligned text tables and the JSON documents (stable snake_case fields,
+//! SI units; every field is documented in docs/file-formats.md).
+
+use serde::Serialize;
+
+use crate::physics::{Ball, Bat, CollisionOptions, CollisionResult, Impact, MassProperties, SweetSpotSet};
+
+/// Pivot used for the moment of inertia and the centre of percussion: 6 in (0.1524 m) from the knob.
+pub const PIVOT_Z: f64 = 0.1524;
+
+/// A plain text table: a header row and right-aligned cells.
+#[derive(Debug, Clone, Default)]
+pub struct Table {
+    headers: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// A table with these column headers.
+    pub fn new<S: Into<String>>(headers: impl IntoIterator<Item = S>) -> Table {
+        Table { headers: headers.into_iter().map(Into::into).collect(), rows: Vec::new() }
+    }
+
+    /// Appends a row (missing cells are blank, extra cells are kept).
+    pub fn row<S: Into<String>>(&mut self, cells: impl IntoIterator<Item = S>) -> &mut Table {
+        self.rows.push(cells.into_iter().map(Into::into).collect());
+        self
+    }
+
+    /// The table as text, columns separated by two spaces; columns of numbers right-aligned, others left.
+    pub fn render(&self) -> String {
+        let columns = self.rows.iter().map(Vec::len).chain([self.headers.len()]).max().unwrap_or(0);
+        let mut widths = vec![0usize; columns];
+        for row in std::iter::once(&self.headers).chain(&self.rows) {
+            for (i, cell) in row.iter().enumerate() {
+                widths[i] = widths[i].max(cell.chars().count());
+            }
+        }
+        // Columns of numbers are right-aligned; a column holding any word (names, lists) is left-aligned.
+        let left: Vec<bool> = (0..columns)
+            .map(|i| self.rows.iter().any(|r| r.get(i).is_some_and(|c| !c.is_empty() && c.parse::<f64>().is_err())))
+            .collect();
+        let mut out = String::new();
+        let line = |row: &[String], out: &mut String| {
+            let mut text = String::new();
+            for (i, width) in widths.iter().enumerate() {
+                let cell = row.get(i).map(String::as_str).unwrap_or("");
+                let pad = width - cell.chars().count();
+                if i > 0 {
+                    text.push_str("  ");
+                }
+                if left[i] {
+                    text.push_str(cell);
+                    text.push_str(&" ".repeat(pad));
+                } else {
+                    text.push_str(&" ".repeat(pad));
+                    text.push_str(cell);
+                }
+            }
+            out.push_str(text.trim_end());
+            out.push('\n');
+        };
+        if !self.headers.is_empty() {
+            line(&self.headers, &mut out);
+            let rule: Vec<String> = widths.iter().map(|w| "-".repeat(*w)).collect();
+            line(&rule, &mut out);
+        }
+        for row in &self.rows {
+            line(row, &mut out);
+        }
+        out
+    }
+}
+
+/// A number with `digits` significant digits, in plain or scientific notation as fits.
+pub fn num(value: f64, digits: usize) -> String {
+    if !value.is_finite() {
+        return value.to_string();
+    }
+    if value == 0.0 {
+        return "0".to_string();
+    }
+    let magnitude = value.abs().log10().floor() as i32;
+    if !(-3..6).contains(&magnitude) {
+        return format!("{:.*e}", digits.saturating_sub(1), value);
+    }
+    let decimals = (digits as i32 - 1 - magnitude).max(0) as usize;
+    format!("{value:.decimals$}")
+}
+
+/// Mass properties of a bat, SI units.
+#[derive(Debug, Clone, Serialize)]
+pub struct BatJson {
+    /// Bat name.
+    pub name: String,
+    /// kg.
+    pub mass: f64,
+    /// m.
+    pub length: f64,
+    /// m from the knob.
+    pub center_of_mass: f64,
+    /// kg·m², about the centre of mass.
+    pub moment_of_inertia: f64,
+    /// m.
+    pub radius_of_gyration: f64,
+    /// The pivot used below, m from the knob.
+    pub pivot_z: f64,
+    /// kg·m², about the pivot.
+    pub moment_about_pivot: f64,
+    /// m from the knob, for the pivot.
+    pub center_of_percussion: f64,
+}
+
+impl BatJson {
+    /// From a bat's name and mass properties.
+    pub fn new(name: &str, props: &MassProperties) -> BatJson {
+        BatJson {
+            name: name.to_string(),
+            mass: props.mass,
+            length: props.length,
+            center_of_mass: props.center_of_mass,
+            moment_of_inertia: props.moment_of_inertia,
+            radius_of_gyration: props.radius_of_gyration,
+            pivot_z: PIVOT_Z,
+            moment_about_pivot: props.moment_about(PIVOT_Z),
+            center_of_percussion: props.center_of_percussion(PIVOT_Z),
+        }
+    }
+
+    /// Key/value rows for a table.
+    pub fn table(&self) -> Table {
+        let mut t = Table::new(["bat", self.name.as_str()]);
+        t.row(["mass (kg)".to_string(), num(self.mass, 4)]);
+        t.row(["length (m)".to_string(), num(self.length, 4)]);
+        t.row(["centre of mass (m from knob)".to_string(), num(self.center_of_mass, 4)]);
+        t.row(["moment of inertia about CM (kg·m²)".to_string(), num(self.moment_of_inertia, 4)]);
+        t.row(["radius of gyration (m)".to_string(), num(self.radius_of_gyration, 4)]);
+        t.row([format!("moment about pivot at {} m (kg·m²)", self.pivot_z), num(self.moment_about_pivot, 4)]);
+        t.row([format!("centre of percussion, pivot {} m (m)", self.pivot_z), num(self.center_of_percussion, 4)]);
+        t
+    }
+}
+
+/// The ball, SI units.
+#[derive(Debug, Clone, Serialize)]
+pub struct BallJson {
+    /// kg.
+    pub mass: f64,
+    /// m.
+    pub radius: f64,
+    /// k1, N/m^α.
+    pub stiffness: f64,
+    /// α.
+    pub exponent: f64,
+    /// e0.
+    pub cor: f64,
+}
+
+impl From<&Ball> for BallJson {
+    fn from(b: &Ball) -> BallJson {
+        BallJson { mass: b.mass, radius: b.radius, stiffness: b.stiffness, exponent: b.exponent, cor: b.cor }
+    }
+}
+
+/// The numerical options.
+#[derive(Debug, Clone, Serialize)]
+pub struct OptionsJson {
+    /// Vibrational modes integrated.
+    pub modes: usize,
+    /// RK4 step, s.
+    pub time_step: f64,
+}
+
+impl From<&CollisionOptions> for OptionsJson {
+    fn from(o: &CollisionOptions) -> OptionsJson {
+        OptionsJson { modes: o.modes, time_step: o.time_step }
+    }
+}
+
+/// The swing, SI units.
+#[derive(Debug, Clone, Serialize)]
+pub struct SwingJson {
+    /// m/s toward the bat.
+    pub ball_speed: f64,
+    /// m/s toward the ball.
+    pub bat_cm_speed: f64,
+    /// rad/s, positive when the barrel leads.
+    pub bat_angular_speed: f64,
+}
+
+impl From<&Impact> for SwingJson {
+    fn from(i: &Impact) -> SwingJson {
+        SwingJson { ball_speed: i.ball_speed, bat_cm_speed: i.bat_cm_speed, bat_angular_speed: i.bat_angular_speed }
+    }
+}
+
+/// Energy left in one vibrational mode.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModeEnergyJson {
+    /// 1-based mode number.
+    pub mode: usize,
+    /// Hz.
+    pub frequency_hz: f64,
+    /// J.
+    pub energy: f64,
+}
+
+/// The energy budget, J.
+#[derive(Debug, Clone, Serialize)]
+pub struct EnergyJson {
+    /// Before contact.
+    pub initial: f64,
+    /// Ball after separation.
+    pub ball: f64,
+    /// Bat rigid-body motion after separation.
+    pub bat_rigid: f64,
+    /// Bat vibration after separation.
+    pub vibration: f64,
+    /// Ball hysteresis.
+    pub hysteresis_loss: f64,
+    /// initial − the four above.
+    pub residual: f64,
+}
+
+/// One collision, SI units.
+#[derive(Debug, Clone, Serialize)]
+pub struct CollisionJson {
+    /// m from the knob.
+    pub impact_z: f64,
+    /// m/s away from the bat.
+    pub exit_speed: f64,
+    /// m/s, closed-form rigid bat with the ball's e0.
+    pub rigid_exit_speed: f64,
+    /// e_eff.
+    pub effective_cor: f64,
+    /// e_A.
+    pub collision_efficiency: f64,
+    /// s.
+    pub contact_time: f64,
+    /// N.
+    pub peak_force: f64,
+    /// N·s.
+    pub impulse: f64,
+    /// m.
+    pub max_compression: f64,
+    /// Energy budget.
+    pub energy: EnergyJson,
+    /// Per-mode energies.
+    pub mode_energies: Vec<ModeEnergyJson>,
+}
+
+impl CollisionJson {
+    /// From a library result at `impact_z`.
+    pub fn new(impact_z: f64, r: &CollisionResult) -> CollisionJson {
+        CollisionJson {
+            impact_z,
+            exit_speed: r.exit_speed,
+            rigid_exit_speed: r.rigid_exit_speed,
+            effective_cor: r.effective_cor,
+            collision_efficiency: r.collision_efficiency,
+            contact_time: r.contact_time,
+            peak_force: r.peak_force,
+            impulse: r.impulse,
+            max_compression: r.max_compression,
+            energy: EnergyJson {
+                initial: r.energy.initial,
+                ball: r.energy.ball,
+                bat_rigid: r.energy.bat_rigid,
+                vibration: r.energy.vibration,
+                hysteresis_loss: r.energy.hysteresis_loss,
+                residual: r.energy.residual,
+            },
+            mode_energies: r
+                .mode_energies
+                .iter()
+                .enumerate()
+                .map(|(i, m)| ModeEnergyJson { mode: i + 1, frequency_hz: m.frequency, energy: m.energy })
+                .collect(),
+        }
+    }
+}
+
+/// The sweet-spot set, m from the knob (and the best exit speed, m/s).
+#[derive(Debug, Clone, Serialize)]
+pub struct SweetSpotsJson {
+    /// Impact point of maximum flexible exit speed, m.
+    pub max_exit_speed_z: f64,
+    /// That exit speed, m/s.
+    pub max_exit_speed: f64,
+    /// Closed-form rigid optimum, m.
+    pub rigid_optimum_z: f64,
+    /// Node of mode 1 nearest the barrel, m.
+    pub node1_z: f64,
+    /// Node of mode 2 nearest the barrel, m.
+    pub node2_z: f64,
+    /// Centre of percussion for a pivot 0.1524 m from the knob, m.
+    pub center_of_percussion_z: f64,
+}
+
+impl From<&SweetSpotSet> for SweetSpotsJson {
+    fn from(s: &SweetSpotSet) -> SweetSpotsJson {
+        SweetSpotsJson {
+            max_exit_speed_z: s.max_exit_speed_z,
+            max_exit_speed: s.max_exit_speed,
+            rigid_optimum_z: s.rigid_optimum_z,
+            node1_z: s.node1_z,
+            node2_z: s.node2_z,
+            center_of_percussion_z: s.center_of_percussion_z,
+        }
+    }
+}
+
+impl SweetSpotsJson {
+    /// Key/value table.
+    pub fn table(&self) -> Table {
+        let mut t = Table::new(["sweet spot", "z (m from knob)"]);
+        t.row([format!("maximum exit speed ({} m/s)", num(self.max_exit_speed, 4)), num(self.max_exit_speed_z, 4)]);
+        t.row(["closed-form rigid optimum".to_string(), num(self.rigid_optimum_z, 4)]);
+        t.row(["node of mode 1".to_string(), num(self.node1_z, 4)]);
+        t.row(["node of mode 2".to_string(), num(self.node2_z, 4)]);
+        t.row([format!("centre of percussion (pivot {PIVOT_Z} m)"), num(self.center_of_percussion_z, 4)]);
+        t
+    }
+}
+
+/// Bat JSON from a bat (its own mass properties).
+pub fn bat_json(bat: &Bat, props: &MassProperties) -> BatJson {
+    BatJson::new(&bat.name, props)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_compact() {
+        assert_eq!(num(0.0, 4), "0");
+        assert_eq!(num(1.23456, 4), "1.235");
+        assert_eq!(num(123.456, 4), "123.5");
+        assert_eq!(num(5e-6, 3), "5.00e-6");
+        assert_eq!(num(1.814e10, 4), "1.814e10");
+    }
+
+    #[test]
+    fn tables_align() {
+        let mut t = Table::new(["n", "f (Hz)"]);
+        t.row(["1", "177.5"]).row(["10", "2000.0"]);
+        assert_eq!(t.render(), " n  f (Hz)\n--  ------\n 1   177.5\n10  2000.0\n");
+    }
+}

@@ -1,0 +1,183 @@
+//! `sweetspot simulate`: one collision per impact point, from flags or a case file.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use serde::Serialize;
+
+use super::case_file::load_case;
+use super::common::{finite_f64, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs, SwingArgs};
+use super::output::{num, BallJson, BatJson, CollisionJson, OptionsJson, SwingJson, Table};
+use crate::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
+
+/// Distance of the default impact point from the barrel end, m (6 in).
+pub const DEFAULT_IMPACT_FROM_TIP: f64 = 0.15;
+
+/// Arguments of `sweetspot simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// A case file (JSON, see docs/file-formats.md) instead of the bat, ball and swing flags.
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["bat", "ball_mass", "ball_radius", "ball_cor",
+        "ball_stiffness", "ball_exponent", "ball_speed", "bat_cm_speed", "bat_angular_speed", "impact_z", "modes", "dt"])]
+    pub case: Option<PathBuf>,
+    #[command(flatten)]
+    pub bat: BatArgs,
+    #[command(flatten)]
+    pub ball: BallArgs,
+    #[command(flatten)]
+    pub swing: SwingArgs,
+    /// Impact point(s), m from the knob; repeat the flag or give a comma list [default: 0.15 m from the barrel end].
+    #[arg(long, value_name = "M", value_delimiter = ',', value_parser = finite_f64)]
+    pub impact_z: Vec<f64>,
+    #[command(flatten)]
+    pub numeric: NumericArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
+}
+
+/// The JSON document of `sweetspot simulate --json`.
+#[derive(Debug, Serialize)]
+pub struct SimulateJson {
+    /// The bat's mass properties (of the discretised beam).
+    pub bat: BatJson,
+    /// The ball.
+    pub ball: BallJson,
+    /// The swing.
+    pub swing: SwingJson,
+    /// Numerical options.
+    pub options: OptionsJson,
+    /// One result per impact point, in the order given.
+    pub results: Vec<CollisionJson>,
+}
+
+/// Everything one run needs.
+struct Run {
+    bat: Bat,
+    ball: Ball,
+    swing: Impact,
+    impact_zs: Vec<f64>,
+    options: CollisionOptions,
+}
+
+/// Runs `sweetspot simulate`.
+pub fn run(args: SimulateArgs) -> Result<()> {
+    let run = match &args.case {
+        Some(path) => {
+            let case = load_case(path)?;
+            Run { bat: case.bat, ball: case.ball, swing: case.swing, impact_zs: case.impact_zs, options: case.options }
+        }
+        None => Run {
+            bat: args.bat.load()?,
+            ball: args.ball.apply(Ball::default())?,
+            swing: args.swing.impact(f64::NAN),
+            impact_zs: args.impact_z.clone(),
+            options: args.numeric.options()?,
+        },
+    };
+    let document = simulate(&run.bat, &run.ball, &run.swing, &run.impact_zs, &run.options)?;
+    if args.output.json {
+        print_json(&document)
+    } else {
+        print!("{}", render(&document));
+        Ok(())
+    }
+}
+
+/// Simulates every impact point (the default point when `impact_zs` is empty).
+pub fn simulate(
+    bat: &Bat,
+    ball: &Ball,
+    swing: &Impact,
+    impact_zs: &[f64],
+    options: &CollisionOptions,
+) -> Result<SimulateJson> {
+    let modes = ModeSet::compute(bat, options.modes).with_context(|| format!("normal modes of bat '{}'", bat.name))?;
+    let props = modes.mass_properties();
+    let default_z = [props.length - DEFAULT_IMPACT_FROM_TIP];
+    let zs = if impact_zs.is_empty() { &default_z[..] } else { impact_zs };
+    let mut results = Vec::with_capacity(zs.len());
+    for &impact_z in zs {
+        let impact = Impact { impact_z, ..*swing };
+        let result = collide(&modes, ball, &impact, options)
+            .with_context(|| format!("collision at impact_z = {impact_z} m"))?;
+        results.push(CollisionJson::new(impact_z, &result));
+    }
+    Ok(SimulateJson {
+        bat: BatJson::new(&bat.name, &props),
+        ball: ball.into(),
+        swing: swing.into(),
+        options: options.into(),
+        results,
+    })
+}
+
+/// Header lines describing the bat, ball, swing and options.
+pub fn describe_inputs(bat: &BatJson, ball: &BallJson, swing: &SwingJson, options: &OptionsJson) -> String {
+    format!(
+        "bat    {}: mass {} kg, length {} m, CM {} m from knob, I_cm {} kg·m²\n\
+         ball   mass {} kg, radius {} m, k1 {} N/m^α, α {}, e0 {}\n\
+         swing  ball {} m/s, bat CM {} m/s, bat ω {} rad/s\n\
+         model  {} vibrational modes, RK4 step {} s\n",
+        bat.name,
+        num(bat.mass, 4),
+        num(bat.length, 4),
+        num(bat.center_of_mass, 4),
+        num(bat.moment_of_inertia, 4),
+        num(ball.mass, 4),
+        num(ball.radius, 4),
+        num(ball.stiffness, 4),
+        num(ball.exponent, 4),
+        num(ball.cor, 4),
+        num(swing.ball_speed, 4),
+        num(swing.bat_cm_speed, 4),
+        num(swing.bat_angular_speed, 4),
+        options.modes,
+        num(options.time_step, 3),
+    )
+}
+
+/// The human-readable report: inputs, then one column per impact point.
+pub fn render(doc: &SimulateJson) -> String {
+    let mut out = describe_inputs(&doc.bat, &doc.ball, &doc.swing, &doc.options);
+    out.push('\n');
+    let header = std::iter::once("quantity".to_string())
+        .chain(doc.results.iter().map(|r| format!("z = {} m", num(r.impact_z, 4))));
+    let mut t = Table::new(header);
+    let mut row = |name: &str, f: &dyn Fn(&CollisionJson) -> String| {
+        t.row(std::iter::once(name.to_string()).chain(doc.results.iter().map(f)));
+    };
+    row("exit speed (m/s)", &|r| num(r.exit_speed, 5));
+    row("rigid-bat exit speed (m/s)", &|r| num(r.rigid_exit_speed, 5));
+    row("effective COR e_eff", &|r| num(r.effective_cor, 4));
+    row("collision efficiency e_A", &|r| num(r.collision_efficiency, 4));
+    row("contact time (ms)", &|r| num(r.contact_time * 1e3, 4));
+    row("peak force (kN)", &|r| num(r.peak_force * 1e-3, 4));
+    row("impulse (N·s)", &|r| num(r.impulse, 4));
+    row("max compression (mm)", &|r| num(r.max_compression * 1e3, 4));
+    row("energy before contact (J)", &|r| num(r.energy.initial, 5));
+    row("  ball after (J)", &|r| num(r.energy.ball, 5));
+    row("  bat rigid motion after (J)", &|r| num(r.energy.bat_rigid, 5));
+    row("  bat vibration after (J)", &|r| num(r.energy.vibration, 5));
+    row("  ball hysteresis loss (J)", &|r| num(r.energy.hysteresis_loss, 5));
+    row("  residual (J)", &|r| num(r.energy.residual, 3));
+    out.push_str(&t.render());
+
+    let mode_count = doc.results.iter().map(|r| r.mode_energies.len()).max().unwrap_or(0);
+    if mode_count > 0 {
+        out.push_str("\nvibrational energy per mode after separation (J)\n");
+        let header = ["mode".to_string(), "f (Hz)".to_string()]
+            .into_iter()
+            .chain(doc.results.iter().map(|r| format!("z = {} m", num(r.impact_z, 4))));
+        let mut t = Table::new(header);
+        for n in 0..mode_count {
+            let frequency = doc.results.iter().find_map(|r| r.mode_energies.get(n)).map(|m| m.frequency_hz);
+            let cells = [(n + 1).to_string(), frequency.map(|f| num(f, 5)).unwrap_or_default()].into_iter().chain(
+                doc.results.iter().map(|r| r.mode_energies.get(n).map(|m| num(m.energy, 4)).unwrap_or_default()),
+            );
+            t.row(cells);
+        }
+        out.push_str(&t.render());
+    }
+    out
+}
