@@ -1,0 +1,328 @@
+//! The node's state and decisions, free of DDS: which bats and balls are known, which modes are cached, and
+//! what a swing turns into (a collision to compute, or a rejection with its reason).
+
+use std::collections::HashMap;
+use std::sync::{Arc, OnceLock};
+
+use crate::physics::{
+    collide, metrics, Ball, Bat, CollisionOptions, CollisionResult, Impact, MassProperties, ModeSet, PhysicsError,
+    SweetSpotSet,
+};
+
+use super::settings::NodeSettings;
+use super::stats::NodeStats;
+
+/// ball_id of the built-in regulation baseball ([`Ball::default`]).
+pub const DEFAULT_BALL_ID: &str = "baseball";
+
+/// One bat the node knows, with its modes computed on first use and shared by every later swing. A new
+/// BatParams for the same bat_id makes a new entry, so swings already queued keep the bat they were sent for.
+#[derive(Debug)]
+pub struct BatEntry {
+    /// The bat_id swings use.
+    pub bat_id: String,
+    /// Geometry and materials.
+    pub bat: Bat,
+    /// Vibrational modes kept and integrated.
+    pub max_modes: usize,
+    /// True when `max_modes` came from the `default_modes` parameter (so changing it invalidates this entry).
+    pub uses_default_modes: bool,
+    modes: OnceLock<Result<Arc<ModeSet>, PhysicsError>>,
+}
+
+impl BatEntry {
+    /// An entry whose modes are not computed yet.
+    pub fn new(bat_id: impl Into<String>, bat: Bat, max_modes: Option<usize>, settings: &NodeSettings) -> BatEntry {
+        BatEntry {
+            bat_id: bat_id.into(),
+            bat,
+            max_modes: max_modes.unwrap_or(settings.default_modes),
+            uses_default_modes: max_modes.is_none(),
+            modes: OnceLock::new(),
+        }
+    }
+
+    /// The bat's modes: computed by the first caller (a cache miss), shared afterwards (a hit).
+    pub fn modes(&self, stats: &NodeStats) -> Result<Arc<ModeSet>, PhysicsError> {
+        let mut computed = false;
+        let modes = self.modes.get_or_init(|| {
+            computed = true;
+            ModeSet::compute(&self.bat, self.max_modes).map(Arc::new)
+        });
+        NodeStats::bump(if computed { &stats.mode_cache_misses } else { &stats.mode_cache_hits });
+        modes.clone()
+    }
+
+    /// Whether the modes have been computed (successfully or not).
+    pub fn modes_cached(&self) -> bool {
+        self.modes.get().is_some()
+    }
+}
+
+/// What the node knows: bats by bat_id, balls by ball_id, and which were received last.
+#[derive(Debug)]
+pub struct Registry {
+    bats: HashMap<String, Arc<BatEntry>>,
+    balls: HashMap<String, Ball>,
+    latest_bat: Option<String>,
+    latest_ball: Option<String>,
+}
+
+impl Default for Registry {
+    fn default() -> Self {
+        Registry::new()
+    }
+}
+
+impl Registry {
+    /// Knows the default ball; bats are created from presets on first use.
+    pub fn new() -> Registry {
+        let mut balls = HashMap::new();
+        balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
+        Registry { bats: HashMap::new(), balls, latest_bat: None, latest_ball: None }
+    }
+
+    /// Stores (or replaces) a bat; it becomes the latest bat.
+    pub fn set_bat(&mut self, entry: BatEntry) -> Arc<BatEntry> {
+        let entry = Arc::new(entry);
+        self.latest_bat = Some(entry.bat_id.clone());
+        self.bats.insert(entry.bat_id.clone(), Arc::clone(&entry));
+        entry
+    }
+
+    /// Stores (or replaces) a ball; it becomes the latest ball.
+    pub fn set_ball(&mut self, ball_id: &str, ball: Ball) {
+        self.latest_ball = Some(ball_id.to_string());
+        self.balls.insert(ball_id.to_string(), ball);
+    }
+
+    /// The bat a swing asks for: empty = the latest received (else `default_bat`); an unknown id that names a
+    /// preset becomes a bat. Returns the entry and whether it was just created (its SweetSpot is new).
+    pub fn resolve_bat(&mut self, requested: &str, settings: &NodeSettings) -> Result<(Arc<BatEntry>, bool), String> {
+        let bat_id = self.effective_bat_id(requested, settings);
+        if let Some(entry) = self.bats.get(&bat_id) {
+            return Ok((Arc::clone(entry), false));
+        }
+        match Bat::preset(&bat_id) {
+            Ok(bat) => {
+                let entry = Arc::new(BatEntry::new(&bat_id, bat, None, settings));
+                // A preset used by name does not become "the latest received" bat.
+                self.bats.insert(bat_id, Arc::clone(&entry));
+                Ok((entry, true))
+            }
+            Err(_) => {
+                let mut known: Vec<&str> = self.bats.keys().map(String::as_str).collect();
+                known.sort_unstable();
+                Err(format!(
+                    "unknown bat_id '{bat_id}': no BatParams received for it and it is not a preset (known bats: [{}]; presets: [{}])",
+                    known.join(", "),
+                    Bat::preset_names().join(", ")
+                ))
+            }
+        }
+    }
+
+    /// The bat_id an empty or explicit request refers to.
+    pub fn effective_bat_id(&self, requested: &str, settings: &NodeSettings) -> String {
+        if requested.is_empty() {
+            self.latest_bat.clone().unwrap_or_else(|| settings.default_bat.clone())
+        } else {
+            requested.to_string()
+        }
+    }
+
+    /// The ball a swing asks for: empty = the latest received (else the default baseball).
+    pub fn resolve_ball(&self, requested: &str) -> Result<(String, Ball), String> {
+        let ball_id = if requested.is_empty() {
+            self.latest_ball.clone().unwrap_or_else(|| DEFAULT_BALL_ID.to_string())
+        } else {
+            requested.to_string()
+        };
+        match self.balls.get(&ball_id) {
+            Some(ball) => Ok((ball_id, *ball)),
+            None => {
+                let mut known: Vec<&str> = self.balls.keys().map(String::as_str).collect();
+                known.sort_unstable();
+                Err(format!("unknown ball_id '{ball_id}': no BallParams received for it (known balls: [{}])", known.join(", ")))
+            }
+        }
+    }
+
+    /// After `default_modes` changed: replaces every bat that used it with a fresh entry (its modes will be
+    /// recomputed on next use). Returns the new entries.
+    pub fn refresh_default_modes(&mut self, settings: &NodeSettings) -> Vec<Arc<BatEntry>> {
+        let stale: Vec<String> =
+            self.bats.values().filter(|e| e.uses_default_modes && e.max_modes != settings.default_modes).map(|e| e.bat_id.clone()).collect();
+        stale
+            .into_iter()
+            .filter_map(|id| {
+                let old = self.bats.get(&id)?;
+                let fresh = Arc::new(BatEntry::new(&id, old.bat.clone(), None, settings));
+                self.bats.insert(id, Arc::clone(&fresh));
+                Some(fresh)
+            })
+            .collect()
+    }
+
+    /// Every known bat.
+    pub fn bats(&self) -> Vec<Arc<BatEntry>> {
+        let mut all: Vec<_> = self.bats.values().cloned().collect();
+        all.sort_by(|a, b| a.bat_id.cmp(&b.bat_id));
+        all
+    }
+}
+
+/// What a swing became after resolving its bat and ball.
+#[derive(Debug, Clone)]
+pub enum Plan {
+    /// A collision to compute off the DDS thread.
+    Collide {
+        /// The bat (its modes may still need computing).
+        bat: Arc<BatEntry>,
+        /// Resolved ball_id.
+        ball_id: String,
+        /// The ball.
+        ball: Ball,
+        /// Initial conditions.
+        impact: Impact,
+        /// Mode count and time step.
+        options: CollisionOptions,
+    },
+    /// Answered REJECTED without computing.
+    Reject {
+        /// Resolved (or requested) bat_id.
+        bat_id: String,
+        /// Resolved (or requested) ball_id.
+        ball_id: String,
+        /// Why.
+        reason: String,
+    },
+}
+
+impl Plan {
+    /// The bat_id the answer will carry.
+    pub fn bat_id(&self) -> &str {
+        match self {
+            Plan::Collide { bat, .. } => &bat.bat_id,
+            Plan::Reject { bat_id, .. } => bat_id,
+        }
+    }
+
+    /// The ball_id the answer will carry.
+    pub fn ball_id(&self) -> &str {
+        match self {
+            Plan::Collide { ball_id, .. } | Plan::Reject { ball_id, .. } => ball_id,
+        }
+    }
+}
+
+/// Resolves a swing's bat and ball. The second value is a bat created from a preset on first use.
+pub fn plan_swing(
+    registry: &mut Registry,
+    settings: &NodeSettings,
+    bat_id: &str,
+    ball_id: &str,
+    impact: Impact,
+) -> (Plan, Option<Arc<BatEntry>>) {
+    let (bat, created) = match registry.resolve_bat(bat_id, settings) {
+        Ok((bat, created)) => (bat, created.then_some(())),
+        Err(reason) => {
+            let ball_id = registry.resolve_ball(ball_id).map(|(id, _)| id).unwrap_or_else(|_| ball_id.to_string());
+            return (Plan::Reject { bat_id: registry.effective_bat_id(bat_id, settings), ball_id, reason }, None);
+        }
+    };
+    let new_bat = created.map(|_| Arc::clone(&bat));
+    match registry.resolve_ball(ball_id) {
+        Ok((ball_id, ball)) => {
+            let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
+            (Plan::Collide { bat, ball_id, ball, impact, options }, new_bat)
+        }
+        Err(reason) => (Plan::Reject { bat_id: bat.bat_id.clone(), ball_id: ball_id.to_string(), reason }, new_bat),
+    }
+}
+
+/// A computed collision with what the answer messages need besides it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Computed {
+    /// The collision.
+    pub collision: CollisionResult,
+    /// Kinetic energy in the centre-of-mass frame of ball and bat before impact, J (the denominator of
+    /// ModalEnergies.fraction).
+    pub collision_energy: f64,
+}
+
+/// Runs a planned collision: the bat's modes (cached), then the collision. Errors are the physics' text.
+pub fn compute(plan: &Plan, stats: &NodeStats) -> Result<Computed, String> {
+    match plan {
+        Plan::Reject { reason, .. } => Err(reason.clone()),
+        Plan::Collide { bat, ball, impact, options, .. } => {
+            let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
+            let collision = collide(&modes, ball, impact, options).map_err(|e| e.to_string())?;
+            let collision_energy = centre_of_mass_energy(&collision, &modes.mass_properties(), ball, impact);
+            Ok(Computed { collision, collision_energy })
+        }
+    }
+}
+
+/// Total kinetic energy before impact minus that of the motion of the common centre of mass, J. The ball
+/// moves toward the bat (−ball_speed along the bat's direction of motion), the bat's centre toward the ball.
+pub fn centre_of_mass_energy(collision: &CollisionResult, bat: &MassProperties, ball: &Ball, impact: &Impact) -> f64 {
+    let total_mass = bat.mass + ball.mass;
+    let momentum = bat.mass * impact.bat_cm_speed - ball.mass * impact.ball_speed;
+    let centre_speed = momentum / total_mass;
+    collision.energy.initial - 0.5 * total_mass * centre_speed * centre_speed
+}
+
+/// The SweetSpot of one bat for the reference swing: sweet-spot set, BBCOR, frequencies, mass properties.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BatSummary {
+    /// bat_id.
+    pub bat_id: String,
+    /// Ball used for the reference swing.
+    pub ball_id: String,
+    /// The reference swing (impact_z unused).
+    pub reference: Impact,
+    /// Sweet spots for the reference swing.
+    pub sweet_spots: SweetSpotSet,
+    /// BBCOR.
+    pub bbcor: f64,
+    /// Vibrational frequencies, Hz.
+    pub frequencies_hz: Vec<f64>,
+    /// Mass properties.
+    pub mass: MassProperties,
+}
+
+/// The reference swing of the settings (impact point filled in by the sweet-spot search).
+pub fn reference_swing(settings: &NodeSettings) -> Impact {
+    Impact {
+        ball_speed: settings.reference_ball_speed,
+        bat_cm_speed: settings.reference_bat_cm_speed,
+        bat_angular_speed: settings.reference_bat_angular_speed,
+        impact_z: 0.0,
+    }
+}
+
+/// Computes a bat's SweetSpot (slow: a sweep of collisions; run it off the DDS thread).
+pub fn summarize_bat(
+    bat: &BatEntry,
+    ball_id: &str,
+    ball: &Ball,
+    settings: &NodeSettings,
+    stats: &NodeStats,
+) -> Result<BatSummary, String> {
+    let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
+    let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
+    let reference = reference_swing(settings);
+    let sweet_spots = metrics::sweet_spots(&modes, ball, &reference, &options)
+        .map_err(|e| format!("bat '{}': sweet spots: {e}", bat.bat_id))?;
+    let bbcor = metrics::bbcor(&modes, &options).map_err(|e| format!("bat '{}': BBCOR: {e}", bat.bat_id))?;
+    Ok(BatSummary {
+        bat_id: bat.bat_id.clone(),
+        ball_id: ball_id.to_string(),
+        reference,
+        sweet_spots,
+        bbcor,
+        frequencies_hz: modes.frequencies_hz(),
+        mass: modes.mass_properties(),
+    })
+}

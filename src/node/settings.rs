@@ -1,0 +1,334 @@
+//! The node's ROS parameters: names, defaults, validation and which may change while the node runs.
+//!
+//! [`NodeSettings`] is the typed view; [`NodeSettings::declarations`] is what the node declares to ros2-client
+//! (so `ros2 param list/get/set/describe` see them) and [`NodeSettings::apply`] is the one place a value is
+//! checked, used for `-p`/`--params-file` overrides at start-up and for `ros2 param set` later.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use ros2_client::ParameterValue;
+
+/// Parameters that only take effect at start-up; setting them on a running node is refused.
+pub const READ_ONLY: &[&str] = &[
+    "queue_capacity",
+    "workers",
+    "record",
+    "record_path",
+    "record_max_file_size",
+    "record_max_file_duration",
+    "diagnostics_period",
+];
+
+/// Every parameter with its meaning, for `describe` output and the README table: (name, unit, meaning).
+pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
+    ("default_bat", "", "bat_id used by swings with an empty bat_id before any BatParams arrived (a preset name)"),
+    ("default_modes", "", "vibrational modes integrated when BatParams.max_modes is 0 (1..=200)"),
+    ("time_step", "s", "RK4 time step of every collision (1e-8..=1e-4)"),
+    ("reference_ball_speed", "m/s", "ball speed of the reference swing used for SweetSpot (> 0)"),
+    ("reference_bat_cm_speed", "m/s", "bat centre-of-mass speed of the reference swing (>= 0)"),
+    ("reference_bat_angular_speed", "rad/s", "bat angular speed of the reference swing"),
+    ("queue_capacity", "", "swings in flight (queued, computing or awaiting in-order publication) before new ones are dropped"),
+    ("workers", "", "collision worker threads; 0 = one per CPU core"),
+    ("record", "", "record every input and output to MCAP"),
+    ("record_path", "", "rosbag2 directory to create; empty = bags/<node>_<UTC time>"),
+    ("record_max_file_size", "bytes", "split the bag after this many bytes; 0 = never"),
+    ("record_max_file_duration", "s", "split the bag after this much time; 0 = never"),
+    ("diagnostics_period", "s", "period of /diagnostics (0.1..=60)"),
+];
+
+/// The node's parameters, typed. Defaults are what `sweetspot node` uses without `-p`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodeSettings {
+    /// Bat used for swings with an empty bat_id before any BatParams arrived.
+    pub default_bat: String,
+    /// Modes integrated when a bat's params say 0.
+    pub default_modes: usize,
+    /// RK4 time step, s.
+    pub time_step: f64,
+    /// Reference swing's ball speed toward the bat, m/s.
+    pub reference_ball_speed: f64,
+    /// Reference swing's bat centre-of-mass speed, m/s.
+    pub reference_bat_cm_speed: f64,
+    /// Reference swing's bat angular speed, rad/s.
+    pub reference_bat_angular_speed: f64,
+    /// Swings in flight before new ones are dropped.
+    pub queue_capacity: usize,
+    /// Worker threads; 0 = one per core.
+    pub workers: usize,
+    /// Record to MCAP.
+    pub record: bool,
+    /// Bag directory; empty = `bags/<node>_<UTC time>`.
+    pub record_path: String,
+    /// Split size, bytes; 0 = never.
+    pub record_max_file_size: u64,
+    /// Split duration, s; 0 = never.
+    pub record_max_file_duration: f64,
+    /// Diagnostics period, s.
+    pub diagnostics_period: f64,
+}
+
+impl Default for NodeSettings {
+    fn default() -> Self {
+        NodeSettings {
+            default_bat: "r161".to_string(),
+            default_modes: 18,
+            time_step: 5e-6,
+            // A hard-hit ball: 40 m/s pitch (≈ 90 mph), the bat's centre of mass at 20 m/s turning at 50 rad/s
+            // (barrel ≈ 30 m/s at the sweet spot of a 33-in bat).
+            reference_ball_speed: 40.0,
+            reference_bat_cm_speed: 20.0,
+            reference_bat_angular_speed: 50.0,
+            // Covers a burst of 10,000 swings at a few hundred bytes each (≈ 5 MB worst case).
+            queue_capacity: 16_384,
+            workers: 0,
+            record: true,
+            record_path: String::new(),
+            record_max_file_size: 0,
+            record_max_file_duration: 0.0,
+            diagnostics_period: 1.0,
+        }
+    }
+}
+
+/// What changing a parameter on a running node requires of the engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SettingEffect {
+    /// Nothing beyond storing it (read at the next use).
+    None,
+    /// Cached modes computed with the default mode count are stale.
+    ModesChanged,
+    /// Every SweetSpot must be recomputed (reference swing, time step).
+    SweetSpotsChanged,
+}
+
+impl NodeSettings {
+    /// The parameters as ros2-client declarations, in a stable order.
+    pub fn declarations(&self) -> Vec<(&'static str, ParameterValue)> {
+        use ParameterValue::*;
+        vec![
+            ("default_bat", String(self.default_bat.clone())),
+            ("default_modes", Integer(self.default_modes as i64)),
+            ("time_step", Double(self.time_step)),
+            ("reference_ball_speed", Double(self.reference_ball_speed)),
+            ("reference_bat_cm_speed", Double(self.reference_bat_cm_speed)),
+            ("reference_bat_angular_speed", Double(self.reference_bat_angular_speed)),
+            ("queue_capacity", Integer(self.queue_capacity as i64)),
+            ("workers", Integer(self.workers as i64)),
+            ("record", Boolean(self.record)),
+            ("record_path", String(self.record_path.clone())),
+            ("record_max_file_size", Integer(self.record_max_file_size as i64)),
+            ("record_max_file_duration", Double(self.record_max_file_duration)),
+            ("diagnostics_period", Double(self.diagnostics_period)),
+        ]
+    }
+
+    /// Defaults overridden by `-p`/`--params-file` values; an integer given for a double parameter is
+    /// accepted as that double (YAML writes `40` for 40.0). Unknown names and bad values are errors.
+    pub fn with_overrides(overrides: &BTreeMap<String, ParameterValue>) -> Result<NodeSettings, String> {
+        let mut settings = NodeSettings::default();
+        for (name, value) in overrides {
+            if name == "use_sim_time" {
+                continue; // ros2-client's own parameter
+            }
+            let declared = settings
+                .declarations()
+                .into_iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, v)| v)
+                .ok_or_else(|| {
+                    format!("unknown parameter '{name}' (known: {})", parameter_names().join(", "))
+                })?;
+            let value = match (&declared, value) {
+                (ParameterValue::Double(_), ParameterValue::Integer(i)) => ParameterValue::Double(*i as f64),
+                _ => value.clone(),
+            };
+            settings.apply(name, &value)?;
+        }
+        Ok(settings)
+    }
+
+    /// Checks and stores one value; the error names the parameter and its allowed range.
+    pub fn apply(&mut self, name: &str, value: &ParameterValue) -> Result<SettingEffect, String> {
+        use ParameterValue as V;
+        let range = |ok: bool, allowed: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(format!("{name} = {} is out of range: expected {allowed}", show(value)))
+            }
+        };
+        let wrong_type = |expected: &str| Err(format!("{name} must be {expected}, got {}", show(value)));
+        match (name, value) {
+            ("default_bat", V::String(s)) => {
+                range(!s.trim().is_empty(), "a non-empty bat_id or preset name")?;
+                self.default_bat = s.clone();
+                Ok(SettingEffect::None)
+            }
+            ("default_modes", V::Integer(n)) => {
+                range((1..=200).contains(n), "1 ≤ default_modes ≤ 200")?;
+                let changed = self.default_modes != *n as usize;
+                self.default_modes = *n as usize;
+                Ok(if changed { SettingEffect::ModesChanged } else { SettingEffect::None })
+            }
+            ("time_step", V::Double(x)) => {
+                range(x.is_finite() && (1e-8..=1e-4).contains(x), "1e-8 ≤ time_step ≤ 1e-4 s")?;
+                self.time_step = *x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            }
+            ("reference_ball_speed", V::Double(x)) => {
+                range(x.is_finite() && *x > 0.0 && *x <= 100.0, "0 < reference_ball_speed ≤ 100 m/s")?;
+                self.reference_ball_speed = *x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            }
+            ("reference_bat_cm_speed", V::Double(x)) => {
+                range(x.is_finite() && (0.0..=100.0).contains(x), "0 ≤ reference_bat_cm_speed ≤ 100 m/s")?;
+                self.reference_bat_cm_speed = *x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            }
+            ("reference_bat_angular_speed", V::Double(x)) => {
+                range(x.is_finite() && x.abs() <= 500.0, "|reference_bat_angular_speed| ≤ 500 rad/s")?;
+                self.reference_bat_angular_speed = *x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            }
+            ("queue_capacity", V::Integer(n)) => {
+                range((1..=1_000_000).contains(n), "1 ≤ queue_capacity ≤ 1000000")?;
+                self.queue_capacity = *n as usize;
+                Ok(SettingEffect::None)
+            }
+            ("workers", V::Integer(n)) => {
+                range((0..=256).contains(n), "0 (one per core) ≤ workers ≤ 256")?;
+                self.workers = *n as usize;
+                Ok(SettingEffect::None)
+            }
+            ("record", V::Boolean(b)) => {
+                self.record = *b;
+                Ok(SettingEffect::None)
+            }
+            ("record_path", V::String(s)) => {
+                self.record_path = s.clone();
+                Ok(SettingEffect::None)
+            }
+            ("record_max_file_size", V::Integer(n)) => {
+                range(*n == 0 || *n >= 4096, "0 (never split) or ≥ 4096 bytes")?;
+                self.record_max_file_size = *n as u64;
+                Ok(SettingEffect::None)
+            }
+            ("record_max_file_duration", V::Double(x)) => {
+                range(x.is_finite() && *x >= 0.0, "0 (never split) or a positive number of seconds")?;
+                self.record_max_file_duration = *x;
+                Ok(SettingEffect::None)
+            }
+            ("diagnostics_period", V::Double(x)) => {
+                range(x.is_finite() && (0.1..=60.0).contains(x), "0.1 ≤ diagnostics_period ≤ 60 s")?;
+                self.diagnostics_period = *x;
+                Ok(SettingEffect::None)
+            }
+            ("default_bat" | "record_path", _) => wrong_type("a string"),
+            ("default_modes" | "queue_capacity" | "workers" | "record_max_file_size", _) => wrong_type("an integer"),
+            ("record", _) => wrong_type("a boolean"),
+            (
+                "time_step" | "reference_ball_speed" | "reference_bat_cm_speed" | "reference_bat_angular_speed"
+                | "record_max_file_duration" | "diagnostics_period",
+                _,
+            ) => wrong_type("a double"),
+            _ => Err(format!("unknown parameter '{name}' (known: {})", parameter_names().join(", "))),
+        }
+    }
+
+    /// Worker threads to start: `workers`, or one per core when 0.
+    pub fn worker_count(&self) -> usize {
+        if self.workers > 0 {
+            self.workers
+        } else {
+            std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+        }
+    }
+
+    /// The bag directory for `node_name` started at `started` (UTC).
+    pub fn bag_dir(&self, node_name: &str, started: chrono::DateTime<chrono::Utc>) -> PathBuf {
+        if self.record_path.is_empty() {
+            PathBuf::from("bags").join(format!("{node_name}_{}", started.format("%Y_%m_%d-%H_%M_%S")))
+        } else {
+            PathBuf::from(&self.record_path)
+        }
+    }
+}
+
+/// Names of all the node's own parameters.
+pub fn parameter_names() -> Vec<&'static str> {
+    NodeSettings::default().declarations().into_iter().map(|(n, _)| n).collect()
+}
+
+fn show(value: &ParameterValue) -> String {
+    match value {
+        ParameterValue::NotSet => "<not set>".to_string(),
+        ParameterValue::Boolean(b) => b.to_string(),
+        ParameterValue::Integer(i) => i.to_string(),
+        ParameterValue::Double(x) => x.to_string(),
+        ParameterValue::String(s) => format!("'{s}'"),
+        other => format!("{other:?}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_declared_parameter_is_described_and_accepts_its_default() {
+        let defaults = NodeSettings::default();
+        for (name, value) in defaults.declarations() {
+            assert!(DESCRIPTIONS.iter().any(|(n, _, _)| *n == name), "{name} has no description");
+            let mut s = defaults.clone();
+            s.apply(name, &value).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(s, defaults);
+        }
+        assert_eq!(DESCRIPTIONS.len(), defaults.declarations().len());
+        for name in READ_ONLY {
+            assert!(parameter_names().contains(name));
+        }
+    }
+
+    #[test]
+    fn overrides_coerce_integers_to_doubles_and_report_effects() {
+        let mut o = BTreeMap::new();
+        o.insert("reference_ball_speed".to_string(), ParameterValue::Integer(35));
+        o.insert("record".to_string(), ParameterValue::Boolean(false));
+        o.insert("default_modes".to_string(), ParameterValue::Integer(12));
+        let s = NodeSettings::with_overrides(&o).unwrap();
+        assert_eq!(s.reference_ball_speed, 35.0);
+        assert!(!s.record);
+        assert_eq!(s.default_modes, 12);
+        let mut t = s.clone();
+        assert_eq!(t.apply("default_modes", &ParameterValue::Integer(12)).unwrap(), SettingEffect::None);
+        assert_eq!(t.apply("default_modes", &ParameterValue::Integer(10)).unwrap(), SettingEffect::ModesChanged);
+        assert_eq!(t.apply("time_step", &ParameterValue::Double(1e-6)).unwrap(), SettingEffect::SweetSpotsChanged);
+    }
+
+    #[test]
+    fn bad_values_are_refused_naming_the_parameter_and_range() {
+        let mut s = NodeSettings::default();
+        let e = s.apply("time_step", &ParameterValue::Double(f64::NAN)).unwrap_err();
+        assert!(e.contains("time_step") && e.contains("1e-8"), "{e}");
+        let e = s.apply("default_modes", &ParameterValue::Integer(0)).unwrap_err();
+        assert!(e.contains("default_modes") && e.contains("200"), "{e}");
+        let e = s.apply("record", &ParameterValue::Integer(1)).unwrap_err();
+        assert!(e.contains("boolean"), "{e}");
+        let e = s.apply("frobs", &ParameterValue::Integer(1)).unwrap_err();
+        assert!(e.contains("unknown parameter 'frobs'"), "{e}");
+        assert_eq!(s, NodeSettings::default(), "a refused value changes nothing");
+        let mut o = BTreeMap::new();
+        o.insert("queue_capacity".to_string(), ParameterValue::Integer(0));
+        assert!(NodeSettings::with_overrides(&o).is_err());
+    }
+
+    #[test]
+    fn default_bag_dir_is_named_after_node_and_utc_time() {
+        use chrono::TimeZone;
+        let t = chrono::Utc.with_ymd_and_hms(2026, 11, 21, 5, 6, 7).unwrap();
+        assert_eq!(NodeSettings::default().bag_dir("sweetspot", t), PathBuf::from("bags/sweetspot_2026_11_21-05_06_07"));
+        let s = NodeSettings { record_path: "/tmp/run1".into(), ..Default::default() };
+        assert_eq!(s.bag_dir("sweetspot", t), PathBuf::from("/tmp/run1"));
+    }
+}

@@ -1,0 +1,299 @@
+//! Counters and latency of a running node, shared by its threads, and their summary for `/diagnostics`.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use hdrhistogram::Histogram;
+
+/// Everything the node counts. Cheap to update from any thread.
+#[derive(Debug)]
+pub struct NodeStats {
+    /// Swings taken from DDS.
+    pub swings_received: AtomicU64,
+    /// Swings answered with status OK.
+    pub swings_ok: AtomicU64,
+    /// Swings answered with status REJECTED.
+    pub swings_rejected: AtomicU64,
+    /// Swings dropped because `queue_capacity` swings were already in flight.
+    pub swings_dropped: AtomicU64,
+    /// BatParams/BallParams accepted.
+    pub params_accepted: AtomicU64,
+    /// BatParams/BallParams refused (the previous params stay in force).
+    pub params_rejected: AtomicU64,
+    /// Swings whose bat modes were already computed.
+    pub mode_cache_hits: AtomicU64,
+    /// Mode computations (first use of a bat, or after its params changed).
+    pub mode_cache_misses: AtomicU64,
+    /// Results DDS refused to send (send window full past its blocking time).
+    pub publish_failures: AtomicU64,
+    /// Receive-to-publish latency, µs.
+    latency_us: Mutex<Histogram<u64>>,
+    started: Instant,
+}
+
+/// A consistent copy of the counters.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StatsSnapshot {
+    /// See [`NodeStats`].
+    pub swings_received: u64,
+    /// See [`NodeStats`].
+    pub swings_ok: u64,
+    /// See [`NodeStats`].
+    pub swings_rejected: u64,
+    /// See [`NodeStats`].
+    pub swings_dropped: u64,
+    /// See [`NodeStats`].
+    pub params_accepted: u64,
+    /// See [`NodeStats`].
+    pub params_rejected: u64,
+    /// See [`NodeStats`].
+    pub mode_cache_hits: u64,
+    /// See [`NodeStats`].
+    pub mode_cache_misses: u64,
+    /// See [`NodeStats`].
+    pub publish_failures: u64,
+    /// Swings queued, computing or waiting for in-order publication.
+    pub in_flight: u64,
+    /// Median receive-to-publish latency, µs (0 before the first swing).
+    pub latency_p50_us: u64,
+    /// 99th-percentile latency, µs.
+    pub latency_p99_us: u64,
+    /// Largest latency, µs.
+    pub latency_max_us: u64,
+    /// Time since start, s.
+    pub uptime_s: f64,
+}
+
+impl StatsSnapshot {
+    /// Swings answered (OK or REJECTED).
+    pub fn swings_answered(&self) -> u64 {
+        self.swings_ok + self.swings_rejected
+    }
+}
+
+impl Default for NodeStats {
+    fn default() -> Self {
+        NodeStats::new()
+    }
+}
+
+impl NodeStats {
+    /// All zero, uptime counted from now.
+    pub fn new() -> NodeStats {
+        NodeStats {
+            swings_received: AtomicU64::new(0),
+            swings_ok: AtomicU64::new(0),
+            swings_rejected: AtomicU64::new(0),
+            swings_dropped: AtomicU64::new(0),
+            params_accepted: AtomicU64::new(0),
+            params_rejected: AtomicU64::new(0),
+            mode_cache_hits: AtomicU64::new(0),
+            mode_cache_misses: AtomicU64::new(0),
+            publish_failures: AtomicU64::new(0),
+            // 1 µs … 1 h at 3 significant digits: a fixed ~200 kB, never grows.
+            latency_us: Mutex::new(Histogram::new_with_bounds(1, 3_600_000_000, 3).expect("static bounds are valid")),
+            started: Instant::now(),
+        }
+    }
+
+    /// Adds one to `counter`.
+    pub fn bump(counter: &AtomicU64) {
+        counter.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Records one receive-to-publish latency.
+    pub fn record_latency(&self, latency: Duration) {
+        let us = (latency.as_micros() as u64).clamp(1, 3_600_000_000);
+        if let Ok(mut h) = self.latency_us.lock() {
+            // Clamped into the bounds above, so this cannot fail.
+            let _ = h.record(us);
+        }
+    }
+
+    /// A copy of every counter; `in_flight` is supplied by the pipeline.
+    pub fn snapshot(&self, in_flight: u64) -> StatsSnapshot {
+        let load = |c: &AtomicU64| c.load(Ordering::Relaxed);
+        let (p50, p99, max) = match self.latency_us.lock() {
+            Ok(h) if !h.is_empty() => (h.value_at_quantile(0.5), h.value_at_quantile(0.99), h.max()),
+            _ => (0, 0, 0),
+        };
+        StatsSnapshot {
+            swings_received: load(&self.swings_received),
+            swings_ok: load(&self.swings_ok),
+            swings_rejected: load(&self.swings_rejected),
+            swings_dropped: load(&self.swings_dropped),
+            params_accepted: load(&self.params_accepted),
+            params_rejected: load(&self.params_rejected),
+            mode_cache_hits: load(&self.mode_cache_hits),
+            mode_cache_misses: load(&self.mode_cache_misses),
+            publish_failures: load(&self.publish_failures),
+            in_flight,
+            latency_p50_us: p50,
+            latency_p99_us: p99,
+            latency_max_us: max,
+            uptime_s: self.started.elapsed().as_secs_f64(),
+        }
+    }
+}
+
+/// State of the recorder as reported on `/diagnostics`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RecorderState {
+    /// `record:=false` or `--no-record`.
+    Off,
+    /// Writing to this directory.
+    Recording { dir: String, written: u64, dropped: u64, bytes: u64 },
+    /// Could not start or stopped on an error; the node keeps computing and publishing.
+    Failed { dir: String, error: String, written: u64, dropped: u64 },
+}
+
+/// Severity of a diagnostics report (values of diagnostic_msgs/DiagnosticStatus).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Health {
+    /// Everything answered, nothing dropped since the last report.
+    Ok = 0,
+    /// Swings dropped or results unsent since the last report, or the recorder is dropping.
+    Warn = 1,
+    /// The recorder failed.
+    Error = 2,
+}
+
+/// One `/diagnostics` status: level, one-line message, and key/value pairs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HealthReport {
+    /// Severity.
+    pub level: Health,
+    /// One-line summary.
+    pub message: String,
+    /// Key/value pairs, stable keys.
+    pub values: Vec<(String, String)>,
+}
+
+/// Summarises `now` against the previous report `before` (for "since the last report" warnings).
+pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &RecorderState) -> HealthReport {
+    let new_drops = now.swings_dropped.saturating_sub(before.swings_dropped);
+    let new_publish_failures = now.publish_failures.saturating_sub(before.publish_failures);
+    let (mut level, mut message) = (Health::Ok, format!("{} swings answered", now.swings_answered()));
+    if new_drops > 0 || new_publish_failures > 0 {
+        level = Health::Warn;
+        message = format!("{new_drops} swings dropped (queue full), {new_publish_failures} results unsent since last report");
+    }
+    let mut values: Vec<(String, String)> = vec![
+        ("swings_received".into(), now.swings_received.to_string()),
+        ("swings_processed".into(), now.swings_ok.to_string()),
+        ("swings_rejected".into(), now.swings_rejected.to_string()),
+        ("swings_dropped".into(), now.swings_dropped.to_string()),
+        ("swings_in_flight".into(), now.in_flight.to_string()),
+        ("params_accepted".into(), now.params_accepted.to_string()),
+        ("params_rejected".into(), now.params_rejected.to_string()),
+        ("publish_failures".into(), now.publish_failures.to_string()),
+        ("latency_p50_us".into(), now.latency_p50_us.to_string()),
+        ("latency_p99_us".into(), now.latency_p99_us.to_string()),
+        ("latency_max_us".into(), now.latency_max_us.to_string()),
+        ("mode_cache_hits".into(), now.mode_cache_hits.to_string()),
+        ("mode_cache_misses".into(), now.mode_cache_misses.to_string()),
+        ("uptime_s".into(), format!("{:.1}", now.uptime_s)),
+    ];
+    match recorder {
+        RecorderState::Off => values.push(("recorder_state".into(), "off".into())),
+        RecorderState::Recording { dir, written, dropped, bytes } => {
+            values.push(("recorder_state".into(), "recording".into()));
+            values.push(("recorder_path".into(), dir.clone()));
+            values.push(("recorder_written".into(), written.to_string()));
+            values.push(("recorder_dropped".into(), dropped.to_string()));
+            values.push(("recorder_bytes".into(), bytes.to_string()));
+            if *dropped > 0 && level == Health::Ok {
+                level = Health::Warn;
+                message = format!("recorder dropped {dropped} messages");
+            }
+        }
+        RecorderState::Failed { dir, error, written, dropped } => {
+            values.push(("recorder_state".into(), "failed".into()));
+            values.push(("recorder_path".into(), dir.clone()));
+            values.push(("recorder_error".into(), error.clone()));
+            values.push(("recorder_written".into(), written.to_string()));
+            values.push(("recorder_dropped".into(), dropped.to_string()));
+            level = Health::Error;
+            message = format!("recording failed ({error}); still computing and publishing");
+        }
+    }
+    HealthReport { level, message, values }
+}
+
+/// Lets a repeated warning through at most once per `period`, counting what it held back.
+#[derive(Debug)]
+pub struct RateLimiter {
+    period: Duration,
+    state: Mutex<(Option<Instant>, u64)>,
+}
+
+impl RateLimiter {
+    /// At most one message per `period`.
+    pub fn new(period: Duration) -> RateLimiter {
+        RateLimiter { period, state: Mutex::new((None, 0)) }
+    }
+
+    /// `Some(n)` if a message may go out now, `n` being how many were suppressed since the last one.
+    pub fn allow(&self, now: Instant) -> Option<u64> {
+        let mut state = self.state.lock().ok()?;
+        let (last, suppressed) = &mut *state;
+        match last {
+            Some(t) if now.duration_since(*t) < self.period => {
+                *suppressed += 1;
+                None
+            }
+            _ => {
+                *last = Some(now);
+                Some(std::mem::take(suppressed))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn latency_percentiles_follow_recorded_values() {
+        let s = NodeStats::new();
+        assert_eq!(s.snapshot(0).latency_p50_us, 0);
+        for us in 1..=100u64 {
+            s.record_latency(Duration::from_micros(us * 10));
+        }
+        let snap = s.snapshot(3);
+        assert!((495..=505).contains(&snap.latency_p50_us), "{}", snap.latency_p50_us);
+        assert!((985..=995).contains(&snap.latency_p99_us), "{}", snap.latency_p99_us);
+        assert!((999..=1001).contains(&snap.latency_max_us), "{}", snap.latency_max_us);
+        assert_eq!(snap.in_flight, 3);
+    }
+
+    #[test]
+    fn report_warns_on_new_drops_only_and_errors_on_recorder_failure() {
+        let before = StatsSnapshot { swings_dropped: 5, ..Default::default() };
+        let now = StatsSnapshot { swings_dropped: 5, swings_ok: 7, swings_rejected: 1, ..Default::default() };
+        let r = health_report(&now, &before, &RecorderState::Off);
+        assert_eq!(r.level, Health::Ok);
+        assert!(r.values.contains(&("swings_processed".into(), "7".into())));
+        assert!(r.values.contains(&("recorder_state".into(), "off".into())));
+        let later = StatsSnapshot { swings_dropped: 9, ..now.clone() };
+        let r = health_report(&later, &now, &RecorderState::Off);
+        assert_eq!(r.level, Health::Warn);
+        assert!(r.message.contains("4 swings dropped"), "{}", r.message);
+        let failed = RecorderState::Failed { dir: "/x".into(), error: "disk full".into(), written: 3, dropped: 1 };
+        let r = health_report(&now, &now, &failed);
+        assert_eq!(r.level, Health::Error);
+        assert!(r.message.contains("disk full"));
+    }
+
+    #[test]
+    fn rate_limiter_counts_suppressed_messages() {
+        let l = RateLimiter::new(Duration::from_secs(5));
+        let t0 = Instant::now();
+        assert_eq!(l.allow(t0), Some(0));
+        assert_eq!(l.allow(t0 + Duration::from_secs(1)), None);
+        assert_eq!(l.allow(t0 + Duration::from_secs(2)), None);
+        assert_eq!(l.allow(t0 + Duration::from_secs(6)), Some(2));
+    }
+}
