@@ -6,6 +6,17 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+pub mod export;
+pub mod info;
+pub mod reader;
+pub mod recover;
+mod recorder;
+pub mod rosbag2;
+pub mod writer;
+
+pub use recorder::Recorder;
+pub use rosbag2::{default_bag_dir, BagMetadata};
+
 /// Errors of the bag layer.
 #[derive(Debug, thiserror::Error)]
 pub enum BagError {
@@ -66,7 +77,7 @@ pub struct RecorderConfig {
     pub queue_capacity: usize,
 }
 
-/// Counters of a recorder, readable at any time.
+/// Counters of a recorder, readable at any time (`bytes` counts message payload bytes, CDR included).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RecorderStats {
     /// Messages written to disk.
@@ -77,4 +88,11 @@ pub struct RecorderStats {
     pub bytes: u64,
     /// The last error, if recording failed (the node keeps running).
     pub error: Option<String>,
+}
+
+impl TopicInfo {
+    /// The topic description of a generated message type: its ROS type name and full `ros2msg` schema.
+    pub fn of<M: crate::msgs::RosMessage>(name: impl Into<String>, qos: RecordedQos) -> TopicInfo {
+        TopicInfo { name: name.into(), type_name: M::TYPE_NAME.to_string(), schema_text: M::SCHEMA_TEXT.to_string(), qos }
+    }
 }

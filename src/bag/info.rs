@@ -1,0 +1,243 @@
+//! `bag info`: what is in a bag, from a full scan of its files (works on unfinished files too).
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::reader::{read_bag, FileScan};
+use super::rosbag2::{BagMetadata, FileEntry};
+use super::{BagError, TopicInfo};
+
+/// One topic of a bag.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct TopicSummary {
+    /// Topic name.
+    pub name: String,
+    /// ROS type.
+    pub type_name: String,
+    /// Messages.
+    pub count: u64,
+    /// Serialization format (`cdr`).
+    pub serialization_format: String,
+    /// Offered QoS: reliable?
+    pub reliable: bool,
+    /// Offered QoS: transient local?
+    pub transient_local: bool,
+    /// Offered QoS: KEEP_LAST depth.
+    pub depth: u32,
+}
+
+/// One file of a bag.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FileSummary {
+    /// File name.
+    pub path: String,
+    /// Size, bytes.
+    pub size: u64,
+    /// Messages.
+    pub messages: u64,
+    /// Complete chunks.
+    pub chunks: u64,
+    /// Has summary + footer (false: cut off, run `sweetspot bag recover`).
+    pub complete: bool,
+    /// Bytes after the last complete record.
+    pub truncated_bytes: u64,
+    /// Chunks skipped because they failed to decode.
+    pub corrupt_chunks: u64,
+}
+
+/// Everything `bag info` prints.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct BagInfo {
+    /// The files in order.
+    pub files: Vec<FileSummary>,
+    /// Total size, bytes.
+    pub size: u64,
+    /// Storage identifier (`mcap`).
+    pub storage_identifier: String,
+    /// MCAP profile of the first file.
+    pub profile: String,
+    /// MCAP library of the first file.
+    pub library: String,
+    /// Chunk compression(s) in use.
+    pub compression: Vec<String>,
+    /// Earliest log time, ns since the Unix epoch.
+    pub start_ns: u64,
+    /// Latest log time, ns since the Unix epoch.
+    pub end_ns: u64,
+    /// end - start, ns.
+    pub duration_ns: u64,
+    /// Messages.
+    pub messages: u64,
+    /// Topics in first-seen order.
+    pub topics: Vec<TopicSummary>,
+}
+
+impl BagInfo {
+    /// Whether every file ended properly.
+    pub fn complete(&self) -> bool {
+        self.files.iter().all(|f| f.complete)
+    }
+}
+
+/// Topics (first-seen order) with their counts, merged over files by name.
+pub fn topics_of(scans: &[FileScan]) -> Vec<(TopicInfo, u64)> {
+    let mut topics: Vec<(TopicInfo, u64)> = Vec::new();
+    for scan in scans {
+        for (id, channel) in &scan.channels {
+            let count = scan.counts.get(id).copied().unwrap_or(0);
+            match topics.iter_mut().find(|(t, _)| t.name == channel.topic.name) {
+                Some((_, c)) => *c += count,
+                None => topics.push((channel.topic.clone(), count)),
+            }
+        }
+    }
+    topics
+}
+
+/// rosbag2 metadata describing the scanned files.
+pub fn metadata_of(scans: &[FileScan]) -> BagMetadata {
+    BagMetadata {
+        topics: topics_of(scans),
+        files: scans
+            .iter()
+            .map(|s| {
+                let (start, end) = s.time_range.unwrap_or((0, 0));
+                FileEntry {
+                    path: s.path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+                    start_ns: start,
+                    duration_ns: end - start,
+                    message_count: s.message_count(),
+                }
+            })
+            .collect(),
+        compression_format: String::new(),
+        ros_distro: std::env::var("ROS_DISTRO").unwrap_or_default(),
+        custom_data: custom_data_of(scans),
+    }
+}
+
+/// The `custom_data` of the last `rosbag2` record found in the files (the most complete one).
+pub fn custom_data_of(scans: &[FileScan]) -> std::collections::BTreeMap<String, String> {
+    scans
+        .iter()
+        .rev()
+        .find_map(|s| s.rosbag2_metadata.as_deref())
+        .map(super::rosbag2::parse_custom_data)
+        .unwrap_or_default()
+}
+
+/// Scans a bag (directory or single `.mcap`) and summarizes it.
+pub fn bag_info(path: &Path) -> Result<BagInfo, BagError> {
+    let scans = read_bag(path, |_| {})?;
+    Ok(info_of(&scans))
+}
+
+/// Summarizes already scanned files.
+pub fn info_of(scans: &[FileScan]) -> BagInfo {
+    let start = scans.iter().filter_map(|s| s.time_range).map(|r| r.0).min().unwrap_or(0);
+    let end = scans.iter().filter_map(|s| s.time_range).map(|r| r.1).max().unwrap_or(0);
+    let mut compression: Vec<String> = Vec::new();
+    for s in scans {
+        for c in &s.compressions {
+            if !compression.contains(c) {
+                compression.push(c.clone());
+            }
+        }
+    }
+    BagInfo {
+        files: scans
+            .iter()
+            .map(|s| FileSummary {
+                path: s.path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+                size: s.size,
+                messages: s.message_count(),
+                chunks: s.chunks,
+                complete: s.complete,
+                truncated_bytes: s.truncated_bytes,
+                corrupt_chunks: s.corrupt_chunks,
+            })
+            .collect(),
+        size: scans.iter().map(|s| s.size).sum(),
+        storage_identifier: "mcap".to_string(),
+        profile: scans.first().map(|s| s.profile.clone()).unwrap_or_default(),
+        library: scans.first().map(|s| s.library.clone()).unwrap_or_default(),
+        compression,
+        start_ns: start,
+        end_ns: end,
+        duration_ns: end - start,
+        messages: scans.iter().map(|s| s.message_count()).sum(),
+        topics: topics_of(scans)
+            .into_iter()
+            .map(|(t, count)| TopicSummary {
+                name: t.name,
+                type_name: t.type_name,
+                count,
+                serialization_format: "cdr".to_string(),
+                reliable: t.qos.reliable,
+                transient_local: t.qos.transient_local,
+                depth: t.qos.depth,
+            })
+            .collect(),
+    }
+}
+
+fn human_size(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["B", "KiB", "MiB", "GiB"];
+    let mut value = bytes as f64;
+    let mut unit = 0;
+    while value >= 1024.0 && unit < UNITS.len() - 1 {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 { format!("{bytes} B") } else { format!("{value:.1} {}", UNITS[unit]) }
+}
+
+fn stamp(ns: u64) -> String {
+    let secs = (ns / 1_000_000_000) as i64;
+    let nanos = (ns % 1_000_000_000) as u32;
+    let when = chrono::DateTime::from_timestamp(secs, nanos)
+        .map(|t| t.format("%b %e %Y %H:%M:%S%.9f UTC").to_string())
+        .unwrap_or_default();
+    format!("{when} ({secs}.{nanos:09})")
+}
+
+impl std::fmt::Display for BagInfo {
+    /// The layout of `ros2 bag info`, plus compression and completeness.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let files: Vec<&str> = self.files.iter().map(|x| x.path.as_str()).collect();
+        writeln!(f, "Files:             {}", files.join("\n                   "))?;
+        writeln!(f, "Bag size:          {}", human_size(self.size))?;
+        writeln!(f, "Storage id:        {}", self.storage_identifier)?;
+        writeln!(f, "Profile / library: {} / {}", self.profile, self.library)?;
+        let compression = if self.compression.is_empty() { "none".to_string() } else { self.compression.join(", ") + " (chunks)" };
+        writeln!(f, "Compression:       {compression}")?;
+        writeln!(f, "Duration:          {}.{:09}s", self.duration_ns / 1_000_000_000, self.duration_ns % 1_000_000_000)?;
+        writeln!(f, "Start:             {}", stamp(self.start_ns))?;
+        writeln!(f, "End:               {}", stamp(self.end_ns))?;
+        writeln!(f, "Messages:          {}", self.messages)?;
+        let width = self.topics.iter().map(|t| t.name.len()).max().unwrap_or(0);
+        for (i, t) in self.topics.iter().enumerate() {
+            let label = if i == 0 { "Topic information: " } else { "                   " };
+            writeln!(
+                f,
+                "{label}Topic: {:width$} | Type: {} | Count: {} | Serialization Format: {} | QoS: {}, {}, depth {}",
+                t.name,
+                t.type_name,
+                t.count,
+                t.serialization_format,
+                if t.reliable { "reliable" } else { "best_effort" },
+                if t.transient_local { "transient_local" } else { "volatile" },
+                t.depth
+            )?;
+        }
+        for file in self.files.iter().filter(|x| !x.complete) {
+            writeln!(
+                f,
+                "WARNING: {} is unfinished (no summary; {} bytes cut off, {} corrupt chunks) — run `sweetspot bag recover`",
+                file.path, file.truncated_bytes, file.corrupt_chunks
+            )?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,75 @@
+//! Shared helpers of the bag tests: a tiny hand-written message type and the independent Python peers.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use sweetspot::bag::{RecordedQos, TopicInfo};
+
+/// `std_msgs/msg/String` as rosbag2 stores its definition.
+pub const STRING_SCHEMA: &str = "string data\n";
+
+/// A topic of type std_msgs/msg/String.
+pub fn string_topic(name: &str, qos: RecordedQos) -> TopicInfo {
+    TopicInfo {
+        name: name.to_string(),
+        type_name: "std_msgs/msg/String".to_string(),
+        schema_text: STRING_SCHEMA.to_string(),
+        qos,
+    }
+}
+
+/// Reliable, volatile, depth 10.
+pub const RELIABLE: RecordedQos = RecordedQos { reliable: true, transient_local: false, depth: 10 };
+/// Reliable, transient-local, depth 1 (latched params).
+pub const LATCHED: RecordedQos = RecordedQos { reliable: true, transient_local: true, depth: 1 };
+/// Best effort, volatile, depth 5.
+pub const BEST_EFFORT: RecordedQos = RecordedQos { reliable: false, transient_local: false, depth: 5 };
+
+/// CDR (little endian, with the 4-byte encapsulation header) of a std_msgs/String.
+pub fn cdr_string(text: &str) -> Vec<u8> {
+    let mut out = vec![0x00, 0x01, 0x00, 0x00];
+    out.extend_from_slice(&((text.len() + 1) as u32).to_le_bytes());
+    out.extend_from_slice(text.as_bytes());
+    out.push(0);
+    while out.len() % 4 != 0 {
+        out.push(0);
+    }
+    out
+}
+
+/// The Python with the independent peers: `$SWEETSPOT_PYTHON`, else `<repo>/.venv/bin/python`. Panics
+/// with instructions if neither exists — these checks are never skipped silently.
+pub fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("SWEETSPOT_PYTHON") {
+        let p = PathBuf::from(p);
+        assert!(p.exists(), "SWEETSPOT_PYTHON={} does not exist", p.display());
+        return p;
+    }
+    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
+    assert!(
+        venv.exists(),
+        "no Python with the independent readers: set SWEETSPOT_PYTHON or create {} \
+         (scripts/test does: python3 -m venv .venv && .venv/bin/pip install -r tests/python/requirements.txt)",
+        venv.display()
+    );
+    venv
+}
+
+/// Runs tests/python/check_bag.py on a bag directory and returns its JSON verdict (panics on failure).
+pub fn python_check_bag(dir: &Path) -> serde_json::Value {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/python/check_bag.py");
+    let out = Command::new(python()).arg(&script).arg(dir).output().expect("run check_bag.py");
+    assert!(
+        out.status.success(),
+        "check_bag.py failed on {}:\n{}",
+        dir.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("check_bag.py prints JSON")
+}
+
+/// The `sweetspot` binary built for these tests.
+pub fn sweetspot_bin() -> PathBuf {
+    PathBuf::from(env!("CARGO_BIN_EXE_sweetspot"))
+}
