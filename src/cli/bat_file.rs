@@ -234,9 +234,53 @@ pub fn profile_to_csv(stations: &[Station]) -> String {
     out
 }
 
-/// The TOML text of `spec`.
-pub fn spec_to_toml(spec: &BatSpec) -> Result<String> {
-    toml::to_string(spec).context("cannot write the bat as TOML")
+/// A float as TOML: shortest round-trip text, scientific for very large or small magnitudes.
+fn toml_float(value: f64) -> String {
+    let magnitude = value.abs();
+    if magnitude != 0.0 && !(1e-3..1e5).contains(&magnitude) {
+        format!("{value:e}")
+    } else {
+        format!("{value:?}")
+    }
+}
+
+/// The TOML text of `spec`, commented with units; numbers round-trip exactly.
+pub fn spec_to_toml(spec: &BatSpec) -> String {
+    let mut out = String::from("# sweetspot bat file (docs/file-formats.md): SI units, z in metres from the knob.\n");
+    let line = |out: &mut String, key: &str, value: String, comment: &str| {
+        let text = format!("{key} = {value}");
+        if comment.is_empty() {
+            out.push_str(&format!("{text}\n"));
+        } else {
+            out.push_str(&format!("{text:<32}# {comment}\n"));
+        }
+    };
+    if let Some(name) = &spec.name {
+        line(&mut out, "name", toml::Value::String(name.clone()).to_string(), "");
+    }
+    line(&mut out, "slice_length", toml_float(spec.slice_length), "m, slice thickness of the beam model");
+    if let Some(profile) = &spec.profile {
+        line(&mut out, "profile", toml::Value::String(profile.clone()).to_string(), "CSV: z_m, outer_radius_m, inner_radius_m");
+    }
+    out.push_str("\n[shell]\n");
+    line(&mut out, "density", toml_float(spec.shell.density), "kg/m³");
+    line(&mut out, "youngs_modulus", toml_float(spec.shell.youngs_modulus), "Pa");
+    line(&mut out, "shear_modulus", toml_float(spec.shell.shear_modulus), "Pa");
+    if let Some(core) = &spec.core {
+        out.push_str("\n[core]                          # fill of the bore between z_start and z_end\n");
+        line(&mut out, "density", toml_float(core.density), "kg/m³");
+        line(&mut out, "youngs_modulus", toml_float(core.youngs_modulus), "Pa");
+        line(&mut out, "shear_modulus", toml_float(core.shear_modulus), "Pa");
+        line(&mut out, "z_start", toml_float(core.z_start), "m from the knob");
+        line(&mut out, "z_end", toml_float(core.z_end), "m from the knob");
+    }
+    for station in &spec.stations {
+        out.push_str("\n[[station]]\n");
+        line(&mut out, "z", toml_float(station.z), "m from the knob");
+        line(&mut out, "outer_radius", toml_float(station.outer_radius), "m");
+        line(&mut out, "inner_radius", toml_float(station.inner_radius), "m");
+    }
+    out
 }
 
 /// Reads a bat file from disk; the CSV profile is resolved relative to the TOML file.
@@ -259,7 +303,7 @@ pub fn write_bat_files(bat: &Bat, dir: &Path, stem: &str) -> Result<PathBuf> {
     let spec = BatSpec::from_bat(bat, Some(&csv_name));
     std::fs::write(dir.join(&csv_name), profile_to_csv(&bat.stations))
         .with_context(|| format!("cannot write '{}'", dir.join(&csv_name).display()))?;
-    std::fs::write(&toml_path, spec_to_toml(&spec)?).with_context(|| format!("cannot write '{}'", toml_path.display()))?;
+    std::fs::write(&toml_path, spec_to_toml(&spec)).with_context(|| format!("cannot write '{}'", toml_path.display()))?;
     Ok(toml_path)
 }
 
@@ -319,9 +363,12 @@ mod tests {
             profile: None,
             shell: MaterialSpec { density: 649.0, youngs_modulus: 1.814e10, shear_modulus: 1.05e9 },
             core: Some(CoreSpec { density: 200.0, youngs_modulus: 3e7, shear_modulus: 6e6, z_start: 0.586, z_end: 0.84 }),
-            stations: vec![StationSpec { z: 0.0, outer_radius: 0.025, inner_radius: 0.0 }],
+            stations: vec![
+                StationSpec { z: 0.0, outer_radius: 0.025, inner_radius: 0.0 },
+                StationSpec { z: 0.1 + 0.2, outer_radius: 1.0 / 30.0, inner_radius: 1e-7 / 3.0 },
+            ],
         };
-        let text = spec_to_toml(&spec).unwrap();
+        let text = spec_to_toml(&spec);
         let back: BatSpec = toml::from_str(&text).unwrap();
         assert_eq!(back, spec);
     }

@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use serde::Serialize;
 
-use super::common::{print_json, BallArgs, BatArgs, NumericArgs, OutputArgs};
+use super::common::{emit, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs};
 use super::output::{num, BallJson, BatJson, OptionsJson, Table};
 use crate::physics::metrics::{
     bbcor_report, besr, BBCOR_BALL_SPEED, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z,
@@ -124,8 +124,8 @@ pub fn run(args: BbcorArgs) -> Result<()> {
     if args.output.json {
         return print_json(&doc);
     }
-    print!("{}", doc.bat.table().render());
-    println!(
+    let mut out = doc.bat.table().render();
+    out.push_str(&format!(
         "\nball   mass {} kg, radius {} m, k1 {} N/m^α, α {}, e0 {} (protocol ball)\nmodel  {} vibrational modes, RK4 step {} s\n",
         num(doc.ball.mass, 4),
         num(doc.ball.radius, 4),
@@ -134,7 +134,7 @@ pub fn run(args: BbcorArgs) -> Result<()> {
         num(doc.ball.cor, 4),
         doc.options.modes,
         num(doc.options.time_step, 3)
-    );
+    ));
     let b = &doc.bbcor;
     let mut t = Table::new(["BBCOR (NCAA / ASTM F2219, as modelled)", ""]);
     t.row(["BBCOR".to_string(), num(b.bbcor, 4)]);
@@ -146,8 +146,8 @@ pub fn run(args: BbcorArgs) -> Result<()> {
     ]);
     t.row(["bat".to_string(), "at rest, free (pivot 6 in from knob in the lab)".to_string()]);
     t.row(["impact search (m from knob)".to_string(), format!("{} … {} (9 in … 3 in from the barrel end)", num(b.search_from_z, 4), num(b.search_to_z, 4))]);
-    print!("{}", t.render());
-    println!();
+    out.push_str(&t.render());
+    out.push('\n');
     let e = &doc.besr;
     let mut t = Table::new(["BESR (ASTM F2219 ball exit speed ratio, as modelled)", ""]);
     t.row(["BESR = e_A + 1/2".to_string(), num(e.besr, 4)]);
@@ -155,6 +155,6 @@ pub fn run(args: BbcorArgs) -> Result<()> {
     t.row(["impact point (m from knob)".to_string(), format!("{} (6 in from the barrel end)", num(e.impact_z, 4))]);
     t.row(["pitch speed (m/s)".to_string(), format!("{} (70 mph)", num(e.ball_speed, 4))]);
     t.row(["bat speed at impact (m/s)".to_string(), format!("{} (66 mph, turning about {} m from the knob)", num(e.bat_speed, 4), num(e.pivot_z, 4))]);
-    print!("{}", t.render());
-    Ok(())
+    out.push_str(&t.render());
+    emit(&out)
 }

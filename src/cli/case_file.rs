@@ -50,7 +50,7 @@ pub struct CaseSpec {
     pub bat_angular_speed: Option<f64>,
     /// One impact point or a list, m from the knob.
     #[serde(default)]
-    pub impact_z: Option<OneOrMany>,
+    pub impact_z: Option<serde_json::Value>,
     /// Vibrational modes integrated.
     #[serde(default)]
     pub modes: Option<usize>,
@@ -75,16 +75,6 @@ pub struct BallSpec {
     pub cor: Option<f64>,
 }
 
-/// A number or a list of numbers.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
-pub enum OneOrMany {
-    /// One value.
-    One(f64),
-    /// Several values.
-    Many(Vec<f64>),
-}
-
 /// A resolved case, ready to simulate.
 #[derive(Debug, Clone)]
 pub struct Case {
@@ -102,7 +92,15 @@ pub struct Case {
 
 /// Parses and resolves a case from its JSON text; relative bat paths are resolved against `base`.
 pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
-    let spec: CaseSpec = serde_json::from_str(text).map_err(|e| anyhow!("{e}"))?;
+    let mut deserializer = serde_json::Deserializer::from_str(text);
+    let spec: CaseSpec = serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
+        let path = e.path().to_string();
+        if path.is_empty() || path == "." {
+            anyhow!("{}", e.inner())
+        } else {
+            anyhow!("field `{path}`: {}", e.inner())
+        }
+    })?;
     let bat = match &spec.bat {
         None => Bat::preset("r161")?,
         Some(serde_json::Value::String(name)) => resolve_bat(name, Some(base)).context("field `bat`")?,
@@ -134,11 +132,9 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
         bat_angular_speed: spec.bat_angular_speed.unwrap_or(DEFAULT_BAT_ANGULAR_SPEED),
         impact_z: f64::NAN,
     };
-    let impact_zs = match spec.impact_z {
+    let impact_zs = match &spec.impact_z {
         None => Vec::new(),
-        Some(OneOrMany::One(z)) => vec![z],
-        Some(OneOrMany::Many(zs)) if zs.is_empty() => bail!("field `impact_z`: the list is empty"),
-        Some(OneOrMany::Many(zs)) => zs,
+        Some(value) => impact_list(value)?,
     };
     let defaults = CollisionOptions::default();
     let options = check_options(CollisionOptions {
@@ -146,6 +142,20 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
         time_step: spec.time_step.unwrap_or(defaults.time_step),
     })?;
     Ok(Case { bat, ball, swing, impact_zs, options })
+}
+
+/// `impact_z` as a list: one number or a non-empty list of numbers, m.
+fn impact_list(value: &serde_json::Value) -> Result<Vec<f64>> {
+    let expected = "expected a number or a non-empty list of numbers (m from the knob)";
+    match value {
+        serde_json::Value::Number(n) => Ok(vec![n.as_f64().ok_or_else(|| anyhow!("field `impact_z`: {expected}"))?]),
+        serde_json::Value::Array(items) if !items.is_empty() => items
+            .iter()
+            .enumerate()
+            .map(|(i, item)| item.as_f64().ok_or_else(|| anyhow!("field `impact_z[{i}]` = {item}: {expected}")))
+            .collect(),
+        other => bail!("field `impact_z` = {other}: {expected}"),
+    }
 }
 
 /// Reads and resolves a case file.

@@ -67,19 +67,19 @@ pub fn resolve_bat(spec: &str, base: Option<&Path>) -> Result<Bat> {
 #[derive(Debug, Clone, Default, Args)]
 pub struct BallArgs {
     /// Ball mass, kg [default 0.145].
-    #[arg(long, value_name = "KG", value_parser = finite_f64)]
+    #[arg(long, value_name = "KG", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_mass: Option<f64>,
     /// Ball radius, m [default 0.0366].
-    #[arg(long, value_name = "M", value_parser = finite_f64)]
+    #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_radius: Option<f64>,
     /// Ball coefficient of restitution e0 against a rigid wall, in (0, 1] [default 0.53].
-    #[arg(long, value_name = "E0", value_parser = finite_f64)]
+    #[arg(long, value_name = "E0", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_cor: Option<f64>,
     /// Ball loading stiffness k1, N/m^α [default 6.53e7].
-    #[arg(long, value_name = "N/M^A", value_parser = finite_f64)]
+    #[arg(long, value_name = "N/M^A", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_stiffness: Option<f64>,
     /// Ball loading exponent α [default 1.84].
-    #[arg(long, value_name = "ALPHA", value_parser = finite_f64)]
+    #[arg(long, value_name = "ALPHA", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_exponent: Option<f64>,
 }
 
@@ -105,7 +105,7 @@ pub struct NumericArgs {
     #[arg(long, value_name = "N", default_value_t = 18)]
     pub modes: usize,
     /// RK4 time step, s (1e-8 ≤ dt ≤ 1e-4).
-    #[arg(long, value_name = "S", default_value_t = 5e-6, value_parser = finite_f64)]
+    #[arg(long, value_name = "S", default_value_t = 5e-6, value_parser = finite_f64, allow_negative_numbers = true)]
     pub dt: f64,
 }
 
@@ -132,10 +132,10 @@ pub fn check_options(options: CollisionOptions) -> Result<CollisionOptions> {
 #[derive(Debug, Clone, Args)]
 pub struct SwingArgs {
     /// Ball speed toward the bat, m/s.
-    #[arg(long, value_name = "M/S", default_value_t = DEFAULT_BALL_SPEED, value_parser = finite_f64)]
+    #[arg(long, value_name = "M/S", default_value_t = DEFAULT_BALL_SPEED, value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_speed: f64,
     /// Bat centre-of-mass speed toward the ball, m/s.
-    #[arg(long, value_name = "M/S", default_value_t = DEFAULT_BAT_CM_SPEED, value_parser = finite_f64)]
+    #[arg(long, value_name = "M/S", default_value_t = DEFAULT_BAT_CM_SPEED, value_parser = finite_f64, allow_negative_numbers = true)]
     pub bat_cm_speed: f64,
     /// Bat angular speed about its centre of mass, rad/s, positive when the barrel leads.
     #[arg(long, value_name = "RAD/S", default_value_t = DEFAULT_BAT_ANGULAR_SPEED, value_parser = finite_f64, allow_negative_numbers = true)]
@@ -164,9 +164,19 @@ pub struct OutputArgs {
 
 /// Prints `value` as pretty JSON on stdout.
 pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
-    let text = serde_json::to_string_pretty(value).context("cannot serialise the output as JSON")?;
-    println!("{text}");
-    Ok(())
+    let mut text = serde_json::to_string_pretty(value).context("cannot serialise the output as JSON")?;
+    text.push('\n');
+    emit(&text)
+}
+
+/// Writes `text` to stdout; a closed pipe (e.g. `| head`) ends the output quietly instead of panicking.
+pub fn emit(text: &str) -> Result<()> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(err) if err.kind() != std::io::ErrorKind::BrokenPipe => Err(err).context("cannot write to stdout"),
+        _ => Ok(()),
+    }
 }
 
 #[cfg(test)]

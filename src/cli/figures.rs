@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 
-use super::common::{BallArgs, NumericArgs, SwingArgs};
+use super::common::{emit, BallArgs, NumericArgs, SwingArgs};
 use super::output::num;
 use super::plot::{draw_panels, ImageFormat, LineChart, Series, VerticalMarker};
 use super::sweep::{impact_points, SweepJson};
@@ -101,11 +101,12 @@ pub fn run(args: FiguresArgs) -> Result<()> {
         options: args.numeric.options()?,
     };
     let entries = write_figures(&args.dir, &settings)?;
+    let mut out = String::new();
     for entry in &entries {
-        println!("{}", args.dir.join(&entry.file).display());
+        out.push_str(&format!("{}\n", args.dir.join(&entry.file).display()));
     }
-    println!("{}", args.dir.join("README.md").display());
-    Ok(())
+    out.push_str(&format!("{}\n", args.dir.join("README.md").display()));
+    emit(&out)
 }
 
 /// A curve over impact points: flexible and rigid exit speed of one physical bat.

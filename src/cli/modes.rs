@@ -4,7 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use serde::Serialize;
 
-use super::common::{print_json, BatArgs, OutputArgs, MAX_MODES};
+use super::common::{emit, print_json, BatArgs, OutputArgs, MAX_MODES};
 use super::output::{num, BatJson, Table};
 use crate::physics::ModeSet;
 
@@ -72,13 +72,13 @@ pub fn run(args: ModesArgs) -> Result<()> {
     if args.output.json {
         return print_json(&doc);
     }
-    print!("{}", doc.bat.table().render());
-    println!();
+    let mut out = doc.bat.table().render();
+    out.push('\n');
     let mut t = Table::new(["n", "frequency (Hz)", "modal mass (kg)", "nodes (m from knob)"]);
     for m in &doc.modes {
         let nodes = m.nodes.iter().map(|z| num(*z, 4)).collect::<Vec<_>>().join(" ");
         t.row([m.mode.to_string(), num(m.frequency_hz, 5), num(m.modal_mass, 4), nodes]);
     }
-    print!("{}", t.render());
-    Ok(())
+    out.push_str(&t.render());
+    emit(&out)
 }

@@ -7,7 +7,7 @@ use clap::Args;
 use serde::Serialize;
 
 use super::case_file::load_case;
-use super::common::{finite_f64, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs, SwingArgs};
+use super::common::{emit, finite_f64, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs, SwingArgs};
 use super::output::{num, BallJson, BatJson, CollisionJson, OptionsJson, SwingJson, Table};
 use crate::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
 
@@ -28,7 +28,7 @@ pub struct SimulateArgs {
     #[command(flatten)]
     pub swing: SwingArgs,
     /// Impact point(s), m from the knob; repeat the flag or give a comma list [default: 0.15 m from the barrel end].
-    #[arg(long, value_name = "M", value_delimiter = ',', value_parser = finite_f64)]
+    #[arg(long, value_name = "M", value_delimiter = ',', value_parser = finite_f64, allow_negative_numbers = true)]
     pub impact_z: Vec<f64>,
     #[command(flatten)]
     pub numeric: NumericArgs,
@@ -79,8 +79,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     if args.output.json {
         print_json(&document)
     } else {
-        print!("{}", render(&document));
-        Ok(())
+        emit(&render(&document))
     }
 }
 

@@ -7,10 +7,10 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use serde::Serialize;
 
-use super::common::{finite_f64, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs, SwingArgs};
+use super::common::{emit, finite_f64, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs, SwingArgs};
 use super::figures::exit_speed_chart;
 use super::output::{num, BallJson, BatJson, CollisionJson, OptionsJson, SweetSpotsJson, SwingJson, Table};
-use super::plot::draw_line_chart;
+use super::plot::{draw_line_chart, ImageFormat};
 use super::simulate::describe_inputs;
 use crate::physics::metrics::{sweep, sweet_spots};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact, ModeSet, SweepPoint};
@@ -32,10 +32,10 @@ pub struct SweepArgs {
     #[command(flatten)]
     pub swing: SwingArgs,
     /// First impact point, m from the knob [default: 0.35 m before the barrel end].
-    #[arg(long, value_name = "M", value_parser = finite_f64)]
+    #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
     pub from: Option<f64>,
     /// Last impact point, m from the knob [default: 0.01 m before the barrel end].
-    #[arg(long, value_name = "M", value_parser = finite_f64)]
+    #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
     pub to: Option<f64>,
     /// Step between impact points, m [default 0.005].
     #[arg(long, value_name = "M", value_parser = finite_f64, conflicts_with = "points")]
@@ -179,6 +179,9 @@ pub struct SweepRange {
 
 /// Runs `sweetspot sweep`.
 pub fn run(args: SweepArgs) -> Result<()> {
+    if let Some(path) = &args.plot {
+        ImageFormat::from_path(path).context("--plot")?;
+    }
     let bat = args.bat.load()?;
     let ball = args.ball.apply(Ball::default())?;
     let options = args.numeric.options()?;
@@ -192,8 +195,7 @@ pub fn run(args: SweepArgs) -> Result<()> {
     if args.output.json {
         print_json(&doc)
     } else {
-        print!("{}", render(&doc));
-        Ok(())
+        emit(&render(&doc))
     }
 }
 

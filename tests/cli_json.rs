@@ -1,0 +1,253 @@
+//! `--json` output of the physics commands: one document with exactly the documented fields
+//! (docs/file-formats.md), and numbers equal to the library's for the same inputs.
+
+mod cli_support;
+
+use cli_support::{json, num};
+use serde_json::Value;
+use sweetspot::physics::metrics::{bbcor_report, besr, sweep, sweet_spots};
+use sweetspot::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
+
+const BAT_FIELDS: &[&str] = &[
+    "name",
+    "mass",
+    "length",
+    "center_of_mass",
+    "moment_of_inertia",
+    "radius_of_gyration",
+    "pivot_z",
+    "moment_about_pivot",
+    "center_of_percussion",
+];
+const BALL_FIELDS: &[&str] = &["mass", "radius", "stiffness", "exponent", "cor"];
+const SWING_FIELDS: &[&str] = &["ball_speed", "bat_cm_speed", "bat_angular_speed"];
+const OPTIONS_FIELDS: &[&str] = &["modes", "time_step"];
+const RESULT_FIELDS: &[&str] = &[
+    "impact_z",
+    "exit_speed",
+    "rigid_exit_speed",
+    "effective_cor",
+    "collision_efficiency",
+    "contact_time",
+    "peak_force",
+    "impulse",
+    "max_compression",
+    "energy",
+    "mode_energies",
+];
+const ENERGY_FIELDS: &[&str] = &["initial", "ball", "bat_rigid", "vibration", "hysteresis_loss", "residual"];
+const MODE_ENERGY_FIELDS: &[&str] = &["mode", "frequency_hz", "energy"];
+const SWEET_FIELDS: &[&str] =
+    &["max_exit_speed_z", "max_exit_speed", "rigid_optimum_z", "node1_z", "node2_z", "center_of_percussion_z"];
+
+/// The object at `pointer` has exactly `fields`.
+fn has_exactly(doc: &Value, pointer: &str, fields: &[&str]) {
+    let object = doc.pointer(pointer).and_then(Value::as_object).unwrap_or_else(|| panic!("no object at '{pointer}'"));
+    let mut keys: Vec<&str> = object.keys().map(String::as_str).collect();
+    let mut expected = fields.to_vec();
+    keys.sort_unstable();
+    expected.sort_unstable();
+    assert_eq!(keys, expected, "fields of '{pointer}'");
+}
+
+fn check_result(doc: &Value, pointer: &str, modes: usize) {
+    has_exactly(doc, pointer, RESULT_FIELDS);
+    has_exactly(doc, &format!("{pointer}/energy"), ENERGY_FIELDS);
+    let energies = doc.pointer(&format!("{pointer}/mode_energies")).and_then(Value::as_array).expect("mode_energies");
+    assert_eq!(energies.len(), modes);
+    has_exactly(doc, &format!("{pointer}/mode_energies/0"), MODE_ENERGY_FIELDS);
+}
+
+/// Asserts the JSON result equals the library's collision result exactly (JSON floats round-trip).
+fn same_result(doc: &Value, pointer: &str, r: &sweetspot::physics::CollisionResult) {
+    let at = |field: &str| num(doc, &format!("{pointer}/{field}"));
+    assert_eq!(at("exit_speed"), r.exit_speed);
+    assert_eq!(at("rigid_exit_speed"), r.rigid_exit_speed);
+    assert_eq!(at("effective_cor"), r.effective_cor);
+    assert_eq!(at("collision_efficiency"), r.collision_efficiency);
+    assert_eq!(at("contact_time"), r.contact_time);
+    assert_eq!(at("peak_force"), r.peak_force);
+    assert_eq!(at("impulse"), r.impulse);
+    assert_eq!(at("max_compression"), r.max_compression);
+    assert_eq!(at("energy/initial"), r.energy.initial);
+    assert_eq!(at("energy/ball"), r.energy.ball);
+    assert_eq!(at("energy/bat_rigid"), r.energy.bat_rigid);
+    assert_eq!(at("energy/vibration"), r.energy.vibration);
+    assert_eq!(at("energy/hysteresis_loss"), r.energy.hysteresis_loss);
+    assert_eq!(at("energy/residual"), r.energy.residual);
+    for (i, m) in r.mode_energies.iter().enumerate() {
+        assert_eq!(at(&format!("mode_energies/{i}/frequency_hz")), m.frequency);
+        assert_eq!(at(&format!("mode_energies/{i}/energy")), m.energy);
+        assert_eq!(at(&format!("mode_energies/{i}/mode")), (i + 1) as f64);
+    }
+}
+
+#[test]
+fn simulate_json_has_the_documented_fields_and_the_library_numbers() {
+    let doc = json(&[
+        "simulate",
+        "--bat",
+        "r161-corked",
+        "--ball-speed",
+        "38.5",
+        "--bat-cm-speed",
+        "22",
+        "--bat-angular-speed",
+        "40",
+        "--ball-cor",
+        "0.5",
+        "--modes",
+        "10",
+        "--dt",
+        "4e-6",
+        "--impact-z",
+        "0.64,0.7",
+        "--impact-z",
+        "0.75",
+    ]);
+    let top: Vec<&str> = doc.as_object().expect("object").keys().map(String::as_str).collect();
+    assert_eq!(top.len(), 5, "{top:?}");
+    has_exactly(&doc, "/bat", BAT_FIELDS);
+    has_exactly(&doc, "/ball", BALL_FIELDS);
+    has_exactly(&doc, "/swing", SWING_FIELDS);
+    has_exactly(&doc, "/options", OPTIONS_FIELDS);
+    assert_eq!(doc["results"].as_array().map(Vec::len), Some(3));
+
+    let bat = Bat::preset("r161-corked").unwrap();
+    let options = CollisionOptions { modes: 10, time_step: 4e-6 };
+    let modes = ModeSet::compute(&bat, options.modes).unwrap();
+    let ball = Ball { cor: 0.5, ..Ball::default() };
+    let props = modes.mass_properties();
+    assert_eq!(num(&doc, "/bat/mass"), props.mass);
+    assert_eq!(num(&doc, "/bat/center_of_mass"), props.center_of_mass);
+    assert_eq!(num(&doc, "/bat/moment_of_inertia"), props.moment_of_inertia);
+    assert_eq!(num(&doc, "/ball/cor"), 0.5);
+    assert_eq!(num(&doc, "/options/time_step"), 4e-6);
+    for (i, z) in [0.64, 0.7, 0.75].into_iter().enumerate() {
+        let pointer = format!("/results/{i}");
+        check_result(&doc, &pointer, 10);
+        assert_eq!(num(&doc, &format!("{pointer}/impact_z")), z);
+        let impact = Impact { ball_speed: 38.5, bat_cm_speed: 22.0, bat_angular_speed: 40.0, impact_z: z };
+        same_result(&doc, &pointer, &collide(&modes, &ball, &impact, &options).unwrap());
+    }
+}
+
+#[test]
+fn simulate_case_file_equals_the_same_flags() {
+    let from_case = json(&["simulate", "--case", "examples/cases/r161-barrel.json"]);
+    let from_flags = json(&[
+        "simulate",
+        "--bat",
+        "r161",
+        "--ball-speed",
+        "40",
+        "--bat-cm-speed",
+        "25",
+        "--bat-angular-speed",
+        "45",
+        "--impact-z",
+        "0.62,0.66,0.70,0.74,0.78",
+        "--modes",
+        "18",
+        "--dt",
+        "5e-6",
+    ]);
+    assert_eq!(from_case, from_flags);
+    assert_eq!(from_case["results"].as_array().map(Vec::len), Some(5));
+}
+
+#[test]
+fn sweep_json_matches_the_library() {
+    let doc = json(&["sweep", "--bat", "aluminum", "--from", "0.5", "--to", "0.78", "--points", "8", "--modes", "8"]);
+    has_exactly(
+        &doc,
+        "",
+        &["bat", "ball", "swing", "options", "sweet_spots", "nodes", "points", "plot"],
+    );
+    has_exactly(&doc, "/sweet_spots", SWEET_FIELDS);
+    has_exactly(&doc, "/nodes", &["mode1", "mode2"]);
+    assert!(doc["plot"].is_null());
+
+    let bat = Bat::preset("aluminum").unwrap();
+    let options = CollisionOptions { modes: 8, ..CollisionOptions::default() };
+    let modes = ModeSet::compute(&bat, 8).unwrap();
+    let ball = Ball::default();
+    let swing = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: 0.0 };
+    let zs: Vec<f64> = (0..8).map(|i| 0.5 + (0.78 - 0.5) * i as f64 / 7.0).collect();
+    let points = sweep(&modes, &ball, &swing, &zs, &options).unwrap();
+    assert_eq!(doc["points"].as_array().map(Vec::len), Some(8));
+    for (i, p) in points.iter().enumerate() {
+        let pointer = format!("/points/{i}");
+        check_result(&doc, &pointer, 8);
+        assert_eq!(num(&doc, &format!("{pointer}/impact_z")), p.impact_z);
+        same_result(&doc, &pointer, &p.result);
+    }
+    let spots = sweet_spots(&modes, &ball, &swing, &options).unwrap();
+    assert_eq!(num(&doc, "/sweet_spots/max_exit_speed_z"), spots.max_exit_speed_z);
+    assert_eq!(num(&doc, "/sweet_spots/max_exit_speed"), spots.max_exit_speed);
+    assert_eq!(num(&doc, "/sweet_spots/rigid_optimum_z"), spots.rigid_optimum_z);
+    assert_eq!(num(&doc, "/sweet_spots/node1_z"), spots.node1_z);
+    assert_eq!(num(&doc, "/sweet_spots/node2_z"), spots.node2_z);
+    assert_eq!(num(&doc, "/sweet_spots/center_of_percussion_z"), spots.center_of_percussion_z);
+    let node1: Vec<f64> = doc["nodes"]["mode1"].as_array().unwrap().iter().filter_map(Value::as_f64).collect();
+    assert_eq!(node1, modes.nodes(1));
+}
+
+#[test]
+fn default_sweep_covers_the_barrel() {
+    let doc = json(&["sweep", "--modes", "4", "--step", "0.05"]);
+    let zs: Vec<f64> = doc["points"].as_array().unwrap().iter().map(|p| p["impact_z"].as_f64().unwrap()).collect();
+    let length = num(&doc, "/bat/length");
+    assert!(zs.len() >= 5, "{zs:?}");
+    assert!((zs[0] - (length - 0.35)).abs() < 1e-12, "{zs:?}");
+    assert!(zs.iter().all(|z| *z <= length - 0.01 + 1e-12), "{zs:?}");
+}
+
+#[test]
+fn modes_json_matches_the_library() {
+    let doc = json(&["modes", "--bat", "torpedo", "--modes", "5"]);
+    has_exactly(&doc, "", &["bat", "modes"]);
+    has_exactly(&doc, "/bat", BAT_FIELDS);
+    has_exactly(&doc, "/modes/0", &["mode", "frequency_hz", "nodes", "modal_mass"]);
+    let bat = Bat::preset("torpedo").unwrap();
+    let set = ModeSet::compute(&bat, 5).unwrap();
+    let frequencies = set.frequencies_hz();
+    let listed = doc["modes"].as_array().unwrap();
+    assert_eq!(listed.len(), 5);
+    for (i, mode) in listed.iter().enumerate() {
+        assert_eq!(mode["mode"].as_u64(), Some(i as u64 + 1));
+        assert_eq!(mode["frequency_hz"].as_f64(), Some(frequencies[i]));
+        assert_eq!(mode["modal_mass"].as_f64(), Some(set.modal_mass(i + 2)));
+        let nodes: Vec<f64> = mode["nodes"].as_array().unwrap().iter().filter_map(Value::as_f64).collect();
+        assert_eq!(nodes, set.nodes(i + 1));
+        assert_eq!(nodes.len(), i + 2, "a free–free mode n has n + 1 nodes");
+    }
+    let props = set.mass_properties();
+    assert_eq!(num(&doc, "/bat/mass"), props.mass);
+    assert_eq!(num(&doc, "/bat/radius_of_gyration"), props.radius_of_gyration);
+    assert_eq!(num(&doc, "/bat/center_of_percussion"), props.center_of_percussion(0.1524));
+}
+
+#[test]
+fn bbcor_json_matches_the_library() {
+    let doc = json(&["bbcor", "--bat", "r161", "--modes", "12"]);
+    has_exactly(&doc, "", &["bat", "ball", "options", "bbcor", "besr"]);
+    has_exactly(
+        &doc,
+        "/bbcor",
+        &["bbcor", "impact_z", "collision_efficiency", "ball_speed", "bat_speed", "pivot_z", "search_from_z", "search_to_z"],
+    );
+    has_exactly(&doc, "/besr", &["besr", "impact_z", "exit_speed", "ball_speed", "bat_speed", "pivot_z"]);
+    let bat = Bat::preset("r161").unwrap();
+    let options = CollisionOptions { modes: 12, ..CollisionOptions::default() };
+    let modes = ModeSet::compute(&bat, 12).unwrap();
+    let ball = Ball::bbcor_protocol();
+    let report = bbcor_report(&modes, &ball, &options).unwrap();
+    assert_eq!(num(&doc, "/bbcor/bbcor"), report.bbcor);
+    assert_eq!(num(&doc, "/bbcor/impact_z"), report.impact_z);
+    assert_eq!(num(&doc, "/bbcor/ball_speed"), report.ball_speed);
+    let b = besr(&modes, &ball, &options).unwrap();
+    assert_eq!(num(&doc, "/besr/besr"), b.besr);
+    assert_eq!(num(&doc, "/besr/exit_speed"), b.exit_speed);
+    assert_eq!(num(&doc, "/ball/cor"), ball.cor);
+}

@@ -1,0 +1,67 @@
+//! Plots and figures are written, non-empty and of the requested format (PNG magic / SVG root).
+
+mod cli_support;
+
+use std::path::Path;
+
+use cli_support::{json, ok, s};
+
+const PNG_MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+fn assert_png(path: &Path) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(bytes.len() > 10_000, "{} is only {} bytes", path.display(), bytes.len());
+    assert!(bytes.starts_with(PNG_MAGIC), "{} is not a PNG", path.display());
+}
+
+fn assert_svg(path: &Path) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(text.trim_start().starts_with("<svg"), "{} has no <svg> root", path.display());
+    assert!(text.trim_end().ends_with("</svg>"), "{} is truncated", path.display());
+    assert!(text.contains("<polyline") || text.contains("<path"), "{} draws no lines", path.display());
+}
+
+#[test]
+fn sweep_plots_svg_and_png_with_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("nested/sweep.svg");
+    let doc = json(&["sweep", "--points", "12", "--modes", "6", "--plot", s(&svg)]);
+    assert_eq!(doc["plot"].as_str(), Some(s(&svg)));
+    assert_svg(&svg);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for label in ["exit speed vs impact point", "impact point z (m from the knob)", "ball exit speed (m/s)", "flexible bat", "rigid bat", "node of mode 1", "node of mode 2", "sweet spot"] {
+        assert!(text.contains(label), "'{label}' missing from the SVG");
+    }
+    let png = dir.path().join("sweep.PNG");
+    let out = ok(&["sweep", "--bat", "aluminum", "--points", "12", "--modes", "6", "--plot", s(&png)]);
+    assert!(out.contains("plot written to"), "{out}");
+    assert_png(&png);
+}
+
+#[test]
+fn figures_are_written_with_an_index() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(&["figures", s(dir.path()), "--points", "16", "--modes", "6"]);
+    let files = ["fig2-rigid-exit-speed.svg", "fig5-normal-vs-corked.svg", "fig6-wood-vs-aluminum.svg", "mode-shapes.svg"];
+    let index = std::fs::read_to_string(dir.path().join("README.md")).unwrap();
+    for file in files {
+        assert_svg(&dir.path().join(file));
+        assert!(out.contains(file), "{file} not listed on stdout");
+        assert!(index.contains(&format!("]({file})")), "{file} not linked from README.md");
+    }
+    let fig6 = std::fs::read_to_string(dir.path().join("fig6-wood-vs-aluminum.svg")).unwrap();
+    assert!(fig6.contains("v_ball = 8 m/s, v_bat = 4 m/s"), "Figure 6 must state the seed's speeds");
+    let shapes = std::fs::read_to_string(dir.path().join("mode-shapes.svg")).unwrap();
+    for preset in ["r161", "r161-corked", "aluminum", "torpedo"] {
+        assert!(shapes.contains(preset), "mode shapes of {preset} missing");
+    }
+}
+
+#[test]
+fn figures_as_png() {
+    let dir = tempfile::tempdir().unwrap();
+    ok(&["figures", s(dir.path()), "--format", "png", "--points", "12", "--modes", "4"]);
+    for file in ["fig2-rigid-exit-speed.png", "fig5-normal-vs-corked.png", "fig6-wood-vs-aluminum.png", "mode-shapes.png"] {
+        assert_png(&dir.path().join(file));
+    }
+}
