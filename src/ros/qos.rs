@@ -1,0 +1,108 @@
+//! QoS profiles of sweetspot's topics, shared by the node, `sweetspot pub` / `echo` and the recorder.
+//!
+//! A subscription matches a publication only if the offered QoS is at least as strong as the requested one
+//! (reliable ≥ best effort, transient-local ≥ volatile); depth does not affect matching. The profiles here are
+//! used on both sides, so every sweetspot pair matches, and an rclcpp/rclpy peer using the ROS defaults
+//! (reliable, volatile) matches all of them; a late-joining reader gets the latched topics only if it asks for
+//! transient-local itself (as `ros2 topic echo --qos-durability transient_local` does).
+
+use std::time::Duration;
+
+use ros2_client::qos::{Durability, History, Reliability, WhenFull};
+use ros2_client::QosProfile;
+
+use crate::bag::RecordedQos;
+
+/// Params kept for late joiners on `bat/params` / `ball/params`: more than one, so a node started late still
+/// receives every bat of a rig that publishes several from one process, not only the last.
+pub const PARAMS_DEPTH: usize = 16;
+/// Swings queued per reader on `swing`.
+pub const SWING_DEPTH: usize = 1000;
+/// Results queued per reader on `exit_velocity` / `modal_energies`.
+pub const RESULTS_DEPTH: usize = 100;
+
+fn reliable(depth: usize, durability: Durability) -> QosProfile {
+    QosProfile::publisher_default()
+        .reliability(Reliability::Reliable {
+            when_full: WhenFull::DEFAULT,
+        })
+        .durability(durability)
+        .history(History::KeepLast { depth })
+}
+
+/// `bat/params`, `ball/params`: reliable, transient-local (latched), keep-last [`PARAMS_DEPTH`].
+pub fn params_qos() -> QosProfile {
+    reliable(PARAMS_DEPTH, Durability::TransientLocal)
+}
+
+/// `swing`: reliable, volatile, keep-last [`SWING_DEPTH`].
+pub fn swing_qos() -> QosProfile {
+    reliable(SWING_DEPTH, Durability::Volatile)
+}
+
+/// `exit_velocity`, `modal_energies`: reliable, volatile, keep-last [`RESULTS_DEPTH`].
+pub fn results_qos() -> QosProfile {
+    reliable(RESULTS_DEPTH, Durability::Volatile)
+}
+
+/// `sweet_spot`: reliable, transient-local, keep-last [`PARAMS_DEPTH`] (one per bat, latched).
+pub fn sweet_spot_qos() -> QosProfile {
+    reliable(PARAMS_DEPTH, Durability::TransientLocal)
+}
+
+/// `/diagnostics`: reliable, volatile, keep-last 10 (the ROS 2 default profile diagnostic tools use).
+pub fn diagnostics_qos() -> QosProfile {
+    reliable(10, Durability::Volatile)
+}
+
+/// `/rosout`: reliable, transient-local, keep-last 1000, lifespan 10 s (rcl's `rosout` default).
+pub fn rosout_qos() -> QosProfile {
+    reliable(1000, Durability::TransientLocal).lifespan(Some(Duration::from_secs(10)))
+}
+
+/// The QoS as the recorder writes it into `offered_qos_profiles`.
+pub fn recorded_qos(qos: &QosProfile) -> RecordedQos {
+    RecordedQos {
+        reliable: matches!(qos.reliability, Reliability::Reliable { .. }),
+        transient_local: matches!(qos.durability, Durability::TransientLocal),
+        depth: match qos.history {
+            History::KeepLast { depth } => u32::try_from(depth).unwrap_or(u32::MAX),
+            History::KeepAll => 0,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn profiles() {
+        assert_eq!(
+            recorded_qos(&params_qos()),
+            RecordedQos {
+                reliable: true,
+                transient_local: true,
+                depth: 16
+            }
+        );
+        assert_eq!(
+            recorded_qos(&swing_qos()),
+            RecordedQos {
+                reliable: true,
+                transient_local: false,
+                depth: 1000
+            }
+        );
+        assert_eq!(
+            recorded_qos(&results_qos()),
+            RecordedQos {
+                reliable: true,
+                transient_local: false,
+                depth: 100
+            }
+        );
+        assert!(recorded_qos(&sweet_spot_qos()).transient_local);
+        assert_eq!(rosout_qos().lifespan, Some(Duration::from_secs(10)));
+    }
+}
