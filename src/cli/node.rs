@@ -1,10 +1,92 @@
 //! `sweetspot node`: arguments and runner (owned by the node work).
 
+use crate::node::ros_args::RosArgs;
+use crate::node::runtime::NodeConfig;
+
 /// Arguments of `sweetspot node`.
-#[derive(Debug, clap::Args)]
-pub struct NodeArgs {}
+///
+/// Everything after `--ros-args` follows the ROS 2 conventions:
+/// `-r __ns:=/rig3`, `-r __node:=name`, `-r swing:=/other/swing`, `-p default_modes:=12`,
+/// `--params-file params.yaml`, `--log-level debug`.
+#[derive(Debug, Clone, clap::Args)]
+#[command(after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, queue_capacity, workers,\nrecord, record_path, record_max_file_size, record_max_file_duration, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY.")]
+pub struct NodeArgs {
+    /// Do not record a bag (same as `--ros-args -p record:=false`).
+    #[arg(long)]
+    pub no_record: bool,
+
+    /// ROS 2 arguments (remaps, parameters, params files); must come last.
+    #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, action = clap::ArgAction::Append, value_name = "ROS_ARGS")]
+    pub ros_args: Option<Vec<String>>,
+}
+
+impl NodeArgs {
+    /// The node configuration these arguments describe.
+    pub fn config(&self) -> anyhow::Result<NodeConfig> {
+        let ros_args = RosArgs::parse(self.ros_args.as_deref().unwrap_or_default())?;
+        Ok(NodeConfig { ros_args, no_record: self.no_record })
+    }
+}
 
 /// Runs the node until SIGINT/SIGTERM.
-pub fn run(_args: NodeArgs) -> anyhow::Result<()> {
-    anyhow::bail!("sweetspot node is not built yet")
+pub fn run(args: NodeArgs) -> anyhow::Result<()> {
+    let config = args.config()?;
+    init_logging(config.ros_args.log_level.as_deref());
+    crate::node::runtime::run(config)
+}
+
+fn init_logging(level: Option<&str>) {
+    use tracing_subscriber::EnvFilter;
+    let filter = match level {
+        Some(level) => EnvFilter::new(level),
+        None => EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info,rustdds=error,ros2_client=error")),
+    };
+    // Another subscriber may already be set (tests); that one wins.
+    let _ = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .try_init();
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use crate::cli::{Cli, Command};
+
+    fn parse(line: &str) -> super::NodeArgs {
+        let argv: Vec<&str> = std::iter::once("sweetspot").chain(line.split_whitespace()).collect();
+        match Cli::try_parse_from(argv).unwrap().command {
+            Command::Node(args) => args,
+            other => panic!("parsed as {other:?}"),
+        }
+    }
+
+    #[test]
+    fn ros_args_take_everything_after_them() {
+        let a = parse("node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12 --params-file p.yaml");
+        assert!(a.no_record);
+        let c = a.config().unwrap();
+        assert_eq!(c.ros_args.namespace.as_deref(), Some("/rig3"));
+        assert_eq!(c.ros_args.params.len(), 1);
+        assert_eq!(c.ros_args.params_files.len(), 1);
+        let a = parse("node");
+        assert!(!a.no_record);
+        assert_eq!(a.config().unwrap().ros_args, Default::default());
+    }
+
+    #[test]
+    fn repeated_ros_args_sections_are_merged() {
+        let a = parse("node --ros-args -r __node:=lab --ros-args -p record:=false");
+        let c = a.config().unwrap();
+        assert_eq!(c.ros_args.node_name.as_deref(), Some("lab"));
+        assert_eq!(c.ros_args.params.len(), 1);
+    }
+
+    #[test]
+    fn bad_ros_args_are_errors_not_panics() {
+        let a = parse("node --ros-args -p novalue");
+        assert!(a.config().is_err());
+    }
 }

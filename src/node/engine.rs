@@ -326,3 +326,66 @@ pub fn summarize_bat(
         mass: modes.mass_properties(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn swing(z: f64) -> Impact {
+        Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: z }
+    }
+
+    #[test]
+    fn defaults_answer_without_params_and_modes_are_computed_once() {
+        let (settings, stats) = (NodeSettings::default(), NodeStats::new());
+        let mut registry = Registry::new();
+        let (plan, new_bat) = plan_swing(&mut registry, &settings, "", "", swing(0.7));
+        assert!(new_bat.is_some(), "the default bat is created on first use");
+        assert_eq!((plan.bat_id(), plan.ball_id()), ("r161", DEFAULT_BALL_ID));
+        let first = compute(&plan, &stats).unwrap();
+        let (plan2, new_bat) = plan_swing(&mut registry, &settings, "r161", "", swing(0.7));
+        assert!(new_bat.is_none());
+        assert_eq!(compute(&plan2, &stats).unwrap(), first);
+        let snap = stats.snapshot(0);
+        assert_eq!((snap.mode_cache_misses, snap.mode_cache_hits), (1, 1));
+        // The same numbers as calling the library directly.
+        let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
+        let direct = collide(&modes, &Ball::default(), &swing(0.7), &CollisionOptions::default()).unwrap();
+        assert_eq!(first.collision, direct);
+        assert!(first.collision_energy > 0.0 && first.collision_energy < direct.energy.initial);
+    }
+
+    #[test]
+    fn unknown_ids_and_bad_numbers_are_rejected_with_reasons() {
+        let (settings, stats) = (NodeSettings::default(), NodeStats::new());
+        let mut registry = Registry::new();
+        let (plan, _) = plan_swing(&mut registry, &settings, "nope", "", swing(0.7));
+        let e = compute(&plan, &stats).unwrap_err();
+        assert!(e.contains("unknown bat_id 'nope'") && e.contains("r161"), "{e}");
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", "softball", swing(0.7));
+        let e = compute(&plan, &stats).unwrap_err();
+        assert!(e.contains("unknown ball_id 'softball'"), "{e}");
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", "", swing(f64::NAN));
+        assert!(compute(&plan, &stats).unwrap_err().contains("impact_z"));
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", "", swing(2.0));
+        assert!(compute(&plan, &stats).unwrap_err().contains("impact_z"));
+    }
+
+    #[test]
+    fn new_params_replace_the_entry_and_latest_wins_for_empty_ids() {
+        let settings = NodeSettings::default();
+        let mut registry = Registry::new();
+        let old = registry.set_bat(BatEntry::new("mine", Bat::preset("r161").unwrap(), Some(6), &settings));
+        let new = registry.set_bat(BatEntry::new("mine", Bat::preset("torpedo").unwrap(), None, &settings));
+        assert!(!Arc::ptr_eq(&old, &new));
+        let (resolved, created) = registry.resolve_bat("", &settings).unwrap();
+        assert!(Arc::ptr_eq(&resolved, &new) && !created);
+        assert_eq!(resolved.max_modes, 18);
+        registry.set_ball("soft", Ball { cor: 0.4, ..Ball::default() });
+        assert_eq!(registry.resolve_ball("").unwrap().0, "soft");
+        let changed = NodeSettings { default_modes: 10, ..settings };
+        let refreshed = registry.refresh_default_modes(&changed);
+        assert_eq!(refreshed.len(), 1);
+        assert_eq!(refreshed[0].max_modes, 10);
+    }
+}

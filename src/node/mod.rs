@@ -9,3 +9,7 @@ pub mod settings;
 pub mod stats;
 pub mod engine;
 pub mod pipeline;
+pub mod convert;
+pub mod recording;
+pub mod runtime;
+mod shim;

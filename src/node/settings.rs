@@ -248,7 +248,7 @@ impl NodeSettings {
     /// The bag directory for `node_name` started at `started` (UTC).
     pub fn bag_dir(&self, node_name: &str, started: chrono::DateTime<chrono::Utc>) -> PathBuf {
         if self.record_path.is_empty() {
-            PathBuf::from("bags").join(format!("{node_name}_{}", started.format("%Y_%m_%d-%H_%M_%S")))
+            crate::bag::default_bag_dir(std::path::Path::new("bags"), node_name, started.into())
         } else {
             PathBuf::from(&self.record_path)
         }

@@ -1,0 +1,310 @@
+//! Messages ↔ physics: params → Bat/Ball (validated), Swing → Impact, results → ExitVelocity, ModalEnergies,
+//! SweetSpot and DiagnosticArray. Pure functions; every error names the message, its id and the field.
+
+use crate::msgs::builtin_interfaces::msg::Time;
+use crate::msgs::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus, KeyValue};
+use crate::msgs::std_msgs::msg::Header;
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use crate::physics::{Ball, Bat, CoreFill, Impact, Material, Station};
+
+use super::engine::{BatSummary, Computed};
+use super::stats::HealthReport;
+
+/// Slice length used when BatParams.slice_length is 0: 1 cm, as for the built-in presets.
+pub const DEFAULT_SLICE_LENGTH: f64 = 0.01;
+
+/// A bat built from BatParams: the bat and the mode count it asks for (`None` = the node's default).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BatFromParams {
+    /// The bat.
+    pub bat: Bat,
+    /// BatParams.max_modes, unless 0.
+    pub max_modes: Option<usize>,
+}
+
+/// Builds and validates the bat a BatParams describes. The error starts with `BatParams 'id':`.
+pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
+    let context = |e: String| format!("BatParams '{}': {e}", p.bat_id);
+    if p.bat_id.trim().is_empty() {
+        return Err("BatParams: bat_id must be a non-empty name".to_string());
+    }
+    if !p.preset.is_empty() {
+        let bat = Bat::preset(&p.preset).map_err(|e| context(format!("preset: {e}")))?;
+        return Ok(BatFromParams { bat, max_modes: None });
+    }
+    let n = p.station_z.len();
+    if p.outer_radius.len() != n || p.inner_radius.len() != n {
+        return Err(context(format!(
+            "station_z, outer_radius and inner_radius must have the same length (got {n}, {}, {})",
+            p.outer_radius.len(),
+            p.inner_radius.len()
+        )));
+    }
+    let stations = (0..n)
+        .map(|i| Station { z: p.station_z[i], outer_radius: p.outer_radius[i], inner_radius: p.inner_radius[i] })
+        .collect();
+    let shell = Material { density: p.density, youngs_modulus: p.youngs_modulus, shear_modulus: p.shear_modulus };
+    let core = (p.core_density != 0.0).then_some(CoreFill {
+        material: Material {
+            density: p.core_density,
+            youngs_modulus: p.core_youngs_modulus,
+            shear_modulus: p.core_shear_modulus,
+        },
+        z_start: p.core_z_start,
+        z_end: p.core_z_end,
+    });
+    let slice_length = if p.slice_length == 0.0 { DEFAULT_SLICE_LENGTH } else { p.slice_length };
+    let bat = Bat::new(p.bat_id.clone(), stations, shell, core, slice_length).map_err(|e| context(e.to_string()))?;
+    if p.max_modes > 200 {
+        return Err(context(format!("max_modes = {} is out of range: expected 0 (node default) ≤ max_modes ≤ 200", p.max_modes)));
+    }
+    Ok(BatFromParams { bat, max_modes: (p.max_modes > 0).then_some(p.max_modes as usize) })
+}
+
+/// Builds and validates the ball a BallParams describes. The error starts with `BallParams 'id':`.
+pub fn ball_from_params(p: &BallParams) -> Result<Ball, String> {
+    if p.ball_id.trim().is_empty() {
+        return Err("BallParams: ball_id must be a non-empty name".to_string());
+    }
+    let ball = Ball { mass: p.mass, radius: p.radius, stiffness: p.stiffness, exponent: p.exponent, cor: p.cor };
+    ball.validate().map_err(|e| format!("BallParams '{}': {e}", p.ball_id))?;
+    Ok(ball)
+}
+
+/// The initial conditions of a swing (validated by the physics core when it runs).
+pub fn impact_from_swing(s: &Swing) -> Impact {
+    Impact {
+        ball_speed: s.ball_speed,
+        bat_cm_speed: s.bat_cm_speed,
+        bat_angular_speed: s.bat_angular_speed,
+        impact_z: s.impact_z,
+    }
+}
+
+/// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers.
+pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result<Computed, String>) -> ExitVelocity {
+    let mut ev = ExitVelocity {
+        header: swing.header.clone(),
+        swing_id: swing.swing_id,
+        bat_id: bat_id.to_string(),
+        ball_id: ball_id.to_string(),
+        impact_z: swing.impact_z,
+        measured_exit_speed: swing.measured_exit_speed,
+        ..ExitVelocity::default()
+    };
+    match result {
+        Ok(computed) => {
+            let c = &computed.collision;
+            ev.status = ExitVelocity::STATUS_OK;
+            ev.exit_speed = c.exit_speed;
+            ev.rigid_exit_speed = c.rigid_exit_speed;
+            ev.effective_cor = c.effective_cor;
+            ev.collision_efficiency = c.collision_efficiency;
+            ev.contact_time = c.contact_time;
+            ev.peak_force = c.peak_force;
+            ev.impulse = c.impulse;
+            ev.max_compression = c.max_compression;
+            ev.residual = swing.measured_exit_speed - c.exit_speed; // NaN when not measured
+        }
+        Err(reason) => {
+            ev.status = ExitVelocity::STATUS_REJECTED;
+            ev.message = reason.clone();
+            // NaN, not 0: a rejected swing has no numbers, and 0 m/s would read as a result.
+            for x in [
+                &mut ev.exit_speed,
+                &mut ev.rigid_exit_speed,
+                &mut ev.effective_cor,
+                &mut ev.collision_efficiency,
+                &mut ev.contact_time,
+                &mut ev.peak_force,
+                &mut ev.impulse,
+                &mut ev.max_compression,
+                &mut ev.residual,
+            ] {
+                *x = f64::NAN;
+            }
+        }
+    }
+    ev
+}
+
+/// The energy breakdown of a computed swing.
+pub fn modal_energies(swing: &Swing, bat_id: &str, computed: &Computed) -> ModalEnergies {
+    let c = &computed.collision;
+    let fraction = |e: f64| if computed.collision_energy > 0.0 { e / computed.collision_energy } else { f64::NAN };
+    ModalEnergies {
+        header: swing.header.clone(),
+        swing_id: swing.swing_id,
+        bat_id: bat_id.to_string(),
+        frequency: c.mode_energies.iter().map(|m| m.frequency).collect(),
+        energy: c.mode_energies.iter().map(|m| m.energy).collect(),
+        fraction: c.mode_energies.iter().map(|m| fraction(m.energy)).collect(),
+        vibration_energy: c.energy.vibration,
+        hysteresis_loss: c.energy.hysteresis_loss,
+        energy_residual: c.energy.residual,
+    }
+}
+
+/// The SweetSpot message of a bat summary.
+pub fn sweet_spot(summary: &BatSummary, header: Header) -> SweetSpot {
+    let s = &summary.sweet_spots;
+    SweetSpot {
+        header,
+        bat_id: summary.bat_id.clone(),
+        ball_id: summary.ball_id.clone(),
+        max_exit_speed_z: s.max_exit_speed_z,
+        max_exit_speed: s.max_exit_speed,
+        rigid_optimum_z: s.rigid_optimum_z,
+        node1_z: s.node1_z,
+        node2_z: s.node2_z,
+        center_of_percussion_z: s.center_of_percussion_z,
+        ball_speed: summary.reference.ball_speed,
+        bat_cm_speed: summary.reference.bat_cm_speed,
+        bat_angular_speed: summary.reference.bat_angular_speed,
+        bbcor: summary.bbcor,
+        frequency: summary.frequencies_hz.clone(),
+        mass: summary.mass.mass,
+        center_of_mass: summary.mass.center_of_mass,
+        moment_of_inertia: summary.mass.moment_of_inertia,
+    }
+}
+
+/// One `/diagnostics` array holding the node's status.
+pub fn diagnostic_array(report: &HealthReport, node_fqn: &str, stamp: Time) -> DiagnosticArray {
+    DiagnosticArray {
+        header: Header { stamp, frame_id: String::new() },
+        status: vec![DiagnosticStatus {
+            level: report.level as u8,
+            name: format!("sweetspot: {node_fqn}"),
+            message: report.message.clone(),
+            hardware_id: node_fqn.to_string(),
+            values: report.values.iter().map(|(k, v)| KeyValue { key: k.clone(), value: v.clone() }).collect(),
+        }],
+    }
+}
+
+/// A ROS time stamp from nanoseconds since the Unix epoch.
+pub fn time_from_ns(ns: u64) -> Time {
+    Time { sec: (ns / 1_000_000_000).min(i32::MAX as u64) as i32, nanosec: (ns % 1_000_000_000) as u32 }
+}
+
+/// Nanoseconds since the Unix epoch of a ROS stamp (0 for stamps before the epoch).
+pub fn stamp_ns(stamp: &Time) -> u64 {
+    if stamp.sec < 0 {
+        0
+    } else {
+        stamp.sec as u64 * 1_000_000_000 + stamp.nanosec as u64
+    }
+}
+
+/// Now, in nanoseconds since the Unix epoch.
+pub fn now_ns() -> u64 {
+    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos() as u64).unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::{CollisionResult, EnergyBudget, ModeEnergy};
+
+    fn swing(measured: f64) -> Swing {
+        Swing {
+            header: Header { stamp: Time { sec: 12, nanosec: 345 }, frame_id: "rig".into() },
+            swing_id: 42,
+            ball_speed: 40.0,
+            bat_cm_speed: 20.0,
+            bat_angular_speed: 50.0,
+            impact_z: 0.7,
+            measured_exit_speed: measured,
+            ..Swing::default()
+        }
+    }
+
+    fn computed() -> Computed {
+        Computed {
+            collision: CollisionResult {
+                exit_speed: 45.5,
+                rigid_exit_speed: 47.0,
+                effective_cor: 0.2,
+                collision_efficiency: 0.21,
+                contact_time: 7e-4,
+                peak_force: 2e4,
+                impulse: 12.0,
+                max_compression: 0.012,
+                bat_cm_speed_after: 5.0,
+                bat_angular_speed_after: 10.0,
+                mode_energies: vec![
+                    ModeEnergy { frequency: 170.0, energy: 3.0 },
+                    ModeEnergy { frequency: 560.0, energy: 1.0 },
+                ],
+                energy: EnergyBudget {
+                    initial: 300.0,
+                    ball: 150.0,
+                    bat_rigid: 100.0,
+                    vibration: 4.0,
+                    hysteresis_loss: 46.0,
+                    residual: 0.0,
+                },
+            },
+            collision_energy: 200.0,
+        }
+    }
+
+    #[test]
+    fn ok_answer_carries_the_swing_identity_and_the_collision_numbers() {
+        let ev = exit_velocity(&swing(44.0), "r161", "baseball", &Ok(computed()));
+        assert_eq!(ev.status, ExitVelocity::STATUS_OK);
+        assert_eq!(ev.header, swing(44.0).header);
+        assert_eq!((ev.swing_id, ev.bat_id.as_str(), ev.ball_id.as_str()), (42, "r161", "baseball"));
+        assert_eq!((ev.exit_speed, ev.rigid_exit_speed, ev.impact_z), (45.5, 47.0, 0.7));
+        assert_eq!((ev.peak_force, ev.impulse, ev.max_compression), (2e4, 12.0, 0.012));
+        assert_eq!(ev.residual, 44.0 - 45.5);
+        assert!(ev.message.is_empty());
+        let unmeasured = exit_velocity(&swing(f64::NAN), "r161", "baseball", &Ok(computed()));
+        assert!(unmeasured.residual.is_nan() && unmeasured.measured_exit_speed.is_nan());
+    }
+
+    #[test]
+    fn rejected_answer_has_the_reason_and_no_numbers() {
+        let ev = exit_velocity(&swing(44.0), "nope", "baseball", &Err("unknown bat_id 'nope'".into()));
+        assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED);
+        assert_eq!(ev.message, "unknown bat_id 'nope'");
+        assert!(ev.exit_speed.is_nan() && ev.effective_cor.is_nan() && ev.residual.is_nan());
+        assert_eq!(ev.swing_id, 42);
+    }
+
+    #[test]
+    fn modal_energies_are_fractions_of_the_collision_energy() {
+        let me = modal_energies(&swing(f64::NAN), "r161", &computed());
+        assert_eq!(me.frequency, vec![170.0, 560.0]);
+        assert_eq!(me.energy, vec![3.0, 1.0]);
+        assert_eq!(me.fraction, vec![3.0 / 200.0, 1.0 / 200.0]);
+        assert_eq!((me.vibration_energy, me.hysteresis_loss, me.energy_residual), (4.0, 46.0, 0.0));
+        assert_eq!(me.header.stamp, Time { sec: 12, nanosec: 345 });
+    }
+
+    #[test]
+    fn bad_params_name_the_message_id_and_field() {
+        let e = bat_from_params(&BatParams::default()).unwrap_err();
+        assert!(e.contains("bat_id"), "{e}");
+        let p = BatParams {
+            bat_id: "mine".into(),
+            station_z: vec![0.0, 0.5, 0.8],
+            outer_radius: vec![0.01, 0.03],
+            inner_radius: vec![0.0, 0.0, 0.0],
+            ..BatParams::default()
+        };
+        let e = bat_from_params(&p).unwrap_err();
+        assert!(e.starts_with("BatParams 'mine':") && e.contains("outer_radius"), "{e}");
+        let e = ball_from_params(&BallParams::default()).unwrap_err();
+        assert!(e.contains("ball_id"), "{e}");
+    }
+
+    #[test]
+    fn stamps_round_trip() {
+        let t = time_from_ns(1_700_000_000_123_456_789);
+        assert_eq!((t.sec, t.nanosec), (1_700_000_000, 123_456_789));
+        assert_eq!(stamp_ns(&t), 1_700_000_000_123_456_789);
+        assert_eq!(stamp_ns(&Time { sec: -1, nanosec: 0 }), 0);
+    }
+}

@@ -1,0 +1,152 @@
+//! The node's side of recording: which topics are recorded, CDR-encoding each message once, and the
+//! recorder's state for `/diagnostics`. Recording never blocks and never stops the node: when the recorder
+//! fails, the node reports it and keeps computing and publishing.
+
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+use crate::bag::{BagError, RecordedQos, RecorderStats, TopicId, TopicInfo};
+use crate::msgs::{encode_cdr, RosMessage};
+
+use super::stats::RecorderState;
+
+/// What the node needs of a recorder (implemented by the bag's `Recorder`; by fakes in tests).
+pub trait RecordBackend: Send {
+    /// Adds a topic (before its first message).
+    fn register_topic(&mut self, topic: TopicInfo) -> Result<TopicId, BagError>;
+    /// Hands over one CDR message without blocking; false = dropped (and counted by the recorder).
+    fn record(&self, id: TopicId, cdr: Vec<u8>, log_time_ns: u64, publish_time_ns: u64) -> bool;
+    /// Counters so far.
+    fn stats(&self) -> RecorderStats;
+    /// Closes the bag (summary, metadata.yaml).
+    fn finish(self: Box<Self>) -> Result<RecorderStats, BagError>;
+}
+
+/// The topics the node records, in registration order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Recorded {
+    /// Input `bat/params`.
+    BatParams = 0,
+    /// Input `ball/params`.
+    BallParams = 1,
+    /// Input `swing`.
+    Swing = 2,
+    /// Output `exit_velocity`.
+    ExitVelocity = 3,
+    /// Output `modal_energies`.
+    ModalEnergies = 4,
+    /// Output `sweet_spot`.
+    SweetSpot = 5,
+}
+
+/// The node's recorder: a backend plus the ids of its topics, or nothing when recording is off or failed.
+pub struct Tape {
+    dir: Option<PathBuf>,
+    backend: Mutex<Option<Box<dyn RecordBackend>>>,
+    ids: Vec<Option<TopicId>>,
+    error: Mutex<Option<String>>,
+    final_stats: Mutex<Option<RecorderStats>>,
+}
+
+impl Tape {
+    /// Recording off.
+    pub fn off() -> Tape {
+        Tape { dir: None, backend: Mutex::new(None), ids: Vec::new(), error: Mutex::new(None), final_stats: Mutex::new(None) }
+    }
+
+    /// A recorder that could not start: the node runs and reports why.
+    pub fn failed(dir: PathBuf, error: String) -> Tape {
+        Tape { dir: Some(dir), error: Mutex::new(Some(error)), ..Tape::off() }
+    }
+
+    /// Registers `topics` (in [`Recorded`] order: name, type, schema, QoS) with `backend`.
+    pub fn start(dir: PathBuf, mut backend: Box<dyn RecordBackend>, topics: Vec<TopicInfo>) -> Tape {
+        let mut ids = Vec::new();
+        for topic in topics {
+            let name = topic.name.clone();
+            match backend.register_topic(topic) {
+                Ok(id) => ids.push(Some(id)),
+                Err(e) => return Tape::failed(dir, format!("registering {name}: {e}")),
+            }
+        }
+        Tape { dir: Some(dir), backend: Mutex::new(Some(backend)), ids, error: Mutex::new(None), final_stats: Mutex::new(None) }
+    }
+
+    /// Records one message: CDR-encoded now, logged at `log_time_ns`, published at `publish_time_ns`.
+    pub fn record<M: RosMessage>(&self, topic: Recorded, message: &M, log_time_ns: u64, publish_time_ns: u64) {
+        let Some(Some(id)) = self.ids.get(topic as usize).copied() else { return };
+        let Ok(backend) = self.backend.lock() else { return };
+        let Some(backend) = backend.as_ref() else { return };
+        match encode_cdr(message) {
+            // A false return is a drop the recorder counts and diagnostics report.
+            Ok(cdr) => {
+                let _ = backend.record(id, cdr, log_time_ns, publish_time_ns);
+            }
+            Err(e) => {
+                if let Ok(mut err) = self.error.lock() {
+                    err.get_or_insert_with(|| format!("encoding {}: {e}", M::TYPE_NAME));
+                }
+            }
+        }
+    }
+
+    /// Whether messages are being recorded.
+    pub fn is_recording(&self) -> bool {
+        self.backend.lock().map(|b| b.is_some()).unwrap_or(false)
+    }
+
+    /// The state for `/diagnostics`.
+    pub fn state(&self) -> RecorderState {
+        let Some(dir) = &self.dir else { return RecorderState::Off };
+        let dir = dir.display().to_string();
+        let stats = match self.backend.lock().ok().and_then(|b| b.as_ref().map(|b| b.stats())) {
+            Some(stats) => stats,
+            None => self.final_stats.lock().ok().and_then(|s| s.clone()).unwrap_or_default(),
+        };
+        let error = self.error.lock().ok().and_then(|e| e.clone()).or(stats.error.clone());
+        match error {
+            Some(error) => RecorderState::Failed { dir, error, written: stats.written, dropped: stats.dropped },
+            None => RecorderState::Recording { dir, written: stats.written, dropped: stats.dropped, bytes: stats.bytes },
+        }
+    }
+
+    /// The bag directory, if recording was requested.
+    pub fn dir(&self) -> Option<&PathBuf> {
+        self.dir.as_ref()
+    }
+
+    /// Closes the bag; later `record` calls do nothing. Returns the final counters (None when off).
+    pub fn finish(&self) -> Option<Result<RecorderStats, String>> {
+        let backend = self.backend.lock().ok()?.take()?;
+        let result = backend.finish().map_err(|e| e.to_string());
+        if let (Ok(stats), Ok(mut slot)) = (&result, self.final_stats.lock()) {
+            *slot = Some(stats.clone());
+        }
+        Some(result)
+    }
+}
+
+/// The schema and QoS of a recorded topic.
+pub fn topic_info<M: RosMessage>(name: &str, qos: RecordedQos) -> TopicInfo {
+    TopicInfo { name: name.to_string(), type_name: M::TYPE_NAME.to_string(), schema_text: M::SCHEMA_TEXT.to_string(), qos }
+}
+
+/// Starts the bag's recorder (its writer thread) for `config`.
+pub fn start_backend(config: crate::bag::RecorderConfig) -> Result<Box<dyn RecordBackend>, BagError> {
+    Ok(Box::new(crate::bag::Recorder::start(config)?))
+}
+
+impl RecordBackend for crate::bag::Recorder {
+    fn register_topic(&mut self, topic: TopicInfo) -> Result<TopicId, BagError> {
+        crate::bag::Recorder::register_topic(self, topic)
+    }
+    fn record(&self, id: TopicId, cdr: Vec<u8>, log_time_ns: u64, publish_time_ns: u64) -> bool {
+        crate::bag::Recorder::record(self, id, cdr, log_time_ns, publish_time_ns)
+    }
+    fn stats(&self) -> RecorderStats {
+        crate::bag::Recorder::stats(self)
+    }
+    fn finish(self: Box<Self>) -> Result<RecorderStats, BagError> {
+        crate::bag::Recorder::finish(*self)
+    }
+}

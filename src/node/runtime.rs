@@ -1,0 +1,582 @@
+//! The imperative shell: DDS participant, topics, parameter services, the receive loop, the worker pipeline,
+//! diagnostics, recording and signals. Everything it decides is delegated to the pure modules.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::pin::pin;
+use std::sync::{Arc, RwLock};
+use std::time::{Duration, Instant};
+
+use anyhow::Context as _;
+use futures::StreamExt;
+use ros2_client::ros2::LogLevel;
+use ros2_client::rosout::RosoutRaw;
+use ros2_client::{
+    MessageTypeName, Name, NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher, QosProfile,
+};
+
+use crate::bag::{RecordedQos, RecorderConfig};
+use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
+use crate::msgs::std_msgs::msg::Header;
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use crate::msgs::RosMessage;
+
+use super::convert;
+use super::engine::{self, BatEntry, BatSummary, Registry};
+use super::pipeline::{Outcome, Pipeline, ResultSink};
+use super::recording::{topic_info, Recorded, Tape};
+use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
+use super::settings::{NodeSettings, SettingEffect, READ_ONLY};
+use super::stats::{health_report, NodeStats, RateLimiter, StatsSnapshot};
+
+/// Default node name (`-r __node:=` changes it).
+pub const DEFAULT_NODE_NAME: &str = "sweetspot";
+
+/// The node's topics, relative so `-r __ns:=` moves them (except `/diagnostics`, absolute by convention).
+pub mod topics {
+    /// BatParams in.
+    pub const BAT_PARAMS: &str = "bat/params";
+    /// BallParams in.
+    pub const BALL_PARAMS: &str = "ball/params";
+    /// Swing in.
+    pub const SWING: &str = "swing";
+    /// ExitVelocity out.
+    pub const EXIT_VELOCITY: &str = "exit_velocity";
+    /// ModalEnergies out.
+    pub const MODAL_ENERGIES: &str = "modal_energies";
+    /// SweetSpot out (latched).
+    pub const SWEET_SPOT: &str = "sweet_spot";
+    /// DiagnosticArray out.
+    pub const DIAGNOSTICS: &str = "/diagnostics";
+}
+
+/// How `sweetspot node` was asked to run.
+#[derive(Debug, Clone, Default)]
+pub struct NodeConfig {
+    /// The `--ros-args` section.
+    pub ros_args: RosArgs,
+    /// `--no-record`: overrides the `record` parameter.
+    pub no_record: bool,
+}
+
+/// Everything resolved before DDS starts: identity, topic names, parameter values.
+#[derive(Debug, Clone)]
+pub struct ResolvedConfig {
+    /// Node name and namespace.
+    pub identity: NodeIdentity,
+    /// Topic name resolution (namespace + remaps).
+    pub names: NameResolver,
+    /// Parameter values after defaults, params files, `-p` and `--no-record`.
+    pub settings: NodeSettings,
+    /// Log to `/rosout` (`--disable-rosout-logs` turns it off).
+    pub rosout: bool,
+}
+
+impl NodeConfig {
+    /// Applies the ROS conventions (no DDS involved).
+    pub fn resolve(&self) -> anyhow::Result<ResolvedConfig> {
+        let identity = self.ros_args.identity(DEFAULT_NODE_NAME, "/");
+        let mut overrides = self.ros_args.parameter_overrides(&identity)?;
+        if self.no_record {
+            overrides.insert("record".to_string(), ParameterValue::Boolean(false));
+        }
+        let settings = NodeSettings::with_overrides(&overrides).map_err(|e| anyhow::anyhow!(e))?;
+        let names = self.ros_args.resolver(&identity);
+        Ok(ResolvedConfig { identity, names, settings, rosout: self.ros_args.rosout_logs.unwrap_or(true) })
+    }
+}
+
+/// Runs the node until SIGINT or SIGTERM, then finishes the bag and returns.
+pub fn run(config: NodeConfig) -> anyhow::Result<()> {
+    let resolved = config.resolve()?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .thread_name("sweetspot-dds")
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    let result = runtime.block_on(run_async(resolved));
+    // DDS background tasks may still hold the runtime; do not let them delay the exit.
+    runtime.shutdown_timeout(Duration::from_millis(200));
+    result
+}
+
+/// QoS of each topic (the ROS 2 conventions of issue 3).
+fn params_qos() -> QosProfile {
+    super::shim::qos::params()
+}
+fn swing_qos() -> QosProfile {
+    super::shim::qos::swing()
+}
+fn results_qos() -> QosProfile {
+    super::shim::qos::results()
+}
+fn sweet_spot_qos() -> QosProfile {
+    super::shim::qos::latched_results()
+}
+fn diagnostics_qos() -> QosProfile {
+    super::shim::qos::diagnostics()
+}
+
+fn recorded_qos(q: &QosProfile) -> RecordedQos {
+    use ros2_client::qos::{Durability, History, Reliability};
+    RecordedQos {
+        reliable: matches!(q.reliability, Reliability::Reliable { .. }),
+        transient_local: q.durability == Durability::TransientLocal,
+        depth: match q.history {
+            History::KeepLast { depth } => depth as u32,
+            History::KeepAll => 0,
+        },
+    }
+}
+
+/// rosout + tracing, from any thread.
+#[derive(Clone)]
+struct Log {
+    handle: Arc<NodeLoggingHandle>,
+    rosout: bool,
+}
+
+impl Log {
+    fn log(&self, level: LogLevel, message: &str) {
+        // Our own tracing line (target `sweetspot`), and the same text on /rosout for ROS tools.
+        match level {
+            LogLevel::Fatal | LogLevel::Error => tracing::error!("{message}"),
+            LogLevel::Warn => tracing::warn!("{message}"),
+            LogLevel::Info => tracing::info!("{message}"),
+            LogLevel::Debug => tracing::debug!("{message}"),
+        }
+        if self.rosout {
+            self.handle.rosout_raw(
+                ros2_client::builtin_interfaces::Time::now(),
+                level,
+                self.handle.base_name(),
+                message,
+                file!(),
+                "sweetspot::node",
+                line!(),
+            );
+        }
+    }
+    fn info(&self, m: &str) {
+        self.log(LogLevel::Info, m)
+    }
+    fn warn(&self, m: &str) {
+        self.log(LogLevel::Warn, m)
+    }
+    fn error(&self, m: &str) {
+        self.log(LogLevel::Error, m)
+    }
+}
+
+/// Publishes and records results in swing order (runs on the pipeline's sequencer thread).
+struct DdsSink {
+    exit_velocity: Arc<Publisher<ExitVelocity>>,
+    modal_energies: Publisher<ModalEnergies>,
+    tape: Arc<Tape>,
+}
+
+impl ResultSink<Swing> for DdsSink {
+    fn deliver(&mut self, outcome: &Outcome<Swing>) -> bool {
+        let swing = &outcome.payload;
+        let ev = convert::exit_velocity(swing, &outcome.bat_id, &outcome.ball_id, &outcome.result);
+        let stamp_ns = convert::stamp_ns(&swing.header.stamp);
+        let mut delivered = true;
+        if let Ok(computed) = &outcome.result {
+            let me = convert::modal_energies(swing, &outcome.bat_id, computed);
+            self.tape.record(Recorded::ModalEnergies, &me, convert::now_ns(), stamp_ns);
+            delivered &= self.modal_energies.publish(me).is_ok();
+        }
+        // ExitVelocity last, so a listener that has the answer also has its energies.
+        self.tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), stamp_ns);
+        delivered &= self.exit_velocity.publish(ev).is_ok();
+        delivered
+    }
+}
+
+/// Messages from helper tasks back to the receive loop.
+enum Event {
+    /// A parameter was set through `ros2 param set`.
+    ParameterChanged(SettingEffect),
+    /// A bat's SweetSpot is ready (published only if the bat is still current).
+    Summary(Arc<BatEntry>, Result<BatSummary, String>),
+}
+
+async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
+    let ResolvedConfig { identity, names, settings, rosout } = resolved;
+    let fqn = identity.fully_qualified_name();
+    let started_utc = chrono::Utc::now();
+    let stats = Arc::new(NodeStats::new());
+    let shared_settings = Arc::new(RwLock::new(settings.clone()));
+    let (events_tx, mut events_rx) = tokio::sync::mpsc::unbounded_channel::<Event>();
+
+    // Parameters: declared with the start-up values, validated on every set, read-only ones refused later.
+    let validator_settings = Arc::clone(&shared_settings);
+    let action_settings = Arc::clone(&shared_settings);
+    let action_events = events_tx.clone();
+    let mut options = NodeOptions::new()
+        .enable_rosout(rosout)
+        .start_parameter_services(true)
+        .parameter_validator(Box::new(move |name, value| {
+            let current = validator_settings.read().map_err(|_| "settings lock poisoned".to_string())?.clone();
+            if READ_ONLY.contains(&name) {
+                let unchanged = current.declarations().into_iter().any(|(n, v)| n == name && v == *value);
+                return if unchanged { Ok(()) } else { Err(format!("{name} is read-only while the node runs: restart with -p {name}:=…")) };
+            }
+            let mut probe = current;
+            probe.apply(name, value).map(|_| ())
+        }))
+        .parameter_set_action(Box::new(move |name, value| {
+            let mut settings = action_settings.write().map_err(|_| "settings lock poisoned".to_string())?;
+            let before = settings.clone();
+            let effect = settings.apply(name, value)?;
+            if *settings != before {
+                let _ = action_events.send(Event::ParameterChanged(effect));
+            }
+            Ok(())
+        }));
+    for (name, value) in settings.declarations() {
+        options = options.declare_parameter(name, value);
+    }
+
+    let context = super::shim::context().context("creating the DDS participant")?;
+    let node_name = NodeName::new(&identity.namespace, &identity.name)
+        .map_err(|e| anyhow::anyhow!("node name {fqn}: {e:?}"))?;
+    let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
+    let log = Log { handle: Arc::new(node.logging_handle()), rosout };
+
+    // Topics: resolved here (namespace + remaps), handed to ros2-client as absolute names.
+    let topic_names: BTreeMap<&str, String> = [
+        topics::BAT_PARAMS,
+        topics::BALL_PARAMS,
+        topics::SWING,
+        topics::EXIT_VELOCITY,
+        topics::MODAL_ENERGIES,
+        topics::SWEET_SPOT,
+        topics::DIAGNOSTICS,
+    ]
+    .into_iter()
+    .map(|t| (t, names.resolve(t)))
+    .collect();
+    macro_rules! topic {
+        ($key:expr, $ty:ty, $qos:expr) => {{
+            let name = &topic_names[$key];
+            let ros_name = Name::parse(name).map_err(|e| anyhow::anyhow!("topic {name}: {e:?}"))?;
+            let (package, ty) = <$ty as RosMessage>::TYPE_NAME.split_once("/msg/").unwrap_or(("", ""));
+            node.create_topic(&ros_name, MessageTypeName::new(package, ty), &$qos)
+                .map_err(|e| anyhow::anyhow!("topic {name}: {e:?}"))?
+        }};
+    }
+    let bat_topic = topic!(topics::BAT_PARAMS, BatParams, params_qos());
+    let ball_topic = topic!(topics::BALL_PARAMS, BallParams, params_qos());
+    let swing_topic = topic!(topics::SWING, Swing, swing_qos());
+    let ev_topic = topic!(topics::EXIT_VELOCITY, ExitVelocity, results_qos());
+    let me_topic = topic!(topics::MODAL_ENERGIES, ModalEnergies, results_qos());
+    let ss_topic = topic!(topics::SWEET_SPOT, SweetSpot, sweet_spot_qos());
+    let diag_topic = topic!(topics::DIAGNOSTICS, DiagnosticArray, diagnostics_qos());
+    let dds = |e| anyhow::anyhow!("{e:?}");
+    let bat_sub = node.create_subscription::<BatParams>(&bat_topic, None).map_err(dds)?;
+    let ball_sub = node.create_subscription::<BallParams>(&ball_topic, None).map_err(dds)?;
+    let swing_sub = node.create_subscription::<Swing>(&swing_topic, None).map_err(dds)?;
+    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, None).map_err(dds)?);
+    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, None).map_err(dds)?;
+    let ss_pub = node.create_publisher::<SweetSpot>(&ss_topic, None).map_err(dds)?;
+    let diag_pub = node.create_publisher::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
+    let spinner = node.spinner().map_err(dds)?;
+    tokio::spawn(spinner.spin());
+
+    // Recording: every input as received and every output as published.
+    let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names, &log));
+
+    let pipeline = Pipeline::start(
+        settings.worker_count(),
+        settings.queue_capacity,
+        Arc::clone(&stats),
+        DdsSink { exit_velocity: Arc::clone(&ev_pub), modal_energies: me_pub, tape: Arc::clone(&tape) },
+    )
+    .context("starting the worker threads")?;
+    log.info(&format!(
+        "{fqn} up: {} workers, queue {} swings, swing on {}, answers on {}, recording {}",
+        settings.worker_count(),
+        settings.queue_capacity,
+        topic_names[topics::SWING],
+        topic_names[topics::EXIT_VELOCITY],
+        tape.dir().map(|d| d.display().to_string()).unwrap_or_else(|| "off".into())
+    ));
+
+    let mut registry = Registry::new();
+    // The default bat answers swings without any params; its SweetSpot is published right away.
+    match registry.resolve_bat("", &settings) {
+        Ok((entry, _)) => spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx),
+        Err(e) => log.error(&format!("default_bat: {e}")),
+    }
+
+    let drop_warning = RateLimiter::new(Duration::from_secs(5));
+    let mut diagnostics = tokio::time::interval(Duration::from_secs_f64(settings.diagnostics_period));
+    diagnostics.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut last_report = StatsSnapshot::default();
+    let mut bats = pin!(bat_sub.async_stream());
+    let mut balls = pin!(ball_sub.async_stream());
+    let mut swings = pin!(swing_sub.async_stream());
+    let mut shutdown = pin!(shutdown_signal());
+
+    loop {
+        tokio::select! {
+            biased;
+            signal = &mut shutdown => {
+                log.info(&format!("{signal}: shutting down"));
+                break;
+            }
+            Some(event) = events_rx.recv() => match event {
+                Event::ParameterChanged(effect) => {
+                    let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                    let refresh: Vec<Arc<BatEntry>> = match effect {
+                        SettingEffect::None => Vec::new(),
+                        SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
+                        SettingEffect::SweetSpotsChanged => registry.bats(),
+                    };
+                    for entry in refresh {
+                        spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
+                    }
+                }
+                Event::Summary(entry, result) => {
+                    // A summary of params that have since been replaced is stale.
+                    let current = registry.bats().into_iter().any(|e| Arc::ptr_eq(&e, &entry));
+                    match result {
+                        Ok(summary) if current => {
+                            let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
+                            let msg = convert::sweet_spot(&summary, header);
+                            tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
+                            if let Err(e) = ss_pub.publish(msg) {
+                                log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
+                            }
+                        }
+                        Ok(_) => {}
+                        Err(e) => log.warn(&format!("SweetSpot not published: {e}")),
+                    }
+                }
+            },
+            Some(received) = bats.next() => {
+                let log_time = convert::now_ns();
+                match received {
+                    Ok((params, _info)) => {
+                        tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                        let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                        match convert::bat_from_params(&params) {
+                            Ok(built) => {
+                                NodeStats::bump(&stats.params_accepted);
+                                let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
+                                log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
+                                spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
+                            }
+                            Err(reason) => {
+                                NodeStats::bump(&stats.params_rejected);
+                                reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.bat_id), &params.header, &params.bat_id, "", &ev_pub, &tape, &log);
+                            }
+                        }
+                    }
+                    Err(e) => log.warn(&format!("bat/params: unreadable sample: {e:?}")),
+                }
+            }
+            Some(received) = balls.next() => {
+                let log_time = convert::now_ns();
+                match received {
+                    Ok((params, _info)) => {
+                        tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                        match convert::ball_from_params(&params) {
+                            Ok(ball) => {
+                                NodeStats::bump(&stats.params_accepted);
+                                registry.set_ball(&params.ball_id, ball);
+                                log.info(&format!("ball '{}' set", params.ball_id));
+                            }
+                            Err(reason) => {
+                                NodeStats::bump(&stats.params_rejected);
+                                reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.ball_id), &params.header, "", &params.ball_id, &ev_pub, &tape, &log);
+                            }
+                        }
+                    }
+                    Err(e) => log.warn(&format!("ball/params: unreadable sample: {e:?}")),
+                }
+            }
+            _ = diagnostics.tick() => {
+                let now = stats.snapshot(pipeline.in_flight());
+                let report = health_report(&now, &last_report, &tape.state());
+                let msg = convert::diagnostic_array(&report, &fqn, convert::time_from_ns(convert::now_ns()));
+                if let Err(e) = diag_pub.publish(msg) {
+                    tracing::debug!("publishing diagnostics: {e:?}");
+                }
+                last_report = now;
+            }
+            Some(received) = swings.next() => {
+                let log_time = convert::now_ns();
+                match received {
+                    Ok((swing, _info)) => on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx),
+                    Err(e) => log.warn(&format!("swing: unreadable sample: {e:?}")),
+                }
+            }
+        }
+    }
+
+    // Shutdown: stop taking swings, let queued ones finish briefly, close the bag, report.
+    drop(swings);
+    drop(bats);
+    drop(balls);
+    let pipeline_stats = Arc::clone(&stats);
+    let tape_for_finish = Arc::clone(&tape);
+    let (bag_result, final_stats) = tokio::task::spawn_blocking(move || {
+        let in_flight = pipeline.in_flight();
+        pipeline.shutdown(Duration::from_millis(600));
+        let bag = tape_for_finish.finish();
+        (bag, pipeline_stats.snapshot(in_flight))
+    })
+    .await
+    .context("joining the shutdown task")?;
+    let s = final_stats;
+    let summary = format!(
+        "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses",
+        s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.latency_p50_us, s.latency_p99_us,
+        s.latency_max_us, s.mode_cache_hits, s.mode_cache_misses
+    );
+    log.info(&summary);
+    eprintln!("{summary}");
+    match bag_result {
+        Some(Ok(b)) => eprintln!(
+            "{fqn}: bag {} closed: {} messages written, {} dropped, {} bytes",
+            tape.dir().map(|d| d.display().to_string()).unwrap_or_default(),
+            b.written,
+            b.dropped,
+            b.bytes
+        ),
+        Some(Err(e)) => eprintln!("{fqn}: closing the bag failed: {e}"),
+        None => {}
+    }
+    node.stop_spinner();
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn on_swing(
+    swing: Swing,
+    log_time: u64,
+    registry: &mut Registry,
+    shared_settings: &Arc<RwLock<NodeSettings>>,
+    fallback: &NodeSettings,
+    pipeline: &Pipeline<Swing>,
+    stats: &Arc<NodeStats>,
+    tape: &Tape,
+    log: &Log,
+    drop_warning: &RateLimiter,
+    events: &tokio::sync::mpsc::UnboundedSender<Event>,
+) {
+    let received = Instant::now();
+    NodeStats::bump(&stats.swings_received);
+    tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
+    let settings = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| fallback.clone());
+    let (plan, new_bat) = engine::plan_swing(registry, &settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+    if let Some(entry) = new_bat {
+        spawn_summary(entry, registry, shared_settings, stats, events);
+    }
+    if let Err((_plan, swing)) = pipeline.submit(received, plan, swing) {
+        NodeStats::bump(&stats.swings_dropped);
+        if let Some(suppressed) = drop_warning.allow(Instant::now()) {
+            log.warn(&format!(
+                "swing {} dropped: {} swings already in flight (queue_capacity); {suppressed} more dropped since the last warning",
+                swing.swing_id,
+                pipeline.capacity()
+            ));
+        }
+    }
+}
+
+fn reject_params(
+    reason: &str,
+    header: &Header,
+    bat_id: &str,
+    ball_id: &str,
+    ev_pub: &Publisher<ExitVelocity>,
+    tape: &Tape,
+    log: &Log,
+) {
+    log.error(reason);
+    let probe = Swing { header: header.clone(), measured_exit_speed: f64::NAN, ..Swing::default() };
+    let ev = convert::exit_velocity(&probe, bat_id, ball_id, &Err(reason.to_string()));
+    tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), convert::stamp_ns(&header.stamp));
+    if let Err(e) = ev_pub.publish(ev) {
+        log.warn(&format!("publishing the params rejection: {e:?}"));
+    }
+}
+
+fn spawn_summary(
+    entry: Arc<BatEntry>,
+    registry: &Registry,
+    settings: &Arc<RwLock<NodeSettings>>,
+    stats: &Arc<NodeStats>,
+    events: &tokio::sync::mpsc::UnboundedSender<Event>,
+) {
+    let Ok((ball_id, ball)) = registry.resolve_ball("") else { return };
+    let settings = settings.read().map(|s| s.clone()).unwrap_or_default();
+    let (stats, events) = (Arc::clone(stats), events.clone());
+    tokio::task::spawn_blocking(move || {
+        let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
+        let _ = events.send(Event::Summary(entry, result));
+    });
+}
+
+fn start_tape(
+    settings: &NodeSettings,
+    identity: &NodeIdentity,
+    started: chrono::DateTime<chrono::Utc>,
+    topic_names: &BTreeMap<&str, String>,
+    log: &Log,
+) -> Tape {
+    if !settings.record {
+        return Tape::off();
+    }
+    let dir: PathBuf = settings.bag_dir(&identity.name, started);
+    let config = RecorderConfig {
+        dir: dir.clone(),
+        max_file_size: (settings.record_max_file_size > 0).then_some(settings.record_max_file_size),
+        max_file_duration: (settings.record_max_file_duration > 0.0)
+            .then(|| Duration::from_secs_f64(settings.record_max_file_duration)),
+        flush_interval: Duration::from_secs(1),
+        queue_capacity: 65_536,
+    };
+    let topics = vec![
+        topic_info::<BatParams>(&topic_names[topics::BAT_PARAMS], recorded_qos(&params_qos())),
+        topic_info::<BallParams>(&topic_names[topics::BALL_PARAMS], recorded_qos(&params_qos())),
+        topic_info::<Swing>(&topic_names[topics::SWING], recorded_qos(&swing_qos())),
+        topic_info::<ExitVelocity>(&topic_names[topics::EXIT_VELOCITY], recorded_qos(&results_qos())),
+        topic_info::<ModalEnergies>(&topic_names[topics::MODAL_ENERGIES], recorded_qos(&results_qos())),
+        topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&sweet_spot_qos())),
+    ];
+    match super::recording::start_backend(config) {
+        Ok(backend) => Tape::start(dir, backend, topics),
+        Err(e) => {
+            log.error(&format!("recording to {} failed: {e}; the node keeps computing and publishing", dir.display()));
+            Tape::failed(dir, e.to_string())
+        }
+    }
+}
+
+/// Resolves on SIGINT or SIGTERM with the signal's name.
+async fn shutdown_signal() -> &'static str {
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{signal, SignalKind};
+        match (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) {
+            (Ok(mut int), Ok(mut term)) => tokio::select! {
+                _ = int.recv() => "SIGINT",
+                _ = term.recv() => "SIGTERM",
+            },
+            _ => {
+                let _ = tokio::signal::ctrl_c().await;
+                "SIGINT"
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = tokio::signal::ctrl_c().await;
+        "Ctrl-C"
+    }
+}
