@@ -23,6 +23,8 @@
 //! end. The true exit speed is the physics ([`crate::physics::collide`]) with the rig's true ball; each
 //! reading then gets independent Gaussian noise of the standard deviations in [`SensorNoise`].
 
+pub mod dds;
+
 use rand::{Rng, SeedableRng};
 use rand::rngs::StdRng;
 use rand_distr::{Distribution, Normal};
