@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Runs the node recording every input and answer into a rosbag2/MCAP directory until Ctrl-C.
+# Usage: launch-scripts/record.sh [BAG_DIR] [NAMESPACE] [more --ros-args…]
+#   launch-scripts/record.sh bags/session1 /rig3 -p default_modes:=12
+# BAG_DIR must not exist yet (default: bags/<node>_<UTC time>).
+set -euo pipefail
+source "$(dirname "$0")/common.sh"
+ros_args=()
+if [ $# -gt 0 ] && [[ "$1" != /* ]] && [[ "$1" != -* ]]; then ros_args+=(-p "record_path:=$1"); shift; fi
+if [ $# -gt 0 ] && [[ "$1" == /* ]]; then ros_args+=(-r "__ns:=$1"); shift; fi
+exec "${sweetspot[@]}" node --ros-args "${ros_args[@]}" "$@"
