@@ -54,7 +54,7 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
         assert_eq!(cells[1], (SWINGS / 2).to_string(), "{row}");
         let mean: f64 = cells[2].parse().unwrap();
         assert!((25.0..55.0).contains(&mean), "mean exit speed {mean} m/s in {row}");
-        let bbcor: f64 = cells[7].parse().unwrap();
+        let bbcor: f64 = cells[8].parse().unwrap();
         assert!((0.3..0.7).contains(&bbcor), "BBCOR {bbcor} in {row}");
         assert!(row.contains('%'), "{row}");
     }
