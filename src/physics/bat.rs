@@ -520,3 +520,4 @@ pub(crate) fn mass_properties_of(slices: &[Slice], length: f64) -> MassPropertie
     let icm: f64 = slices.iter().map(|s| s.mass * (s.z - zcm).powi(2) + s.rotary_inertia).sum();
     MassProperties::from_totals(mass, length, zcm, icm)
 }
+

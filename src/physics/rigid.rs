@@ -8,7 +8,7 @@
 //! CM) and K = I (M + m)/(m M). Then v_f = −v_ball + (1+e)(c + ω b)/(1 + m/M + m b²/I), and dv_f/db = 0 gives
 //! ω b² + 2 c b − ω K = 0. The maximum is the root with c + ω b > 0:
 //! b* = ω K / (c + √(c² + ω² K)) (= −c/ω + √((c/ω)² + K) for ω ≠ 0; b* = 0 for ω = 0).
-//! The seed prints eq. 5 without "= 0" and with v_i of the opposite sign, and eq. 6 as v_i/ω ± √(…).
+//! The seed prints eq. 5 without "= 0" (in its frame v_i/ω_i < 0, and its eq. 6 with the + root is this optimum).
 
 use super::{Impact, MassProperties, PhysicsError};
 
