@@ -126,7 +126,7 @@ pub fn run(args: BbcorArgs) -> Result<()> {
     }
     let mut out = doc.bat.table().render();
     out.push_str(&format!(
-        "\nball   mass {} kg, radius {} m, k1 {} N/m^α, α {}, e0 {} (protocol ball)\nmodel  {} vibrational modes, RK4 step {} s\n",
+        "\nball   mass {} kg, radius {} m, k1 {} N/m^α, α {}, e0 {} (protocol ball)\nmodel  {} vibrational modes, RK4 step {} s\n\n",
         num(doc.ball.mass, 4),
         num(doc.ball.radius, 4),
         num(doc.ball.stiffness, 4),

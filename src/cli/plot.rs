@@ -5,6 +5,9 @@
 //! with an embedded DejaVu Sans font (plotters' `ab_glyph` feature), so no system fonts or fontconfig are
 //! needed; SVG text is left to the viewer.
 
+// Negated comparisons (`!(a < b)`) are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::path::Path;
 use std::sync::Once;
 

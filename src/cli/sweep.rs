@@ -1,5 +1,8 @@
 //! `sweetspot sweep`: exit speed (flexible and rigid) over impact points, the sweet-spot set, and a plot.
 
+// Negated comparisons (`!(a < b)`) are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -141,7 +144,10 @@ pub fn sweep_with_progress(
 
 /// A complete sweep: modes, points, sweet spots, nodes.
 pub fn run_sweep(bat: &Bat, ball: &Ball, swing: &Impact, range: SweepRange, options: &CollisionOptions) -> Result<SweepJson> {
-    let modes = ModeSet::compute(bat, options.modes).with_context(|| format!("normal modes of bat '{}'", bat.name))?;
+    // At least two vibrational modes are solved so that the nodes of modes 1 and 2 exist even when fewer
+    // (or none: the rigid bat) are integrated.
+    let modes = ModeSet::compute(bat, options.modes.max(2))
+        .with_context(|| format!("normal modes of bat '{}'", bat.name))?;
     let props = modes.mass_properties();
     let from = range.from.unwrap_or((props.length - DEFAULT_BARREL_LENGTH).max(0.0));
     let to = range.to.unwrap_or(props.length - 0.01);
@@ -149,8 +155,8 @@ pub fn run_sweep(bat: &Bat, ball: &Ball, swing: &Impact, range: SweepRange, opti
     let points = sweep_with_progress(&modes, ball, swing, &zs, options).context("exit-speed sweep")?;
     let spots = sweet_spots(&modes, ball, swing, options).context("sweet spots")?;
     let nodes = NodesJson {
-        mode1: if options.modes >= 1 { modes.nodes(1) } else { Vec::new() },
-        mode2: if options.modes >= 2 { modes.nodes(2) } else { Vec::new() },
+        mode1: modes.nodes(1),
+        mode2: modes.nodes(2),
     };
     Ok(SweepJson {
         bat: BatJson::new(&bat.name, &props),
