@@ -531,6 +531,10 @@ fn publish_all<T: RosMessage>(
             }
             std::thread::sleep(Duration::from_millis(20));
         }
+        // We see the match when the subscription's announcement reaches us; the subscriber sees it when ours
+        // reaches it, which may be a moment later. A volatile reader drops samples from a writer it has not
+        // matched yet (they are history to it), so give its side of the handshake time to complete.
+        std::thread::sleep(MATCH_SETTLE);
     }
 
     let period = args.rate.map(|r| Duration::from_secs_f64(1.0 / r));
@@ -586,6 +590,9 @@ fn publish_all<T: RosMessage>(
     }
     Ok(())
 }
+
+/// Pause between seeing a subscription match and publishing to it (see its use).
+const MATCH_SETTLE: Duration = Duration::from_millis(300);
 
 /// The number of subscriptions matched with `writer`, updated from its status events (RustDDS 0.15 offers no
 /// direct query: `get_matched_subscriptions` is a placeholder that panics).

@@ -1,0 +1,313 @@
+//! `sweetspot pub` and `sweetspot echo` as separate processes over real DDS on loopback (inside the private
+//! network namespace of scripts/test). Each test uses its own ROS_DOMAIN_ID so parallel tests never meet.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Output, Stdio};
+
+use serde_json::{json, Value};
+
+const BIN: &str = env!("CARGO_BIN_EXE_sweetspot");
+
+fn guard() {
+    sweetspot::ros::network_guard()
+        .expect("DDS tests must run in a private network namespace (scripts/test)");
+}
+
+fn cmd(domain: u16, args: &[&str]) -> Command {
+    let mut c = Command::new(BIN);
+    c.args(args)
+        .env("ROS_DOMAIN_ID", domain.to_string())
+        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        .env_remove("ROS_LOCALHOST_ONLY");
+    c
+}
+
+/// Starts `sweetspot echo TOPIC --json --count N` and returns it (stdout piped).
+fn start_echo(domain: u16, topic: &str, count: usize, extra: &[&str]) -> Child {
+    let n = count.to_string();
+    let mut args = vec!["echo", topic, "--json", "--count", &n, "--timeout", "60"];
+    args.extend_from_slice(extra);
+    cmd(domain, &args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start echo")
+}
+
+fn finish(child: Child) -> Output {
+    child.wait_with_output().expect("wait")
+}
+
+fn json_lines(out: &Output) -> Vec<Value> {
+    assert!(
+        out.status.success(),
+        "echo failed: {}\n{}",
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("bad JSON line {l:?}: {e}")))
+        .collect()
+}
+
+fn run_ok(mut c: Command) -> Output {
+    let out = c.output().expect("run");
+    assert!(
+        out.status.success(),
+        "command failed: {}\n{}",
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    out
+}
+
+#[test]
+fn ros_cli_swings_from_json_lines_reach_echo_in_a_namespace() {
+    guard();
+    let domain = 151;
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("swings.jsonl");
+    std::fs::write(
+        &file,
+        "# three swings\n\
+         {\"swing_id\": 11, \"bat_id\": \"r161\", \"ball_speed\": 40.2, \"bat_cm_speed\": 23.5, \"bat_angular_speed\": 51, \"impact_z\": 0.71, \"measured_exit_speed\": 44.5}\n\
+         {\"swing_id\": 12, \"bat_id\": \"r161\", \"ball_speed\": 38, \"impact_z\": 0.65, \"header\": {\"frame_id\": \"cage\", \"stamp\": {\"sec\": 7, \"nanosec\": 9}}}\n\
+         \n\
+         {\"bat_id\": \"torpedo\", \"ball_id\": \"mlb\", \"impact_z\": 0.5, \"measured_exit_speed\": \"nan\"}\n",
+    )
+    .unwrap();
+    let echo = start_echo(domain, "/rig3/swing", 3, &[]);
+    let file_arg = file.to_str().unwrap();
+    run_ok(cmd(
+        domain,
+        &[
+            "pub",
+            "swing",
+            "--file",
+            file_arg,
+            "--wait-subscribers",
+            "1",
+            "--timeout",
+            "60",
+            "-q",
+            "--ros-args",
+            "-r",
+            "__ns:=/rig3",
+        ],
+    ));
+    let got = json_lines(&finish(echo));
+    assert_eq!(got.len(), 3);
+    assert_eq!(got[0]["swing_id"], 11);
+    assert_eq!(got[0]["ball_speed"], 40.2);
+    assert_eq!(got[0]["bat_angular_speed"], 51.0);
+    assert_eq!(got[0]["measured_exit_speed"], 44.5);
+    assert_eq!(got[1]["swing_id"], 12);
+    assert_eq!(
+        got[1]["header"],
+        json!({"stamp": {"sec": 7, "nanosec": 9}, "frame_id": "cage"})
+    );
+    assert_eq!(
+        got[1]["measured_exit_speed"],
+        Value::Null,
+        "absent = not measured = NaN"
+    );
+    assert_eq!(
+        got[2]["swing_id"], 3,
+        "a swing without an id gets its sequence number"
+    );
+    assert_eq!(got[2]["ball_id"], "mlb");
+    assert_eq!(got[2]["measured_exit_speed"], Value::Null);
+    // Unset stamps are filled with the publish time.
+    assert!(got[0]["header"]["stamp"]["sec"].as_i64().unwrap() > 1_600_000_000);
+    // Field order is the .msg order.
+    let keys: Vec<&String> = got[0].as_object().unwrap().keys().collect();
+    assert_eq!(keys[..3], ["header", "swing_id", "bat_id"]);
+}
+
+#[test]
+fn ros_cli_csv_rate_and_count() {
+    guard();
+    let domain = 152;
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("swings.csv");
+    std::fs::write(&file, "swing_id,bat_id,ball_speed,impact_z,header.frame_id\n1,r161,40,0.7,a\n2,r161,41.5,0.66,b\n")
+        .unwrap();
+    // --count 5 cycles through the 2 rows: ids 1,2,1,2,1 as written in the file.
+    let echo = start_echo(domain, "swing", 5, &[]);
+    run_ok(cmd(
+        domain,
+        &[
+            "pub",
+            "swing",
+            "--file",
+            file.to_str().unwrap(),
+            "--count",
+            "5",
+            "--rate",
+            "200",
+            "--wait-subscribers",
+            "1",
+            "--timeout",
+            "60",
+            "-q",
+        ],
+    ));
+    let got = json_lines(&finish(echo));
+    let ids: Vec<i64> = got
+        .iter()
+        .map(|m| m["swing_id"].as_i64().unwrap())
+        .collect();
+    assert_eq!(ids, [1, 2, 1, 2, 1]);
+    assert_eq!(got[1]["ball_speed"], 41.5);
+    assert_eq!(got[1]["header"]["frame_id"], "b");
+}
+
+#[test]
+fn ros_cli_params_are_latched_for_late_joiners() {
+    guard();
+    let domain = 153;
+    let bats = r#"[{"bat_id": "a", "preset": "r161"},
+                   {"bat_id": "b", "station_z": [0, 0.5, 0.84], "outer_radius": "0.013;0.02;0.033", "inner_radius": [0, 0, 0],
+                    "density": 649, "youngs_modulus": 1.814e10, "shear_modulus": 1.05e9, "max_modes": 12}]"#;
+    let mut publisher = cmd(domain, &["pub", "bat", bats, "--keep-alive", "120"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start pub");
+    // Wait until the publisher reports both messages written (no subscriber exists yet).
+    let mut lines = BufReader::new(publisher.stdout.take().unwrap()).lines();
+    let mut written = 0;
+    while written < 2 {
+        let line = lines.next().expect("pub ended early").unwrap();
+        if line.starts_with("publishing #") {
+            written += 1;
+        }
+    }
+    // A late joiner still receives both bats.
+    let got = json_lines(&finish(start_echo(domain, "bat/params", 2, &[])));
+    assert_eq!(got[0]["bat_id"], "a");
+    assert_eq!(got[0]["preset"], "r161");
+    assert_eq!(got[1]["bat_id"], "b");
+    assert_eq!(got[1]["outer_radius"], json!([0.013, 0.02, 0.033]));
+    assert_eq!(got[1]["max_modes"], 12);
+    // SIGTERM ends the publisher cleanly.
+    let status = Command::new("kill")
+        .args(["-TERM", &publisher.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let status = publisher.wait().unwrap();
+    assert!(
+        status.success(),
+        "pub should exit 0 on SIGTERM, got {status}"
+    );
+}
+
+/// Every message type survives DDS unchanged: what echo prints equals what pub was given.
+#[test]
+fn ros_cli_every_message_type_round_trips_over_dds() {
+    guard();
+    let domain = 154;
+    let cases: Vec<(&str, Value)> = vec![
+        (
+            "ball",
+            json!({"header": {"stamp": {"sec": 1, "nanosec": 2}, "frame_id": "f"}, "ball_id": "mlb", "mass": 0.145, "radius": 0.0366, "cor": 0.5, "stiffness": 7.1e6, "exponent": 1.25}),
+        ),
+        (
+            "exit_velocity",
+            json!({"header": {"stamp": {"sec": 3, "nanosec": 4}, "frame_id": ""}, "swing_id": 18446744073709551615u64, "bat_id": "r161", "ball_id": "mlb", "status": 1, "message": "impact_z: 2 m is beyond the bat", "impact_z": 2.0, "exit_speed": 41.5, "rigid_exit_speed": 43.0, "effective_cor": 0.21, "collision_efficiency": 0.2, "contact_time": 0.00063, "peak_force": 21000.0, "impulse": 12.0, "max_compression": 0.012, "measured_exit_speed": null, "residual": null}),
+        ),
+        (
+            "modal_energies",
+            json!({"header": {"stamp": {"sec": 5, "nanosec": 6}, "frame_id": ""}, "swing_id": 2, "bat_id": "r161", "frequency": [177.0, 583.0], "energy": [1.5, 0.25], "fraction": [0.01, 0.002], "vibration_energy": 1.75, "hysteresis_loss": 30.0, "energy_residual": -1e-9}),
+        ),
+        (
+            "sweet_spot",
+            json!({"header": {"stamp": {"sec": 7, "nanosec": 8}, "frame_id": ""}, "bat_id": "r161", "ball_id": "mlb", "max_exit_speed_z": 0.71, "max_exit_speed": 44.1, "rigid_optimum_z": 0.69, "node1_z": 0.68, "node2_z": 0.72, "center_of_percussion_z": 0.66, "ball_speed": 40.0, "bat_cm_speed": 20.0, "bat_angular_speed": 50.0, "bbcor": 0.48, "frequency": [177.0], "mass": 0.885, "center_of_mass": 0.564, "moment_of_inertia": 0.0455}),
+        ),
+        (
+            "diagnostics",
+            json!({"header": {"stamp": {"sec": 9, "nanosec": 10}, "frame_id": ""}, "status": [{"level": 1, "name": "sweetspot: node", "message": "queue full", "hardware_id": "", "values": [{"key": "swings_processed", "value": "10"}]}]}),
+        ),
+    ];
+    for (kind, message) in cases {
+        let echo = start_echo(domain, kind, 1, &[]);
+        run_ok(cmd(
+            domain,
+            &[
+                "pub",
+                kind,
+                &message.to_string(),
+                "--wait-subscribers",
+                "1",
+                "--timeout",
+                "60",
+                "-q",
+            ],
+        ));
+        let got = json_lines(&finish(echo));
+        assert_eq!(got, [message], "{kind}");
+    }
+}
+
+#[test]
+fn ros_cli_rejects_bad_input_with_the_field_named() {
+    // None of these reach DDS: input and environment are checked first.
+    let fail = |domain: &str, range: &str, args: &[&str]| -> String {
+        let out = Command::new(BIN)
+            .args(args)
+            .env("ROS_DOMAIN_ID", domain)
+            .env("ROS_AUTOMATIC_DISCOVERY_RANGE", range)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?} should fail");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let e = fail(
+        "155",
+        "LOCALHOST",
+        &["pub", "swing", r#"{"ball_sped": 40}"#],
+    );
+    assert!(
+        e.contains("ball_sped") && e.contains("no such field"),
+        "{e}"
+    );
+    let e = fail("155", "LOCALHOST", &["pub", "swing", r#"{"swing_id": -3}"#]);
+    assert!(e.contains("swing_id"), "{e}");
+    let e = fail("155", "LOCALHOST", &["pub", "swing", "{not json"]);
+    assert!(e.contains("not valid JSON"), "{e}");
+    let e = fail("155", "LOCALHOST", &["pub", "/lab/thing", "{}"]);
+    assert!(e.contains("--type"), "{e}");
+    let e = fail("999", "LOCALHOST", &["pub", "swing", "{}"]);
+    assert!(e.contains("ROS_DOMAIN_ID"), "{e}");
+    let e = fail("155", "LAN", &["echo", "swing"]);
+    assert!(e.contains("ROS_AUTOMATIC_DISCOVERY_RANGE"), "{e}");
+    let e = fail(
+        "155",
+        "LOCALHOST",
+        &["echo", "swing", "--ros-args", "-r", "__ns:=/bad name"],
+    );
+    assert!(e.contains("invalid ROS name"), "{e}");
+}
+
+#[test]
+fn ros_cli_echo_fails_when_too_few_messages_arrive() {
+    guard();
+    let out = cmd(
+        156,
+        &[
+            "echo",
+            "exit_velocity",
+            "--json",
+            "--count",
+            "1",
+            "--timeout",
+            "0.5",
+        ],
+    )
+    .output()
+    .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("timed out"));
+}
