@@ -9,6 +9,7 @@ use std::time::Duration;
 pub mod export;
 pub mod info;
 pub mod reader;
+pub mod replay;
 pub mod recover;
 mod recorder;
 pub mod rosbag2;
