@@ -100,3 +100,36 @@ fn a_bag_without_measurements_is_a_clear_error() {
     let err = problem_from_bag(&bag, None).unwrap_err().to_string();
     assert!(err.contains("measured_exit_speed"), "{err}");
 }
+
+#[test]
+fn calibrate_command_reports_and_writes_params_pub_can_send() {
+    let tmp = tempfile::tempdir().unwrap();
+    let config = RigConfig { bats: vec!["r161".into(), "aluminum".into()], true_cor: Some(TRUE_COR), seed: 21, ..RigConfig::default() };
+    let bag = write_session(tmp.path(), 16, config);
+    let out = tmp.path().join("fitted.jsonl");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .arg("calibrate")
+        .arg(&bag)
+        .args(["--fit-youngs", "--write"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}{}", String::from_utf8_lossy(&output.stderr));
+    for needle in ["cor", "youngs_modulus[r161]", "youngs_modulus[aluminum]", "RMS", "largest residuals", "sweetspot pub ball --file"] {
+        assert!(stdout.contains(needle), "{needle} missing in:\n{stdout}");
+    }
+    // The files are JSON lines that `sweetspot pub` parses as BallParams / BatParams (same tolerant reader).
+    let ball_line = std::fs::read_to_string(&out).unwrap();
+    let ball: BallParams = sweetspot::msgs::json::from_json(&serde_json::from_str(ball_line.trim()).unwrap()).unwrap();
+    assert_eq!(ball.ball_id, sweetspot::rig::RIG_BALL_ID);
+    assert!((ball.cor - TRUE_COR).abs() < 0.02, "{}", ball.cor);
+    let bats_text = std::fs::read_to_string(tmp.path().join("fitted.bats.jsonl")).unwrap();
+    let bats: Vec<BatParams> = bats_text.lines().map(|l| sweetspot::msgs::json::from_json(&serde_json::from_str(l).unwrap()).unwrap()).collect();
+    assert_eq!(bats.len(), 2);
+    for b in &bats {
+        assert!(b.preset.is_empty() && b.station_z.len() > 10 && b.youngs_modulus > 1e9, "{b:?}");
+        // A fitted bat is the preset's geometry with the fitted modulus: it must build.
+        sweetspot::calibrate::bat_from_params(b).unwrap();
+    }
+}

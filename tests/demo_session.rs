@@ -1,6 +1,6 @@
 //! `sweetspot demo` end to end, over real DDS on loopback (run inside the private network namespace of
 //! `scripts/test`): a short session through a real node child process; checks the printed table, the bag
-//! (read back by `sweetspot bag info` and by the project's reader, every recorded answer recomputed from the
+//! (read back by `sweetspot bag info`, `sweetspot bag replay` and by the project's reader, every recorded answer recomputed from the
 //! recorded inputs with the physics), and the figures.
 
 use std::path::{Path, PathBuf};
@@ -67,7 +67,13 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
     assert!(info.status.success(), "bag info failed: {}", String::from_utf8_lossy(&info.stderr));
     assert!(info_text.contains("/demo/swing") && info_text.contains("sweetspot_msgs/msg/ExitVelocity"), "{info_text}");
 
-    // Replay: every recorded ExitVelocity equals the physics recomputed from the recorded params and swing.
+    // `sweetspot bag replay` re-runs the model on every recorded swing and must match bit for bit.
+    let replay = sweetspot().args(["bag", "replay"]).arg(&bag).output().unwrap();
+    let replay_text = String::from_utf8_lossy(&replay.stdout);
+    assert!(replay.status.success(), "bag replay failed: {replay_text}{}", String::from_utf8_lossy(&replay.stderr));
+    assert!(replay_text.contains(&format!("{SWINGS} swings: {SWINGS} match, 0 differ")), "{replay_text}");
+
+    // And independently: every recorded ExitVelocity equals the physics recomputed from the recorded params and swing.
     let (mut bats, mut balls, mut swings, mut exits) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     read_bag(&bag, |m| match m.channel.topic.type_name.as_str() {
         t if t == BatParams::TYPE_NAME => bats.push(decode_cdr::<BatParams>(m.data).unwrap()),

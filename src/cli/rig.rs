@@ -92,7 +92,7 @@ pub struct RigArgs {
     #[arg(long, value_name = "N")]
     pub count: Option<u64>,
     /// Namespace of the node this rig feeds (one node per rig namespace, e.g. /rig3).
-    #[arg(long, default_value = "/", value_name = "NS")]
+    #[arg(long, alias = "ns", default_value = "/", value_name = "NS")]
     pub namespace: String,
     /// Seconds to wait for a node to subscribe before giving up (0 = publish without waiting).
     #[arg(long, default_value_t = 30.0, value_name = "S")]
@@ -163,6 +163,8 @@ pub fn run(args: RigArgs) -> Result<()> {
     if !publisher.wait_acknowledged(Duration::from_secs(5)) {
         eprintln!("rig: warning: not every subscriber acknowledged every message within 5 s");
     }
+    // Acknowledged is not yet taken: a RustDDS reader drops the untaken samples of a participant that left.
+    std::thread::sleep(Duration::from_millis(500));
     eprintln!("rig: published {sent} swings");
     Ok(())
 }
