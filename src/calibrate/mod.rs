@@ -24,7 +24,9 @@ use crate::bag::BagError;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
-use crate::physics::{collide, Ball, Bat, CollisionOptions, CoreFill, Impact, Material, ModeSet, PhysicsError, Station};
+use crate::physics::{
+    collide, Ball, Bat, CollisionOptions, CoreFill, Impact, Material, ModeSet, PhysicsError, Station,
+};
 
 /// Default number of vibrational modes when a BatParams says 0 (the node's default).
 pub const DEFAULT_MODES: usize = 18;
@@ -106,7 +108,11 @@ pub struct FitOptions {
 
 impl Default for FitOptions {
     fn default() -> Self {
-        FitOptions { fit_youngs: false, max_iterations: 30, tolerance: 1e-6 }
+        FitOptions {
+            fit_youngs: false,
+            max_iterations: 30,
+            tolerance: 1e-6,
+        }
     }
 }
 
@@ -177,7 +183,12 @@ impl Fit {
 }
 
 /// Predicted exit speeds of `problem` for a ball COR and per-bat Young's moduli (None = the bat's own).
-fn predict(problem: &Problem, cor: f64, youngs: &BTreeMap<String, f64>, only_bat: Option<&str>) -> Result<Vec<Option<f64>>, CalibrateError> {
+fn predict(
+    problem: &Problem,
+    cor: f64,
+    youngs: &BTreeMap<String, f64>,
+    only_bat: Option<&str>,
+) -> Result<Vec<Option<f64>>, CalibrateError> {
     let ball = Ball { cor, ..problem.ball };
     let mut modes: BTreeMap<&str, ModeSet> = BTreeMap::new();
     for (id, pb) in &problem.bats {
@@ -188,7 +199,10 @@ fn predict(problem: &Problem, cor: f64, youngs: &BTreeMap<String, f64>, only_bat
         if let Some(&e) = youngs.get(id) {
             bat.shell.youngs_modulus = e;
         }
-        let set = ModeSet::compute(&bat, pb.modes).map_err(|source| CalibrateError::Physics { context: format!("bat '{id}'"), source })?;
+        let set = ModeSet::compute(&bat, pb.modes).map_err(|source| CalibrateError::Physics {
+            context: format!("bat '{id}'"),
+            source,
+        })?;
         modes.insert(id.as_str(), set);
     }
     problem
@@ -197,10 +211,16 @@ fn predict(problem: &Problem, cor: f64, youngs: &BTreeMap<String, f64>, only_bat
         .map(|o| match modes.get(o.bat_id.as_str()) {
             None => Ok(None),
             Some(set) => {
-                let options = CollisionOptions { modes: problem.bats[&o.bat_id].modes, time_step: problem.time_step };
+                let options = CollisionOptions {
+                    modes: problem.bats[&o.bat_id].modes,
+                    time_step: problem.time_step,
+                };
                 collide(set, &ball, &o.impact, &options)
                     .map(|r| Some(r.exit_speed))
-                    .map_err(|source| CalibrateError::Physics { context: format!("swing {}", o.swing_id), source })
+                    .map_err(|source| CalibrateError::Physics {
+                        context: format!("swing {}", o.swing_id),
+                        source,
+                    })
             }
         })
         .collect()
@@ -216,7 +236,12 @@ struct Layout {
 
 impl Layout {
     fn new(problem: &Problem, options: &FitOptions) -> Layout {
-        let mut l = Layout { names: vec!["cor".into()], units: vec![""], start: vec![problem.ball.cor], bat_of: vec![None] };
+        let mut l = Layout {
+            names: vec!["cor".into()],
+            units: vec![""],
+            start: vec![problem.ball.cor],
+            bat_of: vec![None],
+        };
         if options.fit_youngs {
             for (id, pb) in &problem.bats {
                 if problem.observations.iter().any(|o| &o.bat_id == id) {
@@ -245,7 +270,11 @@ impl Layout {
 fn residuals_of(problem: &Problem, predicted: &[Option<f64>]) -> DVector<f64> {
     DVector::from_iterator(
         predicted.len(),
-        problem.observations.iter().zip(predicted).map(|(o, p)| o.measured_exit_speed - p.unwrap_or(f64::NAN)),
+        problem
+            .observations
+            .iter()
+            .zip(predicted)
+            .map(|(o, p)| o.measured_exit_speed - p.unwrap_or(f64::NAN)),
     )
 }
 
@@ -255,44 +284,56 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
     let p = layout.start.len();
     let n = problem.observations.len();
     if n <= p {
-        return Err(CalibrateError::NoData(format!("{n} measured swings cannot determine {p} parameter(s); need at least {}", p + 1)));
+        return Err(CalibrateError::NoData(format!(
+            "{n} measured swings cannot determine {p} parameter(s); need at least {}",
+            p + 1
+        )));
     }
     let eval = |x: &DVector<f64>, only: Option<&str>| -> Result<Vec<Option<f64>>, CalibrateError> {
         let (cor, youngs) = layout.unpack(x);
-        if !(cor > 0.0 && cor <= 1.0) || youngs.values().any(|&e| !(e > 0.0)) {
+        if !(cor > 0.0 && cor <= 1.0) || youngs.values().any(|&e| e.is_nan() || e <= 0.0) {
             return Ok(vec![None; n]);
         }
         predict(problem, cor, &youngs, only)
     };
-    let cost = |r: &DVector<f64>| if r.iter().all(|v| v.is_finite()) { r.norm_squared() } else { f64::INFINITY };
+    let cost = |r: &DVector<f64>| {
+        if r.iter().all(|v| v.is_finite()) {
+            r.norm_squared()
+        } else {
+            f64::INFINITY
+        }
+    };
 
     let mut x = DVector::from_element(p, 1.0);
     let before = eval(&x, None)?;
     let mut r = residuals_of(problem, &before);
     if !cost(&r).is_finite() {
-        return Err(CalibrateError::NoData("the start parameters give no prediction for some swings".into()));
+        return Err(CalibrateError::NoData(
+            "the start parameters give no prediction for some swings".into(),
+        ));
     }
     let mut lambda = 1e-3;
     let mut iterations = 0;
     let mut converged = false;
     let mut jacobian = DMatrix::zeros(n, p);
     let step = 1e-4;
-    let build_jacobian = |x: &DVector<f64>, r: &DVector<f64>, current: &[Option<f64>]| -> Result<DMatrix<f64>, CalibrateError> {
-        let mut j = DMatrix::zeros(n, p);
-        for k in 0..p {
-            let mut xk = x.clone();
-            xk[k] += step;
-            let only = layout.bat_of[k].as_deref();
-            let shifted = eval(&xk, only)?;
-            for i in 0..n {
-                // ∂(predicted)/∂x_k; observations of other bats do not depend on bat k's modulus.
-                let moved = shifted[i].or(if only.is_some() { current[i] } else { None });
-                let base = problem.observations[i].measured_exit_speed - r[i];
-                j[(i, k)] = moved.map(|m| (m - base) / step).unwrap_or(0.0);
+    let build_jacobian =
+        |x: &DVector<f64>, r: &DVector<f64>, current: &[Option<f64>]| -> Result<DMatrix<f64>, CalibrateError> {
+            let mut j = DMatrix::zeros(n, p);
+            for k in 0..p {
+                let mut xk = x.clone();
+                xk[k] += step;
+                let only = layout.bat_of[k].as_deref();
+                let shifted = eval(&xk, only)?;
+                for i in 0..n {
+                    // ∂(predicted)/∂x_k; observations of other bats do not depend on bat k's modulus.
+                    let moved = shifted[i].or(if only.is_some() { current[i] } else { None });
+                    let base = problem.observations[i].measured_exit_speed - r[i];
+                    j[(i, k)] = moved.map(|m| (m - base) / step).unwrap_or(0.0);
+                }
             }
-        }
-        Ok(j)
-    };
+            Ok(j)
+        };
     let mut current = before.clone();
     while iterations < options.max_iterations {
         iterations += 1;
@@ -339,10 +380,9 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
     let ssr = r.norm_squared();
     let s2 = ssr / dof as f64;
     let jtj = jacobian.transpose() * &jacobian;
-    let inverse = jtj
-        .clone()
-        .try_inverse()
-        .ok_or_else(|| CalibrateError::Degenerate("JᵀJ is singular; the data do not constrain every parameter".into()))?;
+    let inverse = jtj.clone().try_inverse().ok_or_else(|| {
+        CalibrateError::Degenerate("JᵀJ is singular; the data do not constrain every parameter".into())
+    })?;
     let parameters = (0..p)
         .map(|k| FittedParameter {
             name: layout.names[k].clone(),
@@ -394,7 +434,11 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
 
 /// The physics bat a BatParams message describes (a preset, or the profile and materials in its fields).
 pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError> {
-    let modes = if params.max_modes == 0 { DEFAULT_MODES } else { params.max_modes as usize };
+    let modes = if params.max_modes == 0 {
+        DEFAULT_MODES
+    } else {
+        params.max_modes as usize
+    };
     if !params.preset.is_empty() {
         let mut bat = Bat::preset(&params.preset)?;
         bat.name = params.bat_id.clone();
@@ -409,10 +453,18 @@ pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError>
         )));
     }
     let stations = (0..n)
-        .map(|i| Station { z: params.station_z[i], outer_radius: params.outer_radius[i], inner_radius: params.inner_radius[i] })
+        .map(|i| Station {
+            z: params.station_z[i],
+            outer_radius: params.outer_radius[i],
+            inner_radius: params.inner_radius[i],
+        })
         .collect();
-    let shell = Material { density: params.density, youngs_modulus: params.youngs_modulus, shear_modulus: params.shear_modulus };
-    let core = (params.core_density > 0.0).then(|| CoreFill {
+    let shell = Material {
+        density: params.density,
+        youngs_modulus: params.youngs_modulus,
+        shear_modulus: params.shear_modulus,
+    };
+    let core = (params.core_density > 0.0).then_some(CoreFill {
         material: Material {
             density: params.core_density,
             youngs_modulus: params.core_youngs_modulus,
@@ -421,14 +473,27 @@ pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError>
         z_start: params.core_z_start,
         z_end: params.core_z_end,
     });
-    let slice_length = if params.slice_length > 0.0 { params.slice_length } else { 0.01 };
-    Ok((Bat::new(params.bat_id.clone(), stations, shell, core, slice_length)?, modes))
+    let slice_length = if params.slice_length > 0.0 {
+        params.slice_length
+    } else {
+        0.01
+    };
+    Ok((
+        Bat::new(params.bat_id.clone(), stations, shell, core, slice_length)?,
+        modes,
+    ))
 }
 
 /// A BatParams message carrying every field of `bat` (no preset), so a fitted bat can be published.
 pub fn params_from_bat(bat_id: &str, bat: &Bat, max_modes: usize, header: Header) -> BatParams {
     let (core_density, core_youngs_modulus, core_shear_modulus, core_z_start, core_z_end) = match &bat.core {
-        Some(c) => (c.material.density, c.material.youngs_modulus, c.material.shear_modulus, c.z_start, c.z_end),
+        Some(c) => (
+            c.material.density,
+            c.material.youngs_modulus,
+            c.material.shear_modulus,
+            c.z_start,
+            c.z_end,
+        ),
         None => (0.0, 0.0, 0.0, 0.0, 0.0),
     };
     BatParams {
@@ -453,7 +518,13 @@ pub fn params_from_bat(bat_id: &str, bat: &Bat, max_modes: usize, header: Header
 
 /// The physics ball of a BallParams message.
 pub fn ball_from_params(params: &BallParams) -> Ball {
-    Ball { mass: params.mass, radius: params.radius, cor: params.cor, stiffness: params.stiffness, exponent: params.exponent }
+    Ball {
+        mass: params.mass,
+        radius: params.radius,
+        cor: params.cor,
+        stiffness: params.stiffness,
+        exponent: params.exponent,
+    }
 }
 
 /// Inputs of a recorded session, in log-time order, before they are turned into a [`Problem`].
@@ -475,9 +546,13 @@ pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
         let t = m.log_time_ns;
         let ty = m.channel.topic.type_name.as_str();
         let ok = if ty == BatParams::TYPE_NAME {
-            decode_cdr::<BatParams>(m.data).map(|v| inputs.bats.push((t, v))).is_ok()
+            decode_cdr::<BatParams>(m.data)
+                .map(|v| inputs.bats.push((t, v)))
+                .is_ok()
         } else if ty == BallParams::TYPE_NAME {
-            decode_cdr::<BallParams>(m.data).map(|v| inputs.balls.push((t, v))).is_ok()
+            decode_cdr::<BallParams>(m.data)
+                .map(|v| inputs.balls.push((t, v)))
+                .is_ok()
         } else if ty == Swing::TYPE_NAME {
             decode_cdr::<Swing>(m.data).map(|v| inputs.swings.push((t, v))).is_ok()
         } else {
@@ -503,9 +578,18 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
     // Params re-announced under the same id replace the old ones; we fit against the last version of each.
     let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
     for (_, params) in &inputs.bats {
-        let (bat, modes) = bat_from_params(params)
-            .map_err(|source| CalibrateError::Physics { context: format!("BatParams '{}'", params.bat_id), source })?;
-        bats.insert(params.bat_id.clone(), ProblemBat { bat, modes, params: params.clone() });
+        let (bat, modes) = bat_from_params(params).map_err(|source| CalibrateError::Physics {
+            context: format!("BatParams '{}'", params.bat_id),
+            source,
+        })?;
+        bats.insert(
+            params.bat_id.clone(),
+            ProblemBat {
+                bat,
+                modes,
+                params: params.clone(),
+            },
+        );
     }
     let mut balls: BTreeMap<String, Ball> = BTreeMap::new();
     balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
@@ -513,7 +597,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         balls.insert(params.ball_id.clone(), ball_from_params(params));
     }
     // Resolve empty ids to the latest announced at the swing's time.
-    let latest = |list: &[(u64, String)], t: u64| list.iter().filter(|(lt, _)| *lt <= t).last().map(|(_, id)| id.clone());
+    let latest = |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
     let bat_times: Vec<(u64, String)> = inputs.bats.iter().map(|(t, p)| (*t, p.bat_id.clone())).collect();
     let ball_times: Vec<(u64, String)> = inputs.balls.iter().map(|(t, p)| (*t, p.ball_id.clone())).collect();
     let mut by_ball: BTreeMap<String, Vec<Observation>> = BTreeMap::new();
@@ -521,12 +605,31 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         if !s.measured_exit_speed.is_finite() {
             continue;
         }
-        let bat_id = if s.bat_id.is_empty() { latest(&bat_times, *t).unwrap_or_default() } else { s.bat_id.clone() };
-        let ball = if s.ball_id.is_empty() { latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string()) } else { s.ball_id.clone() };
+        let bat_id = if s.bat_id.is_empty() {
+            latest(&bat_times, *t).unwrap_or_default()
+        } else {
+            s.bat_id.clone()
+        };
+        let ball = if s.ball_id.is_empty() {
+            latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string())
+        } else {
+            s.ball_id.clone()
+        };
         if !bats.contains_key(&bat_id) {
             if let Ok(bat) = Bat::preset(&bat_id) {
                 // A swing naming a preset bat that was never announced: the node resolves it the same way.
-                bats.insert(bat_id.clone(), ProblemBat { bat, modes: DEFAULT_MODES, params: BatParams { bat_id: bat_id.clone(), preset: bat_id.clone(), ..Default::default() } });
+                bats.insert(
+                    bat_id.clone(),
+                    ProblemBat {
+                        bat,
+                        modes: DEFAULT_MODES,
+                        params: BatParams {
+                            bat_id: bat_id.clone(),
+                            preset: bat_id.clone(),
+                            ..Default::default()
+                        },
+                    },
+                );
             } else {
                 continue;
             }
@@ -534,7 +637,12 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         by_ball.entry(ball).or_default().push(Observation {
             swing_id: s.swing_id,
             bat_id,
-            impact: Impact { ball_speed: s.ball_speed, bat_cm_speed: s.bat_cm_speed, bat_angular_speed: s.bat_angular_speed, impact_z: s.impact_z },
+            impact: Impact {
+                ball_speed: s.ball_speed,
+                bat_cm_speed: s.bat_cm_speed,
+                bat_angular_speed: s.bat_angular_speed,
+                impact_z: s.impact_z,
+            },
             measured_exit_speed: s.measured_exit_speed,
         });
     }
@@ -544,18 +652,32 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             .iter()
             .max_by_key(|(_, v)| v.len())
             .map(|(k, _)| k.clone())
-            .ok_or_else(|| CalibrateError::NoData("the bag holds no swing with a measured exit speed (measured_exit_speed is NaN in all)".into()))?,
+            .ok_or_else(|| {
+                CalibrateError::NoData(
+                    "the bag holds no swing with a measured exit speed (measured_exit_speed is NaN in all)".into(),
+                )
+            })?,
     };
     let observations = by_ball.remove(&chosen).unwrap_or_default();
     if observations.is_empty() {
-        return Err(CalibrateError::NoData(format!("no measured swing used ball '{chosen}'")));
+        return Err(CalibrateError::NoData(format!(
+            "no measured swing used ball '{chosen}'"
+        )));
     }
-    let ball = *balls
-        .get(&chosen)
-        .ok_or_else(|| CalibrateError::NoData(format!("ball '{chosen}' was never announced on ball/params in this bag")))?;
+    let ball = *balls.get(&chosen).ok_or_else(|| {
+        CalibrateError::NoData(format!(
+            "ball '{chosen}' was never announced on ball/params in this bag"
+        ))
+    })?;
     let used: std::collections::BTreeSet<&str> = observations.iter().map(|o| o.bat_id.as_str()).collect();
     bats.retain(|id, _| used.contains(id.as_str()));
-    Ok(Problem { bats, ball_id: chosen, ball, observations, time_step: DEFAULT_TIME_STEP })
+    Ok(Problem {
+        bats,
+        ball_id: chosen,
+        ball,
+        observations,
+        time_step: DEFAULT_TIME_STEP,
+    })
 }
 
 /// Reads a bag and builds its fitting problem (see [`problem_from_inputs`]).

@@ -17,7 +17,12 @@ use crate::ros::DdsConfig;
 #[derive(Debug, Clone, Args)]
 pub struct RigOptions {
     /// Bat presets swung, comma-separated, in session order.
-    #[arg(long, value_delimiter = ',', default_value = "r161,r161-corked,aluminum,torpedo", value_name = "PRESETS")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "r161,r161-corked,aluminum,torpedo",
+        value_name = "PRESETS"
+    )]
     pub bats: Vec<String>,
     /// Consecutive swings with each bat before the next one.
     #[arg(long, default_value_t = 5, value_name = "N")]
@@ -46,7 +51,10 @@ impl RigOptions {
     pub fn config(&self) -> Result<RigConfig> {
         for b in &self.bats {
             if !Bat::preset_names().contains(&b.as_str()) {
-                bail!("--bats: unknown preset '{b}' (presets: {})", Bat::preset_names().join(", "));
+                bail!(
+                    "--bats: unknown preset '{b}' (presets: {})",
+                    Bat::preset_names().join(", ")
+                );
             }
         }
         if !(self.noise.is_finite() && (0.0..=20.0).contains(&self.noise)) {
@@ -111,7 +119,9 @@ pub fn run(args: RigArgs) -> Result<()> {
         bail!("--wait must be non-negative seconds, got {}", args.wait);
     }
     let config = args.rig.config()?;
-    let mut rig = SessionGenerator::new(config).context("building the rig's bats")?.with_block(args.rig.swings_per_bat);
+    let mut rig = SessionGenerator::new(config)
+        .context("building the rig's bats")?
+        .with_block(args.rig.swings_per_bat);
     let dds = DdsConfig::from_env()?;
     let ctx = context(&dds)?;
     let mut publisher = RigPublisher::new(&ctx, &args.namespace)?;
@@ -171,7 +181,10 @@ pub fn run(args: RigArgs) -> Result<()> {
 
 /// Nanoseconds since the Unix epoch.
 pub fn now_ns() -> u64 {
-    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos() as u64).unwrap_or(0)
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos() as u64)
+        .unwrap_or(0)
 }
 
 /// A flag set by SIGINT or SIGTERM, so the loops end cleanly (and DDS says goodbye to its peers).
@@ -179,7 +192,9 @@ pub fn interrupt_flag() -> Arc<AtomicBool> {
     let flag = Arc::new(AtomicBool::new(false));
     let f = flag.clone();
     std::thread::spawn(move || {
-        let Ok(rt) = tokio::runtime::Builder::new_current_thread().enable_all().build() else { return };
+        let Ok(rt) = tokio::runtime::Builder::new_current_thread().enable_all().build() else {
+            return;
+        };
         rt.block_on(async move {
             use tokio::signal::unix::{signal, SignalKind};
             let (Ok(mut int), Ok(mut term)) = (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) else {

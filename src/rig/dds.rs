@@ -36,7 +36,9 @@ pub struct TopicNames {
 impl TopicNames {
     /// The names in `namespace` (e.g. `/rig3`; `/` for none).
     pub fn in_namespace(namespace: &str) -> Result<TopicNames> {
-        let r = |t: &str| ros::resolve_topic(t, namespace, RIG_NODE_NAME).map_err(|e| anyhow!("namespace '{namespace}': {e}"));
+        let r = |t: &str| {
+            ros::resolve_topic(t, namespace, RIG_NODE_NAME).map_err(|e| anyhow!("namespace '{namespace}': {e}"))
+        };
         Ok(TopicNames {
             bat_params: r("bat/params")?,
             ball_params: r("ball/params")?,
@@ -59,14 +61,20 @@ fn writer<T: RosMessage>(ctx: &ros2_client::Context, fq_topic: &str, qos: &QosPr
         .map_err(|e| anyhow!("cannot create a writer on {fq_topic}: {e}"))
 }
 
-fn reader<T: RosMessage>(ctx: &ros2_client::Context, fq_topic: &str, qos: &QosProfile) -> Result<SimpleDataReaderCdr<T>> {
+fn reader<T: RosMessage>(
+    ctx: &ros2_client::Context,
+    fq_topic: &str,
+    qos: &QosProfile,
+) -> Result<SimpleDataReaderCdr<T>> {
     let topic = ctx
         .create_topic(ros::dds_topic_name(fq_topic), ros::message_type_name::<T>(), qos)
         .map_err(|e| anyhow!("cannot create topic {fq_topic}: {e}"))?;
     let dds_qos = rustdds::QosPolicies::from(qos);
     ctx.domain_participant()
         .create_subscriber(&dds_qos)
-        .and_then(|s| s.create_simple_datareader_no_key::<T, rustdds::CDRDeserializerAdapter<T>>(&topic, Some(dds_qos.clone())))
+        .and_then(|s| {
+            s.create_simple_datareader_no_key::<T, rustdds::CDRDeserializerAdapter<T>>(&topic, Some(dds_qos.clone()))
+        })
         .map_err(|e| anyhow!("cannot subscribe to {fq_topic}: {e}"))
 }
 
@@ -90,7 +98,10 @@ fn write_reliably<T: RosMessage>(writer: &DataWriterCdr<T>, message: T, timeout:
             Ok(()) => return Ok(()),
             Err(rustdds::dds::WriteError::WouldBlock { data }) => {
                 if start.elapsed() >= timeout {
-                    bail!("the subscribers did not keep up for {:.1} s (send window full)", timeout.as_secs_f64());
+                    bail!(
+                        "the subscribers did not keep up for {:.1} s (send window full)",
+                        timeout.as_secs_f64()
+                    );
                 }
                 message = data;
                 std::thread::sleep(Duration::from_millis(1));
@@ -134,7 +145,12 @@ impl RigPublisher {
 
     /// Waits until at least `count` subscriptions matched on `swing`, checking `abort` (e.g. "the node
     /// process died") every 20 ms.
-    pub fn wait_for_subscribers(&mut self, count: usize, timeout: Duration, mut abort: impl FnMut() -> Option<String>) -> Result<()> {
+    pub fn wait_for_subscribers(
+        &mut self,
+        count: usize,
+        timeout: Duration,
+        mut abort: impl FnMut() -> Option<String>,
+    ) -> Result<()> {
         let start = Instant::now();
         while self.swing_subscribers() < count {
             if let Some(reason) = abort() {
