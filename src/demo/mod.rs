@@ -319,7 +319,7 @@ impl Progress {
         let bar = std::io::stderr().is_terminal().then(|| {
             let bar = indicatif::ProgressBar::new(total);
             if let Ok(style) = indicatif::ProgressStyle::with_template(
-                "{spinner} {msg:<28} [{bar:40}] {pos}/{len} swings ({per_sec}, eta {eta})",
+                "{spinner} {msg:<28} [{bar:40}] {pos}/{len} swings ({elapsed})",
             ) {
                 bar.set_style(style.progress_chars("=> "));
             }
