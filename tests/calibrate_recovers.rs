@@ -14,6 +14,16 @@ use sweetspot::rig::{time_from_nanos, RigConfig, SensorNoise, SessionGenerator};
 const TRUE_COR: f64 = 0.50;
 
 fn write_session(dir: &std::path::Path, swings: usize, config: RigConfig) -> std::path::PathBuf {
+    write_session_with(dir, swings, config, |_, _, _, _| {})
+}
+
+/// Writes a session; `extra(recorder, bat topic, swing topic, time)` adds messages at the end.
+fn write_session_with(
+    dir: &std::path::Path,
+    swings: usize,
+    config: RigConfig,
+    extra: impl FnOnce(&Recorder, sweetspot::bag::TopicId, sweetspot::bag::TopicId, u64),
+) -> std::path::PathBuf {
     let bag = dir.join("session");
     let recorder = Recorder::start(RecorderConfig::new(&bag)).expect("start recorder");
     let latched = RecordedQos {
@@ -53,6 +63,7 @@ fn write_session(dir: &std::path::Path, swings: usize, config: RigConfig) -> std
         let msg = rig.swing_message(&swing, time_from_nanos(t));
         assert!(recorder.record(swing_topic, encode_cdr(&msg).unwrap(), t, t));
     }
+    extra(&recorder, bat_topic, swing_topic, t + 1_000_000);
     let stats = recorder.finish().expect("finish bag");
     assert_eq!(stats.dropped, 0);
     bag
@@ -228,4 +239,45 @@ fn calibrate_command_reports_and_writes_params_pub_can_send() {
         // A fitted bat is the preset's geometry with the fitted modulus: it must build.
         sweetspot::calibrate::bat_from_params(b).unwrap();
     }
+}
+
+#[test]
+fn inputs_the_node_would_reject_are_left_out_and_reported() {
+    let tmp = tempfile::tempdir().unwrap();
+    let config = RigConfig {
+        bats: vec!["r161".into()],
+        seed: 8,
+        ..RigConfig::default()
+    };
+    let bag = write_session_with(tmp.path(), 12, config, |rec, bat_topic, swing_topic, t| {
+        let bad_bat = BatParams {
+            bat_id: "broken".into(),
+            station_z: vec![0.0],
+            outer_radius: vec![0.03],
+            inner_radius: vec![0.0],
+            ..Default::default()
+        };
+        rec.record(bat_topic, encode_cdr(&bad_bat).unwrap(), t, t);
+        let off_the_bat = Swing {
+            swing_id: 999,
+            bat_id: "r161".into(),
+            ball_speed: 40.0,
+            bat_cm_speed: 20.0,
+            bat_angular_speed: 50.0,
+            impact_z: 5.0,
+            measured_exit_speed: 40.0,
+            ..Default::default()
+        };
+        rec.record(swing_topic, encode_cdr(&off_the_bat).unwrap(), t + 1, t + 1);
+    });
+    let problem = problem_from_bag(&bag, None).expect("problem");
+    assert_eq!(problem.observations.len(), 12);
+    assert_eq!(problem.skipped.len(), 2, "{:?}", problem.skipped);
+    assert!(
+        problem.skipped[0].contains("broken") && problem.skipped[1].contains("swing 999"),
+        "{:?}",
+        problem.skipped
+    );
+    let result = fit(&problem, &FitOptions::default()).expect("fit");
+    assert!(result.converged);
 }

@@ -93,6 +93,8 @@ pub struct Problem {
     pub observations: Vec<Observation>,
     /// RK4 time step, s.
     pub time_step: f64,
+    /// Inputs left out, with the reason (invalid params, swings the node would reject, unknown bats).
+    pub skipped: Vec<String>,
 }
 
 /// How to fit.
@@ -576,12 +578,17 @@ pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
 /// `ball_id` (None = the ball most measured swings used) are kept.
 pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Result<Problem, CalibrateError> {
     // Params re-announced under the same id replace the old ones; we fit against the last version of each.
+    let mut skipped = Vec::new();
     let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
     for (_, params) in &inputs.bats {
-        let (bat, modes) = bat_from_params(params).map_err(|source| CalibrateError::Physics {
-            context: format!("BatParams '{}'", params.bat_id),
-            source,
-        })?;
+        // The node rejects bad params and keeps the previous ones in force; so do we.
+        let (bat, modes) = match bat_from_params(params) {
+            Ok(built) => built,
+            Err(e) => {
+                skipped.push(format!("BatParams '{}': {e}", params.bat_id));
+                continue;
+            }
+        };
         bats.insert(
             params.bat_id.clone(),
             ProblemBat {
@@ -594,7 +601,13 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
     let mut balls: BTreeMap<String, Ball> = BTreeMap::new();
     balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
     for (_, params) in &inputs.balls {
-        balls.insert(params.ball_id.clone(), ball_from_params(params));
+        let ball = ball_from_params(params);
+        match ball.validate() {
+            Ok(()) => {
+                balls.insert(params.ball_id.clone(), ball);
+            }
+            Err(e) => skipped.push(format!("BallParams '{}': {e}", params.ball_id)),
+        }
     }
     // Resolve empty ids to the latest announced at the swing's time.
     let latest = |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
@@ -631,6 +644,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
                     },
                 );
             } else {
+                skipped.push(format!("swing {}: unknown bat '{bat_id}'", s.swing_id));
                 continue;
             }
         }
@@ -658,7 +672,28 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
                 )
             })?,
     };
-    let observations = by_ball.remove(&chosen).unwrap_or_default();
+    let mut observations = by_ball.remove(&chosen).unwrap_or_default();
+    // Swings the node would reject (impact off the bat, bat and ball not approaching, …) cannot be fitted.
+    let mut modes_of: BTreeMap<&str, Option<ModeSet>> = BTreeMap::new();
+    for (id, pb) in &bats {
+        modes_of.insert(id.as_str(), ModeSet::compute(&pb.bat, pb.modes).ok());
+    }
+    observations.retain(|o| match modes_of.get(o.bat_id.as_str()) {
+        Some(Some(modes)) => match o.impact.validate(modes) {
+            Ok(()) => true,
+            Err(e) => {
+                skipped.push(format!("swing {}: {e}", o.swing_id));
+                false
+            }
+        },
+        _ => {
+            skipped.push(format!(
+                "swing {}: the modes of bat '{}' cannot be computed",
+                o.swing_id, o.bat_id
+            ));
+            false
+        }
+    });
     if observations.is_empty() {
         return Err(CalibrateError::NoData(format!(
             "no measured swing used ball '{chosen}'"
@@ -677,6 +712,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         ball,
         observations,
         time_step: DEFAULT_TIME_STEP,
+        skipped,
     })
 }
 

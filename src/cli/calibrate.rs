@@ -64,6 +64,7 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
             "bag": args.bag,
             "ball_id": problem.ball_id,
             "swings": problem.observations.len(),
+            "skipped": problem.skipped,
             "parameters": result.parameters,
             "rms_before": result.rms_before,
             "rms": result.rms,
@@ -115,6 +116,16 @@ pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
             ", NOT converged (raise --max-iterations)"
         }
     ));
+    if !problem.skipped.is_empty() {
+        out.push_str(&format!("left out {} input(s):\n", problem.skipped.len()));
+        for reason in problem.skipped.iter().take(10) {
+            out.push_str(&format!("  {reason}\n"));
+        }
+        if problem.skipped.len() > 10 {
+            out.push_str(&format!("  … and {} more\n", problem.skipped.len() - 10));
+        }
+        out.push('\n');
+    }
     let mut t = Table::new(["parameter", "start", "fitted", "± 1σ", "unit"]);
     for p in &result.parameters {
         t.row([
