@@ -41,7 +41,7 @@ pub enum LinkRule {
 /// How [`ModeSet`] solves the eigenproblem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum EigenSolver {
-    /// Inverse iteration for up to 40 kept modes, dense otherwise.
+    /// Inverse iteration for up to 40 kept modes or large bats, dense otherwise.
     #[default]
     Auto,
     /// nalgebra's dense symmetric eigen-decomposition (all eigenvectors) of M^{-1/2} K M^{-1/2}.
@@ -54,6 +54,9 @@ pub enum EigenSolver {
 
 /// Largest number of kept modes for which [`EigenSolver::Auto`] uses inverse iteration.
 pub const INVERSE_ITERATION_MAX_MODES: usize = 40;
+
+/// Largest 2N for which [`EigenSolver::Auto`] may pick the dense solver (memory and time grow as N², N³).
+pub const DENSE_MAX_SIZE: usize = 1200;
 
 /// Half-bandwidth of K and M in the interleaved ordering (y_1, φ_1, y_2, φ_2, …).
 const HALF_BAND: usize = 3;
@@ -71,20 +74,16 @@ struct BandPencil {
 }
 
 impl BandPencil {
-    fn new(beam: &BeamMatrices) -> BandPencil {
-        let size = beam.mass.len();
-        let n = size / 2;
-        let block = |r: usize| if r & 1 == 0 { r / 2 } else { n + r / 2 };
+    fn from_slices(slices: &[Slice], dz: f64, rule: LinkRule) -> BandPencil {
+        let size = 2 * slices.len();
+        // Interleaved order: y_i → 2i, φ_i → 2i + 1.
+        let index = |(is_y, i): (bool, usize)| if is_y { 2 * i } else { 2 * i + 1 };
         let mut k = vec![[0.0; 2 * HALF_BAND + 1]; size];
-        for (r, row) in k.iter_mut().enumerate() {
-            for (d, v) in row.iter_mut().enumerate() {
-                let c = r as isize - HALF_BAND as isize + d as isize;
-                if c >= 0 && (c as usize) < size {
-                    *v = beam.stiffness[(block(r), block(c as usize))];
-                }
-            }
-        }
-        let m = (0..size).map(|r| beam.mass[block(r)]).collect();
+        for_each_stiffness_term(slices, dz, rule, |r, c, v| {
+            let (r, c) = (index(r), index(c));
+            k[r][c + HALF_BAND - r] += v;
+        });
+        let m = slices.iter().flat_map(|s| [s.mass, s.rotary_inertia]).collect();
         BandPencil { size, k, m }
     }
 
@@ -195,37 +194,54 @@ impl BandPencil {
 fn band_eigenvalues(pencil: &BandPencil, count: usize) -> DVector<f64> {
     let size = pencil.size;
     let b = HALF_BAND;
-    // Dense row-major working copy of M^{-1/2} K M^{-1/2} in the interleaved order (the rotations only
-    // touch a window of the band, but the bulges need room).
-    let mut t = vec![0.0; size * size];
+    // Banded working copy of M^{-1/2} K M^{-1/2} in the interleaved order, one extra diagonal on each side
+    // for the bulge the chase moves along: entry (i, j), |i − j| ≤ b + 1, at t[i·w + j + b + 1 − i].
+    let half = b + 1;
+    let w = 2 * half + 1;
+    let at = move |i: usize, j: usize| -> Option<usize> { (i.abs_diff(j) <= half).then(|| i * w + j + half - i) };
+    let mut t = vec![0.0; size * w];
     let inv_sqrt_m: Vec<f64> = pencil.m.iter().map(|m| 1.0 / m.sqrt()).collect();
     for r in 0..size {
         for c in r.saturating_sub(b)..=(r + b).min(size - 1) {
-            t[r * size + c] = pencil.k[r][c + b - r] * inv_sqrt_m[r] * inv_sqrt_m[c];
+            if let Some(k) = at(r, c) {
+                t[k] = pencil.k[r][c + b - r] * inv_sqrt_m[r] * inv_sqrt_m[c];
+            }
         }
     }
+    let get = |t: &[f64], i: usize, j: usize| at(i, j).map_or(0.0, |k| t[k]);
     let rotate = |t: &mut [f64], p: usize, q: usize, cos: f64, sin: f64| {
-        let lo = p.saturating_sub(b + 1);
-        let hi = (q + b + 1).min(size - 1);
+        let lo = p.saturating_sub(half);
+        let hi = (q + half).min(size - 1);
         for j in lo..=hi {
-            let (x, y) = (t[p * size + j], t[q * size + j]);
-            t[p * size + j] = cos * x + sin * y;
-            t[q * size + j] = -sin * x + cos * y;
+            let (x, y) = (get(t, p, j), get(t, q, j));
+            if let Some(k) = at(p, j) {
+                t[k] = cos * x + sin * y;
+            }
+            if let Some(k) = at(q, j) {
+                t[k] = -sin * x + cos * y;
+            }
         }
         for i in lo..=hi {
-            let (x, y) = (t[i * size + p], t[i * size + q]);
-            t[i * size + p] = cos * x + sin * y;
-            t[i * size + q] = -sin * x + cos * y;
+            let (x, y) = (get(t, i, p), get(t, i, q));
+            if let Some(k) = at(i, p) {
+                t[k] = cos * x + sin * y;
+            }
+            if let Some(k) = at(i, q) {
+                t[k] = -sin * x + cos * y;
+            }
         }
     };
     // Zeroes t[q][col] against t[q−1][col] by a rotation in the plane (q−1, q).
     let annihilate = |t: &mut [f64], q: usize, col: usize| {
-        let (x, y) = (t[(q - 1) * size + col], t[q * size + col]);
+        let (x, y) = (get(t, q - 1, col), get(t, q, col));
         if y != 0.0 {
             let r = x.hypot(y);
             rotate(t, q - 1, q, x / r, y / r);
-            t[q * size + col] = 0.0;
-            t[col * size + q] = 0.0;
+            for (i, j) in [(q, col), (col, q)] {
+                if let Some(k) = at(i, j) {
+                    t[k] = 0.0;
+                }
+            }
         }
     };
     for k in 0..size.saturating_sub(2) {
@@ -241,8 +257,8 @@ fn band_eigenvalues(pencil: &BandPencil, count: usize) -> DVector<f64> {
             }
         }
     }
-    let diag: Vec<f64> = (0..size).map(|i| t[i * size + i]).collect();
-    let off2: Vec<f64> = (0..size.saturating_sub(1)).map(|i| t[i * size + i + 1].powi(2)).collect();
+    let diag: Vec<f64> = (0..size).map(|i| get(&t, i, i)).collect();
+    let off2: Vec<f64> = (0..size.saturating_sub(1)).map(|i| get(&t, i, i + 1).powi(2)).collect();
     // Gershgorin bounds.
     let mut lo = f64::INFINITY;
     let mut hi = f64::NEG_INFINITY;
@@ -297,6 +313,36 @@ fn band_eigenvalues(pencil: &BandPencil, count: usize) -> DVector<f64> {
     values
 }
 
+/// Calls `add((is_y, slice), (is_y, slice), value)` for every contribution of the links to K
+/// (see the module docs of [`crate::physics`] for the energy it comes from).
+fn for_each_stiffness_term(slices: &[Slice], dz: f64, rule: LinkRule, mut add: impl FnMut((bool, usize), (bool, usize), f64)) {
+    for i in 0..slices.len().saturating_sub(1) {
+        let (a, b) = (&slices[i], &slices[i + 1]);
+        let (yi, sa) = match rule {
+            LinkRule::KnobSide => (a.bending_stiffness, a.shear_stiffness),
+            LinkRule::Mean => (
+                0.5 * (a.bending_stiffness + b.bending_stiffness),
+                0.5 * (a.shear_stiffness + b.shear_stiffness),
+            ),
+        };
+        // Bending: ½ (YI) Δz ((φ_{i+1} − φ_i)/Δz)².
+        let kb = yi / dz;
+        let (p, q) = ((false, i), (false, i + 1));
+        add(p, p, kb);
+        add(q, q, kb);
+        add(p, q, -kb);
+        add(q, p, -kb);
+        // Shear: ½ (SA) Δz (gᵀx/Δz)² with gᵀx = y_{i+1} − y_i − Δz (φ_i + φ_{i+1})/2.
+        let ks = sa / dz;
+        let g = [((true, i), -1.0), ((true, i + 1), 1.0), (p, -0.5 * dz), (q, -0.5 * dz)];
+        for &(r, gr) in &g {
+            for &(c, gc) in &g {
+                add(r, c, ks * gr * gc);
+            }
+        }
+    }
+}
+
 /// The assembled beam: symmetric stiffness K (2N×2N, order [y…, φ…]) and diagonal mass M.
 #[derive(Debug, Clone)]
 pub struct BeamMatrices {
@@ -323,31 +369,12 @@ impl BeamMatrices {
             m[i] = s.mass;
             m[n + i] = s.rotary_inertia;
         }
-        for i in 0..n.saturating_sub(1) {
-            let (a, b) = (&slices[i], &slices[i + 1]);
-            let (yi, sa) = match rule {
-                LinkRule::KnobSide => (a.bending_stiffness, a.shear_stiffness),
-                LinkRule::Mean => (
-                    0.5 * (a.bending_stiffness + b.bending_stiffness),
-                    0.5 * (a.shear_stiffness + b.shear_stiffness),
-                ),
-            };
-            // Bending: ½ (YI) Δz ((φ_{i+1} − φ_i)/Δz)².
-            let kb = yi / dz;
-            let (p, q) = (n + i, n + i + 1);
-            k[(p, p)] += kb;
-            k[(q, q)] += kb;
-            k[(p, q)] -= kb;
-            k[(q, p)] -= kb;
-            // Shear: ½ (SA) Δz (gᵀx/Δz)² with gᵀx = y_{i+1} − y_i − Δz (φ_i + φ_{i+1})/2.
-            let ks = sa / dz;
-            let g = [(i, -1.0), (i + 1, 1.0), (p, -0.5 * dz), (q, -0.5 * dz)];
-            for &(r, gr) in &g {
-                for &(c, gc) in &g {
-                    k[(r, c)] += ks * gr * gc;
-                }
-            }
-        }
+        // Block order: y_i → i, φ_i → n + i.
+        for_each_stiffness_term(slices, dz, rule, |(ry, ri), (cy, ci), v| {
+            let r = if ry { ri } else { n + ri };
+            let c = if cy { ci } else { n + ci };
+            k[(r, c)] += v;
+        });
         BeamMatrices { stiffness: k, mass: m, slice_length: dz }
     }
 
@@ -396,20 +423,22 @@ impl ModeSet {
         let slices = bat.slices();
         let n = slices.len();
         let dz = bat.actual_slice_length();
-        let beam = BeamMatrices::from_slices(&slices, dz, rule);
         let mp = mass_properties_of(&slices, bat.length());
         let keep = max_modes.min(2 * n - 2);
 
         let auto = solver == EigenSolver::Auto;
         let solver = match solver {
-            EigenSolver::Auto if keep <= INVERSE_ITERATION_MAX_MODES => EigenSolver::InverseIteration,
+            EigenSolver::Auto if keep <= INVERSE_ITERATION_MAX_MODES || 2 * n > DENSE_MAX_SIZE => {
+                EigenSolver::InverseIteration
+            }
             EigenSolver::Auto => EigenSolver::Dense,
             other => other,
         };
         // Symmetric form A = M^{-1/2} K M^{-1/2}; its orthonormal eigenvectors x give v = M^{-1/2} x.
-        let inv_sqrt_m = beam.mass.map(|m| 1.0 / m.sqrt());
-        let band = BandPencil::new(&beam);
+        let band = BandPencil::from_slices(&slices, dz, rule);
+        let inv_sqrt_m = DVector::from_iterator(2 * n, slices.iter().map(|s| s.mass).chain(slices.iter().map(|s| s.rotary_inertia)).map(|m| 1.0 / m.sqrt()));
         let (eigenvalues, eigenvectors) = if solver == EigenSolver::Dense {
+            let beam = BeamMatrices::from_slices(&slices, dz, rule);
             let a = DMatrix::from_fn(2 * n, 2 * n, |r, c| beam.stiffness[(r, c)] * inv_sqrt_m[r] * inv_sqrt_m[c]);
             let eig = SymmetricEigen::try_new(a, 1e-14, 0)
                 .ok_or_else(|| PhysicsError::Numerical("symmetric eigen-solver did not converge".into()))?;
@@ -423,9 +452,9 @@ impl ModeSet {
         if !lambda_max.is_finite() {
             return Err(PhysicsError::Numerical("non-finite eigenvalue".into()));
         }
-        // The two rigid modes must be zero to the solver's rounding (≈ ε·n·λ_max) and the first vibration
+        // The two rigid modes must be zero to the solver's rounding (≈ ε·√n·λ_max) and the first vibration
         // clearly above that; otherwise the bat is too ill-conditioned for double precision.
-        let zero_tol = 64.0 * f64::EPSILON * (2 * n) as f64 * lambda_max;
+        let zero_tol = 64.0 * f64::EPSILON * ((2 * n) as f64).sqrt() * lambda_max;
         if !(eigenvalues[order[0]].abs() <= zero_tol && eigenvalues[order[1]].abs() <= zero_tol)
             || eigenvalues[order[2]] <= zero_tol
         {
