@@ -65,3 +65,33 @@ fn figures_as_png() {
         assert_png(&dir.path().join(file));
     }
 }
+
+#[test]
+fn library_charts_for_the_demo_draw_several_bats() {
+    use sweetspot::cli::figures::{exit_speed_chart, exit_speed_overlay_chart, mode_shapes_chart};
+    use sweetspot::cli::plot::{draw_line_chart, draw_panels};
+    use sweetspot::cli::sweep::{run_sweep, SweepRange};
+    use sweetspot::physics::{Ball, Bat, CollisionOptions, Impact, ModeSet};
+
+    let options = CollisionOptions { modes: 6, ..CollisionOptions::default() };
+    let swing = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: f64::NAN };
+    let range = SweepRange { points: Some(10), ..SweepRange::default() };
+    let docs: Vec<_> = ["r161", "aluminum"]
+        .into_iter()
+        .map(|name| run_sweep(&Bat::preset(name).unwrap(), &Ball::default(), &swing, range, &options).unwrap())
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let overlay = dir.path().join("overlay.svg");
+    draw_line_chart(&overlay, &exit_speed_overlay_chart("Exit speed per bat", &docs)).unwrap();
+    assert_svg(&overlay);
+    let text = std::fs::read_to_string(&overlay).unwrap();
+    assert!(text.contains("r161 sweet spot") && text.contains("aluminum sweet spot"));
+    let single = dir.path().join("single.png");
+    draw_line_chart(&single, &exit_speed_chart(&docs[1])).unwrap();
+    assert_png(&single);
+    let modes = ModeSet::compute(&Bat::preset("torpedo").unwrap(), 3).unwrap();
+    let shapes = dir.path().join("shapes.svg");
+    draw_panels(&shapes, &[mode_shapes_chart("torpedo", &modes, 3)], 1, Some("modes")).unwrap();
+    assert_svg(&shapes);
+    assert!(draw_panels(&dir.path().join("empty.svg"), &[], 1, None).is_err());
+}

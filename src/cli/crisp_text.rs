@@ -158,9 +158,13 @@ impl<B: DrawingBackend> DrawingBackend for CrispText<B> {
         for glyph in glyphs {
             if let Some(outline) = font.outline_glyph(glyph) {
                 let bounds = outline.px_bounds();
+                // Round the glyph origin once: rounding each pixel's fractional position would skip the
+                // row or column where the position crosses zero (round(-0.5) = -1, round(0.5) = 1).
+                let origin_x = (bounds.min.x + dx).floor() as i32;
+                let origin_y = (bounds.min.y + dy).floor() as i32;
                 outline.draw(|gx, gy, coverage| {
-                    let x = (bounds.min.x + gx as f32 + dx).round() as i32;
-                    let y = (bounds.min.y + gy as f32 + dy).round() as i32;
+                    let x = origin_x + gx as i32;
+                    let y = origin_y + gy as i32;
                     pixels.push((transform.transform(x, y), coverage));
                 });
             }

@@ -350,6 +350,33 @@ pub fn exit_speed_chart(doc: &SweepJson) -> LineChart {
     }
 }
 
+/// Flexible exit speed of several sweeps (e.g. one per bat) on one chart, each bat's sweet spot marked.
+pub fn exit_speed_overlay_chart(title: &str, docs: &[SweepJson]) -> LineChart {
+    let mut series = Vec::new();
+    let mut markers = Vec::new();
+    for (i, doc) in docs.iter().enumerate() {
+        series.push(Series::solid(
+            doc.bat.name.clone(),
+            i,
+            doc.points.iter().map(|p| (p.impact_z, p.exit_speed)).collect(),
+        ));
+        markers.push(marker(
+            doc.sweet_spots.max_exit_speed_z,
+            &format!("{} sweet spot ({} m)", doc.bat.name, num(doc.sweet_spots.max_exit_speed_z, 3)),
+            i,
+            true,
+        ));
+    }
+    LineChart {
+        title: title.to_string(),
+        x_label: Z_LABEL.into(),
+        y_label: EXIT_SPEED_LABEL.into(),
+        series,
+        markers,
+        ..Default::default()
+    }
+}
+
 /// The first `count` vibrational mode shapes of `modes`, each scaled to a peak of 1, positive at the barrel.
 pub fn mode_shapes_chart(title: &str, modes: &ModeSet, count: usize) -> LineChart {
     let length = modes.length();
