@@ -735,7 +735,11 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
         for f in &spec.fields {
             if let Base::Nested { pkg, name } = &f.ty.base {
                 if !specs.contains_key(&format!("{pkg}/{name}")) {
-                    let hint = if name == "Header" { "; ROS 2 needs `std_msgs/Header`" } else { "" };
+                    let hint = if name == "Header" {
+                        "; ROS 2 needs `std_msgs/Header`"
+                    } else {
+                        ""
+                    };
                     errors.push(format!(
                         "{}:{}: unknown type `{pkg}/{name}` (add its .msg under msgs/{hint})",
                         spec.path.display(),

@@ -311,3 +311,39 @@ fn ros_cli_echo_fails_when_too_few_messages_arrive() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("timed out"));
 }
+
+/// A burst far deeper than any QoS history: pub is flow-controlled by acknowledgments and echo's reader queues
+/// what it has not printed yet, so every swing arrives, in order.
+#[test]
+fn ros_cli_ten_thousand_swings_back_to_back_arrive_in_order() {
+    guard();
+    let domain = 157;
+    let n = 10_000;
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("burst.jsonl");
+    let lines: Vec<String> = (1..=n)
+        .map(|i| format!("{{\"swing_id\": {i}, \"bat_id\": \"r161\", \"impact_z\": 0.7}}"))
+        .collect();
+    std::fs::write(&file, lines.join("\n")).unwrap();
+    let echo = start_echo(domain, "swing", n, &[]);
+    run_ok(cmd(
+        domain,
+        &[
+            "pub",
+            "swing",
+            "--file",
+            file.to_str().unwrap(),
+            "--wait-subscribers",
+            "1",
+            "--timeout",
+            "120",
+            "-q",
+        ],
+    ));
+    let got = json_lines(&finish(echo));
+    let ids: Vec<u64> = got
+        .iter()
+        .map(|m| m["swing_id"].as_u64().unwrap())
+        .collect();
+    assert_eq!(ids, (1..=n as u64).collect::<Vec<_>>());
+}

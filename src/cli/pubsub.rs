@@ -591,6 +591,9 @@ fn publish_all<T: RosMessage>(
     Ok(())
 }
 
+/// Samples `echo` can queue between DDS and the terminal.
+const ECHO_DEPTH: usize = 100_000;
+
 /// Pause between seeing a subscription match and publishing to it (see its use).
 const MATCH_SETTLE: Duration = Duration::from_millis(300);
 
@@ -707,7 +710,12 @@ pub fn run_echo(args: EchoArgs) -> anyhow::Result<()> {
 fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::Result<()> {
     let config = DdsConfig::from_env()?;
     let ctx = ros::context(&config)?;
-    let mut qos = kind.qos();
+    // A deep reader history: a KEEP_LAST reader cache silently drops its oldest untaken samples, and printing
+    // is slower than DDS, so a burst of thousands of messages must be able to queue here. (History depth does
+    // not affect QoS matching.)
+    let mut qos = kind
+        .qos()
+        .history(ros2_client::qos::History::KeepLast { depth: ECHO_DEPTH });
     if args.no_latched {
         qos = qos.durability(ros2_client::qos::Durability::Volatile);
     }
@@ -738,17 +746,34 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
     let deadline = args
         .timeout
         .map(|t| tokio::time::Instant::now() + Duration::from_secs_f64(t));
+    // Take samples as soon as they arrive and print on another thread: a RustDDS reader loses the untaken
+    // samples of a writer whose participant leaves, so a slow terminal must not leave them sitting in DDS.
+    let (to_printer, printed) = std::sync::mpsc::channel::<T>();
+    let json_output = args.json;
+    let printer = std::thread::spawn(move || -> std::io::Result<()> {
+        let stdout = std::io::stdout();
+        for message in printed {
+            let json = message.to_json();
+            let mut out = stdout.lock();
+            if json_output {
+                writeln!(out, "{json}")?;
+            } else {
+                writeln!(out, "{}---", crate::msgs::json::to_readable(&json))?;
+            }
+            out.flush()?;
+        }
+        Ok(())
+    });
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()?;
-    runtime.block_on(async {
+    let taken = runtime.block_on(async {
         use futures::StreamExt;
         let samples = reader.as_async_stream();
         tokio::pin!(samples);
         let interrupted = interrupt_signal();
         tokio::pin!(interrupted);
         let mut received: u64 = 0;
-        let stdout = std::io::stdout();
         loop {
             if args.count.is_some_and(|c| received >= c) {
                 return Ok(());
@@ -763,29 +788,33 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
                 _ = &mut interrupted => return Ok(()),
                 _ = sleep => {
                     return match args.count {
-                        Some(c) => bail!("timed out on {fq_topic} after {received} of {c} messages"),
+                        Some(c) => Err(anyhow!("timed out on {fq_topic} after {received} of {c} messages")),
                         None => Ok(()),
                     };
                 }
                 item = samples.next() => match item {
                     Some(Ok(sample)) => {
-                        let message: T = sample.into_value();
-                        let json = message.to_json();
-                        let mut out = stdout.lock();
-                        if args.json {
-                            writeln!(out, "{json}")?;
-                        } else {
-                            writeln!(out, "{}---", crate::msgs::json::to_readable(&json))?;
+                        if to_printer.send(sample.into_value()).is_err() {
+                            return Ok(()); // the printer stopped (stdout closed)
                         }
-                        out.flush()?;
                         received += 1;
                     }
                     Some(Err(e)) => eprintln!("warning: dropped an undecodable sample on {fq_topic}: {e}"),
-                    None => bail!("the DDS reader on {fq_topic} closed"),
+                    None => return Err(anyhow!("the DDS reader on {fq_topic} closed")),
                 },
             }
         }
-    })
+    });
+    drop(to_printer);
+    let printed = printer
+        .join()
+        .map_err(|_| anyhow!("the output thread panicked"))?;
+    match printed {
+        // A closed pipe (`sweetspot echo … | head`) is a normal way to stop.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {}
+        other => other.context("writing to stdout")?,
+    }
+    taken
 }
 
 /// Resolves on SIGINT or SIGTERM.

@@ -413,4 +413,37 @@ mod tests {
         assert!(back.measured_exit_speed.is_nan());
         assert_eq!(back.impact_z, f64::INFINITY);
     }
+
+    #[test]
+    fn readable_form_is_ros2_echo_like() {
+        use crate::msgs::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus, KeyValue};
+        let d = DiagnosticArray {
+            status: vec![DiagnosticStatus {
+                level: 1,
+                name: "it's".into(),
+                values: vec![KeyValue {
+                    key: "k".into(),
+                    value: "v".into(),
+                }],
+                ..Default::default()
+            }],
+            ..Default::default()
+        };
+        let text = to_readable(&d.to_json());
+        assert_eq!(
+            text,
+            "header:\n  stamp:\n    sec: 0\n    nanosec: 0\n  frame_id: ''\nstatus:\n- level: 1\n  name: 'it''s'\n  \
+             message: ''\n  hardware_id: ''\n  values:\n  - key: 'k'\n    value: 'v'\n"
+        );
+        let s = Swing {
+            measured_exit_speed: f64::NAN,
+            ball_speed: 40.0,
+            ..Default::default()
+        };
+        let text = to_readable(&s.to_json());
+        assert!(
+            text.contains("ball_speed: 40.0\n") && text.contains("measured_exit_speed: .nan\n"),
+            "{text}"
+        );
+    }
 }

@@ -29,6 +29,21 @@
 //! `ROS_LOCALHOST_ONLY=1` (deprecated in ROS 2) forces `LOCALHOST` whatever `ROS_AUTOMATIC_DISCOVERY_RANGE`
 //! says, as rcl does. `ROS_DOMAIN_ID` must be an integer in 0..=232 (empty or unset = 0).
 //!
+//! # RustDDS 0.15.1 behaviours every user of this module should know
+//!
+//! Found while building `sweetspot pub` / `echo` (each checked in the RustDDS source):
+//! - A reliable reader can never take the samples it received but had not taken yet from a writer whose
+//!   participant has left: `DDSCache::forget_reliable_writer` drops the writer's "received reliably before"
+//!   marker, and `get_changes_in_range_reliable` then yields an empty range for that writer. Take samples as
+//!   soon as they arrive (into an application queue) rather than leaving them in DDS.
+//! - A KEEP_LAST reader cache silently evicts its oldest *untaken* samples; acknowledgement happens on
+//!   reception, so the writer does not slow down for a reader that does not take.
+//! - `DataWriter::get_matched_subscriptions` is a placeholder that panics; count matches from the writer's
+//!   `PublicationMatched` status events (`StatusEvented::try_recv_status`).
+//! - A writer sees a match when the subscription's announcement reaches it, the reader a moment later when
+//!   the writer's does; a volatile reader ignores samples written before *its* side matched. Pause briefly
+//!   after the writer-side match before publishing what must not be missed.
+//!
 //! # Network guard
 //!
 //! Tests must never put DDS traffic on a shared network. [`network_guard`] errors unless the process runs in
