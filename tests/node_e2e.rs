@@ -70,7 +70,12 @@ fn swing(id: u64, bat_id: &str, ball_id: &str, impact_z: f64) -> Swing {
 }
 
 fn impact(s: &Swing) -> Impact {
-    Impact { ball_speed: s.ball_speed, bat_cm_speed: s.bat_cm_speed, bat_angular_speed: s.bat_angular_speed, impact_z: s.impact_z }
+    Impact {
+        ball_speed: s.ball_speed,
+        bat_cm_speed: s.bat_cm_speed,
+        bat_angular_speed: s.bat_angular_speed,
+        impact_z: s.impact_z,
+    }
 }
 
 fn library(bat: &Bat, modes: usize, ball: &Ball, s: &Swing) -> (ModeSet, CollisionResult) {
@@ -110,7 +115,11 @@ fn assert_energies_equal(me: &ModalEnergies, s: &Swing, r: &CollisionResult, bat
     let v_cm = (bat_mass * s.bat_cm_speed - ball.mass * s.ball_speed) / (bat_mass + ball.mass);
     let collision_energy = r.energy.initial - 0.5 * (bat_mass + ball.mass) * v_cm * v_cm;
     for (f, m) in me.fraction.iter().zip(&r.mode_energies) {
-        assert!((f - m.energy / collision_energy).abs() <= 1e-12 * f.abs().max(1e-300), "{f} vs {}", m.energy / collision_energy);
+        assert!(
+            (f - m.energy / collision_energy).abs() <= 1e-12 * f.abs().max(1e-300),
+            "{f} vs {}",
+            m.energy / collision_energy
+        );
     }
 }
 
@@ -267,7 +276,9 @@ fn bad_params_and_swings_are_rejected_with_reasons_and_the_node_keeps_answering(
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
     let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
 
-    bat_pub.publish(BatParams { header: header(3), bat_id: "good".into(), preset: "r161".into(), ..BatParams::default() }).unwrap();
+    bat_pub
+        .publish(BatParams { header: header(3), bat_id: "good".into(), preset: "r161".into(), ..BatParams::default() })
+        .unwrap();
     node.wait_for_log("bat 'good' set", WAIT);
     // The same bat_id again with a bore wider than the bat: refused, the r161 stays in force.
     let mut broken = explicit_params("good", &Bat::preset("r161").unwrap(), 0);
@@ -275,12 +286,14 @@ fn bad_params_and_swings_are_rejected_with_reasons_and_the_node_keeps_answering(
     bat_pub.publish(broken).unwrap();
     ball_pub.publish(BallParams { cor: 1.5, ..ball_params("bouncy", &Ball::default()) }).unwrap();
     let rejections = peer.collect(&answers, 2, WAIT);
-    let bat_rejection = rejections.iter().find(|ev| ev.message.starts_with("BatParams 'good'")).expect("bat params rejected");
+    let bat_rejection =
+        rejections.iter().find(|ev| ev.message.starts_with("BatParams 'good'")).expect("bat params rejected");
     assert_eq!(bat_rejection.status, ExitVelocity::STATUS_REJECTED);
     assert_eq!(bat_rejection.bat_id, "good");
     assert!(bat_rejection.message.contains("inner"), "{}", bat_rejection.message);
     assert!(bat_rejection.message.contains("stay in force"), "{}", bat_rejection.message);
-    let ball_rejection = rejections.iter().find(|ev| ev.message.starts_with("BallParams 'bouncy'")).expect("ball params rejected");
+    let ball_rejection =
+        rejections.iter().find(|ev| ev.message.starts_with("BallParams 'bouncy'")).expect("ball params rejected");
     assert!(ball_rejection.message.contains("cor"), "{}", ball_rejection.message);
     assert!(ball_rejection.exit_speed.is_nan());
 

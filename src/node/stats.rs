@@ -177,7 +177,8 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
     let (mut level, mut message) = (Health::Ok, format!("{} swings answered", now.swings_answered()));
     if new_drops > 0 || new_publish_failures > 0 {
         level = Health::Warn;
-        message = format!("{new_drops} swings dropped (queue full), {new_publish_failures} results unsent since last report");
+        message =
+            format!("{new_drops} swings dropped (queue full), {new_publish_failures} results unsent since last report");
     }
     let mut values: Vec<(String, String)> = vec![
         ("swings_received".into(), now.swings_received.to_string()),
