@@ -8,6 +8,7 @@ use std::time::Duration;
 
 pub mod export;
 pub mod info;
+pub mod play;
 pub mod reader;
 pub mod replay;
 pub mod recover;

@@ -70,6 +70,30 @@ pub enum BagCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Republish the recorded inputs (BatParams, BallParams, Swing) over DDS with their original timing;
+    /// params recorded before the first swing go out first, latched (transient-local).
+    Play {
+        /// Bag directory or .mcap file.
+        path: PathBuf,
+        /// Time scale: 2 plays twice as fast.
+        #[arg(long, default_value_t = 1.0)]
+        rate: f64,
+        /// Start over when done, until interrupted.
+        #[arg(long = "loop")]
+        repeat: bool,
+        /// Only these topics (default: every input topic in the bag).
+        #[arg(long, value_delimiter = ',', num_args = 1..)]
+        topics: Vec<String>,
+        /// Wait until every topic has this many subscriptions before starting.
+        #[arg(long, default_value_t = 0)]
+        wait_subscribers: usize,
+        /// Seconds to wait for subscribers, and for acknowledgments at the end.
+        #[arg(long, default_value_t = 10.0)]
+        timeout: f64,
+        /// Do not print each message.
+        #[arg(short, long)]
+        quiet: bool,
+    },
 }
 
 /// Runs one `bag` subcommand.
@@ -78,6 +102,19 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
         BagCommand::Info { path, json } => info(path, json),
         BagCommand::Recover { path } => recover(path),
         BagCommand::Export { path, csv: _, output } => export(path, output),
+        BagCommand::Play { path, rate, repeat, topics, wait_subscribers, timeout, quiet } => {
+            if !(timeout > 0.0 && timeout.is_finite()) {
+                anyhow::bail!("--timeout {timeout} is out of range: expected a finite value > 0 s");
+            }
+            let options = bag::play::PlayOptions {
+                rate,
+                repeat,
+                topics,
+                wait_subscribers,
+                timeout: std::time::Duration::from_secs_f64(timeout),
+            };
+            play(path, options, quiet)
+        }
         BagCommand::Replay { path, tolerance, bat, ball, modes, time_step, default_modes, default_bat, all, json } => {
             let what_if = bag::replay::WhatIf { bat, ball, modes };
             replay(path, tolerance, what_if, (time_step, default_modes, default_bat), all, json)
@@ -252,5 +289,43 @@ fn replay(
     if differ > 0 {
         anyhow::bail!("{differ} of {} swings differ from the recording beyond the tolerance", report.rows.len());
     }
+    Ok(())
+}
+
+/// A flag set by SIGINT/SIGTERM so playback ends cleanly (DDS says goodbye to its peers).
+fn interrupt_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let set = flag.clone();
+    std::thread::spawn(move || {
+        let Ok(rt) = tokio::runtime::Builder::new_current_thread().enable_all().build() else { return };
+        rt.block_on(async move {
+            use tokio::signal::unix::{signal, SignalKind};
+            let (Ok(mut int), Ok(mut term)) = (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) else {
+                return;
+            };
+            tokio::select! {
+                _ = int.recv() => {}
+                _ = term.recv() => {}
+            }
+            set.store(true, std::sync::atomic::Ordering::Relaxed);
+        });
+    });
+    flag
+}
+
+fn play(path: PathBuf, options: bag::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
+    let stop = interrupt_flag();
+    let total = bag::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
+    let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
+    let stats = bag::play::play(&path, &options, &stop, |item| {
+        bar.inc(1);
+        if !quiet {
+            println!("{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
+        }
+    })
+    .map_err(flat)
+    .with_context(|| format!("playing {}", path.display()))?;
+    bar.finish_and_clear();
+    eprintln!("published {} messages in {} pass(es)", stats.published, stats.passes);
     Ok(())
 }
