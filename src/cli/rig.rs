@@ -39,10 +39,10 @@ pub struct RigOptions {
     #[arg(long, value_name = "COR")]
     pub true_cor: Option<f64>,
     /// Pitch speeds, mph: MIN,MAX.
-    #[arg(long, value_delimiter = ',', num_args = 2, default_values_t = [80.0, 100.0], value_name = "MPH")]
+    #[arg(long, value_delimiter = ',', default_values_t = [80.0, 100.0], value_name = "MIN,MAX")]
     pub pitch_mph: Vec<f64>,
     /// Bat speeds at the barrel (6 in from the end), mph: MIN,MAX.
-    #[arg(long, value_delimiter = ',', num_args = 2, default_values_t = [60.0, 80.0], value_name = "MPH")]
+    #[arg(long, value_delimiter = ',', default_values_t = [60.0, 80.0], value_name = "MIN,MAX")]
     pub bat_mph: Vec<f64>,
 }
 
@@ -69,6 +69,11 @@ impl RigOptions {
             impact: d.impact * k,
             exit_speed: d.exit_speed * k,
         };
+        for (flag, v) in [("--pitch-mph", &self.pitch_mph), ("--bat-mph", &self.bat_mph)] {
+            if v.len() != 2 {
+                bail!("{flag} takes two speeds MIN,MAX in mph (e.g. {flag} 80,100), got {} value(s)", v.len());
+            }
+        }
         let pair = |v: &[f64]| (v[0] * MPH, v[1] * MPH);
         let config = RigConfig {
             bats: self.bats.clone(),
