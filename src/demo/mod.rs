@@ -509,7 +509,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     progress.finish();
     let session_time = session_start.elapsed();
     say(&format!(
-        "{total} swings answered in {:.1} s ({:.0} swings/s); stopping the node",
+        "{total} swings answered in {:.2} s ({:.0} swings/s); stopping the node",
         session_time.as_secs_f64(),
         total as f64 / session_time.as_secs_f64().max(1e-9)
     ));
