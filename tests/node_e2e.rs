@@ -65,7 +65,7 @@ fn swing(id: u64, bat_id: &str, ball_id: &str, impact_z: f64) -> Swing {
         bat_cm_speed: 18.0,
         bat_angular_speed: 45.0,
         impact_z,
-        measured_exit_speed: if id % 2 == 0 { f64::NAN } else { 44.0 },
+        measured_exit_speed: if id.is_multiple_of(2) { f64::NAN } else { 44.0 },
     }
 }
 
@@ -326,4 +326,59 @@ fn bad_params_and_swings_are_rejected_with_reasons_and_the_node_keeps_answering(
     assert_eq!(seen.get(&ExitVelocity::STATUS_OK), Some(&1));
     let (status, _, log) = node.stop_with(2);
     assert!(status.success(), "SIGINT exits cleanly:\n{log}");
+}
+
+#[test]
+fn a_full_queue_drops_counts_and_reports_instead_of_growing() {
+    use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
+    use sweetspot::msgs::rcl_interfaces::msg::Log;
+    const N: u64 = 3_000;
+    const CAPACITY: u64 = 4;
+    let domain = domain(8);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "flood_peer");
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let diagnostics = peer.subscription::<DiagnosticArray>("/diagnostics", keep_all(dds::results()));
+    let rosout = peer.subscription::<Log>("/rosout", sweetspot::ros::rosout_qos());
+    // One worker, four swings in flight, and a 0.1 µs time step (50× the work per swing): a flood must overflow.
+    let node = NodeProcess::spawn(
+        domain,
+        dir.path(),
+        &["--no-record", "--ros-args", "-p", "queue_capacity:=4", "-p", "workers:=1", "-p", "time_step:=1e-7"],
+    );
+    peer.wait_for_reader(&swing_pub);
+    for i in 0..N {
+        swing_pub.publish(swing(i, "r161", "", 0.6)).unwrap();
+    }
+    let value = |d: &DiagnosticArray, key: &str| -> u64 {
+        d.status[0].values.iter().find(|kv| kv.key == key).map(|kv| kv.value.parse().unwrap()).unwrap()
+    };
+    let reports = peer.collect_until(&diagnostics, WAIT, |got| {
+        got.last().is_some_and(|d| {
+            value(d, "swings_received") + value(d, "swings_lost_in_transport") == N && value(d, "swings_in_flight") == 0
+        })
+    });
+    let last = reports.last().unwrap();
+    let (ok, rejected, dropped, lost) = (
+        value(last, "swings_processed"),
+        value(last, "swings_rejected"),
+        value(last, "swings_dropped"),
+        value(last, "swings_lost_in_transport"),
+    );
+    assert!(dropped > 0, "the flood must overflow a 4-swing queue");
+    assert_eq!(ok + rejected + dropped + lost, N, "every swing is answered or counted as dropped or lost");
+    assert!(reports.iter().all(|d| value(d, "swings_in_flight") <= CAPACITY), "in flight never exceeds capacity");
+    assert!(reports.iter().any(|d| d.status[0].level == 1 && d.status[0].message.contains("dropped")), "a WARN report");
+    let got = peer.collect(&answers, (ok + rejected) as usize, WAIT);
+    assert!(got.windows(2).all(|w| w[0].swing_id < w[1].swing_id), "the answers that exist are in swing order");
+    let warnings =
+        peer.collect_until(&rosout, WAIT, |got| got.iter().any(|l| l.level == Log::WARN && l.msg.contains("dropped")));
+    let warning = warnings.iter().find(|l| l.msg.contains("dropped")).unwrap();
+    assert!(warning.msg.contains("queue_capacity"), "{}", warning.msg);
+    println!(
+        "{N} swings flooded into a 4-swing queue: {ok} answered, {dropped} dropped, {lost} lost in transport; rosout: {}",
+        warning.msg
+    );
+    drop(node);
 }

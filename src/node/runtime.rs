@@ -25,7 +25,7 @@ use super::pipeline::{Outcome, Pipeline, ResultSink};
 use super::recording::{topic_info, Recorded, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::{NodeSettings, SettingEffect, READ_ONLY};
-use super::stats::{health_report, NodeStats, RateLimiter, StatsSnapshot};
+use super::stats::{health_report, GapCounter, NodeStats, RateLimiter, StatsSnapshot};
 
 /// Default node name (`-r __node:=` changes it).
 pub const DEFAULT_NODE_NAME: &str = "sweetspot";
@@ -172,7 +172,7 @@ enum Event {
     /// A parameter was set through `ros2 param set`.
     ParameterChanged(SettingEffect),
     /// A bat's SweetSpot is ready (published only if the bat is still current).
-    Summary(Arc<BatEntry>, Result<BatSummary, String>),
+    Summary(Arc<BatEntry>, Box<Result<BatSummary, String>>),
 }
 
 async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
@@ -296,6 +296,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     }
 
     let drop_warning = RateLimiter::new(Duration::from_secs(5));
+    let loss_warning = RateLimiter::new(Duration::from_secs(5));
+    let mut transport_gaps = GapCounter::new();
     let mut diagnostics = tokio::time::interval(Duration::from_secs_f64(settings.diagnostics_period));
     diagnostics.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let mut last_report = StatsSnapshot::default();
@@ -328,7 +330,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     Event::Summary(entry, result) => {
                         // A summary of params that have since been replaced is stale.
                         let current = registry.bats().into_iter().any(|e| Arc::ptr_eq(&e, &entry));
-                        match result {
+                        match *result {
                             Ok(summary) if current => {
                                 let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
                                 let msg = convert::sweet_spot(&summary, header);
@@ -396,7 +398,18 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                 Some(received) = swings.next() => {
                     let log_time = convert::now_ns();
                     match received {
-                        Ok((swing, _info)) => on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx),
+                        Ok((swing, info)) => {
+                        let lost = transport_gaps.observe(info.publisher_gid(), info.sequence_number());
+                        if lost > 0 {
+                            stats.swings_lost_in_transport.fetch_add(lost, std::sync::atomic::Ordering::Relaxed);
+                            if let Some(suppressed) = loss_warning.allow(Instant::now()) {
+                                log.warn(&format!(
+                                    "{lost} swings from one publisher never reached the node (DDS history overflow); {suppressed} more such reports suppressed"
+                                ));
+                            }
+                        }
+                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx)
+                    }
                         Err(e) => log.warn(&format!("swing: unreadable sample: {e:?}")),
                     }
                 }
@@ -417,8 +430,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     .context("joining the shutdown task")?;
     let s = final_stats;
     let summary = format!(
-        "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses",
-        s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.latency_p50_us, s.latency_p99_us,
+        "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped, {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses",
+        s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.swings_lost_in_transport, s.latency_p50_us, s.latency_p99_us,
         s.latency_max_us, s.mode_cache_hits, s.mode_cache_misses
     );
     log.info(&summary);
@@ -510,7 +523,7 @@ fn spawn_summary(
     let (stats, events) = (Arc::clone(stats), events.clone());
     tokio::task::spawn_blocking(move || {
         let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
-        let _ = events.send(Event::Summary(entry, result));
+        let _ = events.send(Event::Summary(entry, Box::new(result)));
     });
 }
 

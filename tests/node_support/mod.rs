@@ -189,7 +189,16 @@ impl Peer {
         self.rt.block_on(async {
             let mut out = Vec::new();
             let mut stream = pin!(subscription.async_stream());
+            // Periodic topics (diagnostics) never go quiet: bound the whole wait too.
+            let deadline = Instant::now() + limit * 3;
             while !done(&out) {
+                assert!(
+                    Instant::now() < deadline,
+                    "condition not met within {:?} ({} messages of {})",
+                    limit * 3,
+                    out.len(),
+                    M::TYPE_NAME
+                );
                 match tokio::time::timeout(limit, stream.next()).await {
                     Ok(Some(Ok((msg, _)))) => out.push(msg),
                     Ok(Some(Err(e))) => panic!("receive error: {e:?}"),
