@@ -11,3 +11,6 @@ pub mod msgs;
 pub mod node;
 pub mod physics;
 pub mod ros;
+pub mod rig;
+pub mod calibrate;
+pub mod demo;

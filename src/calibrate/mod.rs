@@ -1,0 +1,722 @@
+//! Calibration: fit the ball's COR (and optionally each bat's Young's modulus) to measured exit speeds.
+//!
+//! The model is the physics itself: for parameters θ the predicted exit speed of swing i is
+//! `collide(modes(bat_i; E), ball(e0), impact_i).exit_speed`. We minimise Σ r_i², r_i = measured_i −
+//! predicted_i(θ), by Levenberg–Marquardt with forward-difference Jacobians (the collision is a fixed-step
+//! integration, so analytic derivatives are not available). Parameters are scaled by their start values so
+//! the damped normal equations are well conditioned whatever their units.
+//!
+//! **Uncertainty.** At the optimum, with s² = Σ r_i²/(n − p) the residual variance, the covariance of θ is
+//! s²·(JᵀJ)⁻¹ (the usual linearised least-squares estimate); the standard uncertainty of parameter k is
+//! √Cov_kk. It assumes independent, equal-variance errors in the measured exit speeds, and treats the
+//! measured swing inputs (ball speed, bat speed, impact point) as exact.
+//!
+//! The sans-IO part ([`Problem`], [`fit`]) is pure; [`problem_from_bag`] reads a recorded session.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+
+use crate::bag::reader::read_bag;
+use crate::bag::BagError;
+use crate::msgs::std_msgs::msg::Header;
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+use crate::msgs::{decode_cdr, RosMessage};
+use crate::physics::{
+    collide, Ball, Bat, CollisionOptions, CoreFill, Impact, Material, ModeSet, PhysicsError, Station,
+};
+
+/// Default number of vibrational modes when a BatParams says 0 (the node's default).
+pub const DEFAULT_MODES: usize = 18;
+/// Default RK4 time step, s (the node's default).
+pub const DEFAULT_TIME_STEP: f64 = 5e-6;
+/// ball_id the node uses for its built-in baseball when a swing names no ball and none was announced.
+pub const DEFAULT_BALL_ID: &str = "baseball";
+
+/// Errors of calibration.
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrateError {
+    /// Reading the bag failed.
+    #[error("reading the bag: {0}")]
+    Bag(#[from] BagError),
+    /// The bag holds nothing to fit.
+    #[error("{0}")]
+    NoData(String),
+    /// A message in the bag does not describe a valid bat, ball or swing.
+    #[error("{context}: {source}")]
+    Physics {
+        context: String,
+        #[source]
+        source: PhysicsError,
+    },
+    /// The normal equations are singular (a parameter the data does not constrain).
+    #[error("the fit is degenerate: {0}")]
+    Degenerate(String),
+}
+
+/// One measured swing: the inputs the rig reported and the exit speed it measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Observation {
+    /// The swing's id.
+    pub swing_id: u64,
+    /// The bat it was hit with (a key of [`Problem::bats`]).
+    pub bat_id: String,
+    /// The inputs.
+    pub impact: Impact,
+    /// Measured exit speed, m/s.
+    pub measured_exit_speed: f64,
+}
+
+/// A bat of the problem with the mode count it is computed with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProblemBat {
+    /// The bat (its shell Young's modulus is the start value when fitting it).
+    pub bat: Bat,
+    /// Vibrational modes computed and integrated.
+    pub modes: usize,
+    /// The BatParams it came from, kept so a fitted bat is written back with the same id.
+    pub params: BatParams,
+}
+
+/// What to fit: the bats, the ball, and the measured swings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// Bats by bat_id.
+    pub bats: BTreeMap<String, ProblemBat>,
+    /// The ball's id and its start value (its COR is fitted).
+    pub ball_id: String,
+    /// The ball.
+    pub ball: Ball,
+    /// The measured swings with that ball.
+    pub observations: Vec<Observation>,
+    /// RK4 time step, s.
+    pub time_step: f64,
+    /// Inputs left out, with the reason (invalid params, swings the node would reject, unknown bats).
+    pub skipped: Vec<String>,
+}
+
+/// How to fit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitOptions {
+    /// Fit each bat's shell Young's modulus too.
+    pub fit_youngs: bool,
+    /// Iteration limit.
+    pub max_iterations: usize,
+    /// Stop when the relative step of every parameter is below this.
+    pub tolerance: f64,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            fit_youngs: false,
+            max_iterations: 30,
+            tolerance: 1e-6,
+        }
+    }
+}
+
+/// One fitted parameter.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FittedParameter {
+    /// Name, e.g. `cor` or `youngs_modulus[r161]`.
+    pub name: String,
+    /// Unit.
+    pub unit: &'static str,
+    /// Start value.
+    pub initial: f64,
+    /// Fitted value.
+    pub value: f64,
+    /// Standard uncertainty (1σ).
+    pub std_error: f64,
+}
+
+/// One residual at the optimum.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Residual {
+    /// The swing.
+    pub swing_id: u64,
+    /// Its bat.
+    pub bat_id: String,
+    /// Impact point, m from the knob.
+    pub impact_z: f64,
+    /// Measured exit speed, m/s.
+    pub measured: f64,
+    /// Predicted with the start parameters, m/s.
+    pub predicted_before: f64,
+    /// Predicted with the fitted parameters, m/s.
+    pub predicted: f64,
+    /// measured − predicted, m/s.
+    pub residual: f64,
+}
+
+/// The result of a fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// Fitted parameters.
+    pub parameters: Vec<FittedParameter>,
+    /// Residuals, one per observation.
+    pub residuals: Vec<Residual>,
+    /// RMS residual before the fit, m/s.
+    pub rms_before: f64,
+    /// RMS residual after, m/s.
+    pub rms: f64,
+    /// Residual standard deviation s = √(Σr²/(n − p)), m/s.
+    pub residual_sigma: f64,
+    /// Degrees of freedom n − p.
+    pub dof: usize,
+    /// Iterations done.
+    pub iterations: usize,
+    /// Whether the step tolerance was met.
+    pub converged: bool,
+    /// The ball with the fitted COR.
+    pub ball: Ball,
+    /// The bats with the fitted moduli (only when fitted).
+    pub bats: BTreeMap<String, Bat>,
+}
+
+impl Fit {
+    /// The fitted parameter named `name`.
+    pub fn parameter(&self, name: &str) -> Option<&FittedParameter> {
+        self.parameters.iter().find(|p| p.name == name)
+    }
+}
+
+/// Predicted exit speeds of `problem` for a ball COR and per-bat Young's moduli (None = the bat's own).
+fn predict(
+    problem: &Problem,
+    cor: f64,
+    youngs: &BTreeMap<String, f64>,
+    only_bat: Option<&str>,
+) -> Result<Vec<Option<f64>>, CalibrateError> {
+    let ball = Ball { cor, ..problem.ball };
+    let mut modes: BTreeMap<&str, ModeSet> = BTreeMap::new();
+    for (id, pb) in &problem.bats {
+        if only_bat.is_some_and(|b| b != id) {
+            continue;
+        }
+        let mut bat = pb.bat.clone();
+        if let Some(&e) = youngs.get(id) {
+            bat.shell.youngs_modulus = e;
+        }
+        let set = ModeSet::compute(&bat, pb.modes).map_err(|source| CalibrateError::Physics {
+            context: format!("bat '{id}'"),
+            source,
+        })?;
+        modes.insert(id.as_str(), set);
+    }
+    problem
+        .observations
+        .par_iter()
+        .map(|o| match modes.get(o.bat_id.as_str()) {
+            None => Ok(None),
+            Some(set) => {
+                let options = CollisionOptions {
+                    modes: problem.bats[&o.bat_id].modes,
+                    time_step: problem.time_step,
+                };
+                collide(set, &ball, &o.impact, &options)
+                    .map(|r| Some(r.exit_speed))
+                    .map_err(|source| CalibrateError::Physics {
+                        context: format!("swing {}", o.swing_id),
+                        source,
+                    })
+            }
+        })
+        .collect()
+}
+
+/// The parameter vector and how to apply it.
+struct Layout {
+    names: Vec<String>,
+    units: Vec<&'static str>,
+    start: Vec<f64>,
+    bat_of: Vec<Option<String>>,
+}
+
+impl Layout {
+    fn new(problem: &Problem, options: &FitOptions) -> Layout {
+        let mut l = Layout {
+            names: vec!["cor".into()],
+            units: vec![""],
+            start: vec![problem.ball.cor],
+            bat_of: vec![None],
+        };
+        if options.fit_youngs {
+            for (id, pb) in &problem.bats {
+                if problem.observations.iter().any(|o| &o.bat_id == id) {
+                    l.names.push(format!("youngs_modulus[{id}]"));
+                    l.units.push("Pa");
+                    l.start.push(pb.bat.shell.youngs_modulus);
+                    l.bat_of.push(Some(id.clone()));
+                }
+            }
+        }
+        l
+    }
+
+    /// (cor, moduli) for scaled parameters x (θ = x·start).
+    fn unpack(&self, x: &DVector<f64>) -> (f64, BTreeMap<String, f64>) {
+        let mut youngs = BTreeMap::new();
+        for (k, bat) in self.bat_of.iter().enumerate().skip(1) {
+            if let Some(b) = bat {
+                youngs.insert(b.clone(), x[k] * self.start[k]);
+            }
+        }
+        (x[0] * self.start[0], youngs)
+    }
+}
+
+fn residuals_of(problem: &Problem, predicted: &[Option<f64>]) -> DVector<f64> {
+    DVector::from_iterator(
+        predicted.len(),
+        problem
+            .observations
+            .iter()
+            .zip(predicted)
+            .map(|(o, p)| o.measured_exit_speed - p.unwrap_or(f64::NAN)),
+    )
+}
+
+/// Fits `problem` by Levenberg–Marquardt (see the module docs).
+pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateError> {
+    let layout = Layout::new(problem, options);
+    let p = layout.start.len();
+    let n = problem.observations.len();
+    if n <= p {
+        return Err(CalibrateError::NoData(format!(
+            "{n} measured swings cannot determine {p} parameter(s); need at least {}",
+            p + 1
+        )));
+    }
+    let eval = |x: &DVector<f64>, only: Option<&str>| -> Result<Vec<Option<f64>>, CalibrateError> {
+        let (cor, youngs) = layout.unpack(x);
+        if !(cor > 0.0 && cor <= 1.0) || youngs.values().any(|&e| e.is_nan() || e <= 0.0) {
+            return Ok(vec![None; n]);
+        }
+        predict(problem, cor, &youngs, only)
+    };
+    let cost = |r: &DVector<f64>| {
+        if r.iter().all(|v| v.is_finite()) {
+            r.norm_squared()
+        } else {
+            f64::INFINITY
+        }
+    };
+
+    let mut x = DVector::from_element(p, 1.0);
+    let before = eval(&x, None)?;
+    let mut r = residuals_of(problem, &before);
+    if !cost(&r).is_finite() {
+        return Err(CalibrateError::NoData(
+            "the start parameters give no prediction for some swings".into(),
+        ));
+    }
+    let mut lambda = 1e-3;
+    let mut iterations = 0;
+    let mut converged = false;
+    let mut jacobian = DMatrix::zeros(n, p);
+    let step = 1e-4;
+    let build_jacobian =
+        |x: &DVector<f64>, r: &DVector<f64>, current: &[Option<f64>]| -> Result<DMatrix<f64>, CalibrateError> {
+            let mut j = DMatrix::zeros(n, p);
+            for k in 0..p {
+                let mut xk = x.clone();
+                xk[k] += step;
+                let only = layout.bat_of[k].as_deref();
+                let shifted = eval(&xk, only)?;
+                for i in 0..n {
+                    // ∂(predicted)/∂x_k; observations of other bats do not depend on bat k's modulus.
+                    let moved = shifted[i].or(if only.is_some() { current[i] } else { None });
+                    let base = problem.observations[i].measured_exit_speed - r[i];
+                    j[(i, k)] = moved.map(|m| (m - base) / step).unwrap_or(0.0);
+                }
+            }
+            Ok(j)
+        };
+    let mut current = before.clone();
+    while iterations < options.max_iterations {
+        iterations += 1;
+        jacobian = build_jacobian(&x, &r, &current)?;
+        let jtj = jacobian.transpose() * &jacobian;
+        let jtr = jacobian.transpose() * &r;
+        let mut accepted = false;
+        for _ in 0..12 {
+            let mut a = jtj.clone();
+            for k in 0..p {
+                a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
+            }
+            let Some(delta) = a.cholesky().map(|c| c.solve(&jtr)) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let trial = &x + &delta;
+            let predicted = eval(&trial, None)?;
+            let r_trial = residuals_of(problem, &predicted);
+            if cost(&r_trial) <= cost(&r) {
+                let small = delta.iter().all(|d| d.abs() < options.tolerance);
+                x = trial;
+                r = r_trial;
+                current = predicted;
+                lambda = (lambda / 10.0).max(1e-9);
+                accepted = true;
+                converged = small;
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !accepted {
+            // No downhill step at any damping: we are at the minimum to the precision of the model.
+            converged = true;
+        }
+        if converged {
+            break;
+        }
+    }
+    if converged {
+        jacobian = build_jacobian(&x, &r, &current)?;
+    }
+    let dof = n - p;
+    let ssr = r.norm_squared();
+    let s2 = ssr / dof as f64;
+    let jtj = jacobian.transpose() * &jacobian;
+    let inverse = jtj.clone().try_inverse().ok_or_else(|| {
+        CalibrateError::Degenerate("JᵀJ is singular; the data do not constrain every parameter".into())
+    })?;
+    let parameters = (0..p)
+        .map(|k| FittedParameter {
+            name: layout.names[k].clone(),
+            unit: layout.units[k],
+            initial: layout.start[k],
+            value: x[k] * layout.start[k],
+            std_error: (s2 * inverse[(k, k)]).max(0.0).sqrt() * layout.start[k],
+        })
+        .collect();
+    let residuals = problem
+        .observations
+        .iter()
+        .enumerate()
+        .map(|(i, o)| Residual {
+            swing_id: o.swing_id,
+            bat_id: o.bat_id.clone(),
+            impact_z: o.impact.impact_z,
+            measured: o.measured_exit_speed,
+            predicted_before: before[i].unwrap_or(f64::NAN),
+            predicted: current[i].unwrap_or(f64::NAN),
+            residual: r[i],
+        })
+        .collect();
+    let rms_before = (residuals_of(problem, &before).norm_squared() / n as f64).sqrt();
+    let (cor, youngs) = layout.unpack(&x);
+    let bats = youngs
+        .iter()
+        .filter_map(|(id, &e)| {
+            problem.bats.get(id).map(|pb| {
+                let mut bat = pb.bat.clone();
+                bat.shell.youngs_modulus = e;
+                (id.clone(), bat)
+            })
+        })
+        .collect();
+    Ok(Fit {
+        parameters,
+        residuals,
+        rms_before,
+        rms: (ssr / n as f64).sqrt(),
+        residual_sigma: s2.sqrt(),
+        dof,
+        iterations,
+        converged,
+        ball: Ball { cor, ..problem.ball },
+        bats,
+    })
+}
+
+/// The physics bat a BatParams message describes (a preset, or the profile and materials in its fields).
+pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError> {
+    let modes = if params.max_modes == 0 {
+        DEFAULT_MODES
+    } else {
+        params.max_modes as usize
+    };
+    if !params.preset.is_empty() {
+        let mut bat = Bat::preset(&params.preset)?;
+        bat.name = params.bat_id.clone();
+        return Ok((bat, modes));
+    }
+    let n = params.station_z.len();
+    if params.outer_radius.len() != n || params.inner_radius.len() != n {
+        return Err(PhysicsError::BadProfile(format!(
+            "station_z, outer_radius and inner_radius must have the same length (got {n}, {}, {})",
+            params.outer_radius.len(),
+            params.inner_radius.len()
+        )));
+    }
+    let stations = (0..n)
+        .map(|i| Station {
+            z: params.station_z[i],
+            outer_radius: params.outer_radius[i],
+            inner_radius: params.inner_radius[i],
+        })
+        .collect();
+    let shell = Material {
+        density: params.density,
+        youngs_modulus: params.youngs_modulus,
+        shear_modulus: params.shear_modulus,
+    };
+    let core = (params.core_density > 0.0).then_some(CoreFill {
+        material: Material {
+            density: params.core_density,
+            youngs_modulus: params.core_youngs_modulus,
+            shear_modulus: params.core_shear_modulus,
+        },
+        z_start: params.core_z_start,
+        z_end: params.core_z_end,
+    });
+    let slice_length = if params.slice_length > 0.0 {
+        params.slice_length
+    } else {
+        0.01
+    };
+    Ok((
+        Bat::new(params.bat_id.clone(), stations, shell, core, slice_length)?,
+        modes,
+    ))
+}
+
+/// A BatParams message carrying every field of `bat` (no preset), so a fitted bat can be published.
+pub fn params_from_bat(bat_id: &str, bat: &Bat, max_modes: usize, header: Header) -> BatParams {
+    let (core_density, core_youngs_modulus, core_shear_modulus, core_z_start, core_z_end) = match &bat.core {
+        Some(c) => (
+            c.material.density,
+            c.material.youngs_modulus,
+            c.material.shear_modulus,
+            c.z_start,
+            c.z_end,
+        ),
+        None => (0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+    BatParams {
+        header,
+        bat_id: bat_id.to_string(),
+        preset: String::new(),
+        station_z: bat.stations.iter().map(|s| s.z).collect(),
+        outer_radius: bat.stations.iter().map(|s| s.outer_radius).collect(),
+        inner_radius: bat.stations.iter().map(|s| s.inner_radius).collect(),
+        density: bat.shell.density,
+        youngs_modulus: bat.shell.youngs_modulus,
+        shear_modulus: bat.shell.shear_modulus,
+        core_density,
+        core_youngs_modulus,
+        core_shear_modulus,
+        core_z_start,
+        core_z_end,
+        slice_length: bat.slice_length,
+        max_modes: max_modes as u32,
+    }
+}
+
+/// The physics ball of a BallParams message.
+pub fn ball_from_params(params: &BallParams) -> Ball {
+    Ball {
+        mass: params.mass,
+        radius: params.radius,
+        cor: params.cor,
+        stiffness: params.stiffness,
+        exponent: params.exponent,
+    }
+}
+
+/// Inputs of a recorded session, in log-time order, before they are turned into a [`Problem`].
+#[derive(Debug, Clone, Default)]
+pub struct RecordedInputs {
+    /// (log time ns, message).
+    pub bats: Vec<(u64, BatParams)>,
+    /// (log time ns, message).
+    pub balls: Vec<(u64, BallParams)>,
+    /// (log time ns, message).
+    pub swings: Vec<(u64, Swing)>,
+}
+
+/// Reads every BatParams, BallParams and Swing from a bag (by type, whatever the namespace).
+pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
+    let mut inputs = RecordedInputs::default();
+    let mut undecodable = 0u64;
+    read_bag(path, |m| {
+        let t = m.log_time_ns;
+        let ty = m.channel.topic.type_name.as_str();
+        let ok = if ty == BatParams::TYPE_NAME {
+            decode_cdr::<BatParams>(m.data)
+                .map(|v| inputs.bats.push((t, v)))
+                .is_ok()
+        } else if ty == BallParams::TYPE_NAME {
+            decode_cdr::<BallParams>(m.data)
+                .map(|v| inputs.balls.push((t, v)))
+                .is_ok()
+        } else if ty == Swing::TYPE_NAME {
+            decode_cdr::<Swing>(m.data).map(|v| inputs.swings.push((t, v))).is_ok()
+        } else {
+            true
+        };
+        if !ok {
+            undecodable += 1;
+        }
+    })?;
+    if undecodable > 0 {
+        tracing::warn!("{undecodable} input messages in the bag could not be decoded and were skipped");
+    }
+    inputs.bats.sort_by_key(|(t, _)| *t);
+    inputs.balls.sort_by_key(|(t, _)| *t);
+    inputs.swings.sort_by_key(|(t, _)| *t);
+    Ok(inputs)
+}
+
+/// The fitting problem of recorded inputs: swings with a measured exit speed, resolved to the bat and ball
+/// in force when they were received (empty ids = the latest received, as the node does). Only swings with
+/// `ball_id` (None = the ball most measured swings used) are kept.
+pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Result<Problem, CalibrateError> {
+    // Params re-announced under the same id replace the old ones; we fit against the last version of each.
+    let mut skipped = Vec::new();
+    let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
+    for (_, params) in &inputs.bats {
+        // The node rejects bad params and keeps the previous ones in force; so do we.
+        let (bat, modes) = match bat_from_params(params) {
+            Ok(built) => built,
+            Err(e) => {
+                skipped.push(format!("BatParams '{}': {e}", params.bat_id));
+                continue;
+            }
+        };
+        bats.insert(
+            params.bat_id.clone(),
+            ProblemBat {
+                bat,
+                modes,
+                params: params.clone(),
+            },
+        );
+    }
+    let mut balls: BTreeMap<String, Ball> = BTreeMap::new();
+    balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
+    for (_, params) in &inputs.balls {
+        let ball = ball_from_params(params);
+        match ball.validate() {
+            Ok(()) => {
+                balls.insert(params.ball_id.clone(), ball);
+            }
+            Err(e) => skipped.push(format!("BallParams '{}': {e}", params.ball_id)),
+        }
+    }
+    // Resolve empty ids to the latest announced at the swing's time.
+    let latest = |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
+    let bat_times: Vec<(u64, String)> = inputs.bats.iter().map(|(t, p)| (*t, p.bat_id.clone())).collect();
+    let ball_times: Vec<(u64, String)> = inputs.balls.iter().map(|(t, p)| (*t, p.ball_id.clone())).collect();
+    let mut by_ball: BTreeMap<String, Vec<Observation>> = BTreeMap::new();
+    for (t, s) in &inputs.swings {
+        if !s.measured_exit_speed.is_finite() {
+            continue;
+        }
+        let bat_id = if s.bat_id.is_empty() {
+            latest(&bat_times, *t).unwrap_or_default()
+        } else {
+            s.bat_id.clone()
+        };
+        let ball = if s.ball_id.is_empty() {
+            latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string())
+        } else {
+            s.ball_id.clone()
+        };
+        if !bats.contains_key(&bat_id) {
+            if let Ok(bat) = Bat::preset(&bat_id) {
+                // A swing naming a preset bat that was never announced: the node resolves it the same way.
+                bats.insert(
+                    bat_id.clone(),
+                    ProblemBat {
+                        bat,
+                        modes: DEFAULT_MODES,
+                        params: BatParams {
+                            bat_id: bat_id.clone(),
+                            preset: bat_id.clone(),
+                            ..Default::default()
+                        },
+                    },
+                );
+            } else {
+                skipped.push(format!("swing {}: unknown bat '{bat_id}'", s.swing_id));
+                continue;
+            }
+        }
+        by_ball.entry(ball).or_default().push(Observation {
+            swing_id: s.swing_id,
+            bat_id,
+            impact: Impact {
+                ball_speed: s.ball_speed,
+                bat_cm_speed: s.bat_cm_speed,
+                bat_angular_speed: s.bat_angular_speed,
+                impact_z: s.impact_z,
+            },
+            measured_exit_speed: s.measured_exit_speed,
+        });
+    }
+    let chosen = match ball_id {
+        Some(id) => id.to_string(),
+        None => by_ball
+            .iter()
+            .max_by_key(|(_, v)| v.len())
+            .map(|(k, _)| k.clone())
+            .ok_or_else(|| {
+                CalibrateError::NoData(
+                    "the bag holds no swing with a measured exit speed (measured_exit_speed is NaN in all)".into(),
+                )
+            })?,
+    };
+    let mut observations = by_ball.remove(&chosen).unwrap_or_default();
+    // Swings the node would reject (impact off the bat, bat and ball not approaching, …) cannot be fitted.
+    let mut modes_of: BTreeMap<&str, Option<ModeSet>> = BTreeMap::new();
+    for (id, pb) in &bats {
+        modes_of.insert(id.as_str(), ModeSet::compute(&pb.bat, pb.modes).ok());
+    }
+    observations.retain(|o| match modes_of.get(o.bat_id.as_str()) {
+        Some(Some(modes)) => match o.impact.validate(modes) {
+            Ok(()) => true,
+            Err(e) => {
+                skipped.push(format!("swing {}: {e}", o.swing_id));
+                false
+            }
+        },
+        _ => {
+            skipped.push(format!(
+                "swing {}: the modes of bat '{}' cannot be computed",
+                o.swing_id, o.bat_id
+            ));
+            false
+        }
+    });
+    if observations.is_empty() {
+        return Err(CalibrateError::NoData(format!(
+            "no measured swing used ball '{chosen}'"
+        )));
+    }
+    let ball = *balls.get(&chosen).ok_or_else(|| {
+        CalibrateError::NoData(format!(
+            "ball '{chosen}' was never announced on ball/params in this bag"
+        ))
+    })?;
+    let used: std::collections::BTreeSet<&str> = observations.iter().map(|o| o.bat_id.as_str()).collect();
+    bats.retain(|id, _| used.contains(id.as_str()));
+    Ok(Problem {
+        bats,
+        ball_id: chosen,
+        ball,
+        observations,
+        time_step: DEFAULT_TIME_STEP,
+        skipped,
+    })
+}
+
+/// Reads a bag and builds its fitting problem (see [`problem_from_inputs`]).
+pub fn problem_from_bag(path: &Path, ball_id: Option<&str>) -> Result<Problem, CalibrateError> {
+    problem_from_inputs(&read_inputs(path)?, ball_id)
+}

@@ -1,0 +1,237 @@
+//! `sweetspot calibrate BAG`: fit the ball's COR (and, with `--fit-youngs`, each bat's Young's modulus) to
+//! the measured exit speeds of a recorded session, and optionally write the fitted params for `sweetspot pub`.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use clap::Args;
+use serde_json::json;
+
+use super::output::{num, Table};
+use crate::calibrate::{fit, params_from_bat, problem_from_bag, Fit, FitOptions, Problem};
+use crate::msgs::json::ToJson;
+use crate::msgs::std_msgs::msg::Header;
+use crate::rig::ball_params;
+
+/// Arguments of `sweetspot calibrate`.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  sweetspot calibrate bags/demo_20261121T050000Z
+  sweetspot calibrate bags/demo_20261121T050000Z --fit-youngs --write fitted.jsonl
+  sweetspot pub ball --file fitted.jsonl        # send the fitted ball to a running node")]
+pub struct CalibrateArgs {
+    /// The recorded session: a rosbag2 directory (or one .mcap file) with Swing messages whose
+    /// measured_exit_speed is set, and the BatParams/BallParams they refer to.
+    pub bag: PathBuf,
+    /// Also fit each bat's shell Young's modulus (one parameter per bat).
+    #[arg(long)]
+    pub fit_youngs: bool,
+    /// Fit the swings made with this ball_id (default: the ball most measured swings used).
+    #[arg(long, value_name = "BALL_ID")]
+    pub ball: Option<String>,
+    /// Write the fitted BallParams as JSON lines to FILE (for `sweetspot pub ball --file FILE`); with
+    /// --fit-youngs the fitted BatParams go to FILE with `.bats` before the extension.
+    #[arg(long, value_name = "FILE")]
+    pub write: Option<PathBuf>,
+    /// Iteration limit of Levenberg–Marquardt.
+    #[arg(long, default_value_t = 30, value_name = "N")]
+    pub max_iterations: usize,
+    /// Residual rows printed (largest |residual| first); 0 = all.
+    #[arg(long, default_value_t = 12, value_name = "N")]
+    pub show: usize,
+    /// Print one JSON document instead of tables.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `sweetspot calibrate`.
+pub fn run(args: CalibrateArgs) -> Result<()> {
+    let problem = problem_from_bag(&args.bag, args.ball.as_deref())
+        .with_context(|| format!("calibrating from '{}'", args.bag.display()))?;
+    let options = FitOptions {
+        fit_youngs: args.fit_youngs,
+        max_iterations: args.max_iterations.max(1),
+        ..FitOptions::default()
+    };
+    let result = fit(&problem, &options).context("fitting")?;
+    let written = match &args.write {
+        Some(path) => write_params(path, &problem, &result)?,
+        None => Vec::new(),
+    };
+    if args.json {
+        let doc = json!({
+            "bag": args.bag,
+            "ball_id": problem.ball_id,
+            "swings": problem.observations.len(),
+            "skipped": problem.skipped,
+            "parameters": result.parameters,
+            "rms_before": result.rms_before,
+            "rms": result.rms,
+            "residual_sigma": result.residual_sigma,
+            "dof": result.dof,
+            "iterations": result.iterations,
+            "converged": result.converged,
+            "residuals": result.residuals,
+            "written": written,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&doc).context("serialising the result")?
+        );
+        return Ok(());
+    }
+    print!("{}", report(&problem, &result, args.show));
+    for path in &written {
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = written.first() {
+        println!(
+            "send it to a running node:  sweetspot pub ball --file {}",
+            path.display()
+        );
+    }
+    if let Some(path) = written.get(1) {
+        println!(
+            "                            sweetspot pub bat --file {}",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// The human-readable report of a fit: parameters with uncertainty, residual summary per bat, worst residuals.
+pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
+    let mut out = String::new();
+    let bats: Vec<&str> = problem.bats.keys().map(String::as_str).collect();
+    out.push_str(&format!(
+        "Calibration: {} measured swings, ball '{}', bats {}; Levenberg–Marquardt, {} iteration(s){}\n\n",
+        problem.observations.len(),
+        problem.ball_id,
+        bats.join(", "),
+        result.iterations,
+        if result.converged {
+            ", converged"
+        } else {
+            ", NOT converged (raise --max-iterations)"
+        }
+    ));
+    if !problem.skipped.is_empty() {
+        out.push_str(&format!("left out {} input(s):\n", problem.skipped.len()));
+        for reason in problem.skipped.iter().take(10) {
+            out.push_str(&format!("  {reason}\n"));
+        }
+        if problem.skipped.len() > 10 {
+            out.push_str(&format!("  … and {} more\n", problem.skipped.len() - 10));
+        }
+        out.push('\n');
+    }
+    let mut t = Table::new(["parameter", "start", "fitted", "± 1σ", "unit"]);
+    for p in &result.parameters {
+        t.row([
+            p.name.clone(),
+            num(p.initial, 5),
+            num(p.value, 5),
+            num(p.std_error, 2),
+            p.unit.to_string(),
+        ]);
+    }
+    out.push_str(&t.render());
+    out.push_str(&format!(
+        "\nresiduals (measured − predicted exit speed): RMS {} m/s before, {} m/s after; s = {} m/s on {} degrees of freedom\n\n",
+        num(result.rms_before, 3),
+        num(result.rms, 3),
+        num(result.residual_sigma, 3),
+        result.dof
+    ));
+    let mut t = Table::new([
+        "bat",
+        "swings",
+        "mean before (m/s)",
+        "mean after (m/s)",
+        "RMS after (m/s)",
+    ]);
+    for bat in &bats {
+        let rs: Vec<_> = result.residuals.iter().filter(|r| r.bat_id == *bat).collect();
+        if rs.is_empty() {
+            continue;
+        }
+        let n = rs.len() as f64;
+        let before = rs.iter().map(|r| r.measured - r.predicted_before).sum::<f64>() / n;
+        let after = rs.iter().map(|r| r.residual).sum::<f64>() / n;
+        let rms = (rs.iter().map(|r| r.residual * r.residual).sum::<f64>() / n).sqrt();
+        t.row([
+            bat.to_string(),
+            rs.len().to_string(),
+            num(before, 3),
+            num(after, 3),
+            num(rms, 3),
+        ]);
+    }
+    out.push_str(&t.render());
+    let mut worst: Vec<_> = result.residuals.iter().collect();
+    worst.sort_by(|a, b| b.residual.abs().total_cmp(&a.residual.abs()));
+    let shown = if show == 0 { worst.len() } else { show.min(worst.len()) };
+    out.push_str(&format!("\nlargest residuals ({shown} of {}):\n", worst.len()));
+    let mut t = Table::new([
+        "swing_id",
+        "bat",
+        "impact_z (m)",
+        "measured (m/s)",
+        "predicted (m/s)",
+        "residual (m/s)",
+    ]);
+    for r in worst.into_iter().take(shown) {
+        t.row([
+            r.swing_id.to_string(),
+            r.bat_id.clone(),
+            num(r.impact_z, 4),
+            num(r.measured, 4),
+            num(r.predicted, 4),
+            num(r.residual, 3),
+        ]);
+    }
+    out.push_str(&t.render());
+    out
+}
+
+/// Writes the fitted ball (and bats) as JSON lines `sweetspot pub` reads; returns the files written.
+pub fn write_params(path: &Path, problem: &Problem, result: &Fit) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let ball = ball_params(&problem.ball_id, &result.ball, Default::default());
+    write_lines(path, &[ball.to_json()])?;
+    written.push(path.to_path_buf());
+    if !result.bats.is_empty() {
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("fitted");
+        let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("jsonl");
+        let bats_path = path.with_file_name(format!("{stem}.bats.{ext}"));
+        let lines: Vec<_> = result
+            .bats
+            .iter()
+            .map(|(id, bat)| {
+                let modes = problem
+                    .bats
+                    .get(id)
+                    .map(|b| b.modes)
+                    .unwrap_or(crate::calibrate::DEFAULT_MODES);
+                params_from_bat(id, bat, modes, Header::default()).to_json()
+            })
+            .collect();
+        write_lines(&bats_path, &lines)?;
+        written.push(bats_path);
+    }
+    Ok(written)
+}
+
+fn write_lines(path: &Path, values: &[serde_json::Value]) -> Result<()> {
+    let mut file = std::fs::File::create(path).with_context(|| format!("cannot create '{}'", path.display()))?;
+    for v in values {
+        let mut v = v.clone();
+        // The node stamps what it receives; an all-zero header would only be noise in the file.
+        if let Some(obj) = v.as_object_mut() {
+            obj.remove("header");
+        }
+        writeln!(file, "{v}").with_context(|| format!("cannot write '{}'", path.display()))?;
+    }
+    Ok(())
+}

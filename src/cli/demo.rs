@@ -1,0 +1,2 @@
+//! `sweetspot demo` (arguments; the runner lives in `crate::demo`).
+pub use crate::demo::{run, DemoArgs};

@@ -1,0 +1,270 @@
+//! The rig's DDS shell: writers for `bat/params`, `ball/params` (reliable, transient-local) and `swing`
+//! (reliable), and a listener for the node's answers — the same QoS and names as the node (`crate::ros`).
+//!
+//! Synchronous on purpose: a rig publishes from one loop at a fixed rate, and the demo polls the answers.
+
+use std::time::{Duration, Instant};
+
+use anyhow::{anyhow, bail, Result};
+use ros2_client::QosProfile;
+use rustdds::no_key::{DataWriterCdr, SimpleDataReaderCdr};
+
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use crate::msgs::RosMessage;
+use crate::ros::{self, DdsConfig};
+
+/// Node name the rig's topics are resolved with (only `~/` names would use it).
+pub const RIG_NODE_NAME: &str = "sweetspot_rig";
+
+/// Fully-qualified names of the node's topics in a namespace.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TopicNames {
+    /// `<ns>/bat/params`.
+    pub bat_params: String,
+    /// `<ns>/ball/params`.
+    pub ball_params: String,
+    /// `<ns>/swing`.
+    pub swing: String,
+    /// `<ns>/exit_velocity`.
+    pub exit_velocity: String,
+    /// `<ns>/modal_energies`.
+    pub modal_energies: String,
+    /// `<ns>/sweet_spot`.
+    pub sweet_spot: String,
+}
+
+impl TopicNames {
+    /// The names in `namespace` (e.g. `/rig3`; `/` for none).
+    pub fn in_namespace(namespace: &str) -> Result<TopicNames> {
+        let r = |t: &str| {
+            ros::resolve_topic(t, namespace, RIG_NODE_NAME).map_err(|e| anyhow!("namespace '{namespace}': {e}"))
+        };
+        Ok(TopicNames {
+            bat_params: r("bat/params")?,
+            ball_params: r("ball/params")?,
+            swing: r("swing")?,
+            exit_velocity: r("exit_velocity")?,
+            modal_energies: r("modal_energies")?,
+            sweet_spot: r("sweet_spot")?,
+        })
+    }
+}
+
+fn writer<T: RosMessage>(ctx: &ros2_client::Context, fq_topic: &str, qos: &QosProfile) -> Result<DataWriterCdr<T>> {
+    let topic = ctx
+        .create_topic(ros::dds_topic_name(fq_topic), ros::message_type_name::<T>(), qos)
+        .map_err(|e| anyhow!("cannot create topic {fq_topic}: {e}"))?;
+    let dds_qos = rustdds::QosPolicies::from(qos);
+    ctx.domain_participant()
+        .create_publisher(&dds_qos)
+        .and_then(|p| p.create_datawriter_no_key_cdr::<T>(&topic, Some(dds_qos.clone())))
+        .map_err(|e| anyhow!("cannot create a writer on {fq_topic}: {e}"))
+}
+
+fn reader<T: RosMessage>(
+    ctx: &ros2_client::Context,
+    fq_topic: &str,
+    qos: &QosProfile,
+) -> Result<SimpleDataReaderCdr<T>> {
+    let topic = ctx
+        .create_topic(ros::dds_topic_name(fq_topic), ros::message_type_name::<T>(), qos)
+        .map_err(|e| anyhow!("cannot create topic {fq_topic}: {e}"))?;
+    let dds_qos = rustdds::QosPolicies::from(qos);
+    ctx.domain_participant()
+        .create_subscriber(&dds_qos)
+        .and_then(|s| {
+            s.create_simple_datareader_no_key::<T, rustdds::CDRDeserializerAdapter<T>>(&topic, Some(dds_qos.clone()))
+        })
+        .map_err(|e| anyhow!("cannot subscribe to {fq_topic}: {e}"))
+}
+
+/// Subscriptions matched with `writer`, from its status events (RustDDS 0.15 has no direct query).
+fn matched<T: RosMessage>(writer: &DataWriterCdr<T>, mut current: usize) -> usize {
+    use rustdds::StatusEvented;
+    while let Some(status) = writer.try_recv_status() {
+        if let rustdds::dds::statusevents::DataWriterStatus::PublicationMatched { current: c, .. } = status {
+            current = usize::try_from(c.count()).unwrap_or(0);
+        }
+    }
+    current
+}
+
+/// Writes one sample, retrying while the reliable send window is full (the node is slower than us).
+fn write_reliably<T: RosMessage>(writer: &DataWriterCdr<T>, message: T, timeout: Duration) -> Result<()> {
+    let start = Instant::now();
+    let mut message = message;
+    loop {
+        match writer.write(message, Some(rustdds::Timestamp::now())) {
+            Ok(()) => return Ok(()),
+            Err(rustdds::dds::WriteError::WouldBlock { data }) => {
+                if start.elapsed() >= timeout {
+                    bail!(
+                        "the subscribers did not keep up for {:.1} s (send window full)",
+                        timeout.as_secs_f64()
+                    );
+                }
+                message = data;
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            Err(e) => bail!("DDS write failed: {e}"),
+        }
+    }
+}
+
+/// The rig's publishers.
+pub struct RigPublisher {
+    /// Topic names used.
+    pub names: TopicNames,
+    bats: DataWriterCdr<BatParams>,
+    balls: DataWriterCdr<BallParams>,
+    swings: DataWriterCdr<Swing>,
+    swing_matches: usize,
+    /// Give up a write after this long with a full send window.
+    pub write_timeout: Duration,
+}
+
+impl RigPublisher {
+    /// Creates the three writers in `ctx` under `namespace`.
+    pub fn new(ctx: &ros2_client::Context, namespace: &str) -> Result<RigPublisher> {
+        let names = TopicNames::in_namespace(namespace)?;
+        Ok(RigPublisher {
+            bats: writer(ctx, &names.bat_params, &ros::params_qos())?,
+            balls: writer(ctx, &names.ball_params, &ros::params_qos())?,
+            swings: writer(ctx, &names.swing, &ros::swing_qos())?,
+            names,
+            swing_matches: 0,
+            write_timeout: Duration::from_secs(10),
+        })
+    }
+
+    /// Subscriptions (nodes, recorders, echoes) matched on `swing` so far.
+    pub fn swing_subscribers(&mut self) -> usize {
+        self.swing_matches = matched(&self.swings, self.swing_matches);
+        self.swing_matches
+    }
+
+    /// Waits until at least `count` subscriptions matched on `swing`, checking `abort` (e.g. "the node
+    /// process died") every 20 ms.
+    pub fn wait_for_subscribers(
+        &mut self,
+        count: usize,
+        timeout: Duration,
+        mut abort: impl FnMut() -> Option<String>,
+    ) -> Result<()> {
+        let start = Instant::now();
+        while self.swing_subscribers() < count {
+            if let Some(reason) = abort() {
+                bail!("{reason}");
+            }
+            if start.elapsed() >= timeout {
+                bail!(
+                    "no node subscribed to {} within {:.0} s (is `sweetspot node` running in the same namespace, domain \
+                     (ROS_DOMAIN_ID) and discovery range (ROS_AUTOMATIC_DISCOVERY_RANGE)?)",
+                    self.names.swing,
+                    timeout.as_secs_f64()
+                );
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        Ok(())
+    }
+
+    /// Publishes a bat's params (latched).
+    pub fn publish_bat(&self, msg: BatParams) -> Result<()> {
+        write_reliably(&self.bats, msg, self.write_timeout)
+    }
+
+    /// Publishes a ball's params (latched).
+    pub fn publish_ball(&self, msg: BallParams) -> Result<()> {
+        write_reliably(&self.balls, msg, self.write_timeout)
+    }
+
+    /// Publishes one swing.
+    pub fn publish_swing(&self, msg: Swing) -> Result<()> {
+        write_reliably(&self.swings, msg, self.write_timeout)
+    }
+
+    /// Waits until every matched subscription acknowledged everything written; false on timeout.
+    pub fn wait_acknowledged(&self, timeout: Duration) -> bool {
+        [
+            self.bats.wait_for_acknowledgments(timeout),
+            self.balls.wait_for_acknowledgments(timeout),
+            self.swings.wait_for_acknowledgments(timeout),
+        ]
+        .into_iter()
+        .all(|r| matches!(r, Ok(true)))
+    }
+}
+
+/// Something the node answered.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Answer {
+    /// An ExitVelocity.
+    Exit(ExitVelocity),
+    /// A ModalEnergies.
+    Modal(ModalEnergies),
+    /// A SweetSpot.
+    SweetSpot(SweetSpot),
+}
+
+/// Listens to the node's answers in a namespace.
+pub struct AnswerListener {
+    exits: SimpleDataReaderCdr<ExitVelocity>,
+    modals: SimpleDataReaderCdr<ModalEnergies>,
+    spots: SimpleDataReaderCdr<SweetSpot>,
+}
+
+impl AnswerListener {
+    /// Subscribes to `exit_velocity`, `modal_energies` and `sweet_spot` (latched) of `names`.
+    pub fn new(ctx: &ros2_client::Context, names: &TopicNames) -> Result<AnswerListener> {
+        // Deep enough that a burst of answers waits in our queue instead of being replaced.
+        let deep = ros::results_qos().history(ros2_client::qos::History::KeepLast { depth: 10_000 });
+        Ok(AnswerListener {
+            exits: reader(ctx, &names.exit_velocity, &deep)?,
+            modals: reader(ctx, &names.modal_energies, &deep)?,
+            spots: reader(ctx, &names.sweet_spot, &ros::sweet_spot_qos())?,
+        })
+    }
+
+    /// Everything received since the last call (undecodable samples are counted, not fatal).
+    pub fn poll(&self) -> (Vec<Answer>, u64) {
+        let mut out = Vec::new();
+        let mut bad = 0;
+        loop {
+            match self.exits.try_take_one() {
+                Ok(Some(s)) => out.push(Answer::Exit(s.into_value())),
+                Ok(None) => break,
+                Err(_) => {
+                    bad += 1;
+                    break;
+                }
+            }
+        }
+        loop {
+            match self.modals.try_take_one() {
+                Ok(Some(s)) => out.push(Answer::Modal(s.into_value())),
+                Ok(None) => break,
+                Err(_) => {
+                    bad += 1;
+                    break;
+                }
+            }
+        }
+        loop {
+            match self.spots.try_take_one() {
+                Ok(Some(s)) => out.push(Answer::SweetSpot(s.into_value())),
+                Ok(None) => break,
+                Err(_) => {
+                    bad += 1;
+                    break;
+                }
+            }
+        }
+        (out, bad)
+    }
+}
+
+/// A ros2-client context for `config` (the network-safe factory of `crate::ros`).
+pub fn context(config: &DdsConfig) -> Result<ros2_client::Context> {
+    ros::context(config).map_err(|e| anyhow!("{e}"))
+}

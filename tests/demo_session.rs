@@ -1,0 +1,167 @@
+//! `sweetspot demo` end to end, over real DDS on loopback (run inside the private network namespace of
+//! `scripts/test`): a short session through a real node child process; checks the printed table, the bag
+//! (read back by `sweetspot bag info`, `sweetspot bag replay` and by the project's reader, every recorded answer recomputed from the
+//! recorded inputs with the physics), and the figures.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use sweetspot::bag::reader::read_bag;
+use sweetspot::calibrate::{ball_from_params, bat_from_params};
+use sweetspot::msgs::decode_cdr;
+use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Swing};
+use sweetspot::msgs::RosMessage;
+use sweetspot::physics::{collide, CollisionOptions, Impact, ModeSet};
+
+const SWINGS: usize = 8;
+
+fn sweetspot() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+}
+
+fn run_demo(out: &Path) -> String {
+    sweetspot::ros::network_guard().expect("DDS tests must run in a private network namespace (scripts/test)");
+    let output = sweetspot()
+        .args([
+            "demo",
+            "--swings",
+            &SWINGS.to_string(),
+            "--bats",
+            "r161,aluminum",
+            "--swings-per-bat",
+            "2",
+            "--seed",
+            "3",
+        ])
+        .args(["--timeout", "300", "--format", "png", "--out"])
+        .arg(out)
+        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        .output()
+        .expect("run sweetspot demo");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.success(),
+        "demo failed: {}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        output.status
+    );
+    stdout
+}
+
+fn bag_path(stdout: &str) -> PathBuf {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("bag:"))
+        .unwrap_or_else(|| panic!("no bag line in:\n{stdout}"));
+    PathBuf::from(line.trim_start_matches("bag:").split_whitespace().next().unwrap())
+}
+
+#[test]
+fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
+    let tmp = tempfile::tempdir().unwrap();
+    let stdout = run_demo(tmp.path());
+
+    // The table: one row per bat with its swings, sensible numbers.
+    for bat in ["r161", "aluminum"] {
+        let row = stdout
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(bat))
+            .unwrap_or_else(|| panic!("no row for {bat} in:\n{stdout}"));
+        let cells: Vec<&str> = row.split_whitespace().collect();
+        assert_eq!(cells[1], (SWINGS / 2).to_string(), "{row}");
+        let mean: f64 = cells[2].parse().unwrap();
+        assert!((25.0..55.0).contains(&mean), "mean exit speed {mean} m/s in {row}");
+        let bbcor: f64 = cells[8].parse().unwrap();
+        assert!((0.3..0.7).contains(&bbcor), "BBCOR {bbcor} in {row}");
+        assert!(row.contains('%'), "{row}");
+    }
+
+    // The bag: complete, with every input and answer, readable by `sweetspot bag info`.
+    let bag = bag_path(&stdout);
+    assert!(bag.join("metadata.yaml").is_file(), "{}", bag.display());
+    let info = sweetspot().args(["bag", "info"]).arg(&bag).output().unwrap();
+    let info_text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success(),
+        "bag info failed: {}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    assert!(
+        info_text.contains("/demo/swing") && info_text.contains("sweetspot_msgs/msg/ExitVelocity"),
+        "{info_text}"
+    );
+
+    // `sweetspot bag replay` re-runs the model on every recorded swing and must match bit for bit.
+    let replay = sweetspot().args(["bag", "replay"]).arg(&bag).output().unwrap();
+    let replay_text = String::from_utf8_lossy(&replay.stdout);
+    assert!(
+        replay.status.success(),
+        "bag replay failed: {replay_text}{}",
+        String::from_utf8_lossy(&replay.stderr)
+    );
+    assert!(
+        replay_text.contains(&format!("{SWINGS} swings: {SWINGS} match, 0 differ")),
+        "{replay_text}"
+    );
+
+    // And independently: every recorded ExitVelocity equals the physics recomputed from the recorded params and swing.
+    let (mut bats, mut balls, mut swings, mut exits) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    read_bag(&bag, |m| match m.channel.topic.type_name.as_str() {
+        t if t == BatParams::TYPE_NAME => bats.push(decode_cdr::<BatParams>(m.data).unwrap()),
+        t if t == BallParams::TYPE_NAME => balls.push(decode_cdr::<BallParams>(m.data).unwrap()),
+        t if t == Swing::TYPE_NAME => swings.push(decode_cdr::<Swing>(m.data).unwrap()),
+        t if t == ExitVelocity::TYPE_NAME => exits.push(decode_cdr::<ExitVelocity>(m.data).unwrap()),
+        _ => {}
+    })
+    .unwrap();
+    assert_eq!(
+        (bats.len(), balls.len(), swings.len(), exits.len()),
+        (2, 1, SWINGS, SWINGS)
+    );
+    let ball = ball_from_params(&balls[0]);
+    for swing in &swings {
+        let exit = exits
+            .iter()
+            .find(|e| e.swing_id == swing.swing_id)
+            .expect("an answer per swing");
+        assert_eq!(exit.status, ExitVelocity::STATUS_OK, "{}", exit.message);
+        let params = bats.iter().find(|b| b.bat_id == swing.bat_id).unwrap();
+        let (bat, modes) = bat_from_params(params).unwrap();
+        let set = ModeSet::compute(&bat, modes).unwrap();
+        let impact = Impact {
+            ball_speed: swing.ball_speed,
+            bat_cm_speed: swing.bat_cm_speed,
+            bat_angular_speed: swing.bat_angular_speed,
+            impact_z: swing.impact_z,
+        };
+        let r = collide(&set, &ball, &impact, &CollisionOptions { modes, time_step: 5e-6 }).unwrap();
+        assert!(
+            (r.exit_speed - exit.exit_speed).abs() < 1e-9,
+            "swing {}: {} vs {}",
+            swing.swing_id,
+            r.exit_speed,
+            exit.exit_speed
+        );
+        assert!(swing.measured_exit_speed.is_finite() && (swing.measured_exit_speed - r.exit_speed).abs() < 5.0);
+        assert_eq!(exit.measured_exit_speed, swing.measured_exit_speed);
+    }
+
+    // The figures, next to the bag.
+    let figures = PathBuf::from(format!("{}_figures", bag.display()));
+    for file in [
+        "demo-exit-speed-vs-impact.png",
+        "fig2-rigid-exit-speed.png",
+        "fig5-normal-vs-corked.png",
+        "fig6-wood-vs-aluminum.png",
+        "mode-shapes.png",
+    ] {
+        let bytes = std::fs::read(figures.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert!(
+            bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 10_000,
+            "{file}: {} bytes",
+            bytes.len()
+        );
+        assert!(stdout.contains(file), "{file} not listed in:\n{stdout}");
+    }
+    assert!(figures.join("README.md").is_file());
+}
