@@ -7,6 +7,9 @@ use clap::{Parser, Subcommand};
 pub mod bag;
 pub mod bat_file;
 pub mod bbcor;
+pub mod calibrate;
+pub mod demo;
+pub mod rig;
 pub mod case_file;
 pub mod common;
 pub mod crisp_text;
@@ -30,6 +33,8 @@ pub struct Cli {
 /// Every subcommand.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// The whole thing in one command: node, simulated rig and recorder over real DDS, then a report and figures.
+    Demo(demo::DemoArgs),
     /// Run the ROS 2 node.
     Node(node::NodeArgs),
     /// Publish params and swings from the command line or a file.
@@ -49,6 +54,10 @@ pub enum Command {
     Bbcor(bbcor::BbcorArgs),
     /// Redraws the seed paper's Figures 2, 5 and 6 and the mode shapes into a directory.
     Figures(figures::FiguresArgs),
+    /// A simulated batting rig publishing params and swings over DDS, as a real sensor rig would.
+    Rig(rig::RigArgs),
+    /// Fit the ball's COR (and bat stiffness) to the measured exit speeds of a recorded session.
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand; errors are printed with context.
@@ -64,6 +73,9 @@ pub fn main() -> ExitCode {
         Command::Sweep(args) => sweep::run(args),
         Command::Bbcor(args) => bbcor::run(args),
         Command::Figures(args) => figures::run(args),
+        Command::Demo(args) => demo::run(args),
+        Command::Rig(args) => rig::run(args),
+        Command::Calibrate(args) => calibrate::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
