@@ -12,4 +12,3 @@ pub mod pipeline;
 pub mod convert;
 pub mod recording;
 pub mod runtime;
-mod shim;

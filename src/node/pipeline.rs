@@ -81,10 +81,10 @@ impl<T: Send + 'static> Pipeline<T> {
         }
         drop(done_tx);
         let sequencer = {
-            let (in_flight, stats) = (Arc::clone(&in_flight), Arc::clone(&stats));
+            let (in_flight, stats, stop) = (Arc::clone(&in_flight), Arc::clone(&stats), Arc::clone(&stop));
             std::thread::Builder::new()
                 .name("sweetspot-sequencer".into())
-                .spawn(move || sequencer_loop(done_rx, sink, &in_flight, &stats))?
+                .spawn(move || sequencer_loop(done_rx, sink, &in_flight, &stats, &stop))?
         };
         Ok(Pipeline {
             jobs: Some(job_tx),
@@ -178,13 +178,23 @@ fn worker_loop<T>(jobs: Receiver<Job<T>>, done: Sender<Outcome<T>>, stats: &Node
     }
 }
 
-fn sequencer_loop<T>(done: Receiver<Outcome<T>>, mut sink: impl ResultSink<T>, in_flight: &AtomicUsize, stats: &NodeStats) {
+fn sequencer_loop<T>(
+    done: Receiver<Outcome<T>>,
+    mut sink: impl ResultSink<T>,
+    in_flight: &AtomicUsize,
+    stats: &NodeStats,
+    stop: &AtomicBool,
+) {
     let mut waiting: BTreeMap<u64, Outcome<T>> = BTreeMap::new();
     let mut next = 0u64;
-    // Ends when every worker has ended (all senders dropped); what still waits behind a gap is abandoned.
+    // Ends when every worker has ended (all senders dropped), or at once when stopped: what is left is
+    // abandoned (the swings are in the bag as inputs).
     for outcome in done.iter() {
         waiting.insert(outcome.seq, outcome);
         while let Some(outcome) = waiting.remove(&next) {
+            if stop.load(Ordering::Acquire) {
+                return;
+            }
             let delivered = sink.deliver(&outcome);
             match (&outcome.result, delivered) {
                 (_, false) => NodeStats::bump(&stats.publish_failures),

@@ -9,17 +9,17 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use futures::StreamExt;
+use ros2_client::qos::{History, Reliability, WhenFull};
 use ros2_client::ros2::LogLevel;
 use ros2_client::rosout::RosoutRaw;
 use ros2_client::{
-    MessageTypeName, Name, NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher, QosProfile,
+    NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher,
 };
 
-use crate::bag::{RecordedQos, RecorderConfig};
+use crate::bag::RecorderConfig;
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
-use crate::msgs::RosMessage;
 
 use super::convert;
 use super::engine::{self, BatEntry, BatSummary, Registry};
@@ -101,34 +101,9 @@ pub fn run(config: NodeConfig) -> anyhow::Result<()> {
     result
 }
 
-/// QoS of each topic (the ROS 2 conventions of issue 3).
-fn params_qos() -> QosProfile {
-    super::shim::qos::params()
-}
-fn swing_qos() -> QosProfile {
-    super::shim::qos::swing()
-}
-fn results_qos() -> QosProfile {
-    super::shim::qos::results()
-}
-fn sweet_spot_qos() -> QosProfile {
-    super::shim::qos::latched_results()
-}
-fn diagnostics_qos() -> QosProfile {
-    super::shim::qos::diagnostics()
-}
-
-fn recorded_qos(q: &QosProfile) -> RecordedQos {
-    use ros2_client::qos::{Durability, History, Reliability};
-    RecordedQos {
-        reliable: matches!(q.reliability, Reliability::Reliable { .. }),
-        transient_local: q.durability == Durability::TransientLocal,
-        depth: match q.history {
-            History::KeepLast { depth } => depth as u32,
-            History::KeepAll => 0,
-        },
-    }
-}
+use crate::ros::{
+    diagnostics_qos, params_qos, recorded_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos,
+};
 
 /// rosout + tracing, from any thread.
 #[derive(Clone)]
@@ -239,7 +214,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         options = options.declare_parameter(name, value);
     }
 
-    let context = super::shim::context().context("creating the DDS participant")?;
+    let (context, dds_config) = crate::ros::context_from_env().context("creating the DDS participant")?;
     let node_name = NodeName::new(&identity.namespace, &identity.name)
         .map_err(|e| anyhow::anyhow!("node name {fqn}: {e:?}"))?;
     let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
@@ -260,11 +235,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     .collect();
     macro_rules! topic {
         ($key:expr, $ty:ty, $qos:expr) => {{
-            let name = &topic_names[$key];
-            let ros_name = Name::parse(name).map_err(|e| anyhow::anyhow!("topic {name}: {e:?}"))?;
-            let (package, ty) = <$ty as RosMessage>::TYPE_NAME.split_once("/msg/").unwrap_or(("", ""));
-            node.create_topic(&ros_name, MessageTypeName::new(package, ty), &$qos)
-                .map_err(|e| anyhow::anyhow!("topic {name}: {e:?}"))?
+            crate::ros::create_topic::<$ty>(&node, &topic_names[$key], &$qos)?
         }};
     }
     let bat_topic = topic!(topics::BAT_PARAMS, BatParams, params_qos());
@@ -272,14 +243,22 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let swing_topic = topic!(topics::SWING, Swing, swing_qos());
     let ev_topic = topic!(topics::EXIT_VELOCITY, ExitVelocity, results_qos());
     let me_topic = topic!(topics::MODAL_ENERGIES, ModalEnergies, results_qos());
-    let ss_topic = topic!(topics::SWEET_SPOT, SweetSpot, sweet_spot_qos());
+    let ss_topic = topic!(topics::SWEET_SPOT, SweetSpot, latched_results_qos());
     let diag_topic = topic!(topics::DIAGNOSTICS, DiagnosticArray, diagnostics_qos());
     let dds = |e| anyhow::anyhow!("{e:?}");
     let bat_sub = node.create_subscription::<BatParams>(&bat_topic, None).map_err(dds)?;
     let ball_sub = node.create_subscription::<BallParams>(&ball_topic, None).map_err(dds)?;
-    let swing_sub = node.create_subscription::<Swing>(&swing_topic, None).map_err(dds)?;
-    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, None).map_err(dds)?);
-    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, None).map_err(dds)?;
+    // DDS acknowledges a sample when it reaches the reader's cache, not when the node takes it, so a burst
+    // faster than the node takes swings would overwrite a keep-last-1000 cache: size it like the pipeline.
+    let swing_reader_qos = swing_qos().history(History::KeepLast { depth: settings.queue_capacity.max(1000) });
+    let swing_sub = node.create_subscription::<Swing>(&swing_topic, Some(swing_reader_qos)).map_err(dds)?;
+    // A reliable writer never overwrites unacknowledged results; a wider window and a longer wait than the
+    // topic's defaults keep a briefly slow listener from costing results (beyond that: counted failures).
+    let results_writer_qos = results_qos()
+        .history(History::KeepLast { depth: 1000 })
+        .reliability(Reliability::Reliable { when_full: WhenFull::Wait(Duration::from_millis(500)) });
+    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_writer_qos.clone())).map_err(dds)?);
+    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, Some(results_writer_qos)).map_err(dds)?;
     let ss_pub = node.create_publisher::<SweetSpot>(&ss_topic, None).map_err(dds)?;
     let diag_pub = node.create_publisher::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
     let spinner = node.spinner().map_err(dds)?;
@@ -296,7 +275,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     )
     .context("starting the worker threads")?;
     log.info(&format!(
-        "{fqn} up: {} workers, queue {} swings, swing on {}, answers on {}, recording {}",
+        "{fqn} up on ROS_DOMAIN_ID {} (discovery {}): {} workers, queue {} swings, swing on {}, answers on {}, recording {}",
+        dds_config.domain_id,
+        dds_config.range,
         settings.worker_count(),
         settings.queue_capacity,
         topic_names[topics::SWING],
@@ -450,7 +431,6 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         Some(Err(e)) => eprintln!("{fqn}: closing the bag failed: {e}"),
         None => {}
     }
-    node.stop_spinner();
     Ok(())
 }
 
@@ -547,7 +527,7 @@ fn start_tape(
         topic_info::<Swing>(&topic_names[topics::SWING], recorded_qos(&swing_qos())),
         topic_info::<ExitVelocity>(&topic_names[topics::EXIT_VELOCITY], recorded_qos(&results_qos())),
         topic_info::<ModalEnergies>(&topic_names[topics::MODAL_ENERGIES], recorded_qos(&results_qos())),
-        topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&sweet_spot_qos())),
+        topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&latched_results_qos())),
     ];
     match super::recording::start_backend(config) {
         Ok(backend) => Tape::start(dir, backend, topics),

@@ -84,6 +84,16 @@ impl NodeProcess {
 impl Drop for NodeProcess {
     fn drop(&mut self) {
         if let Some(mut child) = self.child.take() {
+            if std::thread::panicking() {
+                // Ask for the node's own summary before showing its log with the failure.
+                let _ = Command::new("kill").arg("-15").arg(child.id().to_string()).status();
+                let start = Instant::now();
+                while child.try_wait().ok().flatten().is_none() && start.elapsed() < Duration::from_secs(5) {
+                    std::thread::sleep(Duration::from_millis(20));
+                }
+                std::thread::sleep(Duration::from_millis(50));
+                eprintln!("---- sweetspot node stderr ----\n{}\n-------------------------------", self.log());
+            }
             let _ = child.kill();
             let _ = child.wait();
         }
@@ -107,4 +117,132 @@ pub fn python() -> PathBuf {
         venv.display()
     );
     venv
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// An in-test ROS 2 participant (ros2-client), for publishing inputs and listening to the node.
+// ---------------------------------------------------------------------------------------------------------
+
+use std::pin::pin;
+
+use futures::StreamExt;
+use ros2_client::qos::{History, Reliability, WhenFull};
+use ros2_client::{Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription};
+use sweetspot::msgs::RosMessage;
+
+/// Refuses to go on unless this process is in a private network namespace (scripts/test provides one).
+pub fn require_isolated_network() {
+    if let Err(e) = dds::network_guard() {
+        panic!("{e}");
+    }
+}
+
+/// A ros2-client node of the test on `domain`, with its own async runtime.
+pub struct Peer {
+    pub rt: tokio::runtime::Runtime,
+    pub node: Node,
+}
+
+impl Peer {
+    /// A node named `name` on `domain`.
+    pub fn new(domain: u16, name: &str) -> Peer {
+        require_isolated_network();
+        let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build().unwrap();
+        let context = dds::context(domain);
+        let mut node = context
+            .new_node(NodeName::new("/", name).unwrap(), NodeOptions::new().enable_rosout(false))
+            .expect("test node");
+        let spinner = node.spinner().expect("spinner");
+        rt.spawn(spinner.spin());
+        Peer { rt, node }
+    }
+
+    /// A publisher of `M` on the absolute topic `name` with `qos`.
+    pub fn publisher<M: RosMessage>(&mut self, name: &str, qos: QosProfile) -> Publisher<M> {
+        let topic = dds::topic::<M>(&self.node, name, &qos);
+        self.node.create_publisher::<M>(&topic, None).expect("publisher")
+    }
+
+    /// A subscription to `M` on the absolute topic `name` with `qos`.
+    pub fn subscription<M: RosMessage>(&mut self, name: &str, qos: QosProfile) -> Subscription<M> {
+        let topic = dds::topic::<M>(&self.node, name, &qos);
+        self.node.create_subscription::<M>(&topic, None).expect("subscription")
+    }
+
+    /// Waits until `publisher` is matched with a subscription (the node's), or panics after 60 s.
+    pub fn wait_for_reader<M: RosMessage>(&self, publisher: &Publisher<M>) {
+        self.rt
+            .block_on(async { tokio::time::timeout(Duration::from_secs(60), publisher.wait_for_subscription(&self.node)).await })
+            .expect("no subscription matched the test publisher within 60 s");
+    }
+
+    /// Takes messages until `done(&received)` says enough, or panics after `limit` without a new one.
+    pub fn collect_until<M: RosMessage>(
+        &self,
+        subscription: &Subscription<M>,
+        limit: Duration,
+        mut done: impl FnMut(&[M]) -> bool,
+    ) -> Vec<M> {
+        self.rt.block_on(async {
+            let mut out = Vec::new();
+            let mut stream = pin!(subscription.async_stream());
+            while !done(&out) {
+                match tokio::time::timeout(limit, stream.next()).await {
+                    Ok(Some(Ok((msg, _)))) => out.push(msg),
+                    Ok(Some(Err(e))) => panic!("receive error: {e:?}"),
+                    Ok(None) => panic!("subscription stream ended"),
+                    Err(_) => panic!("nothing new for {limit:?} after {} messages of {}", out.len(), M::TYPE_NAME),
+                }
+            }
+            out
+        })
+    }
+
+    /// Exactly `n` messages (panics if one takes longer than `limit`).
+    pub fn collect<M: RosMessage>(&self, subscription: &Subscription<M>, n: usize, limit: Duration) -> Vec<M> {
+        self.collect_until(subscription, limit, |got| got.len() >= n)
+    }
+}
+
+/// A reader QoS that never loses what the node sent reliably, however slowly the test takes it. (Not
+/// KeepAll: RustDDS caps a KeepAll reader without resource limits at 64 samples.)
+pub fn keep_all(qos: QosProfile) -> QosProfile {
+    qos.history(History::KeepLast { depth: 20_000 })
+}
+
+/// A writer QoS that blocks instead of failing when the reliable send window is full.
+pub fn blocking(qos: QosProfile) -> QosProfile {
+    qos.reliability(Reliability::Reliable { when_full: WhenFull::Block })
+}
+
+/// DDS plumbing of the tests: the msgs helper's network-safe factory, topics and QoS.
+pub mod dds {
+    use ros2_client::{Context, Node, QosProfile};
+    use sweetspot::msgs::RosMessage;
+    use sweetspot::ros::{DdsConfig, DiscoveryRange};
+
+    pub use sweetspot::ros::network_guard;
+
+    /// A loopback-only context on `domain`.
+    pub fn context(domain: u16) -> Context {
+        sweetspot::ros::context(&DdsConfig { domain_id: domain, range: DiscoveryRange::Localhost }).expect("context")
+    }
+
+    /// The topic `name` (absolute) for `M`.
+    pub fn topic<M: RosMessage>(node: &Node, name: &str, qos: &QosProfile) -> rustdds::Topic {
+        sweetspot::ros::create_topic::<M>(node, name, qos).expect("topic")
+    }
+
+    pub fn params() -> QosProfile {
+        sweetspot::ros::params_qos()
+    }
+    pub fn swing() -> QosProfile {
+        sweetspot::ros::swing_qos()
+    }
+    pub fn results() -> QosProfile {
+        sweetspot::ros::results_qos()
+    }
+    pub fn latched_results() -> QosProfile {
+        sweetspot::ros::sweet_spot_qos()
+    }
 }
