@@ -135,7 +135,19 @@ fn peak_rss_kb(pid: u32) -> u64 {
 
 #[test]
 fn a_flood_far_beyond_capacity_is_dropped_counted_reported_and_memory_stays_bounded() {
-    let domain = domain(73);
+    flood(domain(73));
+}
+
+#[test]
+#[ignore = "bug: under a flood the node's KeepLast swing reader evicts samples before the node takes them; they are neither answered nor counted as dropped"]
+fn a_flood_loses_no_swing_without_counting_it() {
+    let (sent, received) = flood(domain(77));
+    assert_eq!(received, sent, "{} swings vanished in DDS without being counted", sent - received);
+}
+
+/// Floods a slowed-down node; checks what it counted and reported; returns (swings sent, swings the node
+/// says it received).
+fn flood(domain: u16) -> (u64, u64) {
     let dir = tempfile::tempdir().unwrap();
     let mut peer = Peer::new(domain, "flood_peer");
     let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
@@ -170,6 +182,7 @@ fn a_flood_far_beyond_capacity_is_dropped_counted_reported_and_memory_stays_boun
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");
     let (received, ok, rejected, dropped) = summary_counts(&log);
+    eprintln!("flood: {flood} sent, {received} received, {ok} OK, {rejected} rejected, {dropped} dropped; peak RSS {peak} kB");
     assert!(dropped > 0, "a flood of {flood} at 8 in flight must drop swings:\n{log}");
     assert_eq!(ok + rejected + dropped, received, "every swing taken is answered or counted as dropped:\n{log}");
     assert_eq!(ok, 1 + answered.len() as u64, "the listener got every OK answer the node counted");
@@ -182,6 +195,7 @@ fn a_flood_far_beyond_capacity_is_dropped_counted_reported_and_memory_stays_boun
     assert!(log.contains("dropped: 8 swings already in flight"), "the drop warning names the limit:\n{log}");
     // Memory bounded: the flood never piles up in the node (generous ceiling; the node idles near 40 MB).
     assert!(peak < 400 * 1024, "peak RSS {peak} kB under the flood");
+    (1 + flood, received)
 }
 
 
@@ -245,6 +259,7 @@ print(json.dumps({"files": len(files), "summaries": summaries, "ids": ids}))
     assert_eq!(report["summaries"].as_u64(), Some(files), "every MCAP file is closed with a summary");
     assert!(Path::new(&bag).join("metadata.yaml").exists(), "rosbag2 metadata.yaml written on SIGTERM");
     let recorded: BTreeSet<u64> = report["ids"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
+    eprintln!("SIGTERM: {} answers received by the listener, {} in the bag, {} swings sent", got.len(), recorded.len(), last_sent - 1);
     let missing: Vec<u64> = got.iter().map(|ev| ev.swing_id).filter(|id| !recorded.contains(id)).collect();
     assert!(missing.is_empty(), "{} answers the listener received are not in the bag (first: {:?})", missing.len(), &missing[..missing.len().min(10)]);
 }
