@@ -165,12 +165,17 @@ fn dds<E: std::fmt::Debug>(e: E) -> anyhow::Error {
 }
 
 fn dds_config(domain: u16) -> DdsConfig {
-    DdsConfig { domain_id: domain, range: DiscoveryRange::Localhost }
+    DdsConfig {
+        domain_id: domain,
+        range: DiscoveryRange::Localhost,
+    }
 }
 
 /// Refuses to run DDS unless in a private network namespace whose only interface is `lo`.
 pub fn require_private_network() -> anyhow::Result<()> {
-    crate::ros::network_guard().context("sweetspot bench runs DDS only inside a private network namespace (use scripts/bench)")?;
+    crate::ros::network_guard().context(
+        "sweetspot bench runs DDS only inside a private network namespace (use scripts/bench)",
+    )?;
     Ok(())
 }
 
@@ -182,19 +187,35 @@ pub fn require_private_network() -> anyhow::Result<()> {
 /// `/exit_velocity` with an `ExitVelocity` carrying its ids, with the node's QoS on both sides.
 pub fn run_echo_server(domain: u16) -> anyhow::Result<()> {
     require_private_network()?;
-    let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()?;
     let context = crate::ros::context(&dds_config(domain))?;
     let mut node = context
-        .new_node(NodeName::new("/", "sweetspot_raw_echo").map_err(|e| anyhow::anyhow!("{e:?}"))?, NodeOptions::new().enable_rosout(false))
+        .new_node(
+            NodeName::new("/", "sweetspot_raw_echo").map_err(|e| anyhow::anyhow!("{e:?}"))?,
+            NodeOptions::new().enable_rosout(false),
+        )
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let swing_topic = crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
-    let ev_topic = crate::ros::create_topic::<ExitVelocity>(&node, "/exit_velocity", &crate::ros::results_qos())?;
+    let ev_topic = crate::ros::create_topic::<ExitVelocity>(
+        &node,
+        "/exit_velocity",
+        &crate::ros::results_qos(),
+    )?;
     let reader_qos = crate::ros::swing_qos().history(History::KeepLast { depth: 16_384 });
-    let sub = node.create_subscription::<Swing>(&swing_topic, Some(reader_qos)).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let sub = node
+        .create_subscription::<Swing>(&swing_topic, Some(reader_qos))
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let writer_qos = crate::ros::results_qos()
         .history(History::KeepLast { depth: 1000 })
-        .reliability(Reliability::Reliable { when_full: WhenFull::Wait(Duration::from_millis(500)) });
-    let publisher = node.create_publisher::<ExitVelocity>(&ev_topic, Some(writer_qos)).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        .reliability(Reliability::Reliable {
+            when_full: WhenFull::Wait(Duration::from_millis(500)),
+        });
+    let publisher = node
+        .create_publisher::<ExitVelocity>(&ev_topic, Some(writer_qos))
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let spinner = node.spinner().map_err(|e| anyhow::anyhow!("{e:?}"))?;
     rt.spawn(spinner.spin());
     eprintln!("raw echo up on domain {domain}");
@@ -253,7 +274,10 @@ impl ChildProc {
                 }
             });
         }
-        Ok(ChildProc { child: Some(child), stderr })
+        Ok(ChildProc {
+            child: Some(child),
+            stderr,
+        })
     }
 
     fn pid(&self) -> u32 {
@@ -267,9 +291,14 @@ impl ChildProc {
     /// SIGTERM, then waits up to 20 s; returns the stderr lines.
     fn terminate(mut self) -> String {
         if let Some(mut child) = self.child.take() {
-            let _ = Command::new("kill").arg("-TERM").arg(child.id().to_string()).status();
+            let _ = Command::new("kill")
+                .arg("-TERM")
+                .arg(child.id().to_string())
+                .status();
             let start = Instant::now();
-            while child.try_wait().ok().flatten().is_none() && start.elapsed() < Duration::from_secs(20) {
+            while child.try_wait().ok().flatten().is_none()
+                && start.elapsed() < Duration::from_secs(20)
+            {
                 std::thread::sleep(Duration::from_millis(20));
             }
             let _ = child.kill();
@@ -317,19 +346,42 @@ impl Client {
     /// A client on `domain` (loopback only).
     pub fn new(domain: u16) -> anyhow::Result<Client> {
         require_private_network()?;
-        let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
+        let rt = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .enable_all()
+            .build()?;
         let context = crate::ros::context(&dds_config(domain))?;
         let mut node = context
-            .new_node(NodeName::new("/", "sweetspot_bench").map_err(dds)?, NodeOptions::new().enable_rosout(false))
+            .new_node(
+                NodeName::new("/", "sweetspot_bench").map_err(dds)?,
+                NodeOptions::new().enable_rosout(false),
+            )
             .map_err(dds)?;
-        let swing_topic = crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
-        let ev_topic = crate::ros::create_topic::<ExitVelocity>(&node, "/exit_velocity", &crate::ros::results_qos())?;
-        let diag_topic = crate::ros::create_topic::<DiagnosticArray>(&node, "/diagnostics", &crate::ros::diagnostics_qos())?;
-        let writer_qos = crate::ros::swing_qos().reliability(Reliability::Reliable { when_full: WhenFull::Block });
-        let publisher = node.create_publisher::<Swing>(&swing_topic, Some(writer_qos)).map_err(dds)?;
+        let swing_topic =
+            crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
+        let ev_topic = crate::ros::create_topic::<ExitVelocity>(
+            &node,
+            "/exit_velocity",
+            &crate::ros::results_qos(),
+        )?;
+        let diag_topic = crate::ros::create_topic::<DiagnosticArray>(
+            &node,
+            "/diagnostics",
+            &crate::ros::diagnostics_qos(),
+        )?;
+        let writer_qos = crate::ros::swing_qos().reliability(Reliability::Reliable {
+            when_full: WhenFull::Block,
+        });
+        let publisher = node
+            .create_publisher::<Swing>(&swing_topic, Some(writer_qos))
+            .map_err(dds)?;
         let reader_qos = crate::ros::results_qos().history(History::KeepLast { depth: 65_536 });
-        let ev_sub = node.create_subscription::<ExitVelocity>(&ev_topic, Some(reader_qos)).map_err(dds)?;
-        let diag_sub = node.create_subscription::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
+        let ev_sub = node
+            .create_subscription::<ExitVelocity>(&ev_topic, Some(reader_qos))
+            .map_err(dds)?;
+        let diag_sub = node
+            .create_subscription::<DiagnosticArray>(&diag_topic, None)
+            .map_err(dds)?;
         let spinner = node.spinner().map_err(dds)?;
         rt.spawn(spinner.spin());
         let (tx, answers) = mpsc::channel();
@@ -359,14 +411,21 @@ impl Client {
                 }
             }
         });
-        Ok(Client { rt, node, publisher, answers, diagnostics, next_id: 1 })
+        Ok(Client {
+            rt,
+            node,
+            publisher,
+            answers,
+            diagnostics,
+            next_id: 1,
+        })
     }
 
     /// Waits for the server to match and answer a few swings.
     pub fn warm_up(&mut self, limit: Duration) -> anyhow::Result<()> {
-        let matched = self
-            .rt
-            .block_on(async { tokio::time::timeout(limit, self.publisher.wait_for_subscription(&self.node)).await });
+        let matched = self.rt.block_on(async {
+            tokio::time::timeout(limit, self.publisher.wait_for_subscription(&self.node)).await
+        });
         if matched.is_err() {
             bail!("no subscriber on /swing matched within {limit:?}");
         }
@@ -382,7 +441,11 @@ impl Client {
 
     /// The latest diagnostics value `key` as an integer (0 if absent).
     pub fn diagnostic(&self, key: &str) -> u64 {
-        self.diagnostics.lock().ok().and_then(|m| m.get(key).and_then(|v| v.parse().ok())).unwrap_or(0)
+        self.diagnostics
+            .lock()
+            .ok()
+            .and_then(|m| m.get(key).and_then(|v| v.parse().ok()))
+            .unwrap_or(0)
     }
 
     /// Publishes `count` swings paced at `rate`/s, then waits for their answers (at most `quiet` without a
@@ -396,7 +459,12 @@ impl Client {
         let mut histogram = Histogram::<u64>::new_with_bounds(1, 600_000_000, 3)?;
         let mut answered = 0u64;
         let mut last_answer = None;
-        let take = |id: u64, at: Instant, sent_at: &[Option<Instant>], h: &mut Histogram<u64>, n: &mut u64, last: &mut Option<Instant>| {
+        let take = |id: u64,
+                    at: Instant,
+                    sent_at: &[Option<Instant>],
+                    h: &mut Histogram<u64>,
+                    n: &mut u64,
+                    last: &mut Option<Instant>| {
             if id >= first && id < first + count {
                 if let Some(sent) = sent_at[(id - first) as usize] {
                     let _ = h.record(at.saturating_duration_since(sent).as_micros().max(1) as u64);
@@ -425,18 +493,34 @@ impl Client {
                 bail!("publishing swing {}: {e:?}", first + i);
             }
             while let Ok((id, at)) = self.answers.try_recv() {
-                take(id, at, &sent_at, &mut histogram, &mut answered, &mut last_answer);
+                take(
+                    id,
+                    at,
+                    &sent_at,
+                    &mut histogram,
+                    &mut answered,
+                    &mut last_answer,
+                );
             }
         }
         let send_end = Instant::now();
         let achieved = count as f64 / send_end.duration_since(start).as_secs_f64().max(1e-9);
         while answered < count {
             match self.answers.recv_timeout(quiet) {
-                Ok((id, at)) => take(id, at, &sent_at, &mut histogram, &mut answered, &mut last_answer),
+                Ok((id, at)) => take(
+                    id,
+                    at,
+                    &sent_at,
+                    &mut histogram,
+                    &mut answered,
+                    &mut last_answer,
+                ),
                 Err(_) => break,
             }
         }
-        let drain_ms = last_answer.map(|t| t.saturating_duration_since(send_end).as_secs_f64() * 1e3).unwrap_or(f64::NAN);
+        let drain_ms = last_answer
+            .map(|t| t.saturating_duration_since(send_end).as_secs_f64() * 1e3)
+            .unwrap_or(f64::NAN);
         Ok(RunResult {
             target_rate: rate,
             achieved_rate: achieved,
@@ -471,13 +555,45 @@ fn count_for(rate: u32, seconds: f64) -> u64 {
 pub fn machine() -> BTreeMap<String, String> {
     let mut m = BTreeMap::new();
     let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-    let model = cpuinfo.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).unwrap_or("?").trim();
+    let model = cpuinfo
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .unwrap_or("?")
+        .trim();
     m.insert("cpu".into(), model.to_string());
-    m.insert("nproc".into(), std::thread::available_parallelism().map(|n| n.get().to_string()).unwrap_or_default());
-    m.insert("loadavg".into(), std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string());
-    m.insert("kernel".into(), std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default().trim().to_string());
-    m.insert("profile".into(), if cfg!(debug_assertions) { "debug".into() } else { "release".into() });
-    m.insert("utc".into(), chrono::Utc::now().format("%Y-%m-%dT%H:%M:%SZ").to_string());
+    m.insert(
+        "nproc".into(),
+        std::thread::available_parallelism()
+            .map(|n| n.get().to_string())
+            .unwrap_or_default(),
+    );
+    m.insert(
+        "loadavg".into(),
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+            .to_string(),
+    );
+    m.insert(
+        "kernel".into(),
+        std::fs::read_to_string("/proc/sys/kernel/osrelease")
+            .unwrap_or_default()
+            .trim()
+            .to_string(),
+    );
+    m.insert(
+        "profile".into(),
+        if cfg!(debug_assertions) {
+            "debug".into()
+        } else {
+            "release".into()
+        },
+    );
+    m.insert(
+        "utc".into(),
+        chrono::Utc::now().format("%Y-%m-%dT%H:%M:%SZ").to_string(),
+    );
     m
 }
 
@@ -488,19 +604,35 @@ fn log(msg: &str) {
 /// Runs every measurement once and returns the report.
 pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     require_private_network()?;
-    std::fs::create_dir_all(&opts.work_dir).with_context(|| format!("creating {}", opts.work_dir.display()))?;
+    std::fs::create_dir_all(&opts.work_dir)
+        .with_context(|| format!("creating {}", opts.work_dir.display()))?;
     let machine_before = machine();
     let quiet = Duration::from_secs(3);
 
     // 1. Raw ros2-client echo.
     log("raw echo: starting");
-    let echo = ChildProc::spawn(&opts.exe, &["bench".into(), "--echo-server".into(), "--domain".into(), (opts.domain + 1).to_string()], opts.domain + 1, &opts.work_dir)?;
+    let echo = ChildProc::spawn(
+        &opts.exe,
+        &[
+            "bench".into(),
+            "--echo-server".into(),
+            "--domain".into(),
+            (opts.domain + 1).to_string(),
+        ],
+        opts.domain + 1,
+        &opts.work_dir,
+    )?;
     let mut raw_client = Client::new(opts.domain + 1)?;
-    raw_client.warm_up(Duration::from_secs(30)).with_context(|| format!("raw echo: {}", echo.log()))?;
+    raw_client
+        .warm_up(Duration::from_secs(30))
+        .with_context(|| format!("raw echo: {}", echo.log()))?;
     let mut raw = Vec::new();
     for rate in LATENCY_RATES {
         let r = raw_client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
-        log(&format!("raw  {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})", r.p50_us, r.p99_us, r.max_us, r.answered, r.sent));
+        log(&format!(
+            "raw  {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
+            r.p50_us, r.p99_us, r.max_us, r.answered, r.sent
+        ));
         raw.push(r);
     }
     drop(raw_client);
@@ -508,7 +640,9 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
 
     // 2. The node, recording on.
     log("node: starting (recording on)");
-    let bag_dir = opts.work_dir.join(format!("node_bag_{}", std::process::id()));
+    let bag_dir = opts
+        .work_dir
+        .join(format!("node_bag_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&bag_dir);
     let node_args: Vec<String> = vec![
         "node".into(),
@@ -520,12 +654,17 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     ];
     let node = ChildProc::spawn(&opts.exe, &node_args, opts.domain, &opts.work_dir)?;
     let mut client = Client::new(opts.domain)?;
-    client.warm_up(Duration::from_secs(60)).with_context(|| format!("node: {}", node.log()))?;
+    client
+        .warm_up(Duration::from_secs(60))
+        .with_context(|| format!("node: {}", node.log()))?;
     let mut node_runs = Vec::new();
     let mut memory = MemoryResult::default();
     for rate in LATENCY_RATES {
         let r = client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
-        log(&format!("node {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})", r.p50_us, r.p99_us, r.max_us, r.answered, r.sent));
+        log(&format!(
+            "node {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
+            r.p50_us, r.p99_us, r.max_us, r.answered, r.sent
+        ));
         if rate == 10_000 {
             memory.peak_rss_kb_at_10k = proc_status_kb(node.pid(), "VmHWM").unwrap_or(0);
         }
@@ -538,17 +677,26 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         .collect();
 
     // 3. Highest sustained rate with recording on.
-    let step_rates: &[u32] = if opts.quick { &[5_000, 10_000, 20_000] } else { &[2_000, 5_000, 10_000, 15_000, 20_000, 30_000, 40_000] };
+    let step_rates: &[u32] = if opts.quick {
+        &[5_000, 10_000, 20_000]
+    } else {
+        &[2_000, 5_000, 10_000, 15_000, 20_000, 30_000, 40_000]
+    };
     let step_seconds = if opts.quick { 2.0 } else { 5.0 };
     let mut steps = Vec::new();
     let mut max_sustained = 0;
     for &rate in step_rates {
         std::thread::sleep(Duration::from_millis(1200)); // fresh diagnostics before the step
-        let (dropped0, rec_dropped0) = (client.diagnostic("swings_dropped"), client.diagnostic("recorder_dropped"));
+        let (dropped0, rec_dropped0) = (
+            client.diagnostic("swings_dropped"),
+            client.diagnostic("recorder_dropped"),
+        );
         let r = client.run(rate, count_for(rate, step_seconds), quiet)?;
         std::thread::sleep(Duration::from_millis(1200)); // diagnostics after the step
         let node_dropped = client.diagnostic("swings_dropped").saturating_sub(dropped0);
-        let recorder_dropped = client.diagnostic("recorder_dropped").saturating_sub(rec_dropped0);
+        let recorder_dropped = client
+            .diagnostic("recorder_dropped")
+            .saturating_sub(rec_dropped0);
         let mut why = Vec::new();
         if r.answered < r.sent {
             why.push(format!("{} answers missing", r.sent - r.answered));
@@ -566,12 +714,28 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
             why.push(format!("lag: p99 {} ms", r.p99_us / 1000));
         }
         if !(r.drain_ms < 500.0) {
-            why.push(format!("backlog: last answer {:.0} ms after the last swing", r.drain_ms));
+            why.push(format!(
+                "backlog: last answer {:.0} ms after the last swing",
+                r.drain_ms
+            ));
         }
         let sustained = why.is_empty();
-        let verdict = if sustained { "sustained".to_string() } else { why.join("; ") };
-        log(&format!("step {rate:>6}/s: {verdict} (p99 {} µs)", r.p99_us));
-        steps.push(StepResult { run: r, node_dropped, recorder_dropped, sustained, verdict });
+        let verdict = if sustained {
+            "sustained".to_string()
+        } else {
+            why.join("; ")
+        };
+        log(&format!(
+            "step {rate:>6}/s: {verdict} (p99 {} µs)",
+            r.p99_us
+        ));
+        steps.push(StepResult {
+            run: r,
+            node_dropped,
+            recorder_dropped,
+            sustained,
+            verdict,
+        });
         if sustained {
             max_sustained = rate;
         } else {
@@ -602,23 +766,53 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     memory.soak_rss_kb = sampler.join().unwrap_or_default();
     memory.soak_lost = soak.sent - soak.answered;
     let quarter = (memory.soak_rss_kb.len() / 4).max(1);
-    memory.soak_first_quarter_kb = median(&memory.soak_rss_kb[..quarter.min(memory.soak_rss_kb.len())]);
-    memory.soak_last_quarter_kb = median(&memory.soak_rss_kb[memory.soak_rss_kb.len().saturating_sub(quarter)..]);
-    log(&format!("soak: RSS first quarter {} kB, last quarter {} kB, {} lost", memory.soak_first_quarter_kb, memory.soak_last_quarter_kb, memory.soak_lost));
+    memory.soak_first_quarter_kb =
+        median(&memory.soak_rss_kb[..quarter.min(memory.soak_rss_kb.len())]);
+    memory.soak_last_quarter_kb =
+        median(&memory.soak_rss_kb[memory.soak_rss_kb.len().saturating_sub(quarter)..]);
+    log(&format!(
+        "soak: RSS first quarter {} kB, last quarter {} kB, {} lost",
+        memory.soak_first_quarter_kb, memory.soak_last_quarter_kb, memory.soak_lost
+    ));
     drop(client);
     let node_log = node.terminate();
-    if let Some(line) = node_log.lines().rev().find(|l| l.contains("bag") && l.contains("closed")) {
+    if let Some(line) = node_log
+        .lines()
+        .rev()
+        .find(|l| l.contains("bag") && l.contains("closed"))
+    {
         log(line);
     }
     let _ = std::fs::remove_dir_all(&bag_dir);
 
     // 5. Recorder against dd.
-    let disk = disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?;
-    log(&format!("recorder {:.1} MB/s ({:.0} msg/s) vs dd {:.1} MB/s", disk.recorder_mb_s, disk.recorder_msgs_s, disk.dd_mb_s));
+    let disk = disk_bench(
+        &opts.work_dir,
+        if opts.quick { 1_000_000 } else { 5_000_000 },
+    )?;
+    log(&format!(
+        "recorder {:.1} MB/s ({:.0} msg/s) vs dd {:.1} MB/s",
+        disk.recorder_mb_s, disk.recorder_msgs_s, disk.dd_mb_s
+    ));
 
     let mut machine = machine_before;
-    machine.insert("loadavg_after".into(), std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string());
-    Ok(BenchReport { machine, raw, node: node_runs, p99_ratio, steps, max_sustained_rate: max_sustained, memory, disk })
+    machine.insert(
+        "loadavg_after".into(),
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+            .to_string(),
+    );
+    Ok(BenchReport {
+        machine,
+        raw,
+        node: node_runs,
+        p99_ratio,
+        steps,
+        max_sustained_rate: max_sustained,
+        memory,
+        disk,
+    })
 }
 
 fn median(values: &[u64]) -> u64 {
@@ -637,7 +831,10 @@ pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<DiskResult> {
     config.queue_capacity = 65_536;
     let start = Instant::now();
     let recorder = crate::bag::Recorder::start(config)?;
-    let topic = recorder.register_topic(TopicInfo::of::<Swing>("/swing", crate::ros::recorded_qos(&crate::ros::swing_qos())))?;
+    let topic = recorder.register_topic(TopicInfo::of::<Swing>(
+        "/swing",
+        crate::ros::recorded_qos(&crate::ros::swing_qos()),
+    ))?;
     // Distinct, realistic payloads (random measured values), so zstd cannot shrink the bag to nothing.
     use rand::{Rng, SeedableRng};
     let mut rng = rand::rngs::StdRng::seed_from_u64(7);
@@ -703,7 +900,13 @@ pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<DiskResult> {
 
 fn dir_bytes(dir: &Path) -> u64 {
     std::fs::read_dir(dir)
-        .map(|entries| entries.filter_map(Result::ok).filter_map(|e| e.metadata().ok()).map(|m| m.len()).sum())
+        .map(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter_map(|e| e.metadata().ok())
+                .map(|m| m.len())
+                .sum()
+        })
         .unwrap_or(0)
 }
 
@@ -716,16 +919,65 @@ pub fn table(r: &BenchReport) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     let m = &r.machine;
-    let _ = writeln!(s, "machine: {} × {} ({}), load before: {}, after: {}, build: {}", m["nproc"], m["cpu"], m["kernel"], m["loadavg"], m.get("loadavg_after").cloned().unwrap_or_default(), m["profile"]);
-    let _ = writeln!(s, "\nswing → exit_velocity over DDS/loopback (node recording; child processes)");
-    let _ = writeln!(s, "{:>8} | {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} | {:>9}", "rate/s", "raw p50", "raw p99", "raw max", "node p50", "node p99", "node max", "p99 ratio");
+    let _ = writeln!(
+        s,
+        "machine: {} × {} ({}), load before: {}, after: {}, build: {}",
+        m["nproc"],
+        m["cpu"],
+        m["kernel"],
+        m["loadavg"],
+        m.get("loadavg_after").cloned().unwrap_or_default(),
+        m["profile"]
+    );
+    let _ = writeln!(
+        s,
+        "\nswing → exit_velocity over DDS/loopback (node recording; child processes)"
+    );
+    let _ = writeln!(
+        s,
+        "{:>8} | {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} | {:>9}",
+        "rate/s", "raw p50", "raw p99", "raw max", "node p50", "node p99", "node max", "p99 ratio"
+    );
     for ((raw, node), (_, ratio)) in r.raw.iter().zip(&r.node).zip(&r.p99_ratio) {
-        let _ = writeln!(s, "{:>8} | {:>7}µs {:>7}µs {:>7}µs | {:>7}µs {:>7}µs {:>7}µs | {:>8.2}×{}", raw.target_rate, raw.p50_us, raw.p99_us, raw.max_us, node.p50_us, node.p99_us, node.max_us, ratio,
-            if node.answered < node.sent || raw.answered < raw.sent { format!("  (lost: raw {}, node {})", raw.sent - raw.answered, node.sent - node.answered) } else { String::new() });
+        let _ = writeln!(
+            s,
+            "{:>8} | {:>7}µs {:>7}µs {:>7}µs | {:>7}µs {:>7}µs {:>7}µs | {:>8.2}×{}",
+            raw.target_rate,
+            raw.p50_us,
+            raw.p99_us,
+            raw.max_us,
+            node.p50_us,
+            node.p99_us,
+            node.max_us,
+            ratio,
+            if node.answered < node.sent || raw.answered < raw.sent {
+                format!(
+                    "  (lost: raw {}, node {})",
+                    raw.sent - raw.answered,
+                    node.sent - node.answered
+                )
+            } else {
+                String::new()
+            }
+        );
     }
-    let _ = writeln!(s, "\nsustained rate, recording on (target ≥ 10000/s): {}/s", r.max_sustained_rate);
+    let _ = writeln!(
+        s,
+        "\nsustained rate, recording on (target ≥ 10000/s): {}/s",
+        r.max_sustained_rate
+    );
     for st in &r.steps {
-        let _ = writeln!(s, "  {:>6}/s: sent at {:>7.0}/s, {}/{} answered, p99 {} µs, drain {:.0} ms — {}", st.run.target_rate, st.run.achieved_rate, st.run.answered, st.run.sent, st.run.p99_us, st.run.drain_ms, st.verdict);
+        let _ = writeln!(
+            s,
+            "  {:>6}/s: sent at {:>7.0}/s, {}/{} answered, p99 {} µs, drain {:.0} ms — {}",
+            st.run.target_rate,
+            st.run.achieved_rate,
+            st.run.answered,
+            st.run.sent,
+            st.run.p99_us,
+            st.run.drain_ms,
+            st.verdict
+        );
     }
     let mm = &r.memory;
     let _ = writeln!(s, "\nnode memory: peak RSS (VmHWM) after 10000/s: {:.1} MB; soak {}/s × {:.0} s: RSS first quarter {:.1} MB, last quarter {:.1} MB, {} answers lost", mm.peak_rss_kb_at_10k as f64 / 1024.0, mm.soak_rate, mm.soak_s, mm.soak_first_quarter_kb as f64 / 1024.0, mm.soak_last_quarter_kb as f64 / 1024.0, mm.soak_lost);
@@ -737,4 +989,24 @@ pub fn table(r: &BenchReport) -> String {
 /// The report as JSON.
 pub fn to_json(r: &BenchReport) -> serde_json::Value {
     json!(r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_this_process_rss_and_peak_from_proc() {
+        let rss = proc_status_kb(std::process::id(), "VmRSS").expect("VmRSS");
+        let peak = proc_status_kb(std::process::id(), "VmHWM").expect("VmHWM");
+        assert!(rss > 0 && peak >= rss, "rss {rss} kB, peak {peak} kB");
+        assert_eq!(proc_status_kb(std::process::id(), "NoSuchField"), None);
+    }
+
+    #[test]
+    fn median_of_samples() {
+        assert_eq!(median(&[]), 0);
+        assert_eq!(median(&[5]), 5);
+        assert_eq!(median(&[9, 1, 5]), 5);
+    }
 }

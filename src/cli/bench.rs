@@ -10,7 +10,9 @@ use crate::bench::{self, BenchOptions};
 
 /// Arguments of `sweetspot bench`.
 #[derive(Debug, clap::Args)]
-#[command(after_help = "Run it through scripts/bench, which builds in release mode and enters a private network namespace:\n  scripts/bench --quick\n  scripts/bench --json bench.json")]
+#[command(
+    after_help = "Run it through scripts/bench, which builds in release mode and enters a private network namespace:\n  scripts/bench --quick\n  scripts/bench --json bench.json"
+)]
 pub struct BenchArgs {
     /// Short runs: the whole bench in under a minute (numbers are noisier).
     #[arg(long)]
@@ -39,12 +41,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     }
     let exe = std::env::current_exe().context("locating the sweetspot executable")?;
     let soak = Duration::from_secs(args.soak.unwrap_or(if args.quick { 10 } else { 60 }));
-    let opts = BenchOptions { quick: args.quick, work_dir: args.work_dir, domain: args.domain, exe, soak };
+    let opts = BenchOptions {
+        quick: args.quick,
+        work_dir: args.work_dir,
+        domain: args.domain,
+        exe,
+        soak,
+    };
     let report = bench::run(&opts)?;
     println!("{}", bench::table(&report));
     if let Some(path) = args.json {
         let text = serde_json::to_string_pretty(&bench::to_json(&report))?;
-        std::fs::write(&path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+        std::fs::write(&path, text + "\n")
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
 }
