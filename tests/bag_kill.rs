@@ -125,7 +125,7 @@ fn info_reports_topics_counts_and_an_unfinished_file() {
     assert!(text.contains("Topic: /rig/swing      | Type: std_msgs/msg/String | Count: 10"), "{text}");
     assert!(text.contains("transient_local, depth 1"), "{text}");
     assert!(text.contains("zstd"), "{text}");
-    let out = Command::new(sweetspot_bin()).args(["bag", "info", "--json"]).arg(&dir.join("info_0.mcap")).output().unwrap();
+    let out = Command::new(sweetspot_bin()).args(["bag", "info", "--json"]).arg(dir.join("info_0.mcap")).output().unwrap();
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["messages"], 11);
     assert_eq!(json["start_ns"], 1_000_000_000u64);

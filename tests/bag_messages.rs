@@ -28,7 +28,7 @@ fn swing(i: u64) -> Swing {
         bat_cm_speed: 25.0,
         bat_angular_speed: 50.0 + i as f64,
         impact_z: 0.70 - 0.001 * i as f64,
-        measured_exit_speed: if i % 2 == 0 { f64::NAN } else { 45.5 },
+        measured_exit_speed: if i.is_multiple_of(2) { f64::NAN } else { 45.5 },
     }
 }
 
@@ -93,7 +93,7 @@ fn record_run(dir: &std::path::Path) {
             impulse: 12.0,
             max_compression: 0.012,
             measured_exit_speed: s.measured_exit_speed,
-            residual: if i % 2 == 0 { f64::NAN } else { 0.5 },
+            residual: if i.is_multiple_of(2) { f64::NAN } else { 0.5 },
             message: String::new(),
         };
         assert!(r.record(ev, encode_cdr(&out).unwrap(), t + 500_000, t - 1_000_000));
@@ -173,7 +173,7 @@ fn export_csv_has_one_row_per_swing_joined_with_its_outputs() {
     assert_eq!(rows.len(), 40);
     for (i, row) in rows.iter().enumerate() {
         let s = swing(i as u64);
-        assert_eq!(row[col("namespace")].to_string(), "/rig");
+        assert_eq!(row[col("namespace")].to_string(), "/", "one node in the bag");
         assert_eq!(row[col("swing_id")].parse::<u64>().unwrap(), i as u64);
         assert_eq!(row[col("ball_speed")].parse::<f64>().unwrap(), s.ball_speed);
         assert_eq!(row[col("impact_z")].parse::<f64>().unwrap(), s.impact_z);

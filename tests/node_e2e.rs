@@ -65,12 +65,17 @@ fn swing(id: u64, bat_id: &str, ball_id: &str, impact_z: f64) -> Swing {
         bat_cm_speed: 18.0,
         bat_angular_speed: 45.0,
         impact_z,
-        measured_exit_speed: if id % 2 == 0 { f64::NAN } else { 44.0 },
+        measured_exit_speed: if id.is_multiple_of(2) { f64::NAN } else { 44.0 },
     }
 }
 
 fn impact(s: &Swing) -> Impact {
-    Impact { ball_speed: s.ball_speed, bat_cm_speed: s.bat_cm_speed, bat_angular_speed: s.bat_angular_speed, impact_z: s.impact_z }
+    Impact {
+        ball_speed: s.ball_speed,
+        bat_cm_speed: s.bat_cm_speed,
+        bat_angular_speed: s.bat_angular_speed,
+        impact_z: s.impact_z,
+    }
 }
 
 fn library(bat: &Bat, modes: usize, ball: &Ball, s: &Swing) -> (ModeSet, CollisionResult) {
@@ -110,7 +115,11 @@ fn assert_energies_equal(me: &ModalEnergies, s: &Swing, r: &CollisionResult, bat
     let v_cm = (bat_mass * s.bat_cm_speed - ball.mass * s.ball_speed) / (bat_mass + ball.mass);
     let collision_energy = r.energy.initial - 0.5 * (bat_mass + ball.mass) * v_cm * v_cm;
     for (f, m) in me.fraction.iter().zip(&r.mode_energies) {
-        assert!((f - m.energy / collision_energy).abs() <= 1e-12 * f.abs().max(1e-300), "{f} vs {}", m.energy / collision_energy);
+        assert!(
+            (f - m.energy / collision_energy).abs() <= 1e-12 * f.abs().max(1e-300),
+            "{f} vs {}",
+            m.energy / collision_energy
+        );
     }
 }
 
@@ -267,7 +276,9 @@ fn bad_params_and_swings_are_rejected_with_reasons_and_the_node_keeps_answering(
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
     let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
 
-    bat_pub.publish(BatParams { header: header(3), bat_id: "good".into(), preset: "r161".into(), ..BatParams::default() }).unwrap();
+    bat_pub
+        .publish(BatParams { header: header(3), bat_id: "good".into(), preset: "r161".into(), ..BatParams::default() })
+        .unwrap();
     node.wait_for_log("bat 'good' set", WAIT);
     // The same bat_id again with a bore wider than the bat: refused, the r161 stays in force.
     let mut broken = explicit_params("good", &Bat::preset("r161").unwrap(), 0);
@@ -275,12 +286,14 @@ fn bad_params_and_swings_are_rejected_with_reasons_and_the_node_keeps_answering(
     bat_pub.publish(broken).unwrap();
     ball_pub.publish(BallParams { cor: 1.5, ..ball_params("bouncy", &Ball::default()) }).unwrap();
     let rejections = peer.collect(&answers, 2, WAIT);
-    let bat_rejection = rejections.iter().find(|ev| ev.message.starts_with("BatParams 'good'")).expect("bat params rejected");
+    let bat_rejection =
+        rejections.iter().find(|ev| ev.message.starts_with("BatParams 'good'")).expect("bat params rejected");
     assert_eq!(bat_rejection.status, ExitVelocity::STATUS_REJECTED);
     assert_eq!(bat_rejection.bat_id, "good");
     assert!(bat_rejection.message.contains("inner"), "{}", bat_rejection.message);
     assert!(bat_rejection.message.contains("stay in force"), "{}", bat_rejection.message);
-    let ball_rejection = rejections.iter().find(|ev| ev.message.starts_with("BallParams 'bouncy'")).expect("ball params rejected");
+    let ball_rejection =
+        rejections.iter().find(|ev| ev.message.starts_with("BallParams 'bouncy'")).expect("ball params rejected");
     assert!(ball_rejection.message.contains("cor"), "{}", ball_rejection.message);
     assert!(ball_rejection.exit_speed.is_nan());
 
@@ -313,4 +326,59 @@ fn bad_params_and_swings_are_rejected_with_reasons_and_the_node_keeps_answering(
     assert_eq!(seen.get(&ExitVelocity::STATUS_OK), Some(&1));
     let (status, _, log) = node.stop_with(2);
     assert!(status.success(), "SIGINT exits cleanly:\n{log}");
+}
+
+#[test]
+fn a_full_queue_drops_counts_and_reports_instead_of_growing() {
+    use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
+    use sweetspot::msgs::rcl_interfaces::msg::Log;
+    const N: u64 = 3_000;
+    const CAPACITY: u64 = 4;
+    let domain = domain(8);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "flood_peer");
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let diagnostics = peer.subscription::<DiagnosticArray>("/diagnostics", keep_all(dds::results()));
+    let rosout = peer.subscription::<Log>("/rosout", sweetspot::ros::rosout_qos());
+    // One worker, four swings in flight, and a 0.1 µs time step (50× the work per swing): a flood must overflow.
+    let node = NodeProcess::spawn(
+        domain,
+        dir.path(),
+        &["--no-record", "--ros-args", "-p", "queue_capacity:=4", "-p", "workers:=1", "-p", "time_step:=1e-7"],
+    );
+    peer.wait_for_reader(&swing_pub);
+    for i in 0..N {
+        swing_pub.publish(swing(i, "r161", "", 0.6)).unwrap();
+    }
+    let value = |d: &DiagnosticArray, key: &str| -> u64 {
+        d.status[0].values.iter().find(|kv| kv.key == key).map(|kv| kv.value.parse().unwrap()).unwrap()
+    };
+    let reports = peer.collect_until(&diagnostics, WAIT, |got| {
+        got.last().is_some_and(|d| {
+            value(d, "swings_received") + value(d, "swings_lost_in_transport") == N && value(d, "swings_in_flight") == 0
+        })
+    });
+    let last = reports.last().unwrap();
+    let (ok, rejected, dropped, lost) = (
+        value(last, "swings_processed"),
+        value(last, "swings_rejected"),
+        value(last, "swings_dropped"),
+        value(last, "swings_lost_in_transport"),
+    );
+    assert!(dropped > 0, "the flood must overflow a 4-swing queue");
+    assert_eq!(ok + rejected + dropped + lost, N, "every swing is answered or counted as dropped or lost");
+    assert!(reports.iter().all(|d| value(d, "swings_in_flight") <= CAPACITY), "in flight never exceeds capacity");
+    assert!(reports.iter().any(|d| d.status[0].level == 1 && d.status[0].message.contains("dropped")), "a WARN report");
+    let got = peer.collect(&answers, (ok + rejected) as usize, WAIT);
+    assert!(got.windows(2).all(|w| w[0].swing_id < w[1].swing_id), "the answers that exist are in swing order");
+    let warnings =
+        peer.collect_until(&rosout, WAIT, |got| got.iter().any(|l| l.level == Log::WARN && l.msg.contains("dropped")));
+    let warning = warnings.iter().find(|l| l.msg.contains("dropped")).unwrap();
+    assert!(warning.msg.contains("queue_capacity"), "{}", warning.msg);
+    println!(
+        "{N} swings flooded into a 4-swing queue: {ok} answered, {dropped} dropped, {lost} lost in transport; rosout: {}",
+        warning.msg
+    );
+    drop(node);
 }

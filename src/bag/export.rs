@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
 
-use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, Swing};
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
 
 use super::reader::read_bag;
@@ -44,63 +44,116 @@ pub struct ExportCounts {
     pub undecodable: u64,
 }
 
-/// The namespace of a topic: everything before its last segment.
-pub fn namespace_of(topic: &str) -> String {
+/// The node namespace of a recorded topic: the topic minus the node's relative name for that message type
+/// (`/rig3/bat/params` → `/rig3`), else minus its last segment (remapped topics).
+pub fn namespace_of(topic: &str, type_name: &str) -> String {
+    use crate::node::runtime::topics;
+    let relative = match type_name {
+        BatParams::TYPE_NAME => topics::BAT_PARAMS,
+        BallParams::TYPE_NAME => topics::BALL_PARAMS,
+        Swing::TYPE_NAME => topics::SWING,
+        ExitVelocity::TYPE_NAME => topics::EXIT_VELOCITY,
+        ModalEnergies::TYPE_NAME => topics::MODAL_ENERGIES,
+        _ => "",
+    };
+    if let Some(ns) = topic.strip_suffix(relative).and_then(|t| t.strip_suffix('/')).filter(|_| !relative.is_empty()) {
+        return if ns.is_empty() { "/".to_string() } else { ns.to_string() };
+    }
     match topic.rfind('/') {
         Some(0) | None => "/".to_string(),
         Some(i) => topic[..i].to_string(),
     }
 }
 
-/// Reads every swing of a bag and joins its recorded outputs, in swing log-time order.
+/// Reads every swing of a bag and joins its recorded outputs, in recorded order.
+///
+/// An output matches the latest swing with its (namespace, swing_id) recorded before it that has no output
+/// of that type yet; anything else is an orphan. This keeps params rejections (ExitVelocity with swing_id 0,
+/// recorded when bad BatParams/BallParams arrive) and restarted swing counters from landing on the wrong row.
 pub fn swing_rows(path: &Path) -> Result<(Vec<SwingRow>, ExportCounts), BagError> {
+    let run = read_run(path)?;
+    Ok((run.rows, run.counts))
+}
+
+/// An input in recorded order, as a node saw it.
+#[derive(Debug, Clone)]
+pub enum RunEvent {
+    /// BatParams received in a namespace.
+    BatParams(String, BatParams),
+    /// BallParams received in a namespace.
+    BallParams(String, BallParams),
+    /// The swing `rows[index]`.
+    Swing(usize),
+}
+
+/// A recorded run: the inputs in order, and every swing with its recorded outputs.
+#[derive(Debug, Clone, Default)]
+pub struct Run {
+    /// Inputs in recorded order.
+    pub events: Vec<RunEvent>,
+    /// Swings with their recorded outputs.
+    pub rows: Vec<SwingRow>,
+    /// Matching statistics.
+    pub counts: ExportCounts,
+}
+
+/// Reads a bag as a run (see [`swing_rows`] for how outputs are matched).
+pub fn read_run(path: &Path) -> Result<Run, BagError> {
+    let mut events: Vec<RunEvent> = Vec::new();
     let mut rows: Vec<SwingRow> = Vec::new();
-    let mut index: HashMap<(String, u64), usize> = HashMap::new();
-    let mut exits: Vec<(String, ExitVelocity)> = Vec::new();
-    let mut energies: Vec<(String, ModalEnergies)> = Vec::new();
+    let mut latest: HashMap<(String, u64), usize> = HashMap::new();
     let mut counts = ExportCounts::default();
+    // A node records its own bag: with one topic per message type there is one node, whatever the remaps.
+    let scans = super::reader::read_bag(path, |_| {})?;
+    let mut per_type: HashMap<String, std::collections::BTreeSet<String>> = HashMap::new();
+    for channel in scans.iter().flat_map(|s| s.channels.values()) {
+        per_type.entry(channel.topic.type_name.clone()).or_default().insert(channel.topic.name.clone());
+    }
+    let single_node = per_type.values().all(|names| names.len() <= 1);
     read_bag(path, |m| {
-        let ns = namespace_of(&m.channel.topic.name);
+        let ns = if single_node { "/".to_string() } else { namespace_of(&m.channel.topic.name, &m.channel.topic.type_name) };
         match m.channel.topic.type_name.as_str() {
+            BatParams::TYPE_NAME => match decode_cdr::<BatParams>(m.data) {
+                Ok(p) => events.push(RunEvent::BatParams(ns, p)),
+                Err(_) => counts.undecodable += 1,
+            },
+            BallParams::TYPE_NAME => match decode_cdr::<BallParams>(m.data) {
+                Ok(p) => events.push(RunEvent::BallParams(ns, p)),
+                Err(_) => counts.undecodable += 1,
+            },
             Swing::TYPE_NAME => match decode_cdr::<Swing>(m.data) {
                 Ok(swing) => {
-                    index.insert((ns.clone(), swing.swing_id), rows.len());
+                    events.push(RunEvent::Swing(rows.len()));
+                    latest.insert((ns.clone(), swing.swing_id), rows.len());
                     rows.push(SwingRow { namespace: ns, log_time_ns: m.log_time_ns, swing, ..SwingRow::default() });
                 }
                 Err(_) => counts.undecodable += 1,
             },
             ExitVelocity::TYPE_NAME => match decode_cdr::<ExitVelocity>(m.data) {
-                Ok(ev) => exits.push((ns, ev)),
+                Ok(ev) => match latest.get(&(ns, ev.swing_id)).map(|&i| &mut rows[i]) {
+                    Some(row) if row.exit_velocity.is_none() => {
+                        row.exit_velocity = Some(ev);
+                        counts.matched_exit_velocities += 1;
+                    }
+                    _ => counts.orphan_outputs += 1,
+                },
                 Err(_) => counts.undecodable += 1,
             },
             ModalEnergies::TYPE_NAME => match decode_cdr::<ModalEnergies>(m.data) {
-                Ok(me) => energies.push((ns, me)),
+                Ok(me) => match latest.get(&(ns, me.swing_id)).map(|&i| &mut rows[i]) {
+                    Some(row) if row.modal_energies.is_none() => {
+                        row.modal_energies = Some(me);
+                        counts.matched_modal_energies += 1;
+                    }
+                    _ => counts.orphan_outputs += 1,
+                },
                 Err(_) => counts.undecodable += 1,
             },
             _ => {}
         }
     })?;
     counts.swings = rows.len() as u64;
-    for (ns, ev) in exits {
-        match index.get(&(ns, ev.swing_id)) {
-            Some(&i) => {
-                rows[i].exit_velocity = Some(ev);
-                counts.matched_exit_velocities += 1;
-            }
-            None => counts.orphan_outputs += 1,
-        }
-    }
-    for (ns, me) in energies {
-        match index.get(&(ns, me.swing_id)) {
-            Some(&i) => {
-                rows[i].modal_energies = Some(me);
-                counts.matched_modal_energies += 1;
-            }
-            None => counts.orphan_outputs += 1,
-        }
-    }
-    rows.sort_by_key(|r| r.log_time_ns);
-    Ok((rows, counts))
+    Ok(Run { events, rows, counts })
 }
 
 fn stamp(h: &crate::msgs::std_msgs::msg::Header) -> String {
@@ -173,4 +226,18 @@ pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
     }
     w.flush().map_err(|source| BagError::Io { path: "<csv output>".into(), source })?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn namespaces_follow_the_node_topic_names() {
+        assert_eq!(namespace_of("/rig3/bat/params", BatParams::TYPE_NAME), "/rig3");
+        assert_eq!(namespace_of("/rig3/swing", Swing::TYPE_NAME), "/rig3");
+        assert_eq!(namespace_of("/a/b/exit_velocity", ExitVelocity::TYPE_NAME), "/a/b");
+        assert_eq!(namespace_of("/bat/params", BatParams::TYPE_NAME), "/");
+        assert_eq!(namespace_of("/shared/swings", Swing::TYPE_NAME), "/shared");
+    }
 }

@@ -8,7 +8,9 @@ use std::time::Duration;
 
 pub mod export;
 pub mod info;
+pub mod play;
 pub mod reader;
+pub mod replay;
 pub mod recover;
 mod recorder;
 pub mod rosbag2;

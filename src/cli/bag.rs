@@ -36,6 +36,64 @@ pub enum BagCommand {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// Re-run the physics on every recorded swing with the bat/ball in force at that moment and compare with
+    /// the recorded ExitVelocity and ModalEnergies. Exits non-zero if any swing differs beyond the tolerance
+    /// (bit-exact by default). With --bat/--ball/--modes it answers "what if" and only prints the differences.
+    Replay {
+        /// Bag directory or .mcap file.
+        path: PathBuf,
+        /// Relative tolerance |replayed − recorded| / max(|replayed|, |recorded|); 0 = bit-exact.
+        #[arg(long, default_value_t = 0.0)]
+        tolerance: f64,
+        /// What if: use this preset bat for every swing.
+        #[arg(long)]
+        bat: Option<String>,
+        /// What if: use this preset ball for every swing.
+        #[arg(long)]
+        ball: Option<String>,
+        /// What if: integrate this many modes for every bat.
+        #[arg(long)]
+        modes: Option<usize>,
+        /// Node setting time_step, s (default: from the bag's custom_data, else the node default).
+        #[arg(long)]
+        time_step: Option<f64>,
+        /// Node setting default_modes (default: from the bag, else the node default).
+        #[arg(long)]
+        default_modes: Option<usize>,
+        /// Node setting default_bat (default: from the bag, else the node default).
+        #[arg(long)]
+        default_bat: Option<String>,
+        /// Print every swing (default: all when ≤ 40, else only the differing ones).
+        #[arg(long)]
+        all: bool,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Republish the recorded inputs (BatParams, BallParams, Swing) over DDS with their original timing;
+    /// params recorded before the first swing go out first, latched (transient-local).
+    Play {
+        /// Bag directory or .mcap file.
+        path: PathBuf,
+        /// Time scale: 2 plays twice as fast.
+        #[arg(long, default_value_t = 1.0)]
+        rate: f64,
+        /// Start over when done, until interrupted.
+        #[arg(long = "loop")]
+        repeat: bool,
+        /// Only these topics (default: every input topic in the bag).
+        #[arg(long, value_delimiter = ',', num_args = 1..)]
+        topics: Vec<String>,
+        /// Wait until every topic has this many subscriptions before starting.
+        #[arg(long, default_value_t = 0)]
+        wait_subscribers: usize,
+        /// Seconds to wait for subscribers, and for acknowledgments at the end.
+        #[arg(long, default_value_t = 10.0)]
+        timeout: f64,
+        /// Do not print each message.
+        #[arg(short, long)]
+        quiet: bool,
+    },
 }
 
 /// Runs one `bag` subcommand.
@@ -44,6 +102,23 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
         BagCommand::Info { path, json } => info(path, json),
         BagCommand::Recover { path } => recover(path),
         BagCommand::Export { path, csv: _, output } => export(path, output),
+        BagCommand::Play { path, rate, repeat, topics, wait_subscribers, timeout, quiet } => {
+            if !(timeout > 0.0 && timeout.is_finite()) {
+                anyhow::bail!("--timeout {timeout} is out of range: expected a finite value > 0 s");
+            }
+            let options = bag::play::PlayOptions {
+                rate,
+                repeat,
+                topics,
+                wait_subscribers,
+                timeout: std::time::Duration::from_secs_f64(timeout),
+            };
+            play(path, options, quiet)
+        }
+        BagCommand::Replay { path, tolerance, bat, ball, modes, time_step, default_modes, default_bat, all, json } => {
+            let what_if = bag::replay::WhatIf { bat, ball, modes };
+            replay(path, tolerance, what_if, (time_step, default_modes, default_bat), all, json)
+        }
     }
 }
 
@@ -123,5 +198,134 @@ fn export(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
         "exported {} swings ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
         counts.swings, counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
     );
+    Ok(())
+}
+
+type SettingOverrides = (Option<f64>, Option<usize>, Option<String>);
+
+fn replay(
+    path: PathBuf,
+    tolerance: f64,
+    what_if: bag::replay::WhatIf,
+    (time_step, default_modes, default_bat): SettingOverrides,
+    all: bool,
+    json: bool,
+) -> anyhow::Result<()> {
+    use bag::replay::Verdict;
+    let mut settings =
+        bag::replay::recorded_settings(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    if let Some(v) = time_step {
+        settings.time_step = v;
+    }
+    if let Some(v) = default_modes {
+        settings.default_modes = v;
+    }
+    if let Some(v) = default_bat {
+        settings.default_bat = v;
+    }
+    let bar = progress(0, "replaying");
+    let report = bag::replay::replay(&path, &settings, &what_if, tolerance, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })
+    .map_err(flat)
+    .with_context(|| format!("replaying {}", path.display()))?;
+    bar.finish_and_clear();
+    let (matched, differ, unrecorded) = report.tally();
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        let show_all = all || report.rows.len() <= 40;
+        println!(
+            "{:<10} {:>9} {:<12} {:<10} {:>14} {:>14} {:>12} {:>10}  verdict",
+            "namespace", "swing_id", "bat", "ball", "recorded v_f", "replayed v_f", "Δ v_f", "worst rel"
+        );
+        let mut shown = 0;
+        for row in &report.rows {
+            if !show_all && (row.verdict != Verdict::Differs || shown >= 40) {
+                continue;
+            }
+            shown += 1;
+            let verdict = match row.verdict {
+                Verdict::Match => "match".to_string(),
+                Verdict::NotRecorded => "no recorded output".to_string(),
+                Verdict::Differs => {
+                    let first = &row.differences[0];
+                    format!(
+                        "DIFFERS ({} fields; e.g. {}: {} → {})",
+                        row.differences.len(),
+                        first.field,
+                        first.recorded,
+                        first.replayed
+                    )
+                }
+            };
+            println!(
+                "{:<10} {:>9} {:<12} {:<10} {:>14.6} {:>14.6} {:>12.3e} {:>10.2e}  {verdict}",
+                row.namespace,
+                row.swing_id,
+                row.bat_id,
+                row.ball_id,
+                row.recorded_exit_speed,
+                row.replayed_exit_speed,
+                row.replayed_exit_speed - row.recorded_exit_speed,
+                row.worst_relative
+            );
+        }
+        let tol = if report.tolerance == 0.0 { "bit-exact".to_string() } else { format!("relative tolerance {}", report.tolerance) };
+        println!(
+            "{} swings: {matched} match, {differ} differ ({tol}), {unrecorded} without recorded output. Settings: default_bat {}, default_modes {}, time_step {} s. Bag written by: {}",
+            report.rows.len(),
+            report.settings.0,
+            report.settings.1,
+            report.settings.2,
+            report.recorded_by
+        );
+    }
+    if report.what_if {
+        println!("what-if replay (--bat/--ball/--modes): differences are the answer, not a failure");
+        return Ok(());
+    }
+    if differ > 0 {
+        anyhow::bail!("{differ} of {} swings differ from the recording beyond the tolerance", report.rows.len());
+    }
+    Ok(())
+}
+
+/// A flag set by SIGINT/SIGTERM so playback ends cleanly (DDS says goodbye to its peers).
+fn interrupt_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let set = flag.clone();
+    std::thread::spawn(move || {
+        let Ok(rt) = tokio::runtime::Builder::new_current_thread().enable_all().build() else { return };
+        rt.block_on(async move {
+            use tokio::signal::unix::{signal, SignalKind};
+            let (Ok(mut int), Ok(mut term)) = (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) else {
+                return;
+            };
+            tokio::select! {
+                _ = int.recv() => {}
+                _ = term.recv() => {}
+            }
+            set.store(true, std::sync::atomic::Ordering::Relaxed);
+        });
+    });
+    flag
+}
+
+fn play(path: PathBuf, options: bag::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
+    let stop = interrupt_flag();
+    let total = bag::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
+    let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
+    let stats = bag::play::play(&path, &options, &stop, |item| {
+        bar.inc(1);
+        if !quiet {
+            println!("{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
+        }
+    })
+    .map_err(flat)
+    .with_context(|| format!("playing {}", path.display()))?;
+    bar.finish_and_clear();
+    eprintln!("published {} messages in {} pass(es)", stats.published, stats.passes);
     Ok(())
 }

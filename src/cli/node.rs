@@ -9,7 +9,9 @@ use crate::node::runtime::NodeConfig;
 /// `-r __ns:=/rig3`, `-r __node:=name`, `-r swing:=/other/swing`, `-p default_modes:=12`,
 /// `--params-file params.yaml`, `--log-level debug`.
 #[derive(Debug, Clone, clap::Args)]
-#[command(after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, queue_capacity, workers,\nrecord, record_path, record_max_file_size, record_max_file_duration, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY.")]
+#[command(
+    after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, queue_capacity, workers,\nrecord, record_path, record_max_file_size, record_max_file_duration, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY."
+)]
 pub struct NodeArgs {
     /// Do not record a bag (same as `--ros-args -p record:=false`).
     #[arg(long)]
@@ -39,7 +41,9 @@ fn init_logging(level: Option<&str>) {
     use tracing_subscriber::EnvFilter;
     let filter = match level {
         Some(level) => EnvFilter::new(level),
-        None => EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info,rustdds=error,ros2_client=error")),
+        None => {
+            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info,rustdds=error,ros2_client=error"))
+        }
     };
     // Another subscriber may already be set (tests); that one wins.
     let _ = tracing_subscriber::fmt()

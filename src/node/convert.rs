@@ -56,7 +56,10 @@ pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
     let slice_length = if p.slice_length == 0.0 { DEFAULT_SLICE_LENGTH } else { p.slice_length };
     let bat = Bat::new(p.bat_id.clone(), stations, shell, core, slice_length).map_err(|e| context(e.to_string()))?;
     if p.max_modes > 200 {
-        return Err(context(format!("max_modes = {} is out of range: expected 0 (node default) ≤ max_modes ≤ 200", p.max_modes)));
+        return Err(context(format!(
+            "max_modes = {} is out of range: expected 0 (node default) ≤ max_modes ≤ 200",
+            p.max_modes
+        )));
     }
     Ok(BatFromParams { bat, max_modes: (p.max_modes > 0).then_some(p.max_modes as usize) })
 }

@@ -143,7 +143,10 @@ impl Registry {
             None => {
                 let mut known: Vec<&str> = self.balls.keys().map(String::as_str).collect();
                 known.sort_unstable();
-                Err(format!("unknown ball_id '{ball_id}': no BallParams received for it (known balls: [{}])", known.join(", ")))
+                Err(format!(
+                    "unknown ball_id '{ball_id}': no BallParams received for it (known balls: [{}])",
+                    known.join(", ")
+                ))
             }
         }
     }
@@ -151,8 +154,12 @@ impl Registry {
     /// After `default_modes` changed: replaces every bat that used it with a fresh entry (its modes will be
     /// recomputed on next use). Returns the new entries.
     pub fn refresh_default_modes(&mut self, settings: &NodeSettings) -> Vec<Arc<BatEntry>> {
-        let stale: Vec<String> =
-            self.bats.values().filter(|e| e.uses_default_modes && e.max_modes != settings.default_modes).map(|e| e.bat_id.clone()).collect();
+        let stale: Vec<String> = self
+            .bats
+            .values()
+            .filter(|e| e.uses_default_modes && e.max_modes != settings.default_modes)
+            .map(|e| e.bat_id.clone())
+            .collect();
         stale
             .into_iter()
             .filter_map(|id| {

@@ -4,11 +4,11 @@
 //! parameters, statistics, message ↔ physics conversion) are plain functions tested without DDS; the DDS
 //! wiring lives in `runtime`.
 
-pub mod ros_args;
-pub mod settings;
-pub mod stats;
+pub mod convert;
 pub mod engine;
 pub mod pipeline;
-pub mod convert;
 pub mod recording;
+pub mod ros_args;
 pub mod runtime;
+pub mod settings;
+pub mod stats;

@@ -65,7 +65,12 @@ pub struct Pipeline<T> {
 
 impl<T: Send + 'static> Pipeline<T> {
     /// Starts `workers` threads and the sequencer feeding `sink`.
-    pub fn start(workers: usize, capacity: usize, stats: Arc<NodeStats>, sink: impl ResultSink<T>) -> std::io::Result<Pipeline<T>> {
+    pub fn start(
+        workers: usize,
+        capacity: usize,
+        stats: Arc<NodeStats>,
+        sink: impl ResultSink<T>,
+    ) -> std::io::Result<Pipeline<T>> {
         let capacity = capacity.max(1);
         let (job_tx, job_rx) = crossbeam_channel::bounded::<Job<T>>(capacity);
         // Bounded by `capacity` through the in-flight slots, so an unbounded channel cannot grow past it.
@@ -75,9 +80,11 @@ impl<T: Send + 'static> Pipeline<T> {
         let mut handles = Vec::new();
         for i in 0..workers.max(1) {
             let (rx, tx, stats, stop) = (job_rx.clone(), done_tx.clone(), Arc::clone(&stats), Arc::clone(&stop));
-            handles.push(std::thread::Builder::new().name(format!("sweetspot-worker-{i}")).spawn(move || {
-                worker_loop(rx, tx, &stats, &stop)
-            })?);
+            handles.push(
+                std::thread::Builder::new()
+                    .name(format!("sweetspot-worker-{i}"))
+                    .spawn(move || worker_loop(rx, tx, &stats, &stop))?,
+            );
         }
         drop(done_tx);
         let sequencer = {

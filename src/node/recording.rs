@@ -51,7 +51,13 @@ pub struct Tape {
 impl Tape {
     /// Recording off.
     pub fn off() -> Tape {
-        Tape { dir: None, backend: Mutex::new(None), ids: Vec::new(), error: Mutex::new(None), final_stats: Mutex::new(None) }
+        Tape {
+            dir: None,
+            backend: Mutex::new(None),
+            ids: Vec::new(),
+            error: Mutex::new(None),
+            final_stats: Mutex::new(None),
+        }
     }
 
     /// A recorder that could not start: the node runs and reports why.
@@ -69,7 +75,13 @@ impl Tape {
                 Err(e) => return Tape::failed(dir, format!("registering {name}: {e}")),
             }
         }
-        Tape { dir: Some(dir), backend: Mutex::new(Some(backend)), ids, error: Mutex::new(None), final_stats: Mutex::new(None) }
+        Tape {
+            dir: Some(dir),
+            backend: Mutex::new(Some(backend)),
+            ids,
+            error: Mutex::new(None),
+            final_stats: Mutex::new(None),
+        }
     }
 
     /// Records one message: CDR-encoded now, logged at `log_time_ns`, published at `publish_time_ns`.
@@ -106,7 +118,9 @@ impl Tape {
         let error = self.error.lock().ok().and_then(|e| e.clone()).or(stats.error.clone());
         match error {
             Some(error) => RecorderState::Failed { dir, error, written: stats.written, dropped: stats.dropped },
-            None => RecorderState::Recording { dir, written: stats.written, dropped: stats.dropped, bytes: stats.bytes },
+            None => {
+                RecorderState::Recording { dir, written: stats.written, dropped: stats.dropped, bytes: stats.bytes }
+            }
         }
     }
 
@@ -128,7 +142,12 @@ impl Tape {
 
 /// The schema and QoS of a recorded topic.
 pub fn topic_info<M: RosMessage>(name: &str, qos: RecordedQos) -> TopicInfo {
-    TopicInfo { name: name.to_string(), type_name: M::TYPE_NAME.to_string(), schema_text: M::SCHEMA_TEXT.to_string(), qos }
+    TopicInfo {
+        name: name.to_string(),
+        type_name: M::TYPE_NAME.to_string(),
+        schema_text: M::SCHEMA_TEXT.to_string(),
+        qos,
+    }
 }
 
 /// Starts the bag's recorder (its writer thread) for `config`.

@@ -211,11 +211,7 @@ impl NameResolver {
     /// The fully qualified name a topic `name` (relative, absolute or `~/private`) ends up on.
     pub fn resolve(&self, name: &str) -> String {
         let expanded = resolve_name(name, &self.node);
-        self.rules
-            .iter()
-            .find(|(from, _)| *from == expanded)
-            .map(|(_, to)| to.clone())
-            .unwrap_or(expanded)
+        self.rules.iter().find(|(from, _)| *from == expanded).map(|(_, to)| to.clone()).unwrap_or(expanded)
     }
 }
 
@@ -281,7 +277,9 @@ fn validate_topic_name(name: &str) -> Result<(), RosArgsError> {
     body.split('/').try_for_each(|token| {
         validate_token(token).map_err(|_| RosArgsError::BadName {
             name: name.to_string(),
-            why: format!("token '{token}' must start with a letter or '_' and contain only letters, digits, single '_'"),
+            why: format!(
+                "token '{token}' must start with a letter or '_' and contain only letters, digits, single '_'"
+            ),
         })
     })
 }
@@ -314,7 +312,9 @@ fn yaml_to_parameter(name: &str, yaml: &Yaml) -> Result<ParameterValue, RosArgsE
     Ok(match yaml {
         Yaml::Boolean(b) => ParameterValue::Boolean(*b),
         Yaml::Integer(i) => ParameterValue::Integer(*i),
-        Yaml::Real(text) => ParameterValue::Double(parse_yaml_real(text).ok_or_else(|| bad(format!("'{text}' is not a number")))?),
+        Yaml::Real(text) => {
+            ParameterValue::Double(parse_yaml_real(text).ok_or_else(|| bad(format!("'{text}' is not a number")))?)
+        }
         Yaml::String(s) => ParameterValue::String(s.clone()),
         Yaml::Array(items) => {
             if items.is_empty() {

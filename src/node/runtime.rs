@@ -12,9 +12,7 @@ use futures::StreamExt;
 use ros2_client::qos::{History, Reliability, WhenFull};
 use ros2_client::ros2::LogLevel;
 use ros2_client::rosout::RosoutRaw;
-use ros2_client::{
-    NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher,
-};
+use ros2_client::{NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher};
 
 use crate::bag::RecorderConfig;
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
@@ -27,7 +25,7 @@ use super::pipeline::{Outcome, Pipeline, ResultSink};
 use super::recording::{topic_info, Recorded, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::{NodeSettings, SettingEffect, READ_ONLY};
-use super::stats::{health_report, NodeStats, RateLimiter, StatsSnapshot};
+use super::stats::{health_report, GapCounter, NodeStats, RateLimiter, StatsSnapshot};
 
 /// Default node name (`-r __node:=` changes it).
 pub const DEFAULT_NODE_NAME: &str = "sweetspot";
@@ -174,7 +172,7 @@ enum Event {
     /// A parameter was set through `ros2 param set`.
     ParameterChanged(SettingEffect),
     /// A bat's SweetSpot is ready (published only if the bat is still current).
-    Summary(Arc<BatEntry>, Result<BatSummary, String>),
+    Summary(Arc<BatEntry>, Box<Result<BatSummary, String>>),
 }
 
 async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
@@ -196,7 +194,11 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
             let current = validator_settings.read().map_err(|_| "settings lock poisoned".to_string())?.clone();
             if READ_ONLY.contains(&name) {
                 let unchanged = current.declarations().into_iter().any(|(n, v)| n == name && v == *value);
-                return if unchanged { Ok(()) } else { Err(format!("{name} is read-only while the node runs: restart with -p {name}:=…")) };
+                return if unchanged {
+                    Ok(())
+                } else {
+                    Err(format!("{name} is read-only while the node runs: restart with -p {name}:=…"))
+                };
             }
             let mut probe = current;
             probe.apply(name, value).map(|_| ())
@@ -215,8 +217,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     }
 
     let (context, dds_config) = crate::ros::context_from_env().context("creating the DDS participant")?;
-    let node_name = NodeName::new(&identity.namespace, &identity.name)
-        .map_err(|e| anyhow::anyhow!("node name {fqn}: {e:?}"))?;
+    let node_name =
+        NodeName::new(&identity.namespace, &identity.name).map_err(|e| anyhow::anyhow!("node name {fqn}: {e:?}"))?;
     let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
     let log = Log { handle: Arc::new(node.logging_handle()), rosout };
 
@@ -257,12 +259,13 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let results_writer_qos = results_qos()
         .history(History::KeepLast { depth: 1000 })
         .reliability(Reliability::Reliable { when_full: WhenFull::Wait(Duration::from_millis(500)) });
-    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_writer_qos.clone())).map_err(dds)?);
+    let ev_pub =
+        Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_writer_qos.clone())).map_err(dds)?);
     let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, Some(results_writer_qos)).map_err(dds)?;
     let ss_pub = node.create_publisher::<SweetSpot>(&ss_topic, None).map_err(dds)?;
     let diag_pub = node.create_publisher::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
     let spinner = node.spinner().map_err(dds)?;
-    tokio::spawn(spinner.spin());
+    let spinning = tokio::spawn(spinner.spin());
 
     // Recording: every input as received and every output as published.
     let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names, &log));
@@ -293,115 +296,128 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     }
 
     let drop_warning = RateLimiter::new(Duration::from_secs(5));
+    let loss_warning = RateLimiter::new(Duration::from_secs(5));
+    let mut transport_gaps = GapCounter::new();
     let mut diagnostics = tokio::time::interval(Duration::from_secs_f64(settings.diagnostics_period));
     diagnostics.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let mut last_report = StatsSnapshot::default();
-    let mut bats = pin!(bat_sub.async_stream());
-    let mut balls = pin!(ball_sub.async_stream());
-    let mut swings = pin!(swing_sub.async_stream());
-    let mut shutdown = pin!(shutdown_signal());
+    // The streams borrow the subscriptions; the block ends the borrows before the orderly teardown below.
+    {
+        let mut bats = pin!(bat_sub.async_stream());
+        let mut balls = pin!(ball_sub.async_stream());
+        let mut swings = pin!(swing_sub.async_stream());
+        let mut shutdown = pin!(shutdown_signal());
 
-    loop {
-        tokio::select! {
-            biased;
-            signal = &mut shutdown => {
-                log.info(&format!("{signal}: shutting down"));
-                break;
-            }
-            Some(event) = events_rx.recv() => match event {
-                Event::ParameterChanged(effect) => {
-                    let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
-                    let refresh: Vec<Arc<BatEntry>> = match effect {
-                        SettingEffect::None => Vec::new(),
-                        SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
-                        SettingEffect::SweetSpotsChanged => registry.bats(),
-                    };
-                    for entry in refresh {
-                        spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
-                    }
+        loop {
+            tokio::select! {
+                biased;
+                signal = &mut shutdown => {
+                    log.info(&format!("{signal}: shutting down"));
+                    break;
                 }
-                Event::Summary(entry, result) => {
-                    // A summary of params that have since been replaced is stale.
-                    let current = registry.bats().into_iter().any(|e| Arc::ptr_eq(&e, &entry));
-                    match result {
-                        Ok(summary) if current => {
-                            let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
-                            let msg = convert::sweet_spot(&summary, header);
-                            tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
-                            if let Err(e) = ss_pub.publish(msg) {
-                                log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
-                            }
-                        }
-                        Ok(_) => {}
-                        Err(e) => log.warn(&format!("SweetSpot not published: {e}")),
-                    }
-                }
-            },
-            Some(received) = bats.next() => {
-                let log_time = convert::now_ns();
-                match received {
-                    Ok((params, _info)) => {
-                        tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                Some(event) = events_rx.recv() => match event {
+                    Event::ParameterChanged(effect) => {
                         let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
-                        match convert::bat_from_params(&params) {
-                            Ok(built) => {
-                                NodeStats::bump(&stats.params_accepted);
-                                let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
-                                log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
-                                spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
-                            }
-                            Err(reason) => {
-                                NodeStats::bump(&stats.params_rejected);
-                                reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.bat_id), &params.header, &params.bat_id, "", &ev_pub, &tape, &log);
-                            }
+                        let refresh: Vec<Arc<BatEntry>> = match effect {
+                            SettingEffect::None => Vec::new(),
+                            SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
+                            SettingEffect::SweetSpotsChanged => registry.bats(),
+                        };
+                        for entry in refresh {
+                            spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
                         }
                     }
-                    Err(e) => log.warn(&format!("bat/params: unreadable sample: {e:?}")),
-                }
-            }
-            Some(received) = balls.next() => {
-                let log_time = convert::now_ns();
-                match received {
-                    Ok((params, _info)) => {
-                        tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
-                        match convert::ball_from_params(&params) {
-                            Ok(ball) => {
-                                NodeStats::bump(&stats.params_accepted);
-                                registry.set_ball(&params.ball_id, ball);
-                                log.info(&format!("ball '{}' set", params.ball_id));
+                    Event::Summary(entry, result) => {
+                        // A summary of params that have since been replaced is stale.
+                        let current = registry.bats().into_iter().any(|e| Arc::ptr_eq(&e, &entry));
+                        match *result {
+                            Ok(summary) if current => {
+                                let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
+                                let msg = convert::sweet_spot(&summary, header);
+                                tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
+                                if let Err(e) = ss_pub.publish(msg) {
+                                    log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
+                                }
                             }
-                            Err(reason) => {
-                                NodeStats::bump(&stats.params_rejected);
-                                reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.ball_id), &params.header, "", &params.ball_id, &ev_pub, &tape, &log);
-                            }
+                            Ok(_) => {}
+                            Err(e) => log.warn(&format!("SweetSpot not published: {e}")),
                         }
                     }
-                    Err(e) => log.warn(&format!("ball/params: unreadable sample: {e:?}")),
+                },
+                Some(received) = bats.next() => {
+                    let log_time = convert::now_ns();
+                    match received {
+                        Ok((params, _info)) => {
+                            tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                            let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                            match convert::bat_from_params(&params) {
+                                Ok(built) => {
+                                    NodeStats::bump(&stats.params_accepted);
+                                    let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
+                                    log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
+                                    spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
+                                }
+                                Err(reason) => {
+                                    NodeStats::bump(&stats.params_rejected);
+                                    reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.bat_id), &params.header, &params.bat_id, "", &ev_pub, &tape, &log);
+                                }
+                            }
+                        }
+                        Err(e) => log.warn(&format!("bat/params: unreadable sample: {e:?}")),
+                    }
                 }
-            }
-            _ = diagnostics.tick() => {
-                let now = stats.snapshot(pipeline.in_flight());
-                let report = health_report(&now, &last_report, &tape.state());
-                let msg = convert::diagnostic_array(&report, &fqn, convert::time_from_ns(convert::now_ns()));
-                if let Err(e) = diag_pub.publish(msg) {
-                    tracing::debug!("publishing diagnostics: {e:?}");
+                Some(received) = balls.next() => {
+                    let log_time = convert::now_ns();
+                    match received {
+                        Ok((params, _info)) => {
+                            tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                            match convert::ball_from_params(&params) {
+                                Ok(ball) => {
+                                    NodeStats::bump(&stats.params_accepted);
+                                    registry.set_ball(&params.ball_id, ball);
+                                    log.info(&format!("ball '{}' set", params.ball_id));
+                                }
+                                Err(reason) => {
+                                    NodeStats::bump(&stats.params_rejected);
+                                    reject_params(&format!("{reason}; the previous params of '{}' stay in force", params.ball_id), &params.header, "", &params.ball_id, &ev_pub, &tape, &log);
+                                }
+                            }
+                        }
+                        Err(e) => log.warn(&format!("ball/params: unreadable sample: {e:?}")),
+                    }
                 }
-                last_report = now;
-            }
-            Some(received) = swings.next() => {
-                let log_time = convert::now_ns();
-                match received {
-                    Ok((swing, _info)) => on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx),
-                    Err(e) => log.warn(&format!("swing: unreadable sample: {e:?}")),
+                _ = diagnostics.tick() => {
+                    let now = stats.snapshot(pipeline.in_flight());
+                    let report = health_report(&now, &last_report, &tape.state());
+                    let msg = convert::diagnostic_array(&report, &fqn, convert::time_from_ns(convert::now_ns()));
+                    if let Err(e) = diag_pub.publish(msg) {
+                        tracing::debug!("publishing diagnostics: {e:?}");
+                    }
+                    last_report = now;
+                }
+                Some(received) = swings.next() => {
+                    let log_time = convert::now_ns();
+                    match received {
+                        Ok((swing, info)) => {
+                        let lost = transport_gaps.observe(info.publisher_gid(), info.sequence_number());
+                        if lost > 0 {
+                            stats.swings_lost_in_transport.fetch_add(lost, std::sync::atomic::Ordering::Relaxed);
+                            if let Some(suppressed) = loss_warning.allow(Instant::now()) {
+                                log.warn(&format!(
+                                    "{lost} swings from one publisher never reached the node (DDS history overflow); {suppressed} more such reports suppressed"
+                                ));
+                            }
+                        }
+                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx)
+                    }
+                        Err(e) => log.warn(&format!("swing: unreadable sample: {e:?}")),
+                    }
                 }
             }
         }
     }
 
     // Shutdown: stop taking swings, let queued ones finish briefly, close the bag, report.
-    drop(swings);
-    drop(bats);
-    drop(balls);
     let pipeline_stats = Arc::clone(&stats);
     let tape_for_finish = Arc::clone(&tape);
     let (bag_result, final_stats) = tokio::task::spawn_blocking(move || {
@@ -414,8 +430,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     .context("joining the shutdown task")?;
     let s = final_stats;
     let summary = format!(
-        "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses",
-        s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.latency_p50_us, s.latency_p99_us,
+        "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped, {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses",
+        s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.swings_lost_in_transport, s.latency_p50_us, s.latency_p99_us,
         s.latency_max_us, s.mode_cache_hits, s.mode_cache_misses
     );
     log.info(&summary);
@@ -431,6 +447,12 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         Some(Err(e)) => eprintln!("{fqn}: closing the bag failed: {e}"),
         None => {}
     }
+    // Entities before the participant: dropping the node stops the spinner, which must drop its parameter
+    // services while `context` still holds the participant (else RustDDS logs every removal as an error).
+    drop((ss_pub, diag_pub, ev_pub, bat_sub, ball_sub, swing_sub));
+    drop(node);
+    let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;
+    drop(context);
     Ok(())
 }
 
@@ -452,7 +474,8 @@ fn on_swing(
     NodeStats::bump(&stats.swings_received);
     tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
     let settings = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| fallback.clone());
-    let (plan, new_bat) = engine::plan_swing(registry, &settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+    let (plan, new_bat) =
+        engine::plan_swing(registry, &settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
     if let Some(entry) = new_bat {
         spawn_summary(entry, registry, shared_settings, stats, events);
     }
@@ -493,12 +516,14 @@ fn spawn_summary(
     stats: &Arc<NodeStats>,
     events: &tokio::sync::mpsc::UnboundedSender<Event>,
 ) {
-    let Ok((ball_id, ball)) = registry.resolve_ball("") else { return };
+    let Ok((ball_id, ball)) = registry.resolve_ball("") else {
+        return;
+    };
     let settings = settings.read().map(|s| s.clone()).unwrap_or_default();
     let (stats, events) = (Arc::clone(stats), events.clone());
     tokio::task::spawn_blocking(move || {
         let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
-        let _ = events.send(Event::Summary(entry, result));
+        let _ = events.send(Event::Summary(entry, Box::new(result)));
     });
 }
 

@@ -28,7 +28,11 @@ pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
     ("reference_ball_speed", "m/s", "ball speed of the reference swing used for SweetSpot (> 0)"),
     ("reference_bat_cm_speed", "m/s", "bat centre-of-mass speed of the reference swing (>= 0)"),
     ("reference_bat_angular_speed", "rad/s", "bat angular speed of the reference swing"),
-    ("queue_capacity", "", "swings in flight (queued, computing or awaiting in-order publication) before new ones are dropped"),
+    (
+        "queue_capacity",
+        "",
+        "swings in flight (queued, computing or awaiting in-order publication) before new ones are dropped",
+    ),
     ("workers", "", "collision worker threads; 0 = one per CPU core"),
     ("record", "", "record every input and output to MCAP"),
     ("record_path", "", "rosbag2 directory to create; empty = bags/<node>_<UTC time>"),
@@ -136,9 +140,7 @@ impl NodeSettings {
                 .into_iter()
                 .find(|(n, _)| n == name)
                 .map(|(_, v)| v)
-                .ok_or_else(|| {
-                    format!("unknown parameter '{name}' (known: {})", parameter_names().join(", "))
-                })?;
+                .ok_or_else(|| format!("unknown parameter '{name}' (known: {})", parameter_names().join(", ")))?;
             let value = match (&declared, value) {
                 (ParameterValue::Double(_), ParameterValue::Integer(i)) => ParameterValue::Double(*i as f64),
                 _ => value.clone(),
@@ -228,8 +230,12 @@ impl NodeSettings {
             ("default_modes" | "queue_capacity" | "workers" | "record_max_file_size", _) => wrong_type("an integer"),
             ("record", _) => wrong_type("a boolean"),
             (
-                "time_step" | "reference_ball_speed" | "reference_bat_cm_speed" | "reference_bat_angular_speed"
-                | "record_max_file_duration" | "diagnostics_period",
+                "time_step"
+                | "reference_ball_speed"
+                | "reference_bat_cm_speed"
+                | "reference_bat_angular_speed"
+                | "record_max_file_duration"
+                | "diagnostics_period",
                 _,
             ) => wrong_type("a double"),
             _ => Err(format!("unknown parameter '{name}' (known: {})", parameter_names().join(", "))),
@@ -327,7 +333,10 @@ mod tests {
     fn default_bag_dir_is_named_after_node_and_utc_time() {
         use chrono::TimeZone;
         let t = chrono::Utc.with_ymd_and_hms(2026, 11, 21, 5, 6, 7).unwrap();
-        assert_eq!(NodeSettings::default().bag_dir("sweetspot", t), PathBuf::from("bags/sweetspot_2026_11_21-05_06_07"));
+        assert_eq!(
+            NodeSettings::default().bag_dir("sweetspot", t),
+            PathBuf::from("bags/sweetspot_2026_11_21-05_06_07")
+        );
         let s = NodeSettings { record_path: "/tmp/run1".into(), ..Default::default() };
         assert_eq!(s.bag_dir("sweetspot", t), PathBuf::from("/tmp/run1"));
     }

@@ -17,6 +17,9 @@ pub struct NodeStats {
     pub swings_rejected: AtomicU64,
     /// Swings dropped because `queue_capacity` swings were already in flight.
     pub swings_dropped: AtomicU64,
+    /// Swings a publisher sent that never reached the node (gaps in its DDS sequence numbers: the reader's
+    /// history overflowed, or the publisher's history replaced them before delivery).
+    pub swings_lost_in_transport: AtomicU64,
     /// BatParams/BallParams accepted.
     pub params_accepted: AtomicU64,
     /// BatParams/BallParams refused (the previous params stay in force).
@@ -43,6 +46,8 @@ pub struct StatsSnapshot {
     pub swings_rejected: u64,
     /// See [`NodeStats`].
     pub swings_dropped: u64,
+    /// See [`NodeStats`].
+    pub swings_lost_in_transport: u64,
     /// See [`NodeStats`].
     pub params_accepted: u64,
     /// See [`NodeStats`].
@@ -86,6 +91,7 @@ impl NodeStats {
             swings_ok: AtomicU64::new(0),
             swings_rejected: AtomicU64::new(0),
             swings_dropped: AtomicU64::new(0),
+            swings_lost_in_transport: AtomicU64::new(0),
             params_accepted: AtomicU64::new(0),
             params_rejected: AtomicU64::new(0),
             mode_cache_hits: AtomicU64::new(0),
@@ -123,6 +129,7 @@ impl NodeStats {
             swings_ok: load(&self.swings_ok),
             swings_rejected: load(&self.swings_rejected),
             swings_dropped: load(&self.swings_dropped),
+            swings_lost_in_transport: load(&self.swings_lost_in_transport),
             params_accepted: load(&self.params_accepted),
             params_rejected: load(&self.params_rejected),
             mode_cache_hits: load(&self.mode_cache_hits),
@@ -173,17 +180,22 @@ pub struct HealthReport {
 /// Summarises `now` against the previous report `before` (for "since the last report" warnings).
 pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &RecorderState) -> HealthReport {
     let new_drops = now.swings_dropped.saturating_sub(before.swings_dropped);
+    let new_losses = now.swings_lost_in_transport.saturating_sub(before.swings_lost_in_transport);
     let new_publish_failures = now.publish_failures.saturating_sub(before.publish_failures);
     let (mut level, mut message) = (Health::Ok, format!("{} swings answered", now.swings_answered()));
-    if new_drops > 0 || new_publish_failures > 0 {
+    if new_drops > 0 || new_publish_failures > 0 || new_losses > 0 {
         level = Health::Warn;
-        message = format!("{new_drops} swings dropped (queue full), {new_publish_failures} results unsent since last report");
+        message = format!(
+            "since the last report: {new_drops} swings dropped (queue full), {new_losses} lost in transport, \
+             {new_publish_failures} results unsent"
+        );
     }
     let mut values: Vec<(String, String)> = vec![
         ("swings_received".into(), now.swings_received.to_string()),
         ("swings_processed".into(), now.swings_ok.to_string()),
         ("swings_rejected".into(), now.swings_rejected.to_string()),
         ("swings_dropped".into(), now.swings_dropped.to_string()),
+        ("swings_lost_in_transport".into(), now.swings_lost_in_transport.to_string()),
         ("swings_in_flight".into(), now.in_flight.to_string()),
         ("params_accepted".into(), now.params_accepted.to_string()),
         ("params_rejected".into(), now.params_rejected.to_string()),
@@ -219,6 +231,28 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
         }
     }
     HealthReport { level, message, values }
+}
+
+/// Counts gaps in each publisher's DDS sequence numbers: samples it wrote that never reached this reader.
+#[derive(Debug, Default)]
+pub struct GapCounter<K> {
+    last: std::collections::HashMap<K, i64>,
+}
+
+impl<K: std::hash::Hash + Eq> GapCounter<K> {
+    /// No publisher seen yet.
+    pub fn new() -> Self {
+        GapCounter { last: std::collections::HashMap::new() }
+    }
+
+    /// Notes sample `sequence` from `publisher`; returns how many of its samples were skipped since the last.
+    /// The first sample of a publisher counts nothing (a late joiner cannot know what came before).
+    pub fn observe(&mut self, publisher: K, sequence: i64) -> u64 {
+        match self.last.insert(publisher, sequence) {
+            Some(previous) if sequence > previous + 1 => (sequence - previous - 1) as u64,
+            _ => 0,
+        }
+    }
 }
 
 /// Lets a repeated warning through at most once per `period`, counting what it held back.
@@ -281,10 +315,25 @@ mod tests {
         let r = health_report(&later, &now, &RecorderState::Off);
         assert_eq!(r.level, Health::Warn);
         assert!(r.message.contains("4 swings dropped"), "{}", r.message);
+        let lost = StatsSnapshot { swings_lost_in_transport: 2, ..now.clone() };
+        let r = health_report(&lost, &now, &RecorderState::Off);
+        assert_eq!(r.level, Health::Warn);
+        assert!(r.message.contains("2 lost in transport"), "{}", r.message);
         let failed = RecorderState::Failed { dir: "/x".into(), error: "disk full".into(), written: 3, dropped: 1 };
         let r = health_report(&now, &now, &failed);
         assert_eq!(r.level, Health::Error);
         assert!(r.message.contains("disk full"));
+    }
+
+    #[test]
+    fn gaps_in_sequence_numbers_are_counted_per_publisher() {
+        let mut g = GapCounter::new();
+        assert_eq!(g.observe("a", 5), 0, "first sample of a publisher");
+        assert_eq!(g.observe("a", 6), 0);
+        assert_eq!(g.observe("b", 1), 0);
+        assert_eq!(g.observe("a", 10), 3);
+        assert_eq!(g.observe("b", 2), 0);
+        assert_eq!(g.observe("a", 10), 0, "a duplicate is not a gap");
     }
 
     #[test]

@@ -141,6 +141,7 @@ pub fn require_isolated_network() {
 pub struct Peer {
     pub rt: tokio::runtime::Runtime,
     pub node: Node,
+    pub context: ros2_client::Context,
 }
 
 impl Peer {
@@ -154,7 +155,7 @@ impl Peer {
             .expect("test node");
         let spinner = node.spinner().expect("spinner");
         rt.spawn(spinner.spin());
-        Peer { rt, node }
+        Peer { rt, node, context }
     }
 
     /// A publisher of `M` on the absolute topic `name` with `qos`.
@@ -172,7 +173,9 @@ impl Peer {
     /// Waits until `publisher` is matched with a subscription (the node's), or panics after 60 s.
     pub fn wait_for_reader<M: RosMessage>(&self, publisher: &Publisher<M>) {
         self.rt
-            .block_on(async { tokio::time::timeout(Duration::from_secs(60), publisher.wait_for_subscription(&self.node)).await })
+            .block_on(async {
+                tokio::time::timeout(Duration::from_secs(60), publisher.wait_for_subscription(&self.node)).await
+            })
             .expect("no subscription matched the test publisher within 60 s");
     }
 
@@ -186,7 +189,16 @@ impl Peer {
         self.rt.block_on(async {
             let mut out = Vec::new();
             let mut stream = pin!(subscription.async_stream());
+            // Periodic topics (diagnostics) never go quiet: bound the whole wait too.
+            let deadline = Instant::now() + limit * 3;
             while !done(&out) {
+                assert!(
+                    Instant::now() < deadline,
+                    "condition not met within {:?} ({} messages of {})",
+                    limit * 3,
+                    out.len(),
+                    M::TYPE_NAME
+                );
                 match tokio::time::timeout(limit, stream.next()).await {
                     Ok(Some(Ok((msg, _)))) => out.push(msg),
                     Ok(Some(Err(e))) => panic!("receive error: {e:?}"),

@@ -1,0 +1,321 @@
+//! `bag replay`: re-run the physics on every recorded swing with the bat and ball in force at that moment,
+//! exactly as the node decides it, and compare with the recorded ExitVelocity and ModalEnergies.
+//!
+//! The node's own pure functions are used (`node::convert::{bat_from_params, ball_from_params,
+//! impact_from_swing, exit_velocity, modal_energies}` and `node::engine::{Registry, plan_swing, compute}`), so
+//! replay cannot drift from what the node does. One registry per namespace, like one node per rig.
+//!
+//! Node settings that shape results (default_bat, default_modes, time_step) are not messages; they are read
+//! from the bag's rosbag2 `custom_data` keys `sweetspot/default_bat`, `sweetspot/default_modes`,
+//! `sweetspot/time_step` when present, else the node defaults, and can be given on the command line.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
+use crate::node::convert;
+use crate::node::engine::{self, BatEntry, Registry};
+use crate::node::settings::NodeSettings;
+use crate::node::stats::NodeStats;
+use crate::physics::{Ball, Bat};
+
+use super::export::{read_run, RunEvent};
+use super::reader::bag_files;
+use super::BagError;
+
+/// "What if" changes; any of them turns the comparison into a report of differences.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WhatIf {
+    /// Use this preset bat for every swing (recorded BatParams are ignored).
+    pub bat: Option<String>,
+    /// Use this preset ball for every swing (recorded BallParams are ignored).
+    pub ball: Option<String>,
+    /// Integrate this many modes for every bat.
+    pub modes: Option<usize>,
+}
+
+impl WhatIf {
+    /// Whether anything is overridden.
+    pub fn any(&self) -> bool {
+        self.bat.is_some() || self.ball.is_some() || self.modes.is_some()
+    }
+}
+
+/// One field that differs beyond the tolerance.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FieldDiff {
+    /// Message and field, e.g. `ExitVelocity.exit_speed` or `ModalEnergies.energy[2]`.
+    pub field: String,
+    /// Recorded value.
+    pub recorded: f64,
+    /// Replayed value.
+    pub replayed: f64,
+}
+
+/// The verdict on one swing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Verdict {
+    /// Every compared field within tolerance.
+    Match,
+    /// At least one field beyond tolerance (or OK vs REJECTED).
+    Differs,
+    /// No ExitVelocity was recorded for this swing (dropped by the node, or recording stopped): nothing to compare.
+    NotRecorded,
+}
+
+/// One replayed swing.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ReplayRow {
+    /// Namespace of the swing topic.
+    pub namespace: String,
+    /// swing_id.
+    pub swing_id: u64,
+    /// Bat used by the replay.
+    pub bat_id: String,
+    /// Ball used by the replay.
+    pub ball_id: String,
+    /// Recorded exit speed, m/s (NaN if none or rejected).
+    pub recorded_exit_speed: f64,
+    /// Replayed exit speed, m/s (NaN if rejected).
+    pub replayed_exit_speed: f64,
+    /// Replayed status (0 OK, 1 REJECTED).
+    pub replayed_status: u8,
+    /// Fields beyond tolerance.
+    pub differences: Vec<FieldDiff>,
+    /// Largest relative difference over all compared fields (0 when identical).
+    pub worst_relative: f64,
+    /// Verdict.
+    pub verdict: Verdict,
+}
+
+/// The whole replay.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ReplayReport {
+    /// Per swing, in recorded order.
+    pub rows: Vec<ReplayRow>,
+    /// Relative tolerance used (0 = bit-exact).
+    pub tolerance: f64,
+    /// Whether overrides were applied.
+    pub what_if: bool,
+    /// The sweetspot version that wrote the bag (from the MCAP library string), if known.
+    pub recorded_by: String,
+    /// Settings used: (default_bat, default_modes, time_step).
+    pub settings: (String, usize, f64),
+}
+
+impl ReplayReport {
+    /// Swings per verdict: (match, differs, not recorded).
+    pub fn tally(&self) -> (usize, usize, usize) {
+        let count = |v| self.rows.iter().filter(|r| r.verdict == v).count();
+        (count(Verdict::Match), count(Verdict::Differs), count(Verdict::NotRecorded))
+    }
+}
+
+/// Node settings for a replay: bag `custom_data` if present, else node defaults.
+pub fn recorded_settings(path: &Path) -> Result<NodeSettings, BagError> {
+    let mut settings = NodeSettings::default();
+    let scans: Vec<_> = bag_files(path)?
+        .iter()
+        .map(|f| super::reader::scan_file(f, |_| {}))
+        .collect::<Result<_, _>>()?;
+    let custom = super::info::custom_data_of(&scans);
+    if let Some(v) = custom.get("sweetspot/default_bat") {
+        settings.default_bat = v.clone();
+    }
+    if let Some(v) = custom.get("sweetspot/default_modes").and_then(|v| v.parse().ok()) {
+        settings.default_modes = v;
+    }
+    if let Some(v) = custom.get("sweetspot/time_step").and_then(|v| v.parse().ok()) {
+        settings.time_step = v;
+    }
+    Ok(settings)
+}
+
+fn library_of(path: &Path) -> String {
+    bag_files(path)
+        .ok()
+        .and_then(|files| files.first().cloned())
+        .and_then(|f| super::reader::scan_file(&f, |_| {}).ok())
+        .map(|s| s.library)
+        .unwrap_or_default()
+}
+
+/// |recorded − replayed| / max(|recorded|, |replayed|); 0 for equal values or two NaNs, ∞ for NaN vs number.
+fn relative_difference(recorded: f64, replayed: f64) -> f64 {
+    if recorded.is_nan() && replayed.is_nan() || recorded == replayed {
+        return 0.0;
+    }
+    if recorded.is_nan() || replayed.is_nan() || recorded.is_infinite() || replayed.is_infinite() {
+        return f64::INFINITY;
+    }
+    (recorded - replayed).abs() / recorded.abs().max(replayed.abs())
+}
+
+struct Comparer<'a> {
+    tolerance: f64,
+    diffs: &'a mut Vec<FieldDiff>,
+    worst: f64,
+}
+
+impl Comparer<'_> {
+    fn field(&mut self, name: &str, recorded: f64, replayed: f64) {
+        let rel = relative_difference(recorded, replayed);
+        self.worst = self.worst.max(rel);
+        let equal = if self.tolerance == 0.0 { rel == 0.0 } else { rel <= self.tolerance };
+        if !equal {
+            self.diffs.push(FieldDiff { field: name.to_string(), recorded, replayed });
+        }
+    }
+
+    fn array(&mut self, name: &str, recorded: &[f64], replayed: &[f64]) {
+        if recorded.len() != replayed.len() {
+            self.worst = f64::INFINITY;
+            self.diffs.push(FieldDiff {
+                field: format!("{name}.len"),
+                recorded: recorded.len() as f64,
+                replayed: replayed.len() as f64,
+            });
+        }
+        for (k, (a, b)) in recorded.iter().zip(replayed).enumerate() {
+            self.field(&format!("{name}[{k}]"), *a, *b);
+        }
+    }
+
+    fn exit_velocity(&mut self, rec: &ExitVelocity, rep: &ExitVelocity) {
+        self.field("ExitVelocity.status", f64::from(rec.status), f64::from(rep.status));
+        self.field("ExitVelocity.exit_speed", rec.exit_speed, rep.exit_speed);
+        self.field("ExitVelocity.rigid_exit_speed", rec.rigid_exit_speed, rep.rigid_exit_speed);
+        self.field("ExitVelocity.effective_cor", rec.effective_cor, rep.effective_cor);
+        self.field("ExitVelocity.collision_efficiency", rec.collision_efficiency, rep.collision_efficiency);
+        self.field("ExitVelocity.contact_time", rec.contact_time, rep.contact_time);
+        self.field("ExitVelocity.peak_force", rec.peak_force, rep.peak_force);
+        self.field("ExitVelocity.impulse", rec.impulse, rep.impulse);
+        self.field("ExitVelocity.max_compression", rec.max_compression, rep.max_compression);
+        self.field("ExitVelocity.residual", rec.residual, rep.residual);
+    }
+
+    fn modal_energies(&mut self, rec: &ModalEnergies, rep: &ModalEnergies) {
+        self.array("ModalEnergies.frequency", &rec.frequency, &rep.frequency);
+        self.array("ModalEnergies.energy", &rec.energy, &rep.energy);
+        self.array("ModalEnergies.fraction", &rec.fraction, &rep.fraction);
+        self.field("ModalEnergies.vibration_energy", rec.vibration_energy, rep.vibration_energy);
+        self.field("ModalEnergies.hysteresis_loss", rec.hysteresis_loss, rep.hysteresis_loss);
+        self.field("ModalEnergies.energy_residual", rec.energy_residual, rep.energy_residual);
+    }
+}
+
+/// Replays a bag. `settings` are the node settings to use (see [`recorded_settings`]); `tolerance` is the
+/// relative tolerance (0 = bit-exact); `on_swing` is called after each swing (progress).
+pub fn replay(
+    path: &Path,
+    settings: &NodeSettings,
+    what_if: &WhatIf,
+    tolerance: f64,
+    mut on_swing: impl FnMut(usize, usize),
+) -> Result<ReplayReport, BagError> {
+    if !(tolerance >= 0.0 && tolerance.is_finite()) {
+        return Err(BagError::Format(format!("tolerance = {tolerance} is out of range: expected a finite value ≥ 0")));
+    }
+    let mut settings = settings.clone();
+    if let Some(modes) = what_if.modes {
+        if !(1..=200).contains(&modes) {
+            return Err(BagError::Format(format!("--modes {modes} is out of range: expected 1..=200")));
+        }
+        settings.default_modes = modes;
+    }
+    let override_bat = match &what_if.bat {
+        Some(name) => Some((name.clone(), Bat::preset(name).map_err(|e| BagError::Format(format!("--bat: {e}")))?)),
+        None => None,
+    };
+    let override_ball = match &what_if.ball {
+        Some(name) => Some((name.clone(), Ball::preset(name).map_err(|e| BagError::Format(format!("--ball: {e}")))?)),
+        None => None,
+    };
+    let run = read_run(path)?;
+    let stats = NodeStats::new();
+    let mut registries: HashMap<String, Registry> = HashMap::new();
+    let registry_for = |registries: &mut HashMap<String, Registry>, ns: &str| -> Registry {
+        registries.remove(ns).unwrap_or_else(|| {
+            let mut registry = Registry::new();
+            if let Some((name, bat)) = &override_bat {
+                registry.set_bat(BatEntry::new(name, bat.clone(), what_if.modes, &settings));
+            }
+            if let Some((name, ball)) = &override_ball {
+                registry.set_ball(name, *ball);
+            }
+            registry
+        })
+    };
+    let total = run.rows.len();
+    let mut rows = Vec::with_capacity(total);
+    for event in &run.events {
+        match event {
+            RunEvent::BatParams(ns, params) => {
+                let mut registry = registry_for(&mut registries, ns);
+                if override_bat.is_none() {
+                    if let Ok(built) = convert::bat_from_params(params) {
+                        let modes = what_if.modes.or(built.max_modes);
+                        registry.set_bat(BatEntry::new(&params.bat_id, built.bat, modes, &settings));
+                    }
+                }
+                registries.insert(ns.clone(), registry);
+            }
+            RunEvent::BallParams(ns, params) => {
+                let mut registry = registry_for(&mut registries, ns);
+                if override_ball.is_none() {
+                    if let Ok(ball) = convert::ball_from_params(params) {
+                        registry.set_ball(&params.ball_id, ball);
+                    }
+                }
+                registries.insert(ns.clone(), registry);
+            }
+            RunEvent::Swing(index) => {
+                let row = &run.rows[*index];
+                let mut registry = registry_for(&mut registries, &row.namespace);
+                let swing = &row.swing;
+                let bat_id = override_bat.as_ref().map_or(swing.bat_id.as_str(), |(n, _)| n.as_str());
+                let ball_id = override_ball.as_ref().map_or(swing.ball_id.as_str(), |(n, _)| n.as_str());
+                let (plan, _) = engine::plan_swing(&mut registry, &settings, bat_id, ball_id, convert::impact_from_swing(swing));
+                registries.insert(row.namespace.clone(), registry);
+                let result = engine::compute(&plan, &stats);
+                let ev = convert::exit_velocity(swing, plan.bat_id(), plan.ball_id(), &result);
+                let me = result.as_ref().ok().map(|c| convert::modal_energies(swing, plan.bat_id(), c));
+                let mut differences = Vec::new();
+                let mut cmp = Comparer { tolerance, diffs: &mut differences, worst: 0.0 };
+                let verdict = match &row.exit_velocity {
+                    None => Verdict::NotRecorded,
+                    Some(recorded) => {
+                        cmp.exit_velocity(recorded, &ev);
+                        match (&row.modal_energies, &me) {
+                            (Some(a), Some(b)) => cmp.modal_energies(a, b),
+                            (None, None) => {}
+                            (a, b) => cmp.field("ModalEnergies.present", f64::from(u8::from(a.is_some())), f64::from(u8::from(b.is_some()))),
+                        }
+                        if cmp.diffs.is_empty() { Verdict::Match } else { Verdict::Differs }
+                    }
+                };
+                let worst = cmp.worst;
+                rows.push(ReplayRow {
+                    namespace: row.namespace.clone(),
+                    swing_id: swing.swing_id,
+                    bat_id: plan.bat_id().to_string(),
+                    ball_id: plan.ball_id().to_string(),
+                    recorded_exit_speed: row.exit_velocity.as_ref().map_or(f64::NAN, |e| e.exit_speed),
+                    replayed_exit_speed: ev.exit_speed,
+                    replayed_status: ev.status,
+                    differences,
+                    worst_relative: worst,
+                    verdict,
+                });
+                on_swing(rows.len(), total);
+            }
+        }
+    }
+    Ok(ReplayReport {
+        rows,
+        tolerance,
+        what_if: what_if.any(),
+        recorded_by: library_of(path),
+        settings: (settings.default_bat.clone(), settings.default_modes, settings.time_step),
+    })
+}

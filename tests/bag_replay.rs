@@ -1,0 +1,147 @@
+//! `bag replay` re-runs the physics with the params in force at each swing and compares exactly.
+//!
+//! The bag is written the way the node writes it: inputs as received, outputs computed by the node's own
+//! engine at the moment each swing arrives (a BatParams change mid-run must only affect later swings).
+
+mod bag_support;
+
+use std::path::Path;
+use std::process::Command;
+
+use bag_support::sweetspot_bin;
+use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
+use sweetspot::msgs::encode_cdr;
+use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, Swing};
+use sweetspot::node::convert;
+use sweetspot::node::engine::{self, BatEntry, Registry};
+use sweetspot::node::settings::NodeSettings;
+use sweetspot::node::stats::NodeStats;
+
+const T0: u64 = 1_763_700_000_000_000_000;
+const Q: RecordedQos = RecordedQos { reliable: true, transient_local: false, depth: 100 };
+
+fn swing(i: u64, bat_id: &str) -> Swing {
+    Swing {
+        header: sweetspot::msgs::std_msgs::msg::Header { stamp: convert::time_from_ns(T0 + i * 1_000_000), frame_id: String::new() },
+        swing_id: i,
+        bat_id: bat_id.into(),
+        ball_id: String::new(),
+        ball_speed: 38.0 + i as f64,
+        bat_cm_speed: 20.0,
+        bat_angular_speed: 45.0 + 2.0 * i as f64,
+        impact_z: 0.66 + 0.005 * i as f64,
+        measured_exit_speed: f64::NAN,
+    }
+}
+
+/// Records a run as the node would: bat "game" is r161 for swings 0..4, then aluminum for 5..9; swing 10
+/// asks for an unknown bat (rejected). Returns the settings used.
+fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> NodeSettings {
+    let settings = NodeSettings { default_modes: 8, ..NodeSettings::default() };
+    let rec = Recorder::start(RecorderConfig::new(dir)).unwrap();
+    rec.set_custom_data("sweetspot/default_modes", settings.default_modes.to_string());
+    rec.set_custom_data("sweetspot/time_step", settings.time_step.to_string());
+    rec.set_custom_data("sweetspot/default_bat", settings.default_bat.clone());
+    let bat_t = rec.register_topic(TopicInfo::of::<BatParams>("/lab/bat/params", Q)).unwrap();
+    let ball_t = rec.register_topic(TopicInfo::of::<BallParams>("/lab/ball/params", Q)).unwrap();
+    let swing_t = rec.register_topic(TopicInfo::of::<Swing>("/lab/swing", Q)).unwrap();
+    let ev_t = rec.register_topic(TopicInfo::of::<ExitVelocity>("/lab/exit_velocity", Q)).unwrap();
+    let me_t = rec.register_topic(TopicInfo::of::<ModalEnergies>("/lab/modal_energies", Q)).unwrap();
+    let stats = NodeStats::new();
+    let mut registry = Registry::new();
+    let mut t = T0;
+    let mut next = || {
+        t += 1_000_000;
+        t
+    };
+    let ball = BallParams { ball_id: "lab_ball".into(), mass: 0.145, radius: 0.0366, cor: 0.48, stiffness: 7.5e6, exponent: 1.5, ..BallParams::default() };
+    registry.set_ball(&ball.ball_id, convert::ball_from_params(&ball).unwrap());
+    assert!(rec.record(ball_t, encode_cdr(&ball).unwrap(), next(), 0));
+    for i in 0..11u64 {
+        if i == 0 || i == 5 {
+            let preset = if i == 0 { "r161" } else { "aluminum" };
+            let p = BatParams { bat_id: "game".into(), preset: preset.into(), ..BatParams::default() };
+            let built = convert::bat_from_params(&p).unwrap();
+            registry.set_bat(BatEntry::new("game", built.bat, built.max_modes, &settings));
+            assert!(rec.record(bat_t, encode_cdr(&p).unwrap(), next(), 0));
+        }
+        let s = swing(i, if i == 10 { "no_such_bat" } else { "game" });
+        assert!(rec.record(swing_t, encode_cdr(&s).unwrap(), next(), 0));
+        let (plan, _) = engine::plan_swing(&mut registry, &settings, &s.bat_id, &s.ball_id, convert::impact_from_swing(&s));
+        let result = engine::compute(&plan, &stats);
+        if let Ok(c) = &result {
+            let me = convert::modal_energies(&s, plan.bat_id(), c);
+            assert!(rec.record(me_t, encode_cdr(&me).unwrap(), next(), 0));
+        }
+        let mut ev = convert::exit_velocity(&s, plan.bat_id(), plan.ball_id(), &result);
+        if tamper == Some(i) {
+            // One ulp-scale change: an exact replay must notice it.
+            ev.exit_speed = f64::from_bits(ev.exit_speed.to_bits() + 1);
+        }
+        assert!(rec.record(ev_t, encode_cdr(&ev).unwrap(), next(), 0));
+    }
+    rec.finish().unwrap();
+    settings
+}
+
+#[test]
+fn replay_matches_bit_exactly_with_params_in_force_at_each_swing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("run");
+    let settings = record_like_the_node(&dir, None);
+    // Settings come back from the bag's custom_data.
+    assert_eq!(sweetspot::bag::replay::recorded_settings(&dir).unwrap(), settings);
+    let report = sweetspot::bag::replay::replay(&dir, &settings, &Default::default(), 0.0, |_, _| {}).unwrap();
+    assert_eq!(report.rows.len(), 11);
+    assert_eq!(report.tally(), (11, 0, 0), "{:#?}", report.rows.iter().filter(|r| !r.differences.is_empty()).collect::<Vec<_>>());
+    assert_eq!(report.rows[10].replayed_status, ExitVelocity::STATUS_REJECTED);
+    // The bat changed between swing 4 and 5; the replay used each at its time.
+    assert!((report.rows[4].replayed_exit_speed - report.rows[5].replayed_exit_speed).abs() > 0.01);
+
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay"]).arg(&dir).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("11 swings: 11 match, 0 differ (bit-exact)"), "{text}");
+}
+
+#[test]
+fn replay_fails_on_a_one_ulp_difference_unless_tolerated() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("tampered");
+    record_like_the_node(&dir, Some(3));
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay"]).arg(&dir).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(!out.status.success(), "a difference must fail the replay:\n{text}");
+    assert!(text.contains("10 match, 1 differ"), "{text}");
+    assert!(text.contains("DIFFERS (1 fields; e.g. ExitVelocity.exit_speed"), "{text}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("1 of 11 swings differ"));
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay", "--tolerance", "1e-12"]).arg(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stdout));
+}
+
+#[test]
+fn what_if_prints_differences_without_failing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("whatif");
+    record_like_the_node(&dir, None);
+    let out = Command::new(sweetspot_bin())
+        .args(["bag", "replay", "--bat", "torpedo", "--modes", "4", "--json"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let json_end = text.rfind('}').unwrap();
+    let report: serde_json::Value = serde_json::from_str(&text[..=json_end]).unwrap();
+    assert_eq!(report["what_if"], true);
+    let rows = report["rows"].as_array().unwrap();
+    assert!(rows.iter().all(|r| r["bat_id"] == "torpedo"));
+    // Swing 10 (unknown bat in the recording) now computes with the torpedo bat, and every swing differs.
+    assert!(rows.iter().all(|r| r["verdict"] == "Differs"));
+    assert!(text.contains("what-if replay"));
+    // Bad overrides are typed errors naming the flag and the choices.
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay", "--bat", "nope"]).arg(&dir).output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--bat") && err.contains("r161"), "{err}");
+}
