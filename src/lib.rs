@@ -6,6 +6,7 @@
 //! - [`bag`]: MCAP record / replay in the rosbag2 layout;
 //! - [`cli`]: the command line.
 pub mod bag;
+pub mod bench;
 pub mod cli;
 pub mod msgs;
 pub mod node;

@@ -1,0 +1,1026 @@
+//! `sweetspot bench`: end-to-end measurements of the node over DDS on loopback, against a raw ros2-client
+//! echo of the same messages, plus the recorder against `dd` and the node's memory.
+//!
+//! Both the node and the raw echo run as **child processes** of the bench (this executable with `node` and
+//! with `bench --echo-server`), each on its own DDS domain, and the same in-process client (a ros2-client
+//! node) drives both: it publishes `Swing`s on `/swing` at a paced rate and takes `ExitVelocity`s from
+//! `/exit_velocity`, matching them by `swing_id`. The raw echo answers each `Swing` with an `ExitVelocity`
+//! carrying the same ids straight from its receive task, so the two paths differ only by what the node does
+//! (queueing, physics, in-order publication, recording, the second result topic).
+//!
+//! Latency is measured from just before `publish` to the moment the client's receive task takes the answer
+//! (both in the client process, monotonic clock), into an HDR histogram (µs, 3 significant digits).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::pin::pin;
+use std::process::{Child, Command, Stdio};
+use std::sync::{mpsc, Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context as _};
+use futures::StreamExt;
+use hdrhistogram::Histogram;
+use ros2_client::qos::{History, Reliability, WhenFull};
+use ros2_client::{NodeName, NodeOptions, Publisher};
+use serde_json::json;
+
+use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
+use crate::msgs::std_msgs::msg::Header;
+use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
+use crate::ros::{DdsConfig, DiscoveryRange};
+
+/// What to measure and where.
+#[derive(Debug, Clone)]
+pub struct BenchOptions {
+    /// Short runs (the whole bench in under a minute).
+    pub quick: bool,
+    /// Scratch directory on the disk under test (bags, the `dd` file); created if missing.
+    pub work_dir: PathBuf,
+    /// First of the two DDS domains used (node on it, raw echo on the next).
+    pub domain: u16,
+    /// The `sweetspot` executable to start as node and echo server.
+    pub exe: PathBuf,
+    /// Soak duration for the RSS-flatness measurement.
+    pub soak: Duration,
+}
+
+/// Latency figures of one paced run, µs.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct RunResult {
+    /// Target rate, swings/s.
+    pub target_rate: u32,
+    /// Rate the client actually published at, swings/s.
+    pub achieved_rate: f64,
+    /// Swings sent.
+    pub sent: u64,
+    /// Answers received.
+    pub answered: u64,
+    /// Median latency, µs.
+    pub p50_us: u64,
+    /// 99th percentile latency, µs.
+    pub p99_us: u64,
+    /// Worst latency, µs.
+    pub max_us: u64,
+    /// Time from the last publish to the last answer, ms (a growing backlog shows here).
+    pub drain_ms: f64,
+}
+
+/// One step of the sustained-rate search.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct StepResult {
+    /// Latencies and counts of the step.
+    pub run: RunResult,
+    /// Swings the node dropped during the step (diagnostics `swings_dropped`).
+    pub node_dropped: u64,
+    /// Messages the recorder dropped during the step (diagnostics `recorder_dropped`).
+    pub recorder_dropped: u64,
+    /// Whether the step counts as sustained: no loss anywhere (answers, node drops, transport, recorder), rate
+    /// reached, p99 ≤ 100 ms, no backlog.
+    pub sustained: bool,
+    /// Why not, if not.
+    pub verdict: String,
+}
+
+/// Recorder against `dd`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DiskResult {
+    /// Messages recorded.
+    pub messages: u64,
+    /// Message bytes recorded (CDR payloads, as the recorder counts them).
+    pub payload_bytes: u64,
+    /// Bytes of the bag files on disk (zstd-compressed chunks).
+    pub bag_bytes: u64,
+    /// Recorder wall time including the final fsync, s.
+    pub recorder_s: f64,
+    /// Recorder throughput, MB/s (10^6 message bytes per second).
+    pub recorder_mb_s: f64,
+    /// Recorder messages per second.
+    pub recorder_msgs_s: f64,
+    /// `dd` throughput writing as many bytes as the messages (1 MiB blocks, fdatasync), MB/s.
+    pub dd_mb_s: f64,
+    /// recorder_mb_s / dd_mb_s.
+    pub ratio: f64,
+}
+
+/// Memory of the node process.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct MemoryResult {
+    /// VmHWM after the 10,000/s run, kB.
+    pub peak_rss_kb_at_10k: u64,
+    /// Rate of the soak, swings/s.
+    pub soak_rate: u32,
+    /// Soak length, s.
+    pub soak_s: f64,
+    /// VmRSS sampled once a second during the soak, kB.
+    pub soak_rss_kb: Vec<u64>,
+    /// Median RSS of the first and of the last quarter of the soak, kB.
+    pub soak_first_quarter_kb: u64,
+    /// See `soak_first_quarter_kb`.
+    pub soak_last_quarter_kb: u64,
+    /// Answers missing at the end of the soak.
+    pub soak_lost: u64,
+}
+
+/// Everything one `sweetspot bench` run measured.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BenchReport {
+    /// Machine and conditions.
+    pub machine: BTreeMap<String, String>,
+    /// Raw ros2-client echo at each rate.
+    pub raw: Vec<RunResult>,
+    /// The node (recording on) at each rate.
+    pub node: Vec<RunResult>,
+    /// node p99 / raw p99 at each rate.
+    pub p99_ratio: Vec<(u32, f64)>,
+    /// Sustained-rate search with recording on.
+    pub steps: Vec<StepResult>,
+    /// Highest sustained rate found, swings/s (0 if none).
+    pub max_sustained_rate: u32,
+    /// Memory.
+    pub memory: MemoryResult,
+    /// Recorder against dd.
+    pub disk: DiskResult,
+}
+
+/// The rates of the latency comparison.
+pub const LATENCY_RATES: [u32; 3] = [100, 1_000, 10_000];
+
+/// A swing the default bat and ball answer (the node computes the collision; the echo just copies ids).
+pub fn bench_swing(id: u64) -> Swing {
+    Swing {
+        header: Header::default(),
+        swing_id: id,
+        bat_id: String::new(),
+        ball_id: String::new(),
+        ball_speed: 40.0,
+        bat_cm_speed: 20.0,
+        bat_angular_speed: 50.0,
+        impact_z: 0.55 + (id % 16) as f64 * 0.005,
+        measured_exit_speed: f64::NAN,
+    }
+}
+
+fn dds<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow::anyhow!("{e:?}")
+}
+
+fn dds_config(domain: u16) -> DdsConfig {
+    DdsConfig {
+        domain_id: domain,
+        range: DiscoveryRange::Localhost,
+    }
+}
+
+/// Refuses to run DDS unless in a private network namespace whose only interface is `lo`.
+pub fn require_private_network() -> anyhow::Result<()> {
+    crate::ros::network_guard().context(
+        "sweetspot bench runs DDS only inside a private network namespace (use scripts/bench)",
+    )?;
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The raw echo server (child process).
+// ---------------------------------------------------------------------------------------------------------
+
+/// Runs the raw ros2-client echo on `domain` until killed: every `Swing` on `/swing` is answered at once on
+/// `/exit_velocity` with an `ExitVelocity` carrying its ids, with the node's QoS on both sides.
+pub fn run_echo_server(domain: u16) -> anyhow::Result<()> {
+    require_private_network()?;
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()?;
+    let context = crate::ros::context(&dds_config(domain))?;
+    let mut node = context
+        .new_node(
+            NodeName::new("/", "sweetspot_raw_echo").map_err(|e| anyhow::anyhow!("{e:?}"))?,
+            NodeOptions::new().enable_rosout(false),
+        )
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let swing_topic = crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
+    let ev_topic = crate::ros::create_topic::<ExitVelocity>(
+        &node,
+        "/exit_velocity",
+        &crate::ros::results_qos(),
+    )?;
+    let reader_qos = crate::ros::swing_qos().history(History::KeepLast { depth: 16_384 });
+    let sub = node
+        .create_subscription::<Swing>(&swing_topic, Some(reader_qos))
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let writer_qos = crate::ros::results_qos()
+        .history(History::KeepLast { depth: 1000 })
+        .reliability(Reliability::Reliable {
+            when_full: WhenFull::Wait(Duration::from_millis(500)),
+        });
+    let publisher = node
+        .create_publisher::<ExitVelocity>(&ev_topic, Some(writer_qos))
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let spinner = node.spinner().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    rt.spawn(spinner.spin());
+    eprintln!("raw echo up on domain {domain}");
+    rt.block_on(async move {
+        let mut stream = pin!(sub.async_stream());
+        while let Some(received) = stream.next().await {
+            if let Ok((swing, _)) = received {
+                let ev = ExitVelocity {
+                    header: swing.header.clone(),
+                    swing_id: swing.swing_id,
+                    bat_id: swing.bat_id,
+                    ball_id: swing.ball_id,
+                    impact_z: swing.impact_z,
+                    measured_exit_speed: swing.measured_exit_speed,
+                    ..ExitVelocity::default()
+                };
+                let _ = publisher.publish(ev);
+            }
+        }
+    });
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Child processes.
+// ---------------------------------------------------------------------------------------------------------
+
+/// A child process killed (SIGKILL) when dropped unless stopped before.
+struct ChildProc {
+    child: Option<Child>,
+    stderr: Arc<Mutex<Vec<String>>>,
+}
+
+impl ChildProc {
+    fn spawn(exe: &Path, args: &[String], domain: u16, cwd: &Path) -> anyhow::Result<ChildProc> {
+        let mut child = Command::new(exe)
+            .args(args)
+            .current_dir(cwd)
+            .env("ROS_DOMAIN_ID", domain.to_string())
+            .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+            .env("RUST_LOG", "warn,rustdds=error,ros2_client=error")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .with_context(|| format!("starting {}", exe.display()))?;
+        let stderr = Arc::new(Mutex::new(Vec::new()));
+        if let Some(pipe) = child.stderr.take() {
+            let lines = Arc::clone(&stderr);
+            std::thread::spawn(move || {
+                use std::io::BufRead;
+                for line in std::io::BufReader::new(pipe).lines().map_while(Result::ok) {
+                    if let Ok(mut l) = lines.lock() {
+                        l.push(line);
+                    }
+                }
+            });
+        }
+        Ok(ChildProc {
+            child: Some(child),
+            stderr,
+        })
+    }
+
+    fn pid(&self) -> u32 {
+        self.child.as_ref().map(|c| c.id()).unwrap_or(0)
+    }
+
+    fn log(&self) -> String {
+        self.stderr.lock().map(|l| l.join("\n")).unwrap_or_default()
+    }
+
+    /// SIGTERM, then waits up to 20 s; returns the stderr lines.
+    fn terminate(mut self) -> String {
+        if let Some(mut child) = self.child.take() {
+            let _ = Command::new("kill")
+                .arg("-TERM")
+                .arg(child.id().to_string())
+                .status();
+            let start = Instant::now();
+            while child.try_wait().ok().flatten().is_none()
+                && start.elapsed() < Duration::from_secs(20)
+            {
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            let _ = child.kill();
+            let _ = child.wait();
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        self.log()
+    }
+}
+
+impl Drop for ChildProc {
+    fn drop(&mut self) {
+        if let Some(mut child) = self.child.take() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+/// A field of `/proc/<pid>/status` in kB (e.g. `VmRSS`, `VmHWM`).
+pub fn proc_status_kb(pid: u32, field: &str) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    status
+        .lines()
+        .find(|l| l.starts_with(field) && l[field.len()..].starts_with(':'))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.parse().ok())
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The client.
+// ---------------------------------------------------------------------------------------------------------
+
+/// The in-process ros2-client peer that drives the node or the echo on one domain.
+pub struct Client {
+    rt: tokio::runtime::Runtime,
+    node: ros2_client::Node,
+    publisher: Publisher<Swing>,
+    answers: mpsc::Receiver<(u64, Instant)>,
+    diagnostics: Arc<Mutex<BTreeMap<String, String>>>,
+    next_id: u64,
+}
+
+impl Client {
+    /// A client on `domain` (loopback only).
+    pub fn new(domain: u16) -> anyhow::Result<Client> {
+        require_private_network()?;
+        let rt = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .enable_all()
+            .build()?;
+        let context = crate::ros::context(&dds_config(domain))?;
+        let mut node = context
+            .new_node(
+                NodeName::new("/", "sweetspot_bench").map_err(dds)?,
+                NodeOptions::new().enable_rosout(false),
+            )
+            .map_err(dds)?;
+        let swing_topic =
+            crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
+        let ev_topic = crate::ros::create_topic::<ExitVelocity>(
+            &node,
+            "/exit_velocity",
+            &crate::ros::results_qos(),
+        )?;
+        let diag_topic = crate::ros::create_topic::<DiagnosticArray>(
+            &node,
+            "/diagnostics",
+            &crate::ros::diagnostics_qos(),
+        )?;
+        let writer_qos = crate::ros::swing_qos().reliability(Reliability::Reliable {
+            when_full: WhenFull::Block,
+        });
+        let publisher = node
+            .create_publisher::<Swing>(&swing_topic, Some(writer_qos))
+            .map_err(dds)?;
+        let reader_qos = crate::ros::results_qos().history(History::KeepLast { depth: 65_536 });
+        let ev_sub = node
+            .create_subscription::<ExitVelocity>(&ev_topic, Some(reader_qos))
+            .map_err(dds)?;
+        let diag_sub = node
+            .create_subscription::<DiagnosticArray>(&diag_topic, None)
+            .map_err(dds)?;
+        let spinner = node.spinner().map_err(dds)?;
+        rt.spawn(spinner.spin());
+        let (tx, answers) = mpsc::channel();
+        rt.spawn(async move {
+            let mut stream = pin!(ev_sub.async_stream());
+            while let Some(received) = stream.next().await {
+                if let Ok((ev, _)) = received {
+                    if tx.send((ev.swing_id, Instant::now())).is_err() {
+                        break;
+                    }
+                }
+            }
+        });
+        let diagnostics = Arc::new(Mutex::new(BTreeMap::new()));
+        let latest = Arc::clone(&diagnostics);
+        rt.spawn(async move {
+            let mut stream = pin!(diag_sub.async_stream());
+            while let Some(received) = stream.next().await {
+                if let Ok((array, _)) = received {
+                    if let Ok(mut map) = latest.lock() {
+                        for status in array.status {
+                            for kv in status.values {
+                                map.insert(kv.key, kv.value);
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        Ok(Client {
+            rt,
+            node,
+            publisher,
+            answers,
+            diagnostics,
+            next_id: 1,
+        })
+    }
+
+    /// Waits for the server to match and answer a few swings.
+    pub fn warm_up(&mut self, limit: Duration) -> anyhow::Result<()> {
+        let matched = self.rt.block_on(async {
+            tokio::time::timeout(limit, self.publisher.wait_for_subscription(&self.node)).await
+        });
+        if matched.is_err() {
+            bail!("no subscriber on /swing matched within {limit:?}");
+        }
+        let start = Instant::now();
+        while start.elapsed() < limit {
+            let run = self.run(200, 40, Duration::from_secs(2))?;
+            if run.answered == run.sent {
+                return Ok(());
+            }
+        }
+        bail!("the server did not answer within {limit:?}")
+    }
+
+    /// The latest diagnostics value `key` as an integer (0 if absent).
+    pub fn diagnostic(&self, key: &str) -> u64 {
+        self.diagnostics
+            .lock()
+            .ok()
+            .and_then(|m| m.get(key).and_then(|v| v.parse().ok()))
+            .unwrap_or(0)
+    }
+
+    /// Publishes `count` swings paced at `rate`/s, then waits for their answers (at most `quiet` without a
+    /// new one), and returns the latencies.
+    pub fn run(&mut self, rate: u32, count: u64, quiet: Duration) -> anyhow::Result<RunResult> {
+        while self.answers.try_recv().is_ok() {}
+        let first = self.next_id;
+        self.next_id += count;
+        let mut sent_at: Vec<Option<Instant>> = vec![None; count as usize];
+        let interval = Duration::from_secs_f64(1.0 / f64::from(rate.max(1)));
+        let mut histogram = Histogram::<u64>::new_with_bounds(1, 600_000_000, 3)?;
+        let mut answered = 0u64;
+        let mut last_answer = None;
+        let take = |id: u64,
+                    at: Instant,
+                    sent_at: &[Option<Instant>],
+                    h: &mut Histogram<u64>,
+                    n: &mut u64,
+                    last: &mut Option<Instant>| {
+            if id >= first && id < first + count {
+                if let Some(sent) = sent_at[(id - first) as usize] {
+                    let _ = h.record(at.saturating_duration_since(sent).as_micros().max(1) as u64);
+                    *n += 1;
+                    *last = Some(at);
+                }
+            }
+        };
+        let start = Instant::now();
+        for i in 0..count {
+            let due = start + interval.mul_f64(i as f64);
+            loop {
+                let now = Instant::now();
+                if now >= due {
+                    break;
+                }
+                let wait = due - now;
+                if wait > Duration::from_micros(200) {
+                    std::thread::sleep(wait - Duration::from_micros(100));
+                } else {
+                    std::thread::yield_now();
+                }
+            }
+            sent_at[i as usize] = Some(Instant::now());
+            if let Err(e) = self.publisher.publish(bench_swing(first + i)) {
+                bail!("publishing swing {}: {e:?}", first + i);
+            }
+            while let Ok((id, at)) = self.answers.try_recv() {
+                take(
+                    id,
+                    at,
+                    &sent_at,
+                    &mut histogram,
+                    &mut answered,
+                    &mut last_answer,
+                );
+            }
+        }
+        let send_end = Instant::now();
+        let achieved = count as f64 / send_end.duration_since(start).as_secs_f64().max(1e-9);
+        while answered < count {
+            match self.answers.recv_timeout(quiet) {
+                Ok((id, at)) => take(
+                    id,
+                    at,
+                    &sent_at,
+                    &mut histogram,
+                    &mut answered,
+                    &mut last_answer,
+                ),
+                Err(_) => break,
+            }
+        }
+        let drain_ms = last_answer
+            .map(|t| t.saturating_duration_since(send_end).as_secs_f64() * 1e3)
+            .unwrap_or(f64::NAN);
+        Ok(RunResult {
+            target_rate: rate,
+            achieved_rate: achieved,
+            sent: count,
+            answered,
+            p50_us: histogram.value_at_quantile(0.5),
+            p99_us: histogram.value_at_quantile(0.99),
+            max_us: histogram.max(),
+            drain_ms,
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The bench.
+// ---------------------------------------------------------------------------------------------------------
+
+fn run_seconds(quick: bool, rate: u32) -> f64 {
+    match (quick, rate) {
+        (true, r) if r <= 100 => 2.0,
+        (true, _) => 1.0,
+        (false, r) if r <= 100 => 20.0,
+        (false, _) => 5.0,
+    }
+}
+
+fn count_for(rate: u32, seconds: f64) -> u64 {
+    ((f64::from(rate) * seconds).round() as u64).max(10)
+}
+
+/// Machine description: CPU model, nproc, load average, kernel.
+pub fn machine() -> BTreeMap<String, String> {
+    let mut m = BTreeMap::new();
+    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let model = cpuinfo
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .unwrap_or("?")
+        .trim();
+    m.insert("cpu".into(), model.to_string());
+    m.insert(
+        "nproc".into(),
+        std::thread::available_parallelism()
+            .map(|n| n.get().to_string())
+            .unwrap_or_default(),
+    );
+    m.insert(
+        "loadavg".into(),
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+            .to_string(),
+    );
+    m.insert(
+        "kernel".into(),
+        std::fs::read_to_string("/proc/sys/kernel/osrelease")
+            .unwrap_or_default()
+            .trim()
+            .to_string(),
+    );
+    m.insert(
+        "profile".into(),
+        if cfg!(debug_assertions) {
+            "debug".into()
+        } else {
+            "release".into()
+        },
+    );
+    m.insert(
+        "utc".into(),
+        chrono::Utc::now().format("%Y-%m-%dT%H:%M:%SZ").to_string(),
+    );
+    m
+}
+
+fn log(msg: &str) {
+    eprintln!("[bench {}] {msg}", chrono::Utc::now().format("%H:%M:%S"));
+}
+
+/// Runs every measurement once and returns the report.
+pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
+    require_private_network()?;
+    std::fs::create_dir_all(&opts.work_dir)
+        .with_context(|| format!("creating {}", opts.work_dir.display()))?;
+    let machine_before = machine();
+    let quiet = Duration::from_secs(3);
+
+    // 1. Raw ros2-client echo.
+    log("raw echo: starting");
+    let echo = ChildProc::spawn(
+        &opts.exe,
+        &[
+            "bench".into(),
+            "--echo-server".into(),
+            "--domain".into(),
+            (opts.domain + 1).to_string(),
+        ],
+        opts.domain + 1,
+        &opts.work_dir,
+    )?;
+    let mut raw_client = Client::new(opts.domain + 1)?;
+    raw_client
+        .warm_up(Duration::from_secs(30))
+        .with_context(|| format!("raw echo: {}", echo.log()))?;
+    let mut raw = Vec::new();
+    for rate in LATENCY_RATES {
+        let r = raw_client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
+        log(&format!(
+            "raw  {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
+            r.p50_us, r.p99_us, r.max_us, r.answered, r.sent
+        ));
+        raw.push(r);
+    }
+    drop(raw_client);
+    drop(echo.terminate());
+
+    // 2. The node, recording on.
+    log("node: starting (recording on)");
+    let bag_dir = opts
+        .work_dir
+        .join(format!("node_bag_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&bag_dir);
+    let node_args: Vec<String> = vec![
+        "node".into(),
+        "--ros-args".into(),
+        "-p".into(),
+        format!("record_path:={}", bag_dir.display()),
+        "-p".into(),
+        "diagnostics_period:=0.5".into(),
+    ];
+    let node = ChildProc::spawn(&opts.exe, &node_args, opts.domain, &opts.work_dir)?;
+    let mut client = Client::new(opts.domain)?;
+    client
+        .warm_up(Duration::from_secs(60))
+        .with_context(|| format!("node: {}", node.log()))?;
+    let mut node_runs = Vec::new();
+    let mut memory = MemoryResult::default();
+    for rate in LATENCY_RATES {
+        let r = client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
+        log(&format!(
+            "node {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
+            r.p50_us, r.p99_us, r.max_us, r.answered, r.sent
+        ));
+        if rate == 10_000 {
+            memory.peak_rss_kb_at_10k = proc_status_kb(node.pid(), "VmHWM").unwrap_or(0);
+        }
+        node_runs.push(r);
+    }
+    let p99_ratio = raw
+        .iter()
+        .zip(&node_runs)
+        .map(|(r, n)| (r.target_rate, n.p99_us as f64 / r.p99_us.max(1) as f64))
+        .collect();
+
+    // 3. Highest sustained rate with recording on.
+    let step_rates: &[u32] = if opts.quick {
+        &[5_000, 10_000, 20_000]
+    } else {
+        &[2_000, 5_000, 10_000, 15_000, 20_000, 30_000, 40_000]
+    };
+    let step_seconds = if opts.quick { 2.0 } else { 5.0 };
+    let mut steps = Vec::new();
+    let mut max_sustained = 0;
+    for &rate in step_rates {
+        // A shared machine can stall any few seconds; a failed step is retried once before the search stops.
+        for attempt in 0..2 {
+            std::thread::sleep(Duration::from_millis(1200)); // fresh diagnostics before the step
+            let (dropped0, rec_dropped0) = (
+                client.diagnostic("swings_dropped"),
+                client.diagnostic("recorder_dropped"),
+            );
+            let lost0 = client.diagnostic("swings_lost_in_transport");
+            let r = client.run(rate, count_for(rate, step_seconds), quiet)?;
+            std::thread::sleep(Duration::from_millis(1200)); // diagnostics after the step
+            let node_dropped = client.diagnostic("swings_dropped").saturating_sub(dropped0);
+            let recorder_dropped = client
+                .diagnostic("recorder_dropped")
+                .saturating_sub(rec_dropped0);
+            let mut why = Vec::new();
+            if r.answered < r.sent {
+                why.push(format!("{} answers missing", r.sent - r.answered));
+            }
+            if node_dropped > 0 {
+                why.push(format!("node dropped {node_dropped}"));
+            }
+            let lost = client
+                .diagnostic("swings_lost_in_transport")
+                .saturating_sub(lost0);
+            if lost > 0 {
+                why.push(format!("{lost} swings lost in transport"));
+            }
+            if recorder_dropped > 0 {
+                why.push(format!("recorder dropped {recorder_dropped}"));
+            }
+            if r.achieved_rate < 0.95 * f64::from(rate) {
+                why.push(format!("client reached only {:.0}/s", r.achieved_rate));
+            }
+            if r.p99_us > 100_000 {
+                why.push(format!("lag: p99 {} ms", r.p99_us / 1000));
+            }
+            if !(r.drain_ms < 500.0) {
+                why.push(format!(
+                    "backlog: last answer {:.0} ms after the last swing",
+                    r.drain_ms
+                ));
+            }
+            let sustained = why.is_empty();
+            let verdict = if sustained {
+                "sustained".to_string()
+            } else {
+                why.join("; ")
+            };
+            log(&format!(
+                "step {rate:>6}/s (attempt {}): {verdict} (p99 {} µs)",
+                attempt + 1,
+                r.p99_us
+            ));
+            steps.push(StepResult {
+                run: r,
+                node_dropped,
+                recorder_dropped,
+                sustained,
+                verdict,
+            });
+            if sustained {
+                max_sustained = rate;
+                break;
+            }
+        }
+        if max_sustained != rate {
+            break;
+        }
+    }
+
+    // 4. Soak: RSS once a second.
+    let soak_rate = if max_sustained >= 5_000 { 5_000 } else { 1_000 };
+    memory.soak_rate = soak_rate;
+    memory.soak_s = opts.soak.as_secs_f64();
+    log(&format!("soak: {soak_rate}/s for {:.0} s", memory.soak_s));
+    let pid = node.pid();
+    let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let sampler = {
+        let stop = Arc::clone(&stop);
+        std::thread::spawn(move || {
+            let mut samples = Vec::new();
+            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                samples.push(proc_status_kb(pid, "VmRSS").unwrap_or(0));
+                std::thread::sleep(Duration::from_secs(1));
+            }
+            samples
+        })
+    };
+    let soak = client.run(soak_rate, count_for(soak_rate, memory.soak_s), quiet)?;
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    memory.soak_rss_kb = sampler.join().unwrap_or_default();
+    memory.soak_lost = soak.sent - soak.answered;
+    let quarter = (memory.soak_rss_kb.len() / 4).max(1);
+    memory.soak_first_quarter_kb =
+        median(&memory.soak_rss_kb[..quarter.min(memory.soak_rss_kb.len())]);
+    memory.soak_last_quarter_kb =
+        median(&memory.soak_rss_kb[memory.soak_rss_kb.len().saturating_sub(quarter)..]);
+    log(&format!(
+        "soak: RSS first quarter {} kB, last quarter {} kB, {} lost",
+        memory.soak_first_quarter_kb, memory.soak_last_quarter_kb, memory.soak_lost
+    ));
+    drop(client);
+    let node_log = node.terminate();
+    if let Some(line) = node_log
+        .lines()
+        .rev()
+        .find(|l| l.contains("bag") && l.contains("closed"))
+    {
+        log(line);
+    }
+    let _ = std::fs::remove_dir_all(&bag_dir);
+
+    // 5. Recorder against dd.
+    let disk = disk_bench(
+        &opts.work_dir,
+        if opts.quick { 1_000_000 } else { 5_000_000 },
+    )?;
+    log(&format!(
+        "recorder {:.1} MB/s ({:.0} msg/s) vs dd {:.1} MB/s",
+        disk.recorder_mb_s, disk.recorder_msgs_s, disk.dd_mb_s
+    ));
+
+    let mut machine = machine_before;
+    machine.insert(
+        "loadavg_after".into(),
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+            .to_string(),
+    );
+    Ok(BenchReport {
+        machine,
+        raw,
+        node: node_runs,
+        p99_ratio,
+        steps,
+        max_sustained_rate: max_sustained,
+        memory,
+        disk,
+    })
+}
+
+fn median(values: &[u64]) -> u64 {
+    let mut v = values.to_vec();
+    v.sort_unstable();
+    v.get(v.len() / 2).copied().unwrap_or(0)
+}
+
+/// Records `messages` Swing messages (as the node records them) with the bag recorder into `dir`, then writes
+/// the same number of bytes with `dd … conv=fdatasync` to the same directory.
+pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<DiskResult> {
+    use crate::bag::{RecorderConfig, TopicInfo};
+    let bag = dir.join(format!("recorder_bench_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&bag);
+    let mut config = RecorderConfig::new(&bag);
+    config.queue_capacity = 65_536;
+    let start = Instant::now();
+    let recorder = crate::bag::Recorder::start(config)?;
+    let topic = recorder.register_topic(TopicInfo::of::<Swing>(
+        "/swing",
+        crate::ros::recorded_qos(&crate::ros::swing_qos()),
+    ))?;
+    // Distinct, realistic payloads (random measured values), so zstd cannot shrink the bag to nothing.
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+    let payloads: Vec<Vec<u8>> = (0..4096u64)
+        .map(|i| {
+            let swing = Swing {
+                ball_speed: rng.gen_range(30.0..45.0),
+                bat_cm_speed: rng.gen_range(15.0..25.0),
+                bat_angular_speed: rng.gen_range(30.0..60.0),
+                impact_z: rng.gen_range(0.4..0.8),
+                measured_exit_speed: rng.gen_range(30.0..50.0),
+                ..bench_swing(i)
+            };
+            crate::msgs::encode_cdr(&swing).unwrap_or_default()
+        })
+        .collect();
+    let t0 = crate::node::convert::now_ns();
+    for i in 0..messages {
+        let cdr = &payloads[(i % 4096) as usize];
+        let stamp = t0 + i * 1000;
+        // The recorder never blocks its caller (a full queue is a counted drop); to measure its throughput,
+        // retry until its writer thread has made room.
+        while !recorder.record(topic, cdr.clone(), stamp, stamp) {
+            std::thread::yield_now();
+        }
+    }
+    let stats = recorder.finish()?;
+    let recorder_s = start.elapsed().as_secs_f64();
+    let bag_bytes = dir_bytes(&bag);
+    let _ = std::fs::remove_dir_all(&bag);
+
+    let dd_file = dir.join(format!("dd_bench_{}", std::process::id()));
+    let mib = (stats.bytes / (1 << 20)).max(1);
+    let dd_start = Instant::now();
+    let status = Command::new("dd")
+        .arg("if=/dev/zero")
+        .arg(format!("of={}", dd_file.display()))
+        .arg("bs=1M")
+        .arg(format!("count={mib}"))
+        .arg("conv=fdatasync")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .context("running dd")?;
+    let dd_s = dd_start.elapsed().as_secs_f64();
+    let _ = std::fs::remove_file(&dd_file);
+    if !status.success() {
+        bail!("dd failed: {status}");
+    }
+    let recorder_mb_s = stats.bytes as f64 / 1e6 / recorder_s;
+    let dd_mb_s = (mib << 20) as f64 / 1e6 / dd_s;
+    Ok(DiskResult {
+        messages: stats.written,
+        payload_bytes: stats.bytes,
+        bag_bytes,
+        recorder_s,
+        recorder_mb_s,
+        recorder_msgs_s: stats.written as f64 / recorder_s,
+        dd_mb_s,
+        ratio: recorder_mb_s / dd_mb_s,
+    })
+}
+
+fn dir_bytes(dir: &Path) -> u64 {
+    std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter_map(|e| e.metadata().ok())
+                .map(|m| m.len())
+                .sum()
+        })
+        .unwrap_or(0)
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Output.
+// ---------------------------------------------------------------------------------------------------------
+
+/// The report as a human-readable table.
+pub fn table(r: &BenchReport) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let m = &r.machine;
+    let _ = writeln!(
+        s,
+        "machine: {} × {} ({}), load before: {}, after: {}, build: {}",
+        m["nproc"],
+        m["cpu"],
+        m["kernel"],
+        m["loadavg"],
+        m.get("loadavg_after").cloned().unwrap_or_default(),
+        m["profile"]
+    );
+    let _ = writeln!(
+        s,
+        "\nswing → exit_velocity over DDS/loopback (node recording; child processes)"
+    );
+    let _ = writeln!(
+        s,
+        "{:>8} | {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} | {:>9}",
+        "rate/s", "raw p50", "raw p99", "raw max", "node p50", "node p99", "node max", "p99 ratio"
+    );
+    for ((raw, node), (_, ratio)) in r.raw.iter().zip(&r.node).zip(&r.p99_ratio) {
+        let _ = writeln!(
+            s,
+            "{:>8} | {:>7}µs {:>7}µs {:>7}µs | {:>7}µs {:>7}µs {:>7}µs | {:>8.2}×{}",
+            raw.target_rate,
+            raw.p50_us,
+            raw.p99_us,
+            raw.max_us,
+            node.p50_us,
+            node.p99_us,
+            node.max_us,
+            ratio,
+            if node.answered < node.sent || raw.answered < raw.sent {
+                format!(
+                    "  (lost: raw {}, node {})",
+                    raw.sent - raw.answered,
+                    node.sent - node.answered
+                )
+            } else {
+                String::new()
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nsustained rate, recording on (target ≥ 10000/s): {}/s",
+        r.max_sustained_rate
+    );
+    for st in &r.steps {
+        let _ = writeln!(
+            s,
+            "  {:>6}/s: sent at {:>7.0}/s, {}/{} answered, p99 {} µs, drain {:.0} ms — {}",
+            st.run.target_rate,
+            st.run.achieved_rate,
+            st.run.answered,
+            st.run.sent,
+            st.run.p99_us,
+            st.run.drain_ms,
+            st.verdict
+        );
+    }
+    let mm = &r.memory;
+    let _ = writeln!(s, "\nnode memory: peak RSS (VmHWM) after 10000/s: {:.1} MB; soak {}/s × {:.0} s: RSS first quarter {:.1} MB, last quarter {:.1} MB, {} answers lost", mm.peak_rss_kb_at_10k as f64 / 1024.0, mm.soak_rate, mm.soak_s, mm.soak_first_quarter_kb as f64 / 1024.0, mm.soak_last_quarter_kb as f64 / 1024.0, mm.soak_lost);
+    let d = &r.disk;
+    let _ = writeln!(s, "\nrecorder: {} Swing messages, {:.1} MB of messages ({:.1} MB on disk, zstd) in {:.2} s incl. fsync = {:.1} MB/s, {:.0} msg/s; dd (1 MiB blocks, fdatasync) {:.1} MB/s; ratio {:.0} % (target ≥ 80 %)", d.messages, d.payload_bytes as f64 / 1e6, d.bag_bytes as f64 / 1e6, d.recorder_s, d.recorder_mb_s, d.recorder_msgs_s, d.dd_mb_s, d.ratio * 100.0);
+    s
+}
+
+/// The report as JSON.
+pub fn to_json(r: &BenchReport) -> serde_json::Value {
+    json!(r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_this_process_rss_and_peak_from_proc() {
+        let rss = proc_status_kb(std::process::id(), "VmRSS").expect("VmRSS");
+        let peak = proc_status_kb(std::process::id(), "VmHWM").expect("VmHWM");
+        assert!(rss > 0 && peak >= rss, "rss {rss} kB, peak {peak} kB");
+        assert_eq!(proc_status_kb(std::process::id(), "NoSuchField"), None);
+    }
+
+    #[test]
+    fn median_of_samples() {
+        assert_eq!(median(&[]), 0);
+        assert_eq!(median(&[5]), 5);
+        assert_eq!(median(&[9, 1, 5]), 5);
+    }
+}

@@ -1,0 +1,59 @@
+//! `sweetspot bench`: end-to-end latency against raw DDS, sustained rate with recording, recorder against dd,
+//! node memory. Runs only inside a private network namespace (`scripts/bench` makes one).
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::Context as _;
+
+use crate::bench::{self, BenchOptions};
+
+/// Arguments of `sweetspot bench`.
+#[derive(Debug, clap::Args)]
+#[command(
+    after_help = "Run it through scripts/bench, which builds in release mode and enters a private network namespace:\n  scripts/bench --quick\n  scripts/bench --json bench.json"
+)]
+pub struct BenchArgs {
+    /// Short runs: the whole bench in under a minute (numbers are noisier).
+    #[arg(long)]
+    pub quick: bool,
+    /// Also write the report as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Scratch directory on the disk to measure (bags and the dd file go there, and are removed).
+    #[arg(long, value_name = "DIR", default_value = "bench-work")]
+    pub work_dir: PathBuf,
+    /// First DDS domain used (the node on it, the raw echo on the next one).
+    #[arg(long, default_value_t = 77, value_parser = clap::value_parser!(u16).range(0..=231))]
+    pub domain: u16,
+    /// Soak length for the memory-flatness measurement, s (default 60, 10 with --quick).
+    #[arg(long, value_name = "SECONDS")]
+    pub soak: Option<u64>,
+    /// Internal: run the raw ros2-client echo server (started by the bench itself).
+    #[arg(long, hide = true)]
+    pub echo_server: bool,
+}
+
+/// Runs the bench (or, with `--echo-server`, the raw echo it starts as a child).
+pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    if args.echo_server {
+        return bench::run_echo_server(args.domain);
+    }
+    let exe = std::env::current_exe().context("locating the sweetspot executable")?;
+    let soak = Duration::from_secs(args.soak.unwrap_or(if args.quick { 10 } else { 60 }));
+    let opts = BenchOptions {
+        quick: args.quick,
+        work_dir: args.work_dir,
+        domain: args.domain,
+        exe,
+        soak,
+    };
+    let report = bench::run(&opts)?;
+    println!("{}", bench::table(&report));
+    if let Some(path) = args.json {
+        let text = serde_json::to_string_pretty(&bench::to_json(&report))?;
+        std::fs::write(&path, text + "\n")
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
