@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod bag;
+pub mod bench;
 pub mod bat_file;
 pub mod bbcor;
 pub mod calibrate;
@@ -56,6 +57,8 @@ pub enum Command {
     Figures(figures::FiguresArgs),
     /// A simulated batting rig publishing params and swings over DDS, as a real sensor rig would.
     Rig(rig::RigArgs),
+    /// Measure latency against raw DDS, sustained rate, recorder throughput and memory.
+    Bench(bench::BenchArgs),
     /// Fit the ball's COR (and bat stiffness) to the measured exit speeds of a recorded session.
     Calibrate(calibrate::CalibrateArgs),
 }
@@ -76,6 +79,7 @@ pub fn main() -> ExitCode {
         Command::Demo(args) => demo::run(args),
         Command::Rig(args) => rig::run(args),
         Command::Calibrate(args) => calibrate::run(args),
+        Command::Bench(args) => bench::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
