@@ -226,3 +226,146 @@ fn seeds_are_valid_inputs_of_their_targets() {
 fn unused() {
     let _ = input;
 }
+
+// ------------------------------------------------------------------------------------------------------------
+// Bad input through the pure entry points (issue 6, "Faults and bad input"; the DDS-level versions with a
+// foreign writer belong to the node's tests).
+
+mod bad_input {
+    use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+    use sweetspot::msgs::{decode_cdr, encode_cdr, MsgError};
+    use sweetspot::node::convert::{ball_from_params, bat_from_params};
+
+    fn swing() -> Swing {
+        Swing { swing_id: 3, bat_id: "r161".into(), ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7, ..Swing::default() }
+    }
+
+    fn bat() -> BatParams {
+        BatParams {
+            bat_id: "stick".into(),
+            station_z: vec![0.0, 0.4, 0.8],
+            outer_radius: vec![0.013, 0.02, 0.03],
+            inner_radius: vec![0.0, 0.0, 0.0],
+            density: 700.0,
+            youngs_modulus: 1.6e10,
+            shear_modulus: 1.0e9,
+            slice_length: 0.01,
+            ..BatParams::default()
+        }
+    }
+
+    fn ball() -> BallParams {
+        BallParams { ball_id: "b".into(), mass: 0.145, radius: 0.0366, cor: 0.5, stiffness: 6.5e7, exponent: 1.84, ..BallParams::default() }
+    }
+
+    #[test]
+    fn malformed_cdr_is_a_typed_error_for_every_input_message() {
+        let good = encode_cdr(&swing()).unwrap();
+        assert!(matches!(decode_cdr::<Swing>(&good[..3]), Err(MsgError::MissingHeader { len: 3 })));
+        let mut wrong_kind = good.clone();
+        wrong_kind[1] = 0x07;
+        assert!(matches!(decode_cdr::<Swing>(&wrong_kind), Err(MsgError::UnsupportedEncapsulation(0x0007))));
+        // Every truncation of a valid message is rejected, never a panic.
+        for cut in 4..good.len() - 3 {
+            assert!(decode_cdr::<Swing>(&good[..cut]).is_err(), "a Swing cut to {cut} bytes decoded");
+        }
+        let mut long = good.clone();
+        long.extend_from_slice(&[0; 8]);
+        assert!(matches!(decode_cdr::<Swing>(&long), Err(MsgError::TrailingBytes { extra, .. }) if extra >= 8));
+        let bat_bytes = encode_cdr(&bat()).unwrap();
+        for cut in 4..bat_bytes.len() - 3 {
+            assert!(decode_cdr::<BatParams>(&bat_bytes[..cut]).is_err(), "BatParams cut to {cut} bytes decoded");
+        }
+        // A sequence length far beyond the data is an error, not a huge allocation.
+        // Setting each 4-byte word in turn to u32::MAX hits every sequence and string length.
+        let mut huge = encode_cdr(&bat()).unwrap();
+        for word in (4..huge.len() - 4).step_by(4) {
+            let saved = [huge[word], huge[word + 1], huge[word + 2], huge[word + 3]];
+            huge[word..word + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+            if let Ok(p) = decode_cdr::<BatParams>(&huge) {
+                let _ = bat_from_params(&p);
+            }
+            huge[word..word + 4].copy_from_slice(&saved);
+        }
+    }
+
+    #[test]
+    fn a_payload_of_another_type_is_rejected_or_harmless() {
+        // What a writer with the wrong type on an input topic delivers: decoding either fails or yields a
+        // message the converters then reject; it never panics.
+        let payloads = [encode_cdr(&swing()).unwrap(), encode_cdr(&ball()).unwrap(), encode_cdr(&bat()).unwrap()];
+        for bytes in &payloads {
+            if let Ok(p) = decode_cdr::<BatParams>(bytes) {
+                let _ = bat_from_params(&p);
+            }
+            if let Ok(p) = decode_cdr::<BallParams>(bytes) {
+                let _ = ball_from_params(&p);
+            }
+            let _ = decode_cdr::<Swing>(bytes);
+        }
+        assert!(decode_cdr::<BatParams>(&payloads[0]).is_err(), "a Swing decoded as BatParams");
+    }
+
+    #[test]
+    fn ball_params_with_nan_negative_or_huge_values_are_rejected_naming_the_field() {
+        assert!(ball_from_params(&ball()).is_ok());
+        let fields: [(&str, fn(&mut BallParams) -> &mut f64); 5] = [
+            ("mass", |b| &mut b.mass),
+            ("radius", |b| &mut b.radius),
+            ("cor", |b| &mut b.cor),
+            ("stiffness", |b| &mut b.stiffness),
+            ("exponent", |b| &mut b.exponent),
+        ];
+        for (name, field) in fields {
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0, 0.0, 1e300] {
+                let mut p = ball();
+                *field(&mut p) = bad;
+                let e = ball_from_params(&p).expect_err(&format!("ball.{name} = {bad} accepted"));
+                assert!(e.starts_with("BallParams 'b':") && e.contains(&format!("ball.{name}")), "{name} = {bad}: {e}");
+                assert!(e.contains('≤'), "the reason gives no allowed range: {e}");
+            }
+        }
+    }
+
+    #[test]
+    fn bat_params_with_nan_negative_or_huge_values_are_rejected_naming_the_field() {
+        assert!(bat_from_params(&bat()).is_ok());
+        let scalars: [(&str, fn(&mut BatParams) -> &mut f64); 4] = [
+            ("shell.density", |b| &mut b.density),
+            ("shell.youngs_modulus", |b| &mut b.youngs_modulus),
+            ("shell.shear_modulus", |b| &mut b.shear_modulus),
+            ("slice_length", |b| &mut b.slice_length),
+        ];
+        for (name, field) in scalars {
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0, 1e300] {
+                let mut p = bat();
+                *field(&mut p) = bad;
+                let e = bat_from_params(&p).expect_err(&format!("{name} = {bad} accepted"));
+                assert!(e.starts_with("BatParams 'stick':") && e.contains(name), "{name} = {bad}: {e}");
+            }
+        }
+        for bad in [f64::NAN, f64::INFINITY, -0.01, 1e300] {
+            for (name, pick) in [("z", 1usize), ("outer_radius", 1), ("inner_radius", 1)] {
+                let mut p = bat();
+                match name {
+                    "z" => p.station_z[pick] = bad,
+                    "outer_radius" => p.outer_radius[pick] = bad,
+                    _ => p.inner_radius[pick] = bad,
+                }
+                let e = bat_from_params(&p).expect_err(&format!("stations[{pick}].{name} = {bad} accepted"));
+                assert!(e.starts_with("BatParams 'stick':") && (e.contains(name) || e.contains("stations")), "{name} = {bad}: {e}");
+            }
+        }
+        // A core is switched on by a non-zero density: NaN there must not sneak a bad core in.
+        let mut p = bat();
+        p.core_density = f64::NAN;
+        let e = bat_from_params(&p).unwrap_err();
+        assert!(e.contains("core"), "{e}");
+        let mut p = bat();
+        p.max_modes = u32::MAX;
+        assert!(bat_from_params(&p).unwrap_err().contains("max_modes"));
+        let mut p = bat();
+        p.station_z.push(0.9);
+        assert!(bat_from_params(&p).unwrap_err().contains("same length"));
+    }
+}
