@@ -84,6 +84,15 @@ pub fn check_collision(result: &CollisionResult) {
         assert!(m.energy.is_finite() && m.energy >= 0.0, "collision: mode {k} energy = {}", m.energy);
     }
     assert!(r.contact_time > 0.0, "collision: contact_time = {}", r.contact_time);
+    // The energy budget closes to the integration error; a result that loses or creates more than 2 % of the
+    // initial energy is numerical garbage (e.g. an RK4 step too large for the contact stiffness).
+    assert!(
+        r.energy.residual.abs() <= 0.02 * r.energy.initial,
+        "collision: energy residual {} J of {} J initial (exit speed {} m/s)",
+        r.energy.residual,
+        r.energy.initial,
+        r.exit_speed
+    );
     assert!(r.max_compression >= 0.0 && r.peak_force >= 0.0, "collision: negative compression or force");
 }
 

@@ -74,6 +74,7 @@ fn every_target_has_seeds_and_they_all_pass() {
         );
     }
     let ran = replay("corpus", "seed-");
+    let _ = target; // also used by the finding reproducers
     assert!(ran >= harness::TARGETS.len(), "only {ran} seeds replayed");
 }
 
@@ -221,10 +222,31 @@ fn seeds_are_valid_inputs_of_their_targets() {
     }
 }
 
+// ------------------------------------------------------------------------------------------------------------
 // Reproducers of open findings (each `#[ignore]`d until its fix lands; see the fuzzing report).
-#[allow(dead_code)]
-fn unused() {
-    let _ = input;
+
+/// F1: BatParams.max_modes is accepted up to 200 whatever the bat, but a bat of N slices has only 2N − 2
+/// vibrational modes: the params are counted as accepted, and then every swing on that bat is REJECTED
+/// ("modes = 200 is out of range: expected 0 ≤ modes ≤ 158") and its SweetSpot is never published.
+#[test]
+#[ignore = "fuzz finding F1: BatParams.max_modes above the bat's 2N-2 modes is accepted, then every swing is rejected, see report"]
+fn f1_accepted_bat_params_can_answer_swings() {
+    use sweetspot::node::convert::bat_from_params;
+    use sweetspot::node::engine::{compute, plan_swing, BatEntry, Registry};
+    use sweetspot::node::settings::NodeSettings;
+    use sweetspot::node::stats::NodeStats;
+    let bytes = input("node_messages", "open-f1-max-modes-beyond-the-bat");
+    let params: sweetspot::msgs::sweetspot_msgs::msg::BatParams =
+        sweetspot::msgs::decode_cdr(&bytes[3..3 + u16::from_le_bytes([bytes[1], bytes[2]]) as usize]).unwrap();
+    assert_eq!(params.max_modes, 200);
+    let Ok(built) = bat_from_params(&params) else { return }; // rejecting the params is a valid fix
+    let settings = NodeSettings::default();
+    let mut registry = Registry::new();
+    registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &settings));
+    let impact = sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
+    let (plan, _) = plan_swing(&mut registry, &settings, &params.bat_id, "", impact);
+    let answer = compute(&plan, &NodeStats::new());
+    assert!(answer.is_ok(), "params were accepted, yet a regular swing is rejected: {answer:?}");
 }
 
 // ------------------------------------------------------------------------------------------------------------
