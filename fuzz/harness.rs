@@ -334,10 +334,40 @@ pub struct PhysicsInput {
     pub time_step: Num,
 }
 
-/// Bat::new, Ball::validate, ModeSet::compute and collide on [`PhysicsInput`]: typed errors only, never a
-/// panic, and no NaN/infinity in anything they accept.
-pub fn physics(data: &[u8]) {
-    let Ok(input) = PhysicsInput::arbitrary_take_rest(Unstructured::new(data)) else { return };
+/// The physics inputs a [`PhysicsInput`] stands for: bat (unvalidated), ball, max_modes, impact as fractions
+/// resolved later, options. `None` when the bytes do not make a `PhysicsInput`.
+pub struct PhysicsCase {
+    /// The bat as given to `Bat::new`.
+    pub stations: Vec<Station>,
+    /// Shell material.
+    pub shell: Material,
+    /// Core fill.
+    pub core: Option<CoreFill>,
+    /// Slice length, m.
+    pub slice_length: f64,
+    /// The ball.
+    pub ball: Ball,
+    /// Vibrational modes computed.
+    pub max_modes: usize,
+    /// The swing; `impact_z` is a fraction of the bat length.
+    pub impact: Impact,
+    /// Integrated modes (reduced modulo `max_modes + 2`) and RK4 step.
+    pub options: CollisionOptions,
+}
+
+impl std::fmt::Debug for PhysicsCase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "stations {:?}\nshell {:?}\ncore {:?}\nslice_length {:e}\nball {:?}\nmax_modes {}\nimpact {:?} (impact_z × length)\noptions {:?}",
+            self.stations, self.shell, self.core, self.slice_length, self.ball, self.max_modes, self.impact, self.options
+        )
+    }
+}
+
+/// Decodes the bytes of the `physics` target.
+pub fn physics_case(data: &[u8]) -> Option<PhysicsCase> {
+    let input = PhysicsInput::arbitrary_take_rest(Unstructured::new(data)).ok()?;
     let mut z = 0.0;
     let stations: Vec<Station> = input
         .stations
@@ -366,15 +396,27 @@ pub fn physics(data: &[u8]) {
         z_end: b.get(0.0, 1.0) * length,
     });
     let slice_length = input.slice_length.get(0.004, 0.1) * length.max(1e-3);
-    let bat = match Bat::new("fuzz", stations, shell, core, slice_length) {
+    let [m, r, k, a, e] = input.ball;
+    let ball = Ball { mass: m.get(0.01, 1.0), radius: r.get(0.01, 0.1), stiffness: k.get(1e5, 1e9), exponent: a.get(1.0, 4.0), cor: e.get(0.05, 1.0) };
+    let max_modes = input.max_modes as usize % (MAX_FUZZ_MODES + 1);
+    let [vb, vcm, w, zk] = input.impact;
+    let impact = Impact { ball_speed: vb.get(0.0, 60.0), bat_cm_speed: vcm.get(-10.0, 40.0), bat_angular_speed: w.get(-50.0, 100.0), impact_z: zk.get(0.0, 1.0) };
+    let options = CollisionOptions { modes: input.modes as usize % (max_modes + 2), time_step: input.time_step.get(1e-6, 2e-5) };
+    Some(PhysicsCase { stations, shell, core, slice_length, ball, max_modes, impact, options })
+}
+
+/// Bat::new, Ball::validate, ModeSet::compute and collide on [`PhysicsInput`]: typed errors only, never a
+/// panic, and no NaN/infinity in anything they accept.
+pub fn physics(data: &[u8]) {
+    let Some(case) = physics_case(data) else { return };
+    let bat = match Bat::new("fuzz", case.stations, case.shell, case.core, case.slice_length) {
         Ok(bat) => bat,
         Err(e) => {
             assert!(!e.to_string().is_empty());
             return;
         }
     };
-    let [m, r, k, a, e] = input.ball;
-    let ball = Ball { mass: m.get(0.01, 1.0), radius: r.get(0.01, 0.1), stiffness: k.get(1e5, 1e9), exponent: a.get(1.0, 4.0), cor: e.get(0.05, 1.0) };
+    let ball = case.ball;
     let ball_ok = ball.validate().is_ok();
     if ball_ok {
         assert!(ball.unloading_exponent().is_finite() && ball.unloading_exponent() > 0.0, "ball {ball:?}: β not finite");
@@ -382,8 +424,7 @@ pub fn physics(data: &[u8]) {
     if !solvable(&bat) {
         return;
     }
-    let max_modes = input.max_modes as usize % (MAX_FUZZ_MODES + 1);
-    let modes = match ModeSet::compute(&bat, max_modes) {
+    let modes = match ModeSet::compute(&bat, case.max_modes) {
         Ok(modes) => modes,
         Err(e) => {
             assert!(!e.to_string().is_empty());
@@ -391,14 +432,8 @@ pub fn physics(data: &[u8]) {
         }
     };
     check_modes(&modes);
-    let [vb, vcm, w, zk] = input.impact;
-    let impact = Impact {
-        ball_speed: vb.get(0.0, 60.0),
-        bat_cm_speed: vcm.get(-10.0, 40.0),
-        bat_angular_speed: w.get(-50.0, 100.0),
-        impact_z: zk.get(0.0, 1.0) * modes.length(),
-    };
-    let options = CollisionOptions { modes: input.modes as usize % (max_modes + 2), time_step: input.time_step.get(1e-6, 2e-5) };
+    let impact = Impact { impact_z: case.impact.impact_z * modes.length(), ..case.impact };
+    let options = case.options;
     if !(options.time_step >= MIN_FUZZ_TIME_STEP) {
         // Still exercise validation of the tiny or NaN step.
         let _ = options.validate(&modes);

@@ -74,7 +74,6 @@ fn every_target_has_seeds_and_they_all_pass() {
         );
     }
     let ran = replay("corpus", "seed-");
-    let _ = target; // also used by the finding reproducers
     assert!(ran >= harness::TARGETS.len(), "only {ran} seeds replayed");
 }
 
@@ -390,4 +389,17 @@ mod bad_input {
         p.station_z.push(0.9);
         assert!(bat_from_params(&p).unwrap_err().contains("same length"));
     }
+}
+
+/// F2: `collide` returns Ok for a swing whose RK4 step is too coarse for the ball–bat contact spring: the
+/// energy budget misses 2.4 % of the initial energy (26.8 J of 1121.7 J) and the exit speed is off
+/// accordingly. `CollisionOptions::validate` checks the step only against the highest bat mode, not against
+/// the contact (here k1 = 9.35e8 N/m, α = 1, a 0.94 kg ball on a 0.15 kg thin-walled bat: ω_c·h ≈ 1.4).
+#[test]
+#[ignore = "fuzz finding F2: collide accepts a time step too coarse for the contact stiffness (energy residual 2.4 %), see report"]
+fn f2_accepted_collisions_close_their_energy_budget() {
+    let bytes = input("physics", "open-f2-energy-residual");
+    let case = harness::physics_case(&bytes).expect("a physics input");
+    assert_eq!((case.max_modes, case.options.modes), (3, 0));
+    target("physics")(&bytes);
 }
