@@ -8,7 +8,8 @@
 //! collisions with a time step below [`MIN_FUZZ_TIME_STEP`] are validated but not solved, so that each
 //! iteration stays in the millisecond range on a loaded 2-core machine. Everything else runs the real code.
 
-#![allow(dead_code)]
+// `!(x >= lo)` also catches NaN, deliberately.
+#![allow(dead_code, clippy::neg_cmp_op_on_partial_ord)]
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -32,8 +33,11 @@ pub const MIN_FUZZ_TIME_STEP: f64 = 5e-7;
 /// Most vibrational modes a fuzzed bat keeps.
 pub const MAX_FUZZ_MODES: usize = 30;
 
+/// A fuzz target: runs one input, panics on a finding.
+pub type Target = fn(&[u8]);
+
 /// Every fuzz target by name, for the regression replay.
-pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+pub const TARGETS: &[(&str, Target)] = &[
     ("cdr_bat_params", cdr_bat_params),
     ("cdr_ball_params", cdr_ball_params),
     ("cdr_swing", cdr_swing),

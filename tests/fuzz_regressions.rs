@@ -257,6 +257,9 @@ mod bad_input {
     use sweetspot::msgs::{decode_cdr, encode_cdr, MsgError};
     use sweetspot::node::convert::{ball_from_params, bat_from_params};
 
+    /// Picks one numeric field of a message.
+    type FieldOf<T> = fn(&mut T) -> &mut f64;
+
     fn swing() -> Swing {
         Swing { swing_id: 3, bat_id: "r161".into(), ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7, ..Swing::default() }
     }
@@ -330,7 +333,7 @@ mod bad_input {
     #[test]
     fn ball_params_with_nan_negative_or_huge_values_are_rejected_naming_the_field() {
         assert!(ball_from_params(&ball()).is_ok());
-        let fields: [(&str, fn(&mut BallParams) -> &mut f64); 5] = [
+        let fields: [(&str, FieldOf<BallParams>); 5] = [
             ("mass", |b| &mut b.mass),
             ("radius", |b| &mut b.radius),
             ("cor", |b| &mut b.cor),
@@ -351,7 +354,7 @@ mod bad_input {
     #[test]
     fn bat_params_with_nan_negative_or_huge_values_are_rejected_naming_the_field() {
         assert!(bat_from_params(&bat()).is_ok());
-        let scalars: [(&str, fn(&mut BatParams) -> &mut f64); 4] = [
+        let scalars: [(&str, FieldOf<BatParams>); 4] = [
             ("shell.density", |b| &mut b.density),
             ("shell.youngs_modulus", |b| &mut b.youngs_modulus),
             ("shell.shear_modulus", |b| &mut b.shear_modulus),
