@@ -1,0 +1,4 @@
+#![no_main]
+//! Fuzz target `cdr_swing`: see `sweetspot_fuzz::cdr_swing` in fuzz/harness.rs and docs/fuzzing.md.
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| sweetspot_fuzz::cdr_swing(data));
