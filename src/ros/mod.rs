@@ -59,7 +59,7 @@ pub mod args;
 pub mod names;
 pub mod qos;
 
-pub use args::RosArgs;
+pub use args::{NameResolver, NodeIdentity, RosArgs, RosArgsError};
 pub use names::{dds_topic_name, resolve_topic, NameError};
 pub use qos::{
     diagnostics_qos, params_qos, recorded_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos,
