@@ -269,6 +269,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
 
     // Recording: every input as received and every output as published.
     let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names, &log));
+    tape.note_settings(&settings);
 
     let pipeline = Pipeline::start(
         settings.worker_count(),
@@ -318,6 +319,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                 Some(event) = events_rx.recv() => match event {
                     Event::ParameterChanged(effect) => {
                         let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                        tape.note_settings(&current);
                         let refresh: Vec<Arc<BatEntry>> = match effect {
                             SettingEffect::None => Vec::new(),
                             SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
