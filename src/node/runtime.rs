@@ -470,9 +470,13 @@ fn on_swing(
     let received = Instant::now();
     NodeStats::bump(&stats.swings_received);
     tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
-    let settings = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| fallback.clone());
+    // Planned under the read lock instead of cloning the settings (and their strings) for every swing; the
+    // guard is dropped before spawn_summary takes the lock again.
+    let guard = shared_settings.read().ok();
+    let settings = guard.as_deref().unwrap_or(fallback);
     let (plan, new_bat) =
-        engine::plan_swing(registry, &settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+        engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+    drop(guard);
     if let Some(entry) = new_bat {
         spawn_summary(entry, registry, shared_settings, stats, events);
     }
