@@ -20,29 +20,25 @@ fn cyclone(domain: u16, args: &[&str]) -> Command {
 }
 
 fn publish(domain: u16, type_name: &str, topic: &str, qos: &str, messages: &Value) {
-    support::run_ok(
-        cyclone(
-        domain,
-        &[
-            "pub",
-            "--type",
-            type_name,
-            "--topic",
-            topic,
-            "--json",
-            &messages.to_string(),
-            "--qos",
-            qos,
-            "--wait-subscribers",
-            "1",
-            "--timeout",
-            "60",
-            "--keep-alive",
-            "0.5",
-        ],
-    ),
-        &format!("cyclone pub {topic}"),
-    );
+    let messages = messages.to_string();
+    let args = [
+        "pub",
+        "--type",
+        type_name,
+        "--topic",
+        topic,
+        "--json",
+        &messages,
+        "--qos",
+        qos,
+        "--wait-subscribers",
+        "1",
+        "--timeout",
+        "60",
+        "--keep-alive",
+        "0.5",
+    ];
+    support::run_ok(cyclone(domain, &args), &format!("cyclone pub {topic}"));
 }
 
 fn wait_for_file(path: &Path, what: &str) {
