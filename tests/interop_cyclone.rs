@@ -3,95 +3,16 @@
 //! and `sweetspot echo` over `rt/` topics with ROS 2 type names, in both directions. Cyclone is restricted to
 //! loopback (`--loopback`), and everything runs inside the private network namespace of scripts/test.
 
+mod support;
+
 use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
-use std::process::{Child, Command, Output, Stdio};
 
 use serde_json::{json, Value};
-
-const BIN: &str = env!("CARGO_BIN_EXE_sweetspot");
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The Python with the independent peers: $SWEETSPOT_PYTHON, else <repo>/.venv/bin/python; never skipped.
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("SWEETSPOT_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = repo().join(".venv/bin/python");
-    assert!(
-        venv.exists(),
-        "no Python for the Cyclone DDS peer: set SWEETSPOT_PYTHON or create {} (scripts/test does)",
-        venv.display()
-    );
-    venv
-}
-
-fn guard() {
-    sweetspot::ros::network_guard()
-        .expect("DDS tests must run in a private network namespace (scripts/test)");
-}
-
-fn env(c: &mut Command, domain: u16) -> &mut Command {
-    c.env("ROS_DOMAIN_ID", domain.to_string())
-        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-        .env_remove("ROS_LOCALHOST_ONLY")
-        .env_remove("CYCLONEDDS_URI")
-}
-
-fn peer(domain: u16, args: &[&str]) -> Command {
-    let mut c = Command::new(python());
-    c.arg(repo().join("tests/python/cyclone_peer.py"))
-        .arg("--loopback")
-        .args(args);
-    env(&mut c, domain);
-    c
-}
-
-fn sweetspot(domain: u16, args: &[&str]) -> Command {
-    let mut c = Command::new(BIN);
-    c.args(args);
-    env(&mut c, domain);
-    c
-}
-
-fn spawn(mut c: Command) -> Child {
-    c.stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn")
-}
-
-fn json_lines(out: Output, what: &str) -> Vec<Value> {
-    assert!(
-        out.status.success(),
-        "{what} failed: {}\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| {
-            serde_json::from_str(l).unwrap_or_else(|e| panic!("{what}: bad JSON line {l:?}: {e}"))
-        })
-        .collect()
-}
-
-fn run_ok(mut c: Command, what: &str) {
-    let out = c.output().expect("run");
-    assert!(
-        out.status.success(),
-        "{what} failed: {}\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-}
+use support::{cyclone_peer, json_lines, require_isolated_network, run_ok, spawn_piped, sweetspot};
 
 #[test]
 fn interop_cyclone_publishes_swings_to_sweetspot_echo() {
-    guard();
+    require_isolated_network();
     let domain = 161;
     let swings = json!([
         {"header": {"stamp": {"sec": 1700000000, "nanosec": 5}, "frame_id": "cage"}, "swing_id": 18446744073709551615u64,
@@ -101,7 +22,7 @@ fn interop_cyclone_publishes_swings_to_sweetspot_echo() {
          "ball_id": "mlb", "ball_speed": -1e-300, "bat_cm_speed": 0.0, "bat_angular_speed": 1e300, "impact_z": 0.5,
          "measured_exit_speed": null}
     ]);
-    let echo = spawn({
+    let echo = spawn_piped({
         let mut c = sweetspot(
             domain,
             &[
@@ -118,7 +39,7 @@ fn interop_cyclone_publishes_swings_to_sweetspot_echo() {
         c
     });
     run_ok(
-        peer(
+        cyclone_peer(
             domain,
             &[
                 "pub",
@@ -140,13 +61,13 @@ fn interop_cyclone_publishes_swings_to_sweetspot_echo() {
         ),
         "cyclone pub",
     );
-    let got = json_lines(echo.wait_with_output().unwrap(), "sweetspot echo");
+    let got = json_lines(&echo.wait_with_output().unwrap(), "sweetspot echo");
     assert_eq!(Value::Array(got), swings);
 }
 
 #[test]
 fn interop_sweetspot_pub_reaches_cyclone_for_every_output_type() {
-    guard();
+    require_isolated_network();
     let domain = 162;
     let cases = [
         (
@@ -190,7 +111,7 @@ fn interop_sweetspot_pub_reaches_cyclone_for_every_output_type() {
         ),
     ];
     for (kind, type_name, topic, qos, message) in cases {
-        let sub = spawn(peer(
+        let sub = spawn_piped(cyclone_peer(
             domain,
             &[
                 "sub",
@@ -222,7 +143,7 @@ fn interop_sweetspot_pub_reaches_cyclone_for_every_output_type() {
             ),
             "sweetspot pub",
         );
-        let got = json_lines(sub.wait_with_output().unwrap(), "cyclone sub");
+        let got = json_lines(&sub.wait_with_output().unwrap(), "cyclone sub");
         assert_eq!(got, [message], "{kind}");
     }
 }
@@ -231,11 +152,11 @@ fn interop_sweetspot_pub_reaches_cyclone_for_every_output_type() {
 /// Cyclone sees sweetspot's publications under their ROS 2 DDS names.
 #[test]
 fn interop_latched_params_and_ros_naming() {
-    guard();
+    require_isolated_network();
     let domain = 163;
     let ball = json!({"header": {"stamp": {"sec": 1, "nanosec": 2}, "frame_id": ""}, "ball_id": "mlb", "mass": 0.145,
                       "radius": 0.0366, "cor": 0.5, "stiffness": 7.1e6, "exponent": 1.25});
-    let mut cyclone = spawn(peer(
+    let mut cyclone = spawn_piped(cyclone_peer(
         domain,
         &[
             "pub",
@@ -258,7 +179,7 @@ fn interop_latched_params_and_ros_naming() {
         .unwrap();
     assert_eq!(line, "published 1");
     let got = json_lines(
-        sweetspot(
+        &sweetspot(
             domain,
             &[
                 "echo",
@@ -283,7 +204,7 @@ fn interop_latched_params_and_ros_naming() {
     // Cyclone pairs readers and writers by exact DDS type name, so the exchanges above prove sweetspot uses the
     // ROS 2 names. Control: the same layout under a non-ROS type name receives nothing from sweetspot's latched
     // publisher, while the ROS 2 name does.
-    let mut publisher = spawn(sweetspot(
+    let mut publisher = spawn_piped(sweetspot(
         domain,
         &[
             "pub",
@@ -314,15 +235,15 @@ fn interop_latched_params_and_ros_naming() {
         if let Some(t) = type_override {
             args.extend(["--dds-type-name", t]);
         }
-        peer(domain, &args).output().unwrap()
+        cyclone_peer(domain, &args).output().unwrap()
     };
     let right = sub(None, "60");
     let wrong = sub(Some("sweetspot_msgs::msg::BatParams"), "3");
-    let _ = Command::new("kill")
+    let _ = std::process::Command::new("kill")
         .args(["-TERM", &publisher.id().to_string()])
         .status();
     let status = publisher.wait().unwrap();
-    let got = json_lines(right, "cyclone sub with the ROS 2 type name");
+    let got = json_lines(&right, "cyclone sub with the ROS 2 type name");
     assert_eq!(got[0]["bat_id"], "a");
     assert_eq!(got[0]["preset"], "r161");
     assert!(

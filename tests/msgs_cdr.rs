@@ -1,8 +1,9 @@
 //! CDR encoding of the generated messages: round trips, robustness on bad input, and byte-exact agreement
 //! with two independent encoders (rosbags from the .msg files alone; mcap-ros2-support from our schema text).
 
+mod support;
+
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
 use serde_json::Value;
@@ -14,25 +15,8 @@ use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{
     BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing,
 };
+use support::{python, repo};
 use sweetspot::msgs::{decode_cdr, encode_cdr, MsgError, RosMessage};
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The Python with the independent peers: $SWEETSPOT_PYTHON, else <repo>/.venv/bin/python; never skipped.
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("SWEETSPOT_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = repo().join(".venv/bin/python");
-    assert!(
-        venv.exists(),
-        "no Python for the independent checks: set SWEETSPOT_PYTHON or create {} (scripts/test does)",
-        venv.display()
-    );
-    venv
-}
 
 fn header(sec: i32, nanosec: u32, frame: &str) -> Header {
     Header {

@@ -5,58 +5,40 @@
 //! additionally kept on loopback.
 
 mod node_support;
+mod support;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use node_support::{domain, python, NodeProcess};
+use node_support::{domain, NodeProcess};
 use serde_json::{json, Value};
 use sweetspot::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn cyclone(domain: u16, args: &[&str]) -> Command {
-    let mut c = Command::new(python());
-    c.arg(repo().join("tests/python/cyclone_peer.py"))
-        .arg("--loopback")
-        .args(args)
-        .env("ROS_DOMAIN_ID", domain.to_string())
-        .env_remove("CYCLONEDDS_URI");
-    c
+    support::cyclone_peer(domain, args)
 }
 
 fn publish(domain: u16, type_name: &str, topic: &str, qos: &str, messages: &Value) {
-    let out = cyclone(
-        domain,
-        &[
-            "pub",
-            "--type",
-            type_name,
-            "--topic",
-            topic,
-            "--json",
-            &messages.to_string(),
-            "--qos",
-            qos,
-            "--wait-subscribers",
-            "1",
-            "--timeout",
-            "60",
-            "--keep-alive",
-            "0.5",
-        ],
-    )
-    .output()
-    .expect("running the Cyclone DDS peer");
-    assert!(
-        out.status.success(),
-        "cyclone pub {topic} failed: {}\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
+    let messages = messages.to_string();
+    let args = [
+        "pub",
+        "--type",
+        type_name,
+        "--topic",
+        topic,
+        "--json",
+        &messages,
+        "--qos",
+        qos,
+        "--wait-subscribers",
+        "1",
+        "--timeout",
+        "60",
+        "--keep-alive",
+        "0.5",
+    ];
+    support::run_ok(cyclone(domain, &args), &format!("cyclone pub {topic}"));
 }
 
 fn wait_for_file(path: &Path, what: &str) {

@@ -256,8 +256,12 @@ fn sigterm_ends_the_node_with_a_finished_bag_of_every_input_and_output() {
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
     let energies = peer.subscription::<ModalEnergies>("/modal_energies", keep_all(dds::results()));
     let spots = peer.subscription::<SweetSpot>("/sweet_spot", keep_all(dds::latched_results()));
-    let node =
-        NodeProcess::spawn(domain, dir.path(), &["--ros-args", "-p", &format!("record_path:={}", bag.display())]);
+    // A non-default mode count: the replay below only matches if the bag tells it the node's settings.
+    let node = NodeProcess::spawn(
+        domain,
+        dir.path(),
+        &["--ros-args", "-p", &format!("record_path:={}", bag.display()), "-p", "default_modes:=12"],
+    );
     ball_pub
         .publish(BallParams {
             ball_id: "b".into(),
@@ -323,6 +327,19 @@ fn sigterm_ends_the_node_with_a_finished_bag_of_every_input_and_output() {
         recorded_energies,
         got_energies.iter().map(|me| sweetspot::msgs::encode_cdr(me).unwrap()).collect::<Vec<_>>()
     );
+
+    // The node → replay contract: the bag carries the node's settings (rosbag2 custom_data), so a plain
+    // `sweetspot bag replay` recomputes every swing bit-exactly with 12 modes and no override flags.
+    let replay = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .args(["bag", "replay"])
+        .arg(&bag)
+        .output()
+        .expect("run sweetspot bag replay");
+    let stdout = String::from_utf8_lossy(&replay.stdout);
+    let stderr = String::from_utf8_lossy(&replay.stderr);
+    assert!(replay.status.success(), "bag replay failed: {:?}\n{stdout}\n{stderr}", replay.status);
+    assert!(stdout.contains("default_modes 12"), "replay used the recorded settings:\n{stdout}");
+    assert!(stdout.contains(&format!("{N} swings: {N} match")), "{stdout}");
 }
 
 #[test]

@@ -1,25 +1,20 @@
 //! `sweetspot pub` and `sweetspot echo` as separate processes over real DDS on loopback (inside the private
 //! network namespace of scripts/test). Each test uses its own ROS_DOMAIN_ID so parallel tests never meet.
 
+mod support;
+
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Output, Stdio};
 
 use serde_json::{json, Value};
+use support::{require_isolated_network as guard, sweetspot as cmd, BIN};
 
-const BIN: &str = env!("CARGO_BIN_EXE_sweetspot");
-
-fn guard() {
-    sweetspot::ros::network_guard()
-        .expect("DDS tests must run in a private network namespace (scripts/test)");
+fn json_lines(out: &Output) -> Vec<Value> {
+    support::json_lines(out, "echo")
 }
 
-fn cmd(domain: u16, args: &[&str]) -> Command {
-    let mut c = Command::new(BIN);
-    c.args(args)
-        .env("ROS_DOMAIN_ID", domain.to_string())
-        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-        .env_remove("ROS_LOCALHOST_ONLY");
-    c
+fn run_ok(c: Command) -> Output {
+    support::run_ok(c, "command")
 }
 
 /// Starts `sweetspot echo TOPIC --json --count N` and returns it (stdout piped).
@@ -27,39 +22,11 @@ fn start_echo(domain: u16, topic: &str, count: usize, extra: &[&str]) -> Child {
     let n = count.to_string();
     let mut args = vec!["echo", topic, "--json", "--count", &n, "--timeout", "60"];
     args.extend_from_slice(extra);
-    cmd(domain, &args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start echo")
+    support::spawn_piped(cmd(domain, &args))
 }
 
 fn finish(child: Child) -> Output {
     child.wait_with_output().expect("wait")
-}
-
-fn json_lines(out: &Output) -> Vec<Value> {
-    assert!(
-        out.status.success(),
-        "echo failed: {}\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("bad JSON line {l:?}: {e}")))
-        .collect()
-}
-
-fn run_ok(mut c: Command) -> Output {
-    let out = c.output().expect("run");
-    assert!(
-        out.status.success(),
-        "command failed: {}\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    out
 }
 
 #[test]

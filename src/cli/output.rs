@@ -205,22 +205,8 @@ pub struct ModeEnergyJson {
     pub energy: f64,
 }
 
-/// The energy budget, J.
-#[derive(Debug, Clone, Serialize)]
-pub struct EnergyJson {
-    /// Before contact.
-    pub initial: f64,
-    /// Ball after separation.
-    pub ball: f64,
-    /// Bat rigid-body motion after separation.
-    pub bat_rigid: f64,
-    /// Bat vibration after separation.
-    pub vibration: f64,
-    /// Ball hysteresis.
-    pub hysteresis_loss: f64,
-    /// initial − the four above.
-    pub residual: f64,
-}
+/// The energy budget, J: the library's own type, whose serde field names are the documented JSON ones.
+pub type EnergyJson = crate::physics::EnergyBudget;
 
 /// One collision, SI units.
 #[derive(Debug, Clone, Serialize)]
@@ -262,14 +248,7 @@ impl CollisionJson {
             peak_force: r.peak_force,
             impulse: r.impulse,
             max_compression: r.max_compression,
-            energy: EnergyJson {
-                initial: r.energy.initial,
-                ball: r.energy.ball,
-                bat_rigid: r.energy.bat_rigid,
-                vibration: r.energy.vibration,
-                hysteresis_loss: r.energy.hysteresis_loss,
-                residual: r.energy.residual,
-            },
+            energy: r.energy,
             mode_energies: r
                 .mode_energies
                 .iter()
@@ -280,33 +259,22 @@ impl CollisionJson {
     }
 }
 
-/// The sweet-spot set, m from the knob (and the best exit speed, m/s).
+/// The sweet-spot set, m from the knob (and the best exit speed, m/s): the library's [`SweetSpotSet`],
+/// serialized as is (its serde field names are the documented JSON ones), plus the text table.
 #[derive(Debug, Clone, Serialize)]
-pub struct SweetSpotsJson {
-    /// Impact point of maximum flexible exit speed, m.
-    pub max_exit_speed_z: f64,
-    /// That exit speed, m/s.
-    pub max_exit_speed: f64,
-    /// Closed-form rigid optimum, m.
-    pub rigid_optimum_z: f64,
-    /// Node of mode 1 nearest the barrel, m.
-    pub node1_z: f64,
-    /// Node of mode 2 nearest the barrel, m.
-    pub node2_z: f64,
-    /// Centre of percussion for a pivot 0.1524 m from the knob, m.
-    pub center_of_percussion_z: f64,
-}
+#[serde(transparent)]
+pub struct SweetSpotsJson(pub SweetSpotSet);
 
 impl From<&SweetSpotSet> for SweetSpotsJson {
     fn from(s: &SweetSpotSet) -> SweetSpotsJson {
-        SweetSpotsJson {
-            max_exit_speed_z: s.max_exit_speed_z,
-            max_exit_speed: s.max_exit_speed,
-            rigid_optimum_z: s.rigid_optimum_z,
-            node1_z: s.node1_z,
-            node2_z: s.node2_z,
-            center_of_percussion_z: s.center_of_percussion_z,
-        }
+        SweetSpotsJson(s.clone())
+    }
+}
+
+impl std::ops::Deref for SweetSpotsJson {
+    type Target = SweetSpotSet;
+    fn deref(&self) -> &SweetSpotSet {
+        &self.0
     }
 }
 

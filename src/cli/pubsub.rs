@@ -19,6 +19,7 @@ use crate::msgs::sweetspot_msgs::msg::{
     BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing,
 };
 use crate::msgs::RosMessage;
+use crate::ros::args::{NameResolver, NodeIdentity};
 use crate::ros::{self, DdsConfig, RosArgs};
 
 /// Arguments of `sweetspot pub`.
@@ -248,32 +249,30 @@ impl Kind {
     }
 }
 
-/// Namespace and remaps from `--ns` and `--ros-args`.
+/// The tool's node identity (`__ns` over `--ns` over `/`; `__node` over `default_name`) and its topic-name
+/// resolver, from the same `--ros-args` parser the node uses.
 fn ros_context(
     ns: &Option<String>,
     ros_args: &Option<Vec<String>>,
-) -> anyhow::Result<(RosArgs, String)> {
-    let mut all = vec!["--ros-args".to_string()];
-    all.extend(ros_args.clone().unwrap_or_default());
-    let (parsed, rest) = RosArgs::parse(&all)?;
-    if !rest.is_empty() {
-        bail!("unexpected arguments after --ros-args: {}", rest.join(" "));
-    }
+    default_name: &str,
+) -> anyhow::Result<(NodeIdentity, NameResolver)> {
+    let parsed = RosArgs::parse(ros_args.as_deref().unwrap_or_default())?;
     let namespace = match (&parsed.namespace, ns) {
         (Some(n), _) => n.clone(),
         (None, Some(n)) => ros::names::normalize_namespace(n)?,
         (None, None) => "/".to_string(),
     };
-    Ok((parsed, namespace))
+    let identity = parsed.identity(default_name, &namespace);
+    let resolver = parsed.resolver(&identity);
+    Ok((identity, resolver))
 }
 
 /// The topic and kind of `target` (a kind word or a topic), honouring `--type`.
 fn resolve_target(
     target: &str,
     msg_type: &Option<String>,
-    ros_args: &RosArgs,
-    namespace: &str,
-    node_name: &str,
+    identity: &NodeIdentity,
+    resolver: &NameResolver,
 ) -> anyhow::Result<(String, Kind)> {
     let explicit = match msg_type {
         Some(t) => Some(Kind::from_word(t).ok_or_else(|| {
@@ -292,7 +291,8 @@ fn resolve_target(
         (None, Some(k)) => (k.default_topic().to_string(), Some(k)),
         (e, _) => (target.to_string(), e),
     };
-    let fq = ros_args.resolve_topic(&topic, namespace, node_name)?;
+    // Validated and expanded by the ROS naming rules first, then remapped.
+    let fq = resolver.resolve(&ros::resolve_topic(&topic, &identity.namespace, &identity.name)?);
     let kind = match kind.or_else(|| Kind::from_topic(&fq)) {
         Some(k) => k,
         None => {
@@ -448,18 +448,8 @@ fn insert_dotted(obj: &mut Map<String, Value>, dotted: &str, value: Value) {
 
 /// Publishes messages.
 pub fn run_pub(args: PubArgs) -> anyhow::Result<()> {
-    let (ros_args, namespace) = ros_context(&args.ns, &args.ros_args)?;
-    let node_name = ros_args
-        .node_name
-        .clone()
-        .unwrap_or_else(|| "sweetspot_pub".to_string());
-    let (fq_topic, kind) = resolve_target(
-        &args.target,
-        &args.msg_type,
-        &ros_args,
-        &namespace,
-        &node_name,
-    )?;
+    let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_pub")?;
+    let (fq_topic, kind) = resolve_target(&args.target, &args.msg_type, &identity, &resolver)?;
     if let Some(rate) = args.rate {
         if !(rate.is_finite() && rate > 0.0) {
             bail!("--rate must be a positive number of messages per second, got {rate}");
@@ -687,18 +677,8 @@ fn install_interrupt_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
 
 /// Prints what arrives on a topic.
 pub fn run_echo(args: EchoArgs) -> anyhow::Result<()> {
-    let (ros_args, namespace) = ros_context(&args.ns, &args.ros_args)?;
-    let node_name = ros_args
-        .node_name
-        .clone()
-        .unwrap_or_else(|| "sweetspot_echo".to_string());
-    let (fq_topic, kind) = resolve_target(
-        &args.topic,
-        &args.msg_type,
-        &ros_args,
-        &namespace,
-        &node_name,
-    )?;
+    let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_echo")?;
+    let (fq_topic, kind) = resolve_target(&args.topic, &args.msg_type, &identity, &resolver)?;
     if let Some(t) = args.timeout {
         if !(t.is_finite() && t >= 0.0) {
             bail!("--timeout must be non-negative seconds, got {t}");

@@ -47,7 +47,8 @@ pub mod convert;
 pub mod engine;
 pub mod pipeline;
 pub mod recording;
-pub mod ros_args;
+/// The `--ros-args` parser now lives in the shared DDS layer ([`crate::ros::args`]); this path stays for callers.
+pub use crate::ros::args as ros_args;
 pub mod runtime;
 pub mod settings;
 pub mod stats;

@@ -20,7 +20,16 @@ pub trait RecordBackend: Send {
     fn stats(&self) -> RecorderStats;
     /// Closes the bag (summary, metadata.yaml).
     fn finish(self: Box<Self>) -> Result<RecorderStats, BagError>;
+    /// Stores a rosbag2 `custom_data` entry (kept in the bag's metadata); backends without metadata ignore it.
+    fn set_custom_data(&self, _key: &str, _value: &str) {}
 }
+
+/// The rosbag2 `custom_data` keys `sweetspot bag replay` reads the node's settings from (see `bag::replay`).
+pub const CUSTOM_DATA_DEFAULT_BAT: &str = "sweetspot/default_bat";
+/// See [`CUSTOM_DATA_DEFAULT_BAT`].
+pub const CUSTOM_DATA_DEFAULT_MODES: &str = "sweetspot/default_modes";
+/// See [`CUSTOM_DATA_DEFAULT_BAT`].
+pub const CUSTOM_DATA_TIME_STEP: &str = "sweetspot/time_step";
 
 /// The topics the node records, in registration order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -102,6 +111,17 @@ impl Tape {
         }
     }
 
+    /// Writes the settings a replay needs to recompute the recorded swings into the bag's `custom_data`.
+    /// Called at start and after every parameter change, so the bag holds the settings last in force.
+    pub fn note_settings(&self, settings: &super::settings::NodeSettings) {
+        let Ok(backend) = self.backend.lock() else { return };
+        let Some(backend) = backend.as_ref() else { return };
+        backend.set_custom_data(CUSTOM_DATA_DEFAULT_BAT, &settings.default_bat);
+        backend.set_custom_data(CUSTOM_DATA_DEFAULT_MODES, &settings.default_modes.to_string());
+        // `{:?}` keeps every digit of the f64, so the replay parses back the exact step.
+        backend.set_custom_data(CUSTOM_DATA_TIME_STEP, &format!("{:?}", settings.time_step));
+    }
+
     /// Whether messages are being recorded.
     pub fn is_recording(&self) -> bool {
         self.backend.lock().map(|b| b.is_some()).unwrap_or(false)
@@ -167,5 +187,8 @@ impl RecordBackend for crate::bag::Recorder {
     }
     fn finish(self: Box<Self>) -> Result<RecorderStats, BagError> {
         crate::bag::Recorder::finish(*self)
+    }
+    fn set_custom_data(&self, key: &str, value: &str) {
+        crate::bag::Recorder::set_custom_data(self, key, value)
     }
 }

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use futures::StreamExt;
-use ros2_client::qos::{History, Reliability, WhenFull};
+use ros2_client::qos::History;
 use ros2_client::ros2::LogLevel;
 use ros2_client::rosout::RosoutRaw;
 use ros2_client::{NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher};
@@ -254,14 +254,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     // faster than the node takes swings would overwrite a keep-last-1000 cache: size it like the pipeline.
     let swing_reader_qos = swing_qos().history(History::KeepLast { depth: settings.queue_capacity.max(1000) });
     let swing_sub = node.create_subscription::<Swing>(&swing_topic, Some(swing_reader_qos)).map_err(dds)?;
-    // A reliable writer never overwrites unacknowledged results; a wider window and a longer wait than the
-    // topic's defaults keep a briefly slow listener from costing results (beyond that: counted failures).
-    let results_writer_qos = results_qos()
-        .history(History::KeepLast { depth: 1000 })
-        .reliability(Reliability::Reliable { when_full: WhenFull::Wait(Duration::from_millis(500)) });
-    let ev_pub =
-        Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_writer_qos.clone())).map_err(dds)?);
-    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, Some(results_writer_qos)).map_err(dds)?;
+    // The topics' own QoS (ros::results_qos: deep window, bounded wait) is the writers' QoS.
+    let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_qos())).map_err(dds)?);
+    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, Some(results_qos())).map_err(dds)?;
     let ss_pub = node.create_publisher::<SweetSpot>(&ss_topic, None).map_err(dds)?;
     let diag_pub = node.create_publisher::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
     let spinner = node.spinner().map_err(dds)?;
@@ -269,6 +264,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
 
     // Recording: every input as received and every output as published.
     let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names, &log));
+    tape.note_settings(&settings);
 
     let pipeline = Pipeline::start(
         settings.worker_count(),
@@ -318,6 +314,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                 Some(event) = events_rx.recv() => match event {
                     Event::ParameterChanged(effect) => {
                         let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                        tape.note_settings(&current);
                         let refresh: Vec<Arc<BatEntry>> = match effect {
                             SettingEffect::None => Vec::new(),
                             SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
@@ -473,9 +470,13 @@ fn on_swing(
     let received = Instant::now();
     NodeStats::bump(&stats.swings_received);
     tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
-    let settings = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| fallback.clone());
+    // Planned under the read lock instead of cloning the settings (and their strings) for every swing; the
+    // guard is dropped before spawn_summary takes the lock again.
+    let guard = shared_settings.read().ok();
+    let settings = guard.as_deref().unwrap_or(fallback);
     let (plan, new_bat) =
-        engine::plan_swing(registry, &settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+        engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+    drop(guard);
     if let Some(entry) = new_bat {
         spawn_summary(entry, registry, shared_settings, stats, events);
     }

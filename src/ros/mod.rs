@@ -59,11 +59,11 @@ pub mod args;
 pub mod names;
 pub mod qos;
 
-pub use args::RosArgs;
+pub use args::{NameResolver, NodeIdentity, RosArgs, RosArgsError};
 pub use names::{dds_topic_name, resolve_topic, NameError};
 pub use qos::{
     diagnostics_qos, params_qos, recorded_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos,
-    PARAMS_DEPTH, RESULTS_DEPTH, SWING_DEPTH,
+    PARAMS_DEPTH, RESULTS_DEPTH, RESULTS_MAX_BLOCKING, SWING_DEPTH,
 };
 
 /// Environment variable selecting how far discovery reaches (ROS 2 Iron+).

@@ -18,8 +18,11 @@ use crate::bag::RecordedQos;
 pub const PARAMS_DEPTH: usize = 16;
 /// Swings queued per reader on `swing`.
 pub const SWING_DEPTH: usize = 1000;
-/// Results queued per reader on `exit_velocity` / `modal_energies`.
-pub const RESULTS_DEPTH: usize = 100;
+/// Results kept per writer (and queued per reader) on `exit_velocity` / `modal_energies`.
+pub const RESULTS_DEPTH: usize = 1000;
+/// How long a results writer waits for a slow reliable reader to acknowledge before it reports the write
+/// failed (counted by the node), rather than overwriting unacknowledged results.
+pub const RESULTS_MAX_BLOCKING: Duration = Duration::from_millis(500);
 
 fn reliable(depth: usize, durability: Durability) -> QosProfile {
     QosProfile::publisher_default()
@@ -40,9 +43,14 @@ pub fn swing_qos() -> QosProfile {
     reliable(SWING_DEPTH, Durability::Volatile)
 }
 
-/// `exit_velocity`, `modal_energies`: reliable, volatile, keep-last [`RESULTS_DEPTH`].
+/// `exit_velocity`, `modal_energies`: reliable (writers wait up to [`RESULTS_MAX_BLOCKING`]), volatile,
+/// keep-last [`RESULTS_DEPTH`]. The node's writers, `sweetspot pub` and the recorded QoS all use this one
+/// profile: a reliable writer never overwrites unacknowledged results, and the wide window and the wait keep
+/// a briefly slow listener from costing results (beyond that: counted failures).
 pub fn results_qos() -> QosProfile {
-    reliable(RESULTS_DEPTH, Durability::Volatile)
+    reliable(RESULTS_DEPTH, Durability::Volatile).reliability(Reliability::Reliable {
+        when_full: WhenFull::Wait(RESULTS_MAX_BLOCKING),
+    })
 }
 
 /// `sweet_spot`: reliable, transient-local, keep-last [`PARAMS_DEPTH`] (one per bat, latched).
@@ -99,9 +107,13 @@ mod tests {
             RecordedQos {
                 reliable: true,
                 transient_local: false,
-                depth: 100
+                depth: 1000
             }
         );
+        assert!(matches!(
+            results_qos().reliability,
+            Reliability::Reliable { when_full: WhenFull::Wait(d) } if d == RESULTS_MAX_BLOCKING
+        ));
         assert!(recorded_qos(&sweet_spot_qos()).transient_local);
         assert_eq!(rosout_qos().lifespan, Some(Duration::from_secs(10)));
     }

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -105,19 +105,11 @@ pub fn domain(offset: u16) -> u16 {
     100 + offset
 }
 
-/// The Python interpreter with the test peers installed: $SWEETSPOT_PYTHON, else <repo>/.venv/bin/python.
-pub fn python() -> PathBuf {
-    if let Ok(p) = std::env::var("SWEETSPOT_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
-    assert!(
-        venv.exists(),
-        "no Python for the interop test: set SWEETSPOT_PYTHON or create {} (scripts/test does)",
-        venv.display()
-    );
-    venv
-}
+// The helpers every DDS test file shares (Python lookup, network guard); `python` stays reachable here.
+#[path = "../support/mod.rs"]
+mod shared;
+#[allow(unused_imports)] // used by some test files only
+pub use shared::python;
 
 // ---------------------------------------------------------------------------------------------------------
 // An in-test ROS 2 participant (ros2-client), for publishing inputs and listening to the node.
@@ -130,12 +122,7 @@ use ros2_client::qos::{History, Reliability, WhenFull};
 use ros2_client::{Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription};
 use sweetspot::msgs::RosMessage;
 
-/// Refuses to go on unless this process is in a private network namespace (scripts/test provides one).
-pub fn require_isolated_network() {
-    if let Err(e) = dds::network_guard() {
-        panic!("{e}");
-    }
-}
+pub use shared::require_isolated_network;
 
 /// A ros2-client node of the test on `domain`, with its own async runtime.
 pub struct Peer {
@@ -233,6 +220,7 @@ pub mod dds {
     use sweetspot::msgs::RosMessage;
     use sweetspot::ros::{DdsConfig, DiscoveryRange};
 
+    #[allow(unused_imports)] // kept for test files that call it directly
     pub use sweetspot::ros::network_guard;
 
     /// A loopback-only context on `domain`.

@@ -1,0 +1,92 @@
+//! Helpers shared by the DDS, interop and message test files (`mod support;`): the repository and Python
+//! lookup, the private-network guard, and running the `sweetspot` binary and the Cyclone DDS peer on one
+//! domain of loopback discovery.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Output, Stdio};
+
+use serde_json::Value;
+
+/// The `sweetspot` binary under test.
+pub const BIN: &str = env!("CARGO_BIN_EXE_sweetspot");
+
+/// The repository root.
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The Python with the independent peers (mcap, mcap-ros2-support, rosbags, cyclonedds): $SWEETSPOT_PYTHON,
+/// else <repo>/.venv/bin/python; a test that needs it fails without it, never skips.
+pub fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("SWEETSPOT_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = repo().join(".venv/bin/python");
+    assert!(
+        venv.exists(),
+        "no Python for the independent checks and peers: set SWEETSPOT_PYTHON or create {} (scripts/test does)",
+        venv.display()
+    );
+    venv
+}
+
+/// Refuses to go on unless this process is in a private network namespace (scripts/test provides one).
+pub fn require_isolated_network() {
+    sweetspot::ros::network_guard().expect("DDS tests must run in a private network namespace (scripts/test)");
+}
+
+/// Puts `c` on DDS `domain` with loopback-only discovery, whatever the caller's environment says.
+pub fn dds_env(c: &mut Command, domain: u16) -> &mut Command {
+    c.env("ROS_DOMAIN_ID", domain.to_string())
+        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        .env_remove("ROS_LOCALHOST_ONLY")
+        .env_remove("CYCLONEDDS_URI")
+}
+
+/// `sweetspot ARGS` on `domain`.
+pub fn sweetspot(domain: u16, args: &[&str]) -> Command {
+    let mut c = Command::new(BIN);
+    c.args(args);
+    dds_env(&mut c, domain);
+    c
+}
+
+/// The Cyclone DDS peer (tests/python/cyclone_peer.py, kept on loopback) with `args`, on `domain`.
+pub fn cyclone_peer(domain: u16, args: &[&str]) -> Command {
+    let mut c = Command::new(python());
+    c.arg(repo().join("tests/python/cyclone_peer.py")).arg("--loopback").args(args);
+    dds_env(&mut c, domain);
+    c
+}
+
+/// Starts `c` with stdout and stderr piped.
+pub fn spawn_piped(mut c: Command) -> Child {
+    c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn")
+}
+
+/// Panics with `what`, stderr and stdout unless `out` is a success.
+pub fn assert_success(out: &Output, what: &str) {
+    assert!(
+        out.status.success(),
+        "{what} failed: {}\n{}",
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+}
+
+/// Runs `c` to completion; it must succeed.
+pub fn run_ok(mut c: Command, what: &str) -> Output {
+    let out = c.output().expect("run");
+    assert_success(&out, what);
+    out
+}
+
+/// The JSON lines `what` printed; it must have succeeded.
+pub fn json_lines(out: &Output, what: &str) -> Vec<Value> {
+    assert_success(out, what);
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{what}: bad JSON line {l:?}: {e}")))
+        .collect()
+}
