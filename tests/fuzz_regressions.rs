@@ -399,14 +399,13 @@ mod bad_input {
 /// accordingly. `CollisionOptions::validate` checks the step only against the highest bat mode, not against
 /// the contact (here k1 = 9.35e8 N/m, α = 1, a 0.94 kg ball on a 0.15 kg thin-walled bat: ω_c·h ≈ 1.4).
 #[test]
-#[ignore = "fuzz finding F2: collide accepts a time step too coarse for the contact stiffness (energy residual 2.4 %), see report"]
 fn f2_accepted_collisions_close_their_energy_budget() {
-    let bytes = input("physics", "open-f2-energy-residual");
+    let bytes = input("physics", "f2-energy-residual");
     let case = harness::physics_case(&bytes).expect("a physics input");
     assert_eq!((case.max_modes, case.options.modes), (3, 0));
     target("physics")(&bytes);
     // The same with 12 vibrational modes at a 3.8 µs step, impact at the knob: 8.5 % of the energy created.
-    target("physics")(&input("physics", "open-f2-energy-residual-at-the-knob"));
+    target("physics")(&input("physics", "f2-energy-residual-at-the-knob"));
 }
 
 /// F3: a chunk whose header claims an absurd `uncompressed_size` (here ≈ 8.3e18 bytes) makes `bag info` /
@@ -415,9 +414,8 @@ fn f2_accepted_collisions_close_their_energy_budget() {
 /// no record-length limit and reserves the claimed size up front. An allocation failure aborts rather than
 /// panics, so the input runs in a child process (this test binary, filtered to the helper below).
 #[test]
-#[ignore = "fuzz finding F3: bag reader aborts on a chunk claiming a huge uncompressed_size, see report"]
 fn f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader() {
-    let file = fuzz_dir().join("regressions/bag_reader/open-f3-chunk-uncompressed-size");
+    let file = fuzz_dir().join("regressions/bag_reader/f3-chunk-uncompressed-size");
     let output = std::process::Command::new(std::env::current_exe().expect("the test binary"))
         .args(["--exact", "f3_child_runs_the_bag_input", "--ignored", "--nocapture", "--test-threads=1"])
         .env("SWEETSPOT_FUZZ_CHILD_INPUT", &file)
@@ -434,7 +432,7 @@ fn f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader() {
 
 /// Helper of F3 (run only as its child process; it fails on its own to make a stray run visible).
 #[test]
-#[ignore = "fuzz finding F3 helper: runs in a child process of f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader"]
+#[ignore = "helper of F3: runs in a child process of f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader"]
 fn f3_child_runs_the_bag_input() {
     let path = std::env::var_os("SWEETSPOT_FUZZ_CHILD_INPUT").expect("run by f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader");
     target("bag_reader")(&std::fs::read(path).expect("the input"));

@@ -20,6 +20,11 @@ use super::{Ball, ModeSet, PhysicsError};
 
 /// Allowed time steps, s.
 pub const TIME_STEP_RANGE: (f64, f64) = (1e-8, 1e-4);
+
+/// Largest energy residual accepted, as a fraction of the initial kinetic energy. A well-resolved collision
+/// closes its budget to ~1e-9; a residual this large means the time step does not resolve the contact
+/// spring (a stiff ball on a light bat), so the result is refused rather than returned wrong.
+pub const MAX_ENERGY_RESIDUAL: f64 = 1e-3;
 /// Contact longer than this (s) is reported as a failure to separate.
 pub const MAX_CONTACT_TIME: f64 = 0.02;
 /// RK4 is stable for ω·h below 2.83; we refuse steps beyond this margin for the highest integrated mode.
@@ -637,6 +642,14 @@ pub fn collide(
     .all(|v| v.is_finite());
     if !finite {
         return Err(PhysicsError::Numerical("collision produced a non-finite result".into()));
+    }
+    let relative_residual = (result.energy.residual / result.energy.initial).abs();
+    if relative_residual > MAX_ENERGY_RESIDUAL {
+        return Err(PhysicsError::Numerical(format!(
+            "time_step = {:e} s is too coarse for this contact: the energy budget misses {:.3e} of the \
+             initial energy (allowed {MAX_ENERGY_RESIDUAL:e}); use a smaller time step",
+            options.time_step, relative_residual
+        )));
     }
     Ok(result)
 }
