@@ -10,6 +10,9 @@ use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOp
 use super::rosbag2::parse_offered_qos;
 use super::{BagError, RecordedQos, TopicInfo};
 
+/// Largest uncompressed chunk the reader accepts (sweetspot writes chunks of a few MiB at most).
+const MAX_CHUNK_UNCOMPRESSED_SIZE: u64 = 256 * 1024 * 1024;
+
 /// A channel as found in a file, with its topic description.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChannelInfo {
@@ -156,26 +159,10 @@ pub fn scan_file(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Res
                     }
                     Record::Chunk { header, data } => {
                         let compression = header.compression.clone();
-                        let mut inner = Vec::new();
-                        let mut ok = true;
-                        match mcap::read::ChunkReader::new(header, &data) {
-                            Ok(chunk) => {
-                                for rec in chunk {
-                                    match rec {
-                                        Ok(rec) => inner.push(rec),
-                                        Err(_) => {
-                                            ok = false;
-                                            break;
-                                        }
-                                    }
-                                }
-                            }
-                            Err(_) => ok = false,
-                        }
-                        if !ok {
+                        let Ok(inner) = chunk_records(&header, &data) else {
                             scan.corrupt_chunks += 1;
                             continue;
-                        }
+                        };
                         scan.chunks += 1;
                         if !compression.is_empty() && !scan.compressions.contains(&compression) {
                             scan.compressions.push(compression);
@@ -195,6 +182,45 @@ pub fn scan_file(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Res
     let accounted = 8 + consumed_records_end + if scan.complete { 8 } else { 0 };
     scan.truncated_bytes = scan.size.saturating_sub(accounted);
     Ok(scan)
+}
+
+/// The records inside one chunk, decompressed and framed by hand so that no length a corrupt file claims is
+/// ever allocated before it is checked: mcap's ChunkReader reserves the sizes it reads up front, which aborts
+/// the process on a header claiming exabytes. Err = the chunk is corrupt.
+fn chunk_records(header: &mcap::records::ChunkHeader, data: &[u8]) -> Result<Vec<Record<'static>>, ()> {
+    use std::io::Read;
+    let claimed = header.uncompressed_size;
+    if claimed > MAX_CHUNK_UNCOMPRESSED_SIZE {
+        return Err(());
+    }
+    let decompressed: std::borrow::Cow<'_, [u8]> = match header.compression.as_str() {
+        "" => std::borrow::Cow::Borrowed(data),
+        "zstd" => std::borrow::Cow::Owned(zstd::bulk::decompress(data, claimed as usize).map_err(|_| ())?),
+        "lz4" => {
+            let mut out = Vec::new();
+            lz4::Decoder::new(data).map_err(|_| ())?.take(claimed + 1).read_to_end(&mut out).map_err(|_| ())?;
+            std::borrow::Cow::Owned(out)
+        }
+        _ => return Err(()),
+    };
+    if decompressed.len() as u64 != claimed {
+        return Err(());
+    }
+    let bytes = &decompressed[..];
+    let mut records = Vec::new();
+    let mut offset = 0usize;
+    while offset < bytes.len() {
+        let frame = bytes.get(offset..offset + 9).ok_or(())?;
+        let opcode = frame[0];
+        let mut length = [0u8; 8];
+        length.copy_from_slice(&frame[1..9]);
+        let length = usize::try_from(u64::from_le_bytes(length)).map_err(|_| ())?;
+        let body_start = offset + 9;
+        let body = bytes.get(body_start..body_start.checked_add(length).ok_or(())?).ok_or(())?;
+        records.push(mcap::parse_record(opcode, body).map_err(|_| ())?.into_owned());
+        offset = body_start + length;
+    }
+    Ok(records)
 }
 
 fn handle_record(
