@@ -222,19 +222,18 @@ fn seeds_are_valid_inputs_of_their_targets() {
 }
 
 // ------------------------------------------------------------------------------------------------------------
-// Reproducers of open findings (each `#[ignore]`d until its fix lands; see the fuzzing report).
+// Reproducers of the findings (each was `#[ignore]`d until its fix landed; docs/fuzzing.md lists them).
 
 /// F1: BatParams.max_modes is accepted up to 200 whatever the bat, but a bat of N slices has only 2N − 2
 /// vibrational modes: the params are counted as accepted, and then every swing on that bat is REJECTED
 /// ("modes = 200 is out of range: expected 0 ≤ modes ≤ 158") and its SweetSpot is never published.
 #[test]
-#[ignore = "fuzz finding F1: BatParams.max_modes above the bat's 2N-2 modes is accepted, then every swing is rejected, see report"]
 fn f1_accepted_bat_params_can_answer_swings() {
     use sweetspot::node::convert::bat_from_params;
     use sweetspot::node::engine::{compute, plan_swing, BatEntry, Registry};
     use sweetspot::node::settings::NodeSettings;
     use sweetspot::node::stats::NodeStats;
-    let bytes = input("node_messages", "open-f1-max-modes-beyond-the-bat");
+    let bytes = input("node_messages", "f1-max-modes-beyond-the-bat");
     let params: sweetspot::msgs::sweetspot_msgs::msg::BatParams =
         sweetspot::msgs::decode_cdr(&bytes[3..3 + u16::from_le_bytes([bytes[1], bytes[2]]) as usize]).unwrap();
     assert_eq!(params.max_modes, 200);

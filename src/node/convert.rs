@@ -55,13 +55,23 @@ pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
     });
     let slice_length = if p.slice_length == 0.0 { DEFAULT_SLICE_LENGTH } else { p.slice_length };
     let bat = Bat::new(p.bat_id.clone(), stations, shell, core, slice_length).map_err(|e| context(e.to_string()))?;
-    if p.max_modes > 200 {
+    // A bat of N slices has 2N − 2 vibrational modes; accepting more would reject every later swing.
+    let available = vibrational_mode_count(&bat);
+    let limit = available.min(200);
+    if p.max_modes as usize > limit {
         return Err(context(format!(
-            "max_modes = {} is out of range: expected 0 (node default) ≤ max_modes ≤ 200",
-            p.max_modes
+            "max_modes = {} is out of range: expected 0 (node default) ≤ max_modes ≤ {limit} \
+             (this bat's {} slices have {available} vibrational modes)",
+            p.max_modes,
+            bat.slice_count()
         )));
     }
     Ok(BatFromParams { bat, max_modes: (p.max_modes > 0).then_some(p.max_modes as usize) })
+}
+
+/// Vibrational modes a bat's discretisation has: 2 DOF per slice minus the two rigid-body modes.
+pub fn vibrational_mode_count(bat: &Bat) -> usize {
+    (2 * bat.slice_count()).saturating_sub(2)
 }
 
 /// Builds and validates the ball a BallParams describes. The error starts with `BallParams 'id':`.

@@ -33,10 +33,12 @@ pub struct BatEntry {
 impl BatEntry {
     /// An entry whose modes are not computed yet.
     pub fn new(bat_id: impl Into<String>, bat: Bat, max_modes: Option<usize>, settings: &NodeSettings) -> BatEntry {
+        // The node-wide default may exceed what a coarse bat has; an explicit count was checked already.
+        let available = super::convert::vibrational_mode_count(&bat);
         BatEntry {
             bat_id: bat_id.into(),
             bat,
-            max_modes: max_modes.unwrap_or(settings.default_modes),
+            max_modes: max_modes.unwrap_or(settings.default_modes).min(available),
             uses_default_modes: max_modes.is_none(),
             modes: OnceLock::new(),
         }
