@@ -164,7 +164,6 @@ fn diagnostic_value(
 }
 
 #[test]
-#[ignore = "bug: the node logs unreadable samples but does not count them; /diagnostics has no samples_unreadable value"]
 fn unreadable_samples_are_counted_on_diagnostics() {
     let domain = domain(71);
     let dir = tempfile::tempdir().unwrap();

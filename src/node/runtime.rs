@@ -360,7 +360,10 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                                 }
                             }
                         }
-                        Err(e) => log.warn(&format!("bat/params: unreadable sample: {e:?}")),
+                        Err(e) => {
+                            NodeStats::bump(&stats.samples_unreadable);
+                            log.warn(&format!("bat/params: unreadable sample: {e:?}"));
+                        }
                     }
                 }
                 Some(received) = balls.next() => {
@@ -380,7 +383,10 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                                 }
                             }
                         }
-                        Err(e) => log.warn(&format!("ball/params: unreadable sample: {e:?}")),
+                        Err(e) => {
+                            NodeStats::bump(&stats.samples_unreadable);
+                            log.warn(&format!("ball/params: unreadable sample: {e:?}"));
+                        }
                     }
                 }
                 _ = diagnostics.tick() => {
@@ -407,7 +413,10 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                         }
                         on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx)
                     }
-                        Err(e) => log.warn(&format!("swing: unreadable sample: {e:?}")),
+                        Err(e) => {
+                            NodeStats::bump(&stats.samples_unreadable);
+                            log.warn(&format!("swing: unreadable sample: {e:?}"));
+                        }
                     }
                 }
             }

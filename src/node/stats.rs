@@ -20,6 +20,8 @@ pub struct NodeStats {
     /// Swings a publisher sent that never reached the node (gaps in its DDS sequence numbers: the reader's
     /// history overflowed, or the publisher's history replaced them before delivery).
     pub swings_lost_in_transport: AtomicU64,
+    /// Samples on an input topic that could not be decoded (malformed CDR, another type).
+    pub samples_unreadable: AtomicU64,
     /// BatParams/BallParams accepted.
     pub params_accepted: AtomicU64,
     /// BatParams/BallParams refused (the previous params stay in force).
@@ -48,6 +50,8 @@ pub struct StatsSnapshot {
     pub swings_dropped: u64,
     /// See [`NodeStats`].
     pub swings_lost_in_transport: u64,
+    /// Undecodable input samples.
+    pub samples_unreadable: u64,
     /// See [`NodeStats`].
     pub params_accepted: u64,
     /// See [`NodeStats`].
@@ -92,6 +96,7 @@ impl NodeStats {
             swings_rejected: AtomicU64::new(0),
             swings_dropped: AtomicU64::new(0),
             swings_lost_in_transport: AtomicU64::new(0),
+            samples_unreadable: AtomicU64::new(0),
             params_accepted: AtomicU64::new(0),
             params_rejected: AtomicU64::new(0),
             mode_cache_hits: AtomicU64::new(0),
@@ -130,6 +135,7 @@ impl NodeStats {
             swings_rejected: load(&self.swings_rejected),
             swings_dropped: load(&self.swings_dropped),
             swings_lost_in_transport: load(&self.swings_lost_in_transport),
+            samples_unreadable: load(&self.samples_unreadable),
             params_accepted: load(&self.params_accepted),
             params_rejected: load(&self.params_rejected),
             mode_cache_hits: load(&self.mode_cache_hits),
@@ -182,12 +188,13 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
     let new_drops = now.swings_dropped.saturating_sub(before.swings_dropped);
     let new_losses = now.swings_lost_in_transport.saturating_sub(before.swings_lost_in_transport);
     let new_publish_failures = now.publish_failures.saturating_sub(before.publish_failures);
+    let new_unreadable = now.samples_unreadable.saturating_sub(before.samples_unreadable);
     let (mut level, mut message) = (Health::Ok, format!("{} swings answered", now.swings_answered()));
-    if new_drops > 0 || new_publish_failures > 0 || new_losses > 0 {
+    if new_drops > 0 || new_publish_failures > 0 || new_losses > 0 || new_unreadable > 0 {
         level = Health::Warn;
         message = format!(
             "since the last report: {new_drops} swings dropped (queue full), {new_losses} lost in transport, \
-             {new_publish_failures} results unsent"
+             {new_publish_failures} results unsent, {new_unreadable} input samples unreadable"
         );
     }
     let mut values: Vec<(String, String)> = vec![
@@ -196,6 +203,7 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
         ("swings_rejected".into(), now.swings_rejected.to_string()),
         ("swings_dropped".into(), now.swings_dropped.to_string()),
         ("swings_lost_in_transport".into(), now.swings_lost_in_transport.to_string()),
+        ("samples_unreadable".into(), now.samples_unreadable.to_string()),
         ("swings_in_flight".into(), now.in_flight.to_string()),
         ("params_accepted".into(), now.params_accepted.to_string()),
         ("params_rejected".into(), now.params_rejected.to_string()),
