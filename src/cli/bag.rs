@@ -292,29 +292,9 @@ fn replay(
     Ok(())
 }
 
-/// A flag set by SIGINT/SIGTERM so playback ends cleanly (DDS says goodbye to its peers).
-fn interrupt_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
-    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let set = flag.clone();
-    std::thread::spawn(move || {
-        let Ok(rt) = tokio::runtime::Builder::new_current_thread().enable_all().build() else { return };
-        rt.block_on(async move {
-            use tokio::signal::unix::{signal, SignalKind};
-            let (Ok(mut int), Ok(mut term)) = (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) else {
-                return;
-            };
-            tokio::select! {
-                _ = int.recv() => {}
-                _ = term.recv() => {}
-            }
-            set.store(true, std::sync::atomic::Ordering::Relaxed);
-        });
-    });
-    flag
-}
 
 fn play(path: PathBuf, options: bag::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
-    let stop = interrupt_flag();
+    let stop = crate::ros::shell::interrupt_flag();
     let total = bag::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
     let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
     let stats = bag::play::play(&path, &options, &stop, |item| {

@@ -499,7 +499,7 @@ fn publish_all<T: RosMessage>(
         .and_then(|p| p.create_datawriter_no_key_cdr::<T>(&topic, Some(dds_qos.clone())))
         .map_err(|e| anyhow!("cannot create a writer on {fq_topic}: {e}"))?;
 
-    let interrupted = install_interrupt_flag();
+    let interrupted = crate::ros::shell::interrupt_flag();
     let timeout = Duration::from_secs_f64(args.timeout);
     if args.wait_subscribers > 0 {
         let start = Instant::now();
@@ -554,7 +554,7 @@ fn publish_all<T: RosMessage>(
                 message.to_json()
             );
         }
-        write_reliably(&writer, message, timeout, &interrupted)
+        crate::ros::shell::write_reliably(&writer, message, timeout, &interrupted)
             .with_context(|| format!("publishing message #{} to {fq_topic}", sent + 1))?;
         sent += 1;
     }
@@ -603,76 +603,6 @@ fn matched_subscriptions<T: RosMessage>(
         }
     }
     current
-}
-
-/// Writes one sample, retrying while the reliable send window is full (the reader is slower than us).
-fn write_reliably<T: RosMessage>(
-    writer: &rustdds::no_key::DataWriterCdr<T>,
-    message: T,
-    timeout: Duration,
-    interrupted: &std::sync::atomic::AtomicBool,
-) -> anyhow::Result<()> {
-    let start = Instant::now();
-    let mut message = message;
-    loop {
-        match writer.write(message, Some(rustdds::Timestamp::now())) {
-            Ok(()) => return Ok(()),
-            Err(rustdds::dds::WriteError::WouldBlock { data }) => {
-                if start.elapsed() >= timeout
-                    || interrupted.load(std::sync::atomic::Ordering::Relaxed)
-                {
-                    bail!(
-                        "subscribers did not keep up for {:.1} s (send window full)",
-                        timeout.as_secs_f64()
-                    );
-                }
-                message = data;
-            }
-            Err(e) => bail!("DDS write failed: {e}"),
-        }
-    }
-}
-
-/// A flag set by SIGINT/SIGTERM, so loops end cleanly (and DDS says goodbye to its peers).
-fn install_interrupt_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
-    use std::sync::atomic::AtomicBool;
-    use std::sync::{Arc, OnceLock};
-    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
-    FLAG.get_or_init(|| {
-        let flag = Arc::new(AtomicBool::new(false));
-        let f = flag.clone();
-        std::thread::spawn(move || {
-            let Ok(rt) = tokio::runtime::Builder::new_current_thread()
-                .enable_all()
-                .build()
-            else {
-                return;
-            };
-            rt.block_on(async move {
-                #[cfg(unix)]
-                {
-                    use tokio::signal::unix::{signal, SignalKind};
-                    let (Ok(mut int), Ok(mut term)) = (
-                        signal(SignalKind::interrupt()),
-                        signal(SignalKind::terminate()),
-                    ) else {
-                        return;
-                    };
-                    tokio::select! {
-                        _ = int.recv() => {}
-                        _ = term.recv() => {}
-                    }
-                }
-                #[cfg(not(unix))]
-                {
-                    let _ = tokio::signal::ctrl_c().await;
-                }
-                f.store(true, std::sync::atomic::Ordering::Relaxed);
-            });
-        });
-        flag
-    })
-    .clone()
 }
 
 /// Prints what arrives on a topic.

@@ -1,8 +1,7 @@
 //! `sweetspot rig`: the simulated batting rig as its own process, publishing over DDS the way a real sensor
 //! rig would — its bats and ball once (latched), then one Swing per measured swing at a steady rate.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
@@ -192,25 +191,4 @@ pub fn now_ns() -> u64 {
         .unwrap_or(0)
 }
 
-/// A flag set by SIGINT or SIGTERM, so the loops end cleanly (and DDS says goodbye to its peers).
-pub fn interrupt_flag() -> Arc<AtomicBool> {
-    let flag = Arc::new(AtomicBool::new(false));
-    let f = flag.clone();
-    std::thread::spawn(move || {
-        let Ok(rt) = tokio::runtime::Builder::new_current_thread().enable_all().build() else {
-            return;
-        };
-        rt.block_on(async move {
-            use tokio::signal::unix::{signal, SignalKind};
-            let (Ok(mut int), Ok(mut term)) = (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) else {
-                return;
-            };
-            tokio::select! {
-                _ = int.recv() => {}
-                _ = term.recv() => {}
-            }
-            f.store(true, Ordering::Relaxed);
-        });
-    });
-    flag
-}
+pub use crate::ros::shell::interrupt_flag;

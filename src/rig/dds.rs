@@ -11,6 +11,7 @@ use rustdds::no_key::{DataWriterCdr, SimpleDataReaderCdr};
 
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::msgs::RosMessage;
+use crate::ros::shell::{interrupt_flag, write_reliably};
 use crate::ros::{self, DdsConfig};
 
 /// Node name the rig's topics are resolved with (only `~/` names would use it).
@@ -89,28 +90,6 @@ fn matched<T: RosMessage>(writer: &DataWriterCdr<T>, mut current: usize) -> usiz
     current
 }
 
-/// Writes one sample, retrying while the reliable send window is full (the node is slower than us).
-fn write_reliably<T: RosMessage>(writer: &DataWriterCdr<T>, message: T, timeout: Duration) -> Result<()> {
-    let start = Instant::now();
-    let mut message = message;
-    loop {
-        match writer.write(message, Some(rustdds::Timestamp::now())) {
-            Ok(()) => return Ok(()),
-            Err(rustdds::dds::WriteError::WouldBlock { data }) => {
-                if start.elapsed() >= timeout {
-                    bail!(
-                        "the subscribers did not keep up for {:.1} s (send window full)",
-                        timeout.as_secs_f64()
-                    );
-                }
-                message = data;
-                std::thread::sleep(Duration::from_millis(1));
-            }
-            Err(e) => bail!("DDS write failed: {e}"),
-        }
-    }
-}
-
 /// The rig's publishers.
 pub struct RigPublisher {
     /// Topic names used.
@@ -171,17 +150,17 @@ impl RigPublisher {
 
     /// Publishes a bat's params (latched).
     pub fn publish_bat(&self, msg: BatParams) -> Result<()> {
-        write_reliably(&self.bats, msg, self.write_timeout)
+        Ok(write_reliably(&self.bats, msg, self.write_timeout, &interrupt_flag())?)
     }
 
     /// Publishes a ball's params (latched).
     pub fn publish_ball(&self, msg: BallParams) -> Result<()> {
-        write_reliably(&self.balls, msg, self.write_timeout)
+        Ok(write_reliably(&self.balls, msg, self.write_timeout, &interrupt_flag())?)
     }
 
     /// Publishes one swing.
     pub fn publish_swing(&self, msg: Swing) -> Result<()> {
-        write_reliably(&self.swings, msg, self.write_timeout)
+        Ok(write_reliably(&self.swings, msg, self.write_timeout, &interrupt_flag())?)
     }
 
     /// Waits until every matched subscription acknowledged everything written; false on timeout.

@@ -58,6 +58,7 @@ use std::net::{IpAddr, Ipv4Addr};
 pub mod args;
 pub mod names;
 pub mod qos;
+pub mod shell;
 
 pub use args::{NameResolver, NodeIdentity, RosArgs, RosArgsError};
 pub use names::{dds_topic_name, resolve_topic, NameError};
