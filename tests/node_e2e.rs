@@ -12,6 +12,7 @@ use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use sweetspot::node::convert;
 use sweetspot::physics::{collide, metrics, Ball, Bat, CollisionOptions, CollisionResult, Impact, ModeSet};
 
 const WAIT: Duration = Duration::from_secs(60);
@@ -20,27 +21,9 @@ fn header(sec: i32) -> Header {
     Header { stamp: Time { sec, nanosec: 500 }, frame_id: "rig".into() }
 }
 
-/// BatParams spelling out every field of `bat` (no preset), under `bat_id`.
+/// BatParams spelling out every field of `bat` (no preset), under `bat_id`: the node's own conversion.
 fn explicit_params(bat_id: &str, bat: &Bat, max_modes: u32) -> BatParams {
-    let core = bat.core;
-    BatParams {
-        header: header(1),
-        bat_id: bat_id.into(),
-        preset: String::new(),
-        station_z: bat.stations.iter().map(|s| s.z).collect(),
-        outer_radius: bat.stations.iter().map(|s| s.outer_radius).collect(),
-        inner_radius: bat.stations.iter().map(|s| s.inner_radius).collect(),
-        density: bat.shell.density,
-        youngs_modulus: bat.shell.youngs_modulus,
-        shear_modulus: bat.shell.shear_modulus,
-        core_density: core.map_or(0.0, |c| c.material.density),
-        core_youngs_modulus: core.map_or(0.0, |c| c.material.youngs_modulus),
-        core_shear_modulus: core.map_or(0.0, |c| c.material.shear_modulus),
-        core_z_start: core.map_or(0.0, |c| c.z_start),
-        core_z_end: core.map_or(0.0, |c| c.z_end),
-        slice_length: bat.slice_length,
-        max_modes,
-    }
+    convert::params_from_bat(bat_id, bat, max_modes as usize, header(1))
 }
 
 fn ball_params(ball_id: &str, ball: &Ball) -> BallParams {

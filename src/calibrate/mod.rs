@@ -21,7 +21,6 @@ use rayon::prelude::*;
 
 use crate::bag::reader::read_bag;
 use crate::bag::BagError;
-use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
 use crate::physics::{
@@ -486,37 +485,9 @@ pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError>
     ))
 }
 
-/// A BatParams message carrying every field of `bat` (no preset), so a fitted bat can be published.
-pub fn params_from_bat(bat_id: &str, bat: &Bat, max_modes: usize, header: Header) -> BatParams {
-    let (core_density, core_youngs_modulus, core_shear_modulus, core_z_start, core_z_end) = match &bat.core {
-        Some(c) => (
-            c.material.density,
-            c.material.youngs_modulus,
-            c.material.shear_modulus,
-            c.z_start,
-            c.z_end,
-        ),
-        None => (0.0, 0.0, 0.0, 0.0, 0.0),
-    };
-    BatParams {
-        header,
-        bat_id: bat_id.to_string(),
-        preset: String::new(),
-        station_z: bat.stations.iter().map(|s| s.z).collect(),
-        outer_radius: bat.stations.iter().map(|s| s.outer_radius).collect(),
-        inner_radius: bat.stations.iter().map(|s| s.inner_radius).collect(),
-        density: bat.shell.density,
-        youngs_modulus: bat.shell.youngs_modulus,
-        shear_modulus: bat.shell.shear_modulus,
-        core_density,
-        core_youngs_modulus,
-        core_shear_modulus,
-        core_z_start,
-        core_z_end,
-        slice_length: bat.slice_length,
-        max_modes: max_modes as u32,
-    }
-}
+/// A BatParams message carrying every field of `bat` (no preset), so a fitted bat can be published: the
+/// node's own conversion, the inverse of the one it reads BatParams with.
+pub use crate::node::convert::params_from_bat;
 
 /// The physics ball of a BallParams message.
 pub fn ball_from_params(params: &BallParams) -> Ball {

@@ -5,6 +5,7 @@ use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus, KeyValue};
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use crate::physics::bat::SLICE_COUNT_RANGE;
 use crate::physics::{Ball, Bat, CoreFill, Impact, Material, Station};
 
 use super::engine::{BatSummary, Computed};
@@ -22,14 +23,28 @@ pub struct BatFromParams {
     pub max_modes: Option<usize>,
 }
 
-/// Builds and validates the bat a BatParams describes. The error starts with `BatParams 'id':`.
+/// Largest slice count a BatParams may ask for unless the node's `max_bat_slices` says otherwise: a 1-mm grid
+/// on any bat up to 1.2 m (the longest legal baseball bat is 42 in = 1.07 m). Solving such a bat's modes
+/// takes a fraction of a second; the physics' own limit ([`SLICE_COUNT_RANGE`], 4000) costs ~10 s.
+pub const DEFAULT_MAX_BAT_SLICES: usize = 1200;
+
+/// Builds and validates the bat a BatParams describes, up to the physics' own slice limit
+/// ([`SLICE_COUNT_RANGE`]). The error starts with `BatParams 'id':`.
 pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
+    bat_from_params_capped(p, SLICE_COUNT_RANGE.1)
+}
+
+/// As [`bat_from_params`], and refuses a bat cut into more than `max_slices` slices before anything costly
+/// (the modes solve grows faster than N²) is done. The error names `slice_length` and the range it may take
+/// for this bat.
+pub fn bat_from_params_capped(p: &BatParams, max_slices: usize) -> Result<BatFromParams, String> {
     let context = |e: String| format!("BatParams '{}': {e}", p.bat_id);
     if p.bat_id.trim().is_empty() {
         return Err("BatParams: bat_id must be a non-empty name".to_string());
     }
     if !p.preset.is_empty() {
         let bat = Bat::preset(&p.preset).map_err(|e| context(format!("preset: {e}")))?;
+        check_slice_count(&bat, max_slices).map_err(context)?;
         return Ok(BatFromParams { bat, max_modes: None });
     }
     let n = p.station_z.len();
@@ -55,6 +70,7 @@ pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
     });
     let slice_length = if p.slice_length == 0.0 { DEFAULT_SLICE_LENGTH } else { p.slice_length };
     let bat = Bat::new(p.bat_id.clone(), stations, shell, core, slice_length).map_err(|e| context(e.to_string()))?;
+    check_slice_count(&bat, max_slices).map_err(context)?;
     // A bat of N slices has 2N − 2 vibrational modes; accepting more would reject every later swing.
     let available = vibrational_mode_count(&bat);
     let limit = available.min(200);
@@ -67,6 +83,61 @@ pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
         )));
     }
     Ok(BatFromParams { bat, max_modes: (p.max_modes > 0).then_some(p.max_modes as usize) })
+}
+
+/// Refuses a bat of more than `max_slices` slices, naming slice_length and its allowed range for this bat.
+pub fn check_slice_count(bat: &Bat, max_slices: usize) -> Result<(), String> {
+    let (min_slices, physics_max) = SLICE_COUNT_RANGE;
+    let max_slices = max_slices.clamp(min_slices, physics_max);
+    let n = bat.slice_count();
+    if n <= max_slices {
+        return Ok(());
+    }
+    let length = bat.length();
+    // The bat has round(length / slice_length) slices: the bounds are where the rounding changes count.
+    Err(format!(
+        "slice_length = {} m is out of range: it cuts the {length:.3} m bat into {n} slices and this node accepts \
+         at most max_bat_slices = {max_slices}, i.e. {:.3e} ≤ slice_length ≤ {:.3e} m for this bat",
+        bat.slice_length,
+        length / (max_slices as f64 + 0.49),
+        length / (min_slices as f64 - 0.49),
+    ))
+}
+
+/// A BatParams spelling out every field of `bat` (no preset) under `bat_id`, so that [`bat_from_params`]
+/// builds the same bat back. `max_modes` 0 means the node's `default_modes`.
+pub fn params_from_bat(bat_id: &str, bat: &Bat, max_modes: usize, header: Header) -> BatParams {
+    let core = bat.core.as_ref();
+    BatParams {
+        header,
+        bat_id: bat_id.to_string(),
+        preset: String::new(),
+        station_z: bat.stations.iter().map(|s| s.z).collect(),
+        outer_radius: bat.stations.iter().map(|s| s.outer_radius).collect(),
+        inner_radius: bat.stations.iter().map(|s| s.inner_radius).collect(),
+        density: bat.shell.density,
+        youngs_modulus: bat.shell.youngs_modulus,
+        shear_modulus: bat.shell.shear_modulus,
+        core_density: core.map_or(0.0, |c| c.material.density),
+        core_youngs_modulus: core.map_or(0.0, |c| c.material.youngs_modulus),
+        core_shear_modulus: core.map_or(0.0, |c| c.material.shear_modulus),
+        core_z_start: core.map_or(0.0, |c| c.z_start),
+        core_z_end: core.map_or(0.0, |c| c.z_end),
+        slice_length: bat.slice_length,
+        max_modes: mode_count_field(max_modes),
+    }
+}
+
+/// A BatParams naming a built-in preset (`Bat::preset_names`) under `bat_id`: short on the wire and in bags,
+/// and the node builds exactly the preset with its `default_modes` (BatParams.msg: with a preset, the other
+/// fields, max_modes included, are ignored; use [`params_from_bat`] to ask for a mode count).
+pub fn params_of_preset(bat_id: &str, preset: &str, header: Header) -> BatParams {
+    BatParams { header, bat_id: bat_id.to_string(), preset: preset.to_string(), ..BatParams::default() }
+}
+
+/// BatParams.max_modes of a mode count (saturating: anything beyond u32 is rejected by the node anyway).
+fn mode_count_field(max_modes: usize) -> u32 {
+    u32::try_from(max_modes).unwrap_or(u32::MAX)
 }
 
 /// Vibrational modes a bat's discretisation has: 2 DOF per slice minus the two rigid-body modes.
@@ -311,6 +382,59 @@ mod tests {
         assert!(e.starts_with("BatParams 'mine':") && e.contains("outer_radius"), "{e}");
         let e = ball_from_params(&BallParams::default()).unwrap_err();
         assert!(e.contains("ball_id"), "{e}");
+    }
+
+    #[test]
+    fn bat_to_params_and_back_is_the_same_bat_with_the_same_modes() {
+        use crate::physics::ModeSet;
+        for name in Bat::preset_names() {
+            let bat = Bat::preset(name).unwrap();
+            let params = params_from_bat(&bat.name, &bat, 6, Header::default());
+            assert!(params.preset.is_empty(), "every field is spelled out");
+            let built = bat_from_params(&params).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(built.bat, bat, "{name}");
+            assert_eq!(built.max_modes, Some(6));
+            assert_eq!(built.bat.mass_properties(), bat.mass_properties(), "{name}");
+            let (before, after) = (ModeSet::compute(&bat, 18).unwrap(), ModeSet::compute(&built.bat, 18).unwrap());
+            assert_eq!(before.frequencies_hz(), after.frequencies_hz(), "{name}");
+            assert_eq!(before.mass_properties(), after.mass_properties(), "{name}");
+            // 0 = the node's default, both ways.
+            assert_eq!(bat_from_params(&params_from_bat("x", &bat, 0, Header::default())).unwrap().max_modes, None);
+        }
+        let corked = Bat::preset("r161-corked").unwrap();
+        assert!(corked.core.is_some() && params_from_bat("c", &corked, 0, Header::default()).core_density > 0.0);
+    }
+
+    #[test]
+    fn preset_params_build_the_preset() {
+        let params = params_of_preset("game bat", "torpedo", Header::default());
+        let built = bat_from_params(&params).unwrap();
+        assert_eq!(built.bat, Bat::preset("torpedo").unwrap());
+        assert_eq!((params.bat_id.as_str(), built.max_modes), ("game bat", None));
+    }
+
+    #[test]
+    fn a_bat_cut_finer_than_the_slice_cap_is_refused_naming_slice_length_and_its_range() {
+        let fine = |slice_length: f64| BatParams {
+            slice_length,
+            ..params_from_bat("fine", &Bat::preset("r161").unwrap(), 0, Header::default())
+        };
+        // 0.84 m at 0.5 mm = 1680 slices: over the default cap, under the physics' 4000.
+        let e = bat_from_params_capped(&fine(0.0005), DEFAULT_MAX_BAT_SLICES).unwrap_err();
+        assert!(e.starts_with("BatParams 'fine': slice_length = 0.0005 m is out of range"), "{e}");
+        assert!(e.contains("1680 slices") && e.contains("max_bat_slices = 1200"), "{e}");
+        // The range quoted is right: its ends are accepted, just outside them refused.
+        let lower = 0.84 / (DEFAULT_MAX_BAT_SLICES as f64 + 0.49);
+        assert!(e.contains(&format!("{lower:.3e} ≤ slice_length")), "{e}");
+        assert!(bat_from_params_capped(&fine(lower * 1.0001), DEFAULT_MAX_BAT_SLICES).is_ok());
+        assert!(bat_from_params_capped(&fine(lower * 0.999), DEFAULT_MAX_BAT_SLICES).is_err());
+        assert_eq!(bat_from_params_capped(&fine(0.0005), 2000).unwrap().bat.slice_count(), 1680);
+        // A 1-mm grid on a real bat is within the default; beyond the physics' limit even the uncapped form refuses.
+        assert_eq!(bat_from_params_capped(&fine(0.001), DEFAULT_MAX_BAT_SLICES).unwrap().bat.slice_count(), 840);
+        let e = bat_from_params(&fine(0.0002)).unwrap_err();
+        assert!(e.contains("slice_length") && e.contains("4000"), "{e}");
+        // Presets are far below any allowed cap.
+        assert!(bat_from_params_capped(&params_of_preset("p", "torpedo", Header::default()), 100).is_ok());
     }
 
     #[test]

@@ -1,7 +1,6 @@
 //! The node's state and decisions, free of DDS: which bats and balls are known, which modes are cached, and
 //! what a swing turns into (a collision to compute, or a rejection with its reason).
 
-use std::collections::HashMap;
 use std::sync::{Arc, OnceLock};
 
 use crate::physics::{
@@ -9,6 +8,7 @@ use crate::physics::{
     SweetSpotSet,
 };
 
+use super::lru::LruMap;
 use super::settings::NodeSettings;
 use super::stats::NodeStats;
 
@@ -61,13 +61,27 @@ impl BatEntry {
     }
 }
 
-/// What the node knows: bats by bat_id, balls by ball_id, and which were received last.
+/// What the node knows: bats by bat_id, balls by ball_id (each at most `max_bats` / `max_balls`, least
+/// recently used forgotten first, never the latest received), and which were received last.
 #[derive(Debug)]
 pub struct Registry {
-    bats: HashMap<String, Arc<BatEntry>>,
-    balls: HashMap<String, Ball>,
+    bats: LruMap<Arc<BatEntry>>,
+    balls: LruMap<Ball>,
     latest_bat: Option<String>,
     latest_ball: Option<String>,
+}
+
+/// How full the registry is and how much it has forgotten, for `/diagnostics`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RegistryUsage {
+    /// Bats held (with their modes, once solved).
+    pub bats: usize,
+    /// Bats forgotten to stay within `max_bats`, since start.
+    pub bats_evicted: u64,
+    /// Balls held.
+    pub balls: usize,
+    /// Balls forgotten to stay within `max_balls`, since start.
+    pub balls_evicted: u64,
 }
 
 impl Default for Registry {
@@ -77,50 +91,92 @@ impl Default for Registry {
 }
 
 impl Registry {
-    /// Knows the default ball; bats are created from presets on first use.
+    /// The limits of the default settings; bats are created from presets on first use, the built-in ball
+    /// ([`DEFAULT_BALL_ID`]) needs no params.
     pub fn new() -> Registry {
-        let mut balls = HashMap::new();
-        balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
-        Registry { bats: HashMap::new(), balls, latest_bat: None, latest_ball: None }
+        let defaults = NodeSettings::default();
+        Registry::with_limits(defaults.max_bats, defaults.max_balls)
     }
 
-    /// Stores (or replaces) a bat; it becomes the latest bat.
+    /// At most `max_bats` bats and `max_balls` balls.
+    pub fn with_limits(max_bats: usize, max_balls: usize) -> Registry {
+        Registry { bats: LruMap::new(max_bats), balls: LruMap::new(max_balls), latest_bat: None, latest_ball: None }
+    }
+
+    /// Applies the settings' `max_bats` / `max_balls` (forgetting the least recently used at once if they
+    /// shrank). Returns how many bats and balls were forgotten.
+    pub fn set_limits(&mut self, settings: &NodeSettings) -> (usize, usize) {
+        let bats = self.bats.set_capacity(settings.max_bats, self.latest_bat.as_deref());
+        let balls = self.balls.set_capacity(settings.max_balls, self.latest_ball.as_deref());
+        (bats, balls)
+    }
+
+    /// How many bats and balls are held and forgotten.
+    pub fn usage(&self) -> RegistryUsage {
+        RegistryUsage {
+            bats: self.bats.len(),
+            bats_evicted: self.bats.evictions(),
+            balls: self.balls.len(),
+            balls_evicted: self.balls.evictions(),
+        }
+    }
+
+    /// The bat_id forgotten most recently, if any.
+    pub fn last_evicted_bat(&self) -> Option<&str> {
+        self.bats.last_evicted()
+    }
+
+    /// The ball_id forgotten most recently, if any.
+    pub fn last_evicted_ball(&self) -> Option<&str> {
+        self.balls.last_evicted()
+    }
+
+    /// Stores (or replaces) a bat; it becomes the latest bat. When `max_bats` are held, the least recently
+    /// used other bat is forgotten.
     pub fn set_bat(&mut self, entry: BatEntry) -> Arc<BatEntry> {
         let entry = Arc::new(entry);
         self.latest_bat = Some(entry.bat_id.clone());
-        self.bats.insert(entry.bat_id.clone(), Arc::clone(&entry));
+        self.bats.insert(entry.bat_id.clone(), Arc::clone(&entry), false, None);
         entry
     }
 
-    /// Stores (or replaces) a ball; it becomes the latest ball.
+    /// Stores (or replaces) a ball; it becomes the latest ball. When `max_balls` are held, the least recently
+    /// used other ball is forgotten.
     pub fn set_ball(&mut self, ball_id: &str, ball: Ball) {
         self.latest_ball = Some(ball_id.to_string());
-        self.balls.insert(ball_id.to_string(), ball);
+        self.balls.insert(ball_id.to_string(), ball, false, None);
     }
 
     /// The bat a swing asks for: empty = the latest received (else `default_bat`); an unknown id that names a
-    /// preset becomes a bat. Returns the entry and whether it was just created (its SweetSpot is new).
+    /// preset becomes a bat (again, if it was forgotten). Returns the entry and whether it was just created
+    /// (its SweetSpot is new).
     pub fn resolve_bat(&mut self, requested: &str, settings: &NodeSettings) -> Result<(Arc<BatEntry>, bool), String> {
         let bat_id = self.effective_bat_id(requested, settings);
         if let Some(entry) = self.bats.get(&bat_id) {
             return Ok((Arc::clone(entry), false));
         }
+        if self.bats.was_forgotten(&bat_id) {
+            // Even when the id names a preset: its BatParams may have said something else.
+            return Err(format!(
+                "unknown bat_id '{bat_id}': its BatParams were forgotten (evicted) to keep at most max_bats = {} \
+                 bats, least recently used first; publish its BatParams again (or raise max_bats)",
+                self.bats.capacity()
+            ));
+        }
         match Bat::preset(&bat_id) {
             Ok(bat) => {
                 let entry = Arc::new(BatEntry::new(&bat_id, bat, None, settings));
-                // A preset used by name does not become "the latest received" bat.
-                self.bats.insert(bat_id, Arc::clone(&entry));
+                // A preset used by name does not become "the latest received" bat, and may be forgotten
+                // without a trace: it is made again on demand.
+                self.bats.insert(bat_id, Arc::clone(&entry), true, self.latest_bat.as_deref());
                 Ok((entry, true))
             }
-            Err(_) => {
-                let mut known: Vec<&str> = self.bats.keys().map(String::as_str).collect();
-                known.sort_unstable();
-                Err(format!(
-                    "unknown bat_id '{bat_id}': no BatParams received for it and it is not a preset (known bats: [{}]; presets: [{}])",
-                    known.join(", "),
-                    Bat::preset_names().join(", ")
-                ))
-            }
+            Err(_) => Err(format!(
+                "unknown bat_id '{bat_id}': no BatParams received for it and it is not a preset (known bats: [{}]; \
+                 presets: [{}])",
+                known_ids(self.bats.iter().map(|(id, _)| id)),
+                Bat::preset_names().join(", ")
+            )),
         }
     }
 
@@ -133,52 +189,87 @@ impl Registry {
         }
     }
 
-    /// The ball a swing asks for: empty = the latest received (else the default baseball).
+    /// The ball a swing asks for: empty = the latest received (else the default baseball). Does not count as
+    /// a use (see [`Registry::use_ball`]).
     pub fn resolve_ball(&self, requested: &str) -> Result<(String, Ball), String> {
-        let ball_id = if requested.is_empty() {
+        let ball_id = self.effective_ball_id(requested);
+        if let Some(ball) = self.balls.peek(&ball_id) {
+            return Ok((ball_id, *ball));
+        }
+        if self.balls.was_forgotten(&ball_id) {
+            return Err(format!(
+                "unknown ball_id '{ball_id}': its BallParams were forgotten (evicted) to keep at most max_balls = {} \
+                 balls, least recently used first; publish its BallParams again (or raise max_balls)",
+                self.balls.capacity()
+            ));
+        }
+        if ball_id == DEFAULT_BALL_ID {
+            return Ok((ball_id, Ball::default()));
+        }
+        let built_in_available = self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
+        let known = self.balls.iter().map(|(id, _)| id).chain(built_in_available.then_some(DEFAULT_BALL_ID));
+        Err(format!("unknown ball_id '{ball_id}': no BallParams received for it (known balls: [{}])", known_ids(known)))
+    }
+
+    /// As [`Registry::resolve_ball`], and marks the ball as just used (a swing's use keeps it from being
+    /// forgotten first).
+    pub fn use_ball(&mut self, requested: &str) -> Result<(String, Ball), String> {
+        let resolved = self.resolve_ball(requested)?;
+        let _ = self.balls.get(&resolved.0);
+        Ok(resolved)
+    }
+
+    fn effective_ball_id(&self, requested: &str) -> String {
+        if requested.is_empty() {
             self.latest_ball.clone().unwrap_or_else(|| DEFAULT_BALL_ID.to_string())
         } else {
             requested.to_string()
-        };
-        match self.balls.get(&ball_id) {
-            Some(ball) => Ok((ball_id, *ball)),
-            None => {
-                let mut known: Vec<&str> = self.balls.keys().map(String::as_str).collect();
-                known.sort_unstable();
-                Err(format!(
-                    "unknown ball_id '{ball_id}': no BallParams received for it (known balls: [{}])",
-                    known.join(", ")
-                ))
-            }
         }
     }
 
     /// After `default_modes` changed: replaces every bat that used it with a fresh entry (its modes will be
     /// recomputed on next use). Returns the new entries.
     pub fn refresh_default_modes(&mut self, settings: &NodeSettings) -> Vec<Arc<BatEntry>> {
-        let stale: Vec<String> = self
+        let stale: Vec<Arc<BatEntry>> = self
             .bats
-            .values()
-            .filter(|e| e.uses_default_modes && e.max_modes != settings.default_modes)
-            .map(|e| e.bat_id.clone())
+            .iter()
+            .filter(|(_, e)| e.uses_default_modes && e.max_modes != settings.default_modes)
+            .map(|(_, e)| Arc::clone(e))
             .collect();
         stale
             .into_iter()
-            .filter_map(|id| {
-                let old = self.bats.get(&id)?;
-                let fresh = Arc::new(BatEntry::new(&id, old.bat.clone(), None, settings));
-                self.bats.insert(id, Arc::clone(&fresh));
-                Some(fresh)
+            .map(|old| {
+                let fresh = Arc::new(BatEntry::new(&old.bat_id, old.bat.clone(), None, settings));
+                self.bats.replace(&old.bat_id, Arc::clone(&fresh));
+                fresh
             })
             .collect()
     }
 
-    /// Every known bat.
+    /// Every bat held now, by bat_id.
     pub fn bats(&self) -> Vec<Arc<BatEntry>> {
-        let mut all: Vec<_> = self.bats.values().cloned().collect();
+        let mut all: Vec<_> = self.bats.iter().map(|(_, e)| Arc::clone(e)).collect();
         all.sort_by(|a, b| a.bat_id.cmp(&b.bat_id));
         all
     }
+
+    /// Whether `entry` is the one held now for its bat_id (not replaced by newer params, not forgotten).
+    pub fn is_current(&self, entry: &Arc<BatEntry>) -> bool {
+        self.bats.peek(&entry.bat_id).is_some_and(|held| Arc::ptr_eq(held, entry))
+    }
+}
+
+/// Ids for an error message, sorted; a long list is cut short (there may be thousands).
+fn known_ids<'a>(ids: impl Iterator<Item = &'a str>) -> String {
+    const SHOWN: usize = 20;
+    let mut ids: Vec<&str> = ids.collect();
+    ids.sort_unstable();
+    let total = ids.len();
+    let mut shown = ids.into_iter().take(SHOWN).collect::<Vec<_>>().join(", ");
+    if total > SHOWN {
+        shown.push_str(&format!(", … {} more", total - SHOWN));
+    }
+    shown
 }
 
 /// What a swing became after resolving its bat and ball.
@@ -241,7 +332,7 @@ pub fn plan_swing(
         }
     };
     let new_bat = created.map(|_| Arc::clone(&bat));
-    match registry.resolve_ball(ball_id) {
+    match registry.use_ball(ball_id) {
         Ok((ball_id, ball)) => {
             let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
             (Plan::Collide { bat, ball_id, ball, impact, options }, new_bat)
@@ -378,6 +469,59 @@ mod tests {
         assert!(compute(&plan, &stats).unwrap_err().contains("impact_z"));
         let (plan, _) = plan_swing(&mut registry, &settings, "r161", "", swing(2.0));
         assert!(compute(&plan, &stats).unwrap_err().contains("impact_z"));
+    }
+
+    #[test]
+    fn bats_beyond_max_bats_are_forgotten_least_recently_used_first_and_then_rejected_with_the_reason() {
+        let settings = NodeSettings { max_bats: 3, ..NodeSettings::default() };
+        let stats = NodeStats::new();
+        let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+        let bat = Bat::preset("r161").unwrap();
+        for id in ["a", "b", "c"] {
+            registry.set_bat(BatEntry::new(id, bat.clone(), Some(4), &settings));
+        }
+        let (plan, _) = plan_swing(&mut registry, &settings, "a", "", swing(0.7));
+        assert!(compute(&plan, &stats).is_ok(), "a is used now: b is the least recently used");
+        registry.set_bat(BatEntry::new("d", bat.clone(), Some(4), &settings));
+        assert_eq!(registry.last_evicted_bat(), Some("b"));
+        let (plan, _) = plan_swing(&mut registry, &settings, "b", "", swing(0.7));
+        let e = compute(&plan, &stats).unwrap_err();
+        assert!(e.contains("unknown bat_id 'b'") && e.contains("evicted") && e.contains("max_bats = 3"), "{e}");
+        assert_eq!(plan.bat_id(), "b");
+        // Presets used by name come and go without ever pushing out the latest received bat ("d").
+        for preset in Bat::preset_names() {
+            let (plan, _) = plan_swing(&mut registry, &settings, preset, "", swing(0.7));
+            assert!(matches!(plan, Plan::Collide { .. }), "{preset}");
+        }
+        assert_eq!(registry.resolve_bat("", &settings).unwrap().0.bat_id, "d");
+        let (plan, created) = plan_swing(&mut registry, &settings, "r161", "", swing(0.7));
+        assert!(matches!(plan, Plan::Collide { .. }) && created.is_some(), "a forgotten preset is made again");
+        let usage = registry.usage();
+        assert_eq!(usage.bats, 3);
+        assert!(usage.bats_evicted >= 1 + Bat::preset_names().len() as u64, "{usage:?}");
+        // New params for a forgotten id make it known again.
+        registry.set_bat(BatEntry::new("b", bat.clone(), Some(4), &settings));
+        assert!(registry.resolve_bat("b", &settings).is_ok());
+        // Shrinking max_bats forgets at once, sparing the latest.
+        let (forgotten, _) = registry.set_limits(&NodeSettings { max_bats: 2, ..settings.clone() });
+        assert_eq!((forgotten, registry.usage().bats), (1, 2));
+        assert_eq!(registry.resolve_bat("", &settings).unwrap().0.bat_id, "b");
+    }
+
+    #[test]
+    fn balls_beyond_max_balls_are_forgotten_and_the_built_in_ball_stays_available() {
+        let settings = NodeSettings { max_balls: 2, ..NodeSettings::default() };
+        let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+        for (i, id) in ["x", "y", "z"].into_iter().enumerate() {
+            registry.set_ball(id, Ball { cor: 0.4 + 0.01 * i as f64, ..Ball::default() });
+        }
+        let e = registry.use_ball("x").unwrap_err();
+        assert!(e.contains("unknown ball_id 'x'") && e.contains("evicted") && e.contains("max_balls = 2"), "{e}");
+        assert_eq!(registry.use_ball("").unwrap().0, "z");
+        assert_eq!(registry.use_ball(DEFAULT_BALL_ID).unwrap().1, Ball::default());
+        let e = registry.use_ball("never").unwrap_err();
+        assert!(e.contains("no BallParams") && e.contains(DEFAULT_BALL_ID), "{e}");
+        assert_eq!(registry.usage().balls_evicted, 1);
     }
 
     #[test]

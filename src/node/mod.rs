@@ -1,7 +1,7 @@
 //! The ROS 2 shell (`sweetspot node`): topics, QoS, parameters, diagnostics, recording.
 //!
 //! Data flows one way: message → physics → result → publish + record. The pure parts ([`ros_args`],
-//! [`settings`], [`stats`], [`convert`], [`engine`], [`pipeline`]) are plain functions and threads tested
+//! [`settings`], [`stats`], [`convert`], [`engine`], [`lru`], [`pipeline`]) are plain functions and threads tested
 //! without DDS; the DDS wiring lives in [`runtime`].
 //!
 //! ```text
@@ -27,6 +27,10 @@
 //!   `default_bat` (preset `r161`) and the regulation `baseball`; any preset name is a valid bat_id.
 //! - Modes are computed once per bat (on first use, off the DDS thread) and cached; new params for a bat_id
 //!   replace its entry (swings already queued keep the bat they were sent for) and publish a new SweetSpot.
+//! - At most `max_bats` bats and `max_balls` balls are kept ([`lru::LruMap`]): the least recently used is
+//!   forgotten first, never the latest received; a swing naming a forgotten id is REJECTED saying so (a
+//!   preset is solved again instead); evictions are warned about and counted on /diagnostics. A BatParams of
+//!   more than `max_bat_slices` slices is REJECTED before its modes are solved.
 //! - Collisions run on `workers` threads behind a bounded pipeline of `queue_capacity` swings in flight;
 //!   results are published in swing order. A swing arriving when the pipeline is full is dropped, counted
 //!   (`swings_dropped`) and warned about on /rosout (rate-limited); gaps in a publisher's DDS sequence numbers
@@ -45,6 +49,7 @@
 
 pub mod convert;
 pub mod engine;
+pub mod lru;
 pub mod pipeline;
 pub mod recording;
 /// The `--ros-args` parser now lives in the shared DDS layer ([`crate::ros::args`]); this path stays for callers.

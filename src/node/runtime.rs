@@ -20,7 +20,7 @@ use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 
 use super::convert;
-use super::engine::{self, BatEntry, BatSummary, Registry};
+use super::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
 use super::pipeline::{Outcome, Pipeline, ResultSink};
 use super::recording::{topic_info, Recorded, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
@@ -284,7 +284,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         tape.dir().map(|d| d.display().to_string()).unwrap_or_else(|| "off".into())
     ));
 
-    let mut registry = Registry::new();
+    let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+    let eviction_warning = RateLimiter::new(Duration::from_secs(5));
+    let mut seen_usage = registry.usage();
     // The default bat answers swings without any params; its SweetSpot is published right away.
     match registry.resolve_bat("", &settings) {
         Ok((entry, _)) => spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx),
@@ -315,6 +317,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     Event::ParameterChanged(effect) => {
                         let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
                         tape.note_settings(&current);
+                        registry.set_limits(&current);
+                        report_evictions(&registry, &mut seen_usage, &current, &log, &eviction_warning);
                         let refresh: Vec<Arc<BatEntry>> = match effect {
                             SettingEffect::None => Vec::new(),
                             SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
@@ -326,7 +330,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     }
                     Event::Summary(entry, result) => {
                         // A summary of params that have since been replaced is stale.
-                        let current = registry.bats().into_iter().any(|e| Arc::ptr_eq(&e, &entry));
+                        let current = registry.is_current(&entry);
                         match *result {
                             Ok(summary) if current => {
                                 let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
@@ -347,10 +351,12 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                         Ok((params, _info)) => {
                             tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
                             let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
-                            match convert::bat_from_params(&params) {
+                            // The slice cap is checked here, before any modes are solved (fuzz finding F4).
+                            match convert::bat_from_params_capped(&params, current.max_bat_slices) {
                                 Ok(built) => {
                                     NodeStats::bump(&stats.params_accepted);
                                     let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
+                                    report_evictions(&registry, &mut seen_usage, &current, &log, &eviction_warning);
                                     log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
                                     spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
                                 }
@@ -375,6 +381,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                                 Ok(ball) => {
                                     NodeStats::bump(&stats.params_accepted);
                                     registry.set_ball(&params.ball_id, ball);
+                                    let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                                    report_evictions(&registry, &mut seen_usage, &current, &log, &eviction_warning);
                                     log.info(&format!("ball '{}' set", params.ball_id));
                                 }
                                 Err(reason) => {
@@ -390,7 +398,12 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     }
                 }
                 _ = diagnostics.tick() => {
-                    let now = stats.snapshot(pipeline.in_flight());
+                    let mut now = stats.snapshot(pipeline.in_flight());
+                    let usage = registry.usage();
+                    now.bats_cached = usage.bats as u64;
+                    now.bats_evicted = usage.bats_evicted;
+                    now.balls_cached = usage.balls as u64;
+                    now.balls_evicted = usage.balls_evicted;
                     let report = health_report(&now, &last_report, &tape.state());
                     let msg = convert::diagnostic_array(&report, &fqn, convert::time_from_ns(convert::now_ns()));
                     if let Err(e) = diag_pub.publish(msg) {
@@ -411,7 +424,12 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                                 ));
                             }
                         }
-                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx)
+                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx);
+                        if registry.usage() != seen_usage {
+                            // A preset named by a swing pushed out another bat.
+                            let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
+                            report_evictions(&registry, &mut seen_usage, &current, &log, &eviction_warning);
+                        }
                     }
                         Err(e) => {
                             NodeStats::bump(&stats.samples_unreadable);
@@ -435,10 +453,11 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     .await
     .context("joining the shutdown task")?;
     let s = final_stats;
+    let usage = registry.usage();
     let summary = format!(
-        "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped, {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses",
+        "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped, {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses; {} bats and {} balls evicted",
         s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.swings_lost_in_transport, s.latency_p50_us, s.latency_p99_us,
-        s.latency_max_us, s.mode_cache_hits, s.mode_cache_misses
+        s.latency_max_us, s.mode_cache_hits, s.mode_cache_misses, usage.bats_evicted, usage.balls_evicted
     );
     log.info(&summary);
     eprintln!("{summary}");
@@ -501,6 +520,45 @@ fn on_swing(
     }
 }
 
+/// Warns (rate-limited) when the registry forgot bats or balls since `seen`, and moves `seen` on.
+fn report_evictions(
+    registry: &Registry,
+    seen: &mut RegistryUsage,
+    settings: &NodeSettings,
+    log: &Log,
+    warning: &RateLimiter,
+) {
+    let now = registry.usage();
+    let (bats, balls) = (now.bats_evicted - seen.bats_evicted, now.balls_evicted - seen.balls_evicted);
+    *seen = now;
+    if bats + balls == 0 {
+        return;
+    }
+    if let Some(suppressed) = warning.allow(Instant::now()) {
+        let mut parts = Vec::new();
+        if bats > 0 {
+            parts.push(format!(
+                "{bats} bat(s) forgotten, latest '{}' (max_bats = {} held, least recently used first; {} in all)",
+                registry.last_evicted_bat().unwrap_or_default(),
+                settings.max_bats,
+                now.bats_evicted
+            ));
+        }
+        if balls > 0 {
+            parts.push(format!(
+                "{balls} ball(s) forgotten, latest '{}' (max_balls = {} held; {} in all)",
+                registry.last_evicted_ball().unwrap_or_default(),
+                settings.max_balls,
+                now.balls_evicted
+            ));
+        }
+        log.warn(&format!(
+            "{}; swings naming them are REJECTED until their params are sent again (presets are re-solved); {suppressed} more such reports suppressed",
+            parts.join("; ")
+        ));
+    }
+}
+
 fn reject_params(
     reason: &str,
     header: &Header,
@@ -531,7 +589,12 @@ fn spawn_summary(
     };
     let settings = settings.read().map(|s| s.clone()).unwrap_or_default();
     let (stats, events) = (Arc::clone(stats), events.clone());
+    // Only the registry (and swings in flight) keep the entry alive: a bat replaced or forgotten before its
+    // turn comes is not solved for a SweetSpot nobody would publish, so a burst of BatParams costs no
+    // queue of solves.
+    let entry = Arc::downgrade(&entry);
     tokio::task::spawn_blocking(move || {
+        let Some(entry) = entry.upgrade() else { return };
         let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
         let _ = events.send(Event::Summary(entry, Box::new(result)));
     });

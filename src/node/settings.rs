@@ -29,6 +29,25 @@ pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
     ("reference_bat_cm_speed", "m/s", "bat centre-of-mass speed of the reference swing (>= 0)"),
     ("reference_bat_angular_speed", "rad/s", "bat angular speed of the reference swing"),
     (
+        "max_bats",
+        "",
+        "bats kept with their solved modes (2..=100000); beyond it the least recently used is forgotten (never the \
+         latest received); a swing naming a forgotten bat is REJECTED until its BatParams is sent again, a preset \
+         is re-solved on demand",
+    ),
+    (
+        "max_balls",
+        "",
+        "balls kept (2..=100000); beyond it the least recently used is forgotten (never the latest received); a \
+         swing naming a forgotten ball is REJECTED until its BallParams is sent again",
+    ),
+    (
+        "max_bat_slices",
+        "",
+        "largest slice count (bat length / slice_length) a BatParams may ask for (100..=4000); finer bats are \
+         REJECTED before their modes are solved",
+    ),
+    (
         "queue_capacity",
         "",
         "swings in flight (queued, computing or awaiting in-order publication) before new ones are dropped",
@@ -56,6 +75,12 @@ pub struct NodeSettings {
     pub reference_bat_cm_speed: f64,
     /// Reference swing's bat angular speed, rad/s.
     pub reference_bat_angular_speed: f64,
+    /// Bats kept (least recently used forgotten first, never the latest received).
+    pub max_bats: usize,
+    /// Balls kept (least recently used forgotten first, never the latest received).
+    pub max_balls: usize,
+    /// Largest slice count a BatParams may ask for.
+    pub max_bat_slices: usize,
     /// Swings in flight before new ones are dropped.
     pub queue_capacity: usize,
     /// Worker threads; 0 = one per core.
@@ -83,6 +108,12 @@ impl Default for NodeSettings {
             reference_ball_speed: 40.0,
             reference_bat_cm_speed: 20.0,
             reference_bat_angular_speed: 50.0,
+            // A lab uses a handful of bats; 64 leaves room for a whole team's and bounds the worst case (each
+            // entry at most max_bat_slices slices × 200 modes of shapes, ~4 MB) to a few hundred MB.
+            max_bats: 64,
+            // A ball is 40 bytes; the cap only stops a publisher inventing ids without end.
+            max_balls: 1024,
+            max_bat_slices: super::convert::DEFAULT_MAX_BAT_SLICES,
             // Covers a burst of 10,000 swings at a few hundred bytes each (≈ 5 MB worst case).
             queue_capacity: 16_384,
             workers: 0,
@@ -117,6 +148,9 @@ impl NodeSettings {
             ("reference_ball_speed", Double(self.reference_ball_speed)),
             ("reference_bat_cm_speed", Double(self.reference_bat_cm_speed)),
             ("reference_bat_angular_speed", Double(self.reference_bat_angular_speed)),
+            ("max_bats", Integer(self.max_bats as i64)),
+            ("max_balls", Integer(self.max_balls as i64)),
+            ("max_bat_slices", Integer(self.max_bat_slices as i64)),
             ("queue_capacity", Integer(self.queue_capacity as i64)),
             ("workers", Integer(self.workers as i64)),
             ("record", Boolean(self.record)),
@@ -193,6 +227,22 @@ impl NodeSettings {
                 self.reference_bat_angular_speed = *x;
                 Ok(SettingEffect::SweetSpotsChanged)
             }
+            ("max_bats", V::Integer(n)) => {
+                range((2..=100_000).contains(n), "2 ≤ max_bats ≤ 100000")?;
+                self.max_bats = *n as usize;
+                Ok(SettingEffect::None)
+            }
+            ("max_balls", V::Integer(n)) => {
+                range((2..=100_000).contains(n), "2 ≤ max_balls ≤ 100000")?;
+                self.max_balls = *n as usize;
+                Ok(SettingEffect::None)
+            }
+            ("max_bat_slices", V::Integer(n)) => {
+                let physics_max = crate::physics::bat::SLICE_COUNT_RANGE.1 as i64;
+                range((100..=physics_max).contains(n), &format!("100 ≤ max_bat_slices ≤ {physics_max}"))?;
+                self.max_bat_slices = *n as usize;
+                Ok(SettingEffect::None)
+            }
             ("queue_capacity", V::Integer(n)) => {
                 range((1..=1_000_000).contains(n), "1 ≤ queue_capacity ≤ 1000000")?;
                 self.queue_capacity = *n as usize;
@@ -227,7 +277,11 @@ impl NodeSettings {
                 Ok(SettingEffect::None)
             }
             ("default_bat" | "record_path", _) => wrong_type("a string"),
-            ("default_modes" | "queue_capacity" | "workers" | "record_max_file_size", _) => wrong_type("an integer"),
+            (
+                "default_modes" | "max_bats" | "max_balls" | "max_bat_slices" | "queue_capacity" | "workers"
+                | "record_max_file_size",
+                _,
+            ) => wrong_type("an integer"),
             ("record", _) => wrong_type("a boolean"),
             (
                 "time_step"
@@ -319,6 +373,12 @@ mod tests {
         assert!(e.contains("time_step") && e.contains("1e-8"), "{e}");
         let e = s.apply("default_modes", &ParameterValue::Integer(0)).unwrap_err();
         assert!(e.contains("default_modes") && e.contains("200"), "{e}");
+        let e = s.apply("max_bats", &ParameterValue::Integer(1)).unwrap_err();
+        assert!(e.contains("max_bats = 1") && e.contains("2 ≤ max_bats"), "{e}");
+        let e = s.apply("max_bat_slices", &ParameterValue::Integer(5000)).unwrap_err();
+        assert!(e.contains("max_bat_slices ≤ 4000"), "{e}");
+        let e = s.apply("max_balls", &ParameterValue::Double(3.0)).unwrap_err();
+        assert!(e.contains("integer"), "{e}");
         let e = s.apply("record", &ParameterValue::Integer(1)).unwrap_err();
         assert!(e.contains("boolean"), "{e}");
         let e = s.apply("frobs", &ParameterValue::Integer(1)).unwrap_err();

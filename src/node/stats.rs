@@ -64,6 +64,14 @@ pub struct StatsSnapshot {
     pub publish_failures: u64,
     /// Swings queued, computing or waiting for in-order publication.
     pub in_flight: u64,
+    /// Bats held by the registry now (filled in by the runtime, which owns the registry).
+    pub bats_cached: u64,
+    /// Bats forgotten to stay within `max_bats`, since start.
+    pub bats_evicted: u64,
+    /// Balls held by the registry now.
+    pub balls_cached: u64,
+    /// Balls forgotten to stay within `max_balls`, since start.
+    pub balls_evicted: u64,
     /// Median receive-to-publish latency, µs (0 before the first swing).
     pub latency_p50_us: u64,
     /// 99th-percentile latency, µs.
@@ -142,6 +150,10 @@ impl NodeStats {
             mode_cache_misses: load(&self.mode_cache_misses),
             publish_failures: load(&self.publish_failures),
             in_flight,
+            bats_cached: 0,
+            bats_evicted: 0,
+            balls_cached: 0,
+            balls_evicted: 0,
             latency_p50_us: p50,
             latency_p99_us: p99,
             latency_max_us: max,
@@ -189,6 +201,7 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
     let new_losses = now.swings_lost_in_transport.saturating_sub(before.swings_lost_in_transport);
     let new_publish_failures = now.publish_failures.saturating_sub(before.publish_failures);
     let new_unreadable = now.samples_unreadable.saturating_sub(before.samples_unreadable);
+    let new_evictions = (now.bats_evicted + now.balls_evicted).saturating_sub(before.bats_evicted + before.balls_evicted);
     let (mut level, mut message) = (Health::Ok, format!("{} swings answered", now.swings_answered()));
     if new_drops > 0 || new_publish_failures > 0 || new_losses > 0 || new_unreadable > 0 {
         level = Health::Warn;
@@ -196,6 +209,20 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
             "since the last report: {new_drops} swings dropped (queue full), {new_losses} lost in transport, \
              {new_publish_failures} results unsent, {new_unreadable} input samples unreadable"
         );
+    }
+    if new_evictions > 0 {
+        // Swings naming a forgotten bat or ball are REJECTED (or a preset is solved again): worth a look.
+        level = Health::Warn;
+        let evicted = format!(
+            "{} bats and {} balls forgotten (max_bats / max_balls reached)",
+            now.bats_evicted.saturating_sub(before.bats_evicted),
+            now.balls_evicted.saturating_sub(before.balls_evicted)
+        );
+        message = if message.starts_with("since the last report") {
+            format!("{message}, {evicted}")
+        } else {
+            format!("since the last report: {evicted}")
+        };
     }
     let mut values: Vec<(String, String)> = vec![
         ("swings_received".into(), now.swings_received.to_string()),
@@ -213,6 +240,10 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
         ("latency_max_us".into(), now.latency_max_us.to_string()),
         ("mode_cache_hits".into(), now.mode_cache_hits.to_string()),
         ("mode_cache_misses".into(), now.mode_cache_misses.to_string()),
+        ("bats_cached".into(), now.bats_cached.to_string()),
+        ("bats_evicted".into(), now.bats_evicted.to_string()),
+        ("balls_cached".into(), now.balls_cached.to_string()),
+        ("balls_evicted".into(), now.balls_evicted.to_string()),
         ("uptime_s".into(), format!("{:.1}", now.uptime_s)),
     ];
     match recorder {
@@ -242,24 +273,62 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
 }
 
 /// Counts gaps in each publisher's DDS sequence numbers: samples it wrote that never reached this reader.
-#[derive(Debug, Default)]
+/// Remembers at most `capacity` publishers (the least recently heard forgotten first), so publishers that come
+/// and go cannot grow it for ever; a forgotten publisher that comes back starts afresh (its first sample
+/// counts nothing, as for a late joiner).
+#[derive(Debug)]
 pub struct GapCounter<K> {
-    last: std::collections::HashMap<K, i64>,
+    last: std::collections::HashMap<K, (i64, u64)>,
+    capacity: usize,
+    clock: u64,
+    forgotten: u64,
 }
 
-impl<K: std::hash::Hash + Eq> GapCounter<K> {
-    /// No publisher seen yet.
+impl<K: std::hash::Hash + Eq + Clone> Default for GapCounter<K> {
+    fn default() -> Self {
+        GapCounter::new()
+    }
+}
+
+impl<K: std::hash::Hash + Eq + Clone> GapCounter<K> {
+    /// Publishers remembered by [`GapCounter::new`]: far more than a lab's writers on one topic.
+    pub const DEFAULT_CAPACITY: usize = 1024;
+
+    /// No publisher seen yet; remembers up to [`GapCounter::DEFAULT_CAPACITY`] publishers.
     pub fn new() -> Self {
-        GapCounter { last: std::collections::HashMap::new() }
+        GapCounter::with_capacity(Self::DEFAULT_CAPACITY)
+    }
+
+    /// No publisher seen yet; remembers up to `capacity` (at least 1) publishers.
+    pub fn with_capacity(capacity: usize) -> Self {
+        GapCounter { last: std::collections::HashMap::new(), capacity: capacity.max(1), clock: 0, forgotten: 0 }
     }
 
     /// Notes sample `sequence` from `publisher`; returns how many of its samples were skipped since the last.
     /// The first sample of a publisher counts nothing (a late joiner cannot know what came before).
     pub fn observe(&mut self, publisher: K, sequence: i64) -> u64 {
-        match self.last.insert(publisher, sequence) {
-            Some(previous) if sequence > previous + 1 => (sequence - previous - 1) as u64,
+        self.clock += 1;
+        if !self.last.contains_key(&publisher) && self.last.len() >= self.capacity {
+            // Full: forget the publisher heard from least recently (a linear scan, only when a new one arrives).
+            if let Some(oldest) = self.last.iter().min_by_key(|(_, (_, used))| *used).map(|(k, _)| k.clone()) {
+                self.last.remove(&oldest);
+                self.forgotten += 1;
+            }
+        }
+        match self.last.insert(publisher, (sequence, self.clock)) {
+            Some((previous, _)) if sequence > previous + 1 => (sequence - previous - 1) as u64,
             _ => 0,
         }
+    }
+
+    /// Publishers remembered now.
+    pub fn publishers(&self) -> usize {
+        self.last.len()
+    }
+
+    /// Publishers forgotten to stay within the capacity, since creation.
+    pub fn forgotten(&self) -> u64 {
+        self.forgotten
     }
 }
 
@@ -327,6 +396,13 @@ mod tests {
         let r = health_report(&lost, &now, &RecorderState::Off);
         assert_eq!(r.level, Health::Warn);
         assert!(r.message.contains("2 lost in transport"), "{}", r.message);
+        let evicted = StatsSnapshot { bats_evicted: 3, bats_cached: 64, ..now.clone() };
+        let r = health_report(&evicted, &now, &RecorderState::Off);
+        assert_eq!(r.level, Health::Warn);
+        assert!(r.message.contains("3 bats and 0 balls forgotten"), "{}", r.message);
+        assert!(r.values.contains(&("bats_evicted".into(), "3".into())));
+        assert!(r.values.contains(&("bats_cached".into(), "64".into())));
+        assert_eq!(health_report(&evicted, &evicted, &RecorderState::Off).level, Health::Ok);
         let failed = RecorderState::Failed { dir: "/x".into(), error: "disk full".into(), written: 3, dropped: 1 };
         let r = health_report(&now, &now, &failed);
         assert_eq!(r.level, Health::Error);
@@ -342,6 +418,19 @@ mod tests {
         assert_eq!(g.observe("a", 10), 3);
         assert_eq!(g.observe("b", 2), 0);
         assert_eq!(g.observe("a", 10), 0, "a duplicate is not a gap");
+    }
+
+    #[test]
+    fn gap_counter_remembers_a_bounded_number_of_publishers() {
+        let mut g = GapCounter::with_capacity(4);
+        for publisher in 0..1000u32 {
+            assert_eq!(g.observe(publisher, 1), 0);
+        }
+        assert_eq!((g.publishers(), g.forgotten()), (4, 996));
+        // The publishers heard from recently are still tracked; a returning forgotten one starts afresh.
+        assert_eq!(g.observe(999, 5), 3);
+        assert_eq!(g.observe(0, 9), 0);
+        assert_eq!(g.publishers(), 4);
     }
 
     #[test]

@@ -149,8 +149,9 @@ pub struct RigConfig {
     pub noise: SensorNoise,
     /// Random seed: the same seed gives the same session.
     pub seed: u64,
-    /// Vibrational modes computed and integrated per bat, and the time step (announced as max_modes in
-    /// BatParams, so the node integrates the same modes).
+    /// Vibrational modes computed and integrated per bat, and the time step. The bats are announced by preset
+    /// name, for which the node integrates its `default_modes` (BatParams.msg ignores max_modes with a
+    /// preset): keep the two equal (18 by default) for the node's answers to match the rig's truth.
     pub options: CollisionOptions,
 }
 
@@ -342,15 +343,12 @@ impl SessionGenerator {
     pub fn bat_params(&self, stamp: Time) -> Vec<BatParams> {
         self.bats
             .iter()
-            .map(|b| BatParams {
-                header: Header {
+            .map(|b| {
+                let header = Header {
                     stamp: stamp.clone(),
                     frame_id: String::new(),
-                },
-                bat_id: b.bat_id.clone(),
-                preset: b.bat_id.clone(),
-                max_modes: self.config.options.modes as u32,
-                ..Default::default()
+                };
+                crate::node::convert::params_of_preset(&b.bat_id, &b.bat_id, header)
             })
             .collect()
     }
