@@ -172,8 +172,9 @@ impl Registry {
                 Ok((entry, true))
             }
             Err(_) => Err(format!(
-                "unknown bat_id '{bat_id}': no BatParams received for it and it is not a preset (known bats: [{}]; \
-                 presets: [{}])",
+                "unknown bat_id '{bat_id}': no BatParams received for it{} and it is not a preset (known bats: \
+                 [{}]; presets: [{}])",
+                long_forgotten(self.bats.evictions(), "BatParams", "max_bats", self.bats.capacity()),
                 known_ids(self.bats.iter().map(|(id, _)| id)),
                 Bat::preset_names().join(", ")
             )),
@@ -208,7 +209,11 @@ impl Registry {
         }
         let built_in_available = self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
         let known = self.balls.iter().map(|(id, _)| id).chain(built_in_available.then_some(DEFAULT_BALL_ID));
-        Err(format!("unknown ball_id '{ball_id}': no BallParams received for it (known balls: [{}])", known_ids(known)))
+        Err(format!(
+            "unknown ball_id '{ball_id}': no BallParams received for it{} (known balls: [{}])",
+            long_forgotten(self.balls.evictions(), "BallParams", "max_balls", self.balls.capacity()),
+            known_ids(known)
+        ))
     }
 
     /// As [`Registry::resolve_ball`], and marks the ball as just used (a swing's use keeps it from being
@@ -256,6 +261,18 @@ impl Registry {
     /// Whether `entry` is the one held now for its bat_id (not replaced by newer params, not forgotten).
     pub fn is_current(&self, entry: &Arc<BatEntry>) -> bool {
         self.bats.peek(&entry.bat_id).is_some_and(|held| Arc::ptr_eq(held, entry))
+    }
+}
+
+/// After evictions an id no longer remembered as forgotten may still have been known once: say so.
+fn long_forgotten(evictions: u64, message: &str, limit: &str, capacity: usize) -> String {
+    if evictions == 0 {
+        String::new()
+    } else {
+        format!(
+            " (or its {message} were forgotten long ago: {evictions} evicted so far to keep at most {limit} = \
+             {capacity})"
+        )
     }
 }
 

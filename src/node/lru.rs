@@ -1,5 +1,5 @@
 //! A map from id to value holding at most `capacity` entries: when full, the least recently used entry is
-//! forgotten first. It also remembers (within the same budget) which ids it forgot that cannot be rebuilt,
+//! forgotten first. It also remembers (within a bounded budget) which ids it forgot that cannot be rebuilt,
 //! so the node can tell a publisher "forgotten, send it again" instead of a bare "unknown".
 //!
 //! Bat and ball ids are invented by publishers, so without a bound every new id would grow the node's memory
@@ -11,6 +11,9 @@ use std::collections::{HashMap, HashSet, VecDeque};
 /// Ids longer than this are not remembered once forgotten (the answer then just says "unknown"), so a
 /// publisher inventing huge ids cannot make the memory of forgotten ids large.
 const LONGEST_REMEMBERED_ID: usize = 256;
+
+/// Forgotten ids remembered: at least this many (≤ 1 MB of ids), or the capacity if larger.
+const FORGOTTEN_IDS_REMEMBERED: usize = 4096;
 
 #[derive(Debug, Clone)]
 struct Slot<V> {
@@ -125,11 +128,7 @@ impl<V> LruMap<V> {
         while self.entries.len() > self.capacity && self.evict_oldest(&[], keep) {
             evicted += 1;
         }
-        while self.forgotten_order.len() > self.capacity {
-            if let Some(old) = self.forgotten_order.pop_front() {
-                self.forgotten.remove(&old);
-            }
-        }
+        self.trim_forgotten();
         evicted
     }
 
@@ -159,8 +158,11 @@ impl<V> LruMap<V> {
         if self.forgotten.insert(id.clone()) {
             self.forgotten_order.push_back(id);
         }
-        // The memory of forgotten ids gets the same budget as the entries themselves.
-        while self.forgotten_order.len() > self.capacity {
+        self.trim_forgotten();
+    }
+
+    fn trim_forgotten(&mut self) {
+        while self.forgotten_order.len() > self.capacity.max(FORGOTTEN_IDS_REMEMBERED) {
             if let Some(old) = self.forgotten_order.pop_front() {
                 self.forgotten.remove(&old);
             }
@@ -216,8 +218,8 @@ mod tests {
         }
         assert_eq!(m.len(), 8);
         assert_eq!(m.evictions(), 10_000 - 8);
-        assert!(m.forgotten.len() <= 8 && m.forgotten_order.len() <= 8);
-        assert!(m.was_forgotten("bat9990") && !m.was_forgotten("bat0"), "the oldest forgotten ids fade out");
+        assert_eq!((m.forgotten.len(), m.forgotten_order.len()), (FORGOTTEN_IDS_REMEMBERED, FORGOTTEN_IDS_REMEMBERED));
+        assert!(m.was_forgotten("bat9000") && !m.was_forgotten("bat0"), "the oldest forgotten ids fade out");
         let long = "x".repeat(LONGEST_REMEMBERED_ID + 1);
         m.insert(long.clone(), 0, false, None);
         for i in 0..8 {
@@ -226,6 +228,6 @@ mod tests {
         assert!(!m.was_forgotten(&long));
         // Shrinking forgets down to the new capacity at once, sparing the kept id.
         assert_eq!(m.set_capacity(3, Some("new0")), 5);
-        assert!(m.peek("new0").is_some() && m.len() == 3 && m.forgotten_order.len() <= 3);
+        assert!(m.peek("new0").is_some() && m.len() == 3 && m.forgotten_order.len() <= FORGOTTEN_IDS_REMEMBERED);
     }
 }
