@@ -179,6 +179,8 @@ fn params_file_and_dash_p_set_parameters_that_ros2_param_sees_validates_and_appl
     .unwrap();
     let mut peer = Peer::new(domain, "param_peer");
     let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
     let energies = peer.subscription::<ModalEnergies>("/modal_energies", keep_all(dds::results()));
     let spots = peer.subscription::<SweetSpot>("/sweet_spot", keep_all(dds::latched_results()));
     let clients = param_clients(&mut peer, "/sweetspot");
@@ -236,6 +238,22 @@ fn params_file_and_dash_p_set_parameters_that_ros2_param_sees_validates_and_appl
     let me = &peer.collect(&energies, 1, WAIT)[0];
     assert_eq!(me.swing_id, 2);
     assert_eq!(me.energy, library_energies(5, 4e-6, &s2));
+
+    // The registry limits are live parameters too: a bad value is refused with its range, a good one applies
+    // to the next BatParams.
+    let (ok, reason) = set(&peer, &clients, "max_bats", ParameterValue::Integer(1));
+    assert!(!ok && reason.contains("2 ≤ max_bats"), "{reason}");
+    let (ok, reason) = set(&peer, &clients, "max_bat_slices", ParameterValue::Integer(150));
+    assert!(ok, "{reason}");
+    assert_eq!(get(&peer, &clients, &["max_bat_slices", "max_bats"]), vec![ParameterValue::Integer(150), ParameterValue::Integer(64)]);
+    let r161 = Bat::preset("r161").unwrap();
+    let at_5mm = BatParams { slice_length: 0.005, ..sweetspot::node::convert::params_from_bat("fine", &r161, 0, Header::default()) };
+    peer.wait_for_reader(&bat_pub);
+    bat_pub.publish(at_5mm).unwrap();
+    let refused = peer.collect_until(&answers, WAIT, |got| got.iter().any(|ev| ev.bat_id == "fine"));
+    let refused = refused.iter().find(|ev| ev.bat_id == "fine").unwrap();
+    assert_eq!(refused.status, ExitVelocity::STATUS_REJECTED);
+    assert!(refused.message.contains("into 168 slices") && refused.message.contains("max_bat_slices = 150"), "{}", refused.message);
     drop(node);
 }
 
