@@ -210,3 +210,62 @@ fn a_bat_cut_into_more_slices_than_max_bat_slices_is_rejected_before_its_modes_a
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");
 }
+
+/// (resident memory kB, threads) of a process (Linux /proc).
+fn rss_kb_and_threads(pid: u32) -> (u64, u64) {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+    let field = |name: &str| {
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix(name))
+            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+            .unwrap_or(0)
+    };
+    (field("VmRSS:"), field("Threads:"))
+}
+
+/// A measurement, not a check (memory figures vary by machine): the node's RSS while a publisher invents
+/// thousands of bat_ids, each used by one swing, with the default `max_bats`. Run with
+/// `--ignored --nocapture`.
+#[test]
+#[ignore = "measurement: prints the node's RSS per 1000 invented bat_ids"]
+fn measure_rss_while_bat_ids_are_invented() {
+    const BATCH: u64 = 50; // fewer than max_bats, so every bat of a batch is still held when its swing comes
+    let domain = domain(82);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "rss_peer");
+    let bat_pub = peer.publisher::<BatParams>("/bat/params", blocking(dds::params()));
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    // SWEETSPOT_MAX_BATS=N: run the node with another max_bats (100000 ≈ the unbounded registry of before).
+    let max_bats = format!("max_bats:={}", std::env::var("SWEETSPOT_MAX_BATS").unwrap_or_else(|_| "64".into()));
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record", "--ros-args", "-p", &max_bats]);
+    peer.wait_for_reader(&bat_pub);
+    peer.wait_for_reader(&swing_pub);
+    let r161 = Bat::preset("r161").unwrap();
+    println!("bat ids invented, node RSS kB, node threads, swings answered OK");
+    let mut ok = 0;
+    for round in 0..=8u64 {
+        for batch in 0..(if round == 0 { 0 } else { 1000 / BATCH }) {
+            let first = round * 1000 + batch * BATCH;
+            // SWEETSPOT_SAME_BAT=1: the same traffic on one bat_id, the baseline the growth is compared with.
+            let same = std::env::var_os("SWEETSPOT_SAME_BAT").is_some();
+            let ids: Vec<String> =
+                (first..first + BATCH).map(|i| if same { format!("same_{}", i % BATCH) } else { format!("invented_{i}") }).collect();
+            for id in &ids {
+                bat_pub.publish(convert::params_from_bat(id, &r161, 0, Header::default())).unwrap();
+            }
+            node.wait_for_log(&format!("bat '{}' set", ids[ids.len() - 1]), WAIT);
+            for (k, id) in ids.iter().enumerate() {
+                swing_pub.publish(swing(first + k as u64, id, "")).unwrap();
+            }
+            let got = peer.collect_until(&answers, WAIT, |got| got.iter().any(|ev| ev.swing_id == first + BATCH - 1));
+            ok += got.iter().filter(|ev| ev.status == ExitVelocity::STATUS_OK).count();
+        }
+        let (rss, threads) = rss_kb_and_threads(node.pid());
+        println!("{:>5} {rss:>8} {threads:>4} {ok:>5}", round * 1000);
+    }
+    let (status, _, log) = node.stop_with(15);
+    assert!(status.success(), "{log}");
+    println!("{}", log.lines().last().unwrap_or_default());
+}

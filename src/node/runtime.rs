@@ -285,11 +285,17 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     ));
 
     let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+    let summaries = Summaries {
+        settings: Arc::clone(&shared_settings),
+        stats: Arc::clone(&stats),
+        events: events_tx.clone(),
+        one_at_a_time: Arc::new(tokio::sync::Semaphore::new(1)),
+    };
     let eviction_warning = RateLimiter::new(Duration::from_secs(5));
     let mut seen_usage = registry.usage();
     // The default bat answers swings without any params; its SweetSpot is published right away.
     match registry.resolve_bat("", &settings) {
-        Ok((entry, _)) => spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx),
+        Ok((entry, _)) => summaries.spawn(entry, &registry),
         Err(e) => log.error(&format!("default_bat: {e}")),
     }
 
@@ -325,7 +331,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                             SettingEffect::SweetSpotsChanged => registry.bats(),
                         };
                         for entry in refresh {
-                            spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
+                            summaries.spawn(entry, &registry);
                         }
                     }
                     Event::Summary(entry, result) => {
@@ -358,7 +364,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                                     let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
                                     report_evictions(&registry, &mut seen_usage, &current, &log, &eviction_warning);
                                     log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
-                                    spawn_summary(entry, &registry, &shared_settings, &stats, &events_tx);
+                                    summaries.spawn(entry, &registry);
                                 }
                                 Err(reason) => {
                                     NodeStats::bump(&stats.params_rejected);
@@ -424,7 +430,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                                 ));
                             }
                         }
-                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &events_tx);
+                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &summaries);
                         if registry.usage() != seen_usage {
                             // A preset named by a swing pushed out another bat.
                             let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
@@ -493,20 +499,20 @@ fn on_swing(
     tape: &Tape,
     log: &Log,
     drop_warning: &RateLimiter,
-    events: &tokio::sync::mpsc::UnboundedSender<Event>,
+    summaries: &Summaries,
 ) {
     let received = Instant::now();
     NodeStats::bump(&stats.swings_received);
     tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
     // Planned under the read lock instead of cloning the settings (and their strings) for every swing; the
-    // guard is dropped before spawn_summary takes the lock again.
+    // guard is dropped before the summary takes the lock again.
     let guard = shared_settings.read().ok();
     let settings = guard.as_deref().unwrap_or(fallback);
     let (plan, new_bat) =
         engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
     drop(guard);
     if let Some(entry) = new_bat {
-        spawn_summary(entry, registry, shared_settings, stats, events);
+        summaries.spawn(entry, registry);
     }
     if let Err((_plan, swing)) = pipeline.submit(received, plan, swing) {
         NodeStats::bump(&stats.swings_dropped);
@@ -577,27 +583,36 @@ fn reject_params(
     }
 }
 
-fn spawn_summary(
-    entry: Arc<BatEntry>,
-    registry: &Registry,
-    settings: &Arc<RwLock<NodeSettings>>,
-    stats: &Arc<NodeStats>,
-    events: &tokio::sync::mpsc::UnboundedSender<Event>,
-) {
-    let Ok((ball_id, ball)) = registry.resolve_ball("") else {
-        return;
-    };
-    let settings = settings.read().map(|s| s.clone()).unwrap_or_default();
-    let (stats, events) = (Arc::clone(stats), events.clone());
-    // Only the registry (and swings in flight) keep the entry alive: a bat replaced or forgotten before its
-    // turn comes is not solved for a SweetSpot nobody would publish, so a burst of BatParams costs no
-    // queue of solves.
-    let entry = Arc::downgrade(&entry);
-    tokio::task::spawn_blocking(move || {
-        let Some(entry) = entry.upgrade() else { return };
-        let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
-        let _ = events.send(Event::Summary(entry, Box::new(result)));
-    });
+/// Computes SweetSpots off the DDS thread, one at a time: a burst of BatParams (each a sweep of collisions,
+/// and a modes solve of up to `max_bat_slices` slices) must not start a thread per message — tokio's blocking
+/// pool would grow to 512 threads — nor compete with the swing workers on every core.
+struct Summaries {
+    settings: Arc<RwLock<NodeSettings>>,
+    stats: Arc<NodeStats>,
+    events: tokio::sync::mpsc::UnboundedSender<Event>,
+    one_at_a_time: Arc<tokio::sync::Semaphore>,
+}
+
+impl Summaries {
+    fn spawn(&self, entry: Arc<BatEntry>, registry: &Registry) {
+        let Ok((ball_id, ball)) = registry.resolve_ball("") else {
+            return;
+        };
+        let settings = self.settings.read().map(|s| s.clone()).unwrap_or_default();
+        let (stats, events, slot) = (Arc::clone(&self.stats), self.events.clone(), Arc::clone(&self.one_at_a_time));
+        // Only the registry (and swings in flight) keep the entry alive: a bat replaced or forgotten before
+        // its turn comes is not solved for a SweetSpot nobody would publish, so waiting jobs cost no solves.
+        let entry = Arc::downgrade(&entry);
+        tokio::spawn(async move {
+            let Ok(_turn) = slot.acquire_owned().await else { return };
+            let job = tokio::task::spawn_blocking(move || {
+                let Some(entry) = entry.upgrade() else { return };
+                let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
+                let _ = events.send(Event::Summary(entry, Box::new(result)));
+            });
+            let _ = job.await;
+        });
+    }
 }
 
 fn start_tape(

@@ -53,6 +53,11 @@ impl NodeProcess {
         }
     }
 
+    /// The node's process id.
+    pub fn pid(&self) -> u32 {
+        self.child.as_ref().map_or(0, |c| c.id())
+    }
+
     /// Everything the node wrote to stderr so far.
     pub fn log(&self) -> String {
         self.stderr.lock().unwrap().join("\n")
