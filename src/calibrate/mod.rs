@@ -433,9 +433,10 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
     })
 }
 
-/// The physics bat a BatParams message describes (a preset, or the profile and materials in its fields).
+/// The physics bat a BatParams message describes (a preset, or the profile and materials in its fields), and
+/// the modes the node integrates for it (with a preset, BatParams.msg ignores max_modes: the node's default).
 pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError> {
-    let modes = if params.max_modes == 0 {
+    let modes = if params.max_modes == 0 || !params.preset.is_empty() {
         DEFAULT_MODES
     } else {
         params.max_modes as usize
@@ -552,7 +553,12 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
     let mut skipped = Vec::new();
     let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
     for (_, params) in &inputs.bats {
-        // The node rejects bad params and keeps the previous ones in force; so do we.
+        // The node rejects bad params and keeps the previous ones in force; so do we, by its own rules (a mode
+        // count beyond the bat's, too many slices).
+        if let Err(reason) = crate::node::convert::bat_from_params(params) {
+            skipped.push(reason);
+            continue;
+        }
         let (bat, modes) = match bat_from_params(params) {
             Ok(built) => built,
             Err(e) => {
@@ -690,4 +696,47 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
 /// Reads a bag and builds its fitting problem (see [`problem_from_inputs`]).
 pub fn problem_from_bag(path: &Path, ball_id: Option<&str>) -> Result<Problem, CalibrateError> {
     problem_from_inputs(&read_inputs(path)?, ball_id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::msgs::std_msgs::msg::Header;
+    use crate::node::convert::{params_from_bat, params_of_preset};
+
+    fn measured_swing(id: u64, bat_id: &str) -> Swing {
+        Swing {
+            swing_id: id,
+            bat_id: bat_id.into(),
+            ball_speed: 40.0,
+            bat_cm_speed: 20.0,
+            bat_angular_speed: 50.0,
+            impact_z: 0.6,
+            measured_exit_speed: 45.0,
+            ..Swing::default()
+        }
+    }
+
+    #[test]
+    fn bats_are_read_by_the_nodes_rules() {
+        let r161 = Bat::preset("r161").unwrap();
+        // More modes than a 9-slice bat has (fuzz F1): the node refuses it, so the fit must leave it out.
+        let coarse = BatParams { slice_length: 0.84 / 9.0, ..params_from_bat("coarse", &r161, 100, Header::default()) };
+        // With a preset the node ignores max_modes and integrates its default.
+        let preset = BatParams { max_modes: 6, ..params_of_preset("game", "torpedo", Header::default()) };
+        let inputs = RecordedInputs {
+            bats: vec![(1, coarse), (2, preset)],
+            balls: vec![],
+            swings: vec![(3, measured_swing(1, "coarse")), (4, measured_swing(2, "game"))],
+        };
+        let problem = problem_from_inputs(&inputs, None).unwrap();
+        assert!(
+            problem.skipped.iter().any(|s| s.starts_with("BatParams 'coarse':") && s.contains("max_modes")),
+            "{:?}",
+            problem.skipped
+        );
+        assert!(!problem.bats.contains_key("coarse"));
+        assert_eq!(problem.bats["game"].modes, DEFAULT_MODES);
+        assert_eq!(problem.observations.len(), 1);
+    }
 }
