@@ -553,8 +553,8 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
     let mut skipped = Vec::new();
     let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
     for (_, params) in &inputs.bats {
-        // The node rejects bad params and keeps the previous ones in force; so do we, by its own rules (a mode
-        // count beyond the bat's, too many slices).
+        // The node rejects bad params and keeps the previous ones in force; so do we, by its own rules (e.g. a
+        // mode count beyond the bat's). Its `max_bat_slices` is not in the bag: the physics' limit applies here.
         if let Err(reason) = crate::node::convert::bat_from_params(params) {
             skipped.push(reason);
             continue;
