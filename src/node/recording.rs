@@ -30,6 +30,12 @@ pub const CUSTOM_DATA_DEFAULT_BAT: &str = "sweetspot/default_bat";
 pub const CUSTOM_DATA_DEFAULT_MODES: &str = "sweetspot/default_modes";
 /// See [`CUSTOM_DATA_DEFAULT_BAT`].
 pub const CUSTOM_DATA_TIME_STEP: &str = "sweetspot/time_step";
+/// See [`CUSTOM_DATA_DEFAULT_BAT`]: which bats were forgotten, and so which swings were REJECTED, depends on it.
+pub const CUSTOM_DATA_MAX_BATS: &str = "sweetspot/max_bats";
+/// See [`CUSTOM_DATA_MAX_BATS`].
+pub const CUSTOM_DATA_MAX_BALLS: &str = "sweetspot/max_balls";
+/// See [`CUSTOM_DATA_DEFAULT_BAT`]: a BatParams over it was REJECTED, so its bat never answered a swing.
+pub const CUSTOM_DATA_MAX_BAT_SLICES: &str = "sweetspot/max_bat_slices";
 
 /// The topics the node records, in registration order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -120,6 +126,9 @@ impl Tape {
         backend.set_custom_data(CUSTOM_DATA_DEFAULT_MODES, &settings.default_modes.to_string());
         // `{:?}` keeps every digit of the f64, so the replay parses back the exact step.
         backend.set_custom_data(CUSTOM_DATA_TIME_STEP, &format!("{:?}", settings.time_step));
+        backend.set_custom_data(CUSTOM_DATA_MAX_BATS, &settings.max_bats.to_string());
+        backend.set_custom_data(CUSTOM_DATA_MAX_BALLS, &settings.max_balls.to_string());
+        backend.set_custom_data(CUSTOM_DATA_MAX_BAT_SLICES, &settings.max_bat_slices.to_string());
     }
 
     /// Whether messages are being recorded.
