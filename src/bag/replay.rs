@@ -1,13 +1,19 @@
 //! `bag replay`: re-run the physics on every recorded swing with the bat and ball in force at that moment,
 //! exactly as the node decides it, and compare with the recorded ExitVelocity and ModalEnergies.
 //!
-//! The node's own pure functions are used (`node::convert::{bat_from_params, ball_from_params,
+//! The node's own pure functions are used (`node::convert::{bat_from_params_capped, ball_from_params,
 //! impact_from_swing, exit_velocity, modal_energies}` and `node::engine::{Registry, plan_swing, compute}`), so
 //! replay cannot drift from what the node does. One registry per namespace, like one node per rig.
 //!
-//! Node settings that shape results (default_bat, default_modes, time_step) are not messages; they are read
-//! from the bag's rosbag2 `custom_data` keys `sweetspot/default_bat`, `sweetspot/default_modes`,
-//! `sweetspot/time_step` when present, else the node defaults, and can be given on the command line.
+//! Node settings that shape results are not messages; they are read from the bag's rosbag2 `custom_data`
+//! (`sweetspot/default_bat`, `default_modes`, `time_step`, `max_bats`, `max_balls`, `max_bat_slices`; see
+//! `node::recording`) when present, else the node defaults (so a bag written before the limits existed
+//! replays with today's, which only matter beyond 64 bats, 1024 balls or 1200-slice bats), and the first three
+//! can be given on the command line.
+//! The limits are replayed as the node applies them: the registry forgets the least recently used bats and
+//! balls beyond `max_bats` / `max_balls` (so a swing on a forgotten bat is REJECTED again), and a BatParams
+//! of more than `max_bat_slices` slices is refused (so its bat stays unknown). The bag holds the settings last
+//! in force: a run whose limits were changed by `ros2 param set` midway replays with the last ones.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -15,6 +21,10 @@ use std::path::Path;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
 use crate::node::convert;
 use crate::node::engine::{self, BatEntry, Registry};
+use crate::node::recording::{
+    CUSTOM_DATA_DEFAULT_BAT, CUSTOM_DATA_DEFAULT_MODES, CUSTOM_DATA_MAX_BALLS, CUSTOM_DATA_MAX_BATS,
+    CUSTOM_DATA_MAX_BAT_SLICES, CUSTOM_DATA_TIME_STEP,
+};
 use crate::node::settings::NodeSettings;
 use crate::node::stats::NodeStats;
 use crate::physics::{Ball, Bat};
@@ -119,14 +129,24 @@ pub fn recorded_settings(path: &Path) -> Result<NodeSettings, BagError> {
         .map(|f| super::reader::scan_file(f, |_| {}))
         .collect::<Result<_, _>>()?;
     let custom = super::info::custom_data_of(&scans);
-    if let Some(v) = custom.get("sweetspot/default_bat") {
+    if let Some(v) = custom.get(CUSTOM_DATA_DEFAULT_BAT) {
         settings.default_bat = v.clone();
     }
-    if let Some(v) = custom.get("sweetspot/default_modes").and_then(|v| v.parse().ok()) {
+    let number = |key: &str| custom.get(key).and_then(|v| v.parse::<usize>().ok());
+    if let Some(v) = number(CUSTOM_DATA_DEFAULT_MODES) {
         settings.default_modes = v;
     }
-    if let Some(v) = custom.get("sweetspot/time_step").and_then(|v| v.parse().ok()) {
+    if let Some(v) = custom.get(CUSTOM_DATA_TIME_STEP).and_then(|v| v.parse().ok()) {
         settings.time_step = v;
+    }
+    if let Some(v) = number(CUSTOM_DATA_MAX_BATS) {
+        settings.max_bats = v;
+    }
+    if let Some(v) = number(CUSTOM_DATA_MAX_BALLS) {
+        settings.max_balls = v;
+    }
+    if let Some(v) = number(CUSTOM_DATA_MAX_BAT_SLICES) {
+        settings.max_bat_slices = v;
     }
     Ok(settings)
 }
@@ -236,7 +256,10 @@ pub fn replay(
     let mut registries: HashMap<String, Registry> = HashMap::new();
     let registry_for = |registries: &mut HashMap<String, Registry>, ns: &str| -> Registry {
         registries.remove(ns).unwrap_or_else(|| {
-            let mut registry = Registry::new();
+            let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+            // As the node at start: the default bat is made (and held) before any message arrives. An error
+            // (a default_bat that is neither a preset nor sent yet) only means it is not held.
+            let _ = registry.resolve_bat("", &settings);
             if let Some((name, bat)) = &override_bat {
                 registry.set_bat(BatEntry::new(name, bat.clone(), what_if.modes, &settings));
             }
@@ -253,7 +276,7 @@ pub fn replay(
             RunEvent::BatParams(ns, params) => {
                 let mut registry = registry_for(&mut registries, ns);
                 if override_bat.is_none() {
-                    if let Ok(built) = convert::bat_from_params(params) {
+                    if let Ok(built) = convert::bat_from_params_capped(params, settings.max_bat_slices) {
                         let modes = what_if.modes.or(built.max_modes);
                         registry.set_bat(BatEntry::new(&params.bat_id, built.bat, modes, &settings));
                     }
