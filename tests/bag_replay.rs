@@ -1,9 +1,12 @@
 //! `bag replay` re-runs the physics with the params in force at each swing and compares exactly.
 //!
 //! The bag is written the way the node writes it: inputs as received, outputs computed by the node's own
-//! engine at the moment each swing arrives (a BatParams change mid-run must only affect later swings).
+//! engine at the moment each swing arrives (a BatParams change mid-run must only affect later swings). The
+//! node's limits (max_bats, max_balls, max_bat_slices) are checked against the real `sweetspot node` over DDS
+//! (inside the private network namespace of scripts/test): which bats it forgot or refused is its decision.
 
 mod bag_support;
+mod node_support;
 
 use std::path::Path;
 use std::process::Command;
@@ -144,4 +147,100 @@ fn what_if_prints_differences_without_failing() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--bat") && err.contains("r161"), "{err}");
+}
+
+/// A recorded run in which the node's limits decide answers: `sweetspot node` with max_bats = 3,
+/// max_balls = 2, max_bat_slices = 300 forgets bats and a ball and refuses a 420-slice bat; a plain
+/// `bag replay` (no flags: the limits come from the bag) must reproduce every answer bit-exactly, and a
+/// replay without the limits must not (so the match is the limits' doing).
+#[test]
+fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() {
+    use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+    use sweetspot::msgs::std_msgs::msg::Header;
+    use sweetspot::physics::Bat;
+    const WAIT: std::time::Duration = std::time::Duration::from_secs(60);
+
+    let domain = domain(90);
+    let tmp = tempfile::tempdir().unwrap();
+    let bag = tmp.path().join("limits");
+    let mut peer = Peer::new(domain, "replay_limits_peer");
+    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
+    let ball_pub = peer.publisher::<BallParams>("/ball/params", dds::params());
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let record_path = format!("record_path:={}", bag.display());
+    let node = NodeProcess::spawn(
+        domain,
+        tmp.path(),
+        &[
+            "--ros-args", "-p", &record_path, "-p", "default_modes:=6", "-p", "max_bats:=3", "-p", "max_balls:=2",
+            "-p", "max_bat_slices:=300",
+        ],
+    );
+    peer.wait_for_reader(&bat_pub);
+    peer.wait_for_reader(&ball_pub);
+    peer.wait_for_reader(&swing_pub);
+
+    // Each message is taken by the node before the next is sent, so the order (and the use order the
+    // registry forgets by) is known. Three balls for two places: b0 is forgotten.
+    for (k, id) in ["b0", "b1", "b2"].iter().enumerate() {
+        let ball = BallParams { ball_id: (*id).into(), mass: 0.145, radius: 0.0366, cor: 0.46 + 0.02 * k as f64, stiffness: 7.5e6, exponent: 1.5, ..BallParams::default() };
+        ball_pub.publish(ball).unwrap();
+        node.wait_for_log(&format!("ball '{id}' set"), WAIT);
+    }
+    // The R161 cut at 2 mm: 420 slices, over this node's 300.
+    let r161 = Bat::preset("r161").unwrap();
+    let fine = BatParams { slice_length: 0.002, ..convert::params_from_bat("fine", &r161, 0, Header::default()) };
+    bat_pub.publish(fine).unwrap();
+    let refused = &peer.collect(&answers, 1, WAIT)[0];
+    assert_eq!(refused.status, ExitVelocity::STATUS_REJECTED);
+    assert!(refused.message.contains("into 420 slices") && refused.message.contains("max_bat_slices = 300"), "{}", refused.message);
+    // Five bats for three places (the default bat r161 held since start goes first): lab_0, lab_1 forgotten.
+    for (k, preset) in ["r161", "torpedo", "aluminum", "r161-corked", "torpedo"].iter().enumerate() {
+        let id = format!("lab_{k}");
+        bat_pub.publish(convert::params_of_preset(&id, preset, Header::default())).unwrap();
+        node.wait_for_log(&format!("bat '{id}' set"), WAIT);
+    }
+    // (swing_id, bat_id, ball_id, answered OK live). Swing 9 names a preset, which pushes out the least
+    // recently used bat (lab_2), so swing 10 on lab_2 is rejected.
+    let plan: [(u64, &str, &str, bool); 11] = [
+        (1, "lab_0", "b2", false),
+        (2, "lab_1", "b2", false),
+        (3, "lab_2", "b2", true),
+        (4, "lab_3", "b1", true),
+        (5, "lab_4", "b2", true),
+        (6, "fine", "", false),
+        (7, "lab_3", "b0", false),
+        (8, "", "", true),
+        (9, "torpedo", "b1", true),
+        (10, "lab_2", "b2", false),
+        (11, "lab_4", "b1", true),
+    ];
+    for (id, bat_id, ball_id, _) in plan {
+        swing_pub.publish(Swing { ball_id: ball_id.into(), ..swing(id, bat_id) }).unwrap();
+    }
+    let got = peer.collect(&answers, plan.len(), WAIT);
+    for (ev, (id, bat_id, ball_id, ok)) in got.iter().zip(plan) {
+        assert_eq!(ev.swing_id, id);
+        assert_eq!(ev.status == ExitVelocity::STATUS_OK, ok, "swing {id} on '{bat_id}'/'{ball_id}': {}", ev.message);
+    }
+    for (k, what) in [(0, "its BatParams were forgotten"), (5, "unknown bat_id 'fine'"), (6, "its BallParams were forgotten"), (9, "its BatParams were forgotten")] {
+        assert!(got[k].message.contains(what), "swing {}: {}", k + 1, got[k].message);
+    }
+    let (status, _, log) = node.stop_with(15);
+    assert!(status.success(), "{log}");
+
+    // The limits come back from the bag; a plain replay (no flags) matches every answer bit for bit.
+    let settings = sweetspot::bag::replay::recorded_settings(&bag).unwrap();
+    assert_eq!((settings.max_bats, settings.max_balls, settings.max_bat_slices, settings.default_modes), (3, 2, 300, 6));
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay"]).arg(&bag).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("11 swings: 11 match, 0 differ (bit-exact)"), "{text}");
+
+    // Without the limits, exactly the swings they decided come out differently.
+    let unlimited = NodeSettings { default_modes: 6, ..NodeSettings::default() };
+    let report = sweetspot::bag::replay::replay(&bag, &unlimited, &Default::default(), 0.0, |_, _| {}).unwrap();
+    let differ: Vec<u64> = report.rows.iter().filter(|r| !r.differences.is_empty()).map(|r| r.swing_id).collect();
+    assert_eq!(differ, [1, 2, 6, 7, 10]);
 }
