@@ -177,12 +177,13 @@ pub fn cdr_outputs(data: &[u8]) {
 // The node's pure path: CDR → params/swing → Bat/Ball/Impact → modes → collision → answer messages
 
 /// A sequence of records `[kind u8][len u16 LE][CDR bytes]`; kind % 3 = 0 BatParams, 1 BallParams, 2 Swing.
-/// Each is decoded and handled exactly as the node's event loop does (without DDS): params are converted and
-/// stored, swings planned, computed and answered. Every answer must encode; an OK answer has no NaN.
+/// Each is decoded and handled exactly as the node's event loop does (without DDS), with the node's default
+/// settings: params are converted (`max_bat_slices` enforced) and stored, swings planned, computed and
+/// answered. Every answer must encode; an OK answer has no NaN.
 pub fn node_messages(data: &[u8]) {
     let settings = NodeSettings::default();
     let stats = NodeStats::new();
-    let mut registry = Registry::new();
+    let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
     let mut rest = data;
     let mut handled = 0;
     while rest.len() >= 3 && handled < 8 {
@@ -194,12 +195,15 @@ pub fn node_messages(data: &[u8]) {
         match kind % 3 {
             0 => {
                 let Ok(params) = decode_cdr::<BatParams>(bytes) else { continue };
-                match convert::bat_from_params(&params) {
+                // The node's own rule, slice cap included (fuzz finding F4).
+                match convert::bat_from_params_capped(&params, settings.max_bat_slices) {
                     Ok(built) => {
                         built.bat.validate().unwrap_or_else(|e| panic!("bat_from_params accepted an invalid bat: {e}"));
                         if let Some(m) = built.max_modes {
                             assert!(m <= 200, "bat_from_params accepted max_modes = {m}");
                         }
+                        let slices = built.bat.slice_count();
+                        assert!(slices <= settings.max_bat_slices, "accepted a bat of {slices} slices");
                         let max_modes = built.max_modes.map(|m| m.min(MAX_FUZZ_MODES));
                         if solvable(&built.bat) {
                             registry.set_bat(BatEntry::new(&params.bat_id, built.bat, max_modes, &settings));

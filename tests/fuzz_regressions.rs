@@ -247,6 +247,36 @@ fn f1_accepted_bat_params_can_answer_swings() {
     assert!(answer.is_ok(), "params were accepted, yet a regular swing is rejected: {answer:?}");
 }
 
+/// F4: a BatParams cutting a 0.84 m bat into 4000 slices (the physics' own limit) was accepted, and solving its
+/// modes took seconds of CPU per message. The node now refuses it by its `max_bat_slices` (default 1200)
+/// before anything costly: the reason names the cap, and the swing on that bat is answered REJECTED. (Being
+/// refused before the solve is what makes it quick; no timing is asserted.)
+#[test]
+fn f4_a_bat_of_four_thousand_slices_is_refused_before_its_modes_are_solved() {
+    use sweetspot::node::convert::{bat_from_params, bat_from_params_capped};
+    use sweetspot::node::engine::{compute, plan_swing, Registry};
+    use sweetspot::node::settings::NodeSettings;
+    use sweetspot::node::stats::NodeStats;
+    let bytes = input("node_messages", "f4-four-thousand-slices");
+    let params: sweetspot::msgs::sweetspot_msgs::msg::BatParams =
+        sweetspot::msgs::decode_cdr(&bytes[3..3 + u16::from_le_bytes([bytes[1], bytes[2]]) as usize]).unwrap();
+    // Within the physics' limits: only the node's cap stands between this input and a 4000-slice solve.
+    assert_eq!(bat_from_params(&params).expect("a valid bat for the physics").bat.slice_count(), 4000);
+    let settings = NodeSettings::default();
+    let reason = bat_from_params_capped(&params, settings.max_bat_slices).expect_err("the node refuses it");
+    assert!(reason.starts_with("BatParams 'f4': slice_length = "), "{reason}");
+    assert!(reason.contains("into 4000 slices") && reason.contains("max_bat_slices = 1200"), "{reason}");
+    // So the bat stays unknown and its swing is REJECTED (rather than solving the modes on first use).
+    let stats = NodeStats::new();
+    let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+    let impact = sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
+    let (plan, _) = plan_swing(&mut registry, &settings, &params.bat_id, "", impact);
+    let answer = compute(&plan, &stats);
+    assert!(answer.as_ref().is_err_and(|e| e.starts_with("unknown bat_id 'f4'")), "{answer:?}");
+    // And the harness (which the fuzzer runs) takes the same path.
+    target("node_messages")(&bytes);
+}
+
 // ------------------------------------------------------------------------------------------------------------
 // Bad input through the pure entry points (issue 6, "Faults and bad input"; the DDS-level versions with a
 // foreign writer belong to the node's tests).
@@ -436,3 +466,4 @@ fn f3_child_runs_the_bag_input() {
     let path = std::env::var_os("SWEETSPOT_FUZZ_CHILD_INPUT").expect("run by f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader");
     target("bag_reader")(&std::fs::read(path).expect("the input"));
 }
+
