@@ -251,3 +251,75 @@ fn bbcor_json_matches_the_library() {
     assert_eq!(num(&doc, "/besr/exit_speed"), b.exit_speed);
     assert_eq!(num(&doc, "/ball/cor"), ball.cor);
 }
+
+/// Every field path of a JSON value in output order (`a.b`, arrays as `a[]`, their elements' fields merged).
+fn field_paths(value: &Value, prefix: &str, out: &mut Vec<String>) {
+    match value {
+        Value::Object(map) => {
+            for (key, child) in map {
+                let path = if prefix.is_empty() { key.clone() } else { format!("{prefix}.{key}") };
+                if !matches!(child, Value::Object(_) | Value::Array(_)) && !out.contains(&path) {
+                    out.push(path.clone());
+                }
+                field_paths(child, &path, out);
+            }
+        }
+        Value::Array(items) => {
+            let path = format!("{prefix}[]");
+            for item in items {
+                field_paths(item, &path, out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The `simulate --json` interface, pinned: every field name, in output order. A change here is a change of
+/// the documented interface (docs/file-formats.md), so the docs are checked against the output as well.
+#[test]
+fn simulate_json_field_names_are_exactly_the_documented_ones_in_order() {
+    const PINNED: &[&str] = &[
+        "bat.name", "bat.mass", "bat.length", "bat.center_of_mass", "bat.moment_of_inertia", "bat.radius_of_gyration",
+        "bat.pivot_z", "bat.moment_about_pivot", "bat.center_of_percussion",
+        "ball.mass", "ball.radius", "ball.stiffness", "ball.exponent", "ball.cor",
+        "swing.ball_speed", "swing.bat_cm_speed", "swing.bat_angular_speed",
+        "options.modes", "options.time_step",
+        "results[].impact_z", "results[].exit_speed", "results[].rigid_exit_speed", "results[].effective_cor",
+        "results[].collision_efficiency", "results[].contact_time", "results[].peak_force", "results[].impulse",
+        "results[].max_compression", "results[].energy.initial", "results[].energy.ball",
+        "results[].energy.bat_rigid", "results[].energy.vibration", "results[].energy.hysteresis_loss",
+        "results[].energy.residual", "results[].mode_energies[].mode", "results[].mode_energies[].frequency_hz",
+        "results[].mode_energies[].energy",
+    ];
+    let doc = json(&["simulate", "--bat", "torpedo", "--modes", "3", "--impact-z", "0.6,0.7"]);
+    let mut paths = Vec::new();
+    field_paths(&doc, "", &mut paths);
+    assert_eq!(paths, PINNED);
+    let top: Vec<&str> = doc.as_object().expect("an object").keys().map(String::as_str).collect();
+    assert_eq!(top, ["bat", "ball", "swing", "options", "results"]);
+
+    // docs/file-formats.md lists the same: the top-level keys, the bat table and the collision-result table
+    // (in output order), and the mode_energies entry's fields.
+    let docs = std::fs::read_to_string(cli_support::repo().join("docs/file-formats.md")).expect("docs/file-formats.md");
+    assert!(docs.contains(r#"`{"bat", "ball", "swing", "options", "results": [collision result, …]}`"#), "simulate's top level");
+    let table_after = |heading: &str| -> Vec<String> {
+        let start = docs.find(heading).unwrap_or_else(|| panic!("'{heading}' in docs/file-formats.md"));
+        docs[start..]
+            .lines()
+            .skip_while(|l| !l.starts_with("| `"))
+            .take_while(|l| l.starts_with('|'))
+            .filter_map(|l| l.split('`').nth(1).map(str::to_string))
+            .collect()
+    };
+    let documented_bat: Vec<String> = table_after("`bat` (mass properties").iter().map(|f| format!("bat.{f}")).collect();
+    let documented_result: Vec<String> = table_after("A collision result:").iter().map(|f| format!("results[].{f}")).collect();
+    let output_result: Vec<String> =
+        paths.iter().filter(|p| p.starts_with("results[].") && !p.contains("mode_energies")).cloned().collect();
+    assert_eq!(documented_bat, paths.iter().filter(|p| p.starts_with("bat.")).cloned().collect::<Vec<_>>());
+    assert_eq!(documented_result[..documented_result.len() - 1], output_result[..], "the collision-result table");
+    assert_eq!(documented_result.last().map(String::as_str), Some("results[].mode_energies[]"));
+    let mode_row = docs.lines().find(|l| l.starts_with("| `mode_energies[]`")).expect("the mode_energies row");
+    for field in ["mode", "frequency_hz", "energy"] {
+        assert!(mode_row.contains(&format!("`{field}`")), "mode_energies[].{field} is not documented: {mode_row}");
+    }
+}

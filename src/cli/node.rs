@@ -10,7 +10,7 @@ use crate::node::runtime::NodeConfig;
 /// `--params-file params.yaml`, `--log-level debug`.
 #[derive(Debug, Clone, clap::Args)]
 #[command(
-    after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, queue_capacity, workers,\nrecord, record_path, record_max_file_size, record_max_file_duration, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY."
+    after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, max_bats, max_balls,\nmax_bat_slices, queue_capacity, workers, record, record_path, record_max_file_size,\nrecord_max_file_duration, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY."
 )]
 pub struct NodeArgs {
     /// Do not record a bag (same as `--ros-args -p record:=false`).
@@ -86,6 +86,18 @@ mod tests {
         let c = a.config().unwrap();
         assert_eq!(c.ros_args.node_name.as_deref(), Some("lab"));
         assert_eq!(c.ros_args.params.len(), 1);
+    }
+
+    #[test]
+    fn the_help_lists_every_node_parameter() {
+        use clap::CommandFactory;
+        let mut cli = Cli::command();
+        let help = cli.find_subcommand_mut("node").expect("a node subcommand").render_long_help().to_string();
+        let after = help.split("The node's parameters").nth(1).expect("a parameter list in the help");
+        // "… (see `ros2 param list /sweetspot`): a, b,\nc.\nDDS: …"
+        let list = after.split(':').nth(1).unwrap_or_default().split("DDS").next().unwrap_or_default();
+        let listed: Vec<&str> = list.split([',', '.', ' ', '\n']).filter(|w| !w.is_empty()).collect();
+        assert_eq!(listed, crate::node::settings::parameter_names(), "the list in `sweetspot node --help`");
     }
 
     #[test]

@@ -209,6 +209,10 @@ pub struct ModeEnergyJson {
 pub type EnergyJson = crate::physics::EnergyBudget;
 
 /// One collision, SI units.
+///
+/// Not `impact_z` + `#[serde(flatten)] CollisionResult`: the documented JSON (docs/file-formats.md, pinned by
+/// tests/cli_json.rs) numbers the modes from 1 and names their frequency `frequency_hz`, and leaves out the
+/// bat's speeds after separation, so serialising the library's type as is would change the interface.
 #[derive(Debug, Clone, Serialize)]
 pub struct CollisionJson {
     /// m from the knob.
