@@ -54,7 +54,7 @@ fn int32_topic(name: &str) -> TopicInfo {
 
 #[test]
 fn every_chunk_compression_reads_back_with_crcs_summary_and_indexes() {
-    for compression in ["zstd", "zstd:9", "lz4", "none"] {
+    for compression in ["zstd", "zstd:9", "zstd:-5", "lz4", "none"] {
         let compression: ChunkCompression = compression.parse().unwrap();
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path().join("compressed");
@@ -207,7 +207,8 @@ fn compression_names_parse_and_bad_ones_are_refused() {
     assert_eq!("zstd:19".parse::<ChunkCompression>().unwrap(), ChunkCompression::Zstd { level: 19 });
     assert_eq!("none".parse::<ChunkCompression>().unwrap(), ChunkCompression::None);
     assert_eq!("lz4".parse::<ChunkCompression>().unwrap(), ChunkCompression::Lz4);
-    for bad in ["", "gzip", "zstd:0", "zstd:23", "zstd:x", "none:1"] {
+    assert_eq!("zstd:-3".parse::<ChunkCompression>().unwrap(), ChunkCompression::Zstd { level: -3 });
+    for bad in ["", "gzip", "zstd:0", "zstd:23", "zstd:-8", "zstd:x", "none:1"] {
         let err = bad.parse::<ChunkCompression>().unwrap_err().to_string();
         assert!(err.contains("zstd, zstd:LEVEL"), "{bad}: {err}");
     }

@@ -86,7 +86,7 @@ pub struct RecorderConfig {
 /// compression is per chunk, as rosbag2's MCAP storage plugin does it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ChunkCompression {
-    /// zstd at `level` (1 = fastest of the normal levels, 3 = zstd's default, up to 22).
+    /// zstd at `level`: 1..=22 (3 is zstd's own default), or -7..=-1, zstd's "fast" levels (`zstd --fast=N`).
     Zstd {
         /// zstd compression level.
         level: i32,
@@ -106,15 +106,15 @@ impl Default for ChunkCompression {
 
 impl std::str::FromStr for ChunkCompression {
     type Err = BagError;
-    /// `zstd`, `zstd:LEVEL`, `lz4` or `none`.
+    /// `zstd` (level 1), `zstd:LEVEL`, `lz4` or `none`.
     fn from_str(s: &str) -> Result<Self, BagError> {
-        let bad = || BagError::Format(format!("compression {s:?}: expected zstd, zstd:LEVEL (1..=22), lz4 or none"));
+        let bad = || BagError::Format(format!("compression {s:?}: expected zstd, zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or none"));
         match s.split_once(':') {
             None if s == "zstd" => Ok(ChunkCompression::default()),
             None if s == "lz4" => Ok(ChunkCompression::Lz4),
             None if s == "none" => Ok(ChunkCompression::None),
             Some(("zstd", level)) => match level.parse::<i32>() {
-                Ok(level) if (1..=22).contains(&level) => Ok(ChunkCompression::Zstd { level }),
+                Ok(level) if (-7..=22).contains(&level) && level != 0 => Ok(ChunkCompression::Zstd { level }),
                 _ => Err(bad()),
             },
             _ => Err(bad()),

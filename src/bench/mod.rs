@@ -847,10 +847,20 @@ fn median(values: &[u64]) -> u64 {
 
 /// The recorder against `dd` for Swing and ExitVelocity messages, each with zstd and uncompressed chunks.
 pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<Vec<DiskResult>> {
-    use crate::bag::{ChunkCompression, StorageOptions};
+    use crate::bag::ChunkCompression;
+    disk_bench_with(dir, messages, &[ChunkCompression::default(), ChunkCompression::None])
+}
+
+/// [`disk_bench`] with the given chunk compressions.
+pub fn disk_bench_with(
+    dir: &Path,
+    messages: u64,
+    compressions: &[crate::bag::ChunkCompression],
+) -> anyhow::Result<Vec<DiskResult>> {
+    use crate::bag::StorageOptions;
     let mut results = Vec::new();
     for message in [BenchMessage::Swing, BenchMessage::ExitVelocity] {
-        for compression in [ChunkCompression::default(), ChunkCompression::None] {
+        for &compression in compressions {
             let storage = StorageOptions { compression, ..StorageOptions::default() };
             let r = disk_bench_one(dir, message, messages, storage)?;
             log(&format!(
@@ -869,12 +879,15 @@ pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<Vec<DiskResult>> 
     Ok(results)
 }
 
-/// 4,096 distinct CDR payloads of `message` with random measured values, so zstd cannot shrink the bag
-/// to nothing.
+/// Distinct CDR payloads of `message` with random measured values. 65,536 of them (5–10 MB), more than
+/// any zstd window of the levels used, so the compressor sees no exact repeats, as with real swings.
+const BENCH_PAYLOADS: u64 = 65_536;
+
+/// [`BENCH_PAYLOADS`] payloads of `message`.
 fn bench_payloads(message: BenchMessage) -> Vec<Vec<u8>> {
     use rand::{Rng, SeedableRng};
     let mut rng = rand::rngs::StdRng::seed_from_u64(7);
-    (0..4096u64)
+    (0..BENCH_PAYLOADS)
         .map(|i| {
             let swing = Swing {
                 ball_speed: rng.gen_range(30.0..45.0),
@@ -943,7 +956,7 @@ pub fn disk_bench_one(
     let recorder = crate::bag::Recorder::start_with(config, storage)?;
     let topic = recorder.register_topic(topic_info)?;
     for i in 0..messages {
-        let cdr = &payloads[(i % 4096) as usize];
+        let cdr = &payloads[(i % BENCH_PAYLOADS) as usize];
         let stamp = t0 + i * 1000;
         // The recorder never waits for its writer (a full queue is a counted drop); to measure its
         // throughput, retry until the writer thread has made room.
