@@ -54,12 +54,15 @@ fn int32_topic(name: &str) -> TopicInfo {
 
 #[test]
 fn every_chunk_compression_reads_back_with_crcs_summary_and_indexes() {
-    for compression in ["zstd", "zstd:9", "zstd:-5", "lz4", "none"] {
+    // Threads: None = a pool per core, Some(0) = on the writer thread, Some(3) = more workers than cores.
+    for (compression, compression_threads) in
+        [("zstd", None), ("zstd:9", Some(0)), ("zstd:-5", Some(3)), ("lz4", None), ("none", None)]
+    {
         let compression: ChunkCompression = compression.parse().unwrap();
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path().join("compressed");
-        // Small chunks, so the file holds many chunks and the summary many chunk indexes.
-        let storage = StorageOptions { compression, chunk_size: Some(4096) };
+        // Small chunks, so the file holds many chunks (many in flight at once) and many chunk indexes.
+        let storage = StorageOptions { compression, chunk_size: Some(4096), compression_threads };
         let recorder = Recorder::start_with(RecorderConfig::new(&dir), storage).unwrap();
         let a = recorder.register_topic(string_topic("/rig/a", RELIABLE)).unwrap();
         let b = recorder.register_topic(string_topic("/rig/b", BEST_EFFORT)).unwrap();

@@ -139,6 +139,9 @@ pub struct StorageOptions {
     pub compression: ChunkCompression,
     /// Target uncompressed chunk size, bytes (default 1 MiB, or a quarter of `max_file_size` when splitting).
     pub chunk_size: Option<u64>,
+    /// Threads compressing chunks while the writer fills the next ones (default: one per core, at most 4;
+    /// 0 = compress on the writer thread). Not used without compression or when splitting by size.
+    pub compression_threads: Option<usize>,
 }
 
 /// Counters of a recorder, readable at any time (`bytes` counts message payload bytes, CDR included).

@@ -8,10 +8,11 @@
 //! the ones `mcap::Writer` writes (same layout, summary, indexes and CRCs); the `mcap` crate, the Python
 //! `mcap` reader and `rosbags` read the files back in the tests.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::mpsc;
 use std::time::Duration;
 
 use super::rosbag2::{self, BagMetadata, FileEntry};
@@ -21,6 +22,8 @@ use super::{BagError, ChunkCompression, StorageOptions, TopicId, TopicInfo};
 pub const LIBRARY: &str = concat!("sweetspot ", env!("CARGO_PKG_VERSION"));
 /// Default target uncompressed chunk size; chunks also close on every flush.
 pub const CHUNK_SIZE: u64 = 1024 * 1024;
+/// Compression threads used by default: the cores, up to this many.
+pub const MAX_COMPRESSION_THREADS: usize = 4;
 
 const MAGIC: &[u8] = &[0x89, b'M', b'C', b'A', b'P', 0x30, b'\r', b'\n'];
 const OP_HEADER: u8 = 0x01;
@@ -180,7 +183,6 @@ pub struct BagWriter {
     dir: PathBuf,
     max_file_size: Option<u64>,
     max_file_duration: Option<Duration>,
-    compression: ChunkCompression,
     chunk_size: u64,
     topics: Vec<TopicInfo>,
     topic_counts: Vec<u64>,
@@ -192,8 +194,121 @@ pub struct BagWriter {
     custom_data: BTreeMap<String, String>,
     /// Reused by [`Self::write`].
     single: Batch,
-    zstd: Option<zstd::bulk::Compressor<'static>>,
+    /// Compresses on this thread when there is no pool (or no compression).
+    compressor: ChunkCompressor,
     compressed: Vec<u8>,
+    /// Compresses sealed chunks on other threads while this one fills the next; None = inline.
+    pool: Option<CompressPool>,
+    /// Chunks being compressed, oldest first; written in this order.
+    in_flight: VecDeque<InFlight>,
+    /// Chunk buffers back from the pool, for reuse.
+    spare: Vec<Vec<u8>>,
+}
+
+/// Compresses chunks: one zstd context (reused chunk after chunk) or lz4, or nothing.
+struct ChunkCompressor {
+    compression: ChunkCompression,
+    zstd: Option<zstd::bulk::Compressor<'static>>,
+}
+
+impl ChunkCompressor {
+    fn new(compression: ChunkCompression) -> Result<Self, String> {
+        let zstd = match compression {
+            ChunkCompression::Zstd { level } => {
+                Some(zstd::bulk::Compressor::new(level).map_err(|e| format!("zstd level {level}: {e}"))?)
+            }
+            _ => None,
+        };
+        Ok(ChunkCompressor { compression, zstd })
+    }
+
+    /// Compresses `records` into `out` (left empty for `none`); returns the MCAP compression name.
+    fn compress(&mut self, records: &[u8], out: &mut Vec<u8>) -> Result<&'static str, String> {
+        out.clear();
+        match self.compression {
+            ChunkCompression::None => Ok(""),
+            ChunkCompression::Zstd { .. } => {
+                let zstd = self.zstd.as_mut().ok_or("internal: no zstd context")?;
+                out.reserve(zstd::zstd_safe::compress_bound(records.len()));
+                zstd.compress_to_buffer(records, out).map_err(|e| format!("zstd: {e}"))?;
+                Ok("zstd")
+            }
+            ChunkCompression::Lz4 => {
+                let mut encoder = lz4::EncoderBuilder::new()
+                    // No block checksums, like mcap::Writer: the chunk has its own CRC.
+                    .block_checksum(lz4::liblz4::BlockChecksum::NoBlockChecksum)
+                    .build(std::mem::take(out))
+                    .map_err(|e| format!("lz4: {e}"))?;
+                encoder.write_all(records).map_err(|e| format!("lz4: {e}"))?;
+                let (buffer, result) = encoder.finish();
+                *out = buffer;
+                result.map_err(|e| format!("lz4: {e}"))?;
+                Ok("lz4")
+            }
+        }
+    }
+}
+
+/// A sealed chunk on its way through a compression worker.
+struct Job {
+    records: Vec<u8>,
+    out: Vec<u8>,
+    reply: mpsc::SyncSender<JobDone>,
+}
+
+struct JobDone {
+    records: Vec<u8>,
+    out: Vec<u8>,
+    crc: u32,
+    result: Result<&'static str, String>,
+}
+
+/// What the writer keeps of a chunk while it is compressed.
+struct InFlight {
+    index: Vec<Vec<(u64, u64)>>,
+    bounds: (u64, u64),
+    reply: mpsc::Receiver<JobDone>,
+}
+
+/// Compression worker threads, each with its own context, fed from one queue.
+struct CompressPool {
+    jobs: Option<crossbeam_channel::Sender<Job>>,
+    threads: Vec<std::thread::JoinHandle<()>>,
+}
+
+impl CompressPool {
+    fn start(compression: ChunkCompression, threads: usize) -> Result<Self, BagError> {
+        let (jobs, queue) = crossbeam_channel::unbounded::<Job>();
+        let mut handles = Vec::with_capacity(threads);
+        for n in 0..threads {
+            let mut compressor = ChunkCompressor::new(compression).map_err(BagError::Format)?;
+            let queue = queue.clone();
+            let handle = std::thread::Builder::new()
+                .name(format!("bag-compress-{n}"))
+                .spawn(move || {
+                    while let Ok(job) = queue.recv() {
+                        let Job { records, mut out, reply } = job;
+                        let crc = crc32fast::hash(&records);
+                        let result = compressor.compress(&records, &mut out);
+                        // The writer may have given up on this chunk (its own error); nothing to do then.
+                        let _ = reply.send(JobDone { records, out, crc, result });
+                    }
+                })
+                .map_err(|e| BagError::Format(format!("starting a compression thread: {e}")))?;
+            handles.push(handle);
+        }
+        Ok(CompressPool { jobs: Some(jobs), threads: handles })
+    }
+}
+
+impl Drop for CompressPool {
+    fn drop(&mut self) {
+        // Closing the queue ends the workers once they finish what they hold.
+        self.jobs = None;
+        for thread in self.threads.drain(..) {
+            let _ = thread.join();
+        }
+    }
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> BagError + '_ {
@@ -214,13 +329,7 @@ impl BagWriter {
         max_file_duration: Option<Duration>,
         storage: StorageOptions,
     ) -> Result<Self, BagError> {
-        let zstd = match storage.compression {
-            ChunkCompression::Zstd { level } => Some(
-                zstd::bulk::Compressor::new(level)
-                    .map_err(|e| BagError::Format(format!("zstd level {level}: {e}")))?,
-            ),
-            _ => None,
-        };
+        let compressor = ChunkCompressor::new(storage.compression).map_err(BagError::Format)?;
         if storage.chunk_size == Some(0) {
             return Err(BagError::Format("chunk_size must be > 0".to_string()));
         }
@@ -230,6 +339,15 @@ impl BagWriter {
             (None, Some(max)) => (max / 4).clamp(1024, CHUNK_SIZE),
             (None, None) => CHUNK_SIZE,
         };
+        // Splitting by size decides after each chunk whether the file is full, which needs every earlier
+        // chunk written; so only unsplit-by-size bags compress ahead on other threads.
+        let threads = match (storage.compression, max_file_size) {
+            (ChunkCompression::None, _) | (_, Some(_)) => 0,
+            _ => storage.compression_threads.unwrap_or_else(|| {
+                std::thread::available_parallelism().map_or(1, |n| n.get()).min(MAX_COMPRESSION_THREADS)
+            }),
+        };
+        let pool = if threads > 0 { Some(CompressPool::start(storage.compression, threads)?) } else { None };
         if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
             std::fs::create_dir_all(parent).map_err(io_err(parent))?;
         }
@@ -238,7 +356,6 @@ impl BagWriter {
             dir: dir.to_path_buf(),
             max_file_size,
             max_file_duration,
-            compression: storage.compression,
             chunk_size,
             topics: Vec::new(),
             topic_counts: Vec::new(),
@@ -249,8 +366,11 @@ impl BagWriter {
             ros_distro: std::env::var("ROS_DISTRO").unwrap_or_default(),
             custom_data: BTreeMap::new(),
             single: Batch::default(),
-            zstd,
+            compressor,
             compressed: Vec::new(),
+            pool,
+            in_flight: VecDeque::new(),
+            spare: Vec::new(),
         };
         writer.open_next_file()?;
         Ok(writer)
@@ -356,7 +476,7 @@ impl BagWriter {
         entry.message_count += 1;
         self.topic_counts[topic] += 1;
         if file.chunk.len() as u64 >= self.chunk_size {
-            self.close_chunk()?;
+            self.seal_chunk()?;
             if let (Some(limit), Some(file)) = (self.max_file_size, self.current.as_ref()) {
                 if file.position >= limit {
                     self.split()?;
@@ -448,102 +568,76 @@ impl BagWriter {
         declared
     }
 
-    /// Compresses and writes the open chunk, followed by its message indexes.
+    /// Seals the open chunk and writes every chunk still being compressed.
     fn close_chunk(&mut self) -> Result<(), BagError> {
+        self.seal_chunk()?;
+        while !self.in_flight.is_empty() {
+            self.write_oldest()?;
+        }
+        Ok(())
+    }
+
+    /// Ends the open chunk: hands it to the compression pool (writing the oldest chunk in flight once
+    /// as many are queued as there are workers), or compresses and writes it here.
+    fn seal_chunk(&mut self) -> Result<(), BagError> {
         let Some(file) = self.current.as_mut() else { return Ok(()) };
         if file.chunk.is_empty() {
             return Ok(());
         }
-        let uncompressed_crc = crc32fast::hash(&file.chunk);
-        let (name, data): (&'static str, &[u8]) = match self.compression {
-            ChunkCompression::None => ("", &file.chunk),
-            ChunkCompression::Zstd { .. } => {
-                let Some(zstd) = self.zstd.as_mut() else {
-                    return Err(BagError::Format("internal: no zstd context".to_string()));
-                };
-                self.compressed.clear();
-                self.compressed.reserve(zstd::zstd_safe::compress_bound(file.chunk.len()));
-                zstd.compress_to_buffer(&file.chunk, &mut self.compressed)
-                    .map_err(|e| BagError::Mcap(format!("{}: zstd: {e}", file.path.display())))?;
-                ("zstd", &self.compressed)
+        let fresh = self.spare.pop().unwrap_or_else(|| Vec::with_capacity(file.chunk.capacity()));
+        let records = std::mem::replace(&mut file.chunk, fresh);
+        let topics = file.chunk_index.len();
+        let index = std::mem::replace(&mut file.chunk_index, vec![Vec::new(); topics]);
+        let bounds = file.chunk_bounds.take().unwrap_or((0, 0));
+        if let Some(pool) = &self.pool {
+            let (reply, receive) = mpsc::sync_channel(1);
+            let out = self.spare.pop().unwrap_or_default();
+            let job = Job { records, out, reply };
+            let sent = pool.jobs.as_ref().map(|jobs| jobs.send(job).is_ok()).unwrap_or(false);
+            if !sent {
+                return Err(BagError::Format(format!("{}: the compression threads stopped", file.path.display())));
             }
-            ChunkCompression::Lz4 => {
-                self.compressed.clear();
-                let mut encoder = lz4::EncoderBuilder::new()
-                    // No block checksums, like mcap::Writer: the chunk has its own CRC.
-                    .block_checksum(lz4::liblz4::BlockChecksum::NoBlockChecksum)
-                    .build(std::mem::take(&mut self.compressed))
-                    .map_err(|e| BagError::Mcap(format!("{}: lz4: {e}", file.path.display())))?;
-                encoder.write_all(&file.chunk).map_err(io_err(&file.path))?;
-                let (buffer, result) = encoder.finish();
-                self.compressed = buffer;
-                result.map_err(|e| BagError::Mcap(format!("{}: lz4: {e}", file.path.display())))?;
-                ("lz4", &self.compressed)
+            self.in_flight.push_back(InFlight { index, bounds, reply: receive });
+            let workers = pool.threads.len().max(1);
+            while self.in_flight.len() > workers {
+                self.write_oldest()?;
             }
+            return Ok(());
+        }
+        let crc = crc32fast::hash(&records);
+        let mut out = std::mem::take(&mut self.compressed);
+        let name = self.compressor.compress(&records, &mut out).map_err(|e| BagError::Mcap(format!("{}: {e}", file.path.display())))?;
+        let data = if name.is_empty() { &records } else { &out };
+        let written = write_chunk(file, &records, data, name, crc, &index, bounds);
+        self.compressed = out;
+        self.recycle(records);
+        written
+    }
+
+    /// Waits for the oldest chunk in flight and writes it.
+    fn write_oldest(&mut self) -> Result<(), BagError> {
+        let Some(chunk) = self.in_flight.pop_front() else { return Ok(()) };
+        let Some(file) = self.current.as_mut() else {
+            return Err(BagError::Format("internal: a chunk in flight without an open file".to_string()));
         };
-        let (start_ns, end_ns) = file.chunk_bounds.unwrap_or((0, 0));
-        let mut head = Vec::with_capacity(64);
-        put_u64(&mut head, start_ns);
-        put_u64(&mut head, end_ns);
-        put_u64(&mut head, file.chunk.len() as u64);
-        put_u32(&mut head, uncompressed_crc);
-        put_str(&mut head, name);
-        put_u64(&mut head, data.len() as u64);
-        let chunk_start = file.position;
-        let mut record_head = Vec::with_capacity(9 + head.len());
-        record_head.push(OP_CHUNK);
-        put_u64(&mut record_head, (head.len() + data.len()) as u64);
-        record_head.extend_from_slice(&head);
-        // `data` borrows the chunk (or the compression buffer), so the file's fields are used one by one.
-        for bytes in [&record_head[..], data] {
-            file.out.write_all(bytes).map_err(|source| BagError::Io { path: file.path.clone(), source })?;
-            file.data_crc.update(bytes);
-            file.position += bytes.len() as u64;
+        let done = chunk
+            .reply
+            .recv()
+            .map_err(|_| BagError::Format(format!("{}: a compression thread stopped", file.path.display())))?;
+        let name = done.result.map_err(|e| BagError::Mcap(format!("{}: {e}", file.path.display())))?;
+        let data = if name.is_empty() { &done.records } else { &done.out };
+        let written = write_chunk(file, &done.records, data, name, done.crc, &chunk.index, chunk.bounds);
+        self.recycle(done.records);
+        self.recycle(done.out);
+        written
+    }
+
+    fn recycle(&mut self, mut buffer: Vec<u8>) {
+        // Enough for the chunks in flight plus their outputs; more would only hold memory.
+        if self.spare.len() < 2 * MAX_COMPRESSION_THREADS + 2 {
+            buffer.clear();
+            self.spare.push(buffer);
         }
-        let compressed_size = data.len() as u64;
-        let chunk_length = file.position - chunk_start;
-        let indexes_start = file.position;
-        let mut message_index_offsets = Vec::new();
-        let mut body = Vec::new();
-        for topic in 0..file.chunk_index.len() {
-            if file.chunk_index[topic].is_empty() {
-                continue;
-            }
-            let channel = channel_id(topic as u16);
-            body.clear();
-            put_u16(&mut body, channel);
-            put_u32(&mut body, (file.chunk_index[topic].len() * 16) as u32);
-            for &(log_time, offset) in &file.chunk_index[topic] {
-                put_u64(&mut body, log_time);
-                put_u64(&mut body, offset);
-            }
-            message_index_offsets.push((channel, file.position));
-            file.put_record(OP_MESSAGE_INDEX, &body).map_err(|e| BagError::Io { path: file.path.clone(), source: e })?;
-            file.chunk_index[topic].clear();
-        }
-        file.chunk_indexes.push(ChunkIndexEntry {
-            start_ns,
-            end_ns,
-            chunk_start,
-            chunk_length,
-            message_index_offsets,
-            message_index_length: file.position - indexes_start,
-            compression: name,
-            compressed_size,
-            uncompressed_size: file.chunk.len() as u64,
-        });
-        file.bounds = Some(match file.bounds {
-            None => (start_ns, end_ns),
-            Some((start, end)) => (start.min(start_ns), end.max(end_ns)),
-        });
-        file.chunk.clear();
-        file.chunk_bounds = None;
-        // Start the disk on this chunk now rather than at the fsync of close: the writeback overlaps the
-        // next chunks, the final fsync finds little left, and a power cut loses less.
-        file.out.flush().map_err(io_err(&file.path))?;
-        start_writeback(file.out.get_ref(), file.writeback_from, file.position - file.writeback_from);
-        file.writeback_from = file.position;
-        Ok(())
     }
 
     fn close_current(&mut self) -> Result<(), BagError> {
@@ -562,6 +656,74 @@ impl BagWriter {
         out.sync_all().map_err(io_err(&file.path))?;
         Ok(())
     }
+}
+
+/// Writes one chunk record (`data` = its records compressed as `compression`, or the records themselves),
+/// then its message indexes, and notes its chunk index for the summary.
+fn write_chunk(
+    file: &mut OpenFile,
+    records: &[u8],
+    data: &[u8],
+    compression: &'static str,
+    uncompressed_crc: u32,
+    index: &[Vec<(u64, u64)>],
+    (start_ns, end_ns): (u64, u64),
+) -> Result<(), BagError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| BagError::Io { path, source }
+    };
+    let mut head = Vec::with_capacity(64);
+    head.push(OP_CHUNK);
+    put_u64(&mut head, 0); // record length, set below
+    put_u64(&mut head, start_ns);
+    put_u64(&mut head, end_ns);
+    put_u64(&mut head, records.len() as u64);
+    put_u32(&mut head, uncompressed_crc);
+    put_str(&mut head, compression);
+    put_u64(&mut head, data.len() as u64);
+    let record_len = (head.len() - 9 + data.len()) as u64;
+    head[1..9].copy_from_slice(&record_len.to_le_bytes());
+    let chunk_start = file.position;
+    file.put(&head).map_err(io(&file.path))?;
+    file.put(data).map_err(io(&file.path))?;
+    let chunk_length = file.position - chunk_start;
+    let indexes_start = file.position;
+    let mut message_index_offsets = Vec::new();
+    let mut body = Vec::new();
+    for (topic, entries) in index.iter().enumerate().filter(|(_, e)| !e.is_empty()) {
+        let channel = channel_id(topic as u16);
+        body.clear();
+        put_u16(&mut body, channel);
+        put_u32(&mut body, (entries.len() * 16) as u32);
+        for &(log_time, offset) in entries {
+            put_u64(&mut body, log_time);
+            put_u64(&mut body, offset);
+        }
+        message_index_offsets.push((channel, file.position));
+        file.put_record(OP_MESSAGE_INDEX, &body).map_err(io(&file.path))?;
+    }
+    file.chunk_indexes.push(ChunkIndexEntry {
+        start_ns,
+        end_ns,
+        chunk_start,
+        chunk_length,
+        message_index_offsets,
+        message_index_length: file.position - indexes_start,
+        compression,
+        compressed_size: data.len() as u64,
+        uncompressed_size: records.len() as u64,
+    });
+    file.bounds = Some(match file.bounds {
+        None => (start_ns, end_ns),
+        Some((start, end)) => (start.min(start_ns), end.max(end_ns)),
+    });
+    // Start the disk on this chunk now rather than at the fsync of close: the writeback overlaps the
+    // next chunks, the final fsync finds little left, and a power cut loses less.
+    file.out.flush().map_err(io(&file.path))?;
+    start_writeback(file.out.get_ref(), file.writeback_from, file.position - file.writeback_from);
+    file.writeback_from = file.position;
+    Ok(())
 }
 
 /// Starts writeback of `len` bytes from `offset` without waiting for it to complete (Linux
