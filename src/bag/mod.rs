@@ -1,7 +1,8 @@
 //! MCAP record / replay in the rosbag2 layout (`<dir>/metadata.yaml` + `<dir>/<name>_N.mcap`).
 //!
-//! The recorder is the contract between the node and the bag: the node encodes each message to CDR once and
-//! hands the bytes over a bounded channel to a writer thread, so recording never blocks the DDS receive path.
+//! The recorder is the contract between the node and the bag: the node encodes each message to CDR once; the
+//! recorder frames it as an MCAP record into a shared batch, and full batches go to a writer thread, so
+//! recording never waits for the disk on the DDS receive path.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -17,6 +18,7 @@ pub mod rosbag2;
 pub mod writer;
 
 pub use recorder::Recorder;
+pub use writer::Batch;
 pub use rosbag2::{default_bag_dir, BagMetadata};
 
 /// Errors of the bag layer.
@@ -75,8 +77,71 @@ pub struct RecorderConfig {
     pub max_file_duration: Option<Duration>,
     /// Close the open chunk at least this often, so a crash loses at most this much.
     pub flush_interval: Duration,
-    /// Capacity of the channel to the writer thread; messages beyond it are dropped and counted.
+    /// Messages accepted but not yet written (batched or queued for the writer thread) at most; messages
+    /// beyond it are dropped and counted.
     pub queue_capacity: usize,
+}
+
+/// How MCAP chunks are compressed (rosbag2's `--compression-format` is about whole files; inside MCAP,
+/// compression is per chunk, as rosbag2's MCAP storage plugin does it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChunkCompression {
+    /// zstd at `level`: 1..=22 (3 is zstd's own default), or -7..=-1, zstd's "fast" levels (`zstd --fast=N`).
+    Zstd {
+        /// zstd compression level.
+        level: i32,
+    },
+    /// LZ4 frames: faster than zstd, larger files.
+    Lz4,
+    /// Uncompressed chunks: the fastest; files about 1.5× the message bytes (framing and indexes).
+    None,
+}
+
+impl Default for ChunkCompression {
+    /// zstd level 1: most of level 3's ratio on sensor-like CDR at a fraction of the CPU.
+    fn default() -> Self {
+        ChunkCompression::Zstd { level: 1 }
+    }
+}
+
+impl std::str::FromStr for ChunkCompression {
+    type Err = BagError;
+    /// `zstd` (level 1), `zstd:LEVEL`, `lz4` or `none`.
+    fn from_str(s: &str) -> Result<Self, BagError> {
+        let bad = || BagError::Format(format!("compression {s:?}: expected zstd, zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or none"));
+        match s.split_once(':') {
+            None if s == "zstd" => Ok(ChunkCompression::default()),
+            None if s == "lz4" => Ok(ChunkCompression::Lz4),
+            None if s == "none" => Ok(ChunkCompression::None),
+            Some(("zstd", level)) => match level.parse::<i32>() {
+                Ok(level) if (-7..=22).contains(&level) && level != 0 => Ok(ChunkCompression::Zstd { level }),
+                _ => Err(bad()),
+            },
+            _ => Err(bad()),
+        }
+    }
+}
+
+impl std::fmt::Display for ChunkCompression {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ChunkCompression::Zstd { level } => write!(f, "zstd:{level}"),
+            ChunkCompression::Lz4 => f.write_str("lz4"),
+            ChunkCompression::None => f.write_str("none"),
+        }
+    }
+}
+
+/// How the MCAP files are laid out (besides the split limits of [`RecorderConfig`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StorageOptions {
+    /// Chunk compression (default zstd level 1).
+    pub compression: ChunkCompression,
+    /// Target uncompressed chunk size, bytes (default 1 MiB, or a quarter of `max_file_size` when splitting).
+    pub chunk_size: Option<u64>,
+    /// Threads compressing chunks while the writer fills the next ones (default: one per core, at most 4;
+    /// 0 = compress on the writer thread). Not used without compression or when splitting by size.
+    pub compression_threads: Option<usize>,
 }
 
 /// Counters of a recorder, readable at any time (`bytes` counts message payload bytes, CDR included).

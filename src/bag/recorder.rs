@@ -1,29 +1,41 @@
-//! The recorder: a bounded channel into a writer thread that owns the [`BagWriter`].
+//! The recorder: callers frame messages into a shared batch; full batches go over a channel to a writer
+//! thread that owns the [`BagWriter`].
 //!
-//! The caller's side (`record`) is a `try_send` and a few atomics, so it never blocks and never allocates
-//! beyond the message it hands over. Topics are registered through a shared list rather than the
-//! channel, so registration can never be dropped or block behind a full queue.
+//! Why batches: a channel hop per message (send, wake-up, receive, a `Vec` per message) cost more than the
+//! disk. The caller's side (`record`) is now a short lock, one copy of the bytes into the batch, and a few
+//! atomics; once per batch it hands the batch to the writer. The writer also takes the unfinished batch at
+//! every flush, so the flush interval still bounds what a crash can lose. Topics are registered through a
+//! shared list rather than the channel, so registration can never be dropped or block behind a full queue.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
-use std::sync::mpsc::{self, RecvTimeoutError, SyncSender, TrySendError};
+use std::sync::mpsc::{self, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use super::writer::BagWriter;
-use super::{BagError, RecorderConfig, RecorderStats, TopicId, TopicInfo};
+use super::writer::{Batch, BagWriter};
+use super::{BagError, RecorderConfig, RecorderStats, StorageOptions, TopicId, TopicInfo};
 
-struct Recorded {
-    id: TopicId,
-    cdr: Vec<u8>,
-    log_time_ns: u64,
-    publish_time_ns: u64,
+/// A batch is handed to the writer once it holds this many framed bytes (or `batch_messages` messages).
+const BATCH_BYTES: usize = 64 * 1024;
+/// Emptied batches kept for reuse, so steady recording allocates nothing.
+const SPARE_BATCHES: usize = 8;
+
+/// The batch being filled, and each topic's sequence number so far.
+#[derive(Default)]
+struct Pending {
+    batch: Batch,
+    sequences: Vec<u32>,
 }
 
 #[derive(Default)]
 struct Shared {
     topics: Mutex<Vec<TopicInfo>>,
     topic_count: AtomicUsize,
+    pending: Mutex<Pending>,
+    spare: Mutex<Vec<Batch>>,
+    /// Messages accepted and not yet written or dropped.
+    queued: AtomicUsize,
     written: AtomicU64,
     dropped: AtomicU64,
     bytes: AtomicU64,
@@ -37,6 +49,37 @@ impl Shared {
     fn topics(&self) -> MutexGuard<'_, Vec<TopicInfo>> {
         // A panic while holding this lock cannot leave the Vec inconsistent (push only), so poison is ignored.
         self.topics.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn pending(&self) -> MutexGuard<'_, Pending> {
+        // Batch::push leaves the batch consistent at every step that can panic (allocation), so poison is ignored.
+        self.pending.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// An empty batch, reused if one is spare.
+    fn empty_batch(&self) -> Batch {
+        self.spare.lock().unwrap_or_else(|p| p.into_inner()).pop().unwrap_or_default()
+    }
+
+    fn recycle(&self, mut batch: Batch) {
+        batch.clear();
+        let mut spare = self.spare.lock().unwrap_or_else(|p| p.into_inner());
+        if spare.len() < SPARE_BATCHES {
+            spare.push(batch);
+        }
+    }
+
+    /// Takes the unfinished batch (what `record` accepted but has not handed over yet).
+    fn take_pending(&self) -> Batch {
+        let fresh = self.empty_batch();
+        std::mem::replace(&mut self.pending().batch, fresh)
+    }
+
+    /// Counts every message of `batch` as dropped.
+    fn drop_batch(&self, batch: Batch) {
+        self.dropped.fetch_add(batch.len() as u64, Ordering::Relaxed);
+        self.queued.fetch_sub(batch.len(), Ordering::AcqRel);
+        self.recycle(batch);
     }
 
     fn fail(&self, err: &BagError) {
@@ -60,8 +103,13 @@ impl Shared {
 /// Records messages into a rosbag2 directory from any thread without blocking (`Send + Sync`; share it
 /// through an `Arc`). Dropping it finishes the bag like [`Recorder::finish`].
 pub struct Recorder {
-    sender: Option<SyncSender<Recorded>>,
+    /// Unbounded: `queued` bounds what is in flight, in messages.
+    sender: Option<Sender<Batch>>,
     shared: Arc<Shared>,
+    capacity: usize,
+    /// A batch is handed over at this many messages even if not full of bytes, so that a small
+    /// `queue_capacity` still keeps the writer busy instead of waiting for the flush.
+    batch_messages: usize,
     thread: Option<JoinHandle<Result<(), BagError>>>,
     dir: std::path::PathBuf,
 }
@@ -83,26 +131,32 @@ impl Recorder {
     /// Creates the bag directory and its first file, then starts the writer thread.
     /// Fails (without starting anything) if the directory exists or cannot be created.
     pub fn start(config: RecorderConfig) -> Result<Recorder, BagError> {
+        Self::start_with(config, StorageOptions::default())
+    }
+
+    /// Like [`Recorder::start`], with the chunk compression and size of `storage`.
+    pub fn start_with(config: RecorderConfig, storage: StorageOptions) -> Result<Recorder, BagError> {
         if config.flush_interval.is_zero() {
             return Err(BagError::Format("flush_interval must be > 0".to_string()));
         }
         if config.max_file_size == Some(0) || config.max_file_duration.is_some_and(|d| d.is_zero()) {
             return Err(BagError::Format("max_file_size / max_file_duration must be > 0 when set".to_string()));
         }
-        // The writer holds an Rc internally, so it is built on the writer thread; creation errors come
-        // back through this rendezvous so that start() reports them synchronously.
+        // The writer is built on its thread; creation errors come back through this rendezvous so that
+        // start() reports them synchronously.
         let (ready_tx, ready_rx) = mpsc::sync_channel::<Result<(), BagError>>(1);
-        let (sender, receiver) = mpsc::sync_channel::<Recorded>(config.queue_capacity.max(1));
+        let (sender, receiver) = mpsc::channel::<Batch>();
         let shared = Arc::new(Shared::default());
         let thread_shared = shared.clone();
         let thread_config = config.clone();
         let thread = std::thread::Builder::new()
             .name("bag-writer".to_string())
             .spawn(move || {
-                let writer = match BagWriter::create(
+                let writer = match BagWriter::create_with(
                     &thread_config.dir,
                     thread_config.max_file_size,
                     thread_config.max_file_duration,
+                    storage,
                 ) {
                     Ok(writer) => {
                         let _ = ready_tx.send(Ok(()));
@@ -117,7 +171,17 @@ impl Recorder {
             })
             .map_err(|source| BagError::Io { path: config.dir.clone(), source })?;
         match ready_rx.recv() {
-            Ok(Ok(())) => Ok(Recorder { sender: Some(sender), shared, thread: Some(thread), dir: config.dir }),
+            Ok(Ok(())) => {
+                let capacity = config.queue_capacity.max(1);
+                Ok(Recorder {
+                    sender: Some(sender),
+                    shared,
+                    capacity,
+                    batch_messages: (capacity / 4).max(1),
+                    thread: Some(thread),
+                    dir: config.dir,
+                })
+            }
             Ok(Err(err)) => {
                 let _ = thread.join();
                 Err(err)
@@ -148,7 +212,11 @@ impl Recorder {
             }
             return Ok(TopicId(index as u16));
         }
-        let id = u16::try_from(topics.len()).map_err(|_| BagError::Format("more than 65535 topics".to_string()))?;
+        // MCAP channel ids are topic index + 1, so 65535 topics at most.
+        let id = u16::try_from(topics.len())
+            .ok()
+            .filter(|&id| id < u16::MAX)
+            .ok_or_else(|| BagError::Format("more than 65535 topics".to_string()))?;
         topics.push(topic);
         self.shared.topic_count.store(topics.len(), Ordering::Release);
         Ok(TopicId(id))
@@ -162,23 +230,60 @@ impl Recorder {
         self.shared.custom_data_changed.store(true, Ordering::Release);
     }
 
-    /// Queues one message (CDR bytes with their 4-byte encapsulation header). Never blocks: returns
-    /// false, and counts it in `dropped`, if the queue is full, the id is unknown or recording failed.
+    /// Records one message (CDR bytes with their 4-byte encapsulation header). Never waits for the disk:
+    /// returns false, and counts it in `dropped`, if `queue_capacity` messages are already waiting, the
+    /// id is unknown or recording failed.
     pub fn record(&self, id: TopicId, cdr: Vec<u8>, log_time_ns: u64, publish_time_ns: u64) -> bool {
-        let known = usize::from(id.0) < self.shared.topic_count.load(Ordering::Acquire);
-        let sent = known
-            && !self.shared.failed.load(Ordering::Acquire)
-            && match &self.sender {
-                Some(sender) => match sender.try_send(Recorded { id, cdr, log_time_ns, publish_time_ns }) {
-                    Ok(()) => true,
-                    Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => false,
-                },
-                None => false,
-            };
-        if !sent {
+        self.record_bytes(id, &cdr, log_time_ns, publish_time_ns)
+    }
+
+    /// [`Recorder::record`] from a borrowed buffer (the bytes are copied into the batch).
+    pub fn record_bytes(&self, id: TopicId, cdr: &[u8], log_time_ns: u64, publish_time_ns: u64) -> bool {
+        let accepted = self.try_record(id, cdr, log_time_ns, publish_time_ns);
+        if !accepted {
             self.shared.dropped.fetch_add(1, Ordering::Relaxed);
         }
-        sent
+        accepted
+    }
+
+    fn try_record(&self, id: TopicId, cdr: &[u8], log_time_ns: u64, publish_time_ns: u64) -> bool {
+        let topic = usize::from(id.0);
+        let Some(sender) = &self.sender else { return false };
+        if topic >= self.shared.topic_count.load(Ordering::Acquire) || self.shared.failed.load(Ordering::Acquire) {
+            return false;
+        }
+        if self.shared.queued.fetch_add(1, Ordering::AcqRel) >= self.capacity {
+            self.shared.queued.fetch_sub(1, Ordering::AcqRel);
+            return false;
+        }
+        let mut pending = self.shared.pending();
+        // Checked again under the lock: the writer sets `failed` before it empties the pending batch, so
+        // a message pushed after that emptying sees the failure and is not stranded uncounted.
+        if self.shared.failed.load(Ordering::Acquire) {
+            drop(pending);
+            self.shared.queued.fetch_sub(1, Ordering::AcqRel);
+            return false;
+        }
+        if pending.sequences.len() <= topic {
+            pending.sequences.resize(topic + 1, 0);
+        }
+        let sequence = pending.sequences[topic].wrapping_add(1);
+        pending.sequences[topic] = sequence;
+        pending.batch.push(id, sequence, log_time_ns, publish_time_ns, cdr);
+        if pending.batch.framed_bytes() < BATCH_BYTES && pending.batch.len() < self.batch_messages {
+            return true;
+        }
+        let fresh = self.shared.empty_batch();
+        let full = std::mem::replace(&mut pending.batch, fresh);
+        // Sent under the lock, so batches reach the writer in the order their messages were accepted.
+        if let Err(mpsc::SendError(batch)) = sender.send(full) {
+            // Only if the writer thread died: count what the batch held (this message included).
+            drop(pending);
+            self.shared.drop_batch(batch);
+            self.shared.dropped.fetch_sub(1, Ordering::Relaxed);
+            return false;
+        }
+        true
     }
 
     /// Counters so far (a few atomic loads).
@@ -192,7 +297,8 @@ impl Recorder {
     }
 
     fn shutdown(&mut self) -> Result<RecorderStats, BagError> {
-        // Dropping the sender lets the writer drain the queue and then see the disconnect.
+        // Dropping the sender lets the writer drain the channel, see the disconnect, then write the
+        // unfinished batch.
         self.sender = None;
         let outcome = match self.thread.take() {
             Some(thread) => match thread.join() {
@@ -204,6 +310,8 @@ impl Recorder {
         if let Err(err) = &outcome {
             self.shared.fail(err);
         }
+        // Empty unless the writer thread died: count what it left behind.
+        self.shared.drop_batch(self.shared.take_pending());
         outcome.map(|()| self.shared.stats())
     }
 }
@@ -232,60 +340,45 @@ fn validate_topic(topic: &TopicInfo) -> Result<(), BagError> {
     Ok(())
 }
 
-/// The writer thread: drain the queue, flush at least every `flush_interval`, finish on disconnect.
-/// After an error it keeps draining (counting drops) so senders never see a full queue because of it.
+/// The writer thread: write batches as they come, take the unfinished batch and flush at least every
+/// `flush_interval`, finish on disconnect. After an error it keeps receiving (counting drops) so that
+/// `queued` drains and callers are refused at once rather than by a full queue.
 fn run_writer(
     mut writer: BagWriter,
-    receiver: mpsc::Receiver<Recorded>,
+    receiver: mpsc::Receiver<Batch>,
     shared: &Shared,
     flush_interval: Duration,
 ) -> Result<(), BagError> {
     let mut healthy = true;
     let mut last_flush = Instant::now();
-    let fail = |err: BagError, healthy: &mut bool| {
-        tracing::error!("recording to {} failed: {err}", writer_dir_display(&err));
-        shared.fail(&err);
-        *healthy = false;
-    };
     loop {
         let deadline = last_flush + flush_interval;
         let timeout = deadline.saturating_duration_since(Instant::now());
-        let received = receiver.recv_timeout(timeout);
-        if healthy {
-            if let Err(err) = sync_topics(&mut writer, shared) {
-                fail(err, &mut healthy);
+        let disconnected = match receiver.recv_timeout(timeout) {
+            Ok(batch) => {
+                write_batch(&mut writer, batch, shared, &mut healthy);
+                false
             }
-        }
-        match received {
-            Ok(msg) => {
-                if healthy {
-                    let len = msg.cdr.len() as u64;
-                    match writer.write(msg.id, &msg.cdr, msg.log_time_ns, msg.publish_time_ns) {
-                        Ok(()) => {
-                            shared.written.fetch_add(1, Ordering::Relaxed);
-                            shared.bytes.fetch_add(len, Ordering::Relaxed);
-                        }
-                        Err(err) => {
-                            shared.dropped.fetch_add(1, Ordering::Relaxed);
-                            fail(err, &mut healthy);
-                        }
-                    }
-                } else {
-                    shared.dropped.fetch_add(1, Ordering::Relaxed);
-                }
-            }
-            Err(RecvTimeoutError::Timeout) => {}
-            Err(RecvTimeoutError::Disconnected) => break,
+            Err(RecvTimeoutError::Timeout) => false,
+            Err(RecvTimeoutError::Disconnected) => true,
+        };
+        if disconnected {
+            break;
         }
         if Instant::now() >= deadline {
+            for batch in take_in_order(shared, &receiver) {
+                write_batch(&mut writer, batch, shared, &mut healthy);
+            }
             if healthy && writer.is_dirty() {
                 if let Err(err) = writer.flush() {
-                    fail(err, &mut healthy);
+                    fail(shared, &err, &mut healthy);
                 }
             }
             last_flush = Instant::now();
         }
     }
+    // Every sender is gone, so nothing can join the pending batch any more.
+    write_batch(&mut writer, shared.take_pending(), shared, &mut healthy);
     if healthy {
         sync_topics(&mut writer, shared)?;
     }
@@ -296,6 +389,50 @@ fn run_writer(
         // The first error is already in the stats; report it again as the outcome of finish().
         Err(BagError::Format(shared.stats().error.unwrap_or_else(|| "recording failed".to_string())))
     }
+}
+
+/// The batches already handed over, then the unfinished one. Callers hand batches over while holding the
+/// pending lock, so with the lock held every batch filled before the unfinished one is in the channel.
+fn take_in_order(shared: &Shared, receiver: &mpsc::Receiver<Batch>) -> Vec<Batch> {
+    let fresh = shared.empty_batch();
+    let mut pending = shared.pending();
+    let mut batches: Vec<Batch> = receiver.try_iter().collect();
+    batches.push(std::mem::replace(&mut pending.batch, fresh));
+    batches
+}
+
+fn write_batch(writer: &mut BagWriter, batch: Batch, shared: &Shared, healthy: &mut bool) {
+    if batch.is_empty() {
+        shared.recycle(batch);
+        return;
+    }
+    if !*healthy {
+        shared.drop_batch(batch);
+        return;
+    }
+    if let Err(err) = sync_topics(writer, shared) {
+        fail(shared, &err, healthy);
+        shared.drop_batch(batch);
+        return;
+    }
+    let (written, result) = writer.write_batch(&batch);
+    let written_bytes = if written == batch.len() { batch.payload_bytes() } else { batch.payload_bytes_of(written) };
+    shared.written.fetch_add(written as u64, Ordering::Relaxed);
+    shared.bytes.fetch_add(written_bytes, Ordering::Relaxed);
+    shared.dropped.fetch_add((batch.len() - written) as u64, Ordering::Relaxed);
+    shared.queued.fetch_sub(batch.len(), Ordering::AcqRel);
+    shared.recycle(batch);
+    if let Err(err) = result {
+        fail(shared, &err, healthy);
+    }
+}
+
+/// Records the first error, refuses new messages and drops what is waiting in the unfinished batch.
+fn fail(shared: &Shared, err: &BagError, healthy: &mut bool) {
+    tracing::error!("recording to {} failed: {err}", writer_dir_display(err));
+    shared.fail(err);
+    *healthy = false;
+    shared.drop_batch(shared.take_pending());
 }
 
 fn writer_dir_display(err: &BagError) -> String {

@@ -82,25 +82,42 @@ pub struct StepResult {
     pub verdict: String,
 }
 
-/// Recorder against `dd`.
+/// Recorder against `dd`: one message type and chunk compression, then `dd` of the same bytes.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct DiskResult {
+    /// ROS type recorded (`sweetspot_msgs/msg/Swing` or `…/ExitVelocity`).
+    pub message_type: String,
+    /// Mean CDR size of one message, bytes.
+    pub message_bytes: u64,
+    /// Chunk compression (`zstd:1`, `none`, …).
+    pub compression: String,
     /// Messages recorded.
     pub messages: u64,
     /// Message bytes recorded (CDR payloads, as the recorder counts them).
     pub payload_bytes: u64,
-    /// Bytes of the bag files on disk (zstd-compressed chunks).
+    /// Bytes of the bag files on disk (MCAP framing, indexes and summary included; compressed chunks).
     pub bag_bytes: u64,
     /// Recorder wall time including the final fsync, s.
     pub recorder_s: f64,
     /// Recorder throughput, MB/s (10^6 message bytes per second).
     pub recorder_mb_s: f64,
+    /// Bag bytes written per second, MB/s.
+    pub recorder_disk_mb_s: f64,
     /// Recorder messages per second.
     pub recorder_msgs_s: f64,
     /// `dd` throughput writing as many bytes as the messages (1 MiB blocks, fdatasync), MB/s.
     pub dd_mb_s: f64,
     /// recorder_mb_s / dd_mb_s.
     pub ratio: f64,
+}
+
+/// The message a recorder bench records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BenchMessage {
+    /// The node's input, 84 B of CDR: the worst case (most messages per byte).
+    Swing,
+    /// The node's main output, ~190 B of CDR (ids and ten doubles).
+    ExitVelocity,
 }
 
 /// Memory of the node process.
@@ -139,8 +156,8 @@ pub struct BenchReport {
     pub max_sustained_rate: u32,
     /// Memory.
     pub memory: MemoryResult,
-    /// Recorder against dd.
-    pub disk: DiskResult,
+    /// Recorder against dd: Swing and ExitVelocity, zstd and uncompressed.
+    pub disk: Vec<DiskResult>,
 }
 
 /// The rates of the latency comparison.
@@ -800,14 +817,7 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     let _ = std::fs::remove_dir_all(&bag_dir);
 
     // 5. Recorder against dd.
-    let disk = disk_bench(
-        &opts.work_dir,
-        if opts.quick { 1_000_000 } else { 5_000_000 },
-    )?;
-    log(&format!(
-        "recorder {:.1} MB/s ({:.0} msg/s) vs dd {:.1} MB/s",
-        disk.recorder_mb_s, disk.recorder_msgs_s, disk.dd_mb_s
-    ));
+    let disk = disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?;
 
     let mut machine = machine_before;
     machine.insert(
@@ -835,24 +845,49 @@ fn median(values: &[u64]) -> u64 {
     v.get(v.len() / 2).copied().unwrap_or(0)
 }
 
-/// Records `messages` Swing messages (as the node records them) with the bag recorder into `dir`, then writes
-/// the same number of bytes with `dd … conv=fdatasync` to the same directory.
-pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<DiskResult> {
-    use crate::bag::{RecorderConfig, TopicInfo};
-    let bag = dir.join(format!("recorder_bench_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&bag);
-    let mut config = RecorderConfig::new(&bag);
-    config.queue_capacity = 65_536;
-    let start = Instant::now();
-    let recorder = crate::bag::Recorder::start(config)?;
-    let topic = recorder.register_topic(TopicInfo::of::<Swing>(
-        "/swing",
-        crate::ros::recorded_qos(&crate::ros::swing_qos()),
-    ))?;
-    // Distinct, realistic payloads (random measured values), so zstd cannot shrink the bag to nothing.
+/// The recorder against `dd` for Swing and ExitVelocity messages, each with zstd and uncompressed chunks.
+pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<Vec<DiskResult>> {
+    use crate::bag::ChunkCompression;
+    disk_bench_with(dir, messages, &[ChunkCompression::default(), ChunkCompression::None])
+}
+
+/// [`disk_bench`] with the given chunk compressions.
+pub fn disk_bench_with(
+    dir: &Path,
+    messages: u64,
+    compressions: &[crate::bag::ChunkCompression],
+) -> anyhow::Result<Vec<DiskResult>> {
+    use crate::bag::StorageOptions;
+    let mut results = Vec::new();
+    for message in [BenchMessage::Swing, BenchMessage::ExitVelocity] {
+        for &compression in compressions {
+            let storage = StorageOptions { compression, ..StorageOptions::default() };
+            let r = disk_bench_one(dir, message, messages, storage)?;
+            log(&format!(
+                "recorder {} {}: {:.1} MB/s of messages ({:.0} msg/s, {:.1} MB/s on disk) vs dd {:.1} MB/s: {:.0} %",
+                r.message_type,
+                r.compression,
+                r.recorder_mb_s,
+                r.recorder_msgs_s,
+                r.recorder_disk_mb_s,
+                r.dd_mb_s,
+                r.ratio * 100.0
+            ));
+            results.push(r);
+        }
+    }
+    Ok(results)
+}
+
+/// Distinct CDR payloads of `message` with random measured values. 65,536 of them (5–10 MB), more than
+/// any zstd window of the levels used, so the compressor sees no exact repeats, as with real swings.
+const BENCH_PAYLOADS: u64 = 65_536;
+
+/// [`BENCH_PAYLOADS`] payloads of `message`.
+fn bench_payloads(message: BenchMessage) -> Vec<Vec<u8>> {
     use rand::{Rng, SeedableRng};
     let mut rng = rand::rngs::StdRng::seed_from_u64(7);
-    let payloads: Vec<Vec<u8>> = (0..4096u64)
+    (0..BENCH_PAYLOADS)
         .map(|i| {
             let swing = Swing {
                 ball_speed: rng.gen_range(30.0..45.0),
@@ -862,17 +897,72 @@ pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<DiskResult> {
                 measured_exit_speed: rng.gen_range(30.0..50.0),
                 ..bench_swing(i)
             };
-            crate::msgs::encode_cdr(&swing).unwrap_or_default()
+            let encoded = match message {
+                BenchMessage::Swing => crate::msgs::encode_cdr(&swing),
+                BenchMessage::ExitVelocity => {
+                    let exit_speed = rng.gen_range(35.0..50.0);
+                    let ev = ExitVelocity {
+                        header: swing.header.clone(),
+                        swing_id: swing.swing_id,
+                        bat_id: "r161".into(),
+                        ball_id: "baseball".into(),
+                        status: ExitVelocity::STATUS_OK,
+                        impact_z: swing.impact_z,
+                        exit_speed,
+                        rigid_exit_speed: exit_speed * rng.gen_range(1.0..1.1),
+                        effective_cor: rng.gen_range(0.3..0.5),
+                        collision_efficiency: rng.gen_range(0.1..0.3),
+                        contact_time: rng.gen_range(0.0006..0.0012),
+                        peak_force: rng.gen_range(1.0e4..3.0e4),
+                        impulse: rng.gen_range(10.0..15.0),
+                        max_compression: rng.gen_range(0.005..0.02),
+                        measured_exit_speed: swing.measured_exit_speed,
+                        residual: swing.measured_exit_speed - exit_speed,
+                        ..ExitVelocity::default()
+                    };
+                    crate::msgs::encode_cdr(&ev)
+                }
+            };
+            encoded.unwrap_or_default()
         })
-        .collect();
+        .collect()
+}
+
+/// Records `messages` messages (as the node records them) with the bag recorder into `dir`, then writes the
+/// same number of bytes with `dd … conv=fdatasync` to the same directory.
+pub fn disk_bench_one(
+    dir: &Path,
+    message: BenchMessage,
+    messages: u64,
+    storage: crate::bag::StorageOptions,
+) -> anyhow::Result<DiskResult> {
+    use crate::bag::{RecorderConfig, TopicInfo};
+    use crate::msgs::RosMessage;
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let bag = dir.join(format!("recorder_bench_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&bag);
+    let payloads = bench_payloads(message);
+    let qos = crate::ros::recorded_qos(&crate::ros::swing_qos());
+    let (message_type, topic_info) = match message {
+        BenchMessage::Swing => (<Swing as RosMessage>::TYPE_NAME, TopicInfo::of::<Swing>("/swing", qos)),
+        BenchMessage::ExitVelocity => {
+            (<ExitVelocity as RosMessage>::TYPE_NAME, TopicInfo::of::<ExitVelocity>("/exit_velocity", qos))
+        }
+    };
+    let mut config = RecorderConfig::new(&bag);
+    config.queue_capacity = 65_536;
     let t0 = crate::node::convert::now_ns();
+    let start = Instant::now();
+    let recorder = crate::bag::Recorder::start_with(config, storage)?;
+    let topic = recorder.register_topic(topic_info)?;
     for i in 0..messages {
-        let cdr = &payloads[(i % 4096) as usize];
+        let cdr = &payloads[(i % BENCH_PAYLOADS) as usize];
         let stamp = t0 + i * 1000;
-        // The recorder never blocks its caller (a full queue is a counted drop); to measure its throughput,
-        // retry until its writer thread has made room.
-        while !recorder.record(topic, cdr.clone(), stamp, stamp) {
-            std::thread::yield_now();
+        // The recorder never waits for its writer (a full queue is a counted drop); to measure its
+        // throughput, retry until the writer thread has made room. Sleeping rather than spinning leaves
+        // the writer the core while it catches up (this machine has two).
+        while !recorder.record_bytes(topic, cdr, stamp, stamp) {
+            std::thread::sleep(Duration::from_micros(50));
         }
     }
     let stats = recorder.finish()?;
@@ -901,11 +991,15 @@ pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<DiskResult> {
     let recorder_mb_s = stats.bytes as f64 / 1e6 / recorder_s;
     let dd_mb_s = (mib << 20) as f64 / 1e6 / dd_s;
     Ok(DiskResult {
+        message_type: message_type.to_string(),
+        message_bytes: payloads.iter().map(|p| p.len() as u64).sum::<u64>() / payloads.len().max(1) as u64,
+        compression: storage.compression.to_string(),
         messages: stats.written,
         payload_bytes: stats.bytes,
         bag_bytes,
         recorder_s,
         recorder_mb_s,
+        recorder_disk_mb_s: bag_bytes as f64 / 1e6 / recorder_s,
         recorder_msgs_s: stats.written as f64 / recorder_s,
         dd_mb_s,
         ratio: recorder_mb_s / dd_mb_s,
@@ -995,8 +1089,10 @@ pub fn table(r: &BenchReport) -> String {
     }
     let mm = &r.memory;
     let _ = writeln!(s, "\nnode memory: peak RSS (VmHWM) after 10000/s: {:.1} MB; soak {}/s × {:.0} s: RSS first quarter {:.1} MB, last quarter {:.1} MB, {} answers lost", mm.peak_rss_kb_at_10k as f64 / 1024.0, mm.soak_rate, mm.soak_s, mm.soak_first_quarter_kb as f64 / 1024.0, mm.soak_last_quarter_kb as f64 / 1024.0, mm.soak_lost);
-    let d = &r.disk;
-    let _ = writeln!(s, "\nrecorder: {} Swing messages, {:.1} MB of messages ({:.1} MB on disk, zstd) in {:.2} s incl. fsync = {:.1} MB/s, {:.0} msg/s; dd (1 MiB blocks, fdatasync) {:.1} MB/s; ratio {:.0} % (target ≥ 80 %)", d.messages, d.payload_bytes as f64 / 1e6, d.bag_bytes as f64 / 1e6, d.recorder_s, d.recorder_mb_s, d.recorder_msgs_s, d.dd_mb_s, d.ratio * 100.0);
+    let _ = writeln!(s, "\nrecorder against dd (1 MiB blocks, fdatasync, same bytes as the messages), target ≥ 80 %:");
+    for d in &r.disk {
+        let _ = writeln!(s, "  {} ({} B) {}: {} messages, {:.1} MB of messages ({:.1} MB on disk) in {:.2} s incl. fsync = {:.1} MB/s, {:.0} msg/s; dd {:.1} MB/s; ratio {:.0} %", d.message_type, d.message_bytes, d.compression, d.messages, d.payload_bytes as f64 / 1e6, d.bag_bytes as f64 / 1e6, d.recorder_s, d.recorder_mb_s, d.recorder_msgs_s, d.dd_mb_s, d.ratio * 100.0);
+    }
     s
 }
 
