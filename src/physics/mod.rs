@@ -102,6 +102,7 @@ pub mod bat;
 pub mod collision;
 pub mod error;
 pub mod metrics;
+mod lanes;
 pub mod modes;
 pub mod rigid;
 
