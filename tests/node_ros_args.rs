@@ -275,10 +275,19 @@ fn sigterm_ends_the_node_with_a_finished_bag_of_every_input_and_output() {
     let energies = peer.subscription::<ModalEnergies>("/modal_energies", keep_all(dds::results()));
     let spots = peer.subscription::<SweetSpot>("/sweet_spot", keep_all(dds::latched_results()));
     // A non-default mode count: the replay below only matches if the bag tells it the node's settings.
+    // lz4 chunks instead of the default zstd: the bag must still read back complete, byte for byte.
     let node = NodeProcess::spawn(
         domain,
         dir.path(),
-        &["--ros-args", "-p", &format!("record_path:={}", bag.display()), "-p", "default_modes:=12"],
+        &[
+            "--ros-args",
+            "-p",
+            &format!("record_path:={}", bag.display()),
+            "-p",
+            "default_modes:=12",
+            "-p",
+            "record_compression:=lz4",
+        ],
     );
     ball_pub
         .publish(BallParams {
@@ -309,6 +318,7 @@ fn sigterm_ends_the_node_with_a_finished_bag_of_every_input_and_output() {
 
     let info = sweetspot::bag::info::bag_info(&bag).expect("the bag opens");
     assert!(info.complete(), "every file has its summary and footer");
+    assert_eq!(info.compression, vec!["lz4".to_string()], "record_compression chose the chunk compression");
     assert!(bag.join("metadata.yaml").exists());
     assert_eq!(count(&info, "/swing"), N);
     assert_eq!(count(&info, "/exit_velocity"), N);

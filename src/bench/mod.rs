@@ -740,7 +740,8 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
             if r.p99_us > 100_000 {
                 why.push(format!("lag: p99 {} ms", r.p99_us / 1000));
             }
-            if !(r.drain_ms < 500.0) {
+            // NaN (no answer at all) counts as a backlog too.
+            if r.drain_ms.is_nan() || r.drain_ms >= 500.0 {
                 why.push(format!(
                     "backlog: last answer {:.0} ms after the last swing",
                     r.drain_ms

@@ -180,8 +180,11 @@ pub fn topic_info<M: RosMessage>(name: &str, qos: RecordedQos) -> TopicInfo {
 }
 
 /// Starts the bag's recorder (its writer thread) for `config`.
-pub fn start_backend(config: crate::bag::RecorderConfig) -> Result<Box<dyn RecordBackend>, BagError> {
-    Ok(Box::new(crate::bag::Recorder::start(config)?))
+pub fn start_backend(
+    config: crate::bag::RecorderConfig,
+    storage: crate::bag::StorageOptions,
+) -> Result<Box<dyn RecordBackend>, BagError> {
+    Ok(Box::new(crate::bag::Recorder::start_with(config, storage)?))
 }
 
 impl RecordBackend for crate::bag::Recorder {

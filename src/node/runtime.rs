@@ -642,7 +642,12 @@ fn start_tape(
         topic_info::<ModalEnergies>(&topic_names[topics::MODAL_ENERGIES], recorded_qos(&results_qos())),
         topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&latched_results_qos())),
     ];
-    match super::recording::start_backend(config) {
+    // Checked when the parameter was set; zstd if it somehow is not a compression.
+    let storage = crate::bag::StorageOptions {
+        compression: settings.record_compression.parse().unwrap_or_default(),
+        ..Default::default()
+    };
+    match super::recording::start_backend(config, storage) {
         Ok(backend) => Tape::start(dir, backend, topics),
         Err(e) => {
             log.error(&format!("recording to {} failed: {e}; the node keeps computing and publishing", dir.display()));

@@ -17,6 +17,7 @@ pub const READ_ONLY: &[&str] = &[
     "record_path",
     "record_max_file_size",
     "record_max_file_duration",
+    "record_compression",
     "diagnostics_period",
 ];
 
@@ -57,6 +58,12 @@ pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
     ("record_path", "", "rosbag2 directory to create; empty = bags/<node>_<UTC time>"),
     ("record_max_file_size", "bytes", "split the bag after this many bytes; 0 = never"),
     ("record_max_file_duration", "s", "split the bag after this much time; 0 = never"),
+    (
+        "record_compression",
+        "",
+        "chunk compression of the bag, as rosbag2's --compression-format: zstd (level 1), zstd:LEVEL (-7..=-1 fast, \
+         1..=22), lz4 or none",
+    ),
     ("diagnostics_period", "s", "period of /diagnostics (0.1..=60)"),
 ];
 
@@ -93,6 +100,8 @@ pub struct NodeSettings {
     pub record_max_file_size: u64,
     /// Split duration, s; 0 = never.
     pub record_max_file_duration: f64,
+    /// Chunk compression: `zstd`, `zstd:LEVEL`, `lz4` or `none` (checked by [`crate::bag::ChunkCompression`]).
+    pub record_compression: String,
     /// Diagnostics period, s.
     pub diagnostics_period: f64,
 }
@@ -121,6 +130,7 @@ impl Default for NodeSettings {
             record_path: String::new(),
             record_max_file_size: 0,
             record_max_file_duration: 0.0,
+            record_compression: "zstd".to_string(),
             diagnostics_period: 1.0,
         }
     }
@@ -157,6 +167,7 @@ impl NodeSettings {
             ("record_path", String(self.record_path.clone())),
             ("record_max_file_size", Integer(self.record_max_file_size as i64)),
             ("record_max_file_duration", Double(self.record_max_file_duration)),
+            ("record_compression", String(self.record_compression.clone())),
             ("diagnostics_period", Double(self.diagnostics_period)),
         ]
     }
@@ -271,12 +282,19 @@ impl NodeSettings {
                 self.record_max_file_duration = *x;
                 Ok(SettingEffect::None)
             }
+            ("record_compression", V::String(s)) => {
+                if let Err(err) = s.parse::<crate::bag::ChunkCompression>() {
+                    return Err(format!("record_compression = {s:?} is not a compression: {err}"));
+                }
+                self.record_compression = s.clone();
+                Ok(SettingEffect::None)
+            }
             ("diagnostics_period", V::Double(x)) => {
                 range(x.is_finite() && (0.1..=60.0).contains(x), "0.1 ≤ diagnostics_period ≤ 60 s")?;
                 self.diagnostics_period = *x;
                 Ok(SettingEffect::None)
             }
-            ("default_bat" | "record_path", _) => wrong_type("a string"),
+            ("default_bat" | "record_path" | "record_compression", _) => wrong_type("a string"),
             (
                 "default_modes" | "max_bats" | "max_balls" | "max_bat_slices" | "queue_capacity" | "workers"
                 | "record_max_file_size",
@@ -334,6 +352,22 @@ fn show(value: &ParameterValue) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn record_compression_takes_the_rosbag2_style_names_and_refuses_others() {
+        let mut s = NodeSettings::default();
+        assert_eq!(s.record_compression, "zstd");
+        for ok in ["zstd", "zstd:9", "zstd:-3", "lz4", "none"] {
+            assert!(s.apply("record_compression", &ParameterValue::String(ok.into())).is_ok(), "{ok}");
+            assert_eq!(s.record_compression, ok);
+        }
+        for bad in ["gzip", "zstd:0", "zstd:23", ""] {
+            let err = s.apply("record_compression", &ParameterValue::String(bad.into())).unwrap_err();
+            assert!(err.contains("record_compression") && err.contains("lz4 or none"), "{bad}: {err}");
+        }
+        assert_eq!(s.record_compression, "none", "a refused value leaves the last good one");
+        assert!(READ_ONLY.contains(&"record_compression"), "a bag keeps one compression");
+    }
 
     #[test]
     fn every_declared_parameter_is_described_and_accepts_its_default() {
