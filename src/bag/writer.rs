@@ -9,6 +9,8 @@
 //! records written are the ones `mcap::Writer` writes (same layout, summary, indexes and CRCs); the `mcap`
 //! crate (all CRCs checked), the Python `mcap` reader and `rosbags` read the files back in the tests.
 
+use mcap::records::op;
+use mcap::MAGIC;
 use std::collections::{BTreeMap, VecDeque};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -26,20 +28,6 @@ pub const CHUNK_SIZE: u64 = 1024 * 1024;
 /// Compression threads used by default: the cores, up to this many.
 pub const MAX_COMPRESSION_THREADS: usize = 4;
 
-const MAGIC: &[u8] = &[0x89, b'M', b'C', b'A', b'P', 0x30, b'\r', b'\n'];
-const OP_HEADER: u8 = 0x01;
-const OP_FOOTER: u8 = 0x02;
-const OP_SCHEMA: u8 = 0x03;
-const OP_CHANNEL: u8 = 0x04;
-const OP_MESSAGE: u8 = 0x05;
-const OP_CHUNK: u8 = 0x06;
-const OP_MESSAGE_INDEX: u8 = 0x07;
-const OP_CHUNK_INDEX: u8 = 0x08;
-const OP_STATISTICS: u8 = 0x0B;
-const OP_METADATA: u8 = 0x0C;
-const OP_METADATA_INDEX: u8 = 0x0D;
-const OP_SUMMARY_OFFSET: u8 = 0x0E;
-const OP_DATA_END: u8 = 0x0F;
 /// Opcode, record length, channel id, sequence, log time, publish time.
 const MESSAGE_RECORD_OVERHEAD: usize = 1 + 8 + 2 + 4 + 8 + 8;
 
@@ -70,7 +58,7 @@ impl Batch {
         let start = self.records.len();
         let record_len = (MESSAGE_RECORD_OVERHEAD - 9 + data.len()) as u64;
         let mut head = [0u8; MESSAGE_RECORD_OVERHEAD];
-        head[0] = OP_MESSAGE;
+        head[0] = op::MESSAGE;
         head[1..9].copy_from_slice(&record_len.to_le_bytes());
         head[9..11].copy_from_slice(&channel_id(topic.0).to_le_bytes());
         head[11..15].copy_from_slice(&sequence.to_le_bytes());
@@ -675,7 +663,7 @@ fn write_chunk(
         move |source| BagError::Io { path, source }
     };
     let mut head = Vec::with_capacity(64);
-    head.push(OP_CHUNK);
+    head.push(op::CHUNK);
     put_u64(&mut head, 0); // record length, set below
     put_u64(&mut head, start_ns);
     put_u64(&mut head, end_ns);
@@ -702,7 +690,7 @@ fn write_chunk(
             put_u64(&mut body, offset);
         }
         message_index_offsets.push((channel, file.position));
-        file.put_record(OP_MESSAGE_INDEX, &body).map_err(io(&file.path))?;
+        file.put_record(op::MESSAGE_INDEX, &body).map_err(io(&file.path))?;
     }
     file.chunk_indexes.push(ChunkIndexEntry {
         start_ns,
@@ -771,7 +759,7 @@ fn start_file(file: &mut OpenFile) -> std::io::Result<()> {
     let mut body = Vec::new();
     put_str(&mut body, "ros2");
     put_str(&mut body, LIBRARY);
-    file.put_record(OP_HEADER, &body)
+    file.put_record(op::HEADER, &body)
 }
 
 fn schema_body(id: u16, topic: &TopicInfo) -> Vec<u8> {
@@ -813,11 +801,11 @@ fn declare_topics(file: &mut OpenFile, topics: &[TopicInfo]) -> Result<(), BagEr
             None => {
                 file.schemas.push(index);
                 let id = file.schemas.len() as u16;
-                file.put_record(OP_SCHEMA, &schema_body(id, topic)).map_err(io_err(&file.path.clone()))?;
+                file.put_record(op::SCHEMA, &schema_body(id, topic)).map_err(io_err(&file.path.clone()))?;
                 id
             }
         };
-        file.put_record(OP_CHANNEL, &channel_body(channel_id(index as u16), schema_id, topic))
+        file.put_record(op::CHANNEL, &channel_body(channel_id(index as u16), schema_id, topic))
             .map_err(io_err(&file.path.clone()))?;
         file.schema_of.push(schema_id);
         file.chunk_index.push(Vec::new());
@@ -833,13 +821,13 @@ fn finish_file(file: &mut OpenFile, topics: &[TopicInfo], rosbag2: &BTreeMap<Str
     put_str(&mut body, "rosbag2");
     put_map(&mut body, rosbag2);
     let metadata_start = file.position;
-    file.put_record(OP_METADATA, &body)?;
+    file.put_record(op::METADATA, &body)?;
     file.metadata_indexes.push((metadata_start, file.position - metadata_start, "rosbag2".to_string()));
 
     let data_section_crc = file.data_crc.clone().finalize();
     body.clear();
     put_u32(&mut body, data_section_crc);
-    file.put_record(OP_DATA_END, &body)?;
+    file.put_record(op::DATA_END, &body)?;
 
     // From here on the CRC is the summary CRC.
     let summary_start = file.position;
@@ -858,9 +846,9 @@ fn finish_file(file: &mut OpenFile, topics: &[TopicInfo], rosbag2: &BTreeMap<Str
     };
     let declared = file.schema_of.len().min(topics.len());
     let schemas = file.schemas.iter().enumerate().map(|(i, &first)| schema_body(i as u16 + 1, &topics[first])).collect();
-    group(file, OP_SCHEMA, schemas)?;
+    group(file, op::SCHEMA, schemas)?;
     let channels = (0..declared).map(|t| channel_body(channel_id(t as u16), file.schema_of[t], &topics[t])).collect();
-    group(file, OP_CHANNEL, channels)?;
+    group(file, op::CHANNEL, channels)?;
 
     let mut stats = Vec::new();
     put_u64(&mut stats, file.channel_counts.iter().sum());
@@ -879,7 +867,7 @@ fn finish_file(file: &mut OpenFile, topics: &[TopicInfo], rosbag2: &BTreeMap<Str
     }
     put_u32(&mut stats, counts.len() as u32);
     stats.extend_from_slice(&counts);
-    group(file, OP_STATISTICS, vec![stats])?;
+    group(file, op::STATISTICS, vec![stats])?;
 
     let chunk_indexes = file
         .chunk_indexes
@@ -902,7 +890,7 @@ fn finish_file(file: &mut OpenFile, topics: &[TopicInfo], rosbag2: &BTreeMap<Str
             body
         })
         .collect();
-    group(file, OP_CHUNK_INDEX, chunk_indexes)?;
+    group(file, op::CHUNK_INDEX, chunk_indexes)?;
     let metadata_indexes = file
         .metadata_indexes
         .iter()
@@ -914,7 +902,7 @@ fn finish_file(file: &mut OpenFile, topics: &[TopicInfo], rosbag2: &BTreeMap<Str
             body
         })
         .collect();
-    group(file, OP_METADATA_INDEX, metadata_indexes)?;
+    group(file, op::METADATA_INDEX, metadata_indexes)?;
 
     let summary_offset_start = file.position;
     for (op, start, length) in groups {
@@ -922,10 +910,10 @@ fn finish_file(file: &mut OpenFile, topics: &[TopicInfo], rosbag2: &BTreeMap<Str
         body.push(op);
         put_u64(&mut body, start);
         put_u64(&mut body, length);
-        file.put_record(OP_SUMMARY_OFFSET, &body)?;
+        file.put_record(op::SUMMARY_OFFSET, &body)?;
     }
     // The summary CRC covers the footer up to (not including) the CRC field itself.
-    let mut footer = vec![OP_FOOTER];
+    let mut footer = vec![op::FOOTER];
     put_u64(&mut footer, 20);
     put_u64(&mut footer, summary_start);
     put_u64(&mut footer, summary_offset_start);
