@@ -90,4 +90,20 @@ impl Ball {
     pub fn unloading_stiffness(&self, max_compression: f64) -> f64 {
         self.stiffness * max_compression.powf(self.exponent - self.unloading_exponent())
     }
+
+    /// Energy dissipated by a contact whose largest compression was `max_compression` (m) and which ends at
+    /// u = 0, J: the loading work k1·u_m^(α+1)/(α+1) less the unloading work k2·u_m^(β+1)/(β+1), i.e.
+    /// (1 − e0²) of the loading work.
+    ///
+    /// It depends on u_m only, whatever the path: below u_m the ball follows the unloading curve, which is
+    /// elastic (F du is exact there), so an intermediate unloading and reloading returns what it took, and
+    /// loading beyond an earlier peak moves along the one loading curve.
+    pub fn hysteresis_loss(&self, max_compression: f64) -> f64 {
+        if !(max_compression > 0.0) {
+            return 0.0;
+        }
+        let alpha = self.exponent;
+        let loading_work = self.stiffness * max_compression.powf(alpha + 1.0) / (alpha + 1.0);
+        loading_work * (1.0 - self.cor * self.cor)
+    }
 }

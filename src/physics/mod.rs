@@ -58,9 +58,12 @@
 //!
 //! # Energy budget
 //! E = ½ m ṡ² + Σ_n ½ (q̇_n² + ω_n² q_n²) + W, with Ẇ = F u̇, is an exact invariant of these equations; at
-//! separation (u = 0) W is the energy the ball's hysteresis dissipated. We integrate W with the same RK4 steps
-//! and report `initial − (ball + bat rigid + vibration + W)` as the residual, a direct measure of the
-//! integration error. Energy in vibrational mode n after separation: ½ (q̇_n² + ω_n² q_n²).
+//! separation (u = 0) W is the energy the ball's hysteresis dissipated. W needs no integration: below the
+//! peak compression u_m the ball follows the unloading curve, which is elastic, so W = ∮F du depends on u_m
+//! only, W = (1 − e0²)·k1 u_m^(α+1)/(α+1) ([`Ball::hysteresis_loss`]; a compression that peaks twice gives the
+//! same with the higher peak). We report `initial − (ball + bat rigid + vibration + W)` as the residual: the
+//! energy error of the RK4 integration itself. Energy in vibrational mode n after separation:
+//! ½ (q̇_n² + ω_n² q_n²).
 //!
 //! # Closed forms (Nathan eqs. 24–27)
 //! R0 = m/M·(1 + ((z_k − z_cm)/r_γ)²), v_f = (e − R0)/(1 + R0)·v_ball + (1 + e)/(1 + R0)·v_bat with
