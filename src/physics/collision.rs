@@ -575,9 +575,19 @@ impl Work {
         (q[l], p[l])
     }
 
-    /// ω² of mode `k`, 1/s².
-    fn omega_squared(&self, k: usize) -> f64 {
-        self.modes[k / LANES].w2[k % LANES]
+    /// Modal amplitude, velocity and ω² of every mode, in mode order (the padding of the last group left out).
+    fn mode_states(&self, count: usize) -> Vec<(f64, f64, f64)> {
+        let pending = self.pending[self.current];
+        let mut states = Vec::with_capacity(count);
+        for (m, x) in self.modes.iter().zip(&self.state[self.current]) {
+            let (mut q, mut p) = ([0.0; LANES], [0.0; LANES]);
+            let (q_full, p_full) = with_pending::<Portable>(m, x, pending);
+            q_full.store(&mut q);
+            p_full.store(&mut p);
+            states.extend((0..LANES).map(|l| (q[l], p[l], m.w2[l])));
+        }
+        states.truncate(count);
+        states
     }
 
     /// Compression and its rate for the current modal state and ball state `sc`.
@@ -905,16 +915,15 @@ pub fn collide(
     }
 
     let exit_speed = sc.v;
-    let (_, p_translation) = work.mode_state(0);
-    let (_, p_rotation) = work.mode_state(1);
+    let states = work.mode_states(nm);
+    let (p_translation, p_rotation) = (states[0].1, states[1].1);
     let bat_rigid = 0.5 * (p_translation * p_translation + p_rotation * p_rotation);
-    let mode_energies: Vec<ModeEnergy> = (2..nm)
-        .map(|k| {
-            let (q, p) = work.mode_state(k);
-            ModeEnergy {
-                frequency: all[k].angular_frequency / std::f64::consts::TAU,
-                energy: 0.5 * (p * p + work.omega_squared(k) * q * q),
-            }
+    let mode_energies: Vec<ModeEnergy> = states[2..]
+        .iter()
+        .zip(&all[2..])
+        .map(|(&(q, p, w2), mode)| ModeEnergy {
+            frequency: mode.angular_frequency / std::f64::consts::TAU,
+            energy: 0.5 * (p * p + w2 * q * q),
         })
         .collect();
     let vibration: f64 = mode_energies.iter().map(|m| m.energy).sum();
