@@ -237,6 +237,14 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains("11 swings: 11 match, 0 differ (bit-exact)"), "{text}");
+    // The report names the limits it applied, in text and JSON.
+    assert!(text.contains("default_modes 6, time_step 0.000005 s, max_bats 3, max_balls 2, max_bat_slices 300"), "{text}");
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay", "--json"]).arg(&bag).output().unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        json["settings"],
+        serde_json::json!({"default_bat": "r161", "default_modes": 6, "time_step": 5e-6, "max_bats": 3, "max_balls": 2, "max_bat_slices": 300})
+    );
 
     // Without the limits, exactly the swings they decided come out differently.
     let unlimited = NodeSettings { default_modes: 6, ..NodeSettings::default() };

@@ -109,8 +109,26 @@ pub struct ReplayReport {
     pub what_if: bool,
     /// The sweetspot version that wrote the bag (from the MCAP library string), if known.
     pub recorded_by: String,
-    /// Settings used: (default_bat, default_modes, time_step).
-    pub settings: (String, usize, f64),
+    /// The node settings the replay used (those that shape results).
+    pub settings: ReplaySettings,
+}
+
+/// The node settings that shape a replay's results: what the recording node ran with (from the bag's
+/// `custom_data`), with any overrides applied.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ReplaySettings {
+    /// Bat used when a swing names none.
+    pub default_bat: String,
+    /// Vibrational modes integrated.
+    pub default_modes: usize,
+    /// RK4 time step, s.
+    pub time_step: f64,
+    /// Solved bats kept (least recently used first out).
+    pub max_bats: usize,
+    /// Balls kept.
+    pub max_balls: usize,
+    /// Largest bat accepted, in slices.
+    pub max_bat_slices: usize,
 }
 
 impl ReplayReport {
@@ -339,6 +357,13 @@ pub fn replay(
         tolerance,
         what_if: what_if.any(),
         recorded_by: library_of(path),
-        settings: (settings.default_bat.clone(), settings.default_modes, settings.time_step),
+        settings: ReplaySettings {
+            default_bat: settings.default_bat.clone(),
+            default_modes: settings.default_modes,
+            time_step: settings.time_step,
+            max_bats: settings.max_bats,
+            max_balls: settings.max_balls,
+            max_bat_slices: settings.max_bat_slices,
+        },
     })
 }

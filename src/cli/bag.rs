@@ -273,12 +273,16 @@ fn replay(
             );
         }
         let tol = if report.tolerance == 0.0 { "bit-exact".to_string() } else { format!("relative tolerance {}", report.tolerance) };
+        let s = &report.settings;
         println!(
-            "{} swings: {matched} match, {differ} differ ({tol}), {unrecorded} without recorded output. Settings: default_bat {}, default_modes {}, time_step {} s. Bag written by: {}",
+            "{} swings: {matched} match, {differ} differ ({tol}), {unrecorded} without recorded output. Settings: default_bat {}, default_modes {}, time_step {} s, max_bats {}, max_balls {}, max_bat_slices {}. Bag written by: {}",
             report.rows.len(),
-            report.settings.0,
-            report.settings.1,
-            report.settings.2,
+            s.default_bat,
+            s.default_modes,
+            s.time_step,
+            s.max_bats,
+            s.max_balls,
+            s.max_bat_slices,
             report.recorded_by
         );
     }
