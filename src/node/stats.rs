@@ -130,6 +130,11 @@ impl NodeStats {
         }
     }
 
+    /// How many latencies have been recorded (one per delivered swing).
+    pub fn latency_count(&self) -> u64 {
+        self.latency_us.lock().map(|h| h.len()).unwrap_or(0)
+    }
+
     /// A copy of every counter; `in_flight` is supplied by the pipeline.
     pub fn snapshot(&self, in_flight: u64) -> StatsSnapshot {
         let load = |c: &AtomicU64| c.load(Ordering::Relaxed);
