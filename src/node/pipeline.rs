@@ -146,6 +146,7 @@ impl<T: Send + 'static> Pipeline<T> {
         };
         debug_assert_eq!(delivery.next, seq, "nothing was in flight, so this swing is the next one owed");
         deliver_next(&mut delivery, &outcome, &self.in_flight, &self.stats);
+        NodeStats::bump(&self.stats.swings_answered_inline);
         Ok(seq)
     }
 
@@ -421,6 +422,7 @@ mod tests {
         let snap = stats.snapshot(0);
         assert_eq!((snap.swings_rejected, snap.swings_ok, snap.publish_failures), (3_000, 0, 0));
         assert_eq!(stats.latency_count(), 3_000, "one latency per swing, whichever path answered it");
+        assert_eq!(snap.swings_answered_inline, inline);
     }
 
     #[test]
@@ -442,6 +444,7 @@ mod tests {
         p.shutdown(Duration::from_secs(30));
         assert_eq!(*out.lock().unwrap(), vec![0, 1, 2, 3]);
         assert_eq!(stats.snapshot(0).swings_rejected, 4);
+        assert_eq!(stats.snapshot(0).swings_answered_inline, 1);
         assert_eq!(stats.latency_count(), 4);
     }
 

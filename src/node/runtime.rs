@@ -151,6 +151,7 @@ struct DdsSink {
     /// Whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
     energies_listened: Arc<AtomicBool>,
     tape: Arc<Tape>,
+    stats: Arc<NodeStats>,
 }
 
 impl ResultSink<Swing> for DdsSink {
@@ -165,7 +166,11 @@ impl ResultSink<Swing> for DdsSink {
             // loop thread even with no reader, which costs every answer latency for nothing.
             self.tape.record(Recorded::ModalEnergies, &me, convert::now_ns(), stamp_ns);
             if self.energies_listened.load(Ordering::Relaxed) {
-                delivered &= self.modal_energies.publish(me).is_ok();
+                let published = self.modal_energies.publish(me).is_ok();
+                if published {
+                    NodeStats::bump(&self.stats.modal_energies_published);
+                }
+                delivered &= published;
             }
         }
         // ExitVelocity last, so a listener that has the answer also has its energies.
@@ -309,6 +314,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
             modal_energies: Arc::clone(&me_pub),
             energies_listened: Arc::clone(&energies_listeners.flag),
             tape: Arc::clone(&tape),
+            stats: Arc::clone(&stats),
         },
     )
     .context("starting the worker threads")?;
