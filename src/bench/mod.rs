@@ -46,6 +46,10 @@ pub struct BenchOptions {
     /// More nodes for [`run_latency_interleaved`], as (label, executable): e.g. the build before a change,
     /// measured in the same interleaved blocks as this one and the raw echo.
     pub compare: Vec<(String, PathBuf)>,
+    /// Executable started as the node by [`run`] (default `exe`), e.g. an older build to compare with.
+    pub node_exe: Option<PathBuf>,
+    /// [`run`] measures only the sustained-rate search (no latency comparison, soak or recorder bench).
+    pub sustained_only: bool,
 }
 
 /// Latency figures of one paced run, µs.
@@ -658,8 +662,9 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     raw_client
         .warm_up(Duration::from_secs(30))
         .with_context(|| format!("raw echo: {}", echo.log()))?;
+    let latency_rates: &[u32] = if opts.sustained_only { &[] } else { &LATENCY_RATES };
     let mut raw = Vec::new();
-    for rate in LATENCY_RATES {
+    for &rate in latency_rates {
         let r = raw_client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
         log(&format!(
             "raw  {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
@@ -684,14 +689,16 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         "-p".into(),
         "diagnostics_period:=0.5".into(),
     ];
-    let node = ChildProc::spawn(&opts.exe, &node_args, opts.domain, &opts.work_dir)?;
+    let node_exe = opts.node_exe.as_deref().unwrap_or(&opts.exe);
+    log(&format!("node executable: {}", node_exe.display()));
+    let node = ChildProc::spawn(node_exe, &node_args, opts.domain, &opts.work_dir)?;
     let mut client = Client::new(opts.domain)?;
     client
         .warm_up(Duration::from_secs(60))
         .with_context(|| format!("node: {}", node.log()))?;
     let mut node_runs = Vec::new();
     let mut memory = MemoryResult::default();
-    for rate in LATENCY_RATES {
+    for &rate in latency_rates {
         let r = client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
         log(&format!(
             "node {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
@@ -787,6 +794,23 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         if max_sustained != rate {
             break;
         }
+    }
+
+    if opts.sustained_only {
+        log(&format!("swings answered inline by the node: {}", client.diagnostic("swings_answered_inline")));
+        drop(client);
+        drop(node.terminate());
+        let _ = std::fs::remove_dir_all(&bag_dir);
+        return Ok(BenchReport {
+            machine: machine_before,
+            raw,
+            node: node_runs,
+            p99_ratio,
+            steps,
+            max_sustained_rate: max_sustained,
+            memory,
+            disk: Vec::new(),
+        });
     }
 
     // 4. Soak: RSS once a second.
@@ -962,6 +986,13 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
             ));
             merged[k].push(t);
         }
+        for server in &servers[1..] {
+            log(&format!(
+                "{:>6}: {} swings answered inline so far (diagnostics; 0 for builds without the inline path)",
+                server.label,
+                server.client.diagnostic("swings_answered_inline")
+            ));
+        }
     }
     let raw = merged[0].clone();
     let targets = servers
@@ -979,7 +1010,11 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
         .collect();
     for server in servers {
         drop(server.client);
-        drop(server.process.terminate());
+        let stderr = server.process.terminate();
+        // The node's own receive-to-publish latency (its shutdown summary), to tell its work from transport.
+        if let Some(line) = stderr.lines().rev().find(|l| l.contains("latency p50")) {
+            log(&format!("{}: {line}", server.label));
+        }
         if let Some(dir) = server.bag_dir {
             let _ = std::fs::remove_dir_all(dir);
         }

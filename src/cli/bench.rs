@@ -29,7 +29,7 @@ pub struct BenchArgs {
     /// Soak length for the memory-flatness measurement, s (default 60, 10 with --quick).
     #[arg(long, value_name = "SECONDS")]
     pub soak: Option<u64>,
-    /// Run only this part: `latency` = the raw echo and the node (and any --compare nodes) at 100, 1,000 and
+    /// Run only this part: `sustained` = the node's sustained-rate search alone; `latency` = the raw echo and the node (and any --compare nodes) at 100, 1,000 and
     /// 10,000 swings/s, all up at once and measured in interleaved blocks (about 30 s per server; 5 s with
     /// --quick). Default: everything.
     #[arg(long, value_enum, value_name = "PART")]
@@ -38,6 +38,9 @@ pub struct BenchArgs {
     /// (`--compare before=/tmp/sweetspot-old`); repeatable.
     #[arg(long, value_name = "LABEL=EXE", value_parser = parse_compare, requires = "only")]
     pub compare: Vec<(String, PathBuf)>,
+    /// Start this executable as the node (full bench and `--only sustained`), e.g. an older build.
+    #[arg(long, value_name = "EXE")]
+    pub node_exe: Option<PathBuf>,
     /// Internal: run the raw ros2-client echo server (started by the bench itself).
     #[arg(long, hide = true)]
     pub echo_server: bool,
@@ -55,6 +58,8 @@ fn parse_compare(text: &str) -> Result<(String, PathBuf), String> {
 pub enum BenchPart {
     /// swing → exit_velocity latency, raw echo against the node.
     Latency,
+    /// The highest rate the node sustains with recording on.
+    Sustained,
 }
 
 /// Runs the bench (or, with `--echo-server`, the raw echo it starts as a child).
@@ -71,6 +76,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         exe,
         soak,
         compare: args.compare,
+        node_exe: args.node_exe,
+        sustained_only: args.only == Some(BenchPart::Sustained),
     };
     if args.only == Some(BenchPart::Latency) {
         let report = bench::run_latency_interleaved(&opts)?;
