@@ -26,7 +26,12 @@ fn swing(id: u64) -> Swing {
 }
 
 /// The node's latest diagnostics value of `key` once it reports `swings_processed` = `processed`.
-fn diagnostic_after(peer: &Peer, diagnostics: &ros2_client::Subscription<DiagnosticArray>, processed: u64, key: &str) -> u64 {
+fn diagnostic_after(
+    peer: &Peer,
+    diagnostics: &ros2_client::Subscription<DiagnosticArray>,
+    processed: u64,
+    key: &str,
+) -> u64 {
     let value = |a: &DiagnosticArray, k: &str| -> Option<u64> {
         a.status.iter().flat_map(|s| s.values.iter()).find(|kv| kv.key == k).and_then(|kv| kv.value.parse().ok())
     };

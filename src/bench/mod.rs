@@ -914,7 +914,8 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
     let mut nodes = vec![("node".to_string(), opts.exe.clone())];
     nodes.extend(opts.compare.iter().cloned());
     if usize::from(opts.domain) + 1 + nodes.len() > 232 {
-        bail!("domains {}..={} do not all exist (ROS_DOMAIN_ID ≤ 232)", opts.domain, usize::from(opts.domain) + nodes.len());
+        let last = usize::from(opts.domain) + nodes.len();
+        bail!("domains {}..={last} do not all exist (ROS_DOMAIN_ID ≤ 232)", opts.domain);
     }
     struct Server {
         label: String,
@@ -973,7 +974,12 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
                 t.sent += r.sent;
                 t.answered += r.answered;
                 t.achieved_rate += r.achieved_rate / blocks as f64;
-                t.drain_ms = if t.drain_ms.is_nan() || r.drain_ms.is_nan() { f64::NAN } else { t.drain_ms.max(r.drain_ms) };
+                // NaN (a block without any answer) stays NaN, as in `run`.
+                t.drain_ms = if t.drain_ms.is_nan() || r.drain_ms.is_nan() {
+                    f64::NAN
+                } else {
+                    t.drain_ms.max(r.drain_ms)
+                };
             }
         }
         for (k, (mut t, h)) in totals.into_iter().zip(histograms).enumerate() {
@@ -1043,7 +1049,11 @@ pub fn interleaved_table(r: &InterleavedReport) -> String {
         m["profile"]
     );
     let _ = writeln!(s, "\nswing → exit_velocity over DDS/loopback, servers interleaved in blocks (nodes recording)");
-    let _ = writeln!(s, "{:>8} | {:>10} | {:>9} {:>9} {:>9} | {:>9} | answered", "rate/s", "server", "p50", "p99", "max", "p99/raw");
+    let _ = writeln!(
+        s,
+        "{:>8} | {:>10} | {:>9} {:>9} {:>9} | {:>9} | answered",
+        "rate/s", "server", "p50", "p99", "max", "p99/raw"
+    );
     for (i, (rate, _)) in r.block_seconds.iter().enumerate() {
         for t in &r.targets {
             let run = &t.runs[i];

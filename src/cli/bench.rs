@@ -29,9 +29,9 @@ pub struct BenchArgs {
     /// Soak length for the memory-flatness measurement, s (default 60, 10 with --quick).
     #[arg(long, value_name = "SECONDS")]
     pub soak: Option<u64>,
-    /// Run only this part: `sustained` = the node's sustained-rate search alone; `latency` = the raw echo and the node (and any --compare nodes) at 100, 1,000 and
-    /// 10,000 swings/s, all up at once and measured in interleaved blocks (about 30 s per server; 5 s with
-    /// --quick). Default: everything.
+    /// Run only this part: `sustained` = the node's sustained-rate search alone; `latency` = the raw echo and
+    /// the node (and any --compare nodes) at 100, 1,000 and 10,000 swings/s, all up at once and measured in
+    /// interleaved blocks (about 30 s per server; 5 s with --quick). Default: everything.
     #[arg(long, value_enum, value_name = "PART")]
     pub only: Option<BenchPart>,
     /// With `--only latency`: also measure the node of another executable, e.g. the build before a change

@@ -235,7 +235,12 @@ fn run_job<T>(job: Job<T>, stats: &NodeStats) -> Outcome<T> {
 }
 
 /// Hands `outcome` (the one `delivery` is owed) to the sink, counts it and frees its slot.
-fn deliver_next<T: 'static>(delivery: &mut Delivery<T>, outcome: &Outcome<T>, in_flight: &AtomicUsize, stats: &NodeStats) {
+fn deliver_next<T: 'static>(
+    delivery: &mut Delivery<T>,
+    outcome: &Outcome<T>,
+    in_flight: &AtomicUsize,
+    stats: &NodeStats,
+) {
     let delivered = delivery.sink.deliver(outcome);
     match (&outcome.result, delivered) {
         (_, false) => NodeStats::bump(&stats.publish_failures),
