@@ -278,32 +278,45 @@ fn sequencer_loop<T: 'static>(
     }
 }
 
-/// Decides whether the receive thread may answer the next swing itself: only while answering inline keeps
-/// it busy at most half the time, i.e. when at least as long as the last inline answer took has passed since
-/// it ended. A swing taken sooner was most likely waiting behind that answer (a burst, or a rate the inline
-/// path cannot keep up with), and goes to the workers, which compute in parallel.
+/// Decides whether the receive thread may answer the next swing itself: as long as inline answers take at
+/// most half its time, with bursts of up to [`InlinePacing::BURST`] of inline work allowed beyond that. A
+/// short burst of swings (a client's timer firing late sends several back to back) is then answered inline
+/// one after another, each waiting a few tens of µs for the ones ahead instead of paying the worker and
+/// sequencer wake-ups; a rate the receive thread cannot keep up with alone runs the budget dry and goes to
+/// the workers, which compute in parallel.
 #[derive(Debug, Clone, Default)]
 pub struct InlinePacing {
-    last: Option<(Instant, Duration)>,
+    /// Inline work beyond half the elapsed time, as of `settled`.
+    debt: Duration,
+    settled: Option<Instant>,
 }
 
 impl InlinePacing {
-    /// A pacing that allows the first swing.
+    /// Inline work the receive thread may run ahead of its half share.
+    pub const BURST: Duration = Duration::from_micros(200);
+
+    /// A pacing with its whole burst available.
     pub fn new() -> InlinePacing {
         InlinePacing::default()
     }
 
     /// Whether a swing taken at `now` may be answered inline.
     pub fn allows(&self, now: Instant) -> bool {
-        match self.last {
-            None => true,
-            Some((ended, took)) => now.saturating_duration_since(ended) >= took,
-        }
+        self.debt_at(now) < Self::BURST
     }
 
     /// Notes an inline answer that ran from `started` to `ended`.
     pub fn answered(&mut self, started: Instant, ended: Instant) {
-        self.last = Some((ended, ended.saturating_duration_since(started)));
+        self.debt = self.debt_at(ended) + ended.saturating_duration_since(started);
+        self.settled = Some(ended);
+    }
+
+    fn debt_at(&self, now: Instant) -> Duration {
+        match self.settled {
+            None => Duration::ZERO,
+            // Half of every elapsed moment is the receive thread's to spend inline.
+            Some(settled) => self.debt.saturating_sub(now.saturating_duration_since(settled) / 2),
+        }
     }
 }
 
@@ -482,15 +495,44 @@ mod tests {
     }
 
     #[test]
-    fn inline_pacing_allows_at_most_half_the_time_inline() {
+    fn inline_pacing_allows_a_short_burst_and_half_the_time_beyond_it() {
         let t0 = Instant::now();
         let us = Duration::from_micros;
         let mut pacing = InlinePacing::new();
         assert!(pacing.allows(t0), "the first swing");
-        pacing.answered(t0, t0 + us(30));
-        assert!(!pacing.allows(t0 + us(40)), "taken 10 µs after a 30 µs answer: probably waited behind it");
-        assert!(pacing.allows(t0 + us(60)), "30 µs idle after a 30 µs answer");
-        assert!(pacing.allows(t0 + us(10_000)));
-        assert!(!pacing.allows(t0), "a clock reading before the last answer ended counts as no gap");
+        // Back-to-back answers of 20 µs: each adds 20 µs of work and earns 10 µs (the first earns nothing),
+        // so the 200 µs burst is spent after 19 of them.
+        let mut now = t0;
+        let mut answered = 0;
+        while pacing.allows(now) {
+            pacing.answered(now, now + us(20));
+            now += us(20);
+            answered += 1;
+        }
+        assert_eq!(answered, 19);
+        // Idle time pays it back at half speed.
+        assert!(!pacing.allows(now));
+        assert!(pacing.allows(now + us(2)), "2 µs idle bring the debt below the burst");
+        assert!(pacing.allows(now + us(400)));
+        // A steady 20 µs answer every 50 µs (40 % of the time) never runs out.
+        let mut pacing = InlinePacing::new();
+        for k in 0..10_000u32 {
+            let at = t0 + us(50) * k;
+            assert!(pacing.allows(at), "refused at swing {k}");
+            pacing.answered(at, at + us(20));
+        }
+        // Every 30 µs (67 %) does, and then stays refused about a third of the time.
+        let mut pacing = InlinePacing::new();
+        let refused = (0..10_000u32)
+            .filter(|&k| {
+                let at = t0 + us(30) * k;
+                let allowed = pacing.allows(at);
+                if allowed {
+                    pacing.answered(at, at + us(20));
+                }
+                !allowed
+            })
+            .count();
+        assert!((2_000..=3_500).contains(&refused), "{refused} of 10000 refused");
     }
 }
