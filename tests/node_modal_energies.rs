@@ -100,7 +100,7 @@ fn modal_energies_reach_a_listener_from_its_subscription_on_and_are_always_recor
     assert_eq!(got_energies.iter().map(|me| me.swing_id).collect::<Vec<_>>(), expected, "every one, in order");
     assert_eq!(diagnostic_after(&peer, &diagnostics, total, "modal_energies_published"), total - first + 1);
 
-    // The listener leaves: publishing stops again (noticed from discovery, or at the latest the next tick).
+    // The listener leaves: publishing stops again (noticed from the discovery event of its removal).
     drop(energies);
     let deadline = Instant::now() + WAIT;
     loop {

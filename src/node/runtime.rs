@@ -181,11 +181,15 @@ impl ResultSink<Swing> for DdsSink {
 }
 
 /// Whether the ModalEnergies writer has a matched subscription, kept in an atomic the sink reads per answer
-/// (no lock on the hot path). Refreshed on every discovery event the node's spinner reports (it updates
-/// its match table, then sends the event) and at every diagnostics tick as a backstop. So a subscriber
-/// gets the ModalEnergies of every swing answered from the moment its match reaches the node's receive
-/// loop — microseconds to a few milliseconds after DDS matched it; as the topic is volatile, nothing
-/// before the match was ever delivered anyway — and a node nobody listens to spends no DDS writes on it.
+/// (no lock on the hot path). Refreshed on every discovery event the node's spinner reports: the spinner
+/// updates its match table, then sends the event, so the re-check sees the change. (Its event channel holds
+/// 8 and drops what does not fit — only when unread events wait, whose re-checks come later and see the
+/// later state, so no change goes unnoticed; no periodic re-check is needed, and none is made: each check
+/// registers a listener with the node that only the next event clears.) So a subscriber gets the
+/// ModalEnergies of every swing answered from the moment its match reaches the node's receive loop —
+/// microseconds to a few milliseconds after DDS matched it (the first or second swing after, in
+/// tests/node_modal_energies.rs); as the topic is volatile, nothing before the match was ever delivered
+/// anyway — and a node nobody listens to spends no DDS writes on it.
 struct EnergiesListeners {
     flag: Arc<AtomicBool>,
 }
@@ -453,7 +457,6 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     energies_listeners.refresh(&me_pub, &node);
                 }
                 _ = diagnostics.tick() => {
-                    energies_listeners.refresh(&me_pub, &node);
                     let mut now = stats.snapshot(pipeline.in_flight());
                     let usage = registry.usage();
                     now.bats_cached = usage.bats as u64;
