@@ -43,6 +43,13 @@ pub struct BenchOptions {
     pub exe: PathBuf,
     /// Soak duration for the RSS-flatness measurement.
     pub soak: Duration,
+    /// More nodes for [`run_latency_interleaved`], as (label, executable): e.g. the build before a change,
+    /// measured in the same interleaved blocks as this one and the raw echo.
+    pub compare: Vec<(String, PathBuf)>,
+    /// Executable started as the node by [`run`] (default `exe`), e.g. an older build to compare with.
+    pub node_exe: Option<PathBuf>,
+    /// [`run`] measures only the sustained-rate search (no latency comparison, soak or recorder bench).
+    pub sustained_only: bool,
 }
 
 /// Latency figures of one paced run, µs.
@@ -469,6 +476,16 @@ impl Client {
     /// Publishes `count` swings paced at `rate`/s, then waits for their answers (at most `quiet` without a
     /// new one), and returns the latencies.
     pub fn run(&mut self, rate: u32, count: u64, quiet: Duration) -> anyhow::Result<RunResult> {
+        Ok(self.run_histogram(rate, count, quiet)?.0)
+    }
+
+    /// [`Client::run`], also returning the histogram of latencies (µs) so runs can be merged.
+    pub fn run_histogram(
+        &mut self,
+        rate: u32,
+        count: u64,
+        quiet: Duration,
+    ) -> anyhow::Result<(RunResult, Histogram<u64>)> {
         while self.answers.try_recv().is_ok() {}
         let first = self.next_id;
         self.next_id += count;
@@ -539,7 +556,7 @@ impl Client {
         let drain_ms = last_answer
             .map(|t| t.saturating_duration_since(send_end).as_secs_f64() * 1e3)
             .unwrap_or(f64::NAN);
-        Ok(RunResult {
+        let result = RunResult {
             target_rate: rate,
             achieved_rate: achieved,
             sent: count,
@@ -548,7 +565,8 @@ impl Client {
             p99_us: histogram.value_at_quantile(0.99),
             max_us: histogram.max(),
             drain_ms,
-        })
+        };
+        Ok((result, histogram))
     }
 }
 
@@ -644,8 +662,9 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     raw_client
         .warm_up(Duration::from_secs(30))
         .with_context(|| format!("raw echo: {}", echo.log()))?;
+    let latency_rates: &[u32] = if opts.sustained_only { &[] } else { &LATENCY_RATES };
     let mut raw = Vec::new();
-    for rate in LATENCY_RATES {
+    for &rate in latency_rates {
         let r = raw_client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
         log(&format!(
             "raw  {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
@@ -670,14 +689,16 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         "-p".into(),
         "diagnostics_period:=0.5".into(),
     ];
-    let node = ChildProc::spawn(&opts.exe, &node_args, opts.domain, &opts.work_dir)?;
+    let node_exe = opts.node_exe.as_deref().unwrap_or(&opts.exe);
+    log(&format!("node executable: {}", node_exe.display()));
+    let node = ChildProc::spawn(node_exe, &node_args, opts.domain, &opts.work_dir)?;
     let mut client = Client::new(opts.domain)?;
     client
         .warm_up(Duration::from_secs(60))
         .with_context(|| format!("node: {}", node.log()))?;
     let mut node_runs = Vec::new();
     let mut memory = MemoryResult::default();
-    for rate in LATENCY_RATES {
+    for &rate in latency_rates {
         let r = client.run(rate, count_for(rate, run_seconds(opts.quick, rate)), quiet)?;
         log(&format!(
             "node {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{})",
@@ -775,6 +796,23 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         }
     }
 
+    if opts.sustained_only {
+        log(&format!("swings answered inline by the node: {}", client.diagnostic("swings_answered_inline")));
+        drop(client);
+        drop(node.terminate());
+        let _ = std::fs::remove_dir_all(&bag_dir);
+        return Ok(BenchReport {
+            machine: machine_before,
+            raw,
+            node: node_runs,
+            p99_ratio,
+            steps,
+            max_sustained_rate: max_sustained,
+            memory,
+            disk: Vec::new(),
+        });
+    }
+
     // 4. Soak: RSS once a second.
     let soak_rate = if max_sustained >= 5_000 { 5_000 } else { 1_000 };
     memory.soak_rate = soak_rate;
@@ -838,6 +876,195 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         memory,
         disk,
     })
+}
+
+/// One server's latencies in [`run_latency_interleaved`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct InterleavedTarget {
+    /// `raw`, `node`, or a `--compare` label.
+    pub label: String,
+    /// Merged over its blocks, one per rate of [`LATENCY_RATES`].
+    pub runs: Vec<RunResult>,
+    /// p99 / the raw echo's p99 at each rate.
+    pub p99_ratio: Vec<(u32, f64)>,
+}
+
+/// What [`run_latency_interleaved`] measured.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct InterleavedReport {
+    /// Machine and conditions.
+    pub machine: BTreeMap<String, String>,
+    /// Block length at each rate, s.
+    pub block_seconds: Vec<(u32, f64)>,
+    /// The raw echo first, then the nodes.
+    pub targets: Vec<InterleavedTarget>,
+}
+
+/// The latency comparison with every server up at once, each on its own domain with its own client, measured
+/// in short blocks taken in turn (the order rotating every block) and merged per server. On a shared machine
+/// a burst of someone else's load then hits every server alike, so the ratios compare like with like (a
+/// sequential raw-then-node run on this 2-core VM swung the p99 ratio between 0.2× and 10×). Servers: the
+/// raw echo, this executable's node, and `opts.compare`'s (all recording, as in [`run`]).
+pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<InterleavedReport> {
+    require_private_network()?;
+    std::fs::create_dir_all(&opts.work_dir)
+        .with_context(|| format!("creating {}", opts.work_dir.display()))?;
+    let machine_before = machine();
+    let quiet = Duration::from_secs(3);
+    let mut nodes = vec![("node".to_string(), opts.exe.clone())];
+    nodes.extend(opts.compare.iter().cloned());
+    if usize::from(opts.domain) + 1 + nodes.len() > 232 {
+        let last = usize::from(opts.domain) + nodes.len();
+        bail!("domains {}..={last} do not all exist (ROS_DOMAIN_ID ≤ 232)", opts.domain);
+    }
+    struct Server {
+        label: String,
+        process: ChildProc,
+        client: Client,
+        bag_dir: Option<PathBuf>,
+    }
+    let mut servers = Vec::new();
+    let echo_domain = opts.domain + 1;
+    log("raw echo: starting");
+    let echo = ChildProc::spawn(
+        &opts.exe,
+        &["bench".into(), "--echo-server".into(), "--domain".into(), echo_domain.to_string()],
+        echo_domain,
+        &opts.work_dir,
+    )?;
+    let mut client = Client::new(echo_domain)?;
+    client.warm_up(Duration::from_secs(30)).with_context(|| format!("raw echo: {}", echo.log()))?;
+    servers.push(Server { label: "raw".into(), process: echo, client, bag_dir: None });
+    for (k, (label, exe)) in nodes.iter().enumerate() {
+        // The node on opts.domain, the others after the echo's domain.
+        let domain = if k == 0 { opts.domain } else { opts.domain + 1 + k as u16 };
+        log(&format!("{label}: starting {} on domain {domain} (recording on)", exe.display()));
+        let bag_dir = opts.work_dir.join(format!("node_bag_{}_{k}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&bag_dir);
+        let args: Vec<String> = vec![
+            "node".into(),
+            "--ros-args".into(),
+            "-p".into(),
+            format!("record_path:={}", bag_dir.display()),
+            "-p".into(),
+            "diagnostics_period:=0.5".into(),
+        ];
+        let process = ChildProc::spawn(exe, &args, domain, &opts.work_dir)?;
+        let mut client = Client::new(domain)?;
+        client.warm_up(Duration::from_secs(60)).with_context(|| format!("{label}: {}", process.log()))?;
+        servers.push(Server { label: label.clone(), process, client, bag_dir: Some(bag_dir) });
+    }
+
+    let mut merged: Vec<Vec<RunResult>> = vec![Vec::new(); servers.len()];
+    let mut block_seconds = Vec::new();
+    for rate in LATENCY_RATES {
+        let total = run_seconds(opts.quick, rate);
+        let block = if rate <= 100 { total.min(2.0) } else { total.min(0.5) };
+        let blocks = (total / block).round().max(1.0) as usize;
+        block_seconds.push((rate, block));
+        let mut histograms: Vec<Histogram<u64>> =
+            (0..servers.len()).map(|_| Histogram::new_with_bounds(1, 600_000_000, 3)).collect::<Result<_, _>>()?;
+        let mut totals = vec![RunResult { target_rate: rate, ..RunResult::default() }; servers.len()];
+        for b in 0..blocks {
+            for i in 0..servers.len() {
+                let k = (b + i) % servers.len();
+                let (r, h) = servers[k].client.run_histogram(rate, count_for(rate, block), quiet)?;
+                histograms[k].add(&h)?;
+                let t = &mut totals[k];
+                t.sent += r.sent;
+                t.answered += r.answered;
+                t.achieved_rate += r.achieved_rate / blocks as f64;
+                // NaN (a block without any answer) stays NaN, as in `run`.
+                t.drain_ms = if t.drain_ms.is_nan() || r.drain_ms.is_nan() {
+                    f64::NAN
+                } else {
+                    t.drain_ms.max(r.drain_ms)
+                };
+            }
+        }
+        for (k, (mut t, h)) in totals.into_iter().zip(histograms).enumerate() {
+            t.p50_us = h.value_at_quantile(0.5);
+            t.p99_us = h.value_at_quantile(0.99);
+            t.max_us = h.max();
+            log(&format!(
+                "{:>6} {rate:>6}/s: p50 {} µs p99 {} µs max {} µs ({}/{}, {blocks} blocks of {block} s)",
+                servers[k].label, t.p50_us, t.p99_us, t.max_us, t.answered, t.sent
+            ));
+            merged[k].push(t);
+        }
+        for server in &servers[1..] {
+            log(&format!(
+                "{:>6}: {} swings answered inline so far (diagnostics; 0 for builds without the inline path)",
+                server.label,
+                server.client.diagnostic("swings_answered_inline")
+            ));
+        }
+    }
+    let raw = merged[0].clone();
+    let targets = servers
+        .iter()
+        .zip(&merged)
+        .map(|(server, runs)| InterleavedTarget {
+            label: server.label.clone(),
+            runs: runs.clone(),
+            p99_ratio: runs
+                .iter()
+                .zip(&raw)
+                .map(|(n, r)| (r.target_rate, n.p99_us as f64 / r.p99_us.max(1) as f64))
+                .collect(),
+        })
+        .collect();
+    for server in servers {
+        drop(server.client);
+        let stderr = server.process.terminate();
+        // The node's own receive-to-publish latency (its shutdown summary), to tell its work from transport.
+        if let Some(line) = stderr.lines().rev().find(|l| l.contains("latency p50")) {
+            log(&format!("{}: {line}", server.label));
+        }
+        if let Some(dir) = server.bag_dir {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
+    let mut machine = machine_before;
+    machine.insert(
+        "loadavg_after".into(),
+        std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string(),
+    );
+    Ok(InterleavedReport { machine, block_seconds, targets })
+}
+
+/// [`InterleavedReport`] as a table: per rate, each server's p50/p99/max and p99 ratio to the raw echo.
+pub fn interleaved_table(r: &InterleavedReport) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let m = &r.machine;
+    let _ = writeln!(
+        s,
+        "machine: {} × {} ({}), load before: {}, after: {}, build: {}",
+        m["nproc"],
+        m["cpu"],
+        m["kernel"],
+        m["loadavg"],
+        m.get("loadavg_after").cloned().unwrap_or_default(),
+        m["profile"]
+    );
+    let _ = writeln!(s, "\nswing → exit_velocity over DDS/loopback, servers interleaved in blocks (nodes recording)");
+    let _ = writeln!(
+        s,
+        "{:>8} | {:>10} | {:>9} {:>9} {:>9} | {:>9} | answered",
+        "rate/s", "server", "p50", "p99", "max", "p99/raw"
+    );
+    for (i, (rate, _)) in r.block_seconds.iter().enumerate() {
+        for t in &r.targets {
+            let run = &t.runs[i];
+            let _ = writeln!(
+                s,
+                "{:>8} | {:>10} | {:>7}µs {:>7}µs {:>7}µs | {:>8.2}× | {}/{}",
+                rate, t.label, run.p50_us, run.p99_us, run.max_us, t.p99_ratio[i].1, run.answered, run.sent
+            );
+        }
+    }
+    s
 }
 
 fn median(values: &[u64]) -> u64 {

@@ -29,9 +29,37 @@ pub struct BenchArgs {
     /// Soak length for the memory-flatness measurement, s (default 60, 10 with --quick).
     #[arg(long, value_name = "SECONDS")]
     pub soak: Option<u64>,
+    /// Run only this part: `sustained` = the node's sustained-rate search alone; `latency` = the raw echo and
+    /// the node (and any --compare nodes) at 100, 1,000 and 10,000 swings/s, all up at once and measured in
+    /// interleaved blocks (about 30 s per server; 5 s with --quick). Default: everything.
+    #[arg(long, value_enum, value_name = "PART")]
+    pub only: Option<BenchPart>,
+    /// With `--only latency`: also measure the node of another executable, e.g. the build before a change
+    /// (`--compare before=/tmp/sweetspot-old`); repeatable.
+    #[arg(long, value_name = "LABEL=EXE", value_parser = parse_compare, requires = "only")]
+    pub compare: Vec<(String, PathBuf)>,
+    /// Start this executable as the node (full bench and `--only sustained`), e.g. an older build.
+    #[arg(long, value_name = "EXE")]
+    pub node_exe: Option<PathBuf>,
     /// Internal: run the raw ros2-client echo server (started by the bench itself).
     #[arg(long, hide = true)]
     pub echo_server: bool,
+}
+
+fn parse_compare(text: &str) -> Result<(String, PathBuf), String> {
+    match text.split_once('=') {
+        Some((label, exe)) if !label.is_empty() && !exe.is_empty() => Ok((label.to_string(), PathBuf::from(exe))),
+        _ => Err(format!("expected LABEL=EXECUTABLE, got '{text}'")),
+    }
+}
+
+/// A part of the bench that `--only` can pick.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchPart {
+    /// swing → exit_velocity latency, raw echo against the node.
+    Latency,
+    /// The highest rate the node sustains with recording on.
+    Sustained,
 }
 
 /// Runs the bench (or, with `--echo-server`, the raw echo it starts as a child).
@@ -47,7 +75,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         domain: args.domain,
         exe,
         soak,
+        compare: args.compare,
+        node_exe: args.node_exe,
+        sustained_only: args.only == Some(BenchPart::Sustained),
     };
+    if args.only == Some(BenchPart::Latency) {
+        let report = bench::run_latency_interleaved(&opts)?;
+        println!("{}", bench::interleaved_table(&report));
+        if let Some(path) = args.json {
+            let text = serde_json::to_string_pretty(&serde_json::json!(report))?;
+            std::fs::write(&path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+        }
+        return Ok(());
+    }
     let report = bench::run(&opts)?;
     println!("{}", bench::table(&report));
     if let Some(path) = args.json {

@@ -4,11 +4,12 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::pin::pin;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
 use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
-use futures::StreamExt;
+use futures::{FutureExt as _, StreamExt};
 use ros2_client::qos::History;
 use ros2_client::ros2::LogLevel;
 use ros2_client::rosout::RosoutRaw;
@@ -21,7 +22,7 @@ use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Moda
 
 use super::convert;
 use super::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
-use super::pipeline::{Outcome, Pipeline, ResultSink};
+use super::pipeline::{InlinePacing, Outcome, Pipeline, ResultSink};
 use super::recording::{topic_info, Recorded, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::{NodeSettings, SettingEffect, READ_ONLY};
@@ -142,11 +143,15 @@ impl Log {
     }
 }
 
-/// Publishes and records results in swing order (runs on the pipeline's sequencer thread).
+/// Publishes and records results in swing order (on the pipeline's sequencer thread, or inline on the
+/// receive task when the pipeline is idle).
 struct DdsSink {
     exit_velocity: Arc<Publisher<ExitVelocity>>,
-    modal_energies: Publisher<ModalEnergies>,
+    modal_energies: Arc<Publisher<ModalEnergies>>,
+    /// Whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
+    energies_listened: Arc<AtomicBool>,
     tape: Arc<Tape>,
+    stats: Arc<NodeStats>,
 }
 
 impl ResultSink<Swing> for DdsSink {
@@ -157,13 +162,44 @@ impl ResultSink<Swing> for DdsSink {
         let mut delivered = true;
         if let Ok(computed) = &outcome.result {
             let me = convert::modal_energies(swing, &outcome.bat_id, computed);
+            // Always recorded; published only when someone listens: a DDS write wakes RustDDS's event
+            // loop thread even with no reader, which costs every answer latency for nothing.
             self.tape.record(Recorded::ModalEnergies, &me, convert::now_ns(), stamp_ns);
-            delivered &= self.modal_energies.publish(me).is_ok();
+            if self.energies_listened.load(Ordering::Relaxed) {
+                let published = self.modal_energies.publish(me).is_ok();
+                if published {
+                    NodeStats::bump(&self.stats.modal_energies_published);
+                }
+                delivered &= published;
+            }
         }
         // ExitVelocity last, so a listener that has the answer also has its energies.
         self.tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), stamp_ns);
         delivered &= self.exit_velocity.publish(ev).is_ok();
         delivered
+    }
+}
+
+/// Whether the ModalEnergies writer has a matched subscription, kept in an atomic the sink reads per answer
+/// (no lock on the hot path). Refreshed on every discovery event the node's spinner reports: the spinner
+/// updates its match table, then sends the event, so the re-check sees the change. (Its event channel holds
+/// 8 and drops what does not fit — only when unread events wait, whose re-checks come later and see the
+/// later state, so no change goes unnoticed; no periodic re-check is needed, and none is made: each check
+/// registers a listener with the node that only the next event clears.) So a subscriber gets the
+/// ModalEnergies of every swing answered from the moment its match reaches the node's receive loop —
+/// microseconds to a few milliseconds after DDS matched it (the first or second swing after, in
+/// tests/node_modal_energies.rs); as the topic is volatile, nothing before the match was ever delivered
+/// anyway — and a node nobody listens to spends no DDS writes on it.
+struct EnergiesListeners {
+    flag: Arc<AtomicBool>,
+}
+
+impl EnergiesListeners {
+    fn refresh(&self, publisher: &Publisher<ModalEnergies>, node: &ros2_client::Node) {
+        // Resolves at once iff a reader is matched now; unlike `get_subscription_count` it does not log an
+        // error for a writer that never had a reader.
+        let matched = publisher.wait_for_subscription(node).now_or_never().is_some();
+        self.flag.store(matched, Ordering::Relaxed);
     }
 }
 
@@ -256,11 +292,18 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let swing_sub = node.create_subscription::<Swing>(&swing_topic, Some(swing_reader_qos)).map_err(dds)?;
     // The topics' own QoS (ros::results_qos: deep window, bounded wait) is the writers' QoS.
     let ev_pub = Arc::new(node.create_publisher::<ExitVelocity>(&ev_topic, Some(results_qos())).map_err(dds)?);
-    let me_pub = node.create_publisher::<ModalEnergies>(&me_topic, Some(results_qos())).map_err(dds)?;
+    let me_pub = Arc::new(node.create_publisher::<ModalEnergies>(&me_topic, Some(results_qos())).map_err(dds)?);
     let ss_pub = node.create_publisher::<SweetSpot>(&ss_topic, None).map_err(dds)?;
     let diag_pub = node.create_publisher::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
     let spinner = node.spinner().map_err(dds)?;
     let spinning = tokio::spawn(spinner.spin());
+    // Discovery events (after the spinner exists, else there are none); each one re-checks the listeners.
+    let mut graph_events = match node.status_receiver() {
+        Some(receiver) => receiver.boxed(),
+        None => futures::stream::pending::<ros2_client::NodeEvent>().boxed(),
+    };
+    let energies_listeners = EnergiesListeners { flag: Arc::new(AtomicBool::new(false)) };
+    energies_listeners.refresh(&me_pub, &node);
 
     // Recording: every input as received and every output as published.
     let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names, &log));
@@ -270,7 +313,13 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         settings.worker_count(),
         settings.queue_capacity,
         Arc::clone(&stats),
-        DdsSink { exit_velocity: Arc::clone(&ev_pub), modal_energies: me_pub, tape: Arc::clone(&tape) },
+        DdsSink {
+            exit_velocity: Arc::clone(&ev_pub),
+            modal_energies: Arc::clone(&me_pub),
+            energies_listened: Arc::clone(&energies_listeners.flag),
+            tape: Arc::clone(&tape),
+            stats: Arc::clone(&stats),
+        },
     )
     .context("starting the worker threads")?;
     log.info(&format!(
@@ -305,6 +354,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let mut diagnostics = tokio::time::interval(Duration::from_secs_f64(settings.diagnostics_period));
     diagnostics.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let mut last_report = StatsSnapshot::default();
+    let mut inline_pacing = InlinePacing::new();
     // The streams borrow the subscriptions; the block ends the borrows before the orderly teardown below.
     {
         let mut bats = pin!(bat_sub.async_stream());
@@ -403,6 +453,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                         }
                     }
                 }
+                Some(_event) = graph_events.next() => {
+                    energies_listeners.refresh(&me_pub, &node);
+                }
                 _ = diagnostics.tick() => {
                     let mut now = stats.snapshot(pipeline.in_flight());
                     let usage = registry.usage();
@@ -430,7 +483,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                                 ));
                             }
                         }
-                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &stats, &tape, &log, &drop_warning, &summaries);
+                        on_swing(swing, log_time, &mut registry, &shared_settings, &settings, &pipeline, &mut inline_pacing, &stats, &tape, &log, &drop_warning, &summaries);
                         if registry.usage() != seen_usage {
                             // A preset named by a swing pushed out another bat.
                             let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
@@ -480,7 +533,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     }
     // Entities before the participant: dropping the node stops the spinner, which must drop its parameter
     // services while `context` still holds the participant (else RustDDS logs every removal as an error).
-    drop((ss_pub, diag_pub, ev_pub, bat_sub, ball_sub, swing_sub));
+    drop(graph_events);
+    drop((ss_pub, diag_pub, ev_pub, me_pub, bat_sub, ball_sub, swing_sub));
     drop(node);
     let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;
     drop(context);
@@ -495,6 +549,7 @@ fn on_swing(
     shared_settings: &Arc<RwLock<NodeSettings>>,
     fallback: &NodeSettings,
     pipeline: &Pipeline<Swing>,
+    inline_pacing: &mut InlinePacing,
     stats: &Arc<NodeStats>,
     tape: &Tape,
     log: &Log,
@@ -514,6 +569,19 @@ fn on_swing(
     if let Some(entry) = new_bat {
         summaries.spawn(entry, registry);
     }
+    // Idle and cheap: answered here, without waking a worker and the sequencer (see `Pipeline::answer_inline`).
+    let (plan, swing) = if inline_pacing.allows(received) {
+        let started = Instant::now();
+        match pipeline.answer_inline(received, plan, swing) {
+            Ok(_) => {
+                inline_pacing.answered(started, Instant::now());
+                return;
+            }
+            Err(given_back) => given_back,
+        }
+    } else {
+        (plan, swing)
+    };
     if let Err((_plan, swing)) = pipeline.submit(received, plan, swing) {
         NodeStats::bump(&stats.swings_dropped);
         if let Some(suppressed) = drop_warning.allow(Instant::now()) {

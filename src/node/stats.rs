@@ -32,6 +32,10 @@ pub struct NodeStats {
     pub mode_cache_misses: AtomicU64,
     /// Results DDS refused to send (send window full past its blocking time).
     pub publish_failures: AtomicU64,
+    /// Swings answered on the receive task because the pipeline was idle (no worker or sequencer hop).
+    pub swings_answered_inline: AtomicU64,
+    /// ModalEnergies published (they are recorded for every OK swing, published only while subscribed).
+    pub modal_energies_published: AtomicU64,
     /// Receive-to-publish latency, µs.
     latency_us: Mutex<Histogram<u64>>,
     started: Instant,
@@ -62,6 +66,10 @@ pub struct StatsSnapshot {
     pub mode_cache_misses: u64,
     /// See [`NodeStats`].
     pub publish_failures: u64,
+    /// Swings answered on the receive task, since start.
+    pub swings_answered_inline: u64,
+    /// ModalEnergies published, since start.
+    pub modal_energies_published: u64,
     /// Swings queued, computing or waiting for in-order publication.
     pub in_flight: u64,
     /// Bats held by the registry now (filled in by the runtime, which owns the registry).
@@ -110,6 +118,8 @@ impl NodeStats {
             mode_cache_hits: AtomicU64::new(0),
             mode_cache_misses: AtomicU64::new(0),
             publish_failures: AtomicU64::new(0),
+            swings_answered_inline: AtomicU64::new(0),
+            modal_energies_published: AtomicU64::new(0),
             // 1 µs … 1 h at 3 significant digits: a fixed ~200 kB, never grows.
             latency_us: Mutex::new(Histogram::new_with_bounds(1, 3_600_000_000, 3).expect("static bounds are valid")),
             started: Instant::now(),
@@ -128,6 +138,11 @@ impl NodeStats {
             // Clamped into the bounds above, so this cannot fail.
             let _ = h.record(us);
         }
+    }
+
+    /// How many latencies have been recorded (one per delivered swing).
+    pub fn latency_count(&self) -> u64 {
+        self.latency_us.lock().map(|h| h.len()).unwrap_or(0)
     }
 
     /// A copy of every counter; `in_flight` is supplied by the pipeline.
@@ -149,6 +164,8 @@ impl NodeStats {
             mode_cache_hits: load(&self.mode_cache_hits),
             mode_cache_misses: load(&self.mode_cache_misses),
             publish_failures: load(&self.publish_failures),
+            swings_answered_inline: load(&self.swings_answered_inline),
+            modal_energies_published: load(&self.modal_energies_published),
             in_flight,
             bats_cached: 0,
             bats_evicted: 0,
@@ -235,6 +252,8 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
         ("params_accepted".into(), now.params_accepted.to_string()),
         ("params_rejected".into(), now.params_rejected.to_string()),
         ("publish_failures".into(), now.publish_failures.to_string()),
+        ("swings_answered_inline".into(), now.swings_answered_inline.to_string()),
+        ("modal_energies_published".into(), now.modal_energies_published.to_string()),
         ("latency_p50_us".into(), now.latency_p50_us.to_string()),
         ("latency_p99_us".into(), now.latency_p99_us.to_string()),
         ("latency_max_us".into(), now.latency_max_us.to_string()),
