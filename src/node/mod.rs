@@ -16,7 +16,7 @@
 //! | `ball/params`    | sweetspot_msgs/BallParams          | in        | reliable, transient-local                     |
 //! | `swing`          | sweetspot_msgs/Swing               | in        | reliable, keep-last 1000 (reader cache = `queue_capacity`) |
 //! | `exit_velocity`  | sweetspot_msgs/ExitVelocity        | out       | reliable; one per swing, in swing order; REJECTED + reason for bad input |
-//! | `modal_energies` | sweetspot_msgs/ModalEnergies       | out       | reliable; one per OK swing                    |
+//! | `modal_energies` | sweetspot_msgs/ModalEnergies       | out       | reliable; one per OK swing, published while a subscription is matched, always recorded |
 //! | `sweet_spot`     | sweetspot_msgs/SweetSpot           | out       | reliable, transient-local; on every bat change |
 //! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
 //! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout                          |
@@ -32,7 +32,15 @@
 //!   preset is solved again instead); evictions are warned about and counted on /diagnostics. A BatParams of
 //!   more than `max_bat_slices` slices is REJECTED before its modes are solved.
 //! - Collisions run on `workers` threads behind a bounded pipeline of `queue_capacity` swings in flight;
-//!   results are published in swing order. A swing arriving when the pipeline is full is dropped, counted
+//!   results are published in swing order. A swing that finds the pipeline idle and its bat's modes solved
+//!   is answered on the receive task itself ([`pipeline::Pipeline::answer_inline`], paced by
+//!   [`pipeline::InlinePacing`] to half that task's time), which saves two thread wake-ups per answer. Its
+//!   ExitVelocity publish then runs on the receive task: a subscriber that stops acknowledging (reliable
+//!   QoS, full window) can hold that task for up to the writers' 500 ms wait, during which swings queue in
+//!   the reader's cache (`queue_capacity` deep; beyond it they count as `swings_lost_in_transport`).
+//! - ModalEnergies are published only while the topic has a matched subscription (re-checked on every
+//!   discovery event; `modal_energies_published` on /diagnostics) and recorded always: a DDS write costs
+//!   every answer latency even with no reader. A swing arriving when the pipeline is full is dropped, counted
 //!   (`swings_dropped`) and warned about on /rosout (rate-limited); gaps in a publisher's DDS sequence numbers
 //!   are counted as `swings_lost_in_transport`.
 //! - Bad params are answered by an ExitVelocity REJECTED naming the message, id and field; the previous
