@@ -5,12 +5,12 @@
 //! additionally kept on loopback.
 
 mod node_support;
-mod support;
 
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use node_support::shared as support;
 use node_support::{domain, NodeProcess};
 use serde_json::{json, Value};
 use sweetspot::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};

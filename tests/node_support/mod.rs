@@ -110,9 +110,10 @@ pub fn domain(offset: u16) -> u16 {
     100 + offset
 }
 
-// The helpers every DDS test file shares (Python lookup, network guard); `python` stays reachable here.
+// The helpers every DDS test file shares (Python lookup, network guard, the Cyclone peer); a test file that
+// uses node_support reaches them as `node_support::shared` rather than declaring `mod support` again.
 #[path = "../support/mod.rs"]
-mod shared;
+pub mod shared;
 #[allow(unused_imports)] // used by some test files only
 pub use shared::python;
 
