@@ -69,9 +69,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     }
     let exe = std::env::current_exe().context("locating the sweetspot executable")?;
     let soak = Duration::from_secs(args.soak.unwrap_or(if args.quick { 10 } else { 60 }));
+    // Absolute, because the node children run with the work dir as their current directory and record
+    // into a path under it: a relative one would land in <work dir>/<work dir>/ and escape the clean-up.
+    let work_dir = std::path::absolute(&args.work_dir)
+        .with_context(|| format!("resolving --work-dir {}", args.work_dir.display()))?;
     let opts = BenchOptions {
         quick: args.quick,
-        work_dir: args.work_dir,
+        work_dir,
         domain: args.domain,
         exe,
         soak,
