@@ -638,6 +638,20 @@ fn log(msg: &str) {
 }
 
 /// Runs every measurement once and returns the report.
+/// Starts `exe` as `sweetspot node` on `domain`, recording to a fresh `bag_dir`, diagnostics every 0.5 s.
+fn spawn_recording_node(exe: &Path, bag_dir: &Path, domain: u16, work_dir: &Path) -> anyhow::Result<ChildProc> {
+    let _ = std::fs::remove_dir_all(bag_dir);
+    let args: Vec<String> = vec![
+        "node".into(),
+        "--ros-args".into(),
+        "-p".into(),
+        format!("record_path:={}", bag_dir.display()),
+        "-p".into(),
+        "diagnostics_period:=0.5".into(),
+    ];
+    ChildProc::spawn(exe, &args, domain, work_dir)
+}
+
 pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     require_private_network()?;
     std::fs::create_dir_all(&opts.work_dir)
@@ -680,18 +694,9 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     let bag_dir = opts
         .work_dir
         .join(format!("node_bag_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&bag_dir);
-    let node_args: Vec<String> = vec![
-        "node".into(),
-        "--ros-args".into(),
-        "-p".into(),
-        format!("record_path:={}", bag_dir.display()),
-        "-p".into(),
-        "diagnostics_period:=0.5".into(),
-    ];
     let node_exe = opts.node_exe.as_deref().unwrap_or(&opts.exe);
     log(&format!("node executable: {}", node_exe.display()));
-    let node = ChildProc::spawn(node_exe, &node_args, opts.domain, &opts.work_dir)?;
+    let node = spawn_recording_node(node_exe, &bag_dir, opts.domain, &opts.work_dir)?;
     let mut client = Client::new(opts.domain)?;
     client
         .warm_up(Duration::from_secs(60))
@@ -940,16 +945,7 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
         let domain = if k == 0 { opts.domain } else { opts.domain + 1 + k as u16 };
         log(&format!("{label}: starting {} on domain {domain} (recording on)", exe.display()));
         let bag_dir = opts.work_dir.join(format!("node_bag_{}_{k}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&bag_dir);
-        let args: Vec<String> = vec![
-            "node".into(),
-            "--ros-args".into(),
-            "-p".into(),
-            format!("record_path:={}", bag_dir.display()),
-            "-p".into(),
-            "diagnostics_period:=0.5".into(),
-        ];
-        let process = ChildProc::spawn(exe, &args, domain, &opts.work_dir)?;
+        let process = spawn_recording_node(exe, &bag_dir, domain, &opts.work_dir)?;
         let mut client = Client::new(domain)?;
         client.warm_up(Duration::from_secs(60)).with_context(|| format!("{label}: {}", process.log()))?;
         servers.push(Server { label: label.clone(), process, client, bag_dir: Some(bag_dir) });
@@ -1033,21 +1029,25 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
     Ok(InterleavedReport { machine, block_seconds, targets })
 }
 
+/// The machine and its load before and after, one line (the head of both reports).
+fn machine_line(m: &BTreeMap<String, String>) -> String {
+    let get = |key: &str| m.get(key).map(String::as_str).unwrap_or("?");
+    format!(
+        "machine: {} × {} ({}), load before: {}, after: {}, build: {}",
+        get("nproc"),
+        get("cpu"),
+        get("kernel"),
+        get("loadavg"),
+        get("loadavg_after"),
+        get("profile")
+    )
+}
+
 /// [`InterleavedReport`] as a table: per rate, each server's p50/p99/max and p99 ratio to the raw echo.
 pub fn interleaved_table(r: &InterleavedReport) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let m = &r.machine;
-    let _ = writeln!(
-        s,
-        "machine: {} × {} ({}), load before: {}, after: {}, build: {}",
-        m["nproc"],
-        m["cpu"],
-        m["kernel"],
-        m["loadavg"],
-        m.get("loadavg_after").cloned().unwrap_or_default(),
-        m["profile"]
-    );
+    let _ = writeln!(s, "{}", machine_line(&r.machine));
     let _ = writeln!(s, "\nswing → exit_velocity over DDS/loopback, servers interleaved in blocks (nodes recording)");
     let _ = writeln!(
         s,
@@ -1254,17 +1254,7 @@ fn dir_bytes(dir: &Path) -> u64 {
 pub fn table(r: &BenchReport) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let m = &r.machine;
-    let _ = writeln!(
-        s,
-        "machine: {} × {} ({}), load before: {}, after: {}, build: {}",
-        m["nproc"],
-        m["cpu"],
-        m["kernel"],
-        m["loadavg"],
-        m.get("loadavg_after").cloned().unwrap_or_default(),
-        m["profile"]
-    );
+    let _ = writeln!(s, "{}", machine_line(&r.machine));
     let _ = writeln!(
         s,
         "\nswing → exit_velocity over DDS/loopback (node recording; child processes)"
