@@ -803,27 +803,61 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
 
     if opts.sustained_only {
         log(&format!("swings answered inline by the node: {}", client.diagnostic("swings_answered_inline")));
-        drop(client);
-        drop(node.terminate());
-        let _ = std::fs::remove_dir_all(&bag_dir);
-        return Ok(BenchReport {
-            machine: machine_before,
-            raw,
-            node: node_runs,
-            p99_ratio,
-            steps,
-            max_sustained_rate: max_sustained,
-            memory,
-            disk: Vec::new(),
-        });
+    } else {
+        soak(&mut client, node.pid(), max_sustained, opts.soak, quiet, &mut memory)?;
     }
+    drop(client);
+    let node_log = node.terminate();
+    if let Some(line) = node_log
+        .lines()
+        .rev()
+        .find(|l| l.contains("bag") && l.contains("closed"))
+    {
+        log(line);
+    }
+    let _ = std::fs::remove_dir_all(&bag_dir);
 
-    // 4. Soak: RSS once a second.
+    // 5. Recorder against dd.
+    let disk = if opts.sustained_only {
+        Vec::new()
+    } else {
+        disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?
+    };
+
+    let mut machine = machine_before;
+    machine.insert(
+        "loadavg_after".into(),
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+            .to_string(),
+    );
+    Ok(BenchReport {
+        machine,
+        raw,
+        node: node_runs,
+        p99_ratio,
+        steps,
+        max_sustained_rate: max_sustained,
+        memory,
+        disk,
+    })
+}
+
+/// Step 4 of [`run`]: the memory soak — `soak` at 5,000/s (1,000/s if the node sustained less), the node's RSS
+/// sampled once a second, into `memory`.
+fn soak(
+    client: &mut Client,
+    pid: u32,
+    max_sustained: u32,
+    soak: Duration,
+    quiet: Duration,
+    memory: &mut MemoryResult,
+) -> anyhow::Result<()> {
     let soak_rate = if max_sustained >= 5_000 { 5_000 } else { 1_000 };
     memory.soak_rate = soak_rate;
-    memory.soak_s = opts.soak.as_secs_f64();
+    memory.soak_s = soak.as_secs_f64();
     log(&format!("soak: {soak_rate}/s for {:.0} s", memory.soak_s));
-    let pid = node.pid();
     let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
     let sampler = {
         let stop = Arc::clone(&stop);
@@ -849,38 +883,7 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         "soak: RSS first quarter {} kB, last quarter {} kB, {} lost",
         memory.soak_first_quarter_kb, memory.soak_last_quarter_kb, memory.soak_lost
     ));
-    drop(client);
-    let node_log = node.terminate();
-    if let Some(line) = node_log
-        .lines()
-        .rev()
-        .find(|l| l.contains("bag") && l.contains("closed"))
-    {
-        log(line);
-    }
-    let _ = std::fs::remove_dir_all(&bag_dir);
-
-    // 5. Recorder against dd.
-    let disk = disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?;
-
-    let mut machine = machine_before;
-    machine.insert(
-        "loadavg_after".into(),
-        std::fs::read_to_string("/proc/loadavg")
-            .unwrap_or_default()
-            .trim()
-            .to_string(),
-    );
-    Ok(BenchReport {
-        machine,
-        raw,
-        node: node_runs,
-        p99_ratio,
-        steps,
-        max_sustained_rate: max_sustained,
-        memory,
-        disk,
-    })
+    Ok(())
 }
 
 /// One server's latencies in [`run_latency_interleaved`].
