@@ -99,6 +99,10 @@ pub enum ChunkCompression {
 
 impl Default for ChunkCompression {
     /// zstd level 1: most of level 3's ratio on sensor-like CDR at a fraction of the CPU.
+    ///
+    /// rosbag2's MCAP plugin writes uncompressed chunks unless given a preset; that was measured here as the
+    /// node's default and not kept: bags three times the size, and the node's p99 latency at 10,000 swings/s
+    /// no better (1.6× raw vs 1.2× with zstd, medians of five interleaved runs; BENCHMARKS.md).
     fn default() -> Self {
         ChunkCompression::Zstd { level: 1 }
     }

@@ -92,7 +92,7 @@ pub struct StepResult {
 /// Recorder against `dd`: one message type and chunk compression, then `dd` of the same bytes.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct DiskResult {
-    /// ROS type recorded (`sweetspot_msgs/msg/Swing` or `…/ExitVelocity`).
+    /// ROS type recorded (`sweetspot_msgs/msg/Swing`, `…/ExitVelocity`, or `per swing: …` for the node's mix).
     pub message_type: String,
     /// Mean CDR size of one message, bytes.
     pub message_bytes: u64,
@@ -123,8 +123,22 @@ pub struct DiskResult {
 pub enum BenchMessage {
     /// The node's input, 84 B of CDR: the worst case (most messages per byte).
     Swing,
-    /// The node's main output, ~190 B of CDR (ids and ten doubles).
+    /// The node's main output, ~156 B of CDR (ids and ten doubles).
     ExitVelocity,
+    /// What the node records for each answered swing, in turn on three topics: the Swing (84 B), its
+    /// ExitVelocity (~156 B) and its ModalEnergies (18 modes, ~520 B).
+    PerSwing,
+}
+
+impl BenchMessage {
+    /// How the report names it.
+    fn label(self) -> &'static str {
+        match self {
+            BenchMessage::Swing => <Swing as crate::msgs::RosMessage>::TYPE_NAME,
+            BenchMessage::ExitVelocity => <ExitVelocity as crate::msgs::RosMessage>::TYPE_NAME,
+            BenchMessage::PerSwing => "per swing: Swing + ExitVelocity + ModalEnergies",
+        }
+    }
 }
 
 /// Memory of the node process.
@@ -1076,7 +1090,8 @@ fn median(values: &[u64]) -> u64 {
     v.get(v.len() / 2).copied().unwrap_or(0)
 }
 
-/// The recorder against `dd` for Swing and ExitVelocity messages, each with zstd and uncompressed chunks.
+/// The recorder against `dd` for Swing messages, ExitVelocity messages and the node's per-swing mix, each
+/// with zstd (the default) and uncompressed chunks.
 pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<Vec<DiskResult>> {
     use crate::bag::ChunkCompression;
     disk_bench_with(dir, messages, &[ChunkCompression::default(), ChunkCompression::None])
@@ -1090,7 +1105,7 @@ pub fn disk_bench_with(
 ) -> anyhow::Result<Vec<DiskResult>> {
     use crate::bag::StorageOptions;
     let mut results = Vec::new();
-    for message in [BenchMessage::Swing, BenchMessage::ExitVelocity] {
+    for message in [BenchMessage::Swing, BenchMessage::ExitVelocity, BenchMessage::PerSwing] {
         for &compression in compressions {
             let storage = StorageOptions { compression, ..StorageOptions::default() };
             let r = disk_bench_one(dir, message, messages, storage)?;
@@ -1114,49 +1129,76 @@ pub fn disk_bench_with(
 /// any zstd window of the levels used, so the compressor sees no exact repeats, as with real swings.
 const BENCH_PAYLOADS: u64 = 65_536;
 
-/// [`BENCH_PAYLOADS`] payloads of `message`.
-fn bench_payloads(message: BenchMessage) -> Vec<Vec<u8>> {
+/// The topics a recorder bench records, each with [`BENCH_PAYLOADS`] CDR payloads: one topic, or for
+/// [`BenchMessage::PerSwing`] three, recorded in turn.
+fn bench_streams(message: BenchMessage) -> Vec<(crate::bag::TopicInfo, Vec<Vec<u8>>)> {
+    use crate::bag::TopicInfo;
+    use crate::msgs::sweetspot_msgs::msg::ModalEnergies;
     use rand::{Rng, SeedableRng};
     let mut rng = rand::rngs::StdRng::seed_from_u64(7);
-    (0..BENCH_PAYLOADS)
-        .map(|i| {
-            let swing = Swing {
-                ball_speed: rng.gen_range(30.0..45.0),
-                bat_cm_speed: rng.gen_range(15.0..25.0),
-                bat_angular_speed: rng.gen_range(30.0..60.0),
-                impact_z: rng.gen_range(0.4..0.8),
-                measured_exit_speed: rng.gen_range(30.0..50.0),
-                ..bench_swing(i)
-            };
-            let encoded = match message {
-                BenchMessage::Swing => crate::msgs::encode_cdr(&swing),
-                BenchMessage::ExitVelocity => {
-                    let exit_speed = rng.gen_range(35.0..50.0);
-                    let ev = ExitVelocity {
-                        header: swing.header.clone(),
-                        swing_id: swing.swing_id,
-                        bat_id: "r161".into(),
-                        ball_id: "baseball".into(),
-                        status: ExitVelocity::STATUS_OK,
-                        impact_z: swing.impact_z,
-                        exit_speed,
-                        rigid_exit_speed: exit_speed * rng.gen_range(1.0..1.1),
-                        effective_cor: rng.gen_range(0.3..0.5),
-                        collision_efficiency: rng.gen_range(0.1..0.3),
-                        contact_time: rng.gen_range(0.0006..0.0012),
-                        peak_force: rng.gen_range(1.0e4..3.0e4),
-                        impulse: rng.gen_range(10.0..15.0),
-                        max_compression: rng.gen_range(0.005..0.02),
-                        measured_exit_speed: swing.measured_exit_speed,
-                        residual: swing.measured_exit_speed - exit_speed,
-                        ..ExitVelocity::default()
-                    };
-                    crate::msgs::encode_cdr(&ev)
-                }
-            };
-            encoded.unwrap_or_default()
-        })
-        .collect()
+    let (mut swings, mut exits, mut energies) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..BENCH_PAYLOADS {
+        let swing = Swing {
+            ball_speed: rng.gen_range(30.0..45.0),
+            bat_cm_speed: rng.gen_range(15.0..25.0),
+            bat_angular_speed: rng.gen_range(30.0..60.0),
+            impact_z: rng.gen_range(0.4..0.8),
+            measured_exit_speed: rng.gen_range(30.0..50.0),
+            ..bench_swing(i)
+        };
+        let exit_speed = rng.gen_range(35.0..50.0);
+        let exit = ExitVelocity {
+            header: swing.header.clone(),
+            swing_id: swing.swing_id,
+            bat_id: "r161".into(),
+            ball_id: "baseball".into(),
+            status: ExitVelocity::STATUS_OK,
+            impact_z: swing.impact_z,
+            exit_speed,
+            rigid_exit_speed: exit_speed * rng.gen_range(1.0..1.1),
+            effective_cor: rng.gen_range(0.3..0.5),
+            collision_efficiency: rng.gen_range(0.1..0.3),
+            contact_time: rng.gen_range(0.0006..0.0012),
+            peak_force: rng.gen_range(1.0e4..3.0e4),
+            impulse: rng.gen_range(10.0..15.0),
+            max_compression: rng.gen_range(0.005..0.02),
+            measured_exit_speed: swing.measured_exit_speed,
+            residual: swing.measured_exit_speed - exit_speed,
+            ..ExitVelocity::default()
+        };
+        let modes = 18;
+        let energy: Vec<f64> = (0..modes).map(|_| rng.gen_range(0.0..2.0)).collect();
+        let total: f64 = energy.iter().sum();
+        let modal = ModalEnergies {
+            header: swing.header.clone(),
+            swing_id: swing.swing_id,
+            bat_id: "r161".into(),
+            frequency: (0..modes).map(|m| 170.0 * (m + 1) as f64 * rng.gen_range(0.99..1.01)).collect(),
+            fraction: energy.iter().map(|e| e / total.max(1e-12)).collect(),
+            energy,
+            vibration_energy: total,
+            hysteresis_loss: rng.gen_range(20.0..40.0),
+            energy_residual: rng.gen_range(-1e-5..1e-5),
+        };
+        match message {
+            BenchMessage::Swing => swings.push(crate::msgs::encode_cdr(&swing).unwrap_or_default()),
+            BenchMessage::ExitVelocity => exits.push(crate::msgs::encode_cdr(&exit).unwrap_or_default()),
+            BenchMessage::PerSwing => {
+                swings.push(crate::msgs::encode_cdr(&swing).unwrap_or_default());
+                exits.push(crate::msgs::encode_cdr(&exit).unwrap_or_default());
+                energies.push(crate::msgs::encode_cdr(&modal).unwrap_or_default());
+            }
+        }
+    }
+    let swing_topic = TopicInfo::of::<Swing>("/swing", crate::ros::recorded_qos(&crate::ros::swing_qos()));
+    let results_qos = crate::ros::recorded_qos(&crate::ros::results_qos());
+    let exit_topic = TopicInfo::of::<ExitVelocity>("/exit_velocity", results_qos.clone());
+    let modal_topic = TopicInfo::of::<ModalEnergies>("/modal_energies", results_qos);
+    match message {
+        BenchMessage::Swing => vec![(swing_topic, swings)],
+        BenchMessage::ExitVelocity => vec![(exit_topic, exits)],
+        BenchMessage::PerSwing => vec![(swing_topic, swings), (exit_topic, exits), (modal_topic, energies)],
+    }
 }
 
 /// Records `messages` messages (as the node records them) with the bag recorder into `dir`, then writes the
@@ -1167,32 +1209,26 @@ pub fn disk_bench_one(
     messages: u64,
     storage: crate::bag::StorageOptions,
 ) -> anyhow::Result<DiskResult> {
-    use crate::bag::{RecorderConfig, TopicInfo};
-    use crate::msgs::RosMessage;
+    use crate::bag::RecorderConfig;
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let bag = dir.join(format!("recorder_bench_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&bag);
-    let payloads = bench_payloads(message);
-    let qos = crate::ros::recorded_qos(&crate::ros::swing_qos());
-    let (message_type, topic_info) = match message {
-        BenchMessage::Swing => (<Swing as RosMessage>::TYPE_NAME, TopicInfo::of::<Swing>("/swing", qos)),
-        BenchMessage::ExitVelocity => {
-            (<ExitVelocity as RosMessage>::TYPE_NAME, TopicInfo::of::<ExitVelocity>("/exit_velocity", qos))
-        }
-    };
+    let (topic_infos, payloads): (Vec<_>, Vec<_>) = bench_streams(message).into_iter().unzip();
     let mut config = RecorderConfig::new(&bag);
     config.queue_capacity = 65_536;
     let t0 = crate::node::convert::now_ns();
     let start = Instant::now();
     let recorder = crate::bag::Recorder::start_with(config, storage)?;
-    let topic = recorder.register_topic(topic_info)?;
+    let topics = topic_infos.into_iter().map(|t| recorder.register_topic(t)).collect::<Result<Vec<_>, _>>()?;
+    let streams = topics.len() as u64;
     for i in 0..messages {
-        let cdr = &payloads[(i % BENCH_PAYLOADS) as usize];
+        let stream = (i % streams) as usize;
+        let cdr = &payloads[stream][((i / streams) % BENCH_PAYLOADS) as usize];
         let stamp = t0 + i * 1000;
         // The recorder never waits for its writer (a full queue is a counted drop); to measure its
         // throughput, retry until the writer thread has made room. Sleeping rather than spinning leaves
         // the writer the core while it catches up (this machine has two).
-        while !recorder.record_bytes(topic, cdr, stamp, stamp) {
+        while !recorder.record_bytes(topics[stream], cdr, stamp, stamp) {
             std::thread::sleep(Duration::from_micros(50));
         }
     }
@@ -1222,8 +1258,9 @@ pub fn disk_bench_one(
     let recorder_mb_s = stats.bytes as f64 / 1e6 / recorder_s;
     let dd_mb_s = (mib << 20) as f64 / 1e6 / dd_s;
     Ok(DiskResult {
-        message_type: message_type.to_string(),
-        message_bytes: payloads.iter().map(|p| p.len() as u64).sum::<u64>() / payloads.len().max(1) as u64,
+        message_type: message.label().to_string(),
+        message_bytes: payloads.iter().flatten().map(|p| p.len() as u64).sum::<u64>()
+            / payloads.iter().map(Vec::len).sum::<usize>().max(1) as u64,
         compression: storage.compression.to_string(),
         messages: stats.written,
         payload_bytes: stats.bytes,
@@ -1310,9 +1347,33 @@ pub fn table(r: &BenchReport) -> String {
     }
     let mm = &r.memory;
     let _ = writeln!(s, "\nnode memory: peak RSS (VmHWM) after 10000/s: {:.1} MB; soak {}/s × {:.0} s: RSS first quarter {:.1} MB, last quarter {:.1} MB, {} answers lost", mm.peak_rss_kb_at_10k as f64 / 1024.0, mm.soak_rate, mm.soak_s, mm.soak_first_quarter_kb as f64 / 1024.0, mm.soak_last_quarter_kb as f64 / 1024.0, mm.soak_lost);
-    let _ = writeln!(s, "\nrecorder against dd (1 MiB blocks, fdatasync, same bytes as the messages), target ≥ 80 %:");
-    for d in &r.disk {
-        let _ = writeln!(s, "  {} ({} B) {}: {} messages, {:.1} MB of messages ({:.1} MB on disk) in {:.2} s incl. fsync = {:.1} MB/s, {:.0} msg/s; dd {:.1} MB/s; ratio {:.0} %", d.message_type, d.message_bytes, d.compression, d.messages, d.payload_bytes as f64 / 1e6, d.bag_bytes as f64 / 1e6, d.recorder_s, d.recorder_mb_s, d.recorder_msgs_s, d.dd_mb_s, d.ratio * 100.0);
+    s.push('\n');
+    s.push_str(&disk_table(&r.disk));
+    s
+}
+
+/// The recorder-against-dd rows as text (the full report's last part, and `--only recorder`).
+pub fn disk_table(disk: &[DiskResult]) -> String {
+    use std::fmt::Write;
+    let mut s = String::from("recorder against dd (1 MiB blocks, fdatasync, same bytes as the messages), target ≥ 80 %:\n");
+    for d in disk {
+        let _ = writeln!(
+            s,
+            "  {} ({} B) {}: {} messages, {:.1} MB of messages ({:.1} MB on disk) in {:.2} s incl. fsync = {:.1} MB/s, \
+             {:.0} msg/s; dd {:.1} MB/s; ratio {:.0} % (bytes on disk: {:.0} % of dd)",
+            d.message_type,
+            d.message_bytes,
+            d.compression,
+            d.messages,
+            d.payload_bytes as f64 / 1e6,
+            d.bag_bytes as f64 / 1e6,
+            d.recorder_s,
+            d.recorder_mb_s,
+            d.recorder_msgs_s,
+            d.dd_mb_s,
+            d.ratio * 100.0,
+            d.recorder_disk_mb_s / d.dd_mb_s * 100.0
+        );
     }
     s
 }
@@ -1332,6 +1393,28 @@ mod tests {
         let peak = proc_status_kb(std::process::id(), "VmHWM").expect("VmHWM");
         assert!(rss > 0 && peak >= rss, "rss {rss} kB, peak {peak} kB");
         assert_eq!(proc_status_kb(std::process::id(), "NoSuchField"), None);
+    }
+
+    #[test]
+    fn the_per_swing_mix_records_swing_exit_velocity_and_modal_energies_in_turn() {
+        let streams = bench_streams(BenchMessage::PerSwing);
+        let names: Vec<&str> = streams.iter().map(|(t, _)| t.name.as_str()).collect();
+        assert_eq!(names, ["/swing", "/exit_velocity", "/modal_energies"]);
+        let sizes: Vec<usize> = streams.iter().map(|(_, p)| p[0].len()).collect();
+        // CDR sizes as the node publishes them: 84 B, ids and ten doubles, three arrays of 18 doubles.
+        assert_eq!(sizes[0], 84, "{sizes:?}");
+        assert!((140..200).contains(&sizes[1]) && (450..600).contains(&sizes[2]), "{sizes:?}");
+        assert!(streams.iter().all(|(_, p)| p.len() as u64 == BENCH_PAYLOADS));
+
+        let dir = tempfile::tempdir().unwrap();
+        let r = disk_bench_one(dir.path(), BenchMessage::PerSwing, 3_000, crate::bag::StorageOptions::default())
+            .unwrap();
+        assert_eq!(r.messages, 3_000);
+        let per_swing: usize = sizes.iter().sum();
+        assert_eq!(r.payload_bytes, 1_000 * per_swing as u64, "1,000 swings of three messages each");
+        assert_eq!(r.message_bytes, (per_swing / 3) as u64);
+        assert!(r.ratio > 0.0 && r.dd_mb_s > 0.0, "{r:?}");
+        assert!(disk_table(&[r]).contains("per swing: Swing + ExitVelocity + ModalEnergies"));
     }
 
     #[test]

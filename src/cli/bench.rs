@@ -31,7 +31,8 @@ pub struct BenchArgs {
     pub soak: Option<u64>,
     /// Run only this part: `sustained` = the node's sustained-rate search alone; `latency` = the raw echo and
     /// the node (and any --compare nodes) at 100, 1,000 and 10,000 swings/s, all up at once and measured in
-    /// interleaved blocks (about 30 s per server; 5 s with --quick). Default: everything.
+    /// interleaved blocks (about 30 s per server; 5 s with --quick); `recorder` = the recorder against dd
+    /// (no DDS). Default: everything.
     #[arg(long, value_enum, value_name = "PART")]
     pub only: Option<BenchPart>,
     /// With `--only latency`: also measure the node of another executable, e.g. the build before a change
@@ -60,6 +61,8 @@ pub enum BenchPart {
     Latency,
     /// The highest rate the node sustains with recording on.
     Sustained,
+    /// The bag recorder against `dd` on the work dir's disk.
+    Recorder,
 }
 
 /// Runs the bench (or, with `--echo-server`, the raw echo it starts as a child).
@@ -83,6 +86,17 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         node_exe: args.node_exe,
         sustained_only: args.only == Some(BenchPart::Sustained),
     };
+    if args.only == Some(BenchPart::Recorder) {
+        let loadavg = || std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string();
+        let before = loadavg();
+        let disk = bench::disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?;
+        println!("load average before: {before}, after: {}\n{}", loadavg(), bench::disk_table(&disk));
+        if let Some(path) = args.json {
+            let text = serde_json::to_string_pretty(&serde_json::json!(disk))?;
+            std::fs::write(&path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+        }
+        return Ok(());
+    }
     if args.only == Some(BenchPart::Latency) {
         let report = bench::run_latency_interleaved(&opts)?;
         println!("{}", bench::interleaved_table(&report));
