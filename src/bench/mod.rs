@@ -50,6 +50,11 @@ pub struct BenchOptions {
     pub node_exe: Option<PathBuf>,
     /// [`run`] measures only the sustained-rate search (no latency comparison, soak or recorder bench).
     pub sustained_only: bool,
+    /// Rates of [`run_latency_interleaved`] (empty: [`LATENCY_RATES`]), swings/s.
+    pub latency_rates: Vec<u32>,
+    /// Seconds per server and rate in [`run_latency_interleaved`] (default 20 s at ≤ 100/s, else 5 s): longer
+    /// runs put more of the VM's rare stalls into every server's p99, so the ratios spread less.
+    pub latency_seconds: Option<f64>,
 }
 
 /// Latency figures of one paced run, µs.
@@ -112,8 +117,11 @@ pub struct DiskResult {
     pub recorder_disk_mb_s: f64,
     /// Recorder messages per second.
     pub recorder_msgs_s: f64,
-    /// `dd` throughput writing as many bytes as the messages (1 MiB blocks, fdatasync), MB/s.
+    /// `dd` throughput writing as many bytes as the messages (1 MiB blocks, fdatasync), MB/s: the faster of
+    /// the runs right before and right after the recorder.
     pub dd_mb_s: f64,
+    /// Both `dd` runs (before, after), MB/s.
+    pub dd_runs_mb_s: Vec<f64>,
     /// recorder_mb_s / dd_mb_s.
     pub ratio: f64,
 }
@@ -905,7 +913,7 @@ fn soak(
 pub struct InterleavedTarget {
     /// `raw`, `node`, or a `--compare` label.
     pub label: String,
-    /// Merged over its blocks, one per rate of [`LATENCY_RATES`].
+    /// Merged over its blocks, one per rate measured.
     pub runs: Vec<RunResult>,
     /// p99 / the raw echo's p99 at each rate.
     pub p99_ratio: Vec<(u32, f64)>,
@@ -970,8 +978,9 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
 
     let mut merged: Vec<Vec<RunResult>> = vec![Vec::new(); servers.len()];
     let mut block_seconds = Vec::new();
-    for rate in LATENCY_RATES {
-        let total = run_seconds(opts.quick, rate);
+    let rates: &[u32] = if opts.latency_rates.is_empty() { &LATENCY_RATES } else { &opts.latency_rates };
+    for &rate in rates {
+        let total = opts.latency_seconds.unwrap_or_else(|| run_seconds(opts.quick, rate));
         let block = if rate <= 100 { total.min(2.0) } else { total.min(0.5) };
         let blocks = (total / block).round().max(1.0) as usize;
         block_seconds.push((rate, block));
@@ -1201,8 +1210,8 @@ fn bench_streams(message: BenchMessage) -> Vec<(crate::bag::TopicInfo, Vec<Vec<u
     }
 }
 
-/// Records `messages` messages (as the node records them) with the bag recorder into `dir`, then writes the
-/// same number of bytes with `dd … conv=fdatasync` to the same directory.
+/// Records `messages` messages (as the node records them) with the bag recorder into `dir`; right before and
+/// right after, writes the same number of message bytes with `dd … conv=fdatasync` to the same directory.
 pub fn disk_bench_one(
     dir: &Path,
     message: BenchMessage,
@@ -1214,13 +1223,16 @@ pub fn disk_bench_one(
     let bag = dir.join(format!("recorder_bench_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&bag);
     let (topic_infos, payloads): (Vec<_>, Vec<_>) = bench_streams(message).into_iter().unzip();
+    let streams = payloads.len().max(1) as u64;
+    let payload_bytes: u64 =
+        (0..messages).map(|i| payloads[(i % streams) as usize][((i / streams) % BENCH_PAYLOADS) as usize].len() as u64).sum();
+    let dd_before = dd_mb_s(dir, payload_bytes)?;
     let mut config = RecorderConfig::new(&bag);
     config.queue_capacity = 65_536;
     let t0 = crate::node::convert::now_ns();
     let start = Instant::now();
     let recorder = crate::bag::Recorder::start_with(config, storage)?;
     let topics = topic_infos.into_iter().map(|t| recorder.register_topic(t)).collect::<Result<Vec<_>, _>>()?;
-    let streams = topics.len() as u64;
     for i in 0..messages {
         let stream = (i % streams) as usize;
         let cdr = &payloads[stream][((i / streams) % BENCH_PAYLOADS) as usize];
@@ -1237,26 +1249,11 @@ pub fn disk_bench_one(
     let bag_bytes = dir_bytes(&bag);
     let _ = std::fs::remove_dir_all(&bag);
 
-    let dd_file = dir.join(format!("dd_bench_{}", std::process::id()));
-    let mib = (stats.bytes / (1 << 20)).max(1);
-    let dd_start = Instant::now();
-    let status = Command::new("dd")
-        .arg("if=/dev/zero")
-        .arg(format!("of={}", dd_file.display()))
-        .arg("bs=1M")
-        .arg(format!("count={mib}"))
-        .arg("conv=fdatasync")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .context("running dd")?;
-    let dd_s = dd_start.elapsed().as_secs_f64();
-    let _ = std::fs::remove_file(&dd_file);
-    if !status.success() {
-        bail!("dd failed: {status}");
-    }
+    let dd_after = dd_mb_s(dir, stats.bytes)?;
     let recorder_mb_s = stats.bytes as f64 / 1e6 / recorder_s;
-    let dd_mb_s = (mib << 20) as f64 / 1e6 / dd_s;
+    // The faster dd is the reference: on this VM's disk a dd writing where nothing was written lately runs at
+    // a quarter of its speed on blocks just freed, and which one comes out fast depends on what ran before.
+    let dd_mb_s = dd_before.max(dd_after);
     Ok(DiskResult {
         message_type: message.label().to_string(),
         message_bytes: payloads.iter().flatten().map(|p| p.len() as u64).sum::<u64>()
@@ -1270,8 +1267,32 @@ pub fn disk_bench_one(
         recorder_disk_mb_s: bag_bytes as f64 / 1e6 / recorder_s,
         recorder_msgs_s: stats.written as f64 / recorder_s,
         dd_mb_s,
+        dd_runs_mb_s: vec![dd_before, dd_after],
         ratio: recorder_mb_s / dd_mb_s,
     })
+}
+
+/// `dd if=/dev/zero bs=1M conv=fdatasync` of `bytes` (whole MiB, at least one) into `dir`, MB/s.
+fn dd_mb_s(dir: &Path, bytes: u64) -> anyhow::Result<f64> {
+    let dd_file = dir.join(format!("dd_bench_{}", std::process::id()));
+    let mib = (bytes / (1 << 20)).max(1);
+    let start = Instant::now();
+    let status = Command::new("dd")
+        .arg("if=/dev/zero")
+        .arg(format!("of={}", dd_file.display()))
+        .arg("bs=1M")
+        .arg(format!("count={mib}"))
+        .arg("conv=fdatasync")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .context("running dd")?;
+    let seconds = start.elapsed().as_secs_f64();
+    let _ = std::fs::remove_file(&dd_file);
+    if !status.success() {
+        bail!("dd failed: {status}");
+    }
+    Ok((mib << 20) as f64 / 1e6 / seconds)
 }
 
 fn dir_bytes(dir: &Path) -> u64 {
@@ -1360,7 +1381,7 @@ pub fn disk_table(disk: &[DiskResult]) -> String {
         let _ = writeln!(
             s,
             "  {} ({} B) {}: {} messages, {:.1} MB of messages ({:.1} MB on disk) in {:.2} s incl. fsync = {:.1} MB/s, \
-             {:.0} msg/s; dd {:.1} MB/s; ratio {:.0} % (bytes on disk: {:.0} % of dd)",
+             {:.0} msg/s; dd {:.1} MB/s (faster of {}); ratio {:.0} % (bytes on disk: {:.0} % of dd)",
             d.message_type,
             d.message_bytes,
             d.compression,
@@ -1371,6 +1392,7 @@ pub fn disk_table(disk: &[DiskResult]) -> String {
             d.recorder_mb_s,
             d.recorder_msgs_s,
             d.dd_mb_s,
+            d.dd_runs_mb_s.iter().map(|v| format!("{v:.0}")).collect::<Vec<_>>().join(", "),
             d.ratio * 100.0,
             d.recorder_disk_mb_s / d.dd_mb_s * 100.0
         );

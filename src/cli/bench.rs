@@ -39,12 +39,26 @@ pub struct BenchArgs {
     /// (`--compare before=/tmp/sweetspot-old`); repeatable.
     #[arg(long, value_name = "LABEL=EXE", value_parser = parse_compare, requires = "only")]
     pub compare: Vec<(String, PathBuf)>,
+    /// With `--only latency`: the rates to measure, swings/s (default 100,1000,10000).
+    #[arg(long, value_name = "RATES", value_delimiter = ',', requires = "only", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub rates: Vec<u32>,
+    /// With `--only latency`: seconds per server and rate (default 20 at 100/s, 5 above; 2 and 1 with --quick),
+    /// in blocks of 2 s (≤ 100/s) or 0.5 s.
+    #[arg(long, value_name = "SECONDS", requires = "only", value_parser = parse_seconds)]
+    pub seconds: Option<f64>,
     /// Start this executable as the node (full bench and `--only sustained`), e.g. an older build.
     #[arg(long, value_name = "EXE")]
     pub node_exe: Option<PathBuf>,
     /// Internal: run the raw ros2-client echo server (started by the bench itself).
     #[arg(long, hide = true)]
     pub echo_server: bool,
+}
+
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if (0.5..=3600.0).contains(&s) => Ok(s),
+        _ => Err(format!("expected seconds between 0.5 and 3600, got '{text}'")),
+    }
 }
 
 fn parse_compare(text: &str) -> Result<(String, PathBuf), String> {
@@ -85,6 +99,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         compare: args.compare,
         node_exe: args.node_exe,
         sustained_only: args.only == Some(BenchPart::Sustained),
+        latency_rates: args.rates,
+        latency_seconds: args.seconds,
     };
     if args.only == Some(BenchPart::Recorder) {
         let loadavg = || std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string();
