@@ -62,7 +62,7 @@ pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
     (
         "record_storage_preset",
         "",
-        "MCAP layout as rosbag2's --storage-preset-profile: none (uncompressed chunks), fastwrite (no chunks, no \
+        "MCAP layout as rosbag2's --storage-preset-profile: none (rosbag2's default: uncompressed chunks), fastwrite (no chunks, no \
          indexes, uncompressed), zstd_fast (zstd -5), zstd_small (zstd 19, 4 MiB chunks); empty = zstd level 1 \
          chunks",
     ),
