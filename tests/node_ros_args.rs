@@ -440,7 +440,7 @@ fn fastwrite_preset_records_an_unchunked_bag_that_reads_back_complete() {
     let bytes = std::fs::read(&files[0]).unwrap();
     let summary = mcap::Summary::read(&bytes).unwrap().expect("a summary");
     assert!(summary.chunk_indexes.is_empty());
-    let streamed = mcap::MessageStream::new(&bytes).unwrap().map(|m| m.unwrap()).count() as u64;
+    let streamed = mcap::MessageStream::new(&bytes).unwrap().collect::<Result<Vec<_>, _>>().unwrap().len() as u64;
     assert_eq!(streamed, summary.stats.as_ref().unwrap().message_count);
     assert_eq!(streamed, info.messages);
 }
