@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use bag_support::*;
 use sweetspot::bag::reader::{bag_files, read_bag, scan_file};
-use sweetspot::bag::{BagError, Recorder, RecorderConfig, TopicId};
+use sweetspot::bag::{BagError, McapLayout, Recorder, RecorderConfig, StorageOptions, TopicId};
 
 const T0: u64 = 1_763_700_000_000_000_000;
 
@@ -276,4 +276,100 @@ fn records_that_race_the_writer_are_all_accounted_for() {
     assert_eq!(stats.written + stats.dropped, 20_000);
     let scan = scan_file(&dir.join("tiny_queue_0.mcap"), |_| {}).unwrap();
     assert_eq!(scan.message_count(), accepted);
+}
+
+/// Offsets where each top-level Message record of an MCAP file ends.
+fn message_record_ends(bytes: &[u8]) -> Vec<u64> {
+    use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
+    let mut reader = LinearReader::new_with_options(LinearReaderOptions::default().with_emit_chunks(true));
+    let (mut offset, mut position) = (0usize, 8u64);
+    let mut ends = Vec::new();
+    while let Some(event) = reader.next_event() {
+        match event.unwrap() {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = need.min(bytes.len() - offset);
+                reader.insert(n).copy_from_slice(&bytes[offset..offset + n]);
+                reader.notify_read(n);
+                offset += n;
+            }
+            LinearReadEvent::Record { data, opcode } => {
+                position += 9 + data.len() as u64;
+                if opcode == mcap::records::op::MESSAGE {
+                    ends.push(position);
+                }
+            }
+        }
+    }
+    ends
+}
+
+#[test]
+fn fastwrite_splits_by_size_right_after_the_message_that_fills_a_file() {
+    const LIMIT: u64 = 32 * 1024;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("sized");
+    let mut config = RecorderConfig::new(&dir);
+    config.max_file_size = Some(LIMIT);
+    let recorder = Recorder::start_with(config, StorageOptions::preset("fastwrite").unwrap()).unwrap();
+    let topic = recorder.register_topic(string_topic("/rig/swing", RELIABLE)).unwrap();
+    for i in 0..400u64 {
+        // 400 messages of ~230 bytes: whole batches of them reach the writer at once, so the split
+        // happens inside a batch.
+        assert!(recorder.record(topic, cdr_string(&format!("{i} {}", "y".repeat(200))), T0 + i, T0 + i));
+    }
+    assert_eq!(recorder.finish().unwrap().written, 400);
+    let files = bag_files(&dir).unwrap();
+    assert!(files.len() >= 2, "expected a split, got {files:?}");
+    let mut next = 0u64;
+    for (n, file) in files.iter().enumerate() {
+        let mut indices = Vec::new();
+        let scan = scan_file(file, |m| {
+            let text = std::str::from_utf8(&m.data[8..]).unwrap();
+            indices.push(text.split(' ').next().unwrap().parse::<u64>().unwrap());
+        })
+        .unwrap();
+        assert!(scan.complete, "{} has a summary", file.display());
+        assert_eq!(scan.layout(), Some(McapLayout::Unchunked));
+        assert_eq!(scan.channels.len(), 1, "every split re-declares the channel");
+        assert!(indices.iter().copied().eq(next..next + indices.len() as u64), "gap-free across files");
+        next += indices.len() as u64;
+        let ends = message_record_ends(&std::fs::read(file).unwrap());
+        if n + 1 < files.len() {
+            // The file closed with the first message that took it to the limit: not one earlier or later.
+            let last = ends[ends.len() - 1];
+            let before = ends[ends.len() - 2];
+            assert!(before < LIMIT && last >= LIMIT, "{}: messages end at {before} then {last}", file.display());
+        }
+    }
+    assert_eq!(next, 400);
+    let verdict = python_check_bag(&dir);
+    assert_eq!(verdict["mcap"]["files"].as_array().unwrap().len(), files.len());
+    assert_eq!(verdict["mcap"]["topics"]["/rig/swing"]["count"], 400);
+    assert_eq!(verdict["rosbags"]["topics"]["/rig/swing"]["count"], 400);
+}
+
+#[test]
+fn fastwrite_splits_by_duration_of_recorded_time() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("timed");
+    let mut config = RecorderConfig::new(&dir);
+    config.max_file_duration = Some(Duration::from_secs(2));
+    let recorder = Recorder::start_with(config, StorageOptions::preset("fastwrite").unwrap()).unwrap();
+    let topic = recorder.register_topic(string_topic("/rig/swing", RELIABLE)).unwrap();
+    for i in 0..100u64 {
+        let t = T0 + i * 100_000_000;
+        assert!(recorder.record(topic, cdr_string(&format!("{i}")), t, t));
+    }
+    recorder.finish().unwrap();
+    let files = bag_files(&dir).unwrap();
+    assert_eq!(files.len(), 5, "10 s in 2 s files: {files:?}");
+    for file in &files {
+        let scan = scan_file(file, |_| {}).unwrap();
+        let (first, last) = scan.time_range.unwrap();
+        assert!(last - first < 2_000_000_000, "{}: {first}..{last}", file.display());
+        assert_eq!((scan.message_count(), scan.unchunked_messages, scan.chunks), (20, 20, 0));
+    }
+    let verdict = python_check_bag(&dir);
+    assert_eq!(verdict["rosbags"]["topics"]["/rig/swing"]["count"], 100);
+    assert_eq!(verdict["mcap"]["topics"]["/rig/swing"]["files"].as_array().unwrap().len(), 5);
 }

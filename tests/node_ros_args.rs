@@ -394,3 +394,84 @@ fn an_unwritable_record_path_is_reported_and_the_node_keeps_answering() {
     assert!(status.success(), "{log}");
     assert!(log.contains("/proc/sweetspot/bag"), "the log names the path: {log}");
 }
+
+#[test]
+fn fastwrite_preset_records_an_unchunked_bag_that_reads_back_complete() {
+    const N: u64 = 20;
+    let domain = domain(43);
+    let dir = tempfile::tempdir().unwrap();
+    let bag = dir.path().join("fastwrite_run");
+    let mut peer = Peer::new(domain, "fastwrite_peer");
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let node = NodeProcess::spawn(
+        domain,
+        dir.path(),
+        &["--ros-args", "-p", &format!("record_path:={}", bag.display()), "-p", "record_storage_preset:=fastwrite"],
+    );
+    peer.wait_for_reader(&swing_pub);
+    let swings: Vec<Swing> = (0..N).map(|i| swing(i, "", 0.5 + 0.01 * i as f64)).collect();
+    for s in &swings {
+        swing_pub.publish(s.clone()).unwrap();
+    }
+    let got = peer.collect(&answers, N as usize, WAIT);
+    let (status, _, log) = node.stop_with(15);
+    assert!(status.success(), "exit status {status:?}\n{log}");
+
+    let info = sweetspot::bag::info::bag_info(&bag).expect("the bag opens");
+    assert!(info.complete(), "every file has its summary and footer");
+    assert_eq!(info.layout, vec![sweetspot::bag::McapLayout::Unchunked], "record_storage_preset chose the layout");
+    assert!(info.compression.is_empty() && info.files.iter().all(|f| f.chunks == 0));
+    assert_eq!((count(&info, "/swing"), count(&info, "/exit_velocity"), count(&info, "/modal_energies")), (N, N, N));
+
+    let mut recorded_swings = Vec::new();
+    let mut recorded_answers = Vec::new();
+    sweetspot::bag::reader::read_bag(&bag, |m| match m.channel.topic.name.as_str() {
+        "/swing" => recorded_swings.push(m.data.to_vec()),
+        "/exit_velocity" => recorded_answers.push(m.data.to_vec()),
+        _ => {}
+    })
+    .expect("read the bag");
+    assert_eq!(recorded_swings, swings.iter().map(|s| sweetspot::msgs::encode_cdr(s).unwrap()).collect::<Vec<_>>());
+    assert_eq!(recorded_answers, got.iter().map(|ev| sweetspot::msgs::encode_cdr(ev).unwrap()).collect::<Vec<_>>());
+
+    // The mcap crate agrees: every message in the file, none in a chunk, statistics right.
+    let files = sweetspot::bag::reader::bag_files(&bag).unwrap();
+    let bytes = std::fs::read(&files[0]).unwrap();
+    let summary = mcap::Summary::read(&bytes).unwrap().expect("a summary");
+    assert!(summary.chunk_indexes.is_empty());
+    let streamed = mcap::MessageStream::new(&bytes).unwrap().collect::<Result<Vec<_>, _>>().unwrap().len() as u64;
+    assert_eq!(streamed, summary.stats.as_ref().unwrap().message_count);
+    assert_eq!(streamed, info.messages);
+}
+
+#[test]
+fn fastwrite_with_a_compression_refuses_to_start_naming_both_parameters() {
+    node_support::shared::require_isolated_network();
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .args(["node", "--ros-args", "-p", "record_storage_preset:=fastwrite", "-p", "record_compression:=zstd"])
+        .current_dir(dir.path())
+        .env("ROS_DOMAIN_ID", domain(44).to_string())
+        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + WAIT;
+    while child.try_wait().unwrap().is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("the node started with fastwrite + zstd instead of refusing");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    for part in ["record_storage_preset", "record_compression", "REJECTED", "needs chunks"] {
+        assert!(stderr.contains(part), "{part}: {stderr}");
+    }
+    assert!(!dir.path().join("bags").exists(), "no bag is started");
+}

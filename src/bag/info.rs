@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::reader::{read_bag, FileScan};
 use super::rosbag2::{BagMetadata, FileEntry};
-use super::{BagError, TopicInfo};
+use super::{BagError, McapLayout, TopicInfo};
 
 /// One topic of a bag.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -38,6 +38,9 @@ pub struct FileSummary {
     pub messages: u64,
     /// Complete chunks.
     pub chunks: u64,
+    /// `chunked`, `unchunked` (messages outside chunks, no indexes: rosbag2's fastwrite), or null when the
+    /// file holds no message.
+    pub layout: Option<McapLayout>,
     /// Has summary + footer (false: cut off, run `sweetspot bag recover`).
     pub complete: bool,
     /// Bytes after the last complete record.
@@ -61,6 +64,8 @@ pub struct BagInfo {
     pub library: String,
     /// Chunk compression(s) in use.
     pub compression: Vec<String>,
+    /// Layouts of the files holding messages (`chunked`, `unchunked`), first-seen order.
+    pub layout: Vec<McapLayout>,
     /// Earliest log time, ns since the Unix epoch.
     pub start_ns: u64,
     /// Latest log time, ns since the Unix epoch.
@@ -153,6 +158,7 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
                 size: s.size,
                 messages: s.message_count(),
                 chunks: s.chunks,
+                layout: s.layout(),
                 complete: s.complete,
                 truncated_bytes: s.truncated_bytes,
                 corrupt_chunks: s.corrupt_chunks,
@@ -163,6 +169,15 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
         profile: scans.first().map(|s| s.profile.clone()).unwrap_or_default(),
         library: scans.first().map(|s| s.library.clone()).unwrap_or_default(),
         compression,
+        layout: {
+            let mut layouts = Vec::new();
+            for layout in scans.iter().filter_map(FileScan::layout) {
+                if !layouts.contains(&layout) {
+                    layouts.push(layout);
+                }
+            }
+            layouts
+        },
         start_ns: start,
         end_ns: end,
         duration_ns: end - start,
@@ -212,6 +227,14 @@ impl std::fmt::Display for BagInfo {
         writeln!(f, "Profile / library: {} / {}", self.profile, self.library)?;
         let compression = if self.compression.is_empty() { "none".to_string() } else { self.compression.join(", ") + " (chunks)" };
         writeln!(f, "Compression:       {compression}")?;
+        let chunks: u64 = self.files.iter().map(|x| x.chunks).sum();
+        let layout = match self.layout.as_slice() {
+            [] => "no messages".to_string(),
+            [McapLayout::Unchunked] => "none (unchunked: messages outside chunks, no message indexes)".to_string(),
+            [McapLayout::Chunked] => format!("{chunks}"),
+            _ => format!("{chunks} (some files unchunked)"),
+        };
+        writeln!(f, "Chunks:            {layout}")?;
         writeln!(f, "Duration:          {}.{:09}s", self.duration_ns / 1_000_000_000, self.duration_ns % 1_000_000_000)?;
         writeln!(f, "Start:             {}", stamp(self.start_ns))?;
         writeln!(f, "End:               {}", stamp(self.end_ns))?;

@@ -36,6 +36,9 @@ pub enum BagError {
     /// The bag is not in the expected layout or format.
     #[error("bad bag: {0}")]
     Format(String),
+    /// Storage options that do not name a compression or preset, or do not go together.
+    #[error("{0}")]
+    Options(String),
 }
 
 /// QoS a topic was offered with, as recorded in the channel metadata `offered_qos_profiles`.
@@ -112,7 +115,7 @@ impl std::str::FromStr for ChunkCompression {
     type Err = BagError;
     /// `zstd` (level 1), `zstd:LEVEL`, `lz4` or `none`.
     fn from_str(s: &str) -> Result<Self, BagError> {
-        let bad = || BagError::Format(format!("compression {s:?}: expected zstd, zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or none"));
+        let bad = || BagError::Options(format!("compression {s:?}: expected zstd, zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or none"));
         match s.split_once(':') {
             None if s == "zstd" => Ok(ChunkCompression::default()),
             None if s == "lz4" => Ok(ChunkCompression::Lz4),
@@ -136,16 +139,146 @@ impl std::fmt::Display for ChunkCompression {
     }
 }
 
+/// Where messages go in an MCAP file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum McapLayout {
+    /// In chunks (compressed or not), each followed by its message indexes, with chunk indexes in the
+    /// summary: what readers seek and filter by time with.
+    #[default]
+    Chunked,
+    /// As top-level Message records straight from the batches: no chunks, no compression, no message or
+    /// chunk indexes (rosbag2's `fastwrite` preset). Readers go through the file linearly.
+    Unchunked,
+}
+
+impl std::fmt::Display for McapLayout {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            McapLayout::Chunked => "chunked",
+            McapLayout::Unchunked => "unchunked",
+        })
+    }
+}
+
 /// How the MCAP files are laid out (besides the split limits of [`RecorderConfig`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct StorageOptions {
-    /// Chunk compression (default zstd level 1).
+    /// Chunk compression (default zstd level 1). Must be `None` for [`McapLayout::Unchunked`].
     pub compression: ChunkCompression,
-    /// Target uncompressed chunk size, bytes (default 1 MiB, or a quarter of `max_file_size` when splitting).
+    /// Target uncompressed chunk size, bytes (default 1 MiB). When splitting by size, chunks are at most a
+    /// quarter of `max_file_size` (at least 1 KiB), so a file is seen growing before it closes.
     pub chunk_size: Option<u64>,
     /// Threads compressing chunks while the writer fills the next ones (default: one per core, at most 4;
     /// 0 = compress on the writer thread). Not used without compression or when splitting by size.
     pub compression_threads: Option<usize>,
+    /// Chunked (default) or unchunked.
+    pub layout: McapLayout,
+}
+
+/// rosbag2's MCAP storage presets (`ros2 bag record -s mcap --storage-preset-profile NAME`), as
+/// rosbag2_storage_mcap maps them onto the MCAP writer's options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StoragePreset {
+    /// `none`: rosbag2's own default: uncompressed 768 KiB chunks (the mcap C++ writer's chunk size).
+    None,
+    /// `fastwrite`: no chunks; messages as top-level records, no message or chunk indexes.
+    Fastwrite,
+    /// `zstd_fast`: zstd at the mcap C++ writer's `Fastest` level (-5), 768 KiB chunks.
+    ZstdFast,
+    /// `zstd_small`: zstd at the mcap C++ writer's `Slowest` level (19), 4 MiB chunks.
+    ZstdSmall,
+}
+
+/// The mcap C++ writer's default chunk size, which rosbag2 keeps for `none` and `zstd_fast`.
+pub const ROSBAG2_CHUNK_SIZE: u64 = 768 * 1024;
+
+impl StoragePreset {
+    /// Every preset, in rosbag2's order.
+    pub const ALL: [StoragePreset; 4] =
+        [StoragePreset::None, StoragePreset::Fastwrite, StoragePreset::ZstdFast, StoragePreset::ZstdSmall];
+
+    /// The rosbag2 name.
+    pub fn name(self) -> &'static str {
+        match self {
+            StoragePreset::None => "none",
+            StoragePreset::Fastwrite => "fastwrite",
+            StoragePreset::ZstdFast => "zstd_fast",
+            StoragePreset::ZstdSmall => "zstd_small",
+        }
+    }
+
+    /// What the preset writes. rosbag2 turns chunk CRCs off (and, for `fastwrite`, the summary CRC); the
+    /// CRCs are kept here: crc32fast costs a fraction of the write, and they let readers verify the file.
+    pub fn storage_options(self) -> StorageOptions {
+        let chunked = |compression, chunk_size| StorageOptions {
+            compression,
+            chunk_size: Some(chunk_size),
+            compression_threads: None,
+            layout: McapLayout::Chunked,
+        };
+        match self {
+            StoragePreset::None => chunked(ChunkCompression::None, ROSBAG2_CHUNK_SIZE),
+            StoragePreset::Fastwrite => StorageOptions {
+                compression: ChunkCompression::None,
+                chunk_size: None,
+                compression_threads: None,
+                layout: McapLayout::Unchunked,
+            },
+            StoragePreset::ZstdFast => chunked(ChunkCompression::Zstd { level: -5 }, ROSBAG2_CHUNK_SIZE),
+            StoragePreset::ZstdSmall => chunked(ChunkCompression::Zstd { level: 19 }, 4 * 1024 * 1024),
+        }
+    }
+}
+
+impl std::str::FromStr for StoragePreset {
+    type Err = BagError;
+    /// A rosbag2 preset name; the error lists the valid ones as rosbag2's does.
+    fn from_str(s: &str) -> Result<Self, BagError> {
+        StoragePreset::ALL.into_iter().find(|p| p.name() == s).ok_or_else(|| {
+            BagError::Options(format!(
+                "unknown MCAP storage preset profile (valid options are 'none', 'fastwrite', 'zstd_fast', \
+                 'zstd_small'): {s:?}"
+            ))
+        })
+    }
+}
+
+impl std::fmt::Display for StoragePreset {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl StorageOptions {
+    /// The options of a rosbag2 preset by name (`none`, `fastwrite`, `zstd_fast`, `zstd_small`).
+    pub fn preset(name: &str) -> Result<StorageOptions, BagError> {
+        Ok(name.parse::<StoragePreset>()?.storage_options())
+    }
+
+    /// These options with `compression` instead: rosbag2 applies the preset first and lets the storage
+    /// configuration override it. Unchunked files have nowhere to put compression, so anything but `none`
+    /// is an error there rather than silently ignored.
+    pub fn with_compression(self, compression: ChunkCompression) -> Result<StorageOptions, BagError> {
+        if self.layout == McapLayout::Unchunked && compression != ChunkCompression::None {
+            return Err(BagError::Options(format!(
+                "compression {compression} needs chunks, and unchunked MCAP (the fastwrite preset) has none: \
+                 use compression none or another preset"
+            )));
+        }
+        Ok(StorageOptions { compression, ..self })
+    }
+
+    /// The node's `record_storage_preset` and `record_compression` parameters together: the preset (empty =
+    /// sweetspot's default, zstd level 1 chunks), then the compression if one is given (empty = the
+    /// preset's).
+    pub fn from_parameters(preset: &str, compression: &str) -> Result<StorageOptions, BagError> {
+        let base = if preset.is_empty() { StorageOptions::default() } else { StorageOptions::preset(preset)? };
+        if compression.is_empty() {
+            return Ok(base);
+        }
+        base.with_compression(compression.parse()?)
+    }
 }
 
 /// Counters of a recorder, readable at any time (`bytes` counts message payload bytes, CDR included).

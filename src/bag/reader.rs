@@ -1,5 +1,6 @@
-//! Reading bags back: a lenient linear scan that keeps every complete chunk, so finished files and files
-//! cut off by a crash (no summary, no footer) are read the same way.
+//! Reading bags back: a lenient linear scan that keeps every complete chunk (and, in unchunked files, every
+//! complete top-level message), so finished files and files cut off by a crash (no summary, no footer) are
+//! read the same way.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -8,7 +9,7 @@ use mcap::records::Record;
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use super::rosbag2::parse_offered_qos;
-use super::{BagError, RecordedQos, TopicInfo};
+use super::{BagError, McapLayout, RecordedQos, TopicInfo};
 
 /// Largest uncompressed chunk the reader accepts (sweetspot writes chunks of a few MiB at most).
 const MAX_CHUNK_UNCOMPRESSED_SIZE: u64 = 256 * 1024 * 1024;
@@ -60,6 +61,8 @@ pub struct FileScan {
     pub counts: BTreeMap<u16, u64>,
     /// Complete chunks read.
     pub chunks: u64,
+    /// Messages read from top-level Message records, outside any chunk (unchunked files).
+    pub unchunked_messages: u64,
     /// Chunk compressions seen (e.g. `zstd`).
     pub compressions: Vec<String>,
     /// Whether the file ended properly (data end, summary, footer, magic).
@@ -78,6 +81,18 @@ impl FileScan {
     /// Total messages read.
     pub fn message_count(&self) -> u64 {
         self.counts.values().sum()
+    }
+
+    /// How the file holds its messages: chunked if it has any chunk, unchunked if it has messages outside
+    /// chunks only, None if it has no message (yet) to tell by.
+    pub fn layout(&self) -> Option<McapLayout> {
+        if self.chunks > 0 || self.corrupt_chunks > 0 {
+            Some(McapLayout::Chunked)
+        } else if self.unchunked_messages > 0 {
+            Some(McapLayout::Unchunked)
+        } else {
+            None
+        }
     }
 }
 
@@ -172,7 +187,11 @@ pub fn scan_file(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Res
                         }
                     }
                     Record::Footer(_) => scan.complete = true,
-                    other => handle_record(other, &mut scan, &mut schemas, &mut on_message),
+                    other => {
+                        if handle_record(other, &mut scan, &mut schemas, &mut on_message) {
+                            scan.unchunked_messages += 1;
+                        }
+                    }
                 }
             }
         }
@@ -223,12 +242,13 @@ fn chunk_records(header: &mcap::records::ChunkHeader, data: &[u8]) -> Result<Vec
     Ok(records)
 }
 
+/// Takes in one record; true if it was a message handed to `on_message`.
 fn handle_record(
     record: Record<'_>,
     scan: &mut FileScan,
     schemas: &mut BTreeMap<u16, (String, String, String)>,
     on_message: &mut impl FnMut(MessageRef<'_>),
-) {
+) -> bool {
     match record {
         Record::Schema { header, data } => {
             let text = String::from_utf8_lossy(&data).into_owned();
@@ -264,6 +284,7 @@ fn handle_record(
                     None => (header.log_time, header.log_time),
                     Some((a, b)) => (a.min(header.log_time), b.max(header.log_time)),
                 });
+                return true;
             }
         }
         Record::Metadata(m) if m.name == "rosbag2" => {
@@ -273,6 +294,7 @@ fn handle_record(
         }
         _ => {}
     }
+    false
 }
 
 /// Reads every message of a bag (directory or file), in file order then record order.

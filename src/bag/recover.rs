@@ -1,4 +1,5 @@
-//! `bag recover`: rebuild files cut off by a crash (no summary/footer), keeping every complete chunk.
+//! `bag recover`: rebuild files cut off by a crash (no summary/footer), keeping every complete chunk, or in
+//! an unchunked file every complete message; a rebuilt file keeps its layout (chunked or unchunked).
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -10,7 +11,7 @@ use mcap::records::MessageHeader;
 use super::info::metadata_of;
 use super::reader::{bag_files, scan_file, FileScan};
 use super::writer::LIBRARY;
-use super::BagError;
+use super::{BagError, McapLayout};
 
 /// What recovery did to one file.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -23,6 +24,8 @@ pub struct RecoveredFile {
     pub messages: u64,
     /// Complete chunks kept.
     pub chunks: u64,
+    /// How the file holds its messages (None: it has none).
+    pub layout: Option<McapLayout>,
     /// Bytes of cut-off tail dropped.
     pub dropped_tail_bytes: u64,
     /// Chunks dropped because they failed to decode.
@@ -78,6 +81,7 @@ pub fn recover(path: &Path, mut on_file: impl FnMut(&RecoveredFile)) -> Result<V
                 rebuilt: true,
                 messages: kept.len() as u64,
                 chunks: scan.chunks,
+                layout: scan.layout(),
                 dropped_tail_bytes: scan.truncated_bytes,
                 dropped_corrupt_chunks: scan.corrupt_chunks,
                 original_kept_as: Some(broken),
@@ -88,6 +92,7 @@ pub fn recover(path: &Path, mut on_file: impl FnMut(&RecoveredFile)) -> Result<V
                 rebuilt: false,
                 messages: scan.message_count(),
                 chunks: scan.chunks,
+                layout: scan.layout(),
                 dropped_tail_bytes: 0,
                 dropped_corrupt_chunks: 0,
                 original_kept_as: None,
@@ -117,6 +122,8 @@ fn rewrite(path: &Path, scan: &FileScan, kept: &[Kept], rosbag2_yaml: &str) -> R
         .profile(profile)
         .library(format!("{LIBRARY}; recovered from {}", scan.library))
         .compression(Some(mcap::Compression::Zstd))
+        // An unchunked file stays unchunked: whoever chose fastwrite chose its layout.
+        .use_chunks(scan.layout() != Some(McapLayout::Unchunked))
         .compression_threads(1)
         .disable_seeking(true)
         .create(BufWriter::new(file))

@@ -8,6 +8,10 @@
 //! ([`Batch`]); a chunk is built by appending those bytes, then CRC-ed and compressed once as a whole. The
 //! records written are the ones `mcap::Writer` writes (same layout, summary, indexes and CRCs); the `mcap`
 //! crate (all CRCs checked), the Python `mcap` reader and `rosbags` read the files back in the tests.
+//!
+//! Unchunked files ([`McapLayout::Unchunked`], rosbag2's `fastwrite`) get each batch's records as they
+//! are, in one write: no chunk, no message index, nothing compressed; the summary still lists schemas,
+//! channels, statistics and the metadata index, as the mcap C++ writer's `noChunking` does.
 
 use mcap::records::op;
 use mcap::MAGIC;
@@ -19,7 +23,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use super::rosbag2::{self, BagMetadata, FileEntry};
-use super::{BagError, ChunkCompression, StorageOptions, TopicId, TopicInfo};
+use super::{BagError, ChunkCompression, McapLayout, StorageOptions, TopicId, TopicInfo};
 
 /// The MCAP `library` string, so a reader can tell who wrote a file.
 pub const LIBRARY: &str = concat!("sweetspot ", env!("CARGO_PKG_VERSION"));
@@ -173,6 +177,7 @@ pub struct BagWriter {
     max_file_size: Option<u64>,
     max_file_duration: Option<Duration>,
     chunk_size: u64,
+    layout: McapLayout,
     topics: Vec<TopicInfo>,
     topic_counts: Vec<u64>,
     sequences: Vec<u32>,
@@ -311,22 +316,24 @@ impl BagWriter {
         Self::create_with(dir, max_file_size, max_file_duration, StorageOptions::default())
     }
 
-    /// Like [`Self::create`], with the chunk compression and size of `storage`.
+    /// Like [`Self::create`], with the layout, chunk compression and chunk size of `storage`.
     pub fn create_with(
         dir: &Path,
         max_file_size: Option<u64>,
         max_file_duration: Option<Duration>,
         storage: StorageOptions,
     ) -> Result<Self, BagError> {
+        // Checked here too, for options not built through StorageOptions::with_compression.
+        let storage = storage.with_compression(storage.compression)?;
         let compressor = ChunkCompressor::new(storage.compression).map_err(BagError::Format)?;
         if storage.chunk_size == Some(0) {
             return Err(BagError::Format("chunk_size must be > 0".to_string()));
         }
         // Chunks must be well under the split size, or a file could not be seen growing before it closes.
-        let chunk_size = match (storage.chunk_size, max_file_size) {
-            (Some(size), _) => size,
-            (None, Some(max)) => (max / 4).clamp(1024, CHUNK_SIZE),
-            (None, None) => CHUNK_SIZE,
+        // (Unchunked files use it only as the stride of the early writeback.)
+        let chunk_size = match max_file_size {
+            Some(max) => storage.chunk_size.unwrap_or(CHUNK_SIZE).min((max / 4).max(1024)),
+            None => storage.chunk_size.unwrap_or(CHUNK_SIZE),
         };
         // Splitting by size decides after each chunk whether the file is full, which needs every earlier
         // chunk written; so only unsplit-by-size bags compress ahead on other threads.
@@ -346,6 +353,7 @@ impl BagWriter {
             max_file_size,
             max_file_duration,
             chunk_size,
+            layout: storage.layout,
             topics: Vec::new(),
             topic_counts: Vec::new(),
             sequences: Vec::new(),
@@ -412,6 +420,9 @@ impl BagWriter {
     /// would exceed it) and by size (after the chunk that reached it). Returns how many messages were
     /// written, and the error that stopped it, if any.
     pub fn write_batch(&mut self, batch: &Batch) -> (usize, Result<(), BagError>) {
+        if self.layout == McapLayout::Unchunked {
+            return self.write_unchunked(batch);
+        }
         for index in 0..batch.len() {
             if let Err(err) = self.write_one(batch, index) {
                 return (index, Err(err));
@@ -450,19 +461,7 @@ impl BagWriter {
             None => (log_time, log_time),
             Some((start, end)) => (start.min(log_time), end.max(log_time)),
         });
-        file.channel_counts[topic] += 1;
-        file.dirty = true;
-        let entry = &mut file.entry;
-        if entry.message_count == 0 {
-            entry.start_ns = log_time;
-            entry.duration_ns = 0;
-        } else if log_time < entry.start_ns {
-            entry.duration_ns += entry.start_ns - log_time;
-            entry.start_ns = log_time;
-        } else {
-            entry.duration_ns = entry.duration_ns.max(log_time - entry.start_ns);
-        }
-        entry.message_count += 1;
+        count_message(file, topic, log_time);
         self.topic_counts[topic] += 1;
         if file.chunk.len() as u64 >= self.chunk_size {
             self.seal_chunk()?;
@@ -473,6 +472,84 @@ impl BagWriter {
             }
         }
         Ok(())
+    }
+
+    /// Writes a batch into an unchunked file: runs of messages, each one slice of the batch's records.
+    fn write_unchunked(&mut self, batch: &Batch) -> (usize, Result<(), BagError>) {
+        let mut done = 0;
+        while done < batch.len() {
+            match self.write_run(batch, done) {
+                Ok(end) => done = end,
+                Err(err) => return (done, Err(err)),
+            }
+        }
+        (batch.len(), Ok(()))
+    }
+
+    /// Writes messages `from..end` of `batch` to the file as top-level Message records in one write and
+    /// returns `end`: the end of the batch, or the first message that belongs in the next file (by
+    /// duration) or an unknown topic, or just after the message that reached the split size.
+    fn write_run(&mut self, batch: &Batch, from: usize) -> Result<usize, BagError> {
+        let first = batch.entries[from];
+        if usize::from(first.topic) >= self.topics.len() {
+            return Err(BagError::Format(format!("unknown topic id {}", first.topic)));
+        }
+        let limit_ns = self.max_file_duration.map(|limit| u64::try_from(limit.as_nanos()).unwrap_or(u64::MAX));
+        if let (Some(limit_ns), Some(file)) = (limit_ns, self.current.as_ref()) {
+            if file.entry.message_count > 0 && first.log_time.saturating_sub(file.entry.start_ns) >= limit_ns {
+                self.split()?;
+            }
+        }
+        if self.current.is_none() {
+            self.open_next_file()?;
+        }
+        let Some(file) = self.current.as_mut() else {
+            return Err(BagError::Format("no open file".to_string()));
+        };
+        if file.schema_of.len() < self.topics.len() {
+            // Only after an earlier declaration failed: try again before any message needs the channel.
+            declare_topics(file, &self.topics)?;
+        }
+        let topics = self.topics.len();
+        let record_end = |index: usize| batch.entries.get(index).map_or(batch.records.len(), |e| e.start);
+        let mut start_ns = (file.entry.message_count > 0).then_some(file.entry.start_ns);
+        let mut end = from;
+        while end < batch.len() {
+            let entry = batch.entries[end];
+            if usize::from(entry.topic) >= topics {
+                break;
+            }
+            if let (Some(limit_ns), Some(start)) = (limit_ns, start_ns) {
+                if end > from && entry.log_time.saturating_sub(start) >= limit_ns {
+                    break;
+                }
+            }
+            start_ns = Some(start_ns.map_or(entry.log_time, |start| start.min(entry.log_time)));
+            end += 1;
+            if self.max_file_size.is_some_and(|max| file.position + (record_end(end) - first.start) as u64 >= max) {
+                break;
+            }
+        }
+        file.put(&batch.records[first.start..record_end(end)]).map_err(io_err(&file.path))?;
+        for entry in &batch.entries[from..end] {
+            let topic = usize::from(entry.topic);
+            count_message(file, topic, entry.log_time);
+            file.bounds = Some(match file.bounds {
+                None => (entry.log_time, entry.log_time),
+                Some((start, end)) => (start.min(entry.log_time), end.max(entry.log_time)),
+            });
+            self.topic_counts[topic] += 1;
+        }
+        if file.position - file.writeback_from >= self.chunk_size {
+            // As after each chunk of a chunked file: start the disk now, so the fsync at close finds little.
+            file.out.flush().map_err(io_err(&file.path))?;
+            start_writeback(file.out.get_ref(), file.writeback_from, file.position - file.writeback_from);
+            file.writeback_from = file.position;
+        }
+        if self.max_file_size.is_some_and(|max| file.position >= max) {
+            self.split()?;
+        }
+        Ok(end)
     }
 
     /// Sets rosbag2 `custom_data` entries (kept in every later `rosbag2` record and in metadata.yaml).
@@ -541,7 +618,10 @@ impl BagWriter {
             writeback_from: 0,
             schema_of: Vec::new(),
             schemas: Vec::new(),
-            chunk: Vec::with_capacity(self.chunk_size.min(CHUNK_SIZE) as usize + 4096),
+            chunk: match self.layout {
+                McapLayout::Chunked => Vec::with_capacity(self.chunk_size.min(CHUNK_SIZE) as usize + 4096),
+                McapLayout::Unchunked => Vec::new(),
+            },
             chunk_index: Vec::new(),
             chunk_bounds: None,
             chunk_indexes: Vec::new(),
@@ -645,6 +725,23 @@ impl BagWriter {
         out.sync_all().map_err(io_err(&file.path))?;
         Ok(())
     }
+}
+
+/// Counts one message written to `file` of topic `topic` (statistics and the file's metadata.yaml entry).
+fn count_message(file: &mut OpenFile, topic: usize, log_time: u64) {
+    file.channel_counts[topic] += 1;
+    file.dirty = true;
+    let entry = &mut file.entry;
+    if entry.message_count == 0 {
+        entry.start_ns = log_time;
+        entry.duration_ns = 0;
+    } else if log_time < entry.start_ns {
+        entry.duration_ns += entry.start_ns - log_time;
+        entry.start_ns = log_time;
+    } else {
+        entry.duration_ns = entry.duration_ns.max(log_time - entry.start_ns);
+    }
+    entry.message_count += 1;
 }
 
 /// Writes one chunk record (`data` = its records compressed as `compression`, or the records themselves),

@@ -10,7 +10,7 @@ use crate::node::runtime::NodeConfig;
 /// `--params-file params.yaml`, `--log-level debug`.
 #[derive(Debug, Clone, clap::Args)]
 #[command(
-    after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, max_bats, max_balls,\nmax_bat_slices, queue_capacity, workers, record, record_path, record_max_file_size,\nrecord_max_file_duration, record_compression, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY."
+    after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, max_bats, max_balls,\nmax_bat_slices, queue_capacity, workers, record, record_path, record_max_file_size,\nrecord_max_file_duration, record_storage_preset, record_compression, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY."
 )]
 pub struct NodeArgs {
     /// Do not record a bag (same as `--ros-args -p record:=false`).

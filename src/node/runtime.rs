@@ -710,10 +710,17 @@ fn start_tape(
         topic_info::<ModalEnergies>(&topic_names[topics::MODAL_ENERGIES], recorded_qos(&results_qos())),
         topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&latched_results_qos())),
     ];
-    // Checked when the parameter was set; zstd if it somehow is not a compression.
-    let storage = crate::bag::StorageOptions {
-        compression: settings.record_compression.parse().unwrap_or_default(),
-        ..Default::default()
+    // record_storage_preset, then record_compression over it (rosbag2's order). apply() refused any
+    // combination that does not go together, so the error arm is for settings built some other way.
+    let storage = match settings.storage_options() {
+        Ok(storage) => storage,
+        Err(e) => {
+            log.error(&format!(
+                "record_storage_preset = {:?} with record_compression = {:?}: {e}; not recording",
+                settings.record_storage_preset, settings.record_compression
+            ));
+            return Tape::failed(dir, e.to_string());
+        }
     };
     match super::recording::start_backend(config, storage) {
         Ok(backend) => Tape::start(dir, backend, topics),

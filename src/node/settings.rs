@@ -17,6 +17,7 @@ pub const READ_ONLY: &[&str] = &[
     "record_path",
     "record_max_file_size",
     "record_max_file_duration",
+    "record_storage_preset",
     "record_compression",
     "diagnostics_period",
 ];
@@ -59,10 +60,17 @@ pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
     ("record_max_file_size", "bytes", "split the bag after this many bytes; 0 = never"),
     ("record_max_file_duration", "s", "split the bag after this much time; 0 = never"),
     (
+        "record_storage_preset",
+        "",
+        "MCAP layout as rosbag2's --storage-preset-profile: none (rosbag2's default: uncompressed chunks), fastwrite (no chunks, no \
+         indexes, uncompressed), zstd_fast (zstd -5), zstd_small (zstd 19, 4 MiB chunks); empty = zstd level 1 \
+         chunks",
+    ),
+    (
         "record_compression",
         "",
-        "chunk compression of the bag, as rosbag2's --compression-format: zstd (level 1), zstd:LEVEL (-7..=-1 fast, \
-         1..=22), lz4 or none",
+        "chunk compression, overriding the preset's: zstd (level 1), zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or \
+         none; empty = the preset's (zstd level 1 without one); with fastwrite only none or empty",
     ),
     ("diagnostics_period", "s", "period of /diagnostics (0.1..=60)"),
 ];
@@ -100,7 +108,11 @@ pub struct NodeSettings {
     pub record_max_file_size: u64,
     /// Split duration, s; 0 = never.
     pub record_max_file_duration: f64,
-    /// Chunk compression: `zstd`, `zstd:LEVEL`, `lz4` or `none` (checked by [`crate::bag::ChunkCompression`]).
+    /// rosbag2 storage preset: `none`, `fastwrite`, `zstd_fast`, `zstd_small`, or empty for sweetspot's
+    /// default (checked by [`crate::bag::StoragePreset`]).
+    pub record_storage_preset: String,
+    /// Chunk compression overriding the preset's: `zstd`, `zstd:LEVEL`, `lz4` or `none`, or empty for the
+    /// preset's (checked by [`crate::bag::ChunkCompression`]).
     pub record_compression: String,
     /// Diagnostics period, s.
     pub diagnostics_period: f64,
@@ -130,7 +142,8 @@ impl Default for NodeSettings {
             record_path: String::new(),
             record_max_file_size: 0,
             record_max_file_duration: 0.0,
-            record_compression: "zstd".to_string(),
+            record_storage_preset: String::new(),
+            record_compression: String::new(),
             diagnostics_period: 1.0,
         }
     }
@@ -167,6 +180,7 @@ impl NodeSettings {
             ("record_path", String(self.record_path.clone())),
             ("record_max_file_size", Integer(self.record_max_file_size as i64)),
             ("record_max_file_duration", Double(self.record_max_file_duration)),
+            ("record_storage_preset", String(self.record_storage_preset.clone())),
             ("record_compression", String(self.record_compression.clone())),
             ("diagnostics_period", Double(self.diagnostics_period)),
         ]
@@ -282,9 +296,32 @@ impl NodeSettings {
                 self.record_max_file_duration = *x;
                 Ok(SettingEffect::None)
             }
+            ("record_storage_preset", V::String(s)) => {
+                if !s.is_empty() {
+                    if let Err(err) = s.parse::<crate::bag::StoragePreset>() {
+                        return Err(format!("record_storage_preset = {s:?} is REJECTED: {err}"));
+                    }
+                }
+                if let Err(err) = crate::bag::StorageOptions::from_parameters(s, &self.record_compression) {
+                    return Err(format!(
+                        "record_storage_preset = {s:?} is REJECTED with record_compression = {:?}: {err}",
+                        self.record_compression
+                    ));
+                }
+                self.record_storage_preset = s.clone();
+                Ok(SettingEffect::None)
+            }
             ("record_compression", V::String(s)) => {
-                if let Err(err) = s.parse::<crate::bag::ChunkCompression>() {
-                    return Err(format!("record_compression = {s:?} is not a compression: {err}"));
+                if !s.is_empty() {
+                    if let Err(err) = s.parse::<crate::bag::ChunkCompression>() {
+                        return Err(format!("record_compression = {s:?} is not a compression: {err}"));
+                    }
+                }
+                if let Err(err) = crate::bag::StorageOptions::from_parameters(&self.record_storage_preset, s) {
+                    return Err(format!(
+                        "record_compression = {s:?} is REJECTED with record_storage_preset = {:?}: {err}",
+                        self.record_storage_preset
+                    ));
                 }
                 self.record_compression = s.clone();
                 Ok(SettingEffect::None)
@@ -294,7 +331,9 @@ impl NodeSettings {
                 self.diagnostics_period = *x;
                 Ok(SettingEffect::None)
             }
-            ("default_bat" | "record_path" | "record_compression", _) => wrong_type("a string"),
+            ("default_bat" | "record_path" | "record_storage_preset" | "record_compression", _) => {
+                wrong_type("a string")
+            }
             (
                 "default_modes" | "max_bats" | "max_balls" | "max_bat_slices" | "queue_capacity" | "workers"
                 | "record_max_file_size",
@@ -321,6 +360,13 @@ impl NodeSettings {
         } else {
             std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
         }
+    }
+
+    /// The bag's storage options: `record_storage_preset`, then `record_compression` over it (rosbag2's
+    /// order: the preset first, the storage configuration overriding it). Both were checked together by
+    /// [`Self::apply`], so this only fails for settings built by hand.
+    pub fn storage_options(&self) -> Result<crate::bag::StorageOptions, crate::bag::BagError> {
+        crate::bag::StorageOptions::from_parameters(&self.record_storage_preset, &self.record_compression)
     }
 
     /// The bag directory for `node_name` started at `started` (UTC).
@@ -356,17 +402,80 @@ mod tests {
     #[test]
     fn record_compression_takes_the_rosbag2_style_names_and_refuses_others() {
         let mut s = NodeSettings::default();
-        assert_eq!(s.record_compression, "zstd");
-        for ok in ["zstd", "zstd:9", "zstd:-3", "lz4", "none"] {
+        assert_eq!(s.record_compression, "", "empty: the preset's compression");
+        for ok in ["zstd", "zstd:9", "zstd:-3", "lz4", "none", ""] {
             assert!(s.apply("record_compression", &ParameterValue::String(ok.into())).is_ok(), "{ok}");
             assert_eq!(s.record_compression, ok);
         }
-        for bad in ["gzip", "zstd:0", "zstd:23", ""] {
+        s.apply("record_compression", &ParameterValue::String("none".into())).unwrap();
+        for bad in ["gzip", "zstd:0", "zstd:23", " "] {
             let err = s.apply("record_compression", &ParameterValue::String(bad.into())).unwrap_err();
             assert!(err.contains("record_compression") && err.contains("lz4 or none"), "{bad}: {err}");
         }
         assert_eq!(s.record_compression, "none", "a refused value leaves the last good one");
         assert!(READ_ONLY.contains(&"record_compression"), "a bag keeps one compression");
+    }
+
+    #[test]
+    fn record_storage_preset_takes_rosbag2_names_and_the_compression_overrides_it() {
+        use crate::bag::{ChunkCompression, McapLayout, StorageOptions};
+        let mut s = NodeSettings::default();
+        assert_eq!(s.record_storage_preset, "");
+        assert_eq!(s.storage_options().unwrap(), StorageOptions::default(), "no preset: sweetspot's zstd level 1");
+        assert!(READ_ONLY.contains(&"record_storage_preset"), "a bag keeps one layout");
+        for name in ["none", "fastwrite", "zstd_fast", "zstd_small"] {
+            s.apply("record_storage_preset", &ParameterValue::String(name.into())).unwrap();
+            assert_eq!(s.storage_options().unwrap(), StorageOptions::preset(name).unwrap(), "{name}");
+        }
+        // rosbag2's none: uncompressed chunks, unlike sweetspot's preset-less default.
+        s.apply("record_storage_preset", &ParameterValue::String("none".into())).unwrap();
+        let none = s.storage_options().unwrap();
+        assert_eq!((none.compression, none.layout), (ChunkCompression::None, McapLayout::Chunked));
+        // An explicit compression overrides the preset's, as rosbag2's storage config does.
+        s.apply("record_compression", &ParameterValue::String("lz4".into())).unwrap();
+        assert_eq!(s.storage_options().unwrap().compression, ChunkCompression::Lz4);
+        assert_eq!(s.storage_options().unwrap().chunk_size, none.chunk_size, "the rest stays the preset's");
+
+        for bad in ["fast_write", "zstd", "None", " "] {
+            let err = s.apply("record_storage_preset", &ParameterValue::String(bad.into())).unwrap_err();
+            assert!(err.contains("record_storage_preset") && err.contains("REJECTED"), "{bad}: {err}");
+            assert!(
+                err.contains("valid options are 'none', 'fastwrite', 'zstd_fast', 'zstd_small'"),
+                "{bad}: {err}"
+            );
+        }
+        assert_eq!(s.record_storage_preset, "none", "a refused value leaves the last good one");
+        let e = s.apply("record_storage_preset", &ParameterValue::Integer(1)).unwrap_err();
+        assert!(e.contains("string"), "{e}");
+    }
+
+    #[test]
+    fn fastwrite_refuses_a_compression_it_cannot_apply_whichever_comes_first() {
+        // Overrides are applied in name order (record_compression first); the preset is then refused.
+        let mut o = BTreeMap::new();
+        o.insert("record_storage_preset".to_string(), ParameterValue::String("fastwrite".into()));
+        o.insert("record_compression".to_string(), ParameterValue::String("zstd".into()));
+        let err = NodeSettings::with_overrides(&o).unwrap_err();
+        for part in ["record_storage_preset", "record_compression", "REJECTED", "fastwrite", "zstd"] {
+            assert!(err.contains(part), "{part}: {err}");
+        }
+        // The other way round (ros2 param set order, or a settings value already holding the preset).
+        let mut s = NodeSettings::default();
+        s.apply("record_storage_preset", &ParameterValue::String("fastwrite".into())).unwrap();
+        for compression in ["zstd", "zstd:3", "lz4"] {
+            let err = s.apply("record_compression", &ParameterValue::String(compression.into())).unwrap_err();
+            assert!(err.contains("REJECTED with record_storage_preset = \"fastwrite\""), "{err}");
+            assert!(err.contains("needs chunks"), "{err}");
+        }
+        // `none` and empty are what fastwrite writes anyway.
+        for compression in ["none", ""] {
+            s.apply("record_compression", &ParameterValue::String(compression.into())).unwrap();
+            let options = s.storage_options().unwrap();
+            assert_eq!(options.layout, crate::bag::McapLayout::Unchunked);
+            assert_eq!(options.compression, crate::bag::ChunkCompression::None);
+        }
+        o.insert("record_compression".to_string(), ParameterValue::String("none".into()));
+        assert!(NodeSettings::with_overrides(&o).is_ok());
     }
 
     #[test]
