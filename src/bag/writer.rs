@@ -610,7 +610,15 @@ impl BagWriter {
         let out = File::create(&path).map_err(io_err(&path))?;
         self.next_index += 1;
         let mut file = OpenFile {
-            out: BufWriter::with_capacity(64 * 1024, out),
+            // Unchunked files get each batch as it comes (~64 KiB): buffering a chunk's worth turns those into
+            // writes as large as a chunked file's, which measured ~10 % faster for 84-byte messages.
+            out: BufWriter::with_capacity(
+                match self.layout {
+                    McapLayout::Chunked => 64 * 1024,
+                    McapLayout::Unchunked => self.chunk_size.clamp(64 * 1024, CHUNK_SIZE) as usize,
+                },
+                out,
+            ),
             path,
             entry: FileEntry { path: name, ..FileEntry::default() },
             position: 0,

@@ -94,15 +94,15 @@ pub struct StepResult {
     pub verdict: String,
 }
 
-/// Recorder against `dd`: one message type and chunk compression, then `dd` of the same bytes.
+/// Recorder against `dd`: one message type and storage, with `dd` of the same bytes.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct DiskResult {
     /// ROS type recorded (`sweetspot_msgs/msg/Swing`, `…/ExitVelocity`, or `per swing: …` for the node's mix).
     pub message_type: String,
     /// Mean CDR size of one message, bytes.
     pub message_bytes: u64,
-    /// Chunk compression (`zstd:1`, `none`, …).
-    pub compression: String,
+    /// Storage: a chunk compression (`zstd:1`, `none`, …) or a rosbag2 preset (`fastwrite`, …).
+    pub storage: String,
     /// Messages recorded.
     pub messages: u64,
     /// Message bytes recorded (CDR payloads, as the recorder counts them).
@@ -1100,28 +1100,38 @@ fn median(values: &[u64]) -> u64 {
 }
 
 /// The recorder against `dd` for Swing messages, ExitVelocity messages and the node's per-swing mix, each
-/// with zstd (the default) and uncompressed chunks.
+/// with zstd chunks (the default), uncompressed chunks and unchunked (rosbag2's `fastwrite`).
 pub fn disk_bench(dir: &Path, messages: u64) -> anyhow::Result<Vec<DiskResult>> {
-    use crate::bag::ChunkCompression;
-    disk_bench_with(dir, messages, &[ChunkCompression::default(), ChunkCompression::None])
+    let storages = ["zstd", "none", "fastwrite"].map(|s| storage_spec(s).map_err(anyhow::Error::from));
+    disk_bench_with(dir, messages, &storages.into_iter().collect::<Result<Vec<_>, _>>()?)
 }
 
-/// [`disk_bench`] with the given chunk compressions.
+/// A storage the recorder bench can use, by name: a rosbag2 preset (`none`, `fastwrite`, `zstd_fast`,
+/// `zstd_small`) or a chunk compression (`zstd`, `zstd:LEVEL`, `lz4`).
+pub fn storage_spec(name: &str) -> Result<(String, crate::bag::StorageOptions), crate::bag::BagError> {
+    use crate::bag::{StorageOptions, StoragePreset};
+    let storage = if name.parse::<StoragePreset>().is_ok() {
+        StorageOptions::preset(name)?
+    } else {
+        StorageOptions::from_parameters("", name)?
+    };
+    Ok((name.to_string(), storage))
+}
+
+/// [`disk_bench`] with the given storages, as (label, options).
 pub fn disk_bench_with(
     dir: &Path,
     messages: u64,
-    compressions: &[crate::bag::ChunkCompression],
+    storages: &[(String, crate::bag::StorageOptions)],
 ) -> anyhow::Result<Vec<DiskResult>> {
-    use crate::bag::StorageOptions;
     let mut results = Vec::new();
     for message in [BenchMessage::Swing, BenchMessage::ExitVelocity, BenchMessage::PerSwing] {
-        for &compression in compressions {
-            let storage = StorageOptions { compression, ..StorageOptions::default() };
-            let r = disk_bench_one(dir, message, messages, storage)?;
+        for (label, storage) in storages {
+            let r = disk_bench_one(dir, message, messages, label, *storage)?;
             log(&format!(
                 "recorder {} {}: {:.1} MB/s of messages ({:.0} msg/s, {:.1} MB/s on disk) vs dd {:.1} MB/s: {:.0} %",
                 r.message_type,
-                r.compression,
+                r.storage,
                 r.recorder_mb_s,
                 r.recorder_msgs_s,
                 r.recorder_disk_mb_s,
@@ -1201,7 +1211,7 @@ fn bench_streams(message: BenchMessage) -> Vec<(crate::bag::TopicInfo, Vec<Vec<u
     }
     let swing_topic = TopicInfo::of::<Swing>("/swing", crate::ros::recorded_qos(&crate::ros::swing_qos()));
     let results_qos = crate::ros::recorded_qos(&crate::ros::results_qos());
-    let exit_topic = TopicInfo::of::<ExitVelocity>("/exit_velocity", results_qos.clone());
+    let exit_topic = TopicInfo::of::<ExitVelocity>("/exit_velocity", results_qos);
     let modal_topic = TopicInfo::of::<ModalEnergies>("/modal_energies", results_qos);
     match message {
         BenchMessage::Swing => vec![(swing_topic, swings)],
@@ -1216,6 +1226,7 @@ pub fn disk_bench_one(
     dir: &Path,
     message: BenchMessage,
     messages: u64,
+    label: &str,
     storage: crate::bag::StorageOptions,
 ) -> anyhow::Result<DiskResult> {
     use crate::bag::RecorderConfig;
@@ -1258,7 +1269,7 @@ pub fn disk_bench_one(
         message_type: message.label().to_string(),
         message_bytes: payloads.iter().flatten().map(|p| p.len() as u64).sum::<u64>()
             / payloads.iter().map(Vec::len).sum::<usize>().max(1) as u64,
-        compression: storage.compression.to_string(),
+        storage: label.to_string(),
         messages: stats.written,
         payload_bytes: stats.bytes,
         bag_bytes,
@@ -1384,7 +1395,7 @@ pub fn disk_table(disk: &[DiskResult]) -> String {
              {:.0} msg/s; dd {:.1} MB/s (faster of {}); ratio {:.0} % (bytes on disk: {:.0} % of dd)",
             d.message_type,
             d.message_bytes,
-            d.compression,
+            d.storage,
             d.messages,
             d.payload_bytes as f64 / 1e6,
             d.bag_bytes as f64 / 1e6,
@@ -1429,7 +1440,7 @@ mod tests {
         assert!(streams.iter().all(|(_, p)| p.len() as u64 == BENCH_PAYLOADS));
 
         let dir = tempfile::tempdir().unwrap();
-        let r = disk_bench_one(dir.path(), BenchMessage::PerSwing, 3_000, crate::bag::StorageOptions::default())
+        let r = disk_bench_one(dir.path(), BenchMessage::PerSwing, 3_000, "zstd", crate::bag::StorageOptions::default())
             .unwrap();
         assert_eq!(r.messages, 3_000);
         let per_swing: usize = sizes.iter().sum();
