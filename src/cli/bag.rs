@@ -166,10 +166,13 @@ fn recover(path: PathBuf) -> anyhow::Result<()> {
     for file in &report {
         let name = file.path.display();
         if file.rebuilt {
+            let kept_in = match file.layout {
+                Some(bag::McapLayout::Unchunked) => "unchunked".to_string(),
+                _ => format!("in {} complete chunks", file.chunks),
+            };
             println!(
-                "{name}: rebuilt — kept {} messages in {} complete chunks; dropped {} bytes of cut-off tail and {} corrupt chunks; original kept as {}",
+                "{name}: rebuilt — kept {} messages {kept_in}; dropped {} bytes of cut-off tail and {} corrupt chunks; original kept as {}",
                 file.messages,
-                file.chunks,
                 file.dropped_tail_bytes,
                 file.dropped_corrupt_chunks,
                 file.original_kept_as.as_ref().map(|p| p.display().to_string()).unwrap_or_default()
