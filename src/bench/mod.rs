@@ -230,9 +230,10 @@ pub fn require_private_network() -> anyhow::Result<()> {
 // The raw echo server (child process).
 // ---------------------------------------------------------------------------------------------------------
 
-/// Runs the raw ros2-client echo on `domain` until killed: every `Swing` on `/swing` is answered at once on
-/// `/exit_velocity` with an `ExitVelocity` carrying its ids, with the node's QoS on both sides.
-pub fn run_echo_server(domain: u16) -> anyhow::Result<()> {
+/// Runs the raw ros2-client echo on `domain` until killed: every `Swing` on `/swing` is answered on
+/// `/exit_velocity` with an `ExitVelocity` carrying its ids, with the node's QoS on both sides — at once, or
+/// after spinning for `work`.
+pub fn run_echo_server(domain: u16, work: Duration) -> anyhow::Result<()> {
     require_private_network()?;
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -270,6 +271,11 @@ pub fn run_echo_server(domain: u16) -> anyhow::Result<()> {
         let mut stream = pin!(sub.async_stream());
         while let Some(received) = stream.next().await {
             if let Ok((swing, _)) = received {
+                // Spin rather than sleep: the node's physics keeps the core busy for as long.
+                let start = Instant::now();
+                while start.elapsed() < work {
+                    std::hint::spin_loop();
+                }
                 let ev = ExitVelocity {
                     header: swing.header.clone(),
                     swing_id: swing.swing_id,

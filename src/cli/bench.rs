@@ -52,6 +52,10 @@ pub struct BenchArgs {
     /// Internal: run the raw ros2-client echo server (started by the bench itself).
     #[arg(long, hide = true)]
     pub echo_server: bool,
+    /// Internal, with --echo-server: busy-work per swing before answering, µs (to see what the node's
+    /// ~10 µs of physics per swing costs any server in tail latency on this machine).
+    #[arg(long, hide = true, default_value_t = 0)]
+    pub echo_work_us: u64,
 }
 
 fn parse_seconds(text: &str) -> Result<f64, String> {
@@ -82,7 +86,7 @@ pub enum BenchPart {
 /// Runs the bench (or, with `--echo-server`, the raw echo it starts as a child).
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     if args.echo_server {
-        return bench::run_echo_server(args.domain);
+        return bench::run_echo_server(args.domain, Duration::from_micros(args.echo_work_us));
     }
     let exe = std::env::current_exe().context("locating the sweetspot executable")?;
     let soak = Duration::from_secs(args.soak.unwrap_or(if args.quick { 10 } else { 60 }));
