@@ -147,27 +147,10 @@ fn info_reports_topics_counts_and_an_unfinished_file() {
 
 /// (end offset of the record, log time, channel id, payload) of each top-level Message record of a file.
 fn top_level_messages(bytes: &[u8]) -> Vec<(u64, u64, u16, Vec<u8>)> {
-    use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
-    let mut reader = LinearReader::new_with_options(LinearReaderOptions::default().with_emit_chunks(true));
-    let (mut offset, mut position) = (0usize, 8u64);
-    let mut messages = Vec::new();
-    while let Some(event) = reader.next_event() {
-        match event.unwrap() {
-            LinearReadEvent::ReadRequest(need) => {
-                let n = need.min(bytes.len() - offset);
-                reader.insert(n).copy_from_slice(&bytes[offset..offset + n]);
-                reader.notify_read(n);
-                offset += n;
-            }
-            LinearReadEvent::Record { data, opcode } => {
-                position += 9 + data.len() as u64;
-                if let mcap::records::Record::Message { header, data } = mcap::parse_record(opcode, data).unwrap() {
-                    messages.push((position, header.log_time, header.channel_id, data.to_vec()));
-                }
-            }
-        }
-    }
-    messages
+    top_level_records(bytes)
+        .into_iter()
+        .filter_map(|r| r.message.map(|(log_time, channel, data)| (r.end, log_time, channel, data)))
+        .collect()
 }
 
 fn record_fastwrite(dir: &std::path::Path, config: sweetspot::bag::RecorderConfig) -> sweetspot::bag::Recorder {

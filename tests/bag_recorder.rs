@@ -280,27 +280,7 @@ fn records_that_race_the_writer_are_all_accounted_for() {
 
 /// Offsets where each top-level Message record of an MCAP file ends.
 fn message_record_ends(bytes: &[u8]) -> Vec<u64> {
-    use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
-    let mut reader = LinearReader::new_with_options(LinearReaderOptions::default().with_emit_chunks(true));
-    let (mut offset, mut position) = (0usize, 8u64);
-    let mut ends = Vec::new();
-    while let Some(event) = reader.next_event() {
-        match event.unwrap() {
-            LinearReadEvent::ReadRequest(need) => {
-                let n = need.min(bytes.len() - offset);
-                reader.insert(n).copy_from_slice(&bytes[offset..offset + n]);
-                reader.notify_read(n);
-                offset += n;
-            }
-            LinearReadEvent::Record { data, opcode } => {
-                position += 9 + data.len() as u64;
-                if opcode == mcap::records::op::MESSAGE {
-                    ends.push(position);
-                }
-            }
-        }
-    }
-    ends
+    top_level_records(bytes).into_iter().filter(|r| r.message.is_some()).map(|r| r.end).collect()
 }
 
 #[test]

@@ -267,21 +267,7 @@ fn hex(bytes: &[u8]) -> String {
 
 /// Opcodes of the top-level records of a file, in order (chunks not opened).
 fn top_level_opcodes(bytes: &[u8]) -> Vec<u8> {
-    let mut reader = LinearReader::new_with_options(LinearReaderOptions::default().with_emit_chunks(true));
-    let mut offset = 0;
-    let mut opcodes = Vec::new();
-    while let Some(event) = reader.next_event() {
-        match event.unwrap() {
-            LinearReadEvent::ReadRequest(need) => {
-                let n = need.min(bytes.len() - offset);
-                reader.insert(n).copy_from_slice(&bytes[offset..offset + n]);
-                reader.notify_read(n);
-                offset += n;
-            }
-            LinearReadEvent::Record { opcode, .. } => opcodes.push(opcode),
-        }
-    }
-    opcodes
+    top_level_records(bytes).into_iter().map(|r| r.opcode).collect()
 }
 
 /// Records `count` messages round-robin on three topics (two sharing a schema), log times `times(i)`;

@@ -438,22 +438,10 @@ impl BagWriter {
             return Err(BagError::Format(format!("unknown topic id {}", entry.topic)));
         }
         let log_time = entry.log_time;
-        if let (Some(limit), Some(file)) = (self.max_file_duration, self.current.as_ref()) {
-            let limit_ns = u64::try_from(limit.as_nanos()).unwrap_or(u64::MAX);
-            if file.entry.message_count > 0 && log_time.saturating_sub(file.entry.start_ns) >= limit_ns {
-                self.split()?;
-            }
-        }
-        if self.current.is_none() {
-            self.open_next_file()?;
-        }
+        self.ready_file_for(log_time)?;
         let Some(file) = self.current.as_mut() else {
             return Err(BagError::Format("no open file".to_string()));
         };
-        if file.schema_of.len() < self.topics.len() {
-            // Only after an earlier declaration failed: try again before any message needs the channel.
-            declare_topics(file, &self.topics)?;
-        }
         let offset = file.chunk.len() as u64;
         file.chunk.extend_from_slice(batch.record(index));
         file.chunk_index[topic].push((log_time, offset));
@@ -469,6 +457,31 @@ impl BagWriter {
                 if file.position >= limit {
                     self.split()?;
                 }
+            }
+        }
+        Ok(())
+    }
+
+    /// `max_file_duration` in ns, if set.
+    fn duration_limit_ns(&self) -> Option<u64> {
+        self.max_file_duration.map(|limit| u64::try_from(limit.as_nanos()).unwrap_or(u64::MAX))
+    }
+
+    /// Makes `self.current` the file a message logged at `log_time` goes to: splits when the open file's
+    /// duration would reach the limit, opens the next file if none is open, and re-declares the topics if
+    /// an earlier declaration failed (before any message needs the channel).
+    fn ready_file_for(&mut self, log_time: u64) -> Result<(), BagError> {
+        if let (Some(limit_ns), Some(file)) = (self.duration_limit_ns(), self.current.as_ref()) {
+            if file.entry.message_count > 0 && log_time.saturating_sub(file.entry.start_ns) >= limit_ns {
+                self.split()?;
+            }
+        }
+        if self.current.is_none() {
+            self.open_next_file()?;
+        }
+        if let Some(file) = self.current.as_mut() {
+            if file.schema_of.len() < self.topics.len() {
+                declare_topics(file, &self.topics)?;
             }
         }
         Ok(())
@@ -494,22 +507,11 @@ impl BagWriter {
         if usize::from(first.topic) >= self.topics.len() {
             return Err(BagError::Format(format!("unknown topic id {}", first.topic)));
         }
-        let limit_ns = self.max_file_duration.map(|limit| u64::try_from(limit.as_nanos()).unwrap_or(u64::MAX));
-        if let (Some(limit_ns), Some(file)) = (limit_ns, self.current.as_ref()) {
-            if file.entry.message_count > 0 && first.log_time.saturating_sub(file.entry.start_ns) >= limit_ns {
-                self.split()?;
-            }
-        }
-        if self.current.is_none() {
-            self.open_next_file()?;
-        }
+        let limit_ns = self.duration_limit_ns();
+        self.ready_file_for(first.log_time)?;
         let Some(file) = self.current.as_mut() else {
             return Err(BagError::Format("no open file".to_string()));
         };
-        if file.schema_of.len() < self.topics.len() {
-            // Only after an earlier declaration failed: try again before any message needs the channel.
-            declare_topics(file, &self.topics)?;
-        }
         let topics = self.topics.len();
         let record_end = |index: usize| batch.entries.get(index).map_or(batch.records.len(), |e| e.start);
         let mut start_ns = (file.entry.message_count > 0).then_some(file.entry.start_ns);

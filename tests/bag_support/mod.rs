@@ -73,3 +73,40 @@ pub fn python_check_bag(dir: &Path) -> serde_json::Value {
 pub fn sweetspot_bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_sweetspot"))
 }
+
+/// One top-level record of an MCAP file (chunks not opened): its opcode, the offset where it ends, and for a
+/// Message record its (log time, channel id, payload).
+pub struct TopLevelRecord {
+    pub opcode: u8,
+    pub end: u64,
+    pub message: Option<(u64, u16, Vec<u8>)>,
+}
+
+/// The top-level records of a complete MCAP file, in order.
+pub fn top_level_records(bytes: &[u8]) -> Vec<TopLevelRecord> {
+    use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
+    let mut reader = LinearReader::new_with_options(LinearReaderOptions::default().with_emit_chunks(true));
+    let (mut offset, mut end) = (0usize, 8u64);
+    let mut records = Vec::new();
+    while let Some(event) = reader.next_event() {
+        match event.unwrap() {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = need.min(bytes.len() - offset);
+                reader.insert(n).copy_from_slice(&bytes[offset..offset + n]);
+                reader.notify_read(n);
+                offset += n;
+            }
+            LinearReadEvent::Record { data, opcode } => {
+                end += 9 + data.len() as u64;
+                let message = match mcap::parse_record(opcode, data).unwrap() {
+                    mcap::records::Record::Message { header, data } => {
+                        Some((header.log_time, header.channel_id, data.to_vec()))
+                    }
+                    _ => None,
+                };
+                records.push(TopLevelRecord { opcode, end, message });
+            }
+        }
+    }
+    records
+}
