@@ -12,20 +12,16 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 fn main() {
-    let root =
-        PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     let msgs_dir = root.join("msgs");
     println!("cargo:rerun-if-changed=msgs");
     println!("cargo:rerun-if-changed=build.rs");
 
     match generate(&msgs_dir) {
         Ok(code) => {
-            let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
-                .join("msgs.rs");
+            let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("msgs.rs");
             // Only rewrite when changed so dependents are not rebuilt needlessly.
-            let unchanged = fs::read_to_string(&out)
-                .map(|old| old == code)
-                .unwrap_or(false);
+            let unchanged = fs::read_to_string(&out).map(|old| old == code).unwrap_or(false);
             if !unchanged {
                 if let Err(err) = fs::write(&out, code) {
                     panic!("cannot write {}: {err}", out.display());
@@ -37,11 +33,7 @@ fn main() {
                 println!("cargo:warning={e}");
                 eprintln!("error: {e}");
             }
-            panic!(
-                "{} error(s) in .msg files:\n{}",
-                errors.len(),
-                errors.join("\n")
-            );
+            panic!("{} error(s) in .msg files:\n{}", errors.len(), errors.join("\n"));
         }
     }
 }
@@ -105,8 +97,8 @@ impl MsgSpec {
 }
 
 const PRIMITIVES: &[&str] = &[
-    "bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64",
-    "uint64", "float32", "float64",
+    "bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64", "float32",
+    "float64",
 ];
 
 fn rust_prim(p: &str) -> &'static str {
@@ -156,11 +148,7 @@ fn discover(msgs_dir: &Path) -> Result<Vec<(String, PathBuf)>, Vec<String>> {
         }
     }
     for pkg_dir in pkg_dirs {
-        let pkg = pkg_dir
-            .file_name()
-            .and_then(|s| s.to_str())
-            .unwrap_or_default()
-            .to_string();
+        let pkg = pkg_dir.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
         for f in read(&pkg_dir.join("msg")).map_err(|e| vec![e])? {
             if f.extension().and_then(|e| e.to_str()) == Some("msg") {
                 found.push((pkg.clone(), f));
@@ -177,8 +165,7 @@ fn is_valid_field_name(s: &str) -> bool {
     let b = s.as_bytes();
     !b.is_empty()
         && b[0].is_ascii_lowercase()
-        && b.iter()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
+        && b.iter().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
         && !s.contains("__")
         && !s.ends_with('_')
 }
@@ -187,8 +174,7 @@ fn is_valid_constant_name(s: &str) -> bool {
     let b = s.as_bytes();
     !b.is_empty()
         && b[0].is_ascii_uppercase()
-        && b.iter()
-            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || *c == b'_')
+        && b.iter().all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || *c == b'_')
         && !s.contains("__")
         && !s.ends_with('_')
 }
@@ -202,8 +188,7 @@ fn is_valid_pkg_name(s: &str) -> bool {
     let b = s.as_bytes();
     !b.is_empty()
         && b[0].is_ascii_lowercase()
-        && b.iter()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
+        && b.iter().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
 }
 
 fn parse_type(tok: &str, pkg: &str) -> Result<FieldType, String> {
@@ -216,16 +201,9 @@ fn parse_type(tok: &str, pkg: &str) -> Result<FieldType, String> {
             let array = if inner.is_empty() {
                 Array::Unbounded
             } else if let Some(n) = inner.strip_prefix("<=") {
-                Array::Bounded(
-                    n.parse()
-                        .map_err(|_| format!("bad array bound in `{tok}`"))?,
-                )
+                Array::Bounded(n.parse().map_err(|_| format!("bad array bound in `{tok}`"))?)
             } else {
-                Array::Fixed(
-                    inner
-                        .parse()
-                        .map_err(|_| format!("bad array size in `{tok}`"))?,
-                )
+                Array::Fixed(inner.parse().map_err(|_| format!("bad array size in `{tok}`"))?)
             };
             (&tok[..i], array)
         }
@@ -236,12 +214,7 @@ fn parse_type(tok: &str, pkg: &str) -> Result<FieldType, String> {
     } else if base_str == "string" {
         Base::String { bound: None }
     } else if let Some(n) = base_str.strip_prefix("string<=") {
-        Base::String {
-            bound: Some(
-                n.parse()
-                    .map_err(|_| format!("bad string bound in `{tok}`"))?,
-            ),
-        }
+        Base::String { bound: Some(n.parse().map_err(|_| format!("bad string bound in `{tok}`"))?) }
     } else if base_str == "wstring" || base_str.starts_with("wstring<=") {
         return Err("wstring is not supported by sweetspot's generator (use string)".into());
     } else {
@@ -253,23 +226,16 @@ fn parse_type(tok: &str, pkg: &str) -> Result<FieldType, String> {
             _ => return Err(format!("bad type `{base_str}`")),
         };
         if !is_valid_pkg_name(p) || !is_valid_type_name(n) {
-            return Err(format!(
-                "bad type `{base_str}` (expected a primitive, `Type` or `pkg/Type`)"
-            ));
+            return Err(format!("bad type `{base_str}` (expected a primitive, `Type` or `pkg/Type`)"));
         }
-        Base::Nested {
-            pkg: p.to_string(),
-            name: n.to_string(),
-        }
+        Base::Nested { pkg: p.to_string(), name: n.to_string() }
     };
     if let Array::Fixed(n) = array {
         if n == 0 {
             return Err(format!("fixed array of size 0 in `{tok}`"));
         }
         if n > 32 {
-            return Err(format!(
-                "fixed arrays longer than 32 are not supported by sweetspot's generator (`{tok}`)"
-            ));
+            return Err(format!("fixed arrays longer than 32 are not supported by sweetspot's generator (`{tok}`)"));
         }
     }
     Ok(FieldType { base, array })
@@ -352,9 +318,7 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
             }
         };
         // Constant: NAME=VALUE (the name may be followed by spaces before '=').
-        let name_end = rest
-            .find(|c: char| c.is_whitespace() || c == '=')
-            .unwrap_or(rest.len());
+        let name_end = rest.find(|c: char| c.is_whitespace() || c == '=').unwrap_or(rest.len());
         let member = &rest[..name_end];
         let after = rest[name_end..].trim_start();
         if let Some(value) = after.strip_prefix('=') {
@@ -365,9 +329,7 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
                 continue;
             }
             if ty.array != Array::None || matches!(ty.base, Base::Nested { .. }) {
-                errors.push(err(format!(
-                    "constant `{member}` must have a primitive or string type"
-                )));
+                errors.push(err(format!("constant `{member}` must have a primitive or string type")));
                 continue;
             }
             if value.is_empty() {
@@ -382,12 +344,7 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
                 errors.push(err(format!("duplicate name `{member}`")));
                 continue;
             }
-            constants.push(Constant {
-                name: member.to_string(),
-                ty,
-                value: value.to_string(),
-                doc,
-            });
+            constants.push(Constant { name: member.to_string(), ty, value: value.to_string(), doc });
             continue;
         }
         if !is_valid_field_name(member) {
@@ -400,16 +357,10 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
             errors.push(err(format!("field name `{member}` cannot be used in Rust")));
             continue;
         }
-        let default = if after.is_empty() {
-            None
-        } else {
-            Some(after.to_string())
-        };
+        let default = if after.is_empty() { None } else { Some(after.to_string()) };
         if let Some(d) = &default {
             if matches!(ty.base, Base::Nested { .. }) {
-                errors.push(err(format!(
-                    "field `{member}`: nested types cannot have default values"
-                )));
+                errors.push(err(format!("field `{member}`: nested types cannot have default values")));
                 continue;
             }
             if let Err(m) = rust_literal(&ty, d) {
@@ -421,13 +372,7 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
             errors.push(err(format!("duplicate name `{member}`")));
             continue;
         }
-        fields.push(Field {
-            name: member.to_string(),
-            ty,
-            default,
-            doc,
-            line: line_no,
-        });
+        fields.push(Field { name: member.to_string(), ty, default, doc, line: line_no });
     }
     if !errors.is_empty() {
         return Err(errors);
@@ -565,21 +510,14 @@ fn rust_literal(ty: &FieldType, s: &str) -> Result<String, String> {
         Array::None => scalar_literal(&ty.base, s),
         _ => {
             let elems = split_array_literal(s)?;
-            let lits = elems
-                .iter()
-                .map(|e| scalar_literal(&ty.base, e))
-                .collect::<Result<Vec<_>, _>>()?;
+            let lits = elems.iter().map(|e| scalar_literal(&ty.base, e)).collect::<Result<Vec<_>, _>>()?;
             let lits: Vec<String> = if matches!(ty.base, Base::String { .. }) {
-                lits.into_iter()
-                    .map(|l| format!("{l}.to_string()"))
-                    .collect()
+                lits.into_iter().map(|l| format!("{l}.to_string()")).collect()
             } else {
                 lits
             };
             match ty.array {
-                Array::Fixed(n) if elems.len() != n => {
-                    Err(format!("expected {n} elements, found {}", elems.len()))
-                }
+                Array::Fixed(n) if elems.len() != n => Err(format!("expected {n} elements, found {}", elems.len())),
                 Array::Fixed(_) => Ok(format!("[{}]", lits.join(", "))),
                 Array::Bounded(n) if elems.len() > n => Err(format!("more than {n} elements")),
                 _ => Ok(format!("vec![{}]", lits.join(", "))),
@@ -592,11 +530,10 @@ fn rust_literal(ty: &FieldType, s: &str) -> Result<String, String> {
 // Code generation
 
 const RUST_KEYWORDS: &[&str] = &[
-    "as", "break", "const", "continue", "else", "enum", "extern", "false", "fn", "for", "if",
-    "impl", "in", "let", "loop", "match", "mod", "move", "mut", "pub", "ref", "return", "static",
-    "struct", "trait", "true", "type", "unsafe", "use", "where", "while", "async", "await", "dyn",
-    "abstract", "become", "box", "do", "final", "macro", "override", "priv", "typeof", "unsized",
-    "virtual", "yield", "try", "gen",
+    "as", "break", "const", "continue", "else", "enum", "extern", "false", "fn", "for", "if", "impl", "in", "let",
+    "loop", "match", "mod", "move", "mut", "pub", "ref", "return", "static", "struct", "trait", "true", "type",
+    "unsafe", "use", "where", "while", "async", "await", "dyn", "abstract", "become", "box", "do", "final", "macro",
+    "override", "priv", "typeof", "unsized", "virtual", "yield", "try", "gen",
 ];
 
 fn ident(name: &str) -> String {
@@ -658,12 +595,7 @@ fn deps_of(spec: &MsgSpec) -> BTreeSet<String> {
 
 /// The full `ros2msg` text, as rosbag2's `LocalMessageDefinitionSource::get_full_text` builds it.
 fn full_text(root: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
-    fn rec(
-        key: &str,
-        specs: &BTreeMap<String, MsgSpec>,
-        seen: &mut BTreeSet<String>,
-        depth: u32,
-    ) -> String {
+    fn rec(key: &str, specs: &BTreeMap<String, MsgSpec>, seen: &mut BTreeSet<String>, depth: u32) -> String {
         let spec = &specs[key];
         let mut result = spec.text.clone();
         if depth == 0 {
@@ -691,23 +623,13 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     let mut errors = Vec::new();
     let mut specs: BTreeMap<String, MsgSpec> = BTreeMap::new();
     for (pkg, path) in files {
-        let name = path
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or_default()
-            .to_string();
+        let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default().to_string();
         if !is_valid_pkg_name(&pkg) {
-            errors.push(format!(
-                "{}: package name `{pkg}` is not a valid ROS package name",
-                path.display()
-            ));
+            errors.push(format!("{}: package name `{pkg}` is not a valid ROS package name", path.display()));
             continue;
         }
         if !is_valid_type_name(&name) {
-            errors.push(format!(
-                "{}: message name `{name}` must be CamelCase",
-                path.display()
-            ));
+            errors.push(format!("{}: message name `{name}` must be CamelCase", path.display()));
             continue;
         }
         let text = match fs::read_to_string(&path) {
@@ -720,11 +642,7 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
         match parse_msg(&pkg, &name, &path, &text) {
             Ok(spec) => {
                 if let Some(prev) = specs.insert(spec.key(), spec) {
-                    errors.push(format!(
-                        "{}: `{}` defined twice",
-                        prev.path.display(),
-                        prev.key()
-                    ));
+                    errors.push(format!("{}: `{}` defined twice", prev.path.display(), prev.key()));
                 }
             }
             Err(mut e) => errors.append(&mut e),
@@ -735,11 +653,7 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
         for f in &spec.fields {
             if let Base::Nested { pkg, name } = &f.ty.base {
                 if !specs.contains_key(&format!("{pkg}/{name}")) {
-                    let hint = if name == "Header" {
-                        "; ROS 2 needs `std_msgs/Header`"
-                    } else {
-                        ""
-                    };
+                    let hint = if name == "Header" { "; ROS 2 needs `std_msgs/Header`" } else { "" };
                     errors.push(format!(
                         "{}:{}: unknown type `{pkg}/{name}` (add its .msg under msgs/{hint})",
                         spec.path.display(),
@@ -754,10 +668,7 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
             let mut stack = vec![(key.clone(), 0u32)];
             while let Some((k, d)) = stack.pop() {
                 if d > 40 {
-                    errors.push(format!(
-                        "{}: recursive message definition",
-                        specs[key].path.display()
-                    ));
+                    errors.push(format!("{}: recursive message definition", specs[key].path.display()));
                     break;
                 }
                 for dep in deps_of(&specs[&k]) {
@@ -778,11 +689,7 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     }
     let mut registry = Vec::new();
     for (pkg, msgs) in &by_pkg {
-        let _ = writeln!(
-            out,
-            "#[doc = {:?}]",
-            format!(" Messages of the ROS 2 package `{pkg}`.")
-        );
+        let _ = writeln!(out, "#[doc = {:?}]", format!(" Messages of the ROS 2 package `{pkg}`."));
         let _ = writeln!(out, "pub mod {pkg} {{");
         let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/msg/*`."));
         let _ = writeln!(out, "    pub mod msg {{");
@@ -806,9 +713,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let i3 = "            ";
     let name = &spec.name;
     let pkg = &spec.pkg;
-    let mut doc = vec![format!(
-        "`{pkg}/msg/{name}`, generated from `{pkg}/msg/{name}.msg`."
-    )];
+    let mut doc = vec![format!("`{pkg}/msg/{name}`, generated from `{pkg}/msg/{name}.msg`.")];
     if !spec.doc.is_empty() {
         doc.push(String::new());
         doc.extend(spec.doc.iter().cloned());
@@ -823,10 +728,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let _ = writeln!(out, "{i2}pub struct {name} {{");
     if spec.fields.is_empty() {
         // rosidl adds this member to empty messages so that they have a wire representation.
-        let _ = writeln!(
-            out,
-            "{i3}#[doc = \" Placeholder member rosidl adds to empty messages.\"]"
-        );
+        let _ = writeln!(out, "{i3}#[doc = \" Placeholder member rosidl adds to empty messages.\"]");
         let _ = writeln!(out, "{i3}pub structure_needs_at_least_one_member: u8,");
     }
     for f in &spec.fields {
@@ -862,12 +764,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         let _ = writeln!(out, "{i2}impl {name} {{");
         for c in &spec.constants {
             let mut d = c.doc.clone();
-            d.push(format!(
-                "ROS constant `{} {}={}`.",
-                ros_type_string(&c.ty),
-                c.name,
-                c.value
-            ));
+            d.push(format!("ROS constant `{} {}={}`.", ros_type_string(&c.ty), c.name, c.value));
             doc_attrs(out, i3, &d);
             let ty = match c.ty.base {
                 Base::String { .. } => "&'static str".to_string(),
@@ -882,16 +779,8 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let key = spec.key();
     let schema = full_text(&key, specs);
     let _ = writeln!(out, "{i2}impl crate::msgs::RosMessage for {name} {{");
-    let _ = writeln!(
-        out,
-        "{i3}const TYPE_NAME: &'static str = {:?};",
-        format!("{pkg}/msg/{name}")
-    );
-    let _ = writeln!(
-        out,
-        "{i3}const DDS_TYPE_NAME: &'static str = {:?};",
-        format!("{pkg}::msg::dds_::{name}_")
-    );
+    let _ = writeln!(out, "{i3}const TYPE_NAME: &'static str = {:?};", format!("{pkg}/msg/{name}"));
+    let _ = writeln!(out, "{i3}const DDS_TYPE_NAME: &'static str = {:?};", format!("{pkg}::msg::dds_::{name}_"));
     let _ = writeln!(out, "{i3}const SCHEMA_TEXT: &'static str = {schema:?};");
     let _ = writeln!(out, "{i3}const MSG_TEXT: &'static str = {:?};", spec.text);
     let _ = writeln!(out, "{i2}}}\n");
@@ -903,22 +792,18 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         out,
         "{i3}fn from_json(value: &::serde_json::Value, path: &str) -> ::core::result::Result<Self, crate::msgs::MsgError> {{"
     );
-    let _ = writeln!(
-        out,
-        "{i3}    let object = crate::msgs::json::expect_object(value, path)?;"
-    );
-    let known: Vec<String> = spec
-        .fields
-        .iter()
-        .map(|f| format!("{:?}", f.name))
-        .collect();
+    let _ = writeln!(out, "{i3}    let object = crate::msgs::json::expect_object(value, path)?;");
+    let known: Vec<String> = spec.fields.iter().map(|f| format!("{:?}", f.name)).collect();
     let _ = writeln!(
         out,
         "{i3}    crate::msgs::json::reject_unknown(object, &[{}], path, {:?})?;",
         known.join(", "),
         format!("{pkg}/msg/{name}")
     );
-    let _ = writeln!(out, "{i3}    #[allow(unused_mut)]\n{i3}    let mut msg = <Self as ::core::default::Default>::default();");
+    let _ = writeln!(
+        out,
+        "{i3}    #[allow(unused_mut)]\n{i3}    let mut msg = <Self as ::core::default::Default>::default();"
+    );
     for f in &spec.fields {
         let _ = writeln!(
             out,
@@ -948,10 +833,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
 
     let _ = writeln!(out, "{i2}impl crate::msgs::json::ToJson for {name} {{");
     let _ = writeln!(out, "{i3}fn to_json(&self) -> ::serde_json::Value {{");
-    let _ = writeln!(
-        out,
-        "{i3}    #[allow(unused_mut)]\n{i3}    let mut object = ::serde_json::Map::new();"
-    );
+    let _ = writeln!(out, "{i3}    #[allow(unused_mut)]\n{i3}    let mut object = ::serde_json::Map::new();");
     for f in &spec.fields {
         let _ = writeln!(
             out,
@@ -960,8 +842,5 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
             ident(&f.name)
         );
     }
-    let _ = writeln!(
-        out,
-        "{i3}    ::serde_json::Value::Object(object)\n{i3}}}\n{i2}}}\n"
-    );
+    let _ = writeln!(out, "{i3}    ::serde_json::Value::Object(object)\n{i3}}}\n{i2}}}\n");
 }

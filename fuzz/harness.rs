@@ -211,7 +211,8 @@ pub fn node_messages(data: &[u8]) {
                     }
                     Err(reason) => {
                         assert!(reason.starts_with("BatParams"), "rejection does not name the message: {reason}");
-                        let probe = Swing { header: params.header.clone(), measured_exit_speed: f64::NAN, ..Swing::default() };
+                        let probe =
+                            Swing { header: params.header.clone(), measured_exit_speed: f64::NAN, ..Swing::default() };
                         let ev = convert::exit_velocity(&probe, &params.bat_id, "", &Err(reason));
                         encode_cdr(&ev).unwrap_or_else(|e| panic!("cannot encode a rejection: {e}"));
                     }
@@ -225,13 +226,16 @@ pub fn node_messages(data: &[u8]) {
                         assert!(ball.unloading_exponent().is_finite(), "accepted ball has a non-finite β: {ball:?}");
                         registry.set_ball(&params.ball_id, ball);
                     }
-                    Err(reason) => assert!(reason.starts_with("BallParams"), "rejection does not name the message: {reason}"),
+                    Err(reason) => {
+                        assert!(reason.starts_with("BallParams"), "rejection does not name the message: {reason}")
+                    }
                 }
             }
             _ => {
                 let Ok(swing) = decode_cdr::<Swing>(bytes) else { continue };
                 let impact = convert::impact_from_swing(&swing);
-                let (plan, _new_bat) = engine::plan_swing(&mut registry, &settings, &swing.bat_id, &swing.ball_id, impact);
+                let (plan, _new_bat) =
+                    engine::plan_swing(&mut registry, &settings, &swing.bat_id, &swing.ball_id, impact);
                 let result = engine::compute(&plan, &stats);
                 let ev = convert::exit_velocity(&swing, plan.bat_id(), plan.ball_id(), &result);
                 encode_cdr(&ev).unwrap_or_else(|e| panic!("cannot encode ExitVelocity: {e}"));
@@ -253,9 +257,17 @@ pub fn node_messages(data: &[u8]) {
                             ],
                         );
                         let me = convert::modal_energies(&swing, plan.bat_id(), computed);
-                        assert!(computed.collision_energy.is_finite(), "collision_energy = {}", computed.collision_energy);
+                        assert!(
+                            computed.collision_energy.is_finite(),
+                            "collision_energy = {}",
+                            computed.collision_energy
+                        );
                         for (k, f) in me.fraction.iter().enumerate() {
-                            assert!(f.is_finite(), "ModalEnergies.fraction[{k}] = {f} (collision_energy {})", computed.collision_energy);
+                            assert!(
+                                f.is_finite(),
+                                "ModalEnergies.fraction[{k}] = {f} (collision_energy {})",
+                                computed.collision_energy
+                            );
                         }
                         encode_cdr(&me).unwrap_or_else(|e| panic!("cannot encode ModalEnergies: {e}"));
                     }
@@ -397,19 +409,36 @@ pub fn physics_case(data: &[u8]) -> Option<PhysicsCase> {
         .collect();
     let length = stations.last().map(|s| s.z).unwrap_or(0.0);
     let [d, y, s] = input.shell;
-    let shell = Material { density: d.get(100.0, 3000.0), youngs_modulus: y.get(1e9, 1e11), shear_modulus: s.get(1e8, 3e10) };
+    let shell =
+        Material { density: d.get(100.0, 3000.0), youngs_modulus: y.get(1e9, 1e11), shear_modulus: s.get(1e8, 3e10) };
     let core = input.core.map(|[d, y, s, a, b]| CoreFill {
-        material: Material { density: d.get(50.0, 3000.0), youngs_modulus: y.get(1e6, 1e11), shear_modulus: s.get(1e5, 3e10) },
+        material: Material {
+            density: d.get(50.0, 3000.0),
+            youngs_modulus: y.get(1e6, 1e11),
+            shear_modulus: s.get(1e5, 3e10),
+        },
         z_start: a.get(0.0, 1.0) * length,
         z_end: b.get(0.0, 1.0) * length,
     });
     let slice_length = input.slice_length.get(0.004, 0.1) * length.max(1e-3);
     let [m, r, k, a, e] = input.ball;
-    let ball = Ball { mass: m.get(0.01, 1.0), radius: r.get(0.01, 0.1), stiffness: k.get(1e5, 1e9), exponent: a.get(1.0, 4.0), cor: e.get(0.05, 1.0) };
+    let ball = Ball {
+        mass: m.get(0.01, 1.0),
+        radius: r.get(0.01, 0.1),
+        stiffness: k.get(1e5, 1e9),
+        exponent: a.get(1.0, 4.0),
+        cor: e.get(0.05, 1.0),
+    };
     let max_modes = input.max_modes as usize % (MAX_FUZZ_MODES + 1);
     let [vb, vcm, w, zk] = input.impact;
-    let impact = Impact { ball_speed: vb.get(0.0, 60.0), bat_cm_speed: vcm.get(-10.0, 40.0), bat_angular_speed: w.get(-50.0, 100.0), impact_z: zk.get(0.0, 1.0) };
-    let options = CollisionOptions { modes: input.modes as usize % (max_modes + 2), time_step: input.time_step.get(1e-6, 2e-5) };
+    let impact = Impact {
+        ball_speed: vb.get(0.0, 60.0),
+        bat_cm_speed: vcm.get(-10.0, 40.0),
+        bat_angular_speed: w.get(-50.0, 100.0),
+        impact_z: zk.get(0.0, 1.0),
+    };
+    let options =
+        CollisionOptions { modes: input.modes as usize % (max_modes + 2), time_step: input.time_step.get(1e-6, 2e-5) };
     Some(PhysicsCase { stations, shell, core, slice_length, ball, max_modes, impact, options })
 }
 
@@ -427,7 +456,10 @@ pub fn physics(data: &[u8]) {
     let ball = case.ball;
     let ball_ok = ball.validate().is_ok();
     if ball_ok {
-        assert!(ball.unloading_exponent().is_finite() && ball.unloading_exponent() > 0.0, "ball {ball:?}: β not finite");
+        assert!(
+            ball.unloading_exponent().is_finite() && ball.unloading_exponent() > 0.0,
+            "ball {ball:?}: β not finite"
+        );
     }
     if !solvable(&bat) {
         return;
@@ -573,8 +605,8 @@ pub fn bag_reader(data: &[u8]) {
         }
     };
     for entry in report.iter().filter(|r| r.rebuilt) {
-        let scan = reader::scan_file(&entry.path, |_| {})
-            .unwrap_or_else(|e| panic!("cannot read the recovered file: {e}"));
+        let scan =
+            reader::scan_file(&entry.path, |_| {}).unwrap_or_else(|e| panic!("cannot read the recovered file: {e}"));
         assert!(scan.complete, "the recovered file has no footer");
         assert_eq!(scan.message_count(), entry.messages, "the recovered file lost messages");
     }

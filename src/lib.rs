@@ -7,11 +7,11 @@
 //! - [`cli`]: the command line.
 pub mod bag;
 pub mod bench;
+pub mod calibrate;
 pub mod cli;
+pub mod demo;
 pub mod msgs;
 pub mod node;
 pub mod physics;
-pub mod ros;
 pub mod rig;
-pub mod calibrate;
-pub mod demo;
+pub mod ros;

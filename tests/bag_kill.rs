@@ -127,7 +127,8 @@ fn info_reports_topics_counts_and_an_unfinished_file() {
     assert!(text.contains("transient_local, depth 1"), "{text}");
     assert!(text.contains("zstd"), "{text}");
     assert!(text.contains("Chunks:            1\n"), "{text}");
-    let out = Command::new(sweetspot_bin()).args(["bag", "info", "--json"]).arg(dir.join("info_0.mcap")).output().unwrap();
+    let out =
+        Command::new(sweetspot_bin()).args(["bag", "info", "--json"]).arg(dir.join("info_0.mcap")).output().unwrap();
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["messages"], 11);
     assert_eq!(json["start_ns"], 1_000_000_000u64);
@@ -180,12 +181,8 @@ fn a_cut_off_fastwrite_file_recovers_with_every_complete_message() {
 
     // Cut inside a message record, exactly at a record boundary, inside the summary (every message but no
     // footer), and before the first message ends.
-    let cuts = [
-        (messages[499].0 + 5, 500),
-        (messages[699].0, 700),
-        (bytes.len() as u64 - 30, 900),
-        (messages[0].0 - 1, 0),
-    ];
+    let cuts =
+        [(messages[499].0 + 5, 500), (messages[699].0, 700), (bytes.len() as u64 - 30, 900), (messages[0].0 - 1, 0)];
     for (cut, survivors) in cuts {
         let case = tmp.path().join(format!("cut_{cut}"));
         std::fs::create_dir(&case).unwrap();
@@ -280,10 +277,16 @@ fn info_says_a_fastwrite_bag_is_unchunked_and_keeps_the_chunked_lines() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Compression:       none\n"), "{text}");
-    assert!(text.contains("Chunks:            none (unchunked: messages outside chunks, no message indexes)"), "{text}");
+    assert!(
+        text.contains("Chunks:            none (unchunked: messages outside chunks, no message indexes)"),
+        "{text}"
+    );
     assert!(text.contains("Messages:          10"), "{text}");
     let out = Command::new(sweetspot_bin()).args(["bag", "info", "--json"]).arg(&dir).output().unwrap();
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["layout"], serde_json::json!(["unchunked"]));
-    assert_eq!((json["files"][0]["layout"].as_str(), json["files"][0]["chunks"].as_u64()), (Some("unchunked"), Some(0)));
+    assert_eq!(
+        (json["files"][0]["layout"].as_str(), json["files"][0]["chunks"].as_u64()),
+        (Some("unchunked"), Some(0))
+    );
 }

@@ -15,7 +15,10 @@ use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, 
 const T0: u64 = 1_763_700_000_000_000_000;
 
 fn header(ns: u64) -> Header {
-    Header { stamp: Time { sec: (ns / 1_000_000_000) as i32, nanosec: (ns % 1_000_000_000) as u32 }, frame_id: "bat".into() }
+    Header {
+        stamp: Time { sec: (ns / 1_000_000_000) as i32, nanosec: (ns % 1_000_000_000) as u32 },
+        frame_id: "bat".into(),
+    }
 }
 
 fn swing(i: u64) -> Swing {
@@ -68,7 +71,13 @@ fn record_run(dir: &std::path::Path) {
         exponent: 1.5,
     };
     assert!(r.record(ball, encode_cdr(&ball_msg).unwrap(), T0, T0));
-    let spot = SweetSpot { header: header(T0), bat_id: "r161".into(), max_exit_speed_z: 0.71, frequency: vec![177.0, 583.0], ..SweetSpot::default() };
+    let spot = SweetSpot {
+        header: header(T0),
+        bat_id: "r161".into(),
+        max_exit_speed_z: 0.71,
+        frequency: vec![177.0, 583.0],
+        ..SweetSpot::default()
+    };
     assert!(r.record(ss, encode_cdr(&spot).unwrap(), T0 + 1, T0));
     for i in 0..40u64 {
         let s = swing(i);
@@ -156,15 +165,14 @@ fn export_csv_has_one_row_per_swing_joined_with_its_outputs() {
     let dir = tmp.path().join("rig");
     record_run(&dir);
     let csv_path = tmp.path().join("swings.csv");
-    let out = Command::new(sweetspot_bin())
-        .args(["bag", "export", "--csv", "-o"])
-        .arg(&csv_path)
-        .arg(&dir)
-        .output()
-        .unwrap();
+    let out =
+        Command::new(sweetspot_bin()).args(["bag", "export", "--csv", "-o"]).arg(&csv_path).arg(&dir).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let note = String::from_utf8_lossy(&out.stderr);
-    assert!(note.contains("exported 40 swings (39 with ExitVelocity, 39 with ModalEnergies; 1 outputs without their swing"), "{note}");
+    assert!(
+        note.contains("exported 40 swings (39 with ExitVelocity, 39 with ModalEnergies; 1 outputs without their swing"),
+        "{note}"
+    );
     let mut reader = csv::Reader::from_path(&csv_path).unwrap();
     let headers = reader.headers().unwrap().clone();
     let col = |name: &str| headers.iter().position(|h| h == name).unwrap_or_else(|| panic!("column {name}"));

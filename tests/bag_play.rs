@@ -45,7 +45,10 @@ fn exit_speeds(bag: &Path) -> Vec<(u64, String)> {
     let mut out: Vec<(u64, String)> = rows
         .iter()
         .map(|r| {
-            let ev = r.exit_velocity.as_ref().unwrap_or_else(|| panic!("swing {} unanswered in {}", r.swing.swing_id, bag.display()));
+            let ev = r
+                .exit_velocity
+                .as_ref()
+                .unwrap_or_else(|| panic!("swing {} unanswered in {}", r.swing.swing_id, bag.display()));
             (r.swing.swing_id, format!("{} {:?} {:?}", ev.status, ev.exit_speed.to_bits(), ev.bat_id))
         })
         .collect();

@@ -25,7 +25,10 @@ const Q: RecordedQos = RecordedQos { reliable: true, transient_local: false, dep
 
 fn swing(i: u64, bat_id: &str) -> Swing {
     Swing {
-        header: sweetspot::msgs::std_msgs::msg::Header { stamp: convert::time_from_ns(T0 + i * 1_000_000), frame_id: String::new() },
+        header: sweetspot::msgs::std_msgs::msg::Header {
+            stamp: convert::time_from_ns(T0 + i * 1_000_000),
+            frame_id: String::new(),
+        },
         swing_id: i,
         bat_id: bat_id.into(),
         ball_id: String::new(),
@@ -57,7 +60,15 @@ fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> NodeSettings {
         t += 1_000_000;
         t
     };
-    let ball = BallParams { ball_id: "lab_ball".into(), mass: 0.145, radius: 0.0366, cor: 0.48, stiffness: 7.5e6, exponent: 1.5, ..BallParams::default() };
+    let ball = BallParams {
+        ball_id: "lab_ball".into(),
+        mass: 0.145,
+        radius: 0.0366,
+        cor: 0.48,
+        stiffness: 7.5e6,
+        exponent: 1.5,
+        ..BallParams::default()
+    };
     registry.set_ball(&ball.ball_id, convert::ball_from_params(&ball).unwrap());
     assert!(rec.record(ball_t, encode_cdr(&ball).unwrap(), next(), 0));
     for i in 0..11u64 {
@@ -70,7 +81,8 @@ fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> NodeSettings {
         }
         let s = swing(i, if i == 10 { "no_such_bat" } else { "game" });
         assert!(rec.record(swing_t, encode_cdr(&s).unwrap(), next(), 0));
-        let (plan, _) = engine::plan_swing(&mut registry, &settings, &s.bat_id, &s.ball_id, convert::impact_from_swing(&s));
+        let (plan, _) =
+            engine::plan_swing(&mut registry, &settings, &s.bat_id, &s.ball_id, convert::impact_from_swing(&s));
         let result = engine::compute(&plan, &stats);
         if let Ok(c) = &result {
             let me = convert::modal_energies(&s, plan.bat_id(), c);
@@ -96,7 +108,12 @@ fn replay_matches_bit_exactly_with_params_in_force_at_each_swing() {
     assert_eq!(sweetspot::bag::replay::recorded_settings(&dir).unwrap(), settings);
     let report = sweetspot::bag::replay::replay(&dir, &settings, &Default::default(), 0.0, |_, _| {}).unwrap();
     assert_eq!(report.rows.len(), 11);
-    assert_eq!(report.tally(), (11, 0, 0), "{:#?}", report.rows.iter().filter(|r| !r.differences.is_empty()).collect::<Vec<_>>());
+    assert_eq!(
+        report.tally(),
+        (11, 0, 0),
+        "{:#?}",
+        report.rows.iter().filter(|r| !r.differences.is_empty()).collect::<Vec<_>>()
+    );
     assert_eq!(report.rows[10].replayed_status, ExitVelocity::STATUS_REJECTED);
     // The bat changed between swing 4 and 5; the replay used each at its time.
     assert!((report.rows[4].replayed_exit_speed - report.rows[5].replayed_exit_speed).abs() > 0.01);
@@ -173,8 +190,17 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
         domain,
         tmp.path(),
         &[
-            "--ros-args", "-p", &record_path, "-p", "default_modes:=6", "-p", "max_bats:=3", "-p", "max_balls:=2",
-            "-p", "max_bat_slices:=300",
+            "--ros-args",
+            "-p",
+            &record_path,
+            "-p",
+            "default_modes:=6",
+            "-p",
+            "max_bats:=3",
+            "-p",
+            "max_balls:=2",
+            "-p",
+            "max_bat_slices:=300",
         ],
     );
     peer.wait_for_reader(&bat_pub);
@@ -184,7 +210,15 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
     // Each message is taken by the node before the next is sent, so the order (and the use order the
     // registry forgets by) is known. Three balls for two places: b0 is forgotten.
     for (k, id) in ["b0", "b1", "b2"].iter().enumerate() {
-        let ball = BallParams { ball_id: (*id).into(), mass: 0.145, radius: 0.0366, cor: 0.46 + 0.02 * k as f64, stiffness: 7.5e6, exponent: 1.5, ..BallParams::default() };
+        let ball = BallParams {
+            ball_id: (*id).into(),
+            mass: 0.145,
+            radius: 0.0366,
+            cor: 0.46 + 0.02 * k as f64,
+            stiffness: 7.5e6,
+            exponent: 1.5,
+            ..BallParams::default()
+        };
         ball_pub.publish(ball).unwrap();
         node.wait_for_log(&format!("ball '{id}' set"), WAIT);
     }
@@ -194,7 +228,11 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
     bat_pub.publish(fine).unwrap();
     let refused = &peer.collect(&answers, 1, WAIT)[0];
     assert_eq!(refused.status, ExitVelocity::STATUS_REJECTED);
-    assert!(refused.message.contains("into 420 slices") && refused.message.contains("max_bat_slices = 300"), "{}", refused.message);
+    assert!(
+        refused.message.contains("into 420 slices") && refused.message.contains("max_bat_slices = 300"),
+        "{}",
+        refused.message
+    );
     // Five bats for three places (the default bat r161 held since start goes first): lab_0, lab_1 forgotten.
     for (k, preset) in ["r161", "torpedo", "aluminum", "r161-corked", "torpedo"].iter().enumerate() {
         let id = format!("lab_{k}");
@@ -224,7 +262,12 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
         assert_eq!(ev.swing_id, id);
         assert_eq!(ev.status == ExitVelocity::STATUS_OK, ok, "swing {id} on '{bat_id}'/'{ball_id}': {}", ev.message);
     }
-    for (k, what) in [(0, "its BatParams were forgotten"), (5, "unknown bat_id 'fine'"), (6, "its BallParams were forgotten"), (9, "its BatParams were forgotten")] {
+    for (k, what) in [
+        (0, "its BatParams were forgotten"),
+        (5, "unknown bat_id 'fine'"),
+        (6, "its BallParams were forgotten"),
+        (9, "its BatParams were forgotten"),
+    ] {
         assert!(got[k].message.contains(what), "swing {}: {}", k + 1, got[k].message);
     }
     let (status, _, log) = node.stop_with(15);
@@ -232,13 +275,19 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
 
     // The limits come back from the bag; a plain replay (no flags) matches every answer bit for bit.
     let settings = sweetspot::bag::replay::recorded_settings(&bag).unwrap();
-    assert_eq!((settings.max_bats, settings.max_balls, settings.max_bat_slices, settings.default_modes), (3, 2, 300, 6));
+    assert_eq!(
+        (settings.max_bats, settings.max_balls, settings.max_bat_slices, settings.default_modes),
+        (3, 2, 300, 6)
+    );
     let out = Command::new(sweetspot_bin()).args(["bag", "replay"]).arg(&bag).output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains("11 swings: 11 match, 0 differ (bit-exact)"), "{text}");
     // The report names the limits it applied, in text and JSON.
-    assert!(text.contains("default_modes 6, time_step 0.000005 s, max_bats 3, max_balls 2, max_bat_slices 300"), "{text}");
+    assert!(
+        text.contains("default_modes 6, time_step 0.000005 s, max_bats 3, max_balls 2, max_bat_slices 300"),
+        "{text}"
+    );
     let out = Command::new(sweetspot_bin()).args(["bag", "replay", "--json"]).arg(&bag).output().unwrap();
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(

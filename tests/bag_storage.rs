@@ -402,7 +402,8 @@ fn rosbags_refuses_unchunked_files_whose_log_times_go_backwards_and_the_others_r
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("backwards");
     let storage = StorageOptions::preset("fastwrite").unwrap();
-    let expected = record_three_topics(&dir, storage, 300, |i| T0 + i * 1_000_000 - if i == 150 { 2_000_000 } else { 0 });
+    let expected =
+        record_three_topics(&dir, storage, 300, |i| T0 + i * 1_000_000 - if i == 150 { 2_000_000 } else { 0 });
     let python = python_read_all(&dir);
     assert_eq!(
         python["rosbags_error"],

@@ -26,37 +26,18 @@ fn write_session_with(
 ) -> std::path::PathBuf {
     let bag = dir.join("session");
     let recorder = Recorder::start(RecorderConfig::new(&bag)).expect("start recorder");
-    let latched = RecordedQos {
-        reliable: true,
-        transient_local: true,
-        depth: 1,
-    };
-    let stream = RecordedQos {
-        reliable: true,
-        transient_local: false,
-        depth: 1000,
-    };
-    let bat_topic = recorder
-        .register_topic(TopicInfo::of::<BatParams>("/rig/bat/params", latched))
-        .unwrap();
-    let ball_topic = recorder
-        .register_topic(TopicInfo::of::<BallParams>("/rig/ball/params", latched))
-        .unwrap();
-    let swing_topic = recorder
-        .register_topic(TopicInfo::of::<Swing>("/rig/swing", stream))
-        .unwrap();
+    let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
+    let stream = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
+    let bat_topic = recorder.register_topic(TopicInfo::of::<BatParams>("/rig/bat/params", latched)).unwrap();
+    let ball_topic = recorder.register_topic(TopicInfo::of::<BallParams>("/rig/ball/params", latched)).unwrap();
+    let swing_topic = recorder.register_topic(TopicInfo::of::<Swing>("/rig/swing", stream)).unwrap();
     let mut rig = SessionGenerator::new(config).expect("rig").with_block(3);
     let mut t: u64 = 1_700_000_000_000_000_000;
     for params in rig.bat_params(time_from_nanos(t)) {
         assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
         t += 1000;
     }
-    assert!(recorder.record(
-        ball_topic,
-        encode_cdr(&rig.ball_params(time_from_nanos(t))).unwrap(),
-        t,
-        t
-    ));
+    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(time_from_nanos(t))).unwrap(), t, t));
     for _ in 0..swings {
         t += 100_000_000;
         let swing = rig.next_swing().expect("swing");
@@ -73,32 +54,20 @@ fn write_session_with(
 fn calibrate_recovers_the_true_cor_from_a_noisy_bag() {
     let tmp = tempfile::tempdir().unwrap();
     let noise = SensorNoise::default();
-    let config = RigConfig {
-        true_cor: Some(TRUE_COR),
-        seed: 11,
-        noise,
-        ..RigConfig::default()
-    };
+    let config = RigConfig { true_cor: Some(TRUE_COR), seed: 11, noise, ..RigConfig::default() };
     let bag = write_session(tmp.path(), 48, config);
 
     let problem = problem_from_bag(&bag, None).expect("problem from bag");
     assert_eq!(problem.observations.len(), 48);
     assert_eq!(problem.ball_id, sweetspot::rig::RIG_BALL_ID);
-    assert!(
-        (problem.ball.cor - 0.53).abs() < 1e-12,
-        "start value is the announced COR"
-    );
+    assert!((problem.ball.cor - 0.53).abs() < 1e-12, "start value is the announced COR");
     assert_eq!(problem.bats.len(), 4);
 
     let result = fit(&problem, &FitOptions::default()).expect("fit");
     let cor = result.parameter("cor").unwrap();
     assert!(result.converged, "fit did not converge: {result:?}");
     // σ: exit speed moves ≈ 40–60 m/s per unit COR, so 48 swings with ≈ 0.5–0.8 m/s scatter give σ ≈ 1e-3.
-    assert!(
-        cor.std_error > 2e-4 && cor.std_error < 5e-3,
-        "σ(COR) = {}",
-        cor.std_error
-    );
+    assert!(cor.std_error > 2e-4 && cor.std_error < 5e-3, "σ(COR) = {}", cor.std_error);
     assert!(
         (cor.value - TRUE_COR).abs() < 3.0 * cor.std_error,
         "COR {} ± {} vs true {TRUE_COR}",
@@ -116,10 +85,7 @@ fn calibrate_recovers_the_true_cor_from_a_noisy_bag() {
 fn calibrate_fits_youngs_modulus_with_exact_inputs() {
     // Exit-speed noise only, so the moduli are identifiable from a short session; the true bats are the presets.
     let tmp = tempfile::tempdir().unwrap();
-    let noise = SensorNoise {
-        exit_speed: 0.3,
-        ..SensorNoise::none()
-    };
+    let noise = SensorNoise { exit_speed: 0.3, ..SensorNoise::none() };
     let config = RigConfig {
         bats: vec!["r161".into(), "aluminum".into()],
         true_cor: Some(TRUE_COR),
@@ -129,26 +95,14 @@ fn calibrate_fits_youngs_modulus_with_exact_inputs() {
     };
     let bag = write_session(tmp.path(), 24, config);
     let problem = problem_from_bag(&bag, None).expect("problem");
-    let result = fit(
-        &problem,
-        &FitOptions {
-            fit_youngs: true,
-            ..FitOptions::default()
-        },
-    )
-    .expect("fit");
+    let result = fit(&problem, &FitOptions { fit_youngs: true, ..FitOptions::default() }).expect("fit");
     assert_eq!(result.parameters.len(), 3);
     let cor = result.parameter("cor").unwrap();
     assert!((cor.value - TRUE_COR).abs() < 3.0 * cor.std_error + 1e-4, "{cor:?}");
     for (name, truth) in [("youngs_modulus[r161]", 1.814e10), ("youngs_modulus[aluminum]", 7.0e10)] {
         let e = result.parameter(name).unwrap();
         assert!(e.std_error > 0.0 && e.std_error.is_finite(), "{e:?}");
-        assert!(
-            (e.value - truth).abs() < 3.0 * e.std_error,
-            "{name}: {} ± {} vs {truth}",
-            e.value,
-            e.std_error
-        );
+        assert!((e.value - truth).abs() < 3.0 * e.std_error, "{name}: {} ± {} vs {truth}", e.value, e.std_error);
         assert_eq!(result.bats[&name[15..name.len() - 1]].shell.youngs_modulus, e.value);
     }
 }
@@ -156,21 +110,12 @@ fn calibrate_fits_youngs_modulus_with_exact_inputs() {
 #[test]
 fn a_bag_without_measurements_is_a_clear_error() {
     let tmp = tempfile::tempdir().unwrap();
-    let noise = SensorNoise {
-        exit_speed: 0.0,
-        ..SensorNoise::none()
-    };
+    let noise = SensorNoise { exit_speed: 0.0, ..SensorNoise::none() };
     let bag = tmp.path().join("empty");
     let recorder = Recorder::start(RecorderConfig::new(&bag)).unwrap();
     let _ = noise;
-    let stream = RecordedQos {
-        reliable: true,
-        transient_local: false,
-        depth: 1000,
-    };
-    let topic = recorder
-        .register_topic(TopicInfo::of::<Swing>("/swing", stream))
-        .unwrap();
+    let stream = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
+    let topic = recorder.register_topic(TopicInfo::of::<Swing>("/swing", stream)).unwrap();
     let swing = Swing {
         bat_id: "r161".into(),
         ball_speed: 40.0,
@@ -205,11 +150,7 @@ fn calibrate_command_reports_and_writes_params_pub_can_send() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    assert!(output.status.success(), "{stdout}{}", String::from_utf8_lossy(&output.stderr));
     for needle in [
         "cor",
         "youngs_modulus[r161]",
@@ -232,10 +173,7 @@ fn calibrate_command_reports_and_writes_params_pub_can_send() {
         .collect();
     assert_eq!(bats.len(), 2);
     for b in &bats {
-        assert!(
-            b.preset.is_empty() && b.station_z.len() > 10 && b.youngs_modulus > 1e9,
-            "{b:?}"
-        );
+        assert!(b.preset.is_empty() && b.station_z.len() > 10 && b.youngs_modulus > 1e9, "{b:?}");
         // A fitted bat is the preset's geometry with the fitted modulus: it must build.
         sweetspot::calibrate::bat_from_params(b).unwrap();
     }
@@ -244,11 +182,7 @@ fn calibrate_command_reports_and_writes_params_pub_can_send() {
 #[test]
 fn inputs_the_node_would_reject_are_left_out_and_reported() {
     let tmp = tempfile::tempdir().unwrap();
-    let config = RigConfig {
-        bats: vec!["r161".into()],
-        seed: 8,
-        ..RigConfig::default()
-    };
+    let config = RigConfig { bats: vec!["r161".into()], seed: 8, ..RigConfig::default() };
     let bag = write_session_with(tmp.path(), 12, config, |rec, bat_topic, swing_topic, t| {
         let bad_bat = BatParams {
             bat_id: "broken".into(),
@@ -273,11 +207,7 @@ fn inputs_the_node_would_reject_are_left_out_and_reported() {
     let problem = problem_from_bag(&bag, None).expect("problem");
     assert_eq!(problem.observations.len(), 12);
     assert_eq!(problem.skipped.len(), 2, "{:?}", problem.skipped);
-    assert!(
-        problem.skipped[0].contains("broken") && problem.skipped[1].contains("swing 999"),
-        "{:?}",
-        problem.skipped
-    );
+    assert!(problem.skipped[0].contains("broken") && problem.skipped[1].contains("swing 999"), "{:?}", problem.skipped);
     let result = fit(&problem, &FitOptions::default()).expect("fit");
     assert!(result.converged);
 }

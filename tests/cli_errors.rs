@@ -94,7 +94,8 @@ fn bad_bat_files_name_the_line_or_field() {
     std::fs::write(dir.path().join("p.csv"), "z_m,outer_radius_m\n0.0,0.02\n0.4,0.03\n0.3,0.03\n0.84,0.033\n").unwrap();
     contains_all(&fails(&["modes", "--bat", s(&bat)]), &["bat.toml", "p.csv", "line 4", "z_m", "strictly increasing"]);
 
-    std::fs::write(dir.path().join("p.csv"), "z_m,outer_radius_m,inner_radius_m\n0.0,0.02,0.0\n0.84,0.03,0.031\n").unwrap();
+    std::fs::write(dir.path().join("p.csv"), "z_m,outer_radius_m,inner_radius_m\n0.0,0.02,0.0\n0.84,0.03,0.031\n")
+        .unwrap();
     contains_all(&fails(&["modes", "--bat", s(&bat)]), &["inner"]);
 
     std::fs::write(dir.path().join("p.csv"), "z_m,outer_radius_m\n0.0,0.02\n0.84,thick\n").unwrap();

@@ -159,11 +159,7 @@ fn simulate_case_file_equals_the_same_flags() {
 #[test]
 fn sweep_json_matches_the_library() {
     let doc = json(&["sweep", "--bat", "aluminum", "--from", "0.5", "--to", "0.78", "--points", "8", "--modes", "8"]);
-    has_exactly(
-        &doc,
-        "",
-        &["bat", "ball", "swing", "options", "sweet_spots", "nodes", "points", "plot"],
-    );
+    has_exactly(&doc, "", &["bat", "ball", "swing", "options", "sweet_spots", "nodes", "points", "plot"]);
     has_exactly(&doc, "/sweet_spots", SWEET_FIELDS);
     has_exactly(&doc, "/nodes", &["mode1", "mode2"]);
     assert!(doc["plot"].is_null());
@@ -235,7 +231,16 @@ fn bbcor_json_matches_the_library() {
     has_exactly(
         &doc,
         "/bbcor",
-        &["bbcor", "impact_z", "collision_efficiency", "ball_speed", "bat_speed", "pivot_z", "search_from_z", "search_to_z"],
+        &[
+            "bbcor",
+            "impact_z",
+            "collision_efficiency",
+            "ball_speed",
+            "bat_speed",
+            "pivot_z",
+            "search_from_z",
+            "search_to_z",
+        ],
     );
     has_exactly(&doc, "/besr", &["besr", "impact_z", "exit_speed", "ball_speed", "bat_speed", "pivot_z"]);
     let bat = Bat::preset("r161").unwrap();
@@ -279,16 +284,42 @@ fn field_paths(value: &Value, prefix: &str, out: &mut Vec<String>) {
 #[test]
 fn simulate_json_field_names_are_exactly_the_documented_ones_in_order() {
     const PINNED: &[&str] = &[
-        "bat.name", "bat.mass", "bat.length", "bat.center_of_mass", "bat.moment_of_inertia", "bat.radius_of_gyration",
-        "bat.pivot_z", "bat.moment_about_pivot", "bat.center_of_percussion",
-        "ball.mass", "ball.radius", "ball.stiffness", "ball.exponent", "ball.cor",
-        "swing.ball_speed", "swing.bat_cm_speed", "swing.bat_angular_speed",
-        "options.modes", "options.time_step",
-        "results[].impact_z", "results[].exit_speed", "results[].rigid_exit_speed", "results[].effective_cor",
-        "results[].collision_efficiency", "results[].contact_time", "results[].peak_force", "results[].impulse",
-        "results[].max_compression", "results[].energy.initial", "results[].energy.ball",
-        "results[].energy.bat_rigid", "results[].energy.vibration", "results[].energy.hysteresis_loss",
-        "results[].energy.residual", "results[].mode_energies[].mode", "results[].mode_energies[].frequency_hz",
+        "bat.name",
+        "bat.mass",
+        "bat.length",
+        "bat.center_of_mass",
+        "bat.moment_of_inertia",
+        "bat.radius_of_gyration",
+        "bat.pivot_z",
+        "bat.moment_about_pivot",
+        "bat.center_of_percussion",
+        "ball.mass",
+        "ball.radius",
+        "ball.stiffness",
+        "ball.exponent",
+        "ball.cor",
+        "swing.ball_speed",
+        "swing.bat_cm_speed",
+        "swing.bat_angular_speed",
+        "options.modes",
+        "options.time_step",
+        "results[].impact_z",
+        "results[].exit_speed",
+        "results[].rigid_exit_speed",
+        "results[].effective_cor",
+        "results[].collision_efficiency",
+        "results[].contact_time",
+        "results[].peak_force",
+        "results[].impulse",
+        "results[].max_compression",
+        "results[].energy.initial",
+        "results[].energy.ball",
+        "results[].energy.bat_rigid",
+        "results[].energy.vibration",
+        "results[].energy.hysteresis_loss",
+        "results[].energy.residual",
+        "results[].mode_energies[].mode",
+        "results[].mode_energies[].frequency_hz",
         "results[].mode_energies[].energy",
     ];
     let doc = json(&["simulate", "--bat", "torpedo", "--modes", "3", "--impact-z", "0.6,0.7"]);
@@ -301,7 +332,10 @@ fn simulate_json_field_names_are_exactly_the_documented_ones_in_order() {
     // docs/file-formats.md lists the same: the top-level keys, the bat table and the collision-result table
     // (in output order), and the mode_energies entry's fields.
     let docs = std::fs::read_to_string(cli_support::repo().join("docs/file-formats.md")).expect("docs/file-formats.md");
-    assert!(docs.contains(r#"`{"bat", "ball", "swing", "options", "results": [collision result, …]}`"#), "simulate's top level");
+    assert!(
+        docs.contains(r#"`{"bat", "ball", "swing", "options", "results": [collision result, …]}`"#),
+        "simulate's top level"
+    );
     let table_after = |heading: &str| -> Vec<String> {
         let start = docs.find(heading).unwrap_or_else(|| panic!("'{heading}' in docs/file-formats.md"));
         docs[start..]
@@ -311,8 +345,10 @@ fn simulate_json_field_names_are_exactly_the_documented_ones_in_order() {
             .filter_map(|l| l.split('`').nth(1).map(str::to_string))
             .collect()
     };
-    let documented_bat: Vec<String> = table_after("`bat` (mass properties").iter().map(|f| format!("bat.{f}")).collect();
-    let documented_result: Vec<String> = table_after("A collision result:").iter().map(|f| format!("results[].{f}")).collect();
+    let documented_bat: Vec<String> =
+        table_after("`bat` (mass properties").iter().map(|f| format!("bat.{f}")).collect();
+    let documented_result: Vec<String> =
+        table_after("A collision result:").iter().map(|f| format!("results[].{f}")).collect();
     let output_result: Vec<String> =
         paths.iter().filter(|p| p.starts_with("results[].") && !p.contains("mode_energies")).cloned().collect();
     assert_eq!(documented_bat, paths.iter().filter(|p| p.starts_with("bat.")).cloned().collect::<Vec<_>>());

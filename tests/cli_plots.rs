@@ -29,7 +29,16 @@ fn sweep_plots_svg_and_png_with_labels() {
     assert_eq!(doc["plot"].as_str(), Some(s(&svg)));
     assert_svg(&svg);
     let text = std::fs::read_to_string(&svg).unwrap();
-    for label in ["exit speed vs impact point", "impact point z (m from the knob)", "ball exit speed (m/s)", "flexible bat", "rigid bat", "node of mode 1", "node of mode 2", "sweet spot"] {
+    for label in [
+        "exit speed vs impact point",
+        "impact point z (m from the knob)",
+        "ball exit speed (m/s)",
+        "flexible bat",
+        "rigid bat",
+        "node of mode 1",
+        "node of mode 2",
+        "sweet spot",
+    ] {
         assert!(text.contains(label), "'{label}' missing from the SVG");
     }
     let png = dir.path().join("sweep.PNG");
@@ -42,7 +51,8 @@ fn sweep_plots_svg_and_png_with_labels() {
 fn figures_are_written_with_an_index() {
     let dir = tempfile::tempdir().unwrap();
     let out = ok(&["figures", s(dir.path()), "--points", "16", "--modes", "6"]);
-    let files = ["fig2-rigid-exit-speed.svg", "fig5-normal-vs-corked.svg", "fig6-wood-vs-aluminum.svg", "mode-shapes.svg"];
+    let files =
+        ["fig2-rigid-exit-speed.svg", "fig5-normal-vs-corked.svg", "fig6-wood-vs-aluminum.svg", "mode-shapes.svg"];
     let index = std::fs::read_to_string(dir.path().join("README.md")).unwrap();
     for file in files {
         assert_svg(&dir.path().join(file));
@@ -61,7 +71,9 @@ fn figures_are_written_with_an_index() {
 fn figures_as_png() {
     let dir = tempfile::tempdir().unwrap();
     ok(&["figures", s(dir.path()), "--format", "png", "--points", "12", "--modes", "4"]);
-    for file in ["fig2-rigid-exit-speed.png", "fig5-normal-vs-corked.png", "fig6-wood-vs-aluminum.png", "mode-shapes.png"] {
+    for file in
+        ["fig2-rigid-exit-speed.png", "fig5-normal-vs-corked.png", "fig6-wood-vs-aluminum.png", "mode-shapes.png"]
+    {
         assert_png(&dir.path().join(file));
     }
 }

@@ -12,11 +12,7 @@ fn scripts() -> &'static Path {
 #[test]
 fn every_launch_script_parses() {
     for name in ["common.sh", "demo.sh", "rig.sh", "record.sh", "play.sh"] {
-        let status = Command::new("bash")
-            .arg("-n")
-            .arg(scripts().join(name))
-            .status()
-            .unwrap();
+        let status = Command::new("bash").arg("-n").arg(scripts().join(name)).status().unwrap();
         assert!(status.success(), "{name} does not parse");
     }
     let launch = std::fs::read_to_string(scripts().join("sweetspot.launch.py")).unwrap();
@@ -41,14 +37,6 @@ fn demo_script_runs_a_demo_with_localhost_discovery() {
     assert!(output.status.success(), "{stdout}\n{stderr}");
     assert!(stderr.contains("ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST"), "{stderr}");
     assert!(stderr.contains("discovery LOCALHOST"), "{stderr}");
-    assert!(
-        stdout
-            .lines()
-            .any(|l| l.starts_with("r161 ") && l.split_whitespace().nth(1) == Some("4")),
-        "{stdout}"
-    );
-    assert!(
-        stdout.contains("bag:") && stdout.contains("(4 swings, 4 exit velocities"),
-        "{stdout}"
-    );
+    assert!(stdout.lines().any(|l| l.starts_with("r161 ") && l.split_whitespace().nth(1) == Some("4")), "{stdout}");
+    assert!(stdout.contains("bag:") && stdout.contains("(4 swings, 4 exit velocities"), "{stdout}");
 }

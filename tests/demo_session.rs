@@ -40,19 +40,12 @@ fn run_demo(out: &Path) -> String {
         .expect("run sweetspot demo");
     let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(
-        output.status.success(),
-        "demo failed: {}\nstdout:\n{stdout}\nstderr:\n{stderr}",
-        output.status
-    );
+    assert!(output.status.success(), "demo failed: {}\nstdout:\n{stdout}\nstderr:\n{stderr}", output.status);
     stdout
 }
 
 fn bag_path(stdout: &str) -> PathBuf {
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("bag:"))
-        .unwrap_or_else(|| panic!("no bag line in:\n{stdout}"));
+    let line = stdout.lines().find(|l| l.starts_with("bag:")).unwrap_or_else(|| panic!("no bag line in:\n{stdout}"));
     PathBuf::from(line.trim_start_matches("bag:").split_whitespace().next().unwrap())
 }
 
@@ -81,28 +74,14 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
     assert!(bag.join("metadata.yaml").is_file(), "{}", bag.display());
     let info = sweetspot().args(["bag", "info"]).arg(&bag).output().unwrap();
     let info_text = String::from_utf8_lossy(&info.stdout);
-    assert!(
-        info.status.success(),
-        "bag info failed: {}",
-        String::from_utf8_lossy(&info.stderr)
-    );
-    assert!(
-        info_text.contains("/demo/swing") && info_text.contains("sweetspot_msgs/msg/ExitVelocity"),
-        "{info_text}"
-    );
+    assert!(info.status.success(), "bag info failed: {}", String::from_utf8_lossy(&info.stderr));
+    assert!(info_text.contains("/demo/swing") && info_text.contains("sweetspot_msgs/msg/ExitVelocity"), "{info_text}");
 
     // `sweetspot bag replay` re-runs the model on every recorded swing and must match bit for bit.
     let replay = sweetspot().args(["bag", "replay"]).arg(&bag).output().unwrap();
     let replay_text = String::from_utf8_lossy(&replay.stdout);
-    assert!(
-        replay.status.success(),
-        "bag replay failed: {replay_text}{}",
-        String::from_utf8_lossy(&replay.stderr)
-    );
-    assert!(
-        replay_text.contains(&format!("{SWINGS} swings: {SWINGS} match, 0 differ")),
-        "{replay_text}"
-    );
+    assert!(replay.status.success(), "bag replay failed: {replay_text}{}", String::from_utf8_lossy(&replay.stderr));
+    assert!(replay_text.contains(&format!("{SWINGS} swings: {SWINGS} match, 0 differ")), "{replay_text}");
 
     // And independently: every recorded ExitVelocity equals the physics recomputed from the recorded params and swing.
     let (mut bats, mut balls, mut swings, mut exits) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -114,16 +93,10 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
         _ => {}
     })
     .unwrap();
-    assert_eq!(
-        (bats.len(), balls.len(), swings.len(), exits.len()),
-        (2, 1, SWINGS, SWINGS)
-    );
+    assert_eq!((bats.len(), balls.len(), swings.len(), exits.len()), (2, 1, SWINGS, SWINGS));
     let ball = ball_from_params(&balls[0]);
     for swing in &swings {
-        let exit = exits
-            .iter()
-            .find(|e| e.swing_id == swing.swing_id)
-            .expect("an answer per swing");
+        let exit = exits.iter().find(|e| e.swing_id == swing.swing_id).expect("an answer per swing");
         assert_eq!(exit.status, ExitVelocity::STATUS_OK, "{}", exit.message);
         let params = bats.iter().find(|b| b.bat_id == swing.bat_id).unwrap();
         let (bat, modes) = bat_from_params(params).unwrap();
@@ -156,11 +129,7 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
         "mode-shapes.png",
     ] {
         let bytes = std::fs::read(figures.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-        assert!(
-            bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 10_000,
-            "{file}: {} bytes",
-            bytes.len()
-        );
+        assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 10_000, "{file}: {} bytes", bytes.len());
         assert!(stdout.contains(file), "{file} not listed in:\n{stdout}");
     }
     assert!(figures.join("README.md").is_file());

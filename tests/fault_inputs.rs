@@ -35,17 +35,13 @@ fn raw_writer<M: sweetspot::msgs::RosMessage, D: serde::Serialize>(
     qos: ros2_client::QosProfile,
 ) -> Publisher<D> {
     let topic = dds::topic::<M>(&peer.node, name, &qos);
-    peer.node
-        .create_publisher::<D>(&topic, None)
-        .expect("raw publisher")
+    peer.node.create_publisher::<D>(&topic, None).expect("raw publisher")
 }
 
 /// Waits until `publisher` (of any payload type) has matched the node's reader, or panics after 60 s.
 fn wait_matched<D: serde::Serialize>(peer: &Peer, publisher: &Publisher<D>) {
     peer.rt
-        .block_on(async {
-            tokio::time::timeout(WAIT, publisher.wait_for_subscription(&peer.node)).await
-        })
+        .block_on(async { tokio::time::timeout(WAIT, publisher.wait_for_subscription(&peer.node)).await })
         .expect("the node's reader never matched the raw writer");
 }
 
@@ -58,8 +54,7 @@ struct Truncated([u8; 5]);
 struct HugeLength([u8; 16]);
 
 #[test]
-fn malformed_and_wrong_type_payloads_on_every_input_are_reported_and_every_valid_swing_is_answered()
-{
+fn malformed_and_wrong_type_payloads_on_every_input_are_reported_and_every_valid_swing_is_answered() {
     let domain = domain(70);
     let dir = tempfile::tempdir().unwrap();
     let mut peer = Peer::new(domain, "fault_peer");
@@ -69,13 +64,10 @@ fn malformed_and_wrong_type_payloads_on_every_input_are_reported_and_every_valid
     let bad_swing_huge = raw_writer::<Swing, HugeLength>(&mut peer, "/swing", dds::swing());
     // Wrong type: a std_msgs/String-like payload on the Swing topic.
     let bad_swing_wrong_type = raw_writer::<Swing, String>(&mut peer, "/swing", dds::swing());
-    let bad_bat_truncated =
-        raw_writer::<BatParams, Truncated>(&mut peer, "/bat/params", dds::params());
+    let bad_bat_truncated = raw_writer::<BatParams, Truncated>(&mut peer, "/bat/params", dds::params());
     let bad_bat_huge = raw_writer::<BatParams, HugeLength>(&mut peer, "/bat/params", dds::params());
-    let bad_ball_truncated =
-        raw_writer::<BallParams, Truncated>(&mut peer, "/ball/params", dds::params());
-    let bad_ball_huge =
-        raw_writer::<BallParams, HugeLength>(&mut peer, "/ball/params", dds::params());
+    let bad_ball_truncated = raw_writer::<BallParams, Truncated>(&mut peer, "/ball/params", dds::params());
+    let bad_ball_huge = raw_writer::<BallParams, HugeLength>(&mut peer, "/ball/params", dds::params());
     let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
     peer.wait_for_reader(&swing_pub);
     wait_matched(&peer, &bad_swing_truncated);
@@ -98,43 +90,29 @@ fn malformed_and_wrong_type_payloads_on_every_input_are_reported_and_every_valid
         }
         bad_swing_truncated.publish(truncated).unwrap();
         bad_swing_huge.publish(huge).unwrap();
-        bad_swing_wrong_type
-            .publish(format!("not a swing #{round}"))
-            .unwrap();
+        bad_swing_wrong_type.publish(format!("not a swing #{round}")).unwrap();
         bad_bat_truncated.publish(truncated).unwrap();
         bad_bat_huge.publish(huge).unwrap();
         bad_ball_truncated.publish(truncated).unwrap();
         bad_ball_huge.publish(huge).unwrap();
     }
     let got = peer.collect_until(&answers, WAIT, |got: &[ExitVelocity]| {
-        sent.iter()
-            .all(|id| got.iter().any(|ev| ev.swing_id == *id))
+        sent.iter().all(|id| got.iter().any(|ev| ev.swing_id == *id))
     });
     for id in &sent {
         let ev = got.iter().find(|ev| ev.swing_id == *id).unwrap();
-        assert_eq!(
-            ev.status,
-            ExitVelocity::STATUS_OK,
-            "swing {id}: {}",
-            ev.message
-        );
+        assert_eq!(ev.status, ExitVelocity::STATUS_OK, "swing {id}: {}", ev.message);
         assert!(ev.exit_speed.is_finite() && ev.exit_speed > 0.0);
     }
     // Nothing but the valid swings was answered as a swing (a garbage payload decoded into a "swing" would be).
     assert!(
         got.iter().all(|ev| sent.contains(&ev.swing_id)),
         "answers to swings never sent: {:?}",
-        got.iter()
-            .map(|ev| ev.swing_id)
-            .filter(|id| !sent.contains(id))
-            .collect::<Vec<_>>()
+        got.iter().map(|ev| ev.swing_id).filter(|id| !sent.contains(id)).collect::<Vec<_>>()
     );
 
     let (status, _, log) = node.stop_with(15);
-    assert!(
-        status.success(),
-        "the node exits cleanly after the bad input:\n{log}"
-    );
+    assert!(status.success(), "the node exits cleanly after the bad input:\n{log}");
     for topic in ["swing", "bat/params", "ball/params"] {
         assert!(
             log.contains(&format!("{topic}: unreadable sample")),
@@ -173,11 +151,7 @@ fn unreadable_samples_are_counted_on_diagnostics() {
         keep_all(sweetspot::ros::diagnostics_qos()),
     );
     let bad = raw_writer::<Swing, Truncated>(&mut peer, "/swing", dds::swing());
-    let node = NodeProcess::spawn(
-        domain,
-        dir.path(),
-        &["--no-record", "--ros-args", "-p", "diagnostics_period:=0.2"],
-    );
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record", "--ros-args", "-p", "diagnostics_period:=0.2"]);
     wait_matched(&peer, &bad);
     std::thread::sleep(Duration::from_millis(300));
     for _ in 0..3 {
@@ -186,11 +160,7 @@ fn unreadable_samples_are_counted_on_diagnostics() {
     node.wait_for_log("swing: unreadable sample", WAIT);
     std::thread::sleep(Duration::from_millis(500));
     let value = diagnostic_value(&peer, &diagnostics, "samples_unreadable");
-    assert_eq!(
-        value.as_deref(),
-        Some("3"),
-        "diagnostics should count the 3 unreadable swings"
-    );
+    assert_eq!(value.as_deref(), Some("3"), "diagnostics should count the 3 unreadable swings");
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");
 }
@@ -220,54 +190,14 @@ fn params_with_nan_negative_or_huge_values_are_rejected_with_the_reason() {
         ..BallParams::default()
     };
     let balls = [
-        (
-            "nan_mass",
-            BallParams {
-                mass: f64::NAN,
-                ..good_ball.clone()
-            },
-            "mass",
-        ),
-        (
-            "negative_radius",
-            BallParams {
-                radius: -0.0365,
-                ..good_ball.clone()
-            },
-            "radius",
-        ),
-        (
-            "huge_stiffness",
-            BallParams {
-                stiffness: 1e300,
-                ..good_ball.clone()
-            },
-            "stiffness",
-        ),
-        (
-            "infinite_cor",
-            BallParams {
-                cor: f64::INFINITY,
-                ..good_ball.clone()
-            },
-            "cor",
-        ),
-        (
-            "negative_exponent",
-            BallParams {
-                exponent: -1.5,
-                ..good_ball.clone()
-            },
-            "exponent",
-        ),
+        ("nan_mass", BallParams { mass: f64::NAN, ..good_ball.clone() }, "mass"),
+        ("negative_radius", BallParams { radius: -0.0365, ..good_ball.clone() }, "radius"),
+        ("huge_stiffness", BallParams { stiffness: 1e300, ..good_ball.clone() }, "stiffness"),
+        ("infinite_cor", BallParams { cor: f64::INFINITY, ..good_ball.clone() }, "cor"),
+        ("negative_exponent", BallParams { exponent: -1.5, ..good_ball.clone() }, "exponent"),
     ];
     for (id, params, _) in &balls {
-        ball_pub
-            .publish(BallParams {
-                ball_id: (*id).into(),
-                ..params.clone()
-            })
-            .unwrap();
+        ball_pub.publish(BallParams { ball_id: (*id).into(), ..params.clone() }).unwrap();
     }
     let bats = [
         (
@@ -320,12 +250,7 @@ fn params_with_nan_negative_or_huge_values_are_rejected_with_the_reason() {
         ),
     ];
     for (id, params, _) in &bats {
-        bat_pub
-            .publish(BatParams {
-                bat_id: (*id).into(),
-                ..params.clone()
-            })
-            .unwrap();
+        bat_pub.publish(BatParams { bat_id: (*id).into(), ..params.clone() }).unwrap();
     }
     let expected = balls.len() + bats.len();
     let rejections = peer.collect(&answers, expected, WAIT);
@@ -334,16 +259,8 @@ fn params_with_nan_negative_or_huge_values_are_rejected_with_the_reason() {
             .iter()
             .find(|ev| ev.ball_id == *id)
             .unwrap_or_else(|| panic!("no answer to BallParams '{id}': {rejections:?}"));
-        assert_eq!(
-            ev.status,
-            ExitVelocity::STATUS_REJECTED,
-            "BallParams '{id}'"
-        );
-        assert!(
-            ev.message.contains(field),
-            "BallParams '{id}': '{}' should name {field}",
-            ev.message
-        );
+        assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED, "BallParams '{id}'");
+        assert!(ev.message.contains(field), "BallParams '{id}': '{}' should name {field}", ev.message);
     }
     for (id, _, field) in &bats {
         let ev = rejections
@@ -351,39 +268,15 @@ fn params_with_nan_negative_or_huge_values_are_rejected_with_the_reason() {
             .find(|ev| ev.bat_id == *id)
             .unwrap_or_else(|| panic!("no answer to BatParams '{id}': {rejections:?}"));
         assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED, "BatParams '{id}'");
-        assert!(
-            ev.message.contains(field),
-            "BatParams '{id}': '{}' should name {field}",
-            ev.message
-        );
+        assert!(ev.message.contains(field), "BatParams '{id}': '{}' should name {field}", ev.message);
     }
     // A rejected id is unknown: a swing naming it is refused, and the defaults still answer.
-    swing_pub
-        .publish(Swing {
-            bat_id: "nan_density".into(),
-            ..valid_swing(1)
-        })
-        .unwrap();
-    swing_pub
-        .publish(Swing {
-            ball_id: "nan_mass".into(),
-            ..valid_swing(2)
-        })
-        .unwrap();
+    swing_pub.publish(Swing { bat_id: "nan_density".into(), ..valid_swing(1) }).unwrap();
+    swing_pub.publish(Swing { ball_id: "nan_mass".into(), ..valid_swing(2) }).unwrap();
     swing_pub.publish(valid_swing(3)).unwrap();
     let got = peer.collect(&answers, 3, WAIT);
-    assert_eq!(
-        got[0].status,
-        ExitVelocity::STATUS_REJECTED,
-        "{}",
-        got[0].message
-    );
-    assert_eq!(
-        got[1].status,
-        ExitVelocity::STATUS_REJECTED,
-        "{}",
-        got[1].message
-    );
+    assert_eq!(got[0].status, ExitVelocity::STATUS_REJECTED, "{}", got[0].message);
+    assert_eq!(got[1].status, ExitVelocity::STATUS_REJECTED, "{}", got[1].message);
     assert_eq!(got[2].status, ExitVelocity::STATUS_OK, "{}", got[2].message);
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");

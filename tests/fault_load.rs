@@ -56,10 +56,7 @@ impl NodeProcess {
                 lines.lock().unwrap().push(line);
             }
         });
-        NodeProcess {
-            child: Some(child),
-            stderr,
-        }
+        NodeProcess { child: Some(child), stderr }
     }
 
     fn pid(&self) -> u32 {
@@ -73,11 +70,7 @@ impl NodeProcess {
     /// Sends `signal`, waits for the exit (30 s at most, to turn a hang into a failure); status and log.
     fn stop_with(mut self, signal: i32) -> (std::process::ExitStatus, (), String) {
         let mut child = self.child.take().expect("running");
-        let status = Command::new("kill")
-            .arg(format!("-{signal}"))
-            .arg(child.id().to_string())
-            .status()
-            .expect("kill");
+        let status = Command::new("kill").arg(format!("-{signal}")).arg(child.id().to_string()).status().expect("kill");
         assert!(status.success());
         let start = std::time::Instant::now();
         loop {
@@ -87,10 +80,7 @@ impl NodeProcess {
             }
             if start.elapsed() > Duration::from_secs(30) {
                 let _ = child.kill();
-                panic!(
-                    "node did not exit within 30 s of signal {signal}:\n{}",
-                    self.log()
-                );
+                panic!("node did not exit within 30 s of signal {signal}:\n{}", self.log());
             }
             std::thread::sleep(Duration::from_millis(10));
         }
@@ -125,15 +115,10 @@ fn valid_swing(id: u64) -> Swing {
 /// The numbers of the node's final summary line ("N swings received, N answered OK, N rejected, N dropped,
 /// N lost in transport").
 fn summary_counts(log: &str) -> (u64, u64, u64, u64, u64) {
-    let line = log
-        .lines()
-        .rev()
-        .find(|l| l.contains("swings received"))
-        .unwrap_or_else(|| panic!("no summary line:\n{log}"));
+    let line =
+        log.lines().rev().find(|l| l.contains("swings received")).unwrap_or_else(|| panic!("no summary line:\n{log}"));
     let number_before = |word: &str| -> u64 {
-        let at = line
-            .find(word)
-            .unwrap_or_else(|| panic!("no '{word}' in '{line}'"));
+        let at = line.find(word).unwrap_or_else(|| panic!("no '{word}' in '{line}'"));
         line[..at]
             .trim_end()
             .rsplit(|c: char| !c.is_ascii_digit())
@@ -156,12 +141,7 @@ fn latest(arrays: &[DiagnosticArray], key: &str) -> Option<(String, u8, String)>
         .iter()
         .rev()
         .flat_map(|a| a.status.iter())
-        .find_map(|s| {
-            s.values
-                .iter()
-                .find(|kv| kv.key == key)
-                .map(|kv| (kv.value.clone(), s.level, s.message.clone()))
-        })
+        .find_map(|s| s.values.iter().find(|kv| kv.key == key).map(|kv| (kv.value.clone(), s.level, s.message.clone())))
 }
 
 fn peak_rss_kb(pid: u32) -> u64 {
@@ -188,10 +168,7 @@ fn flood(domain: u16) -> (u64, u64, u64) {
     let mut peer = Peer::new(domain, "flood_peer");
     let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
-    let diagnostics = peer.subscription::<DiagnosticArray>(
-        "/diagnostics",
-        keep_all(sweetspot::ros::diagnostics_qos()),
-    );
+    let diagnostics = peer.subscription::<DiagnosticArray>("/diagnostics", keep_all(sweetspot::ros::diagnostics_qos()));
     // One worker, 8 swings in flight and a 100× finer time step: the node computes a few hundred swings a
     // second, and the flood below arrives tens of times faster than that.
     let node = NodeProcess::spawn(
@@ -226,8 +203,7 @@ fn flood(domain: u16) -> (u64, u64, u64) {
     let answered: BTreeSet<u64> = got.iter().map(|ev| ev.swing_id).collect();
     std::thread::sleep(Duration::from_millis(600));
     let arrays = peer.collect_until(&diagnostics, WAIT, |a: &[DiagnosticArray]| {
-        latest(a, "swings_received")
-            .is_some_and(|(v, _, _)| v.parse::<u64>().unwrap_or(0) > answered.len() as u64)
+        latest(a, "swings_received").is_some_and(|(v, _, _)| v.parse::<u64>().unwrap_or(0) > answered.len() as u64)
             && a.len() >= 3
     });
     let peak = peak_rss_kb(node.pid());
@@ -235,37 +211,16 @@ fn flood(domain: u16) -> (u64, u64, u64) {
     assert!(status.success(), "{log}");
     let (received, ok, rejected, dropped, lost) = summary_counts(&log);
     eprintln!("flood: {flood} sent, {received} received, {ok} OK, {rejected} rejected, {dropped} dropped, {lost} lost in transport; peak RSS {peak} kB");
+    assert!(dropped > 0, "a flood of {flood} at 8 in flight must drop swings:\n{log}");
+    assert_eq!(ok + rejected + dropped, received, "every swing taken is answered or counted as dropped:\n{log}");
+    assert_eq!(ok, 1 + answered.len() as u64, "the listener got every OK answer the node counted");
+    let (diag_dropped, _, _) = latest(&arrays, "swings_dropped").expect("swings_dropped on /diagnostics");
+    assert!(diag_dropped.parse::<u64>().unwrap() > 0, "diagnostics report the drops");
     assert!(
-        dropped > 0,
-        "a flood of {flood} at 8 in flight must drop swings:\n{log}"
-    );
-    assert_eq!(
-        ok + rejected + dropped,
-        received,
-        "every swing taken is answered or counted as dropped:\n{log}"
-    );
-    assert_eq!(
-        ok,
-        1 + answered.len() as u64,
-        "the listener got every OK answer the node counted"
-    );
-    let (diag_dropped, _, _) =
-        latest(&arrays, "swings_dropped").expect("swings_dropped on /diagnostics");
-    assert!(
-        diag_dropped.parse::<u64>().unwrap() > 0,
-        "diagnostics report the drops"
-    );
-    assert!(
-        arrays
-            .iter()
-            .flat_map(|a| a.status.iter())
-            .any(|s| s.level == 1 && s.message.contains("dropped")),
+        arrays.iter().flat_map(|a| a.status.iter()).any(|s| s.level == 1 && s.message.contains("dropped")),
         "a WARN status naming the drops was published"
     );
-    assert!(
-        log.contains("dropped: 8 swings already in flight"),
-        "the drop warning names the limit:\n{log}"
-    );
+    assert!(log.contains("dropped: 8 swings already in flight"), "the drop warning names the limit:\n{log}");
     // Memory bounded: the flood never piles up in the node (generous ceiling; the node idles near 40 MB).
     assert!(peak < 400 * 1024, "peak RSS {peak} kB under the flood");
     (1 + flood, received, lost)
@@ -279,16 +234,8 @@ fn sigterm_under_load_leaves_a_complete_bag_holding_every_answer_the_listener_go
     let mut peer = Peer::new(domain, "sigterm_peer");
     let swing_pub = Arc::new(peer.publisher::<Swing>("/swing", dds::swing()));
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
-    let node = NodeProcess::spawn(
-        None,
-        domain,
-        dir.path(),
-        &[
-            "--ros-args",
-            "-p",
-            &format!("record_path:={}", bag.display()),
-        ],
-    );
+    let node =
+        NodeProcess::spawn(None, domain, dir.path(), &["--ros-args", "-p", &format!("record_path:={}", bag.display())]);
     peer.wait_for_reader(&swing_pub);
     std::thread::sleep(Duration::from_millis(300));
     swing_pub.publish(valid_swing(1)).unwrap();
@@ -332,47 +279,21 @@ for f in files:
             ids.append(ros.swing_id)
 print(json.dumps({"files": len(files), "summaries": summaries, "ids": ids}))
 "#;
-    let out = Command::new(python())
-        .arg("-c")
-        .arg(script)
-        .arg(&bag)
-        .output()
-        .expect("running python");
-    assert!(
-        out.status.success(),
-        "python mcap reader failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value =
-        serde_json::from_slice(&out.stdout).expect("json from the reader");
+    let out = Command::new(python()).arg("-c").arg(script).arg(&bag).output().expect("running python");
+    assert!(out.status.success(), "python mcap reader failed: {}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json from the reader");
     let files = report["files"].as_u64().unwrap();
     assert!(files >= 1, "no MCAP file in {}", bag.display());
-    assert_eq!(
-        report["summaries"].as_u64(),
-        Some(files),
-        "every MCAP file is closed with a summary"
-    );
-    assert!(
-        Path::new(&bag).join("metadata.yaml").exists(),
-        "rosbag2 metadata.yaml written on SIGTERM"
-    );
-    let recorded: BTreeSet<u64> = report["ids"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_u64().unwrap())
-        .collect();
+    assert_eq!(report["summaries"].as_u64(), Some(files), "every MCAP file is closed with a summary");
+    assert!(Path::new(&bag).join("metadata.yaml").exists(), "rosbag2 metadata.yaml written on SIGTERM");
+    let recorded: BTreeSet<u64> = report["ids"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
     eprintln!(
         "SIGTERM: {} answers received by the listener, {} in the bag, {} swings sent",
         got.len(),
         recorded.len(),
         last_sent - 1
     );
-    let missing: Vec<u64> = got
-        .iter()
-        .map(|ev| ev.swing_id)
-        .filter(|id| !recorded.contains(id))
-        .collect();
+    let missing: Vec<u64> = got.iter().map(|ev| ev.swing_id).filter(|id| !recorded.contains(id)).collect();
     assert!(
         missing.is_empty(),
         "{} answers the listener received are not in the bag (first: {:?})",
@@ -382,11 +303,7 @@ print(json.dumps({"files": len(files), "summaries": summaries, "ids": ids}))
 }
 
 /// Takes whatever is still arriving until nothing comes for `quiet`.
-fn drain(
-    peer: &Peer,
-    sub: &ros2_client::Subscription<ExitVelocity>,
-    quiet: Duration,
-) -> Vec<ExitVelocity> {
+fn drain(peer: &Peer, sub: &ros2_client::Subscription<ExitVelocity>, quiet: Duration) -> Vec<ExitVelocity> {
     use futures::StreamExt;
     peer.rt.block_on(async {
         let mut out = Vec::new();
@@ -400,19 +317,12 @@ fn drain(
 
 /// Runs the recording-failure scenario: the node records to `record_path` (made unusable by `setup`, run
 /// in the node's own mount namespace), and must report the failure and keep answering.
-fn recording_failure_is_reported_and_answers_keep_coming(
-    domain: u16,
-    record_path: &Path,
-    wrapper: Option<String>,
-) {
+fn recording_failure_is_reported_and_answers_keep_coming(domain: u16, record_path: &Path, wrapper: Option<String>) {
     let dir = tempfile::tempdir().unwrap();
     let mut peer = Peer::new(domain, "disk_peer");
     let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
-    let diagnostics = peer.subscription::<DiagnosticArray>(
-        "/diagnostics",
-        keep_all(sweetspot::ros::diagnostics_qos()),
-    );
+    let diagnostics = peer.subscription::<DiagnosticArray>("/diagnostics", keep_all(sweetspot::ros::diagnostics_qos()));
     let args = [
         "--ros-args".to_string(),
         "-p".into(),
@@ -421,18 +331,10 @@ fn recording_failure_is_reported_and_answers_keep_coming(
         "diagnostics_period:=0.2".into(),
     ];
     let node = match wrapper {
-        None => NodeProcess::spawn(
-            None,
-            domain,
-            dir.path(),
-            &args.iter().map(String::as_str).collect::<Vec<_>>(),
-        ),
-        Some(script) => NodeProcess::spawn(
-            Some(&script),
-            domain,
-            dir.path(),
-            &args.iter().map(String::as_str).collect::<Vec<_>>(),
-        ),
+        None => NodeProcess::spawn(None, domain, dir.path(), &args.iter().map(String::as_str).collect::<Vec<_>>()),
+        Some(script) => {
+            NodeProcess::spawn(Some(&script), domain, dir.path(), &args.iter().map(String::as_str).collect::<Vec<_>>())
+        }
     };
     peer.wait_for_reader(&swing_pub);
     std::thread::sleep(Duration::from_millis(300));
@@ -452,20 +354,14 @@ fn recording_failure_is_reported_and_answers_keep_coming(
     let after = peer.collect(&answers, 100, WAIT);
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");
-    assert!(got
-        .iter()
-        .chain(&after)
-        .all(|ev| ev.status == ExitVelocity::STATUS_OK));
+    assert!(got.iter().chain(&after).all(|ev| ev.status == ExitVelocity::STATUS_OK));
     let (state, level, message) = latest(&arrays, "recorder_state").unwrap();
     assert_eq!(state, "failed");
     assert_eq!(level, 2, "recording failure is an ERROR on /diagnostics");
     assert!(message.contains("recording failed"), "{message}");
     let (error, _, _) = latest(&arrays, "recorder_error").expect("recorder_error on /diagnostics");
     assert!(!error.is_empty());
-    assert!(
-        log.to_lowercase().contains("record"),
-        "the failure is logged (rosout + stderr):\n{log}"
-    );
+    assert!(log.to_lowercase().contains("record"), "the failure is logged (rosout + stderr):\n{log}");
 }
 
 #[test]
@@ -484,13 +380,6 @@ fn recording_to_a_full_disk_is_reported_and_answers_keep_coming() {
     std::fs::create_dir(&mount).unwrap();
     // A 64 KiB tmpfs visible only to the node: its own mount namespace (needs root or a user namespace, as
     // scripts/test has).
-    let wrapper = format!(
-        "mount -t tmpfs -o size=64k tmpfs {} && exec \"$@\"",
-        mount.display()
-    );
-    recording_failure_is_reported_and_answers_keep_coming(
-        domain(76),
-        &mount.join("bag"),
-        Some(wrapper),
-    );
+    let wrapper = format!("mount -t tmpfs -o size=64k tmpfs {} && exec \"$@\"", mount.display());
+    recording_failure_is_reported_and_answers_keep_coming(domain(76), &mount.join("bag"), Some(wrapper));
 }

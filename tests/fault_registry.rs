@@ -108,14 +108,22 @@ fn more_bat_and_ball_ids_than_the_limits_are_forgotten_rejected_with_the_reason_
         swing_pub.publish(s.clone()).unwrap();
     }
     let got = peer.collect(&answers, sent.len(), WAIT);
-    assert_eq!(got.iter().map(|ev| ev.swing_id).collect::<Vec<_>>(), (1..=13).collect::<Vec<u64>>(), "one answer per swing, in order");
+    assert_eq!(
+        got.iter().map(|ev| ev.swing_id).collect::<Vec<_>>(),
+        (1..=13).collect::<Vec<u64>>(),
+        "one answer per swing, in order"
+    );
     // max_bats = 4 holds the last four bats set; the first six (and the default bat made at start) are gone.
     for (i, ev) in got[..10].iter().enumerate() {
         if i < 6 {
             assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED, "lab_bat_{i}");
             let expected = format!("unknown bat_id 'lab_bat_{i}': its BatParams were forgotten (evicted)");
             assert!(ev.message.starts_with(&expected), "lab_bat_{i}: '{}'", ev.message);
-            assert!(ev.message.contains("max_bats = 4") && ev.message.contains("publish its BatParams again"), "{}", ev.message);
+            assert!(
+                ev.message.contains("max_bats = 4") && ev.message.contains("publish its BatParams again"),
+                "{}",
+                ev.message
+            );
             assert!(ev.exit_speed.is_nan());
         } else {
             assert_eq!(ev.status, ExitVelocity::STATUS_OK, "lab_bat_{i}: {}", ev.message);
@@ -129,7 +137,10 @@ fn more_bat_and_ball_ids_than_the_limits_are_forgotten_rejected_with_the_reason_
         "{}",
         got[10].message
     );
-    assert_eq!((got[11].status, got[11].bat_id.as_str(), got[11].ball_id.as_str()), (ExitVelocity::STATUS_OK, "lab_bat_9", "ball_2"));
+    assert_eq!(
+        (got[11].status, got[11].bat_id.as_str(), got[11].ball_id.as_str()),
+        (ExitVelocity::STATUS_OK, "lab_bat_9", "ball_2")
+    );
     assert_eq!((got[12].status, got[12].bat_id.as_str()), (ExitVelocity::STATUS_OK, "torpedo"), "{}", got[12].message);
 
     // Evictions: the default bat r161 and lab_bat_0..5 (7), then lab_bat_6 for torpedo (8); ball_0 (1).
@@ -183,7 +194,11 @@ fn a_bat_cut_into_more_slices_than_max_bat_slices_is_rejected_before_its_modes_a
         let expected = format!("BatParams '{}': slice_length = ", ev.bat_id);
         assert!(ev.message.starts_with(&expected), "'{}'", ev.message);
         assert!(ev.message.contains(&format!("into {slices} slices")), "'{}'", ev.message);
-        assert!(ev.message.contains("max_bat_slices = 300") && ev.message.contains("≤ slice_length ≤"), "'{}'", ev.message);
+        assert!(
+            ev.message.contains("max_bat_slices = 300") && ev.message.contains("≤ slice_length ≤"),
+            "'{}'",
+            ev.message
+        );
         assert!(ev.message.contains("the previous params of"), "'{}'", ev.message);
     }
     assert_eq!(rejected.iter().map(|ev| ev.bat_id.as_str()).collect::<Vec<_>>(), ["fine", "f4"]);
@@ -250,8 +265,9 @@ fn measure_rss_while_bat_ids_are_invented() {
             let first = round * 1000 + batch * BATCH;
             // SWEETSPOT_SAME_BAT=1: the same traffic on one bat_id, the baseline the growth is compared with.
             let same = std::env::var_os("SWEETSPOT_SAME_BAT").is_some();
-            let ids: Vec<String> =
-                (first..first + BATCH).map(|i| if same { format!("same_{}", i % BATCH) } else { format!("invented_{i}") }).collect();
+            let ids: Vec<String> = (first..first + BATCH)
+                .map(|i| if same { format!("same_{}", i % BATCH) } else { format!("invented_{i}") })
+                .collect();
             for id in &ids {
                 bat_pub.publish(convert::params_from_bat(id, &r161, 0, Header::default())).unwrap();
             }

@@ -122,7 +122,15 @@ fn seeds() -> Vec<(&'static str, &'static str, Vec<u8>)> {
         ..BatParams::default()
     };
     let preset_bat = BatParams { bat_id: "wood".into(), preset: "r161".into(), ..BatParams::default() };
-    let ball = BallParams { ball_id: "soft".into(), mass: 0.15, radius: 0.037, cor: 0.45, stiffness: 5e7, exponent: 1.8, ..BallParams::default() };
+    let ball = BallParams {
+        ball_id: "soft".into(),
+        mass: 0.15,
+        radius: 0.037,
+        cor: 0.45,
+        stiffness: 5e7,
+        exponent: 1.8,
+        ..BallParams::default()
+    };
     let swing = |bat: &str, ball: &str| Swing {
         swing_id: 7,
         bat_id: bat.into(),
@@ -141,7 +149,13 @@ fn seeds() -> Vec<(&'static str, &'static str, Vec<u8>)> {
         out
     };
     let exit = ExitVelocity { swing_id: 7, bat_id: "r161".into(), exit_speed: 45.0, ..ExitVelocity::default() };
-    let energies = ModalEnergies { swing_id: 7, frequency: vec![170.0, 560.0], energy: vec![3.0, 1.0], fraction: vec![0.01, 0.005], ..ModalEnergies::default() };
+    let energies = ModalEnergies {
+        swing_id: 7,
+        frequency: vec![170.0, 560.0],
+        energy: vec![3.0, 1.0],
+        fraction: vec![0.01, 0.005],
+        ..ModalEnergies::default()
+    };
     let sweet = SweetSpot { bat_id: "r161".into(), frequency: vec![170.0], ..SweetSpot::default() };
     let prefixed = |kind: u8, bytes: Vec<u8>| [vec![kind], bytes].concat();
 
@@ -241,7 +255,8 @@ fn f1_accepted_bat_params_can_answer_swings() {
     let settings = NodeSettings::default();
     let mut registry = Registry::new();
     registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &settings));
-    let impact = sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
+    let impact =
+        sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
     let (plan, _) = plan_swing(&mut registry, &settings, &params.bat_id, "", impact);
     let answer = compute(&plan, &NodeStats::new());
     assert!(answer.is_ok(), "params were accepted, yet a regular swing is rejected: {answer:?}");
@@ -269,7 +284,8 @@ fn f4_a_bat_of_four_thousand_slices_is_refused_before_its_modes_are_solved() {
     // So the bat stays unknown and its swing is REJECTED (rather than solving the modes on first use).
     let stats = NodeStats::new();
     let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
-    let impact = sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
+    let impact =
+        sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
     let (plan, _) = plan_swing(&mut registry, &settings, &params.bat_id, "", impact);
     let answer = compute(&plan, &stats);
     assert!(answer.as_ref().is_err_and(|e| e.starts_with("unknown bat_id 'f4'")), "{answer:?}");
@@ -290,7 +306,15 @@ mod bad_input {
     type FieldOf<T> = fn(&mut T) -> &mut f64;
 
     fn swing() -> Swing {
-        Swing { swing_id: 3, bat_id: "r161".into(), ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7, ..Swing::default() }
+        Swing {
+            swing_id: 3,
+            bat_id: "r161".into(),
+            ball_speed: 40.0,
+            bat_cm_speed: 20.0,
+            bat_angular_speed: 50.0,
+            impact_z: 0.7,
+            ..Swing::default()
+        }
     }
 
     fn bat() -> BatParams {
@@ -308,7 +332,15 @@ mod bad_input {
     }
 
     fn ball() -> BallParams {
-        BallParams { ball_id: "b".into(), mass: 0.145, radius: 0.0366, cor: 0.5, stiffness: 6.5e7, exponent: 1.84, ..BallParams::default() }
+        BallParams {
+            ball_id: "b".into(),
+            mass: 0.145,
+            radius: 0.0366,
+            cor: 0.5,
+            stiffness: 6.5e7,
+            exponent: 1.84,
+            ..BallParams::default()
+        }
     }
 
     #[test]
@@ -406,7 +438,10 @@ mod bad_input {
                     _ => p.inner_radius[pick] = bad,
                 }
                 let e = bat_from_params(&p).expect_err(&format!("stations[{pick}].{name} = {bad} accepted"));
-                assert!(e.starts_with("BatParams 'stick':") && (e.contains(name) || e.contains("stations")), "{name} = {bad}: {e}");
+                assert!(
+                    e.starts_with("BatParams 'stick':") && (e.contains(name) || e.contains("stations")),
+                    "{name} = {bad}: {e}"
+                );
             }
         }
         // A core is switched on by a non-zero density: NaN there must not sneak a bad core in.
@@ -455,7 +490,12 @@ fn f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader() {
         "the bag reader did not survive {}: {}\n{}",
         file.display(),
         output.status,
-        String::from_utf8_lossy(&output.stderr).lines().filter(|l| !l.trim_start().starts_with("at ")).take(12).collect::<Vec<_>>().join("\n")
+        String::from_utf8_lossy(&output.stderr)
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("at "))
+            .take(12)
+            .collect::<Vec<_>>()
+            .join("\n")
     );
 }
 
@@ -463,7 +503,7 @@ fn f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader() {
 #[test]
 #[ignore = "helper of F3: runs in a child process of f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader"]
 fn f3_child_runs_the_bag_input() {
-    let path = std::env::var_os("SWEETSPOT_FUZZ_CHILD_INPUT").expect("run by f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader");
+    let path = std::env::var_os("SWEETSPOT_FUZZ_CHILD_INPUT")
+        .expect("run by f3_a_chunk_claiming_a_huge_size_does_not_abort_the_bag_reader");
     target("bag_reader")(&std::fs::read(path).expect("the input"));
 }
-

@@ -23,18 +23,7 @@ fn interop_cyclone_publishes_swings_to_sweetspot_echo() {
          "measured_exit_speed": null}
     ]);
     let echo = spawn_piped({
-        let mut c = sweetspot(
-            domain,
-            &[
-                "echo",
-                "/rig3/swing",
-                "--json",
-                "--count",
-                "2",
-                "--timeout",
-                "60",
-            ],
-        );
+        let mut c = sweetspot(domain, &["echo", "/rig3/swing", "--json", "--count", "2", "--timeout", "60"]);
         c.args(["--ros-args", "-r", "__ns:=/rig3"]);
         c
     });
@@ -113,34 +102,10 @@ fn interop_sweetspot_pub_reaches_cyclone_for_every_output_type() {
     for (kind, type_name, topic, qos, message) in cases {
         let sub = spawn_piped(cyclone_peer(
             domain,
-            &[
-                "sub",
-                "--type",
-                type_name,
-                "--topic",
-                topic,
-                "--qos",
-                qos,
-                "--count",
-                "1",
-                "--timeout",
-                "60",
-            ],
+            &["sub", "--type", type_name, "--topic", topic, "--qos", qos, "--count", "1", "--timeout", "60"],
         ));
         run_ok(
-            sweetspot(
-                domain,
-                &[
-                    "pub",
-                    kind,
-                    &message.to_string(),
-                    "--wait-subscribers",
-                    "1",
-                    "--timeout",
-                    "60",
-                    "-q",
-                ],
-            ),
+            sweetspot(domain, &["pub", kind, &message.to_string(), "--wait-subscribers", "1", "--timeout", "60", "-q"]),
             "sweetspot pub",
         );
         let got = json_lines(&sub.wait_with_output().unwrap(), "cyclone sub");
@@ -172,29 +137,12 @@ fn interop_latched_params_and_ros_naming() {
             "120",
         ],
     ));
-    let line = BufReader::new(cyclone.stdout.take().unwrap())
-        .lines()
-        .next()
-        .expect("peer output")
-        .unwrap();
+    let line = BufReader::new(cyclone.stdout.take().unwrap()).lines().next().expect("peer output").unwrap();
     assert_eq!(line, "published 1");
     let got = json_lines(
-        &sweetspot(
-            domain,
-            &[
-                "echo",
-                "ball/params",
-                "--json",
-                "--count",
-                "1",
-                "--timeout",
-                "60",
-                "--ns",
-                "/rig3",
-            ],
-        )
-        .output()
-        .unwrap(),
+        &sweetspot(domain, &["echo", "ball/params", "--json", "--count", "1", "--timeout", "60", "--ns", "/rig3"])
+            .output()
+            .unwrap(),
         "late sweetspot echo",
     );
     assert_eq!(got, [ball]);
@@ -239,20 +187,12 @@ fn interop_latched_params_and_ros_naming() {
     };
     let right = sub(None, "60");
     let wrong = sub(Some("sweetspot_msgs::msg::BatParams"), "3");
-    let _ = std::process::Command::new("kill")
-        .args(["-TERM", &publisher.id().to_string()])
-        .status();
+    let _ = std::process::Command::new("kill").args(["-TERM", &publisher.id().to_string()]).status();
     let status = publisher.wait().unwrap();
     let got = json_lines(&right, "cyclone sub with the ROS 2 type name");
     assert_eq!(got[0]["bat_id"], "a");
     assert_eq!(got[0]["preset"], "r161");
-    assert!(
-        !wrong.status.success(),
-        "a reader with a non-ROS type name must not match sweetspot's writer"
-    );
+    assert!(!wrong.status.success(), "a reader with a non-ROS type name must not match sweetspot's writer");
     assert!(String::from_utf8_lossy(&wrong.stderr).contains("timed out"));
-    assert!(
-        status.success(),
-        "sweetspot pub should exit cleanly on SIGTERM"
-    );
+    assert!(status.success(), "sweetspot pub should exit cleanly on SIGTERM");
 }

@@ -10,19 +10,14 @@ use serde_json::Value;
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus, KeyValue};
 
+use support::{python, repo};
 use sweetspot::msgs::rcl_interfaces::msg::Log;
 use sweetspot::msgs::std_msgs::msg::Header;
-use sweetspot::msgs::sweetspot_msgs::msg::{
-    BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing,
-};
-use support::{python, repo};
+use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use sweetspot::msgs::{decode_cdr, encode_cdr, MsgError, RosMessage};
 
 fn header(sec: i32, nanosec: u32, frame: &str) -> Header {
-    Header {
-        stamp: Time { sec, nanosec },
-        frame_id: frame.to_string(),
-    }
+    Header { stamp: Time { sec, nanosec }, frame_id: frame.to_string() }
 }
 
 fn swing() -> Swing {
@@ -140,20 +135,11 @@ fn diagnostics() -> DiagnosticArray {
                 message: "queue full".into(),
                 hardware_id: "h".into(),
                 values: vec![
-                    KeyValue {
-                        key: "swings_processed".into(),
-                        value: "10".into(),
-                    },
-                    KeyValue {
-                        key: "p99_ms".into(),
-                        value: "1.25".into(),
-                    },
+                    KeyValue { key: "swings_processed".into(), value: "10".into() },
+                    KeyValue { key: "p99_ms".into(), value: "1.25".into() },
                 ],
             },
-            DiagnosticStatus {
-                level: DiagnosticStatus::OK,
-                ..Default::default()
-            },
+            DiagnosticStatus { level: DiagnosticStatus::OK, ..Default::default() },
         ],
     }
 }
@@ -187,10 +173,7 @@ fn samples() -> Vec<(&'static str, &'static str, Value, Vec<u8>)> {
         one(diagnostics()),
         one(log()),
         one(header(7, 8, "abc")),
-        one(Time {
-            sec: -1,
-            nanosec: 999_999_999,
-        }),
+        one(Time { sec: -1, nanosec: 999_999_999 }),
     ]
 }
 
@@ -203,11 +186,7 @@ fn round_trip<T: RosMessage>(m: T) {
     let bytes = encode_cdr(&m).unwrap();
     assert_eq!(&bytes[..4], &[0, 1, 0, 0], "CDR_LE encapsulation header");
     let back: T = decode_cdr(&bytes).unwrap();
-    assert!(
-        same(&m, &back),
-        "{} did not round-trip:\n{m:?}\n{back:?}",
-        T::TYPE_NAME
-    );
+    assert!(same(&m, &back), "{} did not round-trip:\n{m:?}\n{back:?}", T::TYPE_NAME);
 }
 
 #[test]
@@ -227,10 +206,7 @@ fn msgs_cdr_round_trips_every_type() {
 fn msgs_cdr_known_bytes_of_a_header() {
     // sec=7 (i32 LE), nanosec=8 (u32 LE), frame_id "ab" = length 3 incl. NUL, 'a' 'b' 0.
     let bytes = encode_cdr(&header(7, 8, "ab")).unwrap();
-    assert_eq!(
-        bytes,
-        [0, 1, 0, 0, 7, 0, 0, 0, 8, 0, 0, 0, 3, 0, 0, 0, b'a', b'b', 0]
-    );
+    assert_eq!(bytes, [0, 1, 0, 0, 7, 0, 0, 0, 8, 0, 0, 0, 3, 0, 0, 0, b'a', b'b', 0]);
 }
 
 #[test]
@@ -240,49 +216,29 @@ fn msgs_cdr_decodes_big_endian() {
     be.extend(cdr_encoding::to_vec::<_, byteorder::BigEndian>(&m).unwrap());
     let back: Swing = decode_cdr(&be).unwrap();
     assert!(same(&m, &back));
-    assert_ne!(
-        be[4..],
-        encode_cdr(&m).unwrap()[4..],
-        "BE body must differ from LE for this test to mean something"
-    );
+    assert_ne!(be[4..], encode_cdr(&m).unwrap()[4..], "BE body must differ from LE for this test to mean something");
 }
 
 #[test]
 fn msgs_cdr_rejects_bad_input_without_panicking() {
-    assert!(matches!(
-        decode_cdr::<Swing>(&[]),
-        Err(MsgError::MissingHeader { len: 0 })
-    ));
-    assert!(matches!(
-        decode_cdr::<Swing>(&[0, 1, 0]),
-        Err(MsgError::MissingHeader { len: 3 })
-    ));
+    assert!(matches!(decode_cdr::<Swing>(&[]), Err(MsgError::MissingHeader { len: 0 })));
+    assert!(matches!(decode_cdr::<Swing>(&[0, 1, 0]), Err(MsgError::MissingHeader { len: 3 })));
     let mut pl = encode_cdr(&swing()).unwrap();
     pl[1] = 3; // PL_CDR_LE
-    assert!(matches!(
-        decode_cdr::<Swing>(&pl),
-        Err(MsgError::UnsupportedEncapsulation(3))
-    ));
+    assert!(matches!(decode_cdr::<Swing>(&pl), Err(MsgError::UnsupportedEncapsulation(3))));
 
     // Every strict prefix of every sample is an error, not a panic and not a success.
     fn prefixes<T: RosMessage>(m: T) {
         let full = encode_cdr(&m).unwrap();
         for len in 0..full.len() {
-            assert!(
-                decode_cdr::<T>(&full[..len]).is_err(),
-                "{} prefix of {len} bytes decoded",
-                T::TYPE_NAME
-            );
+            assert!(decode_cdr::<T>(&full[..len]).is_err(), "{} prefix of {len} bytes decoded", T::TYPE_NAME);
         }
         // Trailing padding (≤ 3 bytes) is fine; more is not.
         let mut padded = full.clone();
         padded.extend([0, 0, 0]);
         assert!(decode_cdr::<T>(&padded).is_ok());
         padded.extend([0; 5]);
-        assert!(matches!(
-            decode_cdr::<T>(&padded),
-            Err(MsgError::TrailingBytes { .. })
-        ));
+        assert!(matches!(decode_cdr::<T>(&padded), Err(MsgError::TrailingBytes { .. })));
     }
     prefixes(swing());
     prefixes(bat());
@@ -311,10 +267,7 @@ fn msgs_cdr_rejects_bad_input_without_panicking() {
     // Invalid UTF-8 in a string is a typed error.
     let mut bad = encode_cdr(&header(0, 0, "ab")).unwrap();
     bad[16] = 0xff;
-    assert!(matches!(
-        decode_cdr::<Header>(&bad),
-        Err(MsgError::Malformed { .. })
-    ));
+    assert!(matches!(decode_cdr::<Header>(&bad), Err(MsgError::Malformed { .. })));
 }
 
 /// The schema text follows rosbag2's rule: own text, then each dependency (sorted, depth-first, once) after
@@ -349,10 +302,7 @@ fn msgs_schema_text_is_rosbag2_concatenation() {
     assert_eq!(DiagnosticArray::SCHEMA_TEXT, expected_diag);
     assert_eq!(Time::SCHEMA_TEXT, time_txt);
     // The registry lists every generated type once, with the schema of the type itself.
-    let names: Vec<&str> = sweetspot::msgs::ALL_TYPES
-        .iter()
-        .map(|t| t.type_name)
-        .collect();
+    let names: Vec<&str> = sweetspot::msgs::ALL_TYPES.iter().map(|t| t.type_name).collect();
     for t in [
         "sweetspot_msgs/msg/BatParams",
         "sweetspot_msgs/msg/BallParams",
@@ -365,11 +315,7 @@ fn msgs_schema_text_is_rosbag2_concatenation() {
         "diagnostic_msgs/msg/DiagnosticArray",
         "rcl_interfaces/msg/Log",
     ] {
-        assert_eq!(
-            names.iter().filter(|n| **n == t).count(),
-            1,
-            "{t} in ALL_TYPES"
-        );
+        assert_eq!(names.iter().filter(|n| **n == t).count(), 1, "{t} in ALL_TYPES");
         assert!(sweetspot::msgs::schema_for(t).is_some());
     }
 }
@@ -382,8 +328,7 @@ fn msgs_cdr_matches_independent_python_encoders() {
     let mut input = String::new();
     for (type_name, schema, json, cdr) in &samples {
         let hex: String = cdr[..].iter().map(|b| format!("{b:02x}")).collect();
-        let case =
-            serde_json::json!({"type": type_name, "json": json, "schema": schema, "rust_cdr": hex});
+        let case = serde_json::json!({"type": type_name, "json": json, "schema": schema, "rust_cdr": hex});
         input.push_str(&case.to_string());
         input.push('\n');
     }
@@ -396,40 +341,16 @@ fn msgs_cdr_matches_independent_python_encoders() {
         .stderr(Stdio::piped())
         .spawn()
         .expect("start python");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
+    child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
     let out = child.wait_with_output().unwrap();
-    assert!(
-        out.status.success(),
-        "{} failed:\n{}",
-        script.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let lines: Vec<Value> = String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    assert!(out.status.success(), "{} failed:\n{}", script.display(), String::from_utf8_lossy(&out.stderr));
+    let lines: Vec<Value> =
+        String::from_utf8(out.stdout).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
     assert_eq!(lines.len(), samples.len());
     for ((type_name, _, json, cdr), result) in samples.iter().zip(&lines) {
         let hex: String = cdr.iter().map(|b| format!("{b:02x}")).collect();
-        assert_eq!(
-            result["rosbags"].as_str().unwrap(),
-            hex,
-            "{type_name}: rosbags bytes differ"
-        );
-        assert_eq!(
-            result["mcap"].as_str().unwrap(),
-            hex,
-            "{type_name}: mcap-ros2-support bytes differ"
-        );
-        assert_eq!(
-            &result["decoded"], json,
-            "{type_name}: mcap-ros2-support decoded our bytes differently"
-        );
+        assert_eq!(result["rosbags"].as_str().unwrap(), hex, "{type_name}: rosbags bytes differ");
+        assert_eq!(result["mcap"].as_str().unwrap(), hex, "{type_name}: mcap-ros2-support bytes differ");
+        assert_eq!(&result["decoded"], json, "{type_name}: mcap-ros2-support decoded our bytes differently");
     }
 }

@@ -69,10 +69,7 @@ string[2] n [\"a\", \"b,c\"]
         "MSG: builtin_interfaces/Time",
         "MSG: demo_msgs/Thing2",
     ] {
-        assert!(
-            code.contains(needle),
-            "generated code lacks `{needle}`:\n{code}"
-        );
+        assert!(code.contains(needle), "generated code lacks `{needle}`:\n{code}");
     }
     // Deterministic: generating twice gives the same text.
     assert_eq!(code, build_script::generate(dir.path()).unwrap());
@@ -85,10 +82,7 @@ string[2] n [\"a\", \"b,c\"]
 fn expect_error(text: &str, line: usize, words: &str) {
     let errors = parse(text).expect_err(text);
     let joined = errors.join("\n");
-    assert!(
-        joined.contains(&format!("Thing.msg:{line}: ")),
-        "no file:line {line} in {joined}"
-    );
+    assert!(joined.contains(&format!("Thing.msg:{line}: ")), "no file:line {line} in {joined}");
     assert!(joined.contains(words), "expected `{words}` in {joined}");
 }
 

@@ -245,15 +245,25 @@ fn params_file_and_dash_p_set_parameters_that_ros2_param_sees_validates_and_appl
     assert!(!ok && reason.contains("2 ≤ max_bats"), "{reason}");
     let (ok, reason) = set(&peer, &clients, "max_bat_slices", ParameterValue::Integer(150));
     assert!(ok, "{reason}");
-    assert_eq!(get(&peer, &clients, &["max_bat_slices", "max_bats"]), vec![ParameterValue::Integer(150), ParameterValue::Integer(64)]);
+    assert_eq!(
+        get(&peer, &clients, &["max_bat_slices", "max_bats"]),
+        vec![ParameterValue::Integer(150), ParameterValue::Integer(64)]
+    );
     let r161 = Bat::preset("r161").unwrap();
-    let at_5mm = BatParams { slice_length: 0.005, ..sweetspot::node::convert::params_from_bat("fine", &r161, 0, Header::default()) };
+    let at_5mm = BatParams {
+        slice_length: 0.005,
+        ..sweetspot::node::convert::params_from_bat("fine", &r161, 0, Header::default())
+    };
     peer.wait_for_reader(&bat_pub);
     bat_pub.publish(at_5mm).unwrap();
     let refused = peer.collect_until(&answers, WAIT, |got| got.iter().any(|ev| ev.bat_id == "fine"));
     let refused = refused.iter().find(|ev| ev.bat_id == "fine").unwrap();
     assert_eq!(refused.status, ExitVelocity::STATUS_REJECTED);
-    assert!(refused.message.contains("into 168 slices") && refused.message.contains("max_bat_slices = 150"), "{}", refused.message);
+    assert!(
+        refused.message.contains("into 168 slices") && refused.message.contains("max_bat_slices = 150"),
+        "{}",
+        refused.message
+    );
     drop(node);
 }
 

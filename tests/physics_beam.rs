@@ -37,7 +37,13 @@ fn slender_stiff_beam_matches_euler_bernoulli_and_converges_with_slice_count() {
             // rotary-inertia/shear corrections (≈ 1e-5 here).
             let beta_dz = BETA_L[n] / slices as f64;
             let tolerance = 0.1 * beta_dz * beta_dz + 2e-5;
-            assert!(rel < tolerance, "N={slices} mode {}: {} Hz vs EB {} Hz (rel {rel:e} ≥ {tolerance:e})", n + 1, f[n], exact);
+            assert!(
+                rel < tolerance,
+                "N={slices} mode {}: {} Hz vs EB {} Hz (rel {rel:e} ≥ {tolerance:e})",
+                n + 1,
+                f[n],
+                exact
+            );
             worst = worst.max(rel);
         }
         assert!(worst < previous_worst / 3.0, "N={slices}: error {worst:e} did not shrink from {previous_worst:e}");
@@ -65,7 +71,8 @@ fn timoshenko_determinant(omega: f64, length: f64, radius: f64, m: &Material) ->
     let shoot = |s0: [f64; 4]| {
         let mut s = s0;
         for _ in 0..steps {
-            let add = |a: [f64; 4], b: [f64; 4], c: f64| [a[0] + c * b[0], a[1] + c * b[1], a[2] + c * b[2], a[3] + c * b[3]];
+            let add =
+                |a: [f64; 4], b: [f64; 4], c: f64| [a[0] + c * b[0], a[1] + c * b[1], a[2] + c * b[2], a[3] + c * b[3]];
             let k1 = deriv(s);
             let k2 = deriv(add(s, k1, h / 2.0));
             let k3 = deriv(add(s, k2, h / 2.0));
@@ -116,7 +123,11 @@ fn stubby_beam_shows_timoshenko_lowering_matching_the_continuum_solution() {
         let eb = euler_bernoulli_hz(length, radius, &m, n);
         let exact = timoshenko_hz(f[n], length, radius, &m);
         let rel = (f[n] - exact).abs() / exact;
-        eprintln!("mode {}: discrete {:.3} Hz, continuum Timoshenko {exact:.3} Hz, Euler–Bernoulli {eb:.3} Hz", n + 1, f[n]);
+        eprintln!(
+            "mode {}: discrete {:.3} Hz, continuum Timoshenko {exact:.3} Hz, Euler–Bernoulli {eb:.3} Hz",
+            n + 1,
+            f[n]
+        );
         assert!(rel < 2e-4, "mode {}: discrete {} Hz vs continuum Timoshenko {} Hz (rel {rel:e})", n + 1, f[n], exact);
         assert!(exact < 0.9 * eb, "mode {}: Timoshenko {exact} Hz is not clearly below EB {eb} Hz", n + 1);
         assert!(f[n] < 0.9 * eb, "mode {}: discrete {} Hz is not clearly below EB {eb} Hz", n + 1, f[n]);
@@ -151,7 +162,13 @@ fn stiffness_matrix_reproduces_nathans_h_matrix_entry_by_entry() {
     for i in 0..168 {
         for j in 0..168 {
             if !stored[i * 168 + j] {
-                assert!(h[(i, j)].abs() <= 1e-9 * scale, "H({},{}) = {:e} is not in Nathan's matrix", i + 1, j + 1, h[(i, j)]);
+                assert!(
+                    h[(i, j)].abs() <= 1e-9 * scale,
+                    "H({},{}) = {:e} is not in Nathan's matrix",
+                    i + 1,
+                    j + 1,
+                    h[(i, j)]
+                );
             }
         }
     }
@@ -185,7 +202,10 @@ fn modes_are_mass_orthonormal_and_orthogonal_to_the_exact_rigid_modes() {
             let dot: f64 = slices
                 .iter()
                 .enumerate()
-                .map(|(i, s)| s.mass * all[a].displacement[i] * all[b].displacement[i] + s.rotary_inertia * all[a].rotation[i] * all[b].rotation[i])
+                .map(|(i, s)| {
+                    s.mass * all[a].displacement[i] * all[b].displacement[i]
+                        + s.rotary_inertia * all[a].rotation[i] * all[b].rotation[i]
+                })
                 .sum();
             let expected = if a == b { 1.0 } else { 0.0 };
             assert!((dot - expected).abs() < 1e-9, "⟨{a},{b}⟩_M = {dot}");
@@ -221,7 +241,9 @@ fn link_rules_agree_for_a_uniform_bat_and_differ_for_a_tapered_one() {
 fn compute_refuses_invalid_bats() {
     let mut bat = Bat::preset("r161").expect("preset");
     bat.shell.youngs_modulus = f64::NAN;
-    assert!(matches!(ModeSet::compute(&bat, 4), Err(PhysicsError::OutOfRange { ref field, .. }) if field == "shell.youngs_modulus"));
+    assert!(
+        matches!(ModeSet::compute(&bat, 4), Err(PhysicsError::OutOfRange { ref field, .. }) if field == "shell.youngs_modulus")
+    );
 }
 
 #[test]
@@ -229,7 +251,8 @@ fn inverse_iteration_and_dense_solvers_agree() {
     use sweetspot::physics::modes::EigenSolver;
     for name in Bat::preset_names() {
         let bat = Bat::preset(name).expect("preset");
-        let fast = ModeSet::compute_with_solver(&bat, 24, LinkRule::KnobSide, EigenSolver::InverseIteration).expect("fast");
+        let fast =
+            ModeSet::compute_with_solver(&bat, 24, LinkRule::KnobSide, EigenSolver::InverseIteration).expect("fast");
         let dense = ModeSet::compute_with_solver(&bat, 24, LinkRule::KnobSide, EigenSolver::Dense).expect("dense");
         for (a, b) in fast.vibrational_modes().iter().zip(dense.vibrational_modes()) {
             let rel = (a.angular_frequency - b.angular_frequency).abs() / b.angular_frequency;

@@ -1,7 +1,8 @@
 //! The modal collision: rigid limit, conservation laws, energy budget, convergence, frame invariance, errors.
 
 use sweetspot::physics::{
-    collide, rigid, Ball, Bat, CollisionOptions, CollisionResult, Impact, LinkRule, Material, ModeSet, PhysicsError, Station,
+    collide, rigid, Ball, Bat, CollisionOptions, CollisionResult, Impact, LinkRule, Material, ModeSet, PhysicsError,
+    Station,
 };
 
 fn r161_modes() -> ModeSet {
@@ -21,7 +22,8 @@ fn without_vibrational_modes_the_exit_speed_is_the_closed_form_rigid_one() {
     let modes = r161_modes();
     for &z in &[0.30, 0.50, 0.65, 0.75, 0.83] {
         for ball in [Ball::default(), Ball { cor: 0.8, exponent: 1.0, stiffness: 1.0e6, ..Ball::default() }] {
-            let r = collide(&modes, &ball, &swing(z), &CollisionOptions { modes: 0, time_step: 5e-6 }).expect("collision");
+            let r =
+                collide(&modes, &ball, &swing(z), &CollisionOptions { modes: 0, time_step: 5e-6 }).expect("collision");
             let rel = (r.exit_speed - r.rigid_exit_speed).abs() / r.rigid_exit_speed.abs().max(1.0);
             assert!(rel < 1e-6, "z={z}: {} vs closed form {}", r.exit_speed, r.rigid_exit_speed);
             assert!((r.effective_cor - ball.cor).abs() < 1e-6, "z={z}: e_eff {} ≠ e0 {}", r.effective_cor, ball.cor);
@@ -61,8 +63,14 @@ fn momentum_and_angular_momentum_are_conserved_through_contact() {
         let b = z - mp.center_of_mass;
         let l_before = -ball.mass * impact.ball_speed * b + mp.moment_of_inertia * impact.bat_angular_speed;
         let l_after = ball.mass * r.exit_speed * b + mp.moment_of_inertia * r.bat_angular_speed_after;
-        assert!((p_after - p_before).abs() < 1e-10 * ball.mass * impact.ball_speed, "z={z}: momentum {p_before} → {p_after}");
-        assert!((l_after - l_before).abs() < 1e-10 * ball.mass * impact.ball_speed, "z={z}: angular momentum {l_before} → {l_after}");
+        assert!(
+            (p_after - p_before).abs() < 1e-10 * ball.mass * impact.ball_speed,
+            "z={z}: momentum {p_before} → {p_after}"
+        );
+        assert!(
+            (l_after - l_before).abs() < 1e-10 * ball.mass * impact.ball_speed,
+            "z={z}: angular momentum {l_before} → {l_after}"
+        );
         assert!((r.impulse - ball.mass * (r.exit_speed + impact.ball_speed)).abs() < 1e-12);
     }
 }
@@ -92,14 +100,19 @@ fn hysteresis_loss_is_the_e0_fraction_for_a_rigid_wall_like_bat() {
     let r = collide(&modes, &ball, &impact, &CollisionOptions { modes: 0, time_step: 2e-6 }).expect("collision");
     let mu = ball.mass * mp.mass / (ball.mass + mp.mass);
     let expected = (1.0 - ball.cor * ball.cor) * 0.5 * mu * 40.0 * 40.0;
-    assert!((r.energy.hysteresis_loss - expected).abs() < 1e-6 * expected, "{} vs {expected}", r.energy.hysteresis_loss);
+    assert!(
+        (r.energy.hysteresis_loss - expected).abs() < 1e-6 * expected,
+        "{} vs {expected}",
+        r.energy.hysteresis_loss
+    );
 }
 
 #[test]
 fn results_converge_as_the_time_step_shrinks() {
     let modes = r161_modes();
     let z = 0.66;
-    let speeds: Vec<f64> = [1e-5, 5e-6, 2.5e-6, 1.25e-6].iter().map(|&dt| run(&modes, &swing(z), 12, dt).exit_speed).collect();
+    let speeds: Vec<f64> =
+        [1e-5, 5e-6, 2.5e-6, 1.25e-6].iter().map(|&dt| run(&modes, &swing(z), 12, dt).exit_speed).collect();
     let d1 = (speeds[0] - speeds[1]).abs();
     let d2 = (speeds[1] - speeds[2]).abs();
     let d3 = (speeds[2] - speeds[3]).abs();
@@ -157,7 +170,12 @@ fn same_relative_speeds_give_the_same_relative_results() {
         // Add `shift` (m/s, along the axis toward the ball) to everything: ball and bat.
         let moved = Impact { ball_speed: base.ball_speed - shift, bat_cm_speed: base.bat_cm_speed + shift, ..base };
         let r = run(&modes, &moved, 18, 5e-6);
-        assert!((r.exit_speed - shift - r0.exit_speed).abs() < 1e-9, "shift {shift}: {} vs {}", r.exit_speed - shift, r0.exit_speed);
+        assert!(
+            (r.exit_speed - shift - r0.exit_speed).abs() < 1e-9,
+            "shift {shift}: {} vs {}",
+            r.exit_speed - shift,
+            r0.exit_speed
+        );
         assert!((r.collision_efficiency - r0.collision_efficiency).abs() < 1e-9);
         assert!((r.effective_cor - r0.effective_cor).abs() < 1e-9);
         assert!((r.contact_time - r0.contact_time).abs() < 1e-12);
@@ -172,8 +190,12 @@ fn impacts_at_the_nodes_excite_little_vibration() {
     let node = modes.nodes(1).into_iter().fold(f64::NAN, f64::max);
     let at_node = run(&modes, &swing(node), 18, 5e-6);
     let off_node = run(&modes, &swing(node - 0.12), 18, 5e-6);
-    assert!(at_node.mode_energies[0].energy < 1e-3 * off_node.mode_energies[0].energy,
-        "mode 1 energy at its node {} vs 12 cm away {}", at_node.mode_energies[0].energy, off_node.mode_energies[0].energy);
+    assert!(
+        at_node.mode_energies[0].energy < 1e-3 * off_node.mode_energies[0].energy,
+        "mode 1 energy at its node {} vs 12 cm away {}",
+        at_node.mode_energies[0].energy,
+        off_node.mode_energies[0].energy
+    );
     assert!(at_node.exit_speed > off_node.exit_speed);
     assert!(at_node.effective_cor > off_node.effective_cor);
     // Flexible exit speed never beats the rigid one for the same e0 (vibrations only take energy).
@@ -198,12 +220,23 @@ fn bad_inputs_give_typed_errors_naming_the_field() {
     assert!(matches!(too_many, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "modes"), "{too_many:?}");
     for dt in [0.0, -1e-6, 1e-3, f64::NAN] {
         let bad = collide(&modes, &ball, &swing(0.7), &CollisionOptions { time_step: dt, ..ok });
-        assert!(matches!(bad, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "time_step"), "dt={dt}: {bad:?}");
+        assert!(
+            matches!(bad, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "time_step"),
+            "dt={dt}: {bad:?}"
+        );
     }
     // 9e-5 s is in range but unstable for mode 24 of the R161: refused, not integrated into garbage.
     let unstable = collide(&modes, &ball, &swing(0.7), &CollisionOptions { modes: 24, time_step: 9e-5 });
-    assert!(matches!(unstable, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "time_step"), "{unstable:?}");
-    let receding = collide(&modes, &ball, &Impact { ball_speed: -30.0, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: 0.7 }, &ok);
+    assert!(
+        matches!(unstable, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "time_step"),
+        "{unstable:?}"
+    );
+    let receding = collide(
+        &modes,
+        &ball,
+        &Impact { ball_speed: -30.0, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: 0.7 },
+        &ok,
+    );
     assert!(matches!(receding, Err(PhysicsError::OutOfRange { .. })), "{receding:?}");
     let bad_ball = collide(&modes, &Ball { cor: 1.5, ..ball }, &swing(0.7), &ok);
     assert!(matches!(bad_ball, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "ball.cor"), "{bad_ball:?}");

@@ -40,7 +40,8 @@ fn sweet_spot_set_is_consistent_with_its_definitions() {
         for p in metrics::sweep(&m, &ball, &swing(), &zs, &options).expect("sweep") {
             assert!(p.result.exit_speed <= set.max_exit_speed + 1e-9, "{name}: z={} beats the maximum", p.impact_z);
         }
-        let at_max = collide(&m, &ball, &Impact { impact_z: set.max_exit_speed_z, ..swing() }, &options).expect("collide");
+        let at_max =
+            collide(&m, &ball, &Impact { impact_z: set.max_exit_speed_z, ..swing() }, &options).expect("collide");
         assert!((at_max.exit_speed - set.max_exit_speed).abs() < 1e-12);
         let mp = m.mass_properties();
         assert!((set.rigid_optimum_z - rigid::optimum_impact_z(&mp, ball.mass, &swing())).abs() < 1e-12);
@@ -58,8 +59,15 @@ fn bbcor_is_e0_for_a_rigid_bat_and_lower_for_a_flexible_one() {
     let ball = Ball::bbcor_protocol();
     for name in Bat::preset_names() {
         let m = modes(name);
-        let rigid_report = metrics::bbcor_report(&m, &ball, &CollisionOptions { modes: 0, ..CollisionOptions::default() }).expect("bbcor");
-        assert!((rigid_report.bbcor - ball.cor).abs() < 1e-6, "{name}: rigid BBCOR {} vs e0 {}", rigid_report.bbcor, ball.cor);
+        let rigid_report =
+            metrics::bbcor_report(&m, &ball, &CollisionOptions { modes: 0, ..CollisionOptions::default() })
+                .expect("bbcor");
+        assert!(
+            (rigid_report.bbcor - ball.cor).abs() < 1e-6,
+            "{name}: rigid BBCOR {} vs e0 {}",
+            rigid_report.bbcor,
+            ball.cor
+        );
         let flexible = metrics::bbcor(&m, &CollisionOptions::default()).expect("bbcor");
         assert!(flexible > 0.3 && flexible <= ball.cor + 1e-9, "{name}: BBCOR {flexible}");
         // For a bat at rest the protocol's BBCOR = e_A(1 + r) + r with r = m_ball / m_eff.
@@ -76,7 +84,8 @@ fn bbcor_is_e0_for_a_rigid_bat_and_lower_for_a_flexible_one() {
 fn besr_is_collision_efficiency_plus_one_half_at_the_protocol_point() {
     let m = modes("r161");
     let ball = Ball::bbcor_protocol();
-    let rigid_besr = metrics::besr(&m, &ball, &CollisionOptions { modes: 0, ..CollisionOptions::default() }).expect("besr");
+    let rigid_besr =
+        metrics::besr(&m, &ball, &CollisionOptions { modes: 0, ..CollisionOptions::default() }).expect("besr");
     let mp = m.mass_properties();
     assert!((rigid_besr.impact_z - (m.length() - 0.1524)).abs() < 1e-12);
     let r = rigid::recoil_factor(&mp, ball.mass, rigid_besr.impact_z);

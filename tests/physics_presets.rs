@@ -1,6 +1,8 @@
 //! Bat presets, their mass properties, validation of bad bats and balls, and the seed's rigid bats.
 
-use sweetspot::physics::{rigid, Ball, Bat, CoreFill, Impact, MassProperties, Material, PhysicsError, RigidBat, Station};
+use sweetspot::physics::{
+    rigid, Ball, Bat, CoreFill, Impact, MassProperties, Material, PhysicsError, RigidBat, Station,
+};
 
 #[test]
 fn r161_mass_properties_are_in_line_with_nathans_description() {
@@ -72,17 +74,28 @@ fn st(z: f64, outer: f64, inner: f64) -> Station {
 #[test]
 fn malformed_bats_are_refused_with_the_field_named() {
     assert!(matches!(simple(vec![st(0.0, 0.03, 0.0)]), Err(PhysicsError::BadProfile(_))));
-    assert!(matches!(simple(vec![st(0.0, 0.03, 0.0), st(0.5, 0.03, 0.0), st(0.5, 0.03, 0.0)]), Err(PhysicsError::BadProfile(m)) if m.contains("stations[2].z")));
+    assert!(
+        matches!(simple(vec![st(0.0, 0.03, 0.0), st(0.5, 0.03, 0.0), st(0.5, 0.03, 0.0)]), Err(PhysicsError::BadProfile(m)) if m.contains("stations[2].z"))
+    );
     let inner = simple(vec![st(0.0, 0.03, 0.0), st(0.8, 0.03, 0.03)]);
-    assert!(matches!(inner, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "stations[1].inner_radius"), "{inner:?}");
+    assert!(
+        matches!(inner, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "stations[1].inner_radius"),
+        "{inner:?}"
+    );
     let nan = simple(vec![st(0.0, f64::NAN, 0.0), st(0.8, 0.03, 0.0)]);
-    assert!(matches!(nan, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "stations[0].outer_radius"), "{nan:?}");
+    assert!(
+        matches!(nan, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "stations[0].outer_radius"),
+        "{nan:?}"
+    );
     let not_at_knob = simple(vec![st(0.1, 0.03, 0.0), st(0.8, 0.03, 0.0)]);
     assert!(matches!(not_at_knob, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "stations[0].z"));
     let ok = vec![st(0.0, 0.03, 0.0), st(0.8, 0.03, 0.0)];
     for bad_slice in [0.0, -0.01, f64::INFINITY, 0.5, 1e-5] {
         let bat = Bat::new("t", ok.clone(), Material::R161_WOOD, None, bad_slice);
-        assert!(matches!(bat, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "slice_length"), "{bad_slice}: {bat:?}");
+        assert!(
+            matches!(bat, Err(PhysicsError::OutOfRange { ref field, .. }) if field == "slice_length"),
+            "{bad_slice}: {bat:?}"
+        );
     }
     let bad_material = Material { shear_modulus: -1.0, ..Material::R161_WOOD };
     let bat = Bat::new("t", ok.clone(), bad_material, None, 0.01);
@@ -123,7 +136,10 @@ fn ball_validation_and_hysteresis_parameters() {
     assert!((beta - (2.84 / (0.53 * 0.53) - 1.0)).abs() < 1e-12);
     let um = 0.02;
     let k2 = ball.unloading_stiffness(um);
-    assert!((k2 * um.powf(beta) - ball.stiffness * um.powf(ball.exponent)).abs() < 1e-6 * ball.stiffness * um.powf(ball.exponent));
+    assert!(
+        (k2 * um.powf(beta) - ball.stiffness * um.powf(ball.exponent)).abs()
+            < 1e-6 * ball.stiffness * um.powf(ball.exponent)
+    );
     for (field, bad) in [
         ("ball.mass", Ball { mass: 0.0, ..ball }),
         ("ball.radius", Ball { radius: f64::NAN, ..ball }),
@@ -138,11 +154,17 @@ fn ball_validation_and_hysteresis_parameters() {
 #[test]
 fn seed_rigid_bats_and_closed_forms() {
     let normal = RigidBat::preset("seed-table1-normal").expect("preset");
-    assert_eq!((normal.mass, normal.center_of_mass, normal.moment_of_inertia, normal.effective_cor), (0.846, 0.51, 0.047, 0.40));
+    assert_eq!(
+        (normal.mass, normal.center_of_mass, normal.moment_of_inertia, normal.effective_cor),
+        (0.846, 0.51, 0.047, 0.40)
+    );
     let corked = RigidBat::preset("seed-table1-corked").expect("preset");
     assert_eq!((corked.mass, corked.center_of_mass, corked.moment_of_inertia), (0.800, 0.40, 0.040));
     let al = RigidBat::preset("seed-table2-aluminum").expect("preset");
-    assert_eq!((al.mass, al.length, al.center_of_mass, al.moment_of_inertia, al.effective_cor), (0.825, 0.81, 0.46, 0.046, 0.58));
+    assert_eq!(
+        (al.mass, al.length, al.center_of_mass, al.moment_of_inertia, al.effective_cor),
+        (0.825, 0.81, 0.46, 0.046, 0.58)
+    );
     assert_eq!(RigidBat::preset("seed-table2-wood").expect("preset").mass, 0.846);
     for name in RigidBat::preset_names() {
         RigidBat::preset(name).expect("preset").validate().expect("valid");
@@ -175,7 +197,12 @@ fn seed_rigid_bats_and_closed_forms() {
     assert!((normal.exit_speed(0.145, &swing) - normal.exit_speed_at(0.145, 8.0, v_bat, z)).abs() < 1e-12);
     // Momentum bookkeeping of eq. 25: e = 1 and a huge bat returns the ball at v_ball + 2 v_bat.
     let wall = MassProperties::from_totals(1e12, 1.0, 0.5, 1e12);
-    let v = rigid::exit_speed(&wall, 0.145, 1.0, &Impact { ball_speed: 10.0, bat_cm_speed: 3.0, bat_angular_speed: 0.0, impact_z: 0.5 });
+    let v = rigid::exit_speed(
+        &wall,
+        0.145,
+        1.0,
+        &Impact { ball_speed: 10.0, bat_cm_speed: 3.0, bat_angular_speed: 0.0, impact_z: 0.5 },
+    );
     assert!((v - 16.0).abs() < 1e-9);
 }
 
@@ -189,4 +216,3 @@ fn centre_of_percussion_is_the_conjugate_point() {
     assert!((lhs - mp.radius_of_gyration.powi(2)).abs() < 1e-12);
     assert!(cop > mp.center_of_mass && cop < mp.length);
 }
-

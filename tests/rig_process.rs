@@ -41,11 +41,7 @@ fn rig_process_feeds_a_node_and_every_swing_is_answered() {
     sweetspot::ros::network_guard().expect("DDS tests must run in a private network namespace (scripts/test)");
     const COUNT: u64 = 6;
     let ns = "/rigtest";
-    let ctx = context(&DdsConfig {
-        domain_id: 0,
-        range: DiscoveryRange::Localhost,
-    })
-    .unwrap();
+    let ctx = context(&DdsConfig { domain_id: 0, range: DiscoveryRange::Localhost }).unwrap();
     let listener = AnswerListener::new(&ctx, &TopicNames::in_namespace(ns).unwrap()).unwrap();
 
     let rig = sweetspot(&[
@@ -64,13 +60,7 @@ fn rig_process_feeds_a_node_and_every_swing_is_answered() {
         "120",
     ]);
     std::thread::sleep(Duration::from_millis(500));
-    let _node = Killed(sweetspot(&[
-        "node",
-        "--no-record",
-        "--ros-args",
-        "-r",
-        &format!("__ns:={ns}"),
-    ]));
+    let _node = Killed(sweetspot(&["node", "--no-record", "--ros-args", "-r", &format!("__ns:={ns}")]));
 
     let mut exits: Vec<ExitVelocity> = Vec::new();
     let start = Instant::now();
@@ -84,11 +74,7 @@ fn rig_process_feeds_a_node_and_every_swing_is_answered() {
     }
     let output = rig.wait_with_output().unwrap();
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "rig failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    assert!(output.status.success(), "rig failed: {}", String::from_utf8_lossy(&output.stderr));
     assert_eq!(exits.len() as u64, COUNT, "answers: {exits:?}\nrig said:\n{stdout}");
     exits.sort_by_key(|e| e.swing_id);
     for (i, e) in exits.iter().enumerate() {
@@ -97,10 +83,7 @@ fn rig_process_feeds_a_node_and_every_swing_is_answered() {
         assert_eq!(e.bat_id, if i < 3 { "r161" } else { "torpedo" });
         assert_eq!(e.ball_id, sweetspot::rig::RIG_BALL_ID);
         // The rig's radar reading is the physics plus noise (σ 0.45 m/s) on noisy inputs.
-        assert!(
-            e.measured_exit_speed.is_finite() && (e.measured_exit_speed - e.exit_speed).abs() < 4.0,
-            "{e:?}"
-        );
+        assert!(e.measured_exit_speed.is_finite() && (e.measured_exit_speed - e.exit_speed).abs() < 4.0, "{e:?}");
         assert!(stdout.contains(&format!("swing {:>5}", e.swing_id)), "{stdout}");
     }
 }

@@ -15,27 +15,19 @@ fn tx_packets() -> Vec<(String, u64)> {
         .skip(2)
         .filter_map(|l| {
             let (name, rest) = l.split_once(':')?;
-            let fields: Vec<u64> = rest
-                .split_whitespace()
-                .filter_map(|f| f.parse().ok())
-                .collect();
+            let fields: Vec<u64> = rest.split_whitespace().filter_map(|f| f.parse().ok()).collect();
             Some((name.trim().to_string(), *fields.get(9)?))
         })
         .collect()
 }
 
 fn tx_of(counters: &[(String, u64)], name: &str) -> u64 {
-    counters
-        .iter()
-        .find(|(n, _)| n == name)
-        .map(|(_, c)| *c)
-        .unwrap_or(0)
+    counters.iter().find(|(n, _)| n == name).map(|(_, c)| *c).unwrap_or(0)
 }
 
 /// Runs the child in a nested namespace and returns (lo, v0) packets transmitted while the participant ran.
 fn run_child(range: &str) -> (u64, u64) {
-    sweetspot::ros::network_guard()
-        .expect("DDS tests must run in a private network namespace (scripts/test)");
+    sweetspot::ros::network_guard().expect("DDS tests must run in a private network namespace (scripts/test)");
     let exe = std::env::current_exe().expect("test binary path");
     let setup = "set -e
         echo 1 > /proc/sys/net/ipv6/conf/all/disable_ipv6
@@ -58,32 +50,20 @@ fn run_child(range: &str) -> (u64, u64) {
         .expect("run unshare");
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        out.status.success(),
-        "child for {range} failed (nested `unshare --net` needed):\n{stdout}\n{stderr}"
-    );
+    assert!(out.status.success(), "child for {range} failed (nested `unshare --net` needed):\n{stdout}\n{stderr}");
     let line = stdout
         .lines()
         .find_map(|l| l.split_once("RESULT ").map(|(_, r)| r))
         .unwrap_or_else(|| panic!("no RESULT from child:\n{stdout}\n{stderr}"));
-    let nums: Vec<u64> = line
-        .split_whitespace()
-        .filter_map(|kv| kv.split_once('=')?.1.parse().ok())
-        .collect();
+    let nums: Vec<u64> = line.split_whitespace().filter_map(|kv| kv.split_once('=')?.1.parse().ok()).collect();
     (nums[0], nums[1])
 }
 
 #[test]
 fn ros_range_localhost_transmits_on_loopback_only() {
     let (lo, v0) = run_child("LOCALHOST");
-    assert!(
-        lo > 0,
-        "a LOCALHOST participant should still announce itself on lo"
-    );
-    assert_eq!(
-        v0, 0,
-        "a LOCALHOST participant transmitted {v0} packets on a non-loopback interface"
-    );
+    assert!(lo > 0, "a LOCALHOST participant should still announce itself on lo");
+    assert_eq!(v0, 0, "a LOCALHOST participant transmitted {v0} packets on a non-loopback interface");
 }
 
 #[test]
@@ -96,11 +76,7 @@ fn ros_range_subnet_reaches_other_interfaces() {
 #[test]
 fn ros_range_off_transmits_nothing_at_all() {
     let (lo, v0) = run_child("OFF");
-    assert_eq!(
-        (lo, v0),
-        (0, 0),
-        "an OFF participant transmitted packets (lo, v0)"
-    );
+    assert_eq!((lo, v0), (0, 0), "an OFF participant transmitted packets (lo, v0)");
 }
 
 /// The participant side, run by `run_child` inside the nested namespace.
@@ -112,17 +88,10 @@ fn range_child() {
     let names: Vec<String> = tx_packets().into_iter().map(|(n, _)| n).collect();
     let mut sorted = names.clone();
     sorted.sort();
-    assert_eq!(
-        sorted,
-        ["lo", "v0", "v1"],
-        "unexpected interfaces {names:?}"
-    );
+    assert_eq!(sorted, ["lo", "v0", "v1"], "unexpected interfaces {names:?}");
 
     let range = sweetspot::ros::DiscoveryRange::from_vars(Some(&range), None).unwrap();
-    let config = sweetspot::ros::DdsConfig {
-        domain_id: 7,
-        range,
-    };
+    let config = sweetspot::ros::DdsConfig { domain_id: 7, range };
     let before = tx_packets();
     {
         let ctx = sweetspot::ros::context(&config).expect("participant");
@@ -139,9 +108,7 @@ fn range_child() {
             .domain_participant()
             .create_publisher(&dds_qos)
             .unwrap()
-            .create_datawriter_no_key_cdr::<sweetspot::msgs::sweetspot_msgs::msg::Swing>(
-                &topic, None,
-            )
+            .create_datawriter_no_key_cdr::<sweetspot::msgs::sweetspot_msgs::msg::Swing>(&topic, None)
             .unwrap();
         writer.write(Default::default(), None).unwrap();
         // SPDP announces at start-up and then periodically; this covers the start-up burst and a resend.

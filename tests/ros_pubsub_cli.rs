@@ -70,19 +70,9 @@ fn ros_cli_swings_from_json_lines_reach_echo_in_a_namespace() {
     assert_eq!(got[0]["bat_angular_speed"], 51.0);
     assert_eq!(got[0]["measured_exit_speed"], 44.5);
     assert_eq!(got[1]["swing_id"], 12);
-    assert_eq!(
-        got[1]["header"],
-        json!({"stamp": {"sec": 7, "nanosec": 9}, "frame_id": "cage"})
-    );
-    assert_eq!(
-        got[1]["measured_exit_speed"],
-        Value::Null,
-        "absent = not measured = NaN"
-    );
-    assert_eq!(
-        got[2]["swing_id"], 3,
-        "a swing without an id gets its sequence number"
-    );
+    assert_eq!(got[1]["header"], json!({"stamp": {"sec": 7, "nanosec": 9}, "frame_id": "cage"}));
+    assert_eq!(got[1]["measured_exit_speed"], Value::Null, "absent = not measured = NaN");
+    assert_eq!(got[2]["swing_id"], 3, "a swing without an id gets its sequence number");
     assert_eq!(got[2]["ball_id"], "mlb");
     assert_eq!(got[2]["measured_exit_speed"], Value::Null);
     // Unset stamps are filled with the publish time.
@@ -121,10 +111,7 @@ fn ros_cli_csv_rate_and_count() {
         ],
     ));
     let got = json_lines(&finish(echo));
-    let ids: Vec<i64> = got
-        .iter()
-        .map(|m| m["swing_id"].as_i64().unwrap())
-        .collect();
+    let ids: Vec<i64> = got.iter().map(|m| m["swing_id"].as_i64().unwrap()).collect();
     assert_eq!(ids, [1, 2, 1, 2, 1]);
     assert_eq!(got[1]["ball_speed"], 41.5);
     assert_eq!(got[1]["header"]["frame_id"], "b");
@@ -159,16 +146,10 @@ fn ros_cli_params_are_latched_for_late_joiners() {
     assert_eq!(got[1]["outer_radius"], json!([0.013, 0.02, 0.033]));
     assert_eq!(got[1]["max_modes"], 12);
     // SIGTERM ends the publisher cleanly.
-    let status = Command::new("kill")
-        .args(["-TERM", &publisher.id().to_string()])
-        .status()
-        .unwrap();
+    let status = Command::new("kill").args(["-TERM", &publisher.id().to_string()]).status().unwrap();
     assert!(status.success());
     let status = publisher.wait().unwrap();
-    assert!(
-        status.success(),
-        "pub should exit 0 on SIGTERM, got {status}"
-    );
+    assert!(status.success(), "pub should exit 0 on SIGTERM, got {status}");
 }
 
 /// Every message type survives DDS unchanged: what echo prints equals what pub was given.
@@ -200,19 +181,7 @@ fn ros_cli_every_message_type_round_trips_over_dds() {
     ];
     for (kind, message) in cases {
         let echo = start_echo(domain, kind, 1, &[]);
-        run_ok(cmd(
-            domain,
-            &[
-                "pub",
-                kind,
-                &message.to_string(),
-                "--wait-subscribers",
-                "1",
-                "--timeout",
-                "60",
-                "-q",
-            ],
-        ));
+        run_ok(cmd(domain, &["pub", kind, &message.to_string(), "--wait-subscribers", "1", "--timeout", "60", "-q"]));
         let got = json_lines(&finish(echo));
         assert_eq!(got, [message], "{kind}");
     }
@@ -231,15 +200,8 @@ fn ros_cli_rejects_bad_input_with_the_field_named() {
         assert!(!out.status.success(), "{args:?} should fail");
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    let e = fail(
-        "155",
-        "LOCALHOST",
-        &["pub", "swing", r#"{"ball_sped": 40}"#],
-    );
-    assert!(
-        e.contains("ball_sped") && e.contains("no such field"),
-        "{e}"
-    );
+    let e = fail("155", "LOCALHOST", &["pub", "swing", r#"{"ball_sped": 40}"#]);
+    assert!(e.contains("ball_sped") && e.contains("no such field"), "{e}");
     let e = fail("155", "LOCALHOST", &["pub", "swing", r#"{"swing_id": -3}"#]);
     assert!(e.contains("swing_id"), "{e}");
     let e = fail("155", "LOCALHOST", &["pub", "swing", "{not json"]);
@@ -250,31 +212,14 @@ fn ros_cli_rejects_bad_input_with_the_field_named() {
     assert!(e.contains("ROS_DOMAIN_ID"), "{e}");
     let e = fail("155", "LAN", &["echo", "swing"]);
     assert!(e.contains("ROS_AUTOMATIC_DISCOVERY_RANGE"), "{e}");
-    let e = fail(
-        "155",
-        "LOCALHOST",
-        &["echo", "swing", "--ros-args", "-r", "__ns:=/bad name"],
-    );
+    let e = fail("155", "LOCALHOST", &["echo", "swing", "--ros-args", "-r", "__ns:=/bad name"]);
     assert!(e.contains("invalid ROS name"), "{e}");
 }
 
 #[test]
 fn ros_cli_echo_fails_when_too_few_messages_arrive() {
     guard();
-    let out = cmd(
-        156,
-        &[
-            "echo",
-            "exit_velocity",
-            "--json",
-            "--count",
-            "1",
-            "--timeout",
-            "0.5",
-        ],
-    )
-    .output()
-    .unwrap();
+    let out = cmd(156, &["echo", "exit_velocity", "--json", "--count", "1", "--timeout", "0.5"]).output().unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("timed out"));
 }
@@ -288,29 +233,15 @@ fn ros_cli_ten_thousand_swings_back_to_back_arrive_in_order() {
     let n = 10_000;
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("burst.jsonl");
-    let lines: Vec<String> = (1..=n)
-        .map(|i| format!("{{\"swing_id\": {i}, \"bat_id\": \"r161\", \"impact_z\": 0.7}}"))
-        .collect();
+    let lines: Vec<String> =
+        (1..=n).map(|i| format!("{{\"swing_id\": {i}, \"bat_id\": \"r161\", \"impact_z\": 0.7}}")).collect();
     std::fs::write(&file, lines.join("\n")).unwrap();
     let echo = start_echo(domain, "swing", n, &[]);
     run_ok(cmd(
         domain,
-        &[
-            "pub",
-            "swing",
-            "--file",
-            file.to_str().unwrap(),
-            "--wait-subscribers",
-            "1",
-            "--timeout",
-            "120",
-            "-q",
-        ],
+        &["pub", "swing", "--file", file.to_str().unwrap(), "--wait-subscribers", "1", "--timeout", "120", "-q"],
     ));
     let got = json_lines(&finish(echo));
-    let ids: Vec<u64> = got
-        .iter()
-        .map(|m| m["swing_id"].as_u64().unwrap())
-        .collect();
+    let ids: Vec<u64> = got.iter().map(|m| m["swing_id"].as_u64().unwrap()).collect();
     assert_eq!(ids, (1..=n as u64).collect::<Vec<_>>());
 }

@@ -111,7 +111,8 @@ pub fn read_run(path: &Path) -> Result<Run, BagError> {
     }
     let single_node = per_type.values().all(|names| names.len() <= 1);
     read_bag(path, |m| {
-        let ns = if single_node { "/".to_string() } else { namespace_of(&m.channel.topic.name, &m.channel.topic.type_name) };
+        let ns =
+            if single_node { "/".to_string() } else { namespace_of(&m.channel.topic.name, &m.channel.topic.type_name) };
         match m.channel.topic.type_name.as_str() {
             BatParams::TYPE_NAME => match decode_cdr::<BatParams>(m.data) {
                 Ok(p) => events.push(RunEvent::BatParams(ns, p)),
@@ -171,10 +172,31 @@ pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
     let modes = rows.iter().filter_map(|r| r.modal_energies.as_ref()).map(|m| m.energy.len()).max().unwrap_or(0);
     let mut w = csv::Writer::from_writer(out);
     let mut header: Vec<String> = [
-        "namespace", "swing_id", "log_time_ns", "swing_stamp", "bat_id", "ball_id", "ball_speed", "bat_cm_speed",
-        "bat_angular_speed", "impact_z", "measured_exit_speed", "status", "message", "exit_speed",
-        "rigid_exit_speed", "effective_cor", "collision_efficiency", "contact_time", "peak_force", "impulse",
-        "max_compression", "residual", "vibration_energy", "hysteresis_loss", "energy_residual",
+        "namespace",
+        "swing_id",
+        "log_time_ns",
+        "swing_stamp",
+        "bat_id",
+        "ball_id",
+        "ball_speed",
+        "bat_cm_speed",
+        "bat_angular_speed",
+        "impact_z",
+        "measured_exit_speed",
+        "status",
+        "message",
+        "exit_speed",
+        "rigid_exit_speed",
+        "effective_cor",
+        "collision_efficiency",
+        "contact_time",
+        "peak_force",
+        "impulse",
+        "max_compression",
+        "residual",
+        "vibration_energy",
+        "hysteresis_loss",
+        "energy_residual",
     ]
     .iter()
     .map(|s| s.to_string())

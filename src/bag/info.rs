@@ -205,7 +205,11 @@ fn human_size(bytes: u64) -> String {
         value /= 1024.0;
         unit += 1;
     }
-    if unit == 0 { format!("{bytes} B") } else { format!("{value:.1} {}", UNITS[unit]) }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{value:.1} {}", UNITS[unit])
+    }
 }
 
 fn stamp(ns: u64) -> String {
@@ -225,7 +229,8 @@ impl std::fmt::Display for BagInfo {
         writeln!(f, "Bag size:          {}", human_size(self.size))?;
         writeln!(f, "Storage id:        {}", self.storage_identifier)?;
         writeln!(f, "Profile / library: {} / {}", self.profile, self.library)?;
-        let compression = if self.compression.is_empty() { "none".to_string() } else { self.compression.join(", ") + " (chunks)" };
+        let compression =
+            if self.compression.is_empty() { "none".to_string() } else { self.compression.join(", ") + " (chunks)" };
         writeln!(f, "Compression:       {compression}")?;
         let chunks: u64 = self.files.iter().map(|x| x.chunks).sum();
         let layout = match self.layout.as_slice() {
@@ -235,7 +240,12 @@ impl std::fmt::Display for BagInfo {
             _ => format!("{chunks} (some files unchunked)"),
         };
         writeln!(f, "Chunks:            {layout}")?;
-        writeln!(f, "Duration:          {}.{:09}s", self.duration_ns / 1_000_000_000, self.duration_ns % 1_000_000_000)?;
+        writeln!(
+            f,
+            "Duration:          {}.{:09}s",
+            self.duration_ns / 1_000_000_000,
+            self.duration_ns % 1_000_000_000
+        )?;
         writeln!(f, "Start:             {}", stamp(self.start_ns))?;
         writeln!(f, "End:               {}", stamp(self.end_ns))?;
         writeln!(f, "Messages:          {}", self.messages)?;

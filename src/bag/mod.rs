@@ -11,25 +11,22 @@ pub mod export;
 pub mod info;
 pub mod play;
 pub mod reader;
-pub mod replay;
-pub mod recover;
 mod recorder;
+pub mod recover;
+pub mod replay;
 pub mod rosbag2;
 pub mod writer;
 
 pub use recorder::Recorder;
-pub use writer::Batch;
 pub use rosbag2::{default_bag_dir, BagMetadata};
+pub use writer::Batch;
 
 /// Errors of the bag layer.
 #[derive(Debug, thiserror::Error)]
 pub enum BagError {
     /// Any I/O failure, with the path involved.
     #[error("{path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    Io { path: PathBuf, source: std::io::Error },
     /// An MCAP-level failure.
     #[error("mcap: {0}")]
     Mcap(String),
@@ -115,7 +112,11 @@ impl std::str::FromStr for ChunkCompression {
     type Err = BagError;
     /// `zstd` (level 1), `zstd:LEVEL`, `lz4` or `none`.
     fn from_str(s: &str) -> Result<Self, BagError> {
-        let bad = || BagError::Options(format!("compression {s:?}: expected zstd, zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or none"));
+        let bad = || {
+            BagError::Options(format!(
+                "compression {s:?}: expected zstd, zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or none"
+            ))
+        };
         match s.split_once(':') {
             None if s == "zstd" => Ok(ChunkCompression::default()),
             None if s == "lz4" => Ok(ChunkCompression::Lz4),
@@ -297,6 +298,11 @@ pub struct RecorderStats {
 impl TopicInfo {
     /// The topic description of a generated message type: its ROS type name and full `ros2msg` schema.
     pub fn of<M: crate::msgs::RosMessage>(name: impl Into<String>, qos: RecordedQos) -> TopicInfo {
-        TopicInfo { name: name.into(), type_name: M::TYPE_NAME.to_string(), schema_text: M::SCHEMA_TEXT.to_string(), qos }
+        TopicInfo {
+            name: name.into(),
+            type_name: M::TYPE_NAME.to_string(),
+            schema_text: M::SCHEMA_TEXT.to_string(),
+            qos,
+        }
     }
 }

@@ -44,17 +44,29 @@ pub fn schedule(path: &Path, topics: &[String], rate: f64) -> Result<Vec<PlayIte
         if !seen_topics.contains(&topic.name) {
             seen_topics.push(topic.name.clone());
         }
-        let wanted = if topics.is_empty() { INPUT_TYPES.contains(&topic.type_name.as_str()) } else { topics.contains(&topic.name) };
+        let wanted = if topics.is_empty() {
+            INPUT_TYPES.contains(&topic.type_name.as_str())
+        } else {
+            topics.contains(&topic.name)
+        };
         if wanted {
             recorded.push((
                 m.log_time_ns,
-                PlayItem { at: Duration::ZERO, topic: topic.name.clone(), type_name: topic.type_name.clone(), cdr: m.data.to_vec() },
+                PlayItem {
+                    at: Duration::ZERO,
+                    topic: topic.name.clone(),
+                    type_name: topic.type_name.clone(),
+                    cdr: m.data.to_vec(),
+                },
             ));
         }
     })?;
     for t in topics {
         if !seen_topics.contains(t) {
-            return Err(BagError::Format(format!("--topics: {t} is not in the bag (topics: {})", seen_topics.join(", "))));
+            return Err(BagError::Format(format!(
+                "--topics: {t} is not in the bag (topics: {})",
+                seen_topics.join(", ")
+            )));
         }
     }
     for (_, item) in &recorded {
@@ -75,7 +87,8 @@ pub fn schedule(path: &Path, topics: &[String], rate: f64) -> Result<Vec<PlayIte
         .into_iter()
         .enumerate()
         .map(|(k, (t, mut item))| {
-            item.at = if k < leading { Duration::ZERO } else { Duration::from_nanos(t.saturating_sub(origin)).div_f64(rate) };
+            item.at =
+                if k < leading { Duration::ZERO } else { Duration::from_nanos(t.saturating_sub(origin)).div_f64(rate) };
             item
         })
         .collect())
@@ -139,7 +152,10 @@ fn write_one<T: RosMessage + serde::de::DeserializeOwned + serde::Serialize>(
             Ok(()) => return Ok(()),
             Err(rustdds::dds::WriteError::WouldBlock { data }) => {
                 if start.elapsed() >= timeout || stop.load(Ordering::Relaxed) {
-                    return Err(BagError::Format(format!("{}: subscribers did not keep up (send window full)", item.topic)));
+                    return Err(BagError::Format(format!(
+                        "{}: subscribers did not keep up (send window full)",
+                        item.topic
+                    )));
                 }
                 message = data;
             }
@@ -202,8 +218,11 @@ pub fn play(
                 return Ok(PlayStats::default());
             }
             if start.elapsed() >= options.timeout {
-                let missing: Vec<&str> =
-                    writers.iter().filter(|(_, _, c)| *c < options.wait_subscribers).map(|(t, _, _)| t.as_str()).collect();
+                let missing: Vec<&str> = writers
+                    .iter()
+                    .filter(|(_, _, c)| *c < options.wait_subscribers)
+                    .map(|(t, _, _)| t.as_str())
+                    .collect();
                 return Err(BagError::Format(format!(
                     "no {} subscription(s) on {} within {:.1} s",
                     options.wait_subscribers,

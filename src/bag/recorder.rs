@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use super::writer::{Batch, BagWriter};
+use super::writer::{BagWriter, Batch};
 use super::{BagError, RecorderConfig, RecorderStats, StorageOptions, TopicId, TopicInfo};
 
 /// A batch is handed to the writer once it holds this many framed bytes (or `batch_messages` messages).

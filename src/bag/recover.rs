@@ -140,7 +140,8 @@ fn rewrite(path: &Path, scan: &FileScan, kept: &[Kept], rosbag2_yaml: &str) -> R
     }
     for m in kept {
         let Some(&channel_id) = by_original.get(&m.channel) else { continue };
-        let header = MessageHeader { channel_id, sequence: m.sequence, log_time: m.log_time, publish_time: m.publish_time };
+        let header =
+            MessageHeader { channel_id, sequence: m.sequence, log_time: m.log_time, publish_time: m.publish_time };
         writer.write_to_known_channel(&header, &m.data).map_err(mcap)?;
     }
     let record = mcap::records::Metadata {

@@ -142,10 +142,8 @@ impl ReplayReport {
 /// Node settings for a replay: bag `custom_data` if present, else node defaults.
 pub fn recorded_settings(path: &Path) -> Result<NodeSettings, BagError> {
     let mut settings = NodeSettings::default();
-    let scans: Vec<_> = bag_files(path)?
-        .iter()
-        .map(|f| super::reader::scan_file(f, |_| {}))
-        .collect::<Result<_, _>>()?;
+    let scans: Vec<_> =
+        bag_files(path)?.iter().map(|f| super::reader::scan_file(f, |_| {})).collect::<Result<_, _>>()?;
     let custom = super::info::custom_data_of(&scans);
     if let Some(v) = custom.get(CUSTOM_DATA_DEFAULT_BAT) {
         settings.default_bat = v.clone();
@@ -316,7 +314,8 @@ pub fn replay(
                 let swing = &row.swing;
                 let bat_id = override_bat.as_ref().map_or(swing.bat_id.as_str(), |(n, _)| n.as_str());
                 let ball_id = override_ball.as_ref().map_or(swing.ball_id.as_str(), |(n, _)| n.as_str());
-                let (plan, _) = engine::plan_swing(&mut registry, &settings, bat_id, ball_id, convert::impact_from_swing(swing));
+                let (plan, _) =
+                    engine::plan_swing(&mut registry, &settings, bat_id, ball_id, convert::impact_from_swing(swing));
                 registries.insert(row.namespace.clone(), registry);
                 let result = engine::compute(&plan, &stats);
                 let ev = convert::exit_velocity(swing, plan.bat_id(), plan.ball_id(), &result);
@@ -330,9 +329,17 @@ pub fn replay(
                         match (&row.modal_energies, &me) {
                             (Some(a), Some(b)) => cmp.modal_energies(a, b),
                             (None, None) => {}
-                            (a, b) => cmp.field("ModalEnergies.present", f64::from(u8::from(a.is_some())), f64::from(u8::from(b.is_some()))),
+                            (a, b) => cmp.field(
+                                "ModalEnergies.present",
+                                f64::from(u8::from(a.is_some())),
+                                f64::from(u8::from(b.is_some())),
+                            ),
                         }
-                        if cmp.diffs.is_empty() { Verdict::Match } else { Verdict::Differs }
+                        if cmp.diffs.is_empty() {
+                            Verdict::Match
+                        } else {
+                            Verdict::Differs
+                        }
                     }
                 };
                 let worst = cmp.worst;

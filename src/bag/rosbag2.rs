@@ -54,12 +54,7 @@ impl BagMetadata {
 
     /// Latest log time over all files, ns.
     pub fn end_ns(&self) -> u64 {
-        self.files
-            .iter()
-            .filter(|f| f.message_count > 0)
-            .map(|f| f.start_ns + f.duration_ns)
-            .max()
-            .unwrap_or(0)
+        self.files.iter().filter(|f| f.message_count > 0).map(|f| f.start_ns + f.duration_ns).max().unwrap_or(0)
     }
 
     /// Total message count.

@@ -312,7 +312,11 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> BagError + '_ {
 impl BagWriter {
     /// Creates `dir` (which must not exist yet; parents are created) and opens its first file, with
     /// zstd chunks.
-    pub fn create(dir: &Path, max_file_size: Option<u64>, max_file_duration: Option<Duration>) -> Result<Self, BagError> {
+    pub fn create(
+        dir: &Path,
+        max_file_size: Option<u64>,
+        max_file_duration: Option<Duration>,
+    ) -> Result<Self, BagError> {
         Self::create_with(dir, max_file_size, max_file_duration, StorageOptions::default())
     }
 
@@ -685,7 +689,10 @@ impl BagWriter {
         }
         let crc = crc32fast::hash(&records);
         let mut out = std::mem::take(&mut self.compressed);
-        let name = self.compressor.compress(&records, &mut out).map_err(|e| BagError::Mcap(format!("{}: {e}", file.path.display())))?;
+        let name = self
+            .compressor
+            .compress(&records, &mut out)
+            .map_err(|e| BagError::Mcap(format!("{}: {e}", file.path.display())))?;
         let data = if name.is_empty() { &records } else { &out };
         let written = write_chunk(file, &records, data, name, crc, &index, bounds);
         self.compressed = out;
@@ -731,7 +738,8 @@ impl BagWriter {
         let metadata = self.metadata();
         let rosbag2 = BTreeMap::from([("serialized_metadata".to_string(), metadata.to_yaml_body(0))]);
         finish_file(&mut file, &self.topics, &rosbag2).map_err(io_err(&file.path))?;
-        let out = file.out.into_inner().map_err(|e| BagError::Io { path: file.path.clone(), source: e.into_error() })?;
+        let out =
+            file.out.into_inner().map_err(|e| BagError::Io { path: file.path.clone(), source: e.into_error() })?;
         out.sync_all().map_err(io_err(&file.path))?;
         Ok(())
     }
@@ -952,7 +960,8 @@ fn finish_file(file: &mut OpenFile, topics: &[TopicInfo], rosbag2: &BTreeMap<Str
         Ok(())
     };
     let declared = file.schema_of.len().min(topics.len());
-    let schemas = file.schemas.iter().enumerate().map(|(i, &first)| schema_body(i as u16 + 1, &topics[first])).collect();
+    let schemas =
+        file.schemas.iter().enumerate().map(|(i, &first)| schema_body(i as u16 + 1, &topics[first])).collect();
     group(file, op::SCHEMA, schemas)?;
     let channels = (0..declared).map(|t| channel_body(channel_id(t as u16), file.schema_of[t], &topics[t])).collect();
     group(file, op::CHANNEL, channels)?;

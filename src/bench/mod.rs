@@ -212,17 +212,13 @@ fn dds<E: std::fmt::Debug>(e: E) -> anyhow::Error {
 }
 
 fn dds_config(domain: u16) -> DdsConfig {
-    DdsConfig {
-        domain_id: domain,
-        range: DiscoveryRange::Localhost,
-    }
+    DdsConfig { domain_id: domain, range: DiscoveryRange::Localhost }
 }
 
 /// Refuses to run DDS unless in a private network namespace whose only interface is `lo`.
 pub fn require_private_network() -> anyhow::Result<()> {
-    crate::ros::network_guard().context(
-        "sweetspot bench runs DDS only inside a private network namespace (use scripts/bench)",
-    )?;
+    crate::ros::network_guard()
+        .context("sweetspot bench runs DDS only inside a private network namespace (use scripts/bench)")?;
     Ok(())
 }
 
@@ -235,10 +231,7 @@ pub fn require_private_network() -> anyhow::Result<()> {
 /// after spinning for `work`.
 pub fn run_echo_server(domain: u16, work: Duration) -> anyhow::Result<()> {
     require_private_network()?;
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()?;
+    let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
     let context = crate::ros::context(&dds_config(domain))?;
     let mut node = context
         .new_node(
@@ -247,23 +240,15 @@ pub fn run_echo_server(domain: u16, work: Duration) -> anyhow::Result<()> {
         )
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let swing_topic = crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
-    let ev_topic = crate::ros::create_topic::<ExitVelocity>(
-        &node,
-        "/exit_velocity",
-        &crate::ros::results_qos(),
-    )?;
+    let ev_topic = crate::ros::create_topic::<ExitVelocity>(&node, "/exit_velocity", &crate::ros::results_qos())?;
     let reader_qos = crate::ros::swing_qos().history(History::KeepLast { depth: 16_384 });
-    let sub = node
-        .create_subscription::<Swing>(&swing_topic, Some(reader_qos))
-        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let sub =
+        node.create_subscription::<Swing>(&swing_topic, Some(reader_qos)).map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let writer_qos = crate::ros::results_qos()
         .history(History::KeepLast { depth: 1000 })
-        .reliability(Reliability::Reliable {
-            when_full: WhenFull::Wait(Duration::from_millis(500)),
-        });
-    let publisher = node
-        .create_publisher::<ExitVelocity>(&ev_topic, Some(writer_qos))
-        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        .reliability(Reliability::Reliable { when_full: WhenFull::Wait(Duration::from_millis(500)) });
+    let publisher =
+        node.create_publisher::<ExitVelocity>(&ev_topic, Some(writer_qos)).map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let spinner = node.spinner().map_err(|e| anyhow::anyhow!("{e:?}"))?;
     rt.spawn(spinner.spin());
     eprintln!("raw echo up on domain {domain}");
@@ -327,10 +312,7 @@ impl ChildProc {
                 }
             });
         }
-        Ok(ChildProc {
-            child: Some(child),
-            stderr,
-        })
+        Ok(ChildProc { child: Some(child), stderr })
     }
 
     fn pid(&self) -> u32 {
@@ -344,14 +326,9 @@ impl ChildProc {
     /// SIGTERM, then waits up to 20 s; returns the stderr lines.
     fn terminate(mut self) -> String {
         if let Some(mut child) = self.child.take() {
-            let _ = Command::new("kill")
-                .arg("-TERM")
-                .arg(child.id().to_string())
-                .status();
+            let _ = Command::new("kill").arg("-TERM").arg(child.id().to_string()).status();
             let start = Instant::now();
-            while child.try_wait().ok().flatten().is_none()
-                && start.elapsed() < Duration::from_secs(20)
-            {
+            while child.try_wait().ok().flatten().is_none() && start.elapsed() < Duration::from_secs(20) {
                 std::thread::sleep(Duration::from_millis(20));
             }
             let _ = child.kill();
@@ -399,42 +376,20 @@ impl Client {
     /// A client on `domain` (loopback only).
     pub fn new(domain: u16) -> anyhow::Result<Client> {
         require_private_network()?;
-        let rt = tokio::runtime::Builder::new_multi_thread()
-            .worker_threads(2)
-            .enable_all()
-            .build()?;
+        let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
         let context = crate::ros::context(&dds_config(domain))?;
         let mut node = context
-            .new_node(
-                NodeName::new("/", "sweetspot_bench").map_err(dds)?,
-                NodeOptions::new().enable_rosout(false),
-            )
+            .new_node(NodeName::new("/", "sweetspot_bench").map_err(dds)?, NodeOptions::new().enable_rosout(false))
             .map_err(dds)?;
-        let swing_topic =
-            crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
-        let ev_topic = crate::ros::create_topic::<ExitVelocity>(
-            &node,
-            "/exit_velocity",
-            &crate::ros::results_qos(),
-        )?;
-        let diag_topic = crate::ros::create_topic::<DiagnosticArray>(
-            &node,
-            "/diagnostics",
-            &crate::ros::diagnostics_qos(),
-        )?;
-        let writer_qos = crate::ros::swing_qos().reliability(Reliability::Reliable {
-            when_full: WhenFull::Block,
-        });
-        let publisher = node
-            .create_publisher::<Swing>(&swing_topic, Some(writer_qos))
-            .map_err(dds)?;
+        let swing_topic = crate::ros::create_topic::<Swing>(&node, "/swing", &crate::ros::swing_qos())?;
+        let ev_topic = crate::ros::create_topic::<ExitVelocity>(&node, "/exit_velocity", &crate::ros::results_qos())?;
+        let diag_topic =
+            crate::ros::create_topic::<DiagnosticArray>(&node, "/diagnostics", &crate::ros::diagnostics_qos())?;
+        let writer_qos = crate::ros::swing_qos().reliability(Reliability::Reliable { when_full: WhenFull::Block });
+        let publisher = node.create_publisher::<Swing>(&swing_topic, Some(writer_qos)).map_err(dds)?;
         let reader_qos = crate::ros::results_qos().history(History::KeepLast { depth: 65_536 });
-        let ev_sub = node
-            .create_subscription::<ExitVelocity>(&ev_topic, Some(reader_qos))
-            .map_err(dds)?;
-        let diag_sub = node
-            .create_subscription::<DiagnosticArray>(&diag_topic, None)
-            .map_err(dds)?;
+        let ev_sub = node.create_subscription::<ExitVelocity>(&ev_topic, Some(reader_qos)).map_err(dds)?;
+        let diag_sub = node.create_subscription::<DiagnosticArray>(&diag_topic, None).map_err(dds)?;
         let spinner = node.spinner().map_err(dds)?;
         rt.spawn(spinner.spin());
         let (tx, answers) = mpsc::channel();
@@ -464,21 +419,14 @@ impl Client {
                 }
             }
         });
-        Ok(Client {
-            rt,
-            node,
-            publisher,
-            answers,
-            diagnostics,
-            next_id: 1,
-        })
+        Ok(Client { rt, node, publisher, answers, diagnostics, next_id: 1 })
     }
 
     /// Waits for the server to match and answer a few swings.
     pub fn warm_up(&mut self, limit: Duration) -> anyhow::Result<()> {
-        let matched = self.rt.block_on(async {
-            tokio::time::timeout(limit, self.publisher.wait_for_subscription(&self.node)).await
-        });
+        let matched = self
+            .rt
+            .block_on(async { tokio::time::timeout(limit, self.publisher.wait_for_subscription(&self.node)).await });
         if matched.is_err() {
             bail!("no subscriber on /swing matched within {limit:?}");
         }
@@ -494,11 +442,7 @@ impl Client {
 
     /// The latest diagnostics value `key` as an integer (0 if absent).
     pub fn diagnostic(&self, key: &str) -> u64 {
-        self.diagnostics
-            .lock()
-            .ok()
-            .and_then(|m| m.get(key).and_then(|v| v.parse().ok()))
-            .unwrap_or(0)
+        self.diagnostics.lock().ok().and_then(|m| m.get(key).and_then(|v| v.parse().ok())).unwrap_or(0)
     }
 
     /// Publishes `count` swings paced at `rate`/s, then waits for their answers (at most `quiet` without a
@@ -556,34 +500,19 @@ impl Client {
                 bail!("publishing swing {}: {e:?}", first + i);
             }
             while let Ok((id, at)) = self.answers.try_recv() {
-                take(
-                    id,
-                    at,
-                    &sent_at,
-                    &mut histogram,
-                    &mut answered,
-                    &mut last_answer,
-                );
+                take(id, at, &sent_at, &mut histogram, &mut answered, &mut last_answer);
             }
         }
         let send_end = Instant::now();
         let achieved = count as f64 / send_end.duration_since(start).as_secs_f64().max(1e-9);
         while answered < count {
             match self.answers.recv_timeout(quiet) {
-                Ok((id, at)) => take(
-                    id,
-                    at,
-                    &sent_at,
-                    &mut histogram,
-                    &mut answered,
-                    &mut last_answer,
-                ),
+                Ok((id, at)) => take(id, at, &sent_at, &mut histogram, &mut answered, &mut last_answer),
                 Err(_) => break,
             }
         }
-        let drain_ms = last_answer
-            .map(|t| t.saturating_duration_since(send_end).as_secs_f64() * 1e3)
-            .unwrap_or(f64::NAN);
+        let drain_ms =
+            last_answer.map(|t| t.saturating_duration_since(send_end).as_secs_f64() * 1e3).unwrap_or(f64::NAN);
         let result = RunResult {
             target_rate: rate,
             achieved_rate: achieved,
@@ -619,45 +548,17 @@ fn count_for(rate: u32, seconds: f64) -> u64 {
 pub fn machine() -> BTreeMap<String, String> {
     let mut m = BTreeMap::new();
     let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-    let model = cpuinfo
-        .lines()
-        .find(|l| l.starts_with("model name"))
-        .and_then(|l| l.split(':').nth(1))
-        .unwrap_or("?")
-        .trim();
+    let model =
+        cpuinfo.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).unwrap_or("?").trim();
     m.insert("cpu".into(), model.to_string());
-    m.insert(
-        "nproc".into(),
-        std::thread::available_parallelism()
-            .map(|n| n.get().to_string())
-            .unwrap_or_default(),
-    );
-    m.insert(
-        "loadavg".into(),
-        std::fs::read_to_string("/proc/loadavg")
-            .unwrap_or_default()
-            .trim()
-            .to_string(),
-    );
+    m.insert("nproc".into(), std::thread::available_parallelism().map(|n| n.get().to_string()).unwrap_or_default());
+    m.insert("loadavg".into(), std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string());
     m.insert(
         "kernel".into(),
-        std::fs::read_to_string("/proc/sys/kernel/osrelease")
-            .unwrap_or_default()
-            .trim()
-            .to_string(),
+        std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default().trim().to_string(),
     );
-    m.insert(
-        "profile".into(),
-        if cfg!(debug_assertions) {
-            "debug".into()
-        } else {
-            "release".into()
-        },
-    );
-    m.insert(
-        "utc".into(),
-        chrono::Utc::now().format("%Y-%m-%dT%H:%M:%SZ").to_string(),
-    );
+    m.insert("profile".into(), if cfg!(debug_assertions) { "debug".into() } else { "release".into() });
+    m.insert("utc".into(), chrono::Utc::now().format("%Y-%m-%dT%H:%M:%SZ").to_string());
     m
 }
 
@@ -682,8 +583,7 @@ fn spawn_recording_node(exe: &Path, bag_dir: &Path, domain: u16, work_dir: &Path
 
 pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     require_private_network()?;
-    std::fs::create_dir_all(&opts.work_dir)
-        .with_context(|| format!("creating {}", opts.work_dir.display()))?;
+    std::fs::create_dir_all(&opts.work_dir).with_context(|| format!("creating {}", opts.work_dir.display()))?;
     let machine_before = machine();
     let quiet = Duration::from_secs(3);
 
@@ -691,19 +591,12 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     log("raw echo: starting");
     let echo = ChildProc::spawn(
         &opts.exe,
-        &[
-            "bench".into(),
-            "--echo-server".into(),
-            "--domain".into(),
-            (opts.domain + 1).to_string(),
-        ],
+        &["bench".into(), "--echo-server".into(), "--domain".into(), (opts.domain + 1).to_string()],
         opts.domain + 1,
         &opts.work_dir,
     )?;
     let mut raw_client = Client::new(opts.domain + 1)?;
-    raw_client
-        .warm_up(Duration::from_secs(30))
-        .with_context(|| format!("raw echo: {}", echo.log()))?;
+    raw_client.warm_up(Duration::from_secs(30)).with_context(|| format!("raw echo: {}", echo.log()))?;
     let latency_rates: &[u32] = if opts.sustained_only { &[] } else { &LATENCY_RATES };
     let mut raw = Vec::new();
     for &rate in latency_rates {
@@ -719,16 +612,12 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
 
     // 2. The node, recording on.
     log("node: starting (recording on)");
-    let bag_dir = opts
-        .work_dir
-        .join(format!("node_bag_{}", std::process::id()));
+    let bag_dir = opts.work_dir.join(format!("node_bag_{}", std::process::id()));
     let node_exe = opts.node_exe.as_deref().unwrap_or(&opts.exe);
     log(&format!("node executable: {}", node_exe.display()));
     let node = spawn_recording_node(node_exe, &bag_dir, opts.domain, &opts.work_dir)?;
     let mut client = Client::new(opts.domain)?;
-    client
-        .warm_up(Duration::from_secs(60))
-        .with_context(|| format!("node: {}", node.log()))?;
+    client.warm_up(Duration::from_secs(60)).with_context(|| format!("node: {}", node.log()))?;
     let mut node_runs = Vec::new();
     let mut memory = MemoryResult::default();
     for &rate in latency_rates {
@@ -742,18 +631,12 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         }
         node_runs.push(r);
     }
-    let p99_ratio = raw
-        .iter()
-        .zip(&node_runs)
-        .map(|(r, n)| (r.target_rate, n.p99_us as f64 / r.p99_us.max(1) as f64))
-        .collect();
+    let p99_ratio =
+        raw.iter().zip(&node_runs).map(|(r, n)| (r.target_rate, n.p99_us as f64 / r.p99_us.max(1) as f64)).collect();
 
     // 3. Highest sustained rate with recording on.
-    let step_rates: &[u32] = if opts.quick {
-        &[5_000, 10_000, 20_000]
-    } else {
-        &[2_000, 5_000, 10_000, 15_000, 20_000, 30_000, 40_000]
-    };
+    let step_rates: &[u32] =
+        if opts.quick { &[5_000, 10_000, 20_000] } else { &[2_000, 5_000, 10_000, 15_000, 20_000, 30_000, 40_000] };
     let step_seconds = if opts.quick { 2.0 } else { 5.0 };
     let mut steps = Vec::new();
     let mut max_sustained = 0;
@@ -761,17 +644,12 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         // A shared machine can stall any few seconds; a failed step is retried once before the search stops.
         for attempt in 0..2 {
             std::thread::sleep(Duration::from_millis(1200)); // fresh diagnostics before the step
-            let (dropped0, rec_dropped0) = (
-                client.diagnostic("swings_dropped"),
-                client.diagnostic("recorder_dropped"),
-            );
+            let (dropped0, rec_dropped0) = (client.diagnostic("swings_dropped"), client.diagnostic("recorder_dropped"));
             let lost0 = client.diagnostic("swings_lost_in_transport");
             let r = client.run(rate, count_for(rate, step_seconds), quiet)?;
             std::thread::sleep(Duration::from_millis(1200)); // diagnostics after the step
             let node_dropped = client.diagnostic("swings_dropped").saturating_sub(dropped0);
-            let recorder_dropped = client
-                .diagnostic("recorder_dropped")
-                .saturating_sub(rec_dropped0);
+            let recorder_dropped = client.diagnostic("recorder_dropped").saturating_sub(rec_dropped0);
             let mut why = Vec::new();
             if r.answered < r.sent {
                 why.push(format!("{} answers missing", r.sent - r.answered));
@@ -779,9 +657,7 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
             if node_dropped > 0 {
                 why.push(format!("node dropped {node_dropped}"));
             }
-            let lost = client
-                .diagnostic("swings_lost_in_transport")
-                .saturating_sub(lost0);
+            let lost = client.diagnostic("swings_lost_in_transport").saturating_sub(lost0);
             if lost > 0 {
                 why.push(format!("{lost} swings lost in transport"));
             }
@@ -796,29 +672,12 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
             }
             // NaN (no answer at all) counts as a backlog too.
             if r.drain_ms.is_nan() || r.drain_ms >= 500.0 {
-                why.push(format!(
-                    "backlog: last answer {:.0} ms after the last swing",
-                    r.drain_ms
-                ));
+                why.push(format!("backlog: last answer {:.0} ms after the last swing", r.drain_ms));
             }
             let sustained = why.is_empty();
-            let verdict = if sustained {
-                "sustained".to_string()
-            } else {
-                why.join("; ")
-            };
-            log(&format!(
-                "step {rate:>6}/s (attempt {}): {verdict} (p99 {} µs)",
-                attempt + 1,
-                r.p99_us
-            ));
-            steps.push(StepResult {
-                run: r,
-                node_dropped,
-                recorder_dropped,
-                sustained,
-                verdict,
-            });
+            let verdict = if sustained { "sustained".to_string() } else { why.join("; ") };
+            log(&format!("step {rate:>6}/s (attempt {}): {verdict} (p99 {} µs)", attempt + 1, r.p99_us));
+            steps.push(StepResult { run: r, node_dropped, recorder_dropped, sustained, verdict });
             if sustained {
                 max_sustained = rate;
                 break;
@@ -836,11 +695,7 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     }
     drop(client);
     let node_log = node.terminate();
-    if let Some(line) = node_log
-        .lines()
-        .rev()
-        .find(|l| l.contains("bag") && l.contains("closed"))
-    {
+    if let Some(line) = node_log.lines().rev().find(|l| l.contains("bag") && l.contains("closed")) {
         log(line);
     }
     let _ = std::fs::remove_dir_all(&bag_dir);
@@ -855,21 +710,9 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     let mut machine = machine_before;
     machine.insert(
         "loadavg_after".into(),
-        std::fs::read_to_string("/proc/loadavg")
-            .unwrap_or_default()
-            .trim()
-            .to_string(),
+        std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string(),
     );
-    Ok(BenchReport {
-        machine,
-        raw,
-        node: node_runs,
-        p99_ratio,
-        steps,
-        max_sustained_rate: max_sustained,
-        memory,
-        disk,
-    })
+    Ok(BenchReport { machine, raw, node: node_runs, p99_ratio, steps, max_sustained_rate: max_sustained, memory, disk })
 }
 
 /// Step 4 of [`run`]: the memory soak — `soak` at 5,000/s (1,000/s if the node sustained less), the node's RSS
@@ -903,10 +746,8 @@ fn soak(
     memory.soak_rss_kb = sampler.join().unwrap_or_default();
     memory.soak_lost = soak.sent - soak.answered;
     let quarter = (memory.soak_rss_kb.len() / 4).max(1);
-    memory.soak_first_quarter_kb =
-        median(&memory.soak_rss_kb[..quarter.min(memory.soak_rss_kb.len())]);
-    memory.soak_last_quarter_kb =
-        median(&memory.soak_rss_kb[memory.soak_rss_kb.len().saturating_sub(quarter)..]);
+    memory.soak_first_quarter_kb = median(&memory.soak_rss_kb[..quarter.min(memory.soak_rss_kb.len())]);
+    memory.soak_last_quarter_kb = median(&memory.soak_rss_kb[memory.soak_rss_kb.len().saturating_sub(quarter)..]);
     log(&format!(
         "soak: RSS first quarter {} kB, last quarter {} kB, {} lost",
         memory.soak_first_quarter_kb, memory.soak_last_quarter_kb, memory.soak_lost
@@ -943,8 +784,7 @@ pub struct InterleavedReport {
 /// raw echo, this executable's node, and `opts.compare`'s (all recording, as in [`run`]).
 pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<InterleavedReport> {
     require_private_network()?;
-    std::fs::create_dir_all(&opts.work_dir)
-        .with_context(|| format!("creating {}", opts.work_dir.display()))?;
+    std::fs::create_dir_all(&opts.work_dir).with_context(|| format!("creating {}", opts.work_dir.display()))?;
     let machine_before = machine();
     let quiet = Duration::from_secs(3);
     let mut nodes = vec![("node".to_string(), opts.exe.clone())];
@@ -1003,11 +843,8 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
                 t.answered += r.answered;
                 t.achieved_rate += r.achieved_rate / blocks as f64;
                 // NaN (a block without any answer) stays NaN, as in `run`.
-                t.drain_ms = if t.drain_ms.is_nan() || r.drain_ms.is_nan() {
-                    f64::NAN
-                } else {
-                    t.drain_ms.max(r.drain_ms)
-                };
+                t.drain_ms =
+                    if t.drain_ms.is_nan() || r.drain_ms.is_nan() { f64::NAN } else { t.drain_ms.max(r.drain_ms) };
             }
         }
         for (k, (mut t, h)) in totals.into_iter().zip(histograms).enumerate() {
@@ -1241,8 +1078,9 @@ pub fn disk_bench_one(
     let _ = std::fs::remove_dir_all(&bag);
     let (topic_infos, payloads): (Vec<_>, Vec<_>) = bench_streams(message).into_iter().unzip();
     let streams = payloads.len().max(1) as u64;
-    let payload_bytes: u64 =
-        (0..messages).map(|i| payloads[(i % streams) as usize][((i / streams) % BENCH_PAYLOADS) as usize].len() as u64).sum();
+    let payload_bytes: u64 = (0..messages)
+        .map(|i| payloads[(i % streams) as usize][((i / streams) % BENCH_PAYLOADS) as usize].len() as u64)
+        .sum();
     let dd_before = dd_mb_s(dir, payload_bytes)?;
     let mut config = RecorderConfig::new(&bag);
     config.queue_capacity = 65_536;
@@ -1314,13 +1152,7 @@ fn dd_mb_s(dir: &Path, bytes: u64) -> anyhow::Result<f64> {
 
 fn dir_bytes(dir: &Path) -> u64 {
     std::fs::read_dir(dir)
-        .map(|entries| {
-            entries
-                .filter_map(Result::ok)
-                .filter_map(|e| e.metadata().ok())
-                .map(|m| m.len())
-                .sum()
-        })
+        .map(|entries| entries.filter_map(Result::ok).filter_map(|e| e.metadata().ok()).map(|m| m.len()).sum())
         .unwrap_or(0)
 }
 
@@ -1333,10 +1165,7 @@ pub fn table(r: &BenchReport) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     let _ = writeln!(s, "{}", machine_line(&r.machine));
-    let _ = writeln!(
-        s,
-        "\nswing → exit_velocity over DDS/loopback (node recording; child processes)"
-    );
+    let _ = writeln!(s, "\nswing → exit_velocity over DDS/loopback (node recording; child processes)");
     let _ = writeln!(
         s,
         "{:>8} | {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} | {:>9}",
@@ -1355,21 +1184,13 @@ pub fn table(r: &BenchReport) -> String {
             node.max_us,
             ratio,
             if node.answered < node.sent || raw.answered < raw.sent {
-                format!(
-                    "  (lost: raw {}, node {})",
-                    raw.sent - raw.answered,
-                    node.sent - node.answered
-                )
+                format!("  (lost: raw {}, node {})", raw.sent - raw.answered, node.sent - node.answered)
             } else {
                 String::new()
             }
         );
     }
-    let _ = writeln!(
-        s,
-        "\nsustained rate, recording on (target ≥ 10000/s): {}/s",
-        r.max_sustained_rate
-    );
+    let _ = writeln!(s, "\nsustained rate, recording on (target ≥ 10000/s): {}/s", r.max_sustained_rate);
     for st in &r.steps {
         let _ = writeln!(
             s,
@@ -1393,7 +1214,8 @@ pub fn table(r: &BenchReport) -> String {
 /// The recorder-against-dd rows as text (the full report's last part, and `--only recorder`).
 pub fn disk_table(disk: &[DiskResult]) -> String {
     use std::fmt::Write;
-    let mut s = String::from("recorder against dd (1 MiB blocks, fdatasync, same bytes as the messages), target ≥ 80 %:\n");
+    let mut s =
+        String::from("recorder against dd (1 MiB blocks, fdatasync, same bytes as the messages), target ≥ 80 %:\n");
     for d in disk {
         let _ = writeln!(
             s,
@@ -1446,8 +1268,9 @@ mod tests {
         assert!(streams.iter().all(|(_, p)| p.len() as u64 == BENCH_PAYLOADS));
 
         let dir = tempfile::tempdir().unwrap();
-        let r = disk_bench_one(dir.path(), BenchMessage::PerSwing, 3_000, "zstd", crate::bag::StorageOptions::default())
-            .unwrap();
+        let r =
+            disk_bench_one(dir.path(), BenchMessage::PerSwing, 3_000, "zstd", crate::bag::StorageOptions::default())
+                .unwrap();
         assert_eq!(r.messages, 3_000);
         let per_swing: usize = sizes.iter().sum();
         assert_eq!(r.payload_bytes, 1_000 * per_swing as u64, "1,000 swings of three messages each");

@@ -109,11 +109,7 @@ pub struct FitOptions {
 
 impl Default for FitOptions {
     fn default() -> Self {
-        FitOptions {
-            fit_youngs: false,
-            max_iterations: 30,
-            tolerance: 1e-6,
-        }
+        FitOptions { fit_youngs: false, max_iterations: 30, tolerance: 1e-6 }
     }
 }
 
@@ -200,10 +196,8 @@ fn predict(
         if let Some(&e) = youngs.get(id) {
             bat.shell.youngs_modulus = e;
         }
-        let set = ModeSet::compute(&bat, pb.modes).map_err(|source| CalibrateError::Physics {
-            context: format!("bat '{id}'"),
-            source,
-        })?;
+        let set = ModeSet::compute(&bat, pb.modes)
+            .map_err(|source| CalibrateError::Physics { context: format!("bat '{id}'"), source })?;
         modes.insert(id.as_str(), set);
     }
     problem
@@ -212,16 +206,10 @@ fn predict(
         .map(|o| match modes.get(o.bat_id.as_str()) {
             None => Ok(None),
             Some(set) => {
-                let options = CollisionOptions {
-                    modes: problem.bats[&o.bat_id].modes,
-                    time_step: problem.time_step,
-                };
+                let options = CollisionOptions { modes: problem.bats[&o.bat_id].modes, time_step: problem.time_step };
                 collide(set, &ball, &o.impact, &options)
                     .map(|r| Some(r.exit_speed))
-                    .map_err(|source| CalibrateError::Physics {
-                        context: format!("swing {}", o.swing_id),
-                        source,
-                    })
+                    .map_err(|source| CalibrateError::Physics { context: format!("swing {}", o.swing_id), source })
             }
         })
         .collect()
@@ -237,12 +225,8 @@ struct Layout {
 
 impl Layout {
     fn new(problem: &Problem, options: &FitOptions) -> Layout {
-        let mut l = Layout {
-            names: vec!["cor".into()],
-            units: vec![""],
-            start: vec![problem.ball.cor],
-            bat_of: vec![None],
-        };
+        let mut l =
+            Layout { names: vec!["cor".into()], units: vec![""], start: vec![problem.ball.cor], bat_of: vec![None] };
         if options.fit_youngs {
             for (id, pb) in &problem.bats {
                 if problem.observations.iter().any(|o| &o.bat_id == id) {
@@ -271,11 +255,7 @@ impl Layout {
 fn residuals_of(problem: &Problem, predicted: &[Option<f64>]) -> DVector<f64> {
     DVector::from_iterator(
         predicted.len(),
-        problem
-            .observations
-            .iter()
-            .zip(predicted)
-            .map(|(o, p)| o.measured_exit_speed - p.unwrap_or(f64::NAN)),
+        problem.observations.iter().zip(predicted).map(|(o, p)| o.measured_exit_speed - p.unwrap_or(f64::NAN)),
     )
 }
 
@@ -309,9 +289,7 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
     let before = eval(&x, None)?;
     let mut r = residuals_of(problem, &before);
     if !cost(&r).is_finite() {
-        return Err(CalibrateError::NoData(
-            "the start parameters give no prediction for some swings".into(),
-        ));
+        return Err(CalibrateError::NoData("the start parameters give no prediction for some swings".into()));
     }
     let mut lambda = 1e-3;
     let mut iterations = 0;
@@ -436,11 +414,8 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
 /// The physics bat a BatParams message describes (a preset, or the profile and materials in its fields), and
 /// the modes the node integrates for it (with a preset, BatParams.msg ignores max_modes: the node's default).
 pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError> {
-    let modes = if params.max_modes == 0 || !params.preset.is_empty() {
-        DEFAULT_MODES
-    } else {
-        params.max_modes as usize
-    };
+    let modes =
+        if params.max_modes == 0 || !params.preset.is_empty() { DEFAULT_MODES } else { params.max_modes as usize };
     if !params.preset.is_empty() {
         let mut bat = Bat::preset(&params.preset)?;
         bat.name = params.bat_id.clone();
@@ -475,15 +450,8 @@ pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError>
         z_start: params.core_z_start,
         z_end: params.core_z_end,
     });
-    let slice_length = if params.slice_length > 0.0 {
-        params.slice_length
-    } else {
-        0.01
-    };
-    Ok((
-        Bat::new(params.bat_id.clone(), stations, shell, core, slice_length)?,
-        modes,
-    ))
+    let slice_length = if params.slice_length > 0.0 { params.slice_length } else { 0.01 };
+    Ok((Bat::new(params.bat_id.clone(), stations, shell, core, slice_length)?, modes))
 }
 
 /// A BatParams message carrying every field of `bat` (no preset), so a fitted bat can be published: the
@@ -520,13 +488,9 @@ pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
         let t = m.log_time_ns;
         let ty = m.channel.topic.type_name.as_str();
         let ok = if ty == BatParams::TYPE_NAME {
-            decode_cdr::<BatParams>(m.data)
-                .map(|v| inputs.bats.push((t, v)))
-                .is_ok()
+            decode_cdr::<BatParams>(m.data).map(|v| inputs.bats.push((t, v))).is_ok()
         } else if ty == BallParams::TYPE_NAME {
-            decode_cdr::<BallParams>(m.data)
-                .map(|v| inputs.balls.push((t, v)))
-                .is_ok()
+            decode_cdr::<BallParams>(m.data).map(|v| inputs.balls.push((t, v))).is_ok()
         } else if ty == Swing::TYPE_NAME {
             decode_cdr::<Swing>(m.data).map(|v| inputs.swings.push((t, v))).is_ok()
         } else {
@@ -566,14 +530,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
                 continue;
             }
         };
-        bats.insert(
-            params.bat_id.clone(),
-            ProblemBat {
-                bat,
-                modes,
-                params: params.clone(),
-            },
-        );
+        bats.insert(params.bat_id.clone(), ProblemBat { bat, modes, params: params.clone() });
     }
     let mut balls: BTreeMap<String, Ball> = BTreeMap::new();
     balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
@@ -595,11 +552,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         if !s.measured_exit_speed.is_finite() {
             continue;
         }
-        let bat_id = if s.bat_id.is_empty() {
-            latest(&bat_times, *t).unwrap_or_default()
-        } else {
-            s.bat_id.clone()
-        };
+        let bat_id = if s.bat_id.is_empty() { latest(&bat_times, *t).unwrap_or_default() } else { s.bat_id.clone() };
         let ball = if s.ball_id.is_empty() {
             latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string())
         } else {
@@ -613,11 +566,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
                     ProblemBat {
                         bat,
                         modes: DEFAULT_MODES,
-                        params: BatParams {
-                            bat_id: bat_id.clone(),
-                            preset: bat_id.clone(),
-                            ..Default::default()
-                        },
+                        params: BatParams { bat_id: bat_id.clone(), preset: bat_id.clone(), ..Default::default() },
                     },
                 );
             } else {
@@ -639,15 +588,11 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
     }
     let chosen = match ball_id {
         Some(id) => id.to_string(),
-        None => by_ball
-            .iter()
-            .max_by_key(|(_, v)| v.len())
-            .map(|(k, _)| k.clone())
-            .ok_or_else(|| {
-                CalibrateError::NoData(
-                    "the bag holds no swing with a measured exit speed (measured_exit_speed is NaN in all)".into(),
-                )
-            })?,
+        None => by_ball.iter().max_by_key(|(_, v)| v.len()).map(|(k, _)| k.clone()).ok_or_else(|| {
+            CalibrateError::NoData(
+                "the bag holds no swing with a measured exit speed (measured_exit_speed is NaN in all)".into(),
+            )
+        })?,
     };
     let mut observations = by_ball.remove(&chosen).unwrap_or_default();
     // Swings the node would reject (impact off the bat, bat and ball not approaching, …) cannot be fitted.
@@ -664,33 +609,19 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             }
         },
         _ => {
-            skipped.push(format!(
-                "swing {}: the modes of bat '{}' cannot be computed",
-                o.swing_id, o.bat_id
-            ));
+            skipped.push(format!("swing {}: the modes of bat '{}' cannot be computed", o.swing_id, o.bat_id));
             false
         }
     });
     if observations.is_empty() {
-        return Err(CalibrateError::NoData(format!(
-            "no measured swing used ball '{chosen}'"
-        )));
+        return Err(CalibrateError::NoData(format!("no measured swing used ball '{chosen}'")));
     }
     let ball = *balls.get(&chosen).ok_or_else(|| {
-        CalibrateError::NoData(format!(
-            "ball '{chosen}' was never announced on ball/params in this bag"
-        ))
+        CalibrateError::NoData(format!("ball '{chosen}' was never announced on ball/params in this bag"))
     })?;
     let used: std::collections::BTreeSet<&str> = observations.iter().map(|o| o.bat_id.as_str()).collect();
     bats.retain(|id, _| used.contains(id.as_str()));
-    Ok(Problem {
-        bats,
-        ball_id: chosen,
-        ball,
-        observations,
-        time_step: DEFAULT_TIME_STEP,
-        skipped,
-    })
+    Ok(Problem { bats, ball_id: chosen, ball, observations, time_step: DEFAULT_TIME_STEP, skipped })
 }
 
 /// Reads a bag and builds its fitting problem (see [`problem_from_inputs`]).

@@ -141,11 +141,16 @@ pub(crate) fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
 }
 
 fn info(path: PathBuf, json: bool) -> anyhow::Result<()> {
-    let files = bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let files =
+        bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
     let bar = progress(files.len() as u64, "scanning");
     let mut scans = Vec::new();
     for file in &files {
-        scans.push(bag::reader::scan_file(file, |_| {}).map_err(flat).with_context(|| format!("reading {}", file.display()))?);
+        scans.push(
+            bag::reader::scan_file(file, |_| {})
+                .map_err(flat)
+                .with_context(|| format!("reading {}", file.display()))?,
+        );
         bar.inc(1);
     }
     bar.finish_and_clear();
@@ -159,9 +164,12 @@ fn info(path: PathBuf, json: bool) -> anyhow::Result<()> {
 }
 
 fn recover(path: PathBuf) -> anyhow::Result<()> {
-    let files = bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let files =
+        bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
     let bar = progress(files.len() as u64, "recovering");
-    let report = bag::recover::recover(&path, |_| bar.inc(1)).map_err(flat).with_context(|| format!("recovering {}", path.display()))?;
+    let report = bag::recover::recover(&path, |_| bar.inc(1))
+        .map_err(flat)
+        .with_context(|| format!("recovering {}", path.display()))?;
     bar.finish_and_clear();
     for file in &report {
         let name = file.path.display();
@@ -215,8 +223,9 @@ fn replay(
     json: bool,
 ) -> anyhow::Result<()> {
     use bag::replay::Verdict;
-    let mut settings =
-        bag::replay::recorded_settings(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let mut settings = bag::replay::recorded_settings(&path)
+        .map_err(flat)
+        .with_context(|| format!("reading bag {}", path.display()))?;
     if let Some(v) = time_step {
         settings.time_step = v;
     }
@@ -275,7 +284,11 @@ fn replay(
                 row.worst_relative
             );
         }
-        let tol = if report.tolerance == 0.0 { "bit-exact".to_string() } else { format!("relative tolerance {}", report.tolerance) };
+        let tol = if report.tolerance == 0.0 {
+            "bit-exact".to_string()
+        } else {
+            format!("relative tolerance {}", report.tolerance)
+        };
         let s = &report.settings;
         println!(
             "{} swings: {matched} match, {differ} differ ({tol}), {unrecorded} without recorded output. Settings: default_bat {}, default_modes {}, time_step {} s, max_bats {}, max_balls {}, max_bat_slices {}. Bag written by: {}",
@@ -298,7 +311,6 @@ fn replay(
     }
     Ok(())
 }
-
 
 fn play(path: PathBuf, options: bag::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
     let stop = crate::ros::shell::interrupt_flag();

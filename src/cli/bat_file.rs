@@ -169,7 +169,11 @@ impl BatSpec {
 }
 
 /// Parses a bat file's TOML text; `read_profile` returns the CSV text for the `profile` name it is given.
-pub fn parse_bat_toml(text: &str, default_name: &str, read_profile: impl FnOnce(&str) -> Result<String>) -> Result<Bat> {
+pub fn parse_bat_toml(
+    text: &str,
+    default_name: &str,
+    read_profile: impl FnOnce(&str) -> Result<String>,
+) -> Result<Bat> {
     let spec: BatSpec = toml::from_str(text).map_err(|e| anyhow!("{}", e.to_string().trim_end()))?;
     spec.into_bat(default_name, read_profile)
 }
@@ -179,7 +183,8 @@ pub fn parse_profile_csv(text: &str) -> Result<Vec<Station>> {
     let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
     let headers = reader.headers().context("cannot read the CSV header")?.clone();
     let column = |name: &str| headers.iter().position(|h| h == name);
-    let z_col = column("z_m").ok_or_else(|| anyhow!("the CSV header must name a `z_m` column (found: {})", join(&headers)))?;
+    let z_col =
+        column("z_m").ok_or_else(|| anyhow!("the CSV header must name a `z_m` column (found: {})", join(&headers)))?;
     let outer_col = column("outer_radius_m")
         .ok_or_else(|| anyhow!("the CSV header must name an `outer_radius_m` column (found: {})", join(&headers)))?;
     let inner_col = column("inner_radius_m");
@@ -263,7 +268,12 @@ pub fn spec_to_toml(spec: &BatSpec) -> String {
     }
     line(&mut out, "slice_length", toml_float(spec.slice_length), "m, slice thickness of the beam model");
     if let Some(profile) = &spec.profile {
-        line(&mut out, "profile", toml::Value::String(profile.clone()).to_string(), "CSV: z_m, outer_radius_m, inner_radius_m");
+        line(
+            &mut out,
+            "profile",
+            toml::Value::String(profile.clone()).to_string(),
+            "CSV: z_m, outer_radius_m, inner_radius_m",
+        );
     }
     out.push_str("\n[shell]\n");
     line(&mut out, "density", toml_float(spec.shell.density), "kg/m³");
@@ -306,7 +316,8 @@ pub fn write_bat_files(bat: &Bat, dir: &Path, stem: &str) -> Result<PathBuf> {
     let spec = BatSpec::from_bat(bat, Some(&csv_name));
     std::fs::write(dir.join(&csv_name), profile_to_csv(&bat.stations))
         .with_context(|| format!("cannot write '{}'", dir.join(&csv_name).display()))?;
-    std::fs::write(&toml_path, spec_to_toml(&spec)).with_context(|| format!("cannot write '{}'", toml_path.display()))?;
+    std::fs::write(&toml_path, spec_to_toml(&spec))
+        .with_context(|| format!("cannot write '{}'", toml_path.display()))?;
     Ok(toml_path)
 }
 
@@ -365,7 +376,13 @@ mod tests {
             slice_length: 0.01,
             profile: None,
             shell: MaterialSpec { density: 649.0, youngs_modulus: 1.814e10, shear_modulus: 1.05e9 },
-            core: Some(CoreSpec { density: 200.0, youngs_modulus: 3e7, shear_modulus: 6e6, z_start: 0.586, z_end: 0.84 }),
+            core: Some(CoreSpec {
+                density: 200.0,
+                youngs_modulus: 3e7,
+                shear_modulus: 6e6,
+                z_start: 0.586,
+                z_end: 0.84,
+            }),
             stations: vec![
                 StationSpec { z: 0.0, outer_radius: 0.025, inner_radius: 0.0 },
                 StationSpec { z: 0.1 + 0.2, outer_radius: 1.0 / 30.0, inner_radius: 1e-7 / 3.0 },

@@ -7,9 +7,7 @@ use serde::Serialize;
 
 use super::common::{emit, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs};
 use super::output::{num, BallJson, BatJson, OptionsJson, Table};
-use crate::physics::metrics::{
-    bbcor_report, besr, BBCOR_BALL_SPEED, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z,
-};
+use crate::physics::metrics::{bbcor_report, besr, BBCOR_BALL_SPEED, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z};
 use crate::physics::{Ball, Bat, CollisionOptions, ModeSet};
 
 /// Metres per inch.
@@ -145,7 +143,10 @@ pub fn run(args: BbcorArgs) -> Result<()> {
         format!("{} ({} mph)", num(b.ball_speed, 4), num(BBCOR_BALL_SPEED / MPH, 4)),
     ]);
     t.row(["bat".to_string(), "at rest, free (pivot 6 in from knob in the lab)".to_string()]);
-    t.row(["impact search (m from knob)".to_string(), format!("{} … {} (9 in … 3 in from the barrel end)", num(b.search_from_z, 4), num(b.search_to_z, 4))]);
+    t.row([
+        "impact search (m from knob)".to_string(),
+        format!("{} … {} (9 in … 3 in from the barrel end)", num(b.search_from_z, 4), num(b.search_to_z, 4)),
+    ]);
     out.push_str(&t.render());
     out.push('\n');
     let e = &doc.besr;
@@ -154,7 +155,10 @@ pub fn run(args: BbcorArgs) -> Result<()> {
     t.row(["exit speed (m/s)".to_string(), num(e.exit_speed, 4)]);
     t.row(["impact point (m from knob)".to_string(), format!("{} (6 in from the barrel end)", num(e.impact_z, 4))]);
     t.row(["pitch speed (m/s)".to_string(), format!("{} (70 mph)", num(e.ball_speed, 4))]);
-    t.row(["bat speed at impact (m/s)".to_string(), format!("{} (66 mph, turning about {} m from the knob)", num(e.bat_speed, 4), num(e.pivot_z, 4))]);
+    t.row([
+        "bat speed at impact (m/s)".to_string(),
+        format!("{} (66 mph, turning about {} m from the knob)", num(e.bat_speed, 4), num(e.pivot_z, 4)),
+    ]);
     out.push_str(&t.render());
     emit(&out)
 }

@@ -130,8 +130,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     println!("{}", bench::table(&report));
     if let Some(path) = args.json {
         let text = serde_json::to_string_pretty(&bench::to_json(&report))?;
-        std::fs::write(&path, text + "\n")
-            .with_context(|| format!("writing {}", path.display()))?;
+        std::fs::write(&path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
 }

@@ -49,11 +49,8 @@ pub struct CalibrateArgs {
 pub fn run(args: CalibrateArgs) -> Result<()> {
     let problem = problem_from_bag(&args.bag, args.ball.as_deref())
         .with_context(|| format!("calibrating from '{}'", args.bag.display()))?;
-    let options = FitOptions {
-        fit_youngs: args.fit_youngs,
-        max_iterations: args.max_iterations.max(1),
-        ..FitOptions::default()
-    };
+    let options =
+        FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations.max(1), ..FitOptions::default() };
     let result = fit(&problem, &options).context("fitting")?;
     let written = match &args.write {
         Some(path) => write_params(path, &problem, &result)?,
@@ -75,10 +72,7 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
             "residuals": result.residuals,
             "written": written,
         });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&doc).context("serialising the result")?
-        );
+        println!("{}", serde_json::to_string_pretty(&doc).context("serialising the result")?);
         return Ok(());
     }
     print!("{}", report(&problem, &result, args.show));
@@ -86,16 +80,10 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
         println!("wrote {}", path.display());
     }
     if let Some(path) = written.first() {
-        println!(
-            "send it to a running node:  sweetspot pub ball --file {}",
-            path.display()
-        );
+        println!("send it to a running node:  sweetspot pub ball --file {}", path.display());
     }
     if let Some(path) = written.get(1) {
-        println!(
-            "                            sweetspot pub bat --file {}",
-            path.display()
-        );
+        println!("                            sweetspot pub bat --file {}", path.display());
     }
     Ok(())
 }
@@ -110,11 +98,7 @@ pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
         problem.ball_id,
         bats.join(", "),
         result.iterations,
-        if result.converged {
-            ", converged"
-        } else {
-            ", NOT converged (raise --max-iterations)"
-        }
+        if result.converged { ", converged" } else { ", NOT converged (raise --max-iterations)" }
     ));
     if !problem.skipped.is_empty() {
         out.push_str(&format!("left out {} input(s):\n", problem.skipped.len()));
@@ -128,13 +112,7 @@ pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
     }
     let mut t = Table::new(["parameter", "start", "fitted", "± 1σ", "unit"]);
     for p in &result.parameters {
-        t.row([
-            p.name.clone(),
-            num(p.initial, 5),
-            num(p.value, 5),
-            num(p.std_error, 2),
-            p.unit.to_string(),
-        ]);
+        t.row([p.name.clone(), num(p.initial, 5), num(p.value, 5), num(p.std_error, 2), p.unit.to_string()]);
     }
     out.push_str(&t.render());
     out.push_str(&format!(
@@ -144,13 +122,7 @@ pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
         num(result.residual_sigma, 3),
         result.dof
     ));
-    let mut t = Table::new([
-        "bat",
-        "swings",
-        "mean before (m/s)",
-        "mean after (m/s)",
-        "RMS after (m/s)",
-    ]);
+    let mut t = Table::new(["bat", "swings", "mean before (m/s)", "mean after (m/s)", "RMS after (m/s)"]);
     for bat in &bats {
         let rs: Vec<_> = result.residuals.iter().filter(|r| r.bat_id == *bat).collect();
         if rs.is_empty() {
@@ -160,27 +132,14 @@ pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
         let before = rs.iter().map(|r| r.measured - r.predicted_before).sum::<f64>() / n;
         let after = rs.iter().map(|r| r.residual).sum::<f64>() / n;
         let rms = (rs.iter().map(|r| r.residual * r.residual).sum::<f64>() / n).sqrt();
-        t.row([
-            bat.to_string(),
-            rs.len().to_string(),
-            num(before, 3),
-            num(after, 3),
-            num(rms, 3),
-        ]);
+        t.row([bat.to_string(), rs.len().to_string(), num(before, 3), num(after, 3), num(rms, 3)]);
     }
     out.push_str(&t.render());
     let mut worst: Vec<_> = result.residuals.iter().collect();
     worst.sort_by(|a, b| b.residual.abs().total_cmp(&a.residual.abs()));
     let shown = if show == 0 { worst.len() } else { show.min(worst.len()) };
     out.push_str(&format!("\nlargest residuals ({shown} of {}):\n", worst.len()));
-    let mut t = Table::new([
-        "swing_id",
-        "bat",
-        "impact_z (m)",
-        "measured (m/s)",
-        "predicted (m/s)",
-        "residual (m/s)",
-    ]);
+    let mut t = Table::new(["swing_id", "bat", "impact_z (m)", "measured (m/s)", "predicted (m/s)", "residual (m/s)"]);
     for r in worst.into_iter().take(shown) {
         t.row([
             r.swing_id.to_string(),
@@ -209,11 +168,7 @@ pub fn write_params(path: &Path, problem: &Problem, result: &Fit) -> Result<Vec<
             .bats
             .iter()
             .map(|(id, bat)| {
-                let modes = problem
-                    .bats
-                    .get(id)
-                    .map(|b| b.modes)
-                    .unwrap_or(crate::calibrate::DEFAULT_MODES);
+                let modes = problem.bats.get(id).map(|b| b.modes).unwrap_or(crate::calibrate::DEFAULT_MODES);
                 params_from_bat(id, bat, modes, Header::default()).to_json()
             })
             .collect();

@@ -24,9 +24,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use serde::Deserialize;
 
 use super::bat_file::BatSpec;
-use super::common::{
-    check_options, resolve_bat, DEFAULT_BALL_SPEED, DEFAULT_BAT_ANGULAR_SPEED, DEFAULT_BAT_CM_SPEED,
-};
+use super::common::{check_options, resolve_bat, DEFAULT_BALL_SPEED, DEFAULT_BAT_ANGULAR_SPEED, DEFAULT_BAT_CM_SPEED};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
 
 /// The raw JSON document.
@@ -105,8 +103,7 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
         None => Bat::preset("r161")?,
         Some(serde_json::Value::String(name)) => resolve_bat(name, Some(base)).context("field `bat`")?,
         Some(value @ serde_json::Value::Object(_)) => {
-            let bat_spec: BatSpec =
-                serde_json::from_value(value.clone()).map_err(|e| anyhow!("field `bat`: {e}"))?;
+            let bat_spec: BatSpec = serde_json::from_value(value.clone()).map_err(|e| anyhow!("field `bat`: {e}"))?;
             bat_spec
                 .into_bat("case-bat", |file| {
                     let path = base.join(file);

@@ -93,7 +93,8 @@ impl BallArgs {
             exponent: self.ball_exponent.unwrap_or(base.exponent),
             cor: self.ball_cor.unwrap_or(base.cor),
         };
-        ball.validate().context("invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent)")?;
+        ball.validate()
+            .context("invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent)")?;
         Ok(ball)
     }
 }

@@ -59,7 +59,11 @@ impl<B: DrawingBackend> DrawingBackend for CrispText<B> {
         self.inner.present()
     }
 
-    fn draw_pixel(&mut self, point: BackendCoord, color: BackendColor) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+    fn draw_pixel(
+        &mut self,
+        point: BackendCoord,
+        color: BackendColor,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
         self.inner.draw_pixel(point, color)
     }
 
@@ -178,4 +182,3 @@ impl<B: DrawingBackend> DrawingBackend for CrispText<B> {
         Ok(())
     }
 }
-

@@ -128,7 +128,14 @@ fn physical_curve(bat: &Bat, s: &FigureSettings, swing: &Impact, from: f64) -> R
 }
 
 /// The seed's rigid curve of a table bat; `bat_speed_at_impact` (Fig. 6) replaces the swing's rotation.
-fn seed_curve(bat: &RigidBat, ball_mass: f64, swing: &Impact, bat_speed_at_impact: Option<f64>, from: f64, points: usize) -> Result<Vec<(f64, f64)>> {
+fn seed_curve(
+    bat: &RigidBat,
+    ball_mass: f64,
+    swing: &Impact,
+    bat_speed_at_impact: Option<f64>,
+    from: f64,
+    points: usize,
+) -> Result<Vec<(f64, f64)>> {
     bat.validate().with_context(|| format!("seed bat '{}'", bat.name))?;
     let zs = impact_points(from, bat.length, None, Some(points))?;
     Ok(zs
@@ -176,14 +183,23 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
         title: format!("Seed Table 1 bat, rigid, e_eff = {}", normal.effective_cor),
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
-        series: vec![Series::solid("seed Table 1 normal bat (rigid, eq. 4)", 0, seed_curve(&normal, m, &swing, None, from, s.points)?)],
+        series: vec![Series::solid(
+            "seed Table 1 normal bat (rigid, eq. 4)",
+            0,
+            seed_curve(&normal, m, &swing, None, from, s.points)?,
+        )],
         markers: vec![marker(normal.optimum_impact_z(m, &swing), "rigid optimum (eq. 6)", 6, false)],
         ..Default::default()
     };
     let mut model_panel = physical_panel("R161 (Nathan), physical model", &[("R161", &r161, 0)]);
     model_panel.markers.extend(node_markers(&r161_modes, from));
     let file = format!("fig2-rigid-exit-speed.{ext}");
-    draw_panels(&dir.join(&file), &[seed_panel, model_panel], 2, Some(&format!("Figure 2: exit speed vs impact point ({})", swing_text(&swing))))?;
+    draw_panels(
+        &dir.join(&file),
+        &[seed_panel, model_panel],
+        2,
+        Some(&format!("Figure 2: exit speed vs impact point ({})", swing_text(&swing))),
+    )?;
     entries.push(FigureEntry {
         file,
         caption: format!(
@@ -191,7 +207,10 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
              Table 1 normal bat with its printed effective COR {}; the vertical line is the closed-form optimum \
              (eq. 6, re-derived). Right: the R161 wood bat as a flexible Timoshenko beam ({} modes, solid) and as a \
              rigid bat with the ball's e0 = {} (dashed), with the nodes of modes 1 and 2. Swing: {}.",
-            normal.effective_cor, s.options.modes, s.ball.cor, swing_text(&swing)
+            normal.effective_cor,
+            s.options.modes,
+            s.ball.cor,
+            swing_text(&swing)
         ),
     });
 
@@ -208,9 +227,15 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
         ],
         ..Default::default()
     };
-    let model_panel = physical_panel("Physical model: R161 vs R161 corked", &[("R161", &r161, 0), ("R161 corked", &r161c, 1)]);
+    let model_panel =
+        physical_panel("Physical model: R161 vs R161 corked", &[("R161", &r161, 0), ("R161 corked", &r161c, 1)]);
     let file = format!("fig5-normal-vs-corked.{ext}");
-    draw_panels(&dir.join(&file), &[seed_panel, model_panel], 2, Some(&format!("Figure 5: normal vs corked bat ({})", swing_text(&swing))))?;
+    draw_panels(
+        &dir.join(&file),
+        &[seed_panel, model_panel],
+        2,
+        Some(&format!("Figure 5: normal vs corked bat ({})", swing_text(&swing))),
+    )?;
     entries.push(FigureEntry {
         file,
         caption: format!(
@@ -236,17 +261,31 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
         series: vec![
-            Series::solid(format!("wood (e_eff {})", wood.effective_cor), 0, seed_curve(&wood, m, &fig6_swing, Some(SEED_FIG6_BAT_SPEED), from, s.points)?),
-            Series::solid(format!("aluminum (e_eff {})", alu.effective_cor), 1, seed_curve(&alu, m, &fig6_swing, Some(SEED_FIG6_BAT_SPEED), from, s.points)?),
+            Series::solid(
+                format!("wood (e_eff {})", wood.effective_cor),
+                0,
+                seed_curve(&wood, m, &fig6_swing, Some(SEED_FIG6_BAT_SPEED), from, s.points)?,
+            ),
+            Series::solid(
+                format!("aluminum (e_eff {})", alu.effective_cor),
+                1,
+                seed_curve(&alu, m, &fig6_swing, Some(SEED_FIG6_BAT_SPEED), from, s.points)?,
+            ),
         ],
         ..Default::default()
     };
     let (wood6, _) = physical_curve(&preset("r161")?, s, &fig6_swing, from)?;
     let (alu6, _) = physical_curve(&preset("aluminum")?, s, &fig6_swing, from)?;
-    let model_panel = physical_panel("Physical model: R161 vs aluminum", &[("R161 wood", &wood6, 0), ("aluminum", &alu6, 1)]);
+    let model_panel =
+        physical_panel("Physical model: R161 vs aluminum", &[("R161 wood", &wood6, 0), ("aluminum", &alu6, 1)]);
     let file = format!("fig6-wood-vs-aluminum.{ext}");
     let speeds = format!("v_ball = {SEED_FIG6_BALL_SPEED} m/s, v_bat = {SEED_FIG6_BAT_SPEED} m/s");
-    draw_panels(&dir.join(&file), &[seed_panel, model_panel], 2, Some(&format!("Figure 6: wood vs aluminum ({speeds})")))?;
+    draw_panels(
+        &dir.join(&file),
+        &[seed_panel, model_panel],
+        2,
+        Some(&format!("Figure 6: wood vs aluminum ({speeds})")),
+    )?;
     entries.push(FigureEntry {
         file,
         caption: format!(
@@ -304,7 +343,13 @@ fn physical_panel(title: &str, curves: &[(&str, &PhysicalCurve, usize)]) -> Line
         series.push(Series::solid(format!("{label} flexible"), *color, curve.flexible.clone()));
         series.push(Series::dashed(format!("{label} rigid (e0)"), *color, curve.rigid.clone()));
     }
-    LineChart { title: title.into(), x_label: Z_LABEL.into(), y_label: EXIT_SPEED_LABEL.into(), series, ..Default::default() }
+    LineChart {
+        title: title.into(),
+        x_label: Z_LABEL.into(),
+        y_label: EXIT_SPEED_LABEL.into(),
+        series,
+        ..Default::default()
+    }
 }
 
 /// Flexible and rigid exit speed of a sweep with the nodes of modes 1 and 2 and the sweet spot marked.

@@ -5,21 +5,21 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod bag;
-pub mod bench;
 pub mod bat_file;
 pub mod bbcor;
+pub mod bench;
 pub mod calibrate;
-pub mod demo;
-pub mod rig;
 pub mod case_file;
 pub mod common;
 pub mod crisp_text;
+pub mod demo;
 pub mod figures;
 pub mod modes;
 pub mod node;
 pub mod output;
 pub mod plot;
 pub mod pubsub;
+pub mod rig;
 pub mod simulate;
 pub mod sweep;
 

@@ -157,8 +157,7 @@ pub fn draw_panels(path: &Path, charts: &[LineChart], columns: usize, title: Opt
     }
     let format = ImageFormat::from_path(path)?;
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent)
-            .with_context(|| format!("cannot create directory '{}'", parent.display()))?;
+        std::fs::create_dir_all(parent).with_context(|| format!("cannot create directory '{}'", parent.display()))?;
     }
     register_fonts();
     let columns = columns.clamp(1, charts.len());
@@ -208,9 +207,8 @@ fn plot_err<E: std::error::Error + Send + Sync>(err: plotters::drawing::DrawingA
 
 /// The data range of `values` padded by `margin` of its span (a flat range gets a unit span).
 fn padded_range(values: impl Iterator<Item = f64>, margin: f64) -> Option<(f64, f64)> {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let (lo, hi) =
+        values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
     if !lo.is_finite() {
         return None;
     }
@@ -274,8 +272,7 @@ where
         .map_err(plot_err)?;
 
     if chart.zero_line {
-        ctx.draw_series(LineSeries::new([(x_range.0, 0.0), (x_range.1, 0.0)], BLACK.mix(0.5)))
-            .map_err(plot_err)?;
+        ctx.draw_series(LineSeries::new([(x_range.0, 0.0), (x_range.1, 0.0)], BLACK.mix(0.5))).map_err(plot_err)?;
     }
 
     for series in &chart.series {
@@ -286,9 +283,9 @@ where
         let drawn = match series.kind {
             LineKind::Solid => ctx.draw_series(LineSeries::new(points, style)).map_err(plot_err)?,
             LineKind::Dashed => ctx.draw_series(DashedLineSeries::new(points, 9, 6, style)).map_err(plot_err)?,
-            LineKind::Points => ctx
-                .draw_series(points.into_iter().map(|p| Circle::new(p, 3, color.filled())))
-                .map_err(plot_err)?,
+            LineKind::Points => {
+                ctx.draw_series(points.into_iter().map(|p| Circle::new(p, 3, color.filled()))).map_err(plot_err)?
+            }
         };
         let kind = series.kind;
         drawn.label(series.label.as_str()).legend(move |(x, y)| legend_glyph(x, y, color, kind));

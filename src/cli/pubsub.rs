@@ -15,9 +15,7 @@ use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use crate::msgs::json::ToJson;
 use crate::msgs::rcl_interfaces::msg::Log;
-use crate::msgs::sweetspot_msgs::msg::{
-    BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing,
-};
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::msgs::RosMessage;
 use crate::ros::args::{NameResolver, NodeIdentity};
 use crate::ros::{self, DdsConfig, RosArgs};
@@ -216,10 +214,7 @@ impl Kind {
 
     /// Whether the topic is latched (transient-local).
     pub fn latched(self) -> bool {
-        matches!(
-            self,
-            Kind::BatParams | Kind::BallParams | Kind::SweetSpot | Kind::Rosout
-        )
+        matches!(self, Kind::BatParams | Kind::BallParams | Kind::SweetSpot | Kind::Rosout)
     }
 
     /// A kind from a word: `bat`, `ball`, `swing`, a topic's default name, or a type name in any spelling.
@@ -278,11 +273,7 @@ fn resolve_target(
         Some(t) => Some(Kind::from_word(t).ok_or_else(|| {
             anyhow!(
                 "unknown message type {t:?}; known: {}",
-                ALL_KINDS
-                    .iter()
-                    .map(|k| k.type_name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                ALL_KINDS.iter().map(|k| k.type_name()).collect::<Vec<_>>().join(", ")
             )
         })?),
         None => None,
@@ -303,13 +294,8 @@ fn resolve_target(
 }
 
 fn now_time() -> Time {
-    let d = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .unwrap_or_default();
-    Time {
-        sec: i32::try_from(d.as_secs()).unwrap_or(i32::MAX),
-        nanosec: d.subsec_nanos(),
-    }
+    let d = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
+    Time { sec: i32::try_from(d.as_secs()).unwrap_or(i32::MAX), nanosec: d.subsec_nanos() }
 }
 
 /// Fills what the user left out: header.stamp (publish time), and for a Swing swing_id (a sequence number)
@@ -318,16 +304,13 @@ fn complete(kind: Kind, template: &Value, input: &Value, sequence: u64, stamp: &
     let mut v = input.clone();
     if let Value::Object(obj) = &mut v {
         if template.get("header").is_some() {
-            let header = obj
-                .entry("header")
-                .or_insert_with(|| Value::Object(Map::new()));
+            let header = obj.entry("header").or_insert_with(|| Value::Object(Map::new()));
             if let Value::Object(h) = header {
                 h.entry("stamp").or_insert_with(|| stamp.to_json());
             }
         }
         if kind == Kind::Swing {
-            obj.entry("swing_id")
-                .or_insert_with(|| Value::from(sequence));
+            obj.entry("swing_id").or_insert_with(|| Value::from(sequence));
             obj.entry("measured_exit_speed").or_insert(Value::Null);
         }
     }
@@ -349,10 +332,7 @@ fn read_inputs(args: &PubArgs) -> anyhow::Result<Vec<(String, Value)>> {
         }
     }
     if let Some(path) = &args.file {
-        let is_csv = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+        let is_csv = path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("csv"));
         if is_csv {
             out.extend(read_csv(path)?);
         } else {
@@ -382,8 +362,7 @@ fn read_json_lines(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
     // A file holding one JSON array is accepted too.
     let whole = lines.join("\n");
     if whole.trim_start().starts_with('[') {
-        let v: Value = serde_json::from_str(&whole)
-            .with_context(|| format!("{}: invalid JSON", path.display()))?;
+        let v: Value = serde_json::from_str(&whole).with_context(|| format!("{}: invalid JSON", path.display()))?;
         if let Value::Array(items) = v {
             for (i, item) in items.into_iter().enumerate() {
                 out.push((format!("{}[{i}]", path.display()), item));
@@ -396,8 +375,8 @@ fn read_json_lines(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
         if t.is_empty() || t.starts_with('#') || t.starts_with("//") {
             continue;
         }
-        let v: Value = serde_json::from_str(t)
-            .with_context(|| format!("{}:{}: invalid JSON", path.display(), i + 1))?;
+        let v: Value =
+            serde_json::from_str(t).with_context(|| format!("{}:{}: invalid JSON", path.display(), i + 1))?;
         out.push((format!("{}:{}", path.display(), i + 1), v));
     }
     Ok(out)
@@ -409,14 +388,10 @@ fn read_csv(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
         .comment(Some(b'#'))
         .from_path(path)
         .with_context(|| format!("cannot open {}", path.display()))?;
-    let headers = reader
-        .headers()
-        .with_context(|| format!("{}: no header row", path.display()))?
-        .clone();
+    let headers = reader.headers().with_context(|| format!("{}: no header row", path.display()))?.clone();
     let mut out = Vec::new();
     for (i, record) in reader.records().enumerate() {
-        let record =
-            record.with_context(|| format!("{}: bad CSV record {}", path.display(), i + 1))?;
+        let record = record.with_context(|| format!("{}: bad CSV record {}", path.display(), i + 1))?;
         let mut obj = Map::new();
         for (name, cell) in headers.iter().zip(record.iter()) {
             if cell.is_empty() {
@@ -436,9 +411,7 @@ fn insert_dotted(obj: &mut Map<String, Value>, dotted: &str, value: Value) {
             obj.insert(dotted.to_string(), value);
         }
         Some((head, rest)) => {
-            let child = obj
-                .entry(head.to_string())
-                .or_insert_with(|| Value::Object(Map::new()));
+            let child = obj.entry(head.to_string()).or_insert_with(|| Value::Object(Map::new()));
             if let Value::Object(m) = child {
                 insert_dotted(m, rest, value);
             }
@@ -547,12 +520,7 @@ fn publish_all<T: RosMessage>(
         let message = T::from_json(&v, "").map_err(|e| anyhow!("{origin}: {e}"))?;
         if !args.quiet {
             let mut out = stdout.lock();
-            let _ = writeln!(
-                out,
-                "publishing #{} to {fq_topic}: {}",
-                sent + 1,
-                message.to_json()
-            );
+            let _ = writeln!(out, "publishing #{} to {fq_topic}: {}", sent + 1, message.to_json());
         }
         crate::ros::shell::write_reliably(&writer, message, timeout, &interrupted)
             .with_context(|| format!("publishing message #{} to {fq_topic}", sent + 1))?;
@@ -573,10 +541,7 @@ fn publish_all<T: RosMessage>(
         std::thread::sleep(Duration::from_millis(20));
     }
     if !args.quiet {
-        eprintln!(
-            "published {sent} message(s) to {fq_topic} ({})",
-            T::TYPE_NAME
-        );
+        eprintln!("published {sent} message(s) to {fq_topic} ({})", T::TYPE_NAME);
     }
     Ok(())
 }
@@ -589,16 +554,10 @@ const MATCH_SETTLE: Duration = Duration::from_millis(300);
 
 /// The number of subscriptions matched with `writer`, updated from its status events (RustDDS 0.15 offers no
 /// direct query: `get_matched_subscriptions` is a placeholder that panics).
-fn matched_subscriptions<T: RosMessage>(
-    writer: &rustdds::no_key::DataWriterCdr<T>,
-    mut current: usize,
-) -> usize {
+fn matched_subscriptions<T: RosMessage>(writer: &rustdds::no_key::DataWriterCdr<T>, mut current: usize) -> usize {
     use rustdds::StatusEvented;
     while let Some(status) = writer.try_recv_status() {
-        if let rustdds::dds::statusevents::DataWriterStatus::PublicationMatched {
-            current: c, ..
-        } = status
-        {
+        if let rustdds::dds::statusevents::DataWriterStatus::PublicationMatched { current: c, .. } = status {
             current = usize::try_from(c.count()).unwrap_or(0);
         }
     }
@@ -623,9 +582,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
     // A deep reader history: a KEEP_LAST reader cache silently drops its oldest untaken samples, and printing
     // is slower than DDS, so a burst of thousands of messages must be able to queue here. (History depth does
     // not affect QoS matching.)
-    let mut qos = kind
-        .qos()
-        .history(ros2_client::qos::History::KeepLast { depth: ECHO_DEPTH });
+    let mut qos = kind.qos().history(ros2_client::qos::History::KeepLast { depth: ECHO_DEPTH });
     if args.no_latched {
         qos = qos.durability(ros2_client::qos::Durability::Volatile);
     }
@@ -638,10 +595,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         .domain_participant()
         .create_subscriber(&dds_qos)
         .and_then(|s| {
-            s.create_simple_datareader_no_key::<T, rustdds::CDRDeserializerAdapter<T>>(
-                &topic,
-                Some(dds_qos.clone()),
-            )
+            s.create_simple_datareader_no_key::<T, rustdds::CDRDeserializerAdapter<T>>(&topic, Some(dds_qos.clone()))
         })
         .map_err(|e| anyhow!("cannot subscribe to {fq_topic}: {e}"))?;
     if !args.json {
@@ -653,9 +607,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         );
     }
 
-    let deadline = args
-        .timeout
-        .map(|t| tokio::time::Instant::now() + Duration::from_secs_f64(t));
+    let deadline = args.timeout.map(|t| tokio::time::Instant::now() + Duration::from_secs_f64(t));
     // Take samples as soon as they arrive and print on another thread: a RustDDS reader loses the untaken
     // samples of a writer whose participant leaves, so a slow terminal must not leave them sitting in DDS.
     let (to_printer, printed) = std::sync::mpsc::channel::<T>();
@@ -674,9 +626,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         }
         Ok(())
     });
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()?;
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     let taken = runtime.block_on(async {
         use futures::StreamExt;
         let samples = reader.as_async_stream();
@@ -716,9 +666,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         }
     });
     drop(to_printer);
-    let printed = printer
-        .join()
-        .map_err(|_| anyhow!("the output thread panicked"))?;
+    let printed = printer.join().map_err(|_| anyhow!("the output thread panicked"))?;
     match printed {
         // A closed pipe (`sweetspot echo … | head`) is a normal way to stop.
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {}
@@ -732,10 +680,7 @@ async fn interrupt_signal() {
     #[cfg(unix)]
     {
         use tokio::signal::unix::{signal, SignalKind};
-        match (
-            signal(SignalKind::interrupt()),
-            signal(SignalKind::terminate()),
-        ) {
+        match (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) {
             (Ok(mut int), Ok(mut term)) => {
                 tokio::select! {
                     _ = int.recv() => {}
@@ -760,18 +705,9 @@ mod tests {
     fn kinds_from_words_and_topics() {
         assert_eq!(Kind::from_word("bat"), Some(Kind::BatParams));
         assert_eq!(Kind::from_word("Swing"), Some(Kind::Swing));
-        assert_eq!(
-            Kind::from_word("sweetspot_msgs/msg/ExitVelocity"),
-            Some(Kind::ExitVelocity)
-        );
-        assert_eq!(
-            Kind::from_word("sweetspot_msgs/ModalEnergies"),
-            Some(Kind::ModalEnergies)
-        );
-        assert_eq!(
-            Kind::from_word("diagnostic_msgs/msg/DiagnosticArray"),
-            Some(Kind::Diagnostics)
-        );
+        assert_eq!(Kind::from_word("sweetspot_msgs/msg/ExitVelocity"), Some(Kind::ExitVelocity));
+        assert_eq!(Kind::from_word("sweetspot_msgs/ModalEnergies"), Some(Kind::ModalEnergies));
+        assert_eq!(Kind::from_word("diagnostic_msgs/msg/DiagnosticArray"), Some(Kind::Diagnostics));
         assert_eq!(Kind::from_word("/rig3/swing"), None);
         assert_eq!(Kind::from_topic("/rig3/bat/params"), Some(Kind::BatParams));
         assert_eq!(Kind::from_topic("/swing"), Some(Kind::Swing));
@@ -783,23 +719,12 @@ mod tests {
     fn completes_missing_fields() {
         let template = Swing::default().to_json();
         let stamp = Time { sec: 5, nanosec: 6 };
-        let v = complete(
-            Kind::Swing,
-            &template,
-            &serde_json::json!({"ball_speed": 40}),
-            7,
-            &stamp,
-        );
+        let v = complete(Kind::Swing, &template, &serde_json::json!({"ball_speed": 40}), 7, &stamp);
         let s = Swing::from_json(&v, "").unwrap();
         assert_eq!((s.swing_id, s.header.stamp.sec, s.ball_speed), (7, 5, 40.0));
         assert!(s.measured_exit_speed.is_nan());
-        let v = complete(
-            Kind::Swing,
-            &template,
-            &serde_json::json!({"swing_id": 3, "measured_exit_speed": 41}),
-            7,
-            &stamp,
-        );
+        let v =
+            complete(Kind::Swing, &template, &serde_json::json!({"swing_id": 3, "measured_exit_speed": 41}), 7, &stamp);
         let s = Swing::from_json(&v, "").unwrap();
         assert_eq!((s.swing_id, s.measured_exit_speed), (3, 41.0));
     }
@@ -808,29 +733,15 @@ mod tests {
     fn csv_cells_become_nested_fields() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("s.csv");
-        std::fs::write(
-            &path,
-            "swing_id,header.frame_id,ball_speed,measured_exit_speed\n1,rig,40.5,\n2,rig,nan,44\n",
-        )
-        .unwrap();
+        std::fs::write(&path, "swing_id,header.frame_id,ball_speed,measured_exit_speed\n1,rig,40.5,\n2,rig,nan,44\n")
+            .unwrap();
         let rows = read_csv(&path).unwrap();
         assert_eq!(rows.len(), 2);
         let template = Swing::default().to_json();
-        let s1 = Swing::from_json(
-            &complete(Kind::Swing, &template, &rows[0].1, 1, &Time::default()),
-            "",
-        )
-        .unwrap();
-        assert_eq!(
-            (s1.swing_id, s1.header.frame_id.as_str(), s1.ball_speed),
-            (1, "rig", 40.5)
-        );
+        let s1 = Swing::from_json(&complete(Kind::Swing, &template, &rows[0].1, 1, &Time::default()), "").unwrap();
+        assert_eq!((s1.swing_id, s1.header.frame_id.as_str(), s1.ball_speed), (1, "rig", 40.5));
         assert!(s1.measured_exit_speed.is_nan());
-        let s2 = Swing::from_json(
-            &complete(Kind::Swing, &template, &rows[1].1, 2, &Time::default()),
-            "",
-        )
-        .unwrap();
+        let s2 = Swing::from_json(&complete(Kind::Swing, &template, &rows[1].1, 2, &Time::default()), "").unwrap();
         assert!(s2.ball_speed.is_nan());
         assert_eq!(s2.measured_exit_speed, 44.0);
     }

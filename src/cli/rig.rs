@@ -16,12 +16,7 @@ use crate::ros::DdsConfig;
 #[derive(Debug, Clone, Args)]
 pub struct RigOptions {
     /// Bat presets swung, comma-separated, in session order.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "r161,r161-corked,aluminum,torpedo",
-        value_name = "PRESETS"
-    )]
+    #[arg(long, value_delimiter = ',', default_value = "r161,r161-corked,aluminum,torpedo", value_name = "PRESETS")]
     pub bats: Vec<String>,
     /// Consecutive swings with each bat before the next one.
     #[arg(long, default_value_t = 5, value_name = "N")]
@@ -50,10 +45,7 @@ impl RigOptions {
     pub fn config(&self) -> Result<RigConfig> {
         for b in &self.bats {
             if !Bat::preset_names().contains(&b.as_str()) {
-                bail!(
-                    "--bats: unknown preset '{b}' (presets: {})",
-                    Bat::preset_names().join(", ")
-                );
+                bail!("--bats: unknown preset '{b}' (presets: {})", Bat::preset_names().join(", "));
             }
         }
         if !(self.noise.is_finite() && (0.0..=20.0).contains(&self.noise)) {
@@ -123,9 +115,7 @@ pub fn run(args: RigArgs) -> Result<()> {
         bail!("--wait must be non-negative seconds, got {}", args.wait);
     }
     let config = args.rig.config()?;
-    let mut rig = SessionGenerator::new(config)
-        .context("building the rig's bats")?
-        .with_block(args.rig.swings_per_bat);
+    let mut rig = SessionGenerator::new(config).context("building the rig's bats")?.with_block(args.rig.swings_per_bat);
     let dds = DdsConfig::from_env()?;
     let ctx = context(&dds)?;
     let mut publisher = RigPublisher::new(&ctx, &args.namespace)?;
@@ -185,10 +175,7 @@ pub fn run(args: RigArgs) -> Result<()> {
 
 /// Nanoseconds since the Unix epoch.
 pub fn now_ns() -> u64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_nanos() as u64)
-        .unwrap_or(0)
+    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos() as u64).unwrap_or(0)
 }
 
 pub use crate::ros::shell::interrupt_flag;

@@ -98,8 +98,8 @@ pub fn simulate(
     let mut results = Vec::with_capacity(zs.len());
     for &impact_z in zs {
         let impact = Impact { impact_z, ..*swing };
-        let result = collide(&modes, ball, &impact, options)
-            .with_context(|| format!("collision at impact_z = {impact_z} m"))?;
+        let result =
+            collide(&modes, ball, &impact, options).with_context(|| format!("collision at impact_z = {impact_z} m"))?;
         results.push(CollisionJson::new(impact_z, &result));
     }
     Ok(SimulateJson {

@@ -143,21 +143,24 @@ pub fn sweep_with_progress(
 }
 
 /// A complete sweep: modes, points, sweet spots, nodes.
-pub fn run_sweep(bat: &Bat, ball: &Ball, swing: &Impact, range: SweepRange, options: &CollisionOptions) -> Result<SweepJson> {
+pub fn run_sweep(
+    bat: &Bat,
+    ball: &Ball,
+    swing: &Impact,
+    range: SweepRange,
+    options: &CollisionOptions,
+) -> Result<SweepJson> {
     // At least two vibrational modes are solved so that the nodes of modes 1 and 2 exist even when fewer
     // (or none: the rigid bat) are integrated.
-    let modes = ModeSet::compute(bat, options.modes.max(2))
-        .with_context(|| format!("normal modes of bat '{}'", bat.name))?;
+    let modes =
+        ModeSet::compute(bat, options.modes.max(2)).with_context(|| format!("normal modes of bat '{}'", bat.name))?;
     let props = modes.mass_properties();
     let from = range.from.unwrap_or((props.length - DEFAULT_BARREL_LENGTH).max(0.0));
     let to = range.to.unwrap_or(props.length - 0.01);
     let zs = impact_points(from, to, range.step, range.points)?;
     let points = sweep_with_progress(&modes, ball, swing, &zs, options).context("exit-speed sweep")?;
     let spots = sweet_spots(&modes, ball, swing, options).context("sweet spots")?;
-    let nodes = NodesJson {
-        mode1: modes.nodes(1),
-        mode2: modes.nodes(2),
-    };
+    let nodes = NodesJson { mode1: modes.nodes(1), mode2: modes.nodes(2) };
     Ok(SweepJson {
         bat: BatJson::new(&bat.name, &props),
         ball: ball.into(),
@@ -209,15 +212,8 @@ pub fn run(args: SweepArgs) -> Result<()> {
 pub fn render(doc: &SweepJson) -> String {
     let mut out = describe_inputs(&doc.bat, &doc.ball, &doc.swing, &doc.options);
     out.push('\n');
-    let mut t = Table::new([
-        "z (m)",
-        "exit speed (m/s)",
-        "rigid (m/s)",
-        "e_eff",
-        "e_A",
-        "vibration (J)",
-        "contact (ms)",
-    ]);
+    let mut t =
+        Table::new(["z (m)", "exit speed (m/s)", "rigid (m/s)", "e_eff", "e_A", "vibration (J)", "contact (ms)"]);
     for p in &doc.points {
         t.row([
             num(p.impact_z, 4),
@@ -233,7 +229,11 @@ pub fn render(doc: &SweepJson) -> String {
     out.push('\n');
     out.push_str(&doc.sweet_spots.table().render());
     let list = |v: &[f64]| v.iter().map(|z| num(*z, 4)).collect::<Vec<_>>().join(", ");
-    out.push_str(&format!("nodes of mode 1 (m): {}\nnodes of mode 2 (m): {}\n", list(&doc.nodes.mode1), list(&doc.nodes.mode2)));
+    out.push_str(&format!(
+        "nodes of mode 1 (m): {}\nnodes of mode 2 (m): {}\n",
+        list(&doc.nodes.mode1),
+        list(&doc.nodes.mode2)
+    ));
     if let Some(path) = &doc.plot {
         out.push_str(&format!("plot written to {}\n", path.display()));
     }

@@ -146,11 +146,8 @@ pub fn summarize(rig: &SessionGenerator, answers: &Answers) -> Vec<BatRow> {
             let ok: Vec<&&ExitVelocity> = exits.iter().filter(|e| e.status == ExitVelocity::STATUS_OK).collect();
             let n = ok.len().max(1) as f64;
             let speeds = ok.iter().map(|e| e.exit_speed);
-            let errors: Vec<f64> = ok
-                .iter()
-                .map(|e| e.measured_exit_speed - e.exit_speed)
-                .filter(|r| r.is_finite())
-                .collect();
+            let errors: Vec<f64> =
+                ok.iter().map(|e| e.measured_exit_speed - e.exit_speed).filter(|r| r.is_finite()).collect();
             let ne = errors.len().max(1) as f64;
             let shares: Vec<f64> = answers
                 .modals
@@ -179,33 +176,12 @@ pub fn summarize(rig: &SessionGenerator, answers: &Answers) -> Vec<BatRow> {
 
 /// The table of [`summarize`] as text.
 pub fn table(rows: &[BatRow]) -> String {
-    let mut t = Table::new([
-        "bat",
-        "swings",
-        "mean exit",
-        "best exit",
-        "sweet spot",
-        "BBCOR",
-        "vibration",
-        "measured − model",
-    ]);
-    t.row([
-        "",
-        "",
-        "m/s (mph)",
-        "m/s (mph)",
-        "m from knob (in from end)",
-        "",
-        "energy share",
-        "mean ± RMS m/s",
-    ]);
+    let mut t =
+        Table::new(["bat", "swings", "mean exit", "best exit", "sweet spot", "BBCOR", "vibration", "measured − model"]);
+    t.row(["", "", "m/s (mph)", "m/s (mph)", "m from knob (in from end)", "", "energy share", "mean ± RMS m/s"]);
     for r in rows {
         t.row([
-            if r.rejected > 0 {
-                format!("{} ({} rejected)", r.bat_id, r.rejected)
-            } else {
-                r.bat_id.clone()
-            },
+            if r.rejected > 0 { format!("{} ({} rejected)", r.bat_id, r.rejected) } else { r.bat_id.clone() },
             r.swings.to_string(),
             format!("{:.1} ({:.1})", r.mean_exit_speed, r.mean_exit_speed / MPH),
             format!("{:.1} ({:.1})", r.best_exit_speed, r.best_exit_speed / MPH),
@@ -245,22 +221,14 @@ impl NodeProcess {
         if let Some(range) = range {
             cmd.env(crate::ros::ENV_DISCOVERY_RANGE, range.as_str());
         }
-        let child = cmd
-            .spawn()
-            .with_context(|| format!("cannot start the node ('{} node')", exe.display()))?;
-        Ok(NodeProcess {
-            child,
-            log: log.to_path_buf(),
-        })
+        let child = cmd.spawn().with_context(|| format!("cannot start the node ('{} node')", exe.display()))?;
+        Ok(NodeProcess { child, log: log.to_path_buf() })
     }
 
     /// Why the node is gone, if it is.
     fn exited(&mut self) -> Option<String> {
         match self.child.try_wait() {
-            Ok(Some(status)) => Some(format!(
-                "the node exited early ({status}); its log:\n{}",
-                self.log_tail()
-            )),
+            Ok(Some(status)) => Some(format!("the node exited early ({status}); its log:\n{}", self.log_tail())),
             Ok(None) => None,
             Err(e) => Some(format!("cannot watch the node process: {e}")),
         }
@@ -275,9 +243,7 @@ impl NodeProcess {
     /// SIGTERM, then wait up to `grace` for a clean exit (the bag is finished on the way out).
     fn stop(&mut self, grace: Duration) -> Result<()> {
         if self.child.try_wait().ok().flatten().is_none() {
-            let _ = Command::new("kill")
-                .args(["-TERM", &self.child.id().to_string()])
-                .status();
+            let _ = Command::new("kill").args(["-TERM", &self.child.id().to_string()]).status();
         }
         let start = Instant::now();
         loop {
@@ -288,10 +254,7 @@ impl NodeProcess {
                 Ok(None) => {
                     let _ = self.child.kill();
                     let _ = self.child.wait();
-                    bail!(
-                        "the node did not stop within {:.0} s of SIGTERM and was killed",
-                        grace.as_secs_f64()
-                    );
+                    bail!("the node did not stop within {:.0} s of SIGTERM and was killed", grace.as_secs_f64());
                 }
                 Err(e) => bail!("waiting for the node: {e}"),
             }
@@ -318,19 +281,15 @@ impl Progress {
     fn new(total: u64) -> Progress {
         let bar = std::io::stderr().is_terminal().then(|| {
             let bar = indicatif::ProgressBar::new(total);
-            if let Ok(style) = indicatif::ProgressStyle::with_template(
-                "{spinner} {msg:<28} [{bar:40}] {pos}/{len} swings ({elapsed})",
-            ) {
+            if let Ok(style) =
+                indicatif::ProgressStyle::with_template("{spinner} {msg:<28} [{bar:40}] {pos}/{len} swings ({elapsed})")
+            {
                 bar.set_style(style.progress_chars("=> "));
             }
             bar.set_message("swings answered by the node");
             bar
         });
-        Progress {
-            bar,
-            total,
-            last_line: 0,
-        }
+        Progress { bar, total, last_line: 0 }
     }
 
     fn set(&mut self, done: u64) {
@@ -391,9 +350,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     }
     let timeout = Duration::from_secs_f64(args.timeout);
     let config = args.rig.config()?;
-    let mut rig = SessionGenerator::new(config)
-        .context("building the rig's bats")?
-        .with_block(args.rig.swings_per_bat);
+    let mut rig = SessionGenerator::new(config).context("building the rig's bats")?.with_block(args.rig.swings_per_bat);
 
     let mut dds = DdsConfig::from_env()?;
     let forced_range = (!args.env_discovery).then_some(DiscoveryRange::Localhost);
@@ -430,10 +387,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     let stamp = time_from_nanos(now_ns());
     publisher.publish_ball(rig.ball_params(stamp.clone()))?;
     if !publisher.wait_acknowledged(timeout) {
-        bail!(
-            "the node did not acknowledge the ball params within {:.0} s",
-            args.timeout
-        );
+        bail!("the node did not acknowledge the ball params within {:.0} s", args.timeout);
     }
     // Acknowledged means received by the node's DDS reader; let its loop take the ball before the bats arrive.
     std::thread::sleep(Duration::from_millis(200));
@@ -447,18 +401,12 @@ pub fn run(args: DemoArgs) -> Result<()> {
             bail!("{reason}");
         }
         if wait_start.elapsed() > timeout {
-            bail!(
-                "the node published no SweetSpot for every bat within {:.0} s",
-                args.timeout
-            );
+            bail!("the node published no SweetSpot for every bat within {:.0} s", args.timeout);
         }
         answers.absorb(listener.poll());
         std::thread::sleep(Duration::from_millis(10));
     }
-    say(&format!(
-        "modes and sweet spots ready after {:.1} s; swinging",
-        started.elapsed().as_secs_f64()
-    ));
+    say(&format!("modes and sweet spots ready after {:.1} s; swinging", started.elapsed().as_secs_f64()));
 
     // The session: swings at the rate, or as fast as the node answers with a bounded window in flight.
     let total = args.swings;
@@ -492,10 +440,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
             progress.set(answered as u64);
         } else if last_answer.elapsed() > timeout {
             progress.finish();
-            bail!(
-                "no answer from the node for {:.0} s ({answered} of {total} swings answered)",
-                args.timeout
-            );
+            bail!("no answer from the node for {:.0} s ({answered} of {total} swings answered)", args.timeout);
         } else {
             std::thread::sleep(Duration::from_millis(2));
         }
@@ -516,13 +461,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     node.stop(Duration::from_secs(10))?;
 
     let info = crate::bag::info::bag_info(&bag).with_context(|| format!("reading back the bag '{}'", bag.display()))?;
-    let count_of = |ty: &str| {
-        info.topics
-            .iter()
-            .filter(|t| t.type_name == ty)
-            .map(|t| t.count)
-            .sum::<u64>()
-    };
+    let count_of = |ty: &str| info.topics.iter().filter(|t| t.type_name == ty).map(|t| t.count).sum::<u64>();
     let (bag_swings, bag_exits) = (count_of(Swing::TYPE_NAME), count_of(ExitVelocity::TYPE_NAME));
 
     let rows = summarize(&rig, &answers);
@@ -607,10 +546,8 @@ pub fn write_demo_figures(
         let zs = linspace(0.5 * length, length - 0.02, 60);
         let curve =
             sweep(&b.modes, &ball, &mean, &zs, &options).with_context(|| format!("model curve of '{}'", b.bat_id))?;
-        let measured: Vec<(f64, f64)> = swings
-            .iter()
-            .map(|(s, _)| (s.measured.impact_z, s.reading.exit_speed))
-            .collect();
+        let measured: Vec<(f64, f64)> =
+            swings.iter().map(|(s, _)| (s.measured.impact_z, s.reading.exit_speed)).collect();
         let model: Vec<(f64, f64)> = swings
             .iter()
             .filter_map(|(s, m)| {
@@ -626,12 +563,7 @@ pub fn write_demo_figures(
             x_label: Z_LABEL.into(),
             y_label: EXIT_SPEED_LABEL.into(),
             series: vec![
-                Series {
-                    label: "rig radar (measured)".into(),
-                    points: measured,
-                    color: 6,
-                    kind: LineKind::Points,
-                },
+                Series { label: "rig radar (measured)".into(), points: measured, color: 6, kind: LineKind::Points },
                 Series {
                     label: "node (model, same swing)".into(),
                     points: model,
@@ -663,12 +595,7 @@ pub fn write_demo_figures(
     let mut files = Vec::new();
     if !panels.is_empty() {
         let file = format!("demo-exit-speed-vs-impact.{ext}");
-        draw_panels(
-            &dir.join(&file),
-            &panels,
-            2,
-            Some("Demo session: exit speed against impact point"),
-        )?;
+        draw_panels(&dir.join(&file), &panels, 2, Some("Demo session: exit speed against impact point"))?;
         files.push(file);
     }
     // The seed's comparisons and the mode shapes, for the session's typical swing.
@@ -679,13 +606,7 @@ pub fn write_demo_figures(
         bat_angular_speed: all_swings.iter().map(|s| s.bat_angular_speed).sum::<f64>() / n,
         impact_z: f64::NAN,
     };
-    let settings = FigureSettings {
-        format: image,
-        points: 60,
-        swing: typical,
-        ball,
-        options,
-    };
+    let settings = FigureSettings { format: image, points: 60, swing: typical, ball, options };
     let entries = write_figures(dir, &settings).map_err(|e| anyhow!("seed figures: {e:#}"))?;
     files.extend(entries.into_iter().map(|e| e.file));
     Ok(files)

@@ -30,14 +30,7 @@ pub fn from_json<T: FromJson>(value: &Value) -> Result<T, MsgError> {
 }
 
 fn err(path: &str, reason: impl Into<String>) -> MsgError {
-    MsgError::Json {
-        path: if path.is_empty() {
-            "message".into()
-        } else {
-            path.to_string()
-        },
-        reason: reason.into(),
-    }
+    MsgError::Json { path: if path.is_empty() { "message".into() } else { path.to_string() }, reason: reason.into() }
 }
 
 /// `path` + `.field`.
@@ -53,10 +46,7 @@ pub fn join(path: &str, field: &str) -> String {
 pub fn expect_object<'a>(value: &'a Value, path: &str) -> Result<&'a Map<String, Value>, MsgError> {
     match value {
         Value::Object(m) => Ok(m),
-        other => Err(err(
-            path,
-            format!("expected an object, found {}", kind(other)),
-        )),
+        other => Err(err(path, format!("expected an object, found {}", kind(other)))),
     }
 }
 
@@ -69,13 +59,7 @@ pub fn reject_unknown(
 ) -> Result<(), MsgError> {
     for key in object.keys() {
         if !known.contains(&key.as_str()) {
-            return Err(err(
-                &join(path, key),
-                format!(
-                    "{type_name} has no such field (fields: {})",
-                    known.join(", ")
-                ),
-            ));
+            return Err(err(&join(path, key), format!("{type_name} has no such field (fields: {})", known.join(", "))));
         }
     }
     Ok(())
@@ -102,9 +86,7 @@ fn kind(v: &Value) -> &'static str {
 
 fn parse_float(value: &Value, path: &str) -> Result<f64, MsgError> {
     match value {
-        Value::Number(n) => n
-            .as_f64()
-            .ok_or_else(|| err(path, "not representable as a float")),
+        Value::Number(n) => n.as_f64().ok_or_else(|| err(path, "not representable as a float")),
         Value::Null => Ok(f64::NAN),
         Value::String(s) => {
             let t = s.trim();
@@ -112,15 +94,10 @@ fn parse_float(value: &Value, path: &str) -> Result<f64, MsgError> {
                 "" | "nan" | ".nan" | "null" => Ok(f64::NAN),
                 "inf" | "+inf" | "infinity" | ".inf" => Ok(f64::INFINITY),
                 "-inf" | "-infinity" | "-.inf" => Ok(f64::NEG_INFINITY),
-                _ => t
-                    .parse::<f64>()
-                    .map_err(|_| err(path, format!("expected a number, found \"{s}\""))),
+                _ => t.parse::<f64>().map_err(|_| err(path, format!("expected a number, found \"{s}\""))),
             }
         }
-        other => Err(err(
-            path,
-            format!("expected a number, found {}", kind(other)),
-        )),
+        other => Err(err(path, format!("expected a number, found {}", kind(other)))),
     }
 }
 
@@ -146,9 +123,7 @@ fn float_json(v: f64) -> Value {
     } else if v.is_infinite() {
         Value::String(if v > 0.0 { "inf" } else { "-inf" }.into())
     } else {
-        serde_json::Number::from_f64(v)
-            .map(Value::Number)
-            .unwrap_or(Value::Null)
+        serde_json::Number::from_f64(v).map(Value::Number).unwrap_or(Value::Null)
     }
 }
 
@@ -209,10 +184,7 @@ impl FromJson for bool {
                 "false" | "0" => Ok(false),
                 _ => Err(err(path, format!("expected true or false, found \"{s}\""))),
             },
-            other => Err(err(
-                path,
-                format!("expected true or false, found {}", kind(other)),
-            )),
+            other => Err(err(path, format!("expected true or false, found {}", kind(other)))),
         }
     }
 }
@@ -232,10 +204,7 @@ impl FromJson for String {
                 }
                 Ok(s.clone())
             }
-            other => Err(err(
-                path,
-                format!("expected a string, found {}", kind(other)),
-            )),
+            other => Err(err(path, format!("expected a string, found {}", kind(other)))),
         }
     }
 }
@@ -260,25 +229,16 @@ fn array_elements(value: &Value, path: &str) -> Result<Vec<Value>, MsgError> {
             } else if t.is_empty() {
                 Ok(Vec::new())
             } else {
-                Ok(t.split(';')
-                    .map(|e| Value::String(e.trim().to_string()))
-                    .collect())
+                Ok(t.split(';').map(|e| Value::String(e.trim().to_string())).collect())
             }
         }
-        other => Err(err(
-            path,
-            format!("expected an array, found {}", kind(other)),
-        )),
+        other => Err(err(path, format!("expected an array, found {}", kind(other)))),
     }
 }
 
 impl<T: FromJson> FromJson for Vec<T> {
     fn from_json(value: &Value, path: &str) -> Result<Self, MsgError> {
-        array_elements(value, path)?
-            .iter()
-            .enumerate()
-            .map(|(i, v)| T::from_json(v, &format!("{path}[{i}]")))
-            .collect()
+        array_elements(value, path)?.iter().enumerate().map(|(i, v)| T::from_json(v, &format!("{path}[{i}]"))).collect()
     }
 }
 
@@ -292,8 +252,7 @@ impl<T: FromJson, const N: usize> FromJson for [T; N] {
     fn from_json(value: &Value, path: &str) -> Result<Self, MsgError> {
         let v: Vec<T> = Vec::from_json(value, path)?;
         let len = v.len();
-        v.try_into()
-            .map_err(|_| err(path, format!("expected exactly {N} elements, found {len}")))
+        v.try_into().map_err(|_| err(path, format!("expected exactly {N} elements, found {len}")))
     }
 }
 
@@ -356,8 +315,7 @@ fn write_readable(value: &Value, indent: usize, out: &mut String) {
                                 let mut inner = String::new();
                                 write_readable(e, indent + 2, &mut inner);
                                 // First line of each element gets the list marker.
-                                let inner =
-                                    inner.replacen(&format!("{pad}  "), &format!("{pad}- "), 1);
+                                let inner = inner.replacen(&format!("{pad}  "), &format!("{pad}- "), 1);
                                 out.push_str(&inner);
                             }
                         }
@@ -390,25 +348,17 @@ mod tests {
 
     #[test]
     fn errors_name_the_field() {
-        let e = from_json::<Swing>(&serde_json::json!({"header": {"stamp": {"sec": 1e12}}}))
-            .unwrap_err();
+        let e = from_json::<Swing>(&serde_json::json!({"header": {"stamp": {"sec": 1e12}}})).unwrap_err();
         assert!(e.to_string().starts_with("header.stamp.sec:"), "{e}");
         let e = from_json::<Swing>(&serde_json::json!({"bat_idd": "x"})).unwrap_err();
-        assert!(
-            e.to_string().contains("bat_idd") && e.to_string().contains("no such field"),
-            "{e}"
-        );
+        assert!(e.to_string().contains("bat_idd") && e.to_string().contains("no such field"), "{e}");
         let e = from_json::<Swing>(&serde_json::json!({"swing_id": -1})).unwrap_err();
         assert!(e.to_string().starts_with("swing_id:"), "{e}");
     }
 
     #[test]
     fn nan_round_trips_through_json() {
-        let s = Swing {
-            measured_exit_speed: f64::NAN,
-            impact_z: f64::INFINITY,
-            ..Default::default()
-        };
+        let s = Swing { measured_exit_speed: f64::NAN, impact_z: f64::INFINITY, ..Default::default() };
         let back: Swing = from_json(&s.to_json()).unwrap();
         assert!(back.measured_exit_speed.is_nan());
         assert_eq!(back.impact_z, f64::INFINITY);
@@ -421,10 +371,7 @@ mod tests {
             status: vec![DiagnosticStatus {
                 level: 1,
                 name: "it's".into(),
-                values: vec![KeyValue {
-                    key: "k".into(),
-                    value: "v".into(),
-                }],
+                values: vec![KeyValue { key: "k".into(), value: "v".into() }],
                 ..Default::default()
             }],
             ..Default::default()
@@ -435,15 +382,8 @@ mod tests {
             "header:\n  stamp:\n    sec: 0\n    nanosec: 0\n  frame_id: ''\nstatus:\n- level: 1\n  name: 'it''s'\n  \
              message: ''\n  hardware_id: ''\n  values:\n  - key: 'k'\n    value: 'v'\n"
         );
-        let s = Swing {
-            measured_exit_speed: f64::NAN,
-            ball_speed: 40.0,
-            ..Default::default()
-        };
+        let s = Swing { measured_exit_speed: f64::NAN, ball_speed: 40.0, ..Default::default() };
         let text = to_readable(&s.to_json());
-        assert!(
-            text.contains("ball_speed: 40.0\n") && text.contains("measured_exit_speed: .nan\n"),
-            "{text}"
-        );
+        assert!(text.contains("ball_speed: 40.0\n") && text.contains("measured_exit_speed: .nan\n"), "{text}");
     }
 }

@@ -33,10 +33,7 @@ pub enum MsgError {
     },
     /// The body decoded but more bytes than the at most 3 alignment padding bytes follow it.
     #[error("malformed CDR for {type_name}: {extra} unexpected bytes after the message")]
-    TrailingBytes {
-        type_name: &'static str,
-        extra: usize,
-    },
+    TrailingBytes { type_name: &'static str, extra: usize },
     /// The value could not be serialised (should not happen for generated types).
     #[error("cannot encode {type_name} as CDR: {source}")]
     Encode {
@@ -138,12 +135,8 @@ pub const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
 pub fn encode_cdr<T: serde::Serialize>(message: &T) -> Result<Vec<u8>, MsgError> {
     let mut out = Vec::with_capacity(64);
     out.extend_from_slice(&CDR_LE_HEADER);
-    cdr_encoding::to_writer::<T, byteorder::LittleEndian, _>(&mut out, message).map_err(
-        |source| MsgError::Encode {
-            type_name: std::any::type_name::<T>(),
-            source,
-        },
-    )?;
+    cdr_encoding::to_writer::<T, byteorder::LittleEndian, _>(&mut out, message)
+        .map_err(|source| MsgError::Encode { type_name: std::any::type_name::<T>(), source })?;
     Ok(out)
 }
 
@@ -183,10 +176,7 @@ mod tests {
         assert!(Swing::SCHEMA_TEXT.contains("\nMSG: std_msgs/Header\n"));
         assert!(Swing::SCHEMA_TEXT.contains("\nMSG: builtin_interfaces/Time\n"));
         assert_eq!(schema_for("sweetspot_msgs/Swing"), Some(Swing::SCHEMA_TEXT));
-        assert_eq!(
-            schema_for("sweetspot_msgs/msg/Swing"),
-            Some(Swing::SCHEMA_TEXT)
-        );
+        assert_eq!(schema_for("sweetspot_msgs/msg/Swing"), Some(Swing::SCHEMA_TEXT));
         assert_eq!(schema_for("sweetspot_msgs/msg/Nope"), None);
     }
 

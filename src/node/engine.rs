@@ -207,7 +207,8 @@ impl Registry {
         if ball_id == DEFAULT_BALL_ID {
             return Ok((ball_id, Ball::default()));
         }
-        let built_in_available = self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
+        let built_in_available =
+            self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
         let known = self.balls.iter().map(|(id, _)| id).chain(built_in_available.then_some(DEFAULT_BALL_ID));
         Err(format!(
             "unknown ball_id '{ball_id}': no BallParams received for it{} (known balls: [{}])",

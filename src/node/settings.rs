@@ -335,7 +335,12 @@ impl NodeSettings {
                 wrong_type("a string")
             }
             (
-                "default_modes" | "max_bats" | "max_balls" | "max_bat_slices" | "queue_capacity" | "workers"
+                "default_modes"
+                | "max_bats"
+                | "max_balls"
+                | "max_bat_slices"
+                | "queue_capacity"
+                | "workers"
                 | "record_max_file_size",
                 _,
             ) => wrong_type("an integer"),
@@ -439,10 +444,7 @@ mod tests {
         for bad in ["fast_write", "zstd", "None", " "] {
             let err = s.apply("record_storage_preset", &ParameterValue::String(bad.into())).unwrap_err();
             assert!(err.contains("record_storage_preset") && err.contains("REJECTED"), "{bad}: {err}");
-            assert!(
-                err.contains("valid options are 'none', 'fastwrite', 'zstd_fast', 'zstd_small'"),
-                "{bad}: {err}"
-            );
+            assert!(err.contains("valid options are 'none', 'fastwrite', 'zstd_fast', 'zstd_small'"), "{bad}: {err}");
         }
         assert_eq!(s.record_storage_preset, "none", "a refused value leaves the last good one");
         let e = s.apply("record_storage_preset", &ParameterValue::Integer(1)).unwrap_err();

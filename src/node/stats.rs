@@ -218,7 +218,8 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
     let new_losses = now.swings_lost_in_transport.saturating_sub(before.swings_lost_in_transport);
     let new_publish_failures = now.publish_failures.saturating_sub(before.publish_failures);
     let new_unreadable = now.samples_unreadable.saturating_sub(before.samples_unreadable);
-    let new_evictions = (now.bats_evicted + now.balls_evicted).saturating_sub(before.bats_evicted + before.balls_evicted);
+    let new_evictions =
+        (now.bats_evicted + now.balls_evicted).saturating_sub(before.bats_evicted + before.balls_evicted);
     let (mut level, mut message) = (Health::Ok, format!("{} swings answered", now.swings_answered()));
     if new_drops > 0 || new_publish_failures > 0 || new_losses > 0 || new_unreadable > 0 {
         level = Health::Warn;

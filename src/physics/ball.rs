@@ -30,13 +30,7 @@ pub struct Ball {
 impl Default for Ball {
     /// A regulation baseball: 0.145 kg, 0.0366 m, k1 = 6.53e7 N/m^α, α = 1.84, e0 = 0.53.
     fn default() -> Self {
-        Ball {
-            mass: 0.145,
-            radius: 0.0366,
-            stiffness: 6.53e7,
-            exponent: 1.84,
-            cor: 0.53,
-        }
+        Ball { mass: 0.145, radius: 0.0366, stiffness: 6.53e7, exponent: 1.84, cor: 0.53 }
     }
 }
 
@@ -51,7 +45,9 @@ impl Ball {
         match name {
             "baseball" => Ok(Ball::default()),
             "bbcor" => Ok(Ball::bbcor_protocol()),
-            _ => Err(PhysicsError::UnknownBallPreset { name: name.to_string(), known: Ball::preset_names().join(", ") }),
+            _ => {
+                Err(PhysicsError::UnknownBallPreset { name: name.to_string(), known: Ball::preset_names().join(", ") })
+            }
         }
     }
 
@@ -77,7 +73,12 @@ impl Ball {
         check("radius", self.radius, self.radius >= 1e-3 && self.radius <= 0.5, "1e-3 ≤ radius ≤ 0.5 m")?;
         check("stiffness", self.stiffness, self.stiffness >= 1.0 && self.stiffness <= 1e15, "1 ≤ k1 ≤ 1e15 N/m^α")?;
         check("exponent", self.exponent, self.exponent >= 1.0 && self.exponent <= 4.0, "1 ≤ α ≤ 4")?;
-        check("cor", self.cor, self.cor >= 0.05 && self.cor <= 1.0, "0.05 ≤ e0 ≤ 1 (e0 in (0, 1]; below 0.05 the unloading exponent exceeds 1000)")?;
+        check(
+            "cor",
+            self.cor,
+            self.cor >= 0.05 && self.cor <= 1.0,
+            "0.05 ≤ e0 ≤ 1 (e0 in (0, 1]; below 0.05 the unloading exponent exceeds 1000)",
+        )?;
         Ok(())
     }
 

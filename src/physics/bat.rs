@@ -173,13 +173,7 @@ impl Bat {
         core: Option<CoreFill>,
         slice_length: f64,
     ) -> Result<Bat, PhysicsError> {
-        let bat = Bat {
-            name: name.into(),
-            stations,
-            shell,
-            core,
-            slice_length,
-        };
+        let bat = Bat { name: name.into(), stations, shell, core, slice_length };
         bat.validate()?;
         Ok(bat)
     }
@@ -194,7 +188,13 @@ impl Bat {
         }
         for (i, s) in self.stations.iter().enumerate() {
             check_range(&format!("stations[{i}].z"), s.z, 0.0, 3.0, "0 ≤ z ≤ 3 m")?;
-            check_range(&format!("stations[{i}].outer_radius"), s.outer_radius, 1e-4, 0.2, "1e-4 ≤ outer_radius ≤ 0.2 m")?;
+            check_range(
+                &format!("stations[{i}].outer_radius"),
+                s.outer_radius,
+                1e-4,
+                0.2,
+                "1e-4 ≤ outer_radius ≤ 0.2 m",
+            )?;
             if !(s.inner_radius.is_finite() && s.inner_radius >= 0.0 && s.inner_radius < s.outer_radius) {
                 return Err(PhysicsError::out_of_range(
                     format!("stations[{i}].inner_radius"),
@@ -204,7 +204,11 @@ impl Bat {
             }
         }
         if self.stations[0].z != 0.0 {
-            return Err(PhysicsError::out_of_range("stations[0].z", self.stations[0].z, "0 m (the first station is the knob)"));
+            return Err(PhysicsError::out_of_range(
+                "stations[0].z",
+                self.stations[0].z,
+                "0 m (the first station is the knob)",
+            ));
         }
         for i in 1..self.stations.len() {
             if self.stations[i].z <= self.stations[i - 1].z {
@@ -224,7 +228,11 @@ impl Bat {
             return Err(PhysicsError::out_of_range(
                 "slice_length",
                 self.slice_length,
-                format!("{} ≤ slice_length ≤ {} m (length/{max_n} … length/{min_n})", length / max_n as f64, length / min_n as f64),
+                format!(
+                    "{} ≤ slice_length ≤ {} m (length/{max_n} … length/{min_n})",
+                    length / max_n as f64,
+                    length / min_n as f64
+                ),
             ));
         }
         let n = (length / self.slice_length).round();
@@ -249,10 +257,7 @@ impl Bat {
                     format!("z_start = {} < z_end ≤ length = {length} m", core.z_start),
                 ));
             }
-            let filled = self
-                .slices_raw()
-                .iter()
-                .any(|&(z, _, ri)| ri > 0.0 && z >= core.z_start && z <= core.z_end);
+            let filled = self.slices_raw().iter().any(|&(z, _, ri)| ri > 0.0 && z >= core.z_start && z <= core.z_end);
             if !filled {
                 return Err(PhysicsError::BadProfile(format!(
                     "core: no slice centre in [{}, {}] m has a bore (inner_radius > 0) to fill",
@@ -451,10 +456,7 @@ impl Bat {
         }
         let (a, b) = (st[k - 1], st[k]);
         let t = (z - a.z) / (b.z - a.z);
-        (
-            a.outer_radius + t * (b.outer_radius - a.outer_radius),
-            a.inner_radius + t * (b.inner_radius - a.inner_radius),
-        )
+        (a.outer_radius + t * (b.outer_radius - a.outer_radius), a.inner_radius + t * (b.inner_radius - a.inner_radius))
     }
 
     /// (centre z, outer radius, inner radius) of every slice.
@@ -514,10 +516,15 @@ impl Bat {
 pub(crate) fn mass_properties_of(slices: &[Slice], length: f64) -> MassProperties {
     let mass: f64 = slices.iter().map(|s| s.mass).sum();
     if !(mass > 0.0) {
-        return MassProperties { mass: 0.0, length, center_of_mass: 0.0, moment_of_inertia: 0.0, radius_of_gyration: 0.0 };
+        return MassProperties {
+            mass: 0.0,
+            length,
+            center_of_mass: 0.0,
+            moment_of_inertia: 0.0,
+            radius_of_gyration: 0.0,
+        };
     }
     let zcm = slices.iter().map(|s| s.mass * s.z).sum::<f64>() / mass;
     let icm: f64 = slices.iter().map(|s| s.mass * (s.z - zcm).powi(2) + s.rotary_inertia).sum();
     MassProperties::from_totals(mass, length, zcm, icm)
 }
-

@@ -22,9 +22,9 @@
 //! four modes, on AVX registers when the CPU has them, with bit-identical results either way
 //! ([`super::lanes`]).
 
-use super::lanes::{Lane4, Lanes, Portable, LANES};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
+use super::lanes::{Lane4, Lanes, Portable, LANES};
 use super::rigid;
 use super::{Ball, ModeSet, PhysicsError};
 
@@ -93,10 +93,7 @@ pub struct CollisionOptions {
 
 impl Default for CollisionOptions {
     fn default() -> Self {
-        CollisionOptions {
-            modes: 18,
-            time_step: 5e-6,
-        }
+        CollisionOptions { modes: 18, time_step: 5e-6 }
     }
 }
 
@@ -113,7 +110,11 @@ impl CollisionOptions {
         }
         let (lo, hi) = TIME_STEP_RANGE;
         if !(self.time_step.is_finite() && self.time_step >= lo && self.time_step <= hi) {
-            return Err(PhysicsError::out_of_range("time_step", self.time_step, format!("{lo:e} ≤ time_step ≤ {hi:e} s")));
+            return Err(PhysicsError::out_of_range(
+                "time_step",
+                self.time_step,
+                format!("{lo:e} ≤ time_step ≤ {hi:e} s"),
+            ));
         }
         if self.modes > 0 {
             let omega_max = modes.vibrational_modes()[self.modes - 1].angular_frequency;
@@ -122,7 +123,11 @@ impl CollisionOptions {
                 return Err(PhysicsError::out_of_range(
                     "time_step",
                     self.time_step,
-                    format!("≤ {limit:.3e} s (RK4 stability for mode {} at {:.0} Hz)", self.modes, omega_max / std::f64::consts::TAU),
+                    format!(
+                        "≤ {limit:.3e} s (RK4 stability for mode {} at {:.0} Hz)",
+                        self.modes,
+                        omega_max / std::f64::consts::TAU
+                    ),
                 ));
             }
         }
@@ -315,7 +320,8 @@ impl Anchor {
 
     /// Expands `law`'s loading (`loading`) or unloading branch about `u` (> 0), serving |u' − u| ≤ radius·u.
     fn at(law: &ForceLaw, u: f64, loading: bool) -> Anchor {
-        let (gamma, k, series) = if loading { (law.alpha, law.k1, &law.loading) } else { (law.beta, law.k2(), &law.unloading) };
+        let (gamma, k, series) =
+            if loading { (law.alpha, law.k1, &law.loading) } else { (law.beta, law.k2(), &law.unloading) };
         // coeffs[k] = F(u_a)·C(γ, k)/u_a^k; the powers of 1/u_a do not wait for the ln/exp of F(u_a).
         let force = k * (gamma * u.ln()).exp();
         let inv_u = 1.0 / u;
@@ -569,7 +575,8 @@ impl Work {
     fn mode_state(&self, k: usize) -> (f64, f64) {
         let (g, l) = (k / LANES, k % LANES);
         let (mut q, mut p) = ([0.0; LANES], [0.0; LANES]);
-        let (q_full, p_full) = with_pending::<Portable>(&self.modes[g], &self.state[self.current][g], self.pending[self.current]);
+        let (q_full, p_full) =
+            with_pending::<Portable>(&self.modes[g], &self.state[self.current][g], self.pending[self.current]);
         q_full.store(&mut q);
         p_full.store(&mut p);
         (q[l], p[l])
@@ -732,7 +739,16 @@ enum Event {
 /// RK4 steps from the saved start state; leaves the state at τ and returns (τ, scalars, force at τ).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn locate<V: Lane4>(work: &mut Work, start: &Scalars, h: f64, law: &ForceLaw, inv_mass: f64, event: Event, g_start: f64, g_end: f64) -> (f64, Scalars) {
+fn locate<V: Lane4>(
+    work: &mut Work,
+    start: &Scalars,
+    h: f64,
+    law: &ForceLaw,
+    inv_mass: f64,
+    event: Event,
+    g_start: f64,
+    g_end: f64,
+) -> (f64, Scalars) {
     let value = |work: &mut Work, tau: f64| -> Scalars {
         let Work { partial, modes, .. } = work;
         partial.set(tau, modes);
@@ -799,7 +815,13 @@ struct Contact {
 ///
 /// The loop is the same code either way and uses no fused multiply–add, so the two builds give bit-identical
 /// results; only the lane operations of the per-mode update get wider.
-fn integrate(work: &mut Work, law: &mut ForceLaw, ball: &Ball, ball_speed: f64, h: f64) -> Result<Contact, PhysicsError> {
+fn integrate(
+    work: &mut Work,
+    law: &mut ForceLaw,
+    ball: &Ball,
+    ball_speed: f64,
+    h: f64,
+) -> Result<Contact, PhysicsError> {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU supports AVX2 (checked just above), the only requirement of `integrate_avx2`.
@@ -811,13 +833,25 @@ fn integrate(work: &mut Work, law: &mut ForceLaw, ball: &Ball, ball_speed: f64, 
 /// [`integrate_loop`] compiled with AVX2 enabled, its per-mode update on 256-bit registers.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn integrate_avx2(work: &mut Work, law: &mut ForceLaw, ball: &Ball, ball_speed: f64, h: f64) -> Result<Contact, PhysicsError> {
+fn integrate_avx2(
+    work: &mut Work,
+    law: &mut ForceLaw,
+    ball: &Ball,
+    ball_speed: f64,
+    h: f64,
+) -> Result<Contact, PhysicsError> {
     integrate_loop::<Avx>(work, law, ball, ball_speed, h)
 }
 
 /// The fixed-step RK4 loop from first contact to separation (see the module docs).
 #[inline(always)]
-fn integrate_loop<V: Lane4>(work: &mut Work, law: &mut ForceLaw, ball: &Ball, ball_speed: f64, h: f64) -> Result<Contact, PhysicsError> {
+fn integrate_loop<V: Lane4>(
+    work: &mut Work,
+    law: &mut ForceLaw,
+    ball: &Ball,
+    ball_speed: f64,
+    h: f64,
+) -> Result<Contact, PhysicsError> {
     let inv_mass = 1.0 / ball.mass;
     let mut sc = Scalars { s: 0.0, v: -ball_speed };
     let mut t = 0.0;
@@ -903,8 +937,8 @@ pub fn collide(
     let mut law = ForceLaw::new(ball);
     let (_, p_translation) = work.mode_state(0);
     let (_, p_rotation) = work.mode_state(1);
-    let initial_energy = 0.5 * ball.mass * impact.ball_speed.powi(2)
-        + 0.5 * (p_translation * p_translation + p_rotation * p_rotation);
+    let initial_energy =
+        0.5 * ball.mass * impact.ball_speed.powi(2) + 0.5 * (p_translation * p_translation + p_rotation * p_rotation);
 
     let contact = integrate(&mut work, &mut law, ball, impact.ball_speed, h)?;
     let Contact { scalars: sc, time: t, peak_force, separated } = contact;
@@ -1148,7 +1182,10 @@ mod tests {
                 let mut law = ForceLaw::new(&ball);
                 let work = work_along(&mut law, &path);
                 let closed = ball.hysteresis_loss(0.012);
-                assert!((work - closed).abs() <= 1e-6 * ball.stiffness * 0.012f64.powf(ball.exponent + 1.0), "e0 = {cor}, path {path:?}: ∮F du = {work} vs {closed}");
+                assert!(
+                    (work - closed).abs() <= 1e-6 * ball.stiffness * 0.012f64.powf(ball.exponent + 1.0),
+                    "e0 = {cor}, path {path:?}: ∮F du = {work} vs {closed}"
+                );
             }
         }
         assert_eq!(Ball::default().hysteresis_loss(0.0), 0.0);

@@ -5,11 +5,7 @@
 pub enum PhysicsError {
     /// A numeric field is NaN, infinite or outside its allowed range.
     #[error("{field} = {value} is out of range: expected {allowed}")]
-    OutOfRange {
-        field: String,
-        value: f64,
-        allowed: String,
-    },
+    OutOfRange { field: String, value: f64, allowed: String },
     /// The bat's profile is malformed (too few stations, z not strictly increasing, inner ≥ outer, …).
     #[error("bad bat profile: {0}")]
     BadProfile(String),
@@ -30,10 +26,6 @@ pub enum PhysicsError {
 impl PhysicsError {
     /// Builds an [`PhysicsError::OutOfRange`] for `field`.
     pub fn out_of_range(field: impl Into<String>, value: f64, allowed: impl Into<String>) -> Self {
-        PhysicsError::OutOfRange {
-            field: field.into(),
-            value,
-            allowed: allowed.into(),
-        }
+        PhysicsError::OutOfRange { field: field.into(), value, allowed: allowed.into() }
     }
 }

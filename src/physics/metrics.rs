@@ -143,10 +143,8 @@ fn maximise_over(
     eval: impl Fn(f64) -> Result<f64, PhysicsError> + Sync,
 ) -> Result<(f64, f64), PhysicsError> {
     let values: Vec<f64> = zs.par_iter().map(|&z| eval(z)).collect::<Result<_, _>>()?;
-    let (best, _) = values
-        .iter()
-        .enumerate()
-        .fold((0, f64::NEG_INFINITY), |acc, (i, &v)| if v > acc.1 { (i, v) } else { acc });
+    let (best, _) =
+        values.iter().enumerate().fold((0, f64::NEG_INFINITY), |acc, (i, &v)| if v > acc.1 { (i, v) } else { acc });
     let lo = zs[best.saturating_sub(1)];
     let hi = zs[(best + 1).min(zs.len() - 1)];
     let (z, v) = golden_max(lo, hi, 1e-4, &eval)?;
@@ -208,7 +206,12 @@ pub fn bbcor_report(modes: &ModeSet, ball: &Ball, options: &CollisionOptions) ->
     };
     let (z, value) = maximise_over(&zs, |z| at(z).map(|r| r.effective_cor))?;
     let r = at(z)?;
-    Ok(BbcorReport { bbcor: value, impact_z: z, collision_efficiency: r.collision_efficiency, ball_speed: BBCOR_BALL_SPEED })
+    Ok(BbcorReport {
+        bbcor: value,
+        impact_z: z,
+        collision_efficiency: r.collision_efficiency,
+        ball_speed: BBCOR_BALL_SPEED,
+    })
 }
 
 /// BESR of `modes` with `ball` (see the module docs for the protocol).

@@ -104,8 +104,8 @@ pub mod ball;
 pub mod bat;
 pub mod collision;
 pub mod error;
-pub mod metrics;
 mod lanes;
+pub mod metrics;
 pub mod modes;
 pub mod rigid;
 
@@ -113,6 +113,6 @@ pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
 pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
 pub use error::PhysicsError;
-pub use metrics::{BbcorReport, BesrReport, SweetSpotSet, SweepPoint};
+pub use metrics::{BbcorReport, BesrReport, SweepPoint, SweetSpotSet};
 pub use modes::{BeamMatrices, EigenSolver, LinkRule, Mode, ModeSet};
 pub use rigid::RigidBat;

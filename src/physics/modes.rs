@@ -315,15 +315,19 @@ fn band_eigenvalues(pencil: &BandPencil, count: usize) -> DVector<f64> {
 
 /// Calls `add((is_y, slice), (is_y, slice), value)` for every contribution of the links to K
 /// (see the module docs of [`crate::physics`] for the energy it comes from).
-fn for_each_stiffness_term(slices: &[Slice], dz: f64, rule: LinkRule, mut add: impl FnMut((bool, usize), (bool, usize), f64)) {
+fn for_each_stiffness_term(
+    slices: &[Slice],
+    dz: f64,
+    rule: LinkRule,
+    mut add: impl FnMut((bool, usize), (bool, usize), f64),
+) {
     for i in 0..slices.len().saturating_sub(1) {
         let (a, b) = (&slices[i], &slices[i + 1]);
         let (yi, sa) = match rule {
             LinkRule::KnobSide => (a.bending_stiffness, a.shear_stiffness),
-            LinkRule::Mean => (
-                0.5 * (a.bending_stiffness + b.bending_stiffness),
-                0.5 * (a.shear_stiffness + b.shear_stiffness),
-            ),
+            LinkRule::Mean => {
+                (0.5 * (a.bending_stiffness + b.bending_stiffness), 0.5 * (a.shear_stiffness + b.shear_stiffness))
+            }
         };
         // Bending: ½ (YI) Δz ((φ_{i+1} − φ_i)/Δz)².
         let kb = yi / dz;
@@ -436,7 +440,10 @@ impl ModeSet {
         };
         // Symmetric form A = M^{-1/2} K M^{-1/2}; its orthonormal eigenvectors x give v = M^{-1/2} x.
         let band = BandPencil::from_slices(&slices, dz, rule);
-        let inv_sqrt_m = DVector::from_iterator(2 * n, slices.iter().map(|s| s.mass).chain(slices.iter().map(|s| s.rotary_inertia)).map(|m| 1.0 / m.sqrt()));
+        let inv_sqrt_m = DVector::from_iterator(
+            2 * n,
+            slices.iter().map(|s| s.mass).chain(slices.iter().map(|s| s.rotary_inertia)).map(|m| 1.0 / m.sqrt()),
+        );
         let (eigenvalues, eigenvectors) = if solver == EigenSolver::Dense {
             let beam = BeamMatrices::from_slices(&slices, dz, rule);
             let a = DMatrix::from_fn(2 * n, 2 * n, |r, c| beam.stiffness[(r, c)] * inv_sqrt_m[r] * inv_sqrt_m[c]);
@@ -471,7 +478,10 @@ impl ModeSet {
             let (mut y, mut phi) = match &eigenvectors {
                 Some(vectors) => {
                     let x = vectors.column(idx);
-                    ((0..n).map(|i| x[i] * inv_sqrt_m[i]).collect(), (0..n).map(|i| x[n + i] * inv_sqrt_m[n + i]).collect())
+                    (
+                        (0..n).map(|i| x[i] * inv_sqrt_m[i]).collect(),
+                        (0..n).map(|i| x[n + i] * inv_sqrt_m[n + i]).collect(),
+                    )
                 }
                 None => match band.inverse_iteration(eigenvalues[idx]) {
                     Ok(v) => v,
@@ -508,7 +518,14 @@ impl ModeSet {
             }
             modes.push(Mode { angular_frequency: omega, displacement: y, rotation: phi });
         }
-        Ok(ModeSet { name: bat.name.clone(), slices, slice_length: dz, length: bat.length(), mass_properties: mp, modes })
+        Ok(ModeSet {
+            name: bat.name.clone(),
+            slices,
+            slice_length: dz,
+            length: bat.length(),
+            mass_properties: mp,
+            modes,
+        })
     }
 
     /// Rigid-body mass properties of the discretised bat.
@@ -616,11 +633,7 @@ impl ModeSet {
 }
 
 fn m_inner(slices: &[Slice], y1: &[f64], p1: &[f64], y2: &[f64], p2: &[f64]) -> f64 {
-    slices
-        .iter()
-        .enumerate()
-        .map(|(i, s)| s.mass * y1[i] * y2[i] + s.rotary_inertia * p1[i] * p2[i])
-        .sum()
+    slices.iter().enumerate().map(|(i, s)| s.mass * y1[i] * y2[i] + s.rotary_inertia * p1[i] * p2[i]).sum()
 }
 
 /// Exact, mass-normalised rigid modes: translation y = 1/√M, and rotation about the CM

@@ -71,7 +71,12 @@ impl RigidBat {
         };
         check("mass", self.mass, self.mass > 0.0, "mass > 0 kg")?;
         check("length", self.length, self.length > 0.0, "length > 0 m")?;
-        check("center_of_mass", self.center_of_mass, (0.0..=self.length).contains(&self.center_of_mass), "0 ≤ z_cm ≤ length")?;
+        check(
+            "center_of_mass",
+            self.center_of_mass,
+            (0.0..=self.length).contains(&self.center_of_mass),
+            "0 ≤ z_cm ≤ length",
+        )?;
         check("moment_of_inertia", self.moment_of_inertia, self.moment_of_inertia > 0.0, "I > 0 kg·m²")?;
         check("effective_cor", self.effective_cor, self.effective_cor > 0.0 && self.effective_cor <= 1.0, "0 < e ≤ 1")?;
         Ok(())

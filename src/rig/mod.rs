@@ -58,22 +58,14 @@ pub const RIG_BALL_ID: &str = "rig-ball";
 pub enum RigError {
     /// A configuration value out of range.
     #[error("rig config: {field} = {value} is out of range ({allowed})")]
-    OutOfRange {
-        field: &'static str,
-        value: String,
-        allowed: String,
-    },
+    OutOfRange { field: &'static str, value: String, allowed: String },
     /// The physics refused a bat, ball or swing.
     #[error("rig physics: {0}")]
     Physics(#[from] PhysicsError),
 }
 
 fn out_of_range(field: &'static str, value: impl std::fmt::Display, allowed: impl Into<String>) -> RigError {
-    RigError::OutOfRange {
-        field,
-        value: value.to_string(),
-        allowed: allowed.into(),
-    }
+    RigError::OutOfRange { field, value: value.to_string(), allowed: allowed.into() }
 }
 
 /// Standard deviations of the rig's sensors (Gaussian, independent, zero mean).
@@ -93,26 +85,14 @@ pub struct SensorNoise {
 
 impl Default for SensorNoise {
     fn default() -> Self {
-        SensorNoise {
-            ball_speed: 0.2,
-            angular_rate_relative: 0.01,
-            knob_speed: 0.1,
-            impact: 0.005,
-            exit_speed: 0.45,
-        }
+        SensorNoise { ball_speed: 0.2, angular_rate_relative: 0.01, knob_speed: 0.1, impact: 0.005, exit_speed: 0.45 }
     }
 }
 
 impl SensorNoise {
     /// No noise at all (the readings are the truth).
     pub fn none() -> SensorNoise {
-        SensorNoise {
-            ball_speed: 0.0,
-            angular_rate_relative: 0.0,
-            knob_speed: 0.0,
-            impact: 0.0,
-            exit_speed: 0.0,
-        }
+        SensorNoise { ball_speed: 0.0, angular_rate_relative: 0.0, knob_speed: 0.0, impact: 0.0, exit_speed: 0.0 }
     }
 
     /// Checks every σ is finite and ≥ 0 (and below physically silly values).
@@ -181,11 +161,7 @@ impl RigConfig {
             if lo.is_finite() && hi.is_finite() && 0.0 < lo && lo <= hi && hi <= max {
                 Ok(())
             } else {
-                Err(out_of_range(
-                    field,
-                    format!("{lo}..{hi}"),
-                    format!("0 < min ≤ max ≤ {max} m/s"),
-                ))
+                Err(out_of_range(field, format!("{lo}..{hi}"), format!("0 < min ≤ max ≤ {max} m/s")))
             }
         };
         range("pitch_speed", self.pitch_speed, 70.0)?;
@@ -203,10 +179,7 @@ impl RigConfig {
 
     /// The ball really used (the announced one with `true_cor` if set).
     pub fn true_ball(&self) -> Ball {
-        Ball {
-            cor: self.true_cor.unwrap_or(self.ball.cor),
-            ..self.ball
-        }
+        Ball { cor: self.true_cor.unwrap_or(self.ball.cor), ..self.ball }
     }
 }
 
@@ -241,10 +214,7 @@ impl SensorReading {
     pub fn to_swing(&self, mp: &MassProperties, swing_id: u64, bat_id: &str, ball_id: &str, stamp: Time) -> Swing {
         let impact = self.to_impact(mp);
         Swing {
-            header: Header {
-                stamp,
-                frame_id: String::new(),
-            },
+            header: Header { stamp, frame_id: String::new() },
             swing_id,
             bat_id: bat_id.to_string(),
             ball_id: ball_id.to_string(),
@@ -306,21 +276,11 @@ impl SessionGenerator {
             .map(|name| -> Result<RigBat, RigError> {
                 let bat = Bat::preset(name)?;
                 let modes = ModeSet::compute(&bat, config.options.modes)?;
-                Ok(RigBat {
-                    bat_id: name.clone(),
-                    bat,
-                    modes,
-                })
+                Ok(RigBat { bat_id: name.clone(), bat, modes })
             })
             .collect::<Result<Vec<_>, _>>()?;
         let rng = StdRng::seed_from_u64(config.seed);
-        Ok(SessionGenerator {
-            config,
-            bats,
-            rng,
-            next_id: 1,
-            block: 5,
-        })
+        Ok(SessionGenerator { config, bats, rng, next_id: 1, block: 5 })
     }
 
     /// Sets how many consecutive swings each bat gets before the next bat (default 5; ≥ 1).
@@ -344,10 +304,7 @@ impl SessionGenerator {
         self.bats
             .iter()
             .map(|b| {
-                let header = Header {
-                    stamp: stamp.clone(),
-                    frame_id: String::new(),
-                };
+                let header = Header { stamp: stamp.clone(), frame_id: String::new() };
                 crate::node::convert::params_of_preset(&b.bat_id, &b.bat_id, header)
             })
             .collect()
@@ -374,13 +331,8 @@ impl SessionGenerator {
         let knob_speed = -omega * PIVOT_Z;
         let (lo, hi) = IMPACT_RANGE_FROM_END;
         let from_end = (IMPACT_MEAN_FROM_END + IMPACT_SIGMA * standard_normal(rng)).clamp(lo, hi);
-        let truth_reading = SensorReading {
-            ball_speed,
-            angular_rate: omega,
-            knob_speed,
-            impact_from_end: from_end,
-            exit_speed: 0.0,
-        };
+        let truth_reading =
+            SensorReading { ball_speed, angular_rate: omega, knob_speed, impact_from_end: from_end, exit_speed: 0.0 };
         let truth = truth_reading.to_impact(&mp);
         let result = collide(&bat.modes, &cfg.true_ball(), &truth, &cfg.options)?;
 
@@ -393,32 +345,16 @@ impl SessionGenerator {
             exit_speed: result.exit_speed + n.exit_speed * standard_normal(rng),
         };
         let measured = reading.to_impact(&mp);
-        Ok(RigSwing {
-            swing_id,
-            bat_id: bat.bat_id.clone(),
-            truth,
-            reading,
-            measured,
-            result,
-        })
+        Ok(RigSwing { swing_id, bat_id: bat.bat_id.clone(), truth, reading, measured, result })
     }
 
     /// The `Swing` message of a simulated swing (its sensor readings, under the rig's ball).
     pub fn swing_message(&self, swing: &RigSwing, stamp: Time) -> Swing {
-        let mp = self
-            .bats
-            .iter()
-            .find(|b| b.bat_id == swing.bat_id)
-            .map(|b| b.modes.mass_properties());
+        let mp = self.bats.iter().find(|b| b.bat_id == swing.bat_id).map(|b| b.modes.mass_properties());
         match mp {
-            Some(mp) => swing
-                .reading
-                .to_swing(&mp, swing.swing_id, &swing.bat_id, RIG_BALL_ID, stamp),
+            Some(mp) => swing.reading.to_swing(&mp, swing.swing_id, &swing.bat_id, RIG_BALL_ID, stamp),
             None => Swing {
-                header: Header {
-                    stamp,
-                    frame_id: String::new(),
-                },
+                header: Header { stamp, frame_id: String::new() },
                 swing_id: swing.swing_id,
                 bat_id: swing.bat_id.clone(),
                 ball_id: RIG_BALL_ID.to_string(),
@@ -435,10 +371,7 @@ impl SessionGenerator {
 /// A BallParams message for `ball` under `ball_id`.
 pub fn ball_params(ball_id: &str, ball: &Ball, stamp: Time) -> BallParams {
     BallParams {
-        header: Header {
-            stamp,
-            frame_id: String::new(),
-        },
+        header: Header { stamp, frame_id: String::new() },
         ball_id: ball_id.to_string(),
         mass: ball.mass,
         radius: ball.radius,
@@ -450,10 +383,7 @@ pub fn ball_params(ball_id: &str, ball: &Ball, stamp: Time) -> BallParams {
 
 /// A ROS time stamp from nanoseconds since the Unix epoch.
 pub fn time_from_nanos(ns: u64) -> Time {
-    Time {
-        sec: (ns / 1_000_000_000).min(i32::MAX as u64) as i32,
-        nanosec: (ns % 1_000_000_000) as u32,
-    }
+    Time { sec: (ns / 1_000_000_000).min(i32::MAX as u64) as i32, nanosec: (ns % 1_000_000_000) as u32 }
 }
 
 /// Nanoseconds since the Unix epoch of a ROS time stamp (negative seconds clamp to 0).
@@ -480,10 +410,7 @@ mod tests {
 
     #[test]
     fn sessions_are_reproducible_and_realistic() {
-        let cfg = RigConfig {
-            seed: 7,
-            ..RigConfig::default()
-        };
+        let cfg = RigConfig { seed: 7, ..RigConfig::default() };
         let mut a = SessionGenerator::new(cfg.clone()).unwrap();
         let mut b = SessionGenerator::new(cfg).unwrap();
         let mut seen = std::collections::BTreeSet::new();
@@ -496,21 +423,11 @@ mod tests {
             let mp = bat.modes.mass_properties();
             let barrel = crate::physics::rigid::bat_speed_at(
                 &mp,
-                &Impact {
-                    impact_z: mp.length - BARREL_SPEED_POINT_FROM_END,
-                    ..x.truth
-                },
+                &Impact { impact_z: mp.length - BARREL_SPEED_POINT_FROM_END, ..x.truth },
             );
-            assert!(
-                (60.0 * MPH - 1e-9..80.0 * MPH + 1e-9).contains(&barrel),
-                "barrel speed {barrel}"
-            );
+            assert!((60.0 * MPH - 1e-9..80.0 * MPH + 1e-9).contains(&barrel), "barrel speed {barrel}");
             // Exit speeds of a real session: roughly 60–115 mph.
-            assert!(
-                (25.0..52.0).contains(&x.result.exit_speed),
-                "exit {}",
-                x.result.exit_speed
-            );
+            assert!((25.0..52.0).contains(&x.result.exit_speed), "exit {}", x.result.exit_speed);
             assert!((x.reading.exit_speed - x.result.exit_speed).abs() < 5.0 * 0.45);
         }
         assert_eq!(seen.len(), 4);
@@ -537,18 +454,9 @@ mod tests {
 
     #[test]
     fn bad_config_is_a_typed_error() {
-        let cfg = RigConfig {
-            true_cor: Some(1.5),
-            ..RigConfig::default()
-        };
-        assert!(matches!(
-            SessionGenerator::new(cfg),
-            Err(RigError::OutOfRange { field: "true_cor", .. })
-        ));
-        let cfg = RigConfig {
-            bats: vec!["nope".into()],
-            ..RigConfig::default()
-        };
+        let cfg = RigConfig { true_cor: Some(1.5), ..RigConfig::default() };
+        assert!(matches!(SessionGenerator::new(cfg), Err(RigError::OutOfRange { field: "true_cor", .. })));
+        let cfg = RigConfig { bats: vec!["nope".into()], ..RigConfig::default() };
         assert!(matches!(SessionGenerator::new(cfg), Err(RigError::Physics(_))));
     }
 }

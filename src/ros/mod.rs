@@ -63,8 +63,8 @@ pub mod shell;
 pub use args::{NameResolver, NodeIdentity, RosArgs, RosArgsError};
 pub use names::{dds_topic_name, resolve_topic, NameError};
 pub use qos::{
-    diagnostics_qos, params_qos, recorded_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos,
-    PARAMS_DEPTH, RESULTS_DEPTH, RESULTS_MAX_BLOCKING, SWING_DEPTH,
+    diagnostics_qos, params_qos, recorded_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos, PARAMS_DEPTH,
+    RESULTS_DEPTH, RESULTS_MAX_BLOCKING, SWING_DEPTH,
 };
 
 /// Environment variable selecting how far discovery reaches (ROS 2 Iron+).
@@ -87,9 +87,7 @@ pub enum RosError {
     #[error("ROS_DOMAIN_ID={value:?} is invalid: expected an integer in 0..=232")]
     InvalidDomainId { value: String },
     /// `ROS_AUTOMATIC_DISCOVERY_RANGE` has an unknown value.
-    #[error(
-        "ROS_AUTOMATIC_DISCOVERY_RANGE={value:?} is invalid: expected SUBNET, LOCALHOST, OFF or SYSTEM_DEFAULT"
-    )]
+    #[error("ROS_AUTOMATIC_DISCOVERY_RANGE={value:?} is invalid: expected SUBNET, LOCALHOST, OFF or SYSTEM_DEFAULT")]
     InvalidDiscoveryRange { value: String },
     /// A DDS participant was requested in a test outside a private network namespace.
     #[error("refusing to start DDS: {reason}")]
@@ -136,11 +134,7 @@ impl DiscoveryRange {
                 "LOCALHOST" => DiscoveryRange::Localhost,
                 "OFF" => DiscoveryRange::Off,
                 "SYSTEM_DEFAULT" => DiscoveryRange::SystemDefault,
-                _ => {
-                    return Err(RosError::InvalidDiscoveryRange {
-                        value: v.to_string(),
-                    })
-                }
+                _ => return Err(RosError::InvalidDiscoveryRange { value: v.to_string() }),
             },
         };
         if localhost_only.map(str::trim) == Some("1") {
@@ -172,9 +166,7 @@ pub fn parse_domain_id(value: Option<&str>) -> Result<u16, RosError> {
         None | Some("") => Ok(0),
         Some(v) => match v.parse::<u16>() {
             Ok(id) if id <= MAX_DOMAIN_ID => Ok(id),
-            _ => Err(RosError::InvalidDomainId {
-                value: v.to_string(),
-            }),
+            _ => Err(RosError::InvalidDomainId { value: v.to_string() }),
         },
     }
 }
@@ -201,11 +193,7 @@ impl DdsConfig {
 /// Whether this process runs in a network namespace whose only interface is loopback.
 pub fn in_private_network_namespace() -> std::io::Result<bool> {
     let dev = std::fs::read_to_string("/proc/self/net/dev")?;
-    let mut interfaces = dev
-        .lines()
-        .skip(2)
-        .filter_map(|l| l.split(':').next())
-        .map(str::trim);
+    let mut interfaces = dev.lines().skip(2).filter_map(|l| l.split(':').next()).map(str::trim);
     Ok(interfaces.all(|name| name == "lo"))
 }
 
@@ -215,14 +203,11 @@ pub fn network_guard() -> Result<(), RosError> {
     match in_private_network_namespace() {
         Ok(true) => Ok(()),
         Ok(false) => Err(RosError::NotIsolated {
-            reason:
-                "this process can reach network interfaces other than lo; run DDS tests through \
+            reason: "this process can reach network interfaces other than lo; run DDS tests through \
                      scripts/test (a private network namespace) so no packet leaves the machine"
-                    .into(),
+                .into(),
         }),
-        Err(e) => Err(RosError::NotIsolated {
-            reason: format!("cannot read /proc/self/net/dev: {e}"),
-        }),
+        Err(e) => Err(RosError::NotIsolated { reason: format!("cannot read /proc/self/net/dev: {e}") }),
     }
 }
 
@@ -237,16 +222,12 @@ pub fn domain_participant(config: &DdsConfig) -> Result<rustdds::DomainParticipa
     let builder = rustdds::DomainParticipantBuilder::new(config.domain_id);
     let builder = match config.range {
         DiscoveryRange::Subnet | DiscoveryRange::SystemDefault => builder,
-        DiscoveryRange::Localhost => builder
-            .with_only_networks([IpAddr::V4(Ipv4Addr::LOCALHOST)])
-            .same_host_loopback(true),
-        DiscoveryRange::Off => builder
-            .with_only_networks(Vec::<IpAddr>::new())
-            .same_host_loopback(false),
+        DiscoveryRange::Localhost => {
+            builder.with_only_networks([IpAddr::V4(Ipv4Addr::LOCALHOST)]).same_host_loopback(true)
+        }
+        DiscoveryRange::Off => builder.with_only_networks(Vec::<IpAddr>::new()).same_host_loopback(false),
     };
-    builder
-        .build()
-        .map_err(|e| RosError::Dds(format!("cannot create the DDS participant: {e}")))
+    builder.build().map_err(|e| RosError::Dds(format!("cannot create the DDS participant: {e}")))
 }
 
 /// A ros2-client context over a participant made by [`domain_participant`].
@@ -288,23 +269,11 @@ mod tests {
         use DiscoveryRange::*;
         assert_eq!(DiscoveryRange::from_vars(None, None).unwrap(), Subnet);
         assert_eq!(DiscoveryRange::from_vars(Some(""), None).unwrap(), Subnet);
-        assert_eq!(
-            DiscoveryRange::from_vars(Some("LOCALHOST"), None).unwrap(),
-            Localhost
-        );
+        assert_eq!(DiscoveryRange::from_vars(Some("LOCALHOST"), None).unwrap(), Localhost);
         assert_eq!(DiscoveryRange::from_vars(Some("OFF"), None).unwrap(), Off);
-        assert_eq!(
-            DiscoveryRange::from_vars(Some("SYSTEM_DEFAULT"), None).unwrap(),
-            SystemDefault
-        );
-        assert_eq!(
-            DiscoveryRange::from_vars(Some("SUBNET"), Some("1")).unwrap(),
-            Localhost
-        );
-        assert_eq!(
-            DiscoveryRange::from_vars(None, Some("1")).unwrap(),
-            Localhost
-        );
+        assert_eq!(DiscoveryRange::from_vars(Some("SYSTEM_DEFAULT"), None).unwrap(), SystemDefault);
+        assert_eq!(DiscoveryRange::from_vars(Some("SUBNET"), Some("1")).unwrap(), Localhost);
+        assert_eq!(DiscoveryRange::from_vars(None, Some("1")).unwrap(), Localhost);
         assert_eq!(DiscoveryRange::from_vars(None, Some("0")).unwrap(), Subnet);
         assert!(matches!(
             DiscoveryRange::from_vars(Some("LAN"), None),
@@ -319,13 +288,7 @@ mod tests {
         assert_eq!(parse_domain_id(Some("42")).unwrap(), 42);
         assert_eq!(parse_domain_id(Some("232")).unwrap(), 232);
         for bad in ["233", "-1", "x", "1.5", "70000"] {
-            assert!(
-                matches!(
-                    parse_domain_id(Some(bad)),
-                    Err(RosError::InvalidDomainId { .. })
-                ),
-                "{bad}"
-            );
+            assert!(matches!(parse_domain_id(Some(bad)), Err(RosError::InvalidDomainId { .. })), "{bad}");
         }
     }
 }

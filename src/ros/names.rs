@@ -12,10 +12,7 @@ pub struct NameError {
 }
 
 fn bad(name: &str, reason: &'static str) -> NameError {
-    NameError {
-        name: name.to_string(),
-        reason,
-    }
+    NameError { name: name.to_string(), reason }
 }
 
 fn check_tokens(full: &str, tokens: &str) -> Result<(), NameError> {
@@ -27,10 +24,7 @@ fn check_tokens(full: &str, tokens: &str) -> Result<(), NameError> {
         if first.is_ascii_digit() {
             return Err(bad(full, "a token may not start with a digit"));
         }
-        if !token
-            .bytes()
-            .all(|c| c.is_ascii_alphanumeric() || c == b'_')
-        {
+        if !token.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_') {
             return Err(bad(full, "only letters, digits, '_' and '/' are allowed"));
         }
         if token.contains("__") {
@@ -105,30 +99,15 @@ mod tests {
     fn resolves_like_rcl() {
         assert_eq!(resolve_topic("swing", "/", "n").unwrap(), "/swing");
         assert_eq!(resolve_topic("swing", "", "n").unwrap(), "/swing");
-        assert_eq!(
-            resolve_topic("bat/params", "/rig3", "n").unwrap(),
-            "/rig3/bat/params"
-        );
-        assert_eq!(
-            resolve_topic("bat/params", "rig3/", "n").unwrap(),
-            "/rig3/bat/params"
-        );
-        assert_eq!(
-            resolve_topic("/diagnostics", "/rig3", "n").unwrap(),
-            "/diagnostics"
-        );
-        assert_eq!(
-            resolve_topic("~/status", "/rig3", "sweetspot").unwrap(),
-            "/rig3/sweetspot/status"
-        );
+        assert_eq!(resolve_topic("bat/params", "/rig3", "n").unwrap(), "/rig3/bat/params");
+        assert_eq!(resolve_topic("bat/params", "rig3/", "n").unwrap(), "/rig3/bat/params");
+        assert_eq!(resolve_topic("/diagnostics", "/rig3", "n").unwrap(), "/diagnostics");
+        assert_eq!(resolve_topic("~/status", "/rig3", "sweetspot").unwrap(), "/rig3/sweetspot/status");
         assert_eq!(dds_topic_name("/rig3/swing"), "rt/rig3/swing");
         for bad in ["", "a//b", "a/", "1abc", "a__b", "a-b", "/"] {
             assert!(resolve_topic(bad, "/", "n").is_err(), "{bad:?}");
         }
         assert!(normalize_namespace("/r ig").is_err());
-        assert_eq!(
-            to_client_name("/rig3/swing").unwrap().to_string(),
-            "/rig3/swing"
-        );
+        assert_eq!(to_client_name("/rig3/swing").unwrap().to_string(), "/rig3/swing");
     }
 }

@@ -26,9 +26,7 @@ pub const RESULTS_MAX_BLOCKING: Duration = Duration::from_millis(500);
 
 fn reliable(depth: usize, durability: Durability) -> QosProfile {
     QosProfile::publisher_default()
-        .reliability(Reliability::Reliable {
-            when_full: WhenFull::DEFAULT,
-        })
+        .reliability(Reliability::Reliable { when_full: WhenFull::DEFAULT })
         .durability(durability)
         .history(History::KeepLast { depth })
 }
@@ -48,9 +46,8 @@ pub fn swing_qos() -> QosProfile {
 /// profile: a reliable writer never overwrites unacknowledged results, and the wide window and the wait keep
 /// a briefly slow listener from costing results (beyond that: counted failures).
 pub fn results_qos() -> QosProfile {
-    reliable(RESULTS_DEPTH, Durability::Volatile).reliability(Reliability::Reliable {
-        when_full: WhenFull::Wait(RESULTS_MAX_BLOCKING),
-    })
+    reliable(RESULTS_DEPTH, Durability::Volatile)
+        .reliability(Reliability::Reliable { when_full: WhenFull::Wait(RESULTS_MAX_BLOCKING) })
 }
 
 /// `sweet_spot`: reliable, transient-local, keep-last [`PARAMS_DEPTH`] (one per bat, latched).
@@ -86,30 +83,9 @@ mod tests {
 
     #[test]
     fn profiles() {
-        assert_eq!(
-            recorded_qos(&params_qos()),
-            RecordedQos {
-                reliable: true,
-                transient_local: true,
-                depth: 16
-            }
-        );
-        assert_eq!(
-            recorded_qos(&swing_qos()),
-            RecordedQos {
-                reliable: true,
-                transient_local: false,
-                depth: 1000
-            }
-        );
-        assert_eq!(
-            recorded_qos(&results_qos()),
-            RecordedQos {
-                reliable: true,
-                transient_local: false,
-                depth: 1000
-            }
-        );
+        assert_eq!(recorded_qos(&params_qos()), RecordedQos { reliable: true, transient_local: true, depth: 16 });
+        assert_eq!(recorded_qos(&swing_qos()), RecordedQos { reliable: true, transient_local: false, depth: 1000 });
+        assert_eq!(recorded_qos(&results_qos()), RecordedQos { reliable: true, transient_local: false, depth: 1000 });
         assert!(matches!(
             results_qos().reliability,
             Reliability::Reliable { when_full: WhenFull::Wait(d) } if d == RESULTS_MAX_BLOCKING
