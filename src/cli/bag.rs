@@ -313,7 +313,7 @@ fn replay(
 }
 
 fn play(path: PathBuf, options: bag::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
-    let stop = crate::ros::shell::interrupt_flag();
+    let stop = crate::ros::interrupt_flag();
     let total = bag::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
     let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
     let stats = bag::play::play(&path, &options, &stop, |item| {

@@ -2,6 +2,7 @@
 
 use crate::node::ros_args::RosArgs;
 use crate::node::runtime::NodeConfig;
+use crate::node::settings::parameter_names;
 
 /// Arguments of `sweetspot node`.
 ///
@@ -9,9 +10,7 @@ use crate::node::runtime::NodeConfig;
 /// `-r __ns:=/rig3`, `-r __node:=name`, `-r swing:=/other/swing`, `-p default_modes:=12`,
 /// `--params-file params.yaml`, `--log-level debug`.
 #[derive(Debug, Clone, clap::Args)]
-#[command(
-    after_help = "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  sweetspot node --ros-args --params-file params.yaml\n\nThe node's parameters (see `ros2 param list /sweetspot`): default_bat, default_modes, time_step,\nreference_ball_speed, reference_bat_cm_speed, reference_bat_angular_speed, max_bats, max_balls,\nmax_bat_slices, queue_capacity, workers, record, record_path, record_max_file_size,\nrecord_max_file_duration, record_storage_preset, record_compression, diagnostics_period.\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY."
-)]
+#[command(after_help = after_help())]
 pub struct NodeArgs {
     /// Do not record a bag (same as `--ros-args -p record:=false`).
     #[arg(long)]
@@ -28,6 +27,31 @@ impl NodeArgs {
         let ros_args = RosArgs::parse(self.ros_args.as_deref().unwrap_or_default())?;
         Ok(NodeConfig { ros_args, no_record: self.no_record })
     }
+}
+
+/// The examples and the parameter list (from the node's parameter table) under `sweetspot node --help`.
+fn after_help() -> String {
+    let mut text = String::from(
+        "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  \
+         sweetspot node --ros-args --params-file params.yaml\n\n",
+    );
+    let mut line = String::from("The node's parameters (see `ros2 param list /sweetspot`):");
+    let names = parameter_names();
+    for (i, name) in names.iter().enumerate() {
+        let word = format!("{name}{}", if i + 1 == names.len() { "." } else { "," });
+        // Wrapped at 100 columns, like the rest of the help.
+        if line.len() + 1 + word.len() > 100 {
+            text.push_str(&line);
+            text.push('\n');
+            line = word;
+        } else {
+            line.push(' ');
+            line.push_str(&word);
+        }
+    }
+    text.push_str(&line);
+    text.push_str("\nDDS: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE (LOCALHOST, SUBNET, OFF), ROS_LOCALHOST_ONLY.");
+    text
 }
 
 /// Runs the node until SIGINT/SIGTERM.

@@ -18,7 +18,8 @@ use crate::msgs::rcl_interfaces::msg::Log;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::msgs::RosMessage;
 use crate::ros::args::{NameResolver, NodeIdentity};
-use crate::ros::{self, DdsConfig, RosArgs};
+use crate::ros::edge::{matched_subscriptions, reader, write_reliably, writer};
+use crate::ros::{self, interrupt_flag, shutdown_signal, topics, DdsConfig, RosArgs};
 
 /// Arguments of `sweetspot pub`.
 #[derive(Debug, clap::Args)]
@@ -189,14 +190,14 @@ impl Kind {
     /// The topic the node uses for it (relative names move with the namespace).
     pub fn default_topic(self) -> &'static str {
         match self {
-            Kind::BatParams => "bat/params",
-            Kind::BallParams => "ball/params",
-            Kind::Swing => "swing",
-            Kind::ExitVelocity => "exit_velocity",
-            Kind::ModalEnergies => "modal_energies",
-            Kind::SweetSpot => "sweet_spot",
-            Kind::Diagnostics => "/diagnostics",
-            Kind::Rosout => "/rosout",
+            Kind::BatParams => topics::BAT_PARAMS,
+            Kind::BallParams => topics::BALL_PARAMS,
+            Kind::Swing => topics::SWING,
+            Kind::ExitVelocity => topics::EXIT_VELOCITY,
+            Kind::ModalEnergies => topics::MODAL_ENERGIES,
+            Kind::SweetSpot => topics::SWEET_SPOT,
+            Kind::Diagnostics => topics::DIAGNOSTICS,
+            Kind::Rosout => topics::ROSOUT,
         }
     }
 
@@ -460,19 +461,9 @@ fn publish_all<T: RosMessage>(
 
     let config = DdsConfig::from_env()?;
     let ctx = ros::context(&config)?;
-    let qos = kind.qos();
-    let dds_topic = ros::dds_topic_name(fq_topic);
-    let topic = ctx
-        .create_topic(dds_topic.clone(), ros::message_type_name::<T>(), &qos)
-        .map_err(|e| anyhow!("cannot create topic {fq_topic}: {e}"))?;
-    let dds_qos = rustdds::QosPolicies::from(&qos);
-    let writer = ctx
-        .domain_participant()
-        .create_publisher(&dds_qos)
-        .and_then(|p| p.create_datawriter_no_key_cdr::<T>(&topic, Some(dds_qos.clone())))
-        .map_err(|e| anyhow!("cannot create a writer on {fq_topic}: {e}"))?;
+    let writer = writer::<T>(&ctx, fq_topic, &kind.qos())?;
 
-    let interrupted = crate::ros::shell::interrupt_flag();
+    let interrupted = interrupt_flag();
     let timeout = Duration::from_secs_f64(args.timeout);
     if args.wait_subscribers > 0 {
         let start = Instant::now();
@@ -522,7 +513,7 @@ fn publish_all<T: RosMessage>(
             let mut out = stdout.lock();
             let _ = writeln!(out, "publishing #{} to {fq_topic}: {}", sent + 1, message.to_json());
         }
-        crate::ros::shell::write_reliably(&writer, message, timeout, &interrupted)
+        write_reliably(&writer, message, timeout, &interrupted)
             .with_context(|| format!("publishing message #{} to {fq_topic}", sent + 1))?;
         sent += 1;
     }
@@ -552,18 +543,6 @@ const ECHO_DEPTH: usize = 100_000;
 /// Pause between seeing a subscription match and publishing to it (see its use).
 const MATCH_SETTLE: Duration = Duration::from_millis(300);
 
-/// The number of subscriptions matched with `writer`, updated from its status events (RustDDS 0.15 offers no
-/// direct query: `get_matched_subscriptions` is a placeholder that panics).
-fn matched_subscriptions<T: RosMessage>(writer: &rustdds::no_key::DataWriterCdr<T>, mut current: usize) -> usize {
-    use rustdds::StatusEvented;
-    while let Some(status) = writer.try_recv_status() {
-        if let rustdds::dds::statusevents::DataWriterStatus::PublicationMatched { current: c, .. } = status {
-            current = usize::try_from(c.count()).unwrap_or(0);
-        }
-    }
-    current
-}
-
 /// Prints what arrives on a topic.
 pub fn run_echo(args: EchoArgs) -> anyhow::Result<()> {
     let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_echo")?;
@@ -586,18 +565,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
     if args.no_latched {
         qos = qos.durability(ros2_client::qos::Durability::Volatile);
     }
-    let dds_topic = ros::dds_topic_name(fq_topic);
-    let topic = ctx
-        .create_topic(dds_topic, ros::message_type_name::<T>(), &qos)
-        .map_err(|e| anyhow!("cannot create topic {fq_topic}: {e}"))?;
-    let dds_qos = rustdds::QosPolicies::from(&qos);
-    let reader = ctx
-        .domain_participant()
-        .create_subscriber(&dds_qos)
-        .and_then(|s| {
-            s.create_simple_datareader_no_key::<T, rustdds::CDRDeserializerAdapter<T>>(&topic, Some(dds_qos.clone()))
-        })
-        .map_err(|e| anyhow!("cannot subscribe to {fq_topic}: {e}"))?;
+    let reader = reader::<T>(&ctx, fq_topic, &qos)?;
     if !args.json {
         eprintln!(
             "listening on {fq_topic} ({}, domain {}, discovery {})",
@@ -631,7 +599,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         use futures::StreamExt;
         let samples = reader.as_async_stream();
         tokio::pin!(samples);
-        let interrupted = interrupt_signal();
+        let interrupted = shutdown_signal();
         tokio::pin!(interrupted);
         let mut received: u64 = 0;
         loop {
@@ -673,27 +641,6 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         other => other.context("writing to stdout")?,
     }
     taken
-}
-
-/// Resolves on SIGINT or SIGTERM.
-async fn interrupt_signal() {
-    #[cfg(unix)]
-    {
-        use tokio::signal::unix::{signal, SignalKind};
-        match (signal(SignalKind::interrupt()), signal(SignalKind::terminate())) {
-            (Ok(mut int), Ok(mut term)) => {
-                tokio::select! {
-                    _ = int.recv() => {}
-                    _ = term.recv() => {}
-                }
-            }
-            _ => std::future::pending::<()>().await,
-        }
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = tokio::signal::ctrl_c().await;
-    }
 }
 
 #[cfg(test)]

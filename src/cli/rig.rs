@@ -178,4 +178,4 @@ pub fn now_ns() -> u64 {
     std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos() as u64).unwrap_or(0)
 }
 
-pub use crate::ros::shell::interrupt_flag;
+pub use crate::ros::interrupt_flag;

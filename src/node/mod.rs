@@ -2,7 +2,7 @@
 //!
 //! Data flows one way: message → physics → result → publish + record. The pure parts ([`ros_args`],
 //! [`settings`], [`stats`], [`convert`], [`engine`], [`lru`], [`pipeline`]) are plain functions and threads tested
-//! without DDS; the DDS wiring lives in [`runtime`].
+//! without DDS; the DDS wiring lives in [`runtime`], the receive loop and its handlers in `receive_loop`.
 //!
 //! ```text
 //! sweetspot node [--no-record] [--ros-args -r __ns:=/rig3 -r __node:=NAME -r FROM:=TO -p NAME:=VALUE --params-file FILE]
@@ -52,13 +52,16 @@
 //!
 //! # Parameters
 //!
-//! See [`settings::DESCRIPTIONS`] (name, unit, meaning) and [`settings::NodeSettings::default`]; the
-//! read-only ones ([`settings::READ_ONLY`]) are refused by `ros2 param set` on a running node.
+//! See [`settings::PARAMETERS`] (name, unit, meaning, default); the read-only ones
+//! ([`settings::is_read_only`]) are refused by `ros2 param set` on a running node.
 
 pub mod convert;
 pub mod engine;
+mod live_settings;
 pub mod lru;
+mod outputs;
 pub mod pipeline;
+mod receive_loop;
 pub mod recording;
 /// The `--ros-args` parser now lives in the shared DDS layer ([`crate::ros::args`]); this path stays for callers.
 pub use crate::ros::args as ros_args;

@@ -1,79 +1,15 @@
 //! The node's ROS parameters: names, defaults, validation and which may change while the node runs.
 //!
-//! [`NodeSettings`] is the typed view; [`NodeSettings::declarations`] is what the node declares to ros2-client
-//! (so `ros2 param list/get/set/describe` see them) and [`NodeSettings::apply`] is the one place a value is
-//! checked, used for `-p`/`--params-file` overrides at start-up and for `ros2 param set` later.
+//! [`PARAMETERS`] is the one table of them (name, unit, meaning, default, read-only, how a value is checked
+//! and stored); [`NodeSettings`] is the typed view. [`NodeSettings::declarations`] is what the node declares
+//! to ros2-client (so `ros2 param list/get/set/describe` see them) and [`NodeSettings::apply`] is the one
+//! place a value is checked, used for `-p`/`--params-file` overrides at start-up and for `ros2 param set`
+//! later.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use ros2_client::ParameterValue;
-
-/// Parameters that only take effect at start-up; setting them on a running node is refused.
-pub const READ_ONLY: &[&str] = &[
-    "queue_capacity",
-    "workers",
-    "record",
-    "record_path",
-    "record_max_file_size",
-    "record_max_file_duration",
-    "record_storage_preset",
-    "record_compression",
-    "diagnostics_period",
-];
-
-/// Every parameter with its meaning, for `describe` output and the README table: (name, unit, meaning).
-pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
-    ("default_bat", "", "bat_id used by swings with an empty bat_id before any BatParams arrived (a preset name)"),
-    ("default_modes", "", "vibrational modes integrated when BatParams.max_modes is 0 (1..=200)"),
-    ("time_step", "s", "RK4 time step of every collision (1e-8..=1e-4)"),
-    ("reference_ball_speed", "m/s", "ball speed of the reference swing used for SweetSpot (> 0)"),
-    ("reference_bat_cm_speed", "m/s", "bat centre-of-mass speed of the reference swing (>= 0)"),
-    ("reference_bat_angular_speed", "rad/s", "bat angular speed of the reference swing"),
-    (
-        "max_bats",
-        "",
-        "bats kept with their solved modes (2..=100000); beyond it the least recently used is forgotten (never the \
-         latest received); a swing naming a forgotten bat is REJECTED until its BatParams is sent again, a preset \
-         is re-solved on demand",
-    ),
-    (
-        "max_balls",
-        "",
-        "balls kept (2..=100000); beyond it the least recently used is forgotten (never the latest received); a \
-         swing naming a forgotten ball is REJECTED until its BallParams is sent again",
-    ),
-    (
-        "max_bat_slices",
-        "",
-        "largest slice count (bat length / slice_length) a BatParams may ask for (100..=4000); finer bats are \
-         REJECTED before their modes are solved",
-    ),
-    (
-        "queue_capacity",
-        "",
-        "swings in flight (queued, computing or awaiting in-order publication) before new ones are dropped",
-    ),
-    ("workers", "", "collision worker threads; 0 = one per CPU core"),
-    ("record", "", "record every input and output to MCAP"),
-    ("record_path", "", "rosbag2 directory to create; empty = bags/<node>_<UTC time>"),
-    ("record_max_file_size", "bytes", "split the bag after this many bytes; 0 = never"),
-    ("record_max_file_duration", "s", "split the bag after this much time; 0 = never"),
-    (
-        "record_storage_preset",
-        "",
-        "MCAP layout as rosbag2's --storage-preset-profile: none (rosbag2's default: uncompressed chunks), fastwrite (no chunks, no \
-         indexes, uncompressed), zstd_fast (zstd -5), zstd_small (zstd 19, 4 MiB chunks); empty = zstd level 1 \
-         chunks",
-    ),
-    (
-        "record_compression",
-        "",
-        "chunk compression, overriding the preset's: zstd (level 1), zstd:LEVEL (-7..=-1 fast, 1..=22), lz4 or \
-         none; empty = the preset's (zstd level 1 without one); with fastwrite only none or empty",
-    ),
-    ("diagnostics_period", "s", "period of /diagnostics (0.1..=60)"),
-];
 
 /// The node's parameters, typed. Defaults are what `sweetspot node` uses without `-p`.
 #[derive(Debug, Clone, PartialEq)]
@@ -118,37 +54,6 @@ pub struct NodeSettings {
     pub diagnostics_period: f64,
 }
 
-impl Default for NodeSettings {
-    fn default() -> Self {
-        NodeSettings {
-            default_bat: "r161".to_string(),
-            default_modes: 18,
-            time_step: 5e-6,
-            // A hard-hit ball: 40 m/s pitch (≈ 90 mph), the bat's centre of mass at 20 m/s turning at 50 rad/s
-            // (barrel ≈ 30 m/s at the sweet spot of a 33-in bat).
-            reference_ball_speed: 40.0,
-            reference_bat_cm_speed: 20.0,
-            reference_bat_angular_speed: 50.0,
-            // A lab uses a handful of bats; 64 leaves room for a whole team's and bounds the worst case (each
-            // entry at most max_bat_slices slices × 200 modes of shapes, ~4 MB) to a few hundred MB.
-            max_bats: 64,
-            // A ball is 40 bytes; the cap only stops a publisher inventing ids without end.
-            max_balls: 1024,
-            max_bat_slices: super::convert::DEFAULT_MAX_BAT_SLICES,
-            // Covers a burst of 10,000 swings at a few hundred bytes each (≈ 5 MB worst case).
-            queue_capacity: 16_384,
-            workers: 0,
-            record: true,
-            record_path: String::new(),
-            record_max_file_size: 0,
-            record_max_file_duration: 0.0,
-            record_storage_preset: String::new(),
-            record_compression: String::new(),
-            diagnostics_period: 1.0,
-        }
-    }
-}
-
 /// What changing a parameter on a running node requires of the engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SettingEffect {
@@ -160,30 +65,446 @@ pub enum SettingEffect {
     SweetSpotsChanged,
 }
 
+/// One of the node's parameters.
+pub struct Parameter {
+    /// The ROS parameter name.
+    pub name: &'static str,
+    /// Its unit (empty for counts, names and switches).
+    pub unit: &'static str,
+    /// What it means, for `describe` output and the README table.
+    pub description: &'static str,
+    /// Only takes effect at start-up: setting it on a running node is refused.
+    pub read_only: bool,
+    rule: Rule,
+    get: fn(&NodeSettings) -> ParameterValue,
+}
+
+/// A parameter's type, default, and how a value of that type is checked and stored.
+enum Rule {
+    Text { default: &'static str, set: fn(&mut NodeSettings, &str) -> Checked },
+    Integer { default: i64, set: fn(&mut NodeSettings, i64) -> Checked },
+    Double { default: f64, set: fn(&mut NodeSettings, f64) -> Checked },
+    Boolean { default: bool, set: fn(&mut NodeSettings, bool) -> Checked },
+}
+
+/// What a setter says about a value of the right type.
+type Checked = Result<SettingEffect, Refusal>;
+
+/// Why a value of the right type is refused.
+enum Refusal {
+    /// Outside the allowed values (described here); the error names the parameter and the value.
+    OutOfRange(String),
+    /// The whole error text.
+    Refused(String),
+}
+
+/// `Ok` if `ok`, else out of range with `allowed` as the expectation.
+fn within(ok: bool, allowed: &str) -> Result<(), Refusal> {
+    if ok {
+        Ok(())
+    } else {
+        Err(Refusal::OutOfRange(allowed.to_string()))
+    }
+}
+
+const STORED: Checked = Ok(SettingEffect::None);
+
+/// Every parameter of the node, in declaration order.
+pub static PARAMETERS: &[Parameter] = &[
+    Parameter {
+        name: "default_bat",
+        unit: "",
+        description: "bat_id used by swings with an empty bat_id before any BatParams arrived (a preset name)",
+        read_only: false,
+        rule: Rule::Text {
+            default: "r161",
+            set: |s, v| {
+                within(!v.trim().is_empty(), "a non-empty bat_id or preset name")?;
+                s.default_bat = v.to_string();
+                STORED
+            },
+        },
+        get: |s| ParameterValue::String(s.default_bat.clone()),
+    },
+    Parameter {
+        name: "default_modes",
+        unit: "",
+        description: "vibrational modes integrated when BatParams.max_modes is 0 (1..=200)",
+        read_only: false,
+        rule: Rule::Integer {
+            default: 18,
+            set: |s, n| {
+                within((1..=200).contains(&n), "1 ≤ default_modes ≤ 200")?;
+                let changed = s.default_modes != n as usize;
+                s.default_modes = n as usize;
+                Ok(if changed { SettingEffect::ModesChanged } else { SettingEffect::None })
+            },
+        },
+        get: |s| ParameterValue::Integer(s.default_modes as i64),
+    },
+    Parameter {
+        name: "time_step",
+        unit: "s",
+        description: "RK4 time step of every collision (1e-8..=1e-4)",
+        read_only: false,
+        rule: Rule::Double {
+            default: 5e-6,
+            set: |s, x| {
+                within(x.is_finite() && (1e-8..=1e-4).contains(&x), "1e-8 ≤ time_step ≤ 1e-4 s")?;
+                s.time_step = x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            },
+        },
+        get: |s| ParameterValue::Double(s.time_step),
+    },
+    // The reference swing is a hard-hit ball: 40 m/s pitch (≈ 90 mph), the bat's centre of mass at 20 m/s
+    // turning at 50 rad/s (barrel ≈ 30 m/s at the sweet spot of a 33-in bat).
+    Parameter {
+        name: "reference_ball_speed",
+        unit: "m/s",
+        description: "ball speed of the reference swing used for SweetSpot (> 0)",
+        read_only: false,
+        rule: Rule::Double {
+            default: 40.0,
+            set: |s, x| {
+                within(x.is_finite() && x > 0.0 && x <= 100.0, "0 < reference_ball_speed ≤ 100 m/s")?;
+                s.reference_ball_speed = x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            },
+        },
+        get: |s| ParameterValue::Double(s.reference_ball_speed),
+    },
+    Parameter {
+        name: "reference_bat_cm_speed",
+        unit: "m/s",
+        description: "bat centre-of-mass speed of the reference swing (>= 0)",
+        read_only: false,
+        rule: Rule::Double {
+            default: 20.0,
+            set: |s, x| {
+                within(x.is_finite() && (0.0..=100.0).contains(&x), "0 ≤ reference_bat_cm_speed ≤ 100 m/s")?;
+                s.reference_bat_cm_speed = x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            },
+        },
+        get: |s| ParameterValue::Double(s.reference_bat_cm_speed),
+    },
+    Parameter {
+        name: "reference_bat_angular_speed",
+        unit: "rad/s",
+        description: "bat angular speed of the reference swing",
+        read_only: false,
+        rule: Rule::Double {
+            default: 50.0,
+            set: |s, x| {
+                within(x.is_finite() && x.abs() <= 500.0, "|reference_bat_angular_speed| ≤ 500 rad/s")?;
+                s.reference_bat_angular_speed = x;
+                Ok(SettingEffect::SweetSpotsChanged)
+            },
+        },
+        get: |s| ParameterValue::Double(s.reference_bat_angular_speed),
+    },
+    // A lab uses a handful of bats; 64 leaves room for a whole team's and bounds the worst case (each entry at
+    // most max_bat_slices slices × 200 modes of shapes, ~4 MB) to a few hundred MB.
+    Parameter {
+        name: "max_bats",
+        unit: "",
+        description: "bats kept with their solved modes (2..=100000); beyond it the least recently used is forgotten \
+                      (never the latest received); a swing naming a forgotten bat is REJECTED until its BatParams \
+                      is sent again, a preset is re-solved on demand",
+        read_only: false,
+        rule: Rule::Integer {
+            default: 64,
+            set: |s, n| {
+                within((2..=100_000).contains(&n), "2 ≤ max_bats ≤ 100000")?;
+                s.max_bats = n as usize;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Integer(s.max_bats as i64),
+    },
+    // A ball is 40 bytes; the cap only stops a publisher inventing ids without end.
+    Parameter {
+        name: "max_balls",
+        unit: "",
+        description: "balls kept (2..=100000); beyond it the least recently used is forgotten (never the latest \
+                      received); a swing naming a forgotten ball is REJECTED until its BallParams is sent again",
+        read_only: false,
+        rule: Rule::Integer {
+            default: 1024,
+            set: |s, n| {
+                within((2..=100_000).contains(&n), "2 ≤ max_balls ≤ 100000")?;
+                s.max_balls = n as usize;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Integer(s.max_balls as i64),
+    },
+    Parameter {
+        name: "max_bat_slices",
+        unit: "",
+        description: "largest slice count (bat length / slice_length) a BatParams may ask for (100..=4000); finer \
+                      bats are REJECTED before their modes are solved",
+        read_only: false,
+        rule: Rule::Integer {
+            default: super::convert::DEFAULT_MAX_BAT_SLICES as i64,
+            set: |s, n| {
+                let physics_max = crate::physics::bat::SLICE_COUNT_RANGE.1 as i64;
+                within((100..=physics_max).contains(&n), &format!("100 ≤ max_bat_slices ≤ {physics_max}"))?;
+                s.max_bat_slices = n as usize;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Integer(s.max_bat_slices as i64),
+    },
+    // Covers a burst of 10,000 swings at a few hundred bytes each (≈ 5 MB worst case).
+    Parameter {
+        name: "queue_capacity",
+        unit: "",
+        description: "swings in flight (queued, computing or awaiting in-order publication) before new ones are \
+                      dropped",
+        read_only: true,
+        rule: Rule::Integer {
+            default: 16_384,
+            set: |s, n| {
+                within((1..=1_000_000).contains(&n), "1 ≤ queue_capacity ≤ 1000000")?;
+                s.queue_capacity = n as usize;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Integer(s.queue_capacity as i64),
+    },
+    Parameter {
+        name: "workers",
+        unit: "",
+        description: "collision worker threads; 0 = one per CPU core",
+        read_only: true,
+        rule: Rule::Integer {
+            default: 0,
+            set: |s, n| {
+                within((0..=256).contains(&n), "0 (one per core) ≤ workers ≤ 256")?;
+                s.workers = n as usize;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Integer(s.workers as i64),
+    },
+    Parameter {
+        name: "record",
+        unit: "",
+        description: "record every input and output to MCAP",
+        read_only: true,
+        rule: Rule::Boolean {
+            default: true,
+            set: |s, b| {
+                s.record = b;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Boolean(s.record),
+    },
+    Parameter {
+        name: "record_path",
+        unit: "",
+        description: "rosbag2 directory to create; empty = bags/<node>_<UTC time>",
+        read_only: true,
+        rule: Rule::Text {
+            default: "",
+            set: |s, v| {
+                s.record_path = v.to_string();
+                STORED
+            },
+        },
+        get: |s| ParameterValue::String(s.record_path.clone()),
+    },
+    Parameter {
+        name: "record_max_file_size",
+        unit: "bytes",
+        description: "split the bag after this many bytes; 0 = never",
+        read_only: true,
+        rule: Rule::Integer {
+            default: 0,
+            set: |s, n| {
+                within(n == 0 || n >= 4096, "0 (never split) or ≥ 4096 bytes")?;
+                s.record_max_file_size = n as u64;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Integer(s.record_max_file_size as i64),
+    },
+    Parameter {
+        name: "record_max_file_duration",
+        unit: "s",
+        description: "split the bag after this much time; 0 = never",
+        read_only: true,
+        rule: Rule::Double {
+            default: 0.0,
+            set: |s, x| {
+                within(x.is_finite() && x >= 0.0, "0 (never split) or a positive number of seconds")?;
+                s.record_max_file_duration = x;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Double(s.record_max_file_duration),
+    },
+    Parameter {
+        name: "record_storage_preset",
+        unit: "",
+        description: "MCAP layout as rosbag2's --storage-preset-profile: none (rosbag2's default: uncompressed \
+                      chunks), fastwrite (no chunks, no indexes, uncompressed), zstd_fast (zstd -5), zstd_small \
+                      (zstd 19, 4 MiB chunks); empty = zstd level 1 chunks",
+        read_only: true,
+        rule: Rule::Text { default: "", set: set_record_storage_preset },
+        get: |s| ParameterValue::String(s.record_storage_preset.clone()),
+    },
+    Parameter {
+        name: "record_compression",
+        unit: "",
+        description: "chunk compression, overriding the preset's: zstd (level 1), zstd:LEVEL (-7..=-1 fast, \
+                      1..=22), lz4 or none; empty = the preset's (zstd level 1 without one); with fastwrite only \
+                      none or empty",
+        read_only: true,
+        rule: Rule::Text { default: "", set: set_record_compression },
+        get: |s| ParameterValue::String(s.record_compression.clone()),
+    },
+    Parameter {
+        name: "diagnostics_period",
+        unit: "s",
+        description: "period of /diagnostics (0.1..=60)",
+        read_only: true,
+        rule: Rule::Double {
+            default: 1.0,
+            set: |s, x| {
+                within(x.is_finite() && (0.1..=60.0).contains(&x), "0.1 ≤ diagnostics_period ≤ 60 s")?;
+                s.diagnostics_period = x;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Double(s.diagnostics_period),
+    },
+];
+
+fn set_record_storage_preset(s: &mut NodeSettings, preset: &str) -> Checked {
+    if !preset.is_empty() {
+        if let Err(err) = preset.parse::<crate::bag::StoragePreset>() {
+            return Err(Refusal::Refused(format!("record_storage_preset = {preset:?} is REJECTED: {err}")));
+        }
+    }
+    if let Err(err) = crate::bag::StorageOptions::from_parameters(preset, &s.record_compression) {
+        return Err(Refusal::Refused(format!(
+            "record_storage_preset = {preset:?} is REJECTED with record_compression = {:?}: {err}",
+            s.record_compression
+        )));
+    }
+    s.record_storage_preset = preset.to_string();
+    STORED
+}
+
+fn set_record_compression(s: &mut NodeSettings, compression: &str) -> Checked {
+    if !compression.is_empty() {
+        if let Err(err) = compression.parse::<crate::bag::ChunkCompression>() {
+            return Err(Refusal::Refused(format!("record_compression = {compression:?} is not a compression: {err}")));
+        }
+    }
+    if let Err(err) = crate::bag::StorageOptions::from_parameters(&s.record_storage_preset, compression) {
+        return Err(Refusal::Refused(format!(
+            "record_compression = {compression:?} is REJECTED with record_storage_preset = {:?}: {err}",
+            s.record_storage_preset
+        )));
+    }
+    s.record_compression = compression.to_string();
+    STORED
+}
+
+impl Parameter {
+    /// Its value when no `-p` sets it.
+    pub fn default_value(&self) -> ParameterValue {
+        match &self.rule {
+            Rule::Text { default, .. } => ParameterValue::String(default.to_string()),
+            Rule::Integer { default, .. } => ParameterValue::Integer(*default),
+            Rule::Double { default, .. } => ParameterValue::Double(*default),
+            Rule::Boolean { default, .. } => ParameterValue::Boolean(*default),
+        }
+    }
+
+    /// Its value in `settings`.
+    pub fn value(&self, settings: &NodeSettings) -> ParameterValue {
+        (self.get)(settings)
+    }
+
+    /// Checks a value of its type and stores it in `settings`; a value of another type is `Err(None)`.
+    fn set(&self, settings: &mut NodeSettings, value: &ParameterValue) -> Result<SettingEffect, Option<Refusal>> {
+        use ParameterValue as V;
+        match (&self.rule, value) {
+            (Rule::Text { set, .. }, V::String(v)) => set(settings, v).map_err(Some),
+            (Rule::Integer { set, .. }, V::Integer(n)) => set(settings, *n).map_err(Some),
+            (Rule::Double { set, .. }, V::Double(x)) => set(settings, *x).map_err(Some),
+            (Rule::Boolean { set, .. }, V::Boolean(b)) => set(settings, *b).map_err(Some),
+            _ => Err(None),
+        }
+    }
+
+    /// "a string", "an integer", … for type errors.
+    fn type_name(&self) -> &'static str {
+        match self.rule {
+            Rule::Text { .. } => "a string",
+            Rule::Integer { .. } => "an integer",
+            Rule::Double { .. } => "a double",
+            Rule::Boolean { .. } => "a boolean",
+        }
+    }
+}
+
+/// The parameter called `name`, if the node has one.
+pub fn parameter(name: &str) -> Option<&'static Parameter> {
+    PARAMETERS.iter().find(|p| p.name == name)
+}
+
+/// Whether `name` only takes effect at start-up (setting it on a running node is refused).
+pub fn is_read_only(name: &str) -> bool {
+    parameter(name).is_some_and(|p| p.read_only)
+}
+
+impl Default for NodeSettings {
+    /// Every parameter's default from [`PARAMETERS`].
+    fn default() -> Self {
+        let mut settings = NodeSettings {
+            default_bat: String::new(),
+            default_modes: 0,
+            time_step: 0.0,
+            reference_ball_speed: 0.0,
+            reference_bat_cm_speed: 0.0,
+            reference_bat_angular_speed: 0.0,
+            max_bats: 0,
+            max_balls: 0,
+            max_bat_slices: 0,
+            queue_capacity: 0,
+            workers: 0,
+            record: false,
+            record_path: String::new(),
+            record_max_file_size: 0,
+            record_max_file_duration: 0.0,
+            record_storage_preset: String::new(),
+            record_compression: String::new(),
+            diagnostics_period: 0.0,
+        };
+        for parameter in PARAMETERS {
+            let stored = parameter.set(&mut settings, &parameter.default_value());
+            assert!(stored.is_ok(), "the default of {} is refused by its own rule", parameter.name);
+        }
+        settings
+    }
+}
+
 impl NodeSettings {
     /// The parameters as ros2-client declarations, in a stable order.
     pub fn declarations(&self) -> Vec<(&'static str, ParameterValue)> {
-        use ParameterValue::*;
-        vec![
-            ("default_bat", String(self.default_bat.clone())),
-            ("default_modes", Integer(self.default_modes as i64)),
-            ("time_step", Double(self.time_step)),
-            ("reference_ball_speed", Double(self.reference_ball_speed)),
-            ("reference_bat_cm_speed", Double(self.reference_bat_cm_speed)),
-            ("reference_bat_angular_speed", Double(self.reference_bat_angular_speed)),
-            ("max_bats", Integer(self.max_bats as i64)),
-            ("max_balls", Integer(self.max_balls as i64)),
-            ("max_bat_slices", Integer(self.max_bat_slices as i64)),
-            ("queue_capacity", Integer(self.queue_capacity as i64)),
-            ("workers", Integer(self.workers as i64)),
-            ("record", Boolean(self.record)),
-            ("record_path", String(self.record_path.clone())),
-            ("record_max_file_size", Integer(self.record_max_file_size as i64)),
-            ("record_max_file_duration", Double(self.record_max_file_duration)),
-            ("record_storage_preset", String(self.record_storage_preset.clone())),
-            ("record_compression", String(self.record_compression.clone())),
-            ("diagnostics_period", Double(self.diagnostics_period)),
-        ]
+        PARAMETERS.iter().map(|p| (p.name, p.value(self))).collect()
+    }
+
+    /// The current value of the parameter `name`, if the node has one.
+    pub fn value_of(&self, name: &str) -> Option<ParameterValue> {
+        parameter(name).map(|p| p.value(self))
     }
 
     /// Defaults overridden by `-p`/`--params-file` values; an integer given for a double parameter is
@@ -194,14 +515,9 @@ impl NodeSettings {
             if name == "use_sim_time" {
                 continue; // ros2-client's own parameter
             }
-            let declared = settings
-                .declarations()
-                .into_iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, v)| v)
-                .ok_or_else(|| format!("unknown parameter '{name}' (known: {})", parameter_names().join(", ")))?;
-            let value = match (&declared, value) {
-                (ParameterValue::Double(_), ParameterValue::Integer(i)) => ParameterValue::Double(*i as f64),
+            let parameter = parameter(name).ok_or_else(|| unknown_parameter(name))?;
+            let value = match (&parameter.rule, value) {
+                (Rule::Double { .. }, ParameterValue::Integer(i)) => ParameterValue::Double(*i as f64),
                 _ => value.clone(),
             };
             settings.apply(name, &value)?;
@@ -211,151 +527,14 @@ impl NodeSettings {
 
     /// Checks and stores one value; the error names the parameter and its allowed range.
     pub fn apply(&mut self, name: &str, value: &ParameterValue) -> Result<SettingEffect, String> {
-        use ParameterValue as V;
-        let range = |ok: bool, allowed: &str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(format!("{name} = {} is out of range: expected {allowed}", show(value)))
+        let parameter = parameter(name).ok_or_else(|| unknown_parameter(name))?;
+        parameter.set(self, value).map_err(|refusal| match refusal {
+            None => format!("{name} must be {}, got {}", parameter.type_name(), show(value)),
+            Some(Refusal::OutOfRange(allowed)) => {
+                format!("{name} = {} is out of range: expected {allowed}", show(value))
             }
-        };
-        let wrong_type = |expected: &str| Err(format!("{name} must be {expected}, got {}", show(value)));
-        match (name, value) {
-            ("default_bat", V::String(s)) => {
-                range(!s.trim().is_empty(), "a non-empty bat_id or preset name")?;
-                self.default_bat = s.clone();
-                Ok(SettingEffect::None)
-            }
-            ("default_modes", V::Integer(n)) => {
-                range((1..=200).contains(n), "1 ≤ default_modes ≤ 200")?;
-                let changed = self.default_modes != *n as usize;
-                self.default_modes = *n as usize;
-                Ok(if changed { SettingEffect::ModesChanged } else { SettingEffect::None })
-            }
-            ("time_step", V::Double(x)) => {
-                range(x.is_finite() && (1e-8..=1e-4).contains(x), "1e-8 ≤ time_step ≤ 1e-4 s")?;
-                self.time_step = *x;
-                Ok(SettingEffect::SweetSpotsChanged)
-            }
-            ("reference_ball_speed", V::Double(x)) => {
-                range(x.is_finite() && *x > 0.0 && *x <= 100.0, "0 < reference_ball_speed ≤ 100 m/s")?;
-                self.reference_ball_speed = *x;
-                Ok(SettingEffect::SweetSpotsChanged)
-            }
-            ("reference_bat_cm_speed", V::Double(x)) => {
-                range(x.is_finite() && (0.0..=100.0).contains(x), "0 ≤ reference_bat_cm_speed ≤ 100 m/s")?;
-                self.reference_bat_cm_speed = *x;
-                Ok(SettingEffect::SweetSpotsChanged)
-            }
-            ("reference_bat_angular_speed", V::Double(x)) => {
-                range(x.is_finite() && x.abs() <= 500.0, "|reference_bat_angular_speed| ≤ 500 rad/s")?;
-                self.reference_bat_angular_speed = *x;
-                Ok(SettingEffect::SweetSpotsChanged)
-            }
-            ("max_bats", V::Integer(n)) => {
-                range((2..=100_000).contains(n), "2 ≤ max_bats ≤ 100000")?;
-                self.max_bats = *n as usize;
-                Ok(SettingEffect::None)
-            }
-            ("max_balls", V::Integer(n)) => {
-                range((2..=100_000).contains(n), "2 ≤ max_balls ≤ 100000")?;
-                self.max_balls = *n as usize;
-                Ok(SettingEffect::None)
-            }
-            ("max_bat_slices", V::Integer(n)) => {
-                let physics_max = crate::physics::bat::SLICE_COUNT_RANGE.1 as i64;
-                range((100..=physics_max).contains(n), &format!("100 ≤ max_bat_slices ≤ {physics_max}"))?;
-                self.max_bat_slices = *n as usize;
-                Ok(SettingEffect::None)
-            }
-            ("queue_capacity", V::Integer(n)) => {
-                range((1..=1_000_000).contains(n), "1 ≤ queue_capacity ≤ 1000000")?;
-                self.queue_capacity = *n as usize;
-                Ok(SettingEffect::None)
-            }
-            ("workers", V::Integer(n)) => {
-                range((0..=256).contains(n), "0 (one per core) ≤ workers ≤ 256")?;
-                self.workers = *n as usize;
-                Ok(SettingEffect::None)
-            }
-            ("record", V::Boolean(b)) => {
-                self.record = *b;
-                Ok(SettingEffect::None)
-            }
-            ("record_path", V::String(s)) => {
-                self.record_path = s.clone();
-                Ok(SettingEffect::None)
-            }
-            ("record_max_file_size", V::Integer(n)) => {
-                range(*n == 0 || *n >= 4096, "0 (never split) or ≥ 4096 bytes")?;
-                self.record_max_file_size = *n as u64;
-                Ok(SettingEffect::None)
-            }
-            ("record_max_file_duration", V::Double(x)) => {
-                range(x.is_finite() && *x >= 0.0, "0 (never split) or a positive number of seconds")?;
-                self.record_max_file_duration = *x;
-                Ok(SettingEffect::None)
-            }
-            ("record_storage_preset", V::String(s)) => {
-                if !s.is_empty() {
-                    if let Err(err) = s.parse::<crate::bag::StoragePreset>() {
-                        return Err(format!("record_storage_preset = {s:?} is REJECTED: {err}"));
-                    }
-                }
-                if let Err(err) = crate::bag::StorageOptions::from_parameters(s, &self.record_compression) {
-                    return Err(format!(
-                        "record_storage_preset = {s:?} is REJECTED with record_compression = {:?}: {err}",
-                        self.record_compression
-                    ));
-                }
-                self.record_storage_preset = s.clone();
-                Ok(SettingEffect::None)
-            }
-            ("record_compression", V::String(s)) => {
-                if !s.is_empty() {
-                    if let Err(err) = s.parse::<crate::bag::ChunkCompression>() {
-                        return Err(format!("record_compression = {s:?} is not a compression: {err}"));
-                    }
-                }
-                if let Err(err) = crate::bag::StorageOptions::from_parameters(&self.record_storage_preset, s) {
-                    return Err(format!(
-                        "record_compression = {s:?} is REJECTED with record_storage_preset = {:?}: {err}",
-                        self.record_storage_preset
-                    ));
-                }
-                self.record_compression = s.clone();
-                Ok(SettingEffect::None)
-            }
-            ("diagnostics_period", V::Double(x)) => {
-                range(x.is_finite() && (0.1..=60.0).contains(x), "0.1 ≤ diagnostics_period ≤ 60 s")?;
-                self.diagnostics_period = *x;
-                Ok(SettingEffect::None)
-            }
-            ("default_bat" | "record_path" | "record_storage_preset" | "record_compression", _) => {
-                wrong_type("a string")
-            }
-            (
-                "default_modes"
-                | "max_bats"
-                | "max_balls"
-                | "max_bat_slices"
-                | "queue_capacity"
-                | "workers"
-                | "record_max_file_size",
-                _,
-            ) => wrong_type("an integer"),
-            ("record", _) => wrong_type("a boolean"),
-            (
-                "time_step"
-                | "reference_ball_speed"
-                | "reference_bat_cm_speed"
-                | "reference_bat_angular_speed"
-                | "record_max_file_duration"
-                | "diagnostics_period",
-                _,
-            ) => wrong_type("a double"),
-            _ => Err(format!("unknown parameter '{name}' (known: {})", parameter_names().join(", "))),
-        }
+            Some(Refusal::Refused(message)) => message,
+        })
     }
 
     /// Worker threads to start: `workers`, or one per core when 0.
@@ -386,7 +565,11 @@ impl NodeSettings {
 
 /// Names of all the node's own parameters.
 pub fn parameter_names() -> Vec<&'static str> {
-    NodeSettings::default().declarations().into_iter().map(|(n, _)| n).collect()
+    PARAMETERS.iter().map(|p| p.name).collect()
+}
+
+fn unknown_parameter(name: &str) -> String {
+    format!("unknown parameter '{name}' (known: {})", parameter_names().join(", "))
 }
 
 fn show(value: &ParameterValue) -> String {
@@ -418,7 +601,7 @@ mod tests {
             assert!(err.contains("record_compression") && err.contains("lz4 or none"), "{bad}: {err}");
         }
         assert_eq!(s.record_compression, "none", "a refused value leaves the last good one");
-        assert!(READ_ONLY.contains(&"record_compression"), "a bag keeps one compression");
+        assert!(is_read_only("record_compression"), "a bag keeps one compression");
     }
 
     #[test]
@@ -427,7 +610,7 @@ mod tests {
         let mut s = NodeSettings::default();
         assert_eq!(s.record_storage_preset, "");
         assert_eq!(s.storage_options().unwrap(), StorageOptions::default(), "no preset: sweetspot's zstd level 1");
-        assert!(READ_ONLY.contains(&"record_storage_preset"), "a bag keeps one layout");
+        assert!(is_read_only("record_storage_preset"), "a bag keeps one layout");
         for name in ["none", "fastwrite", "zstd_fast", "zstd_small"] {
             s.apply("record_storage_preset", &ParameterValue::String(name.into())).unwrap();
             assert_eq!(s.storage_options().unwrap(), StorageOptions::preset(name).unwrap(), "{name}");
@@ -481,18 +664,50 @@ mod tests {
     }
 
     #[test]
-    fn every_declared_parameter_is_described_and_accepts_its_default() {
+    fn every_parameter_is_described_and_accepts_its_default() {
         let defaults = NodeSettings::default();
         for (name, value) in defaults.declarations() {
-            assert!(DESCRIPTIONS.iter().any(|(n, _, _)| *n == name), "{name} has no description");
+            let parameter = parameter(name).unwrap_or_else(|| panic!("{name} is not in the table"));
+            assert!(!parameter.description.is_empty(), "{name} has no description");
+            assert_eq!(parameter.default_value(), value, "{name}");
             let mut s = defaults.clone();
             s.apply(name, &value).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(s, defaults);
         }
-        assert_eq!(DESCRIPTIONS.len(), defaults.declarations().len());
-        for name in READ_ONLY {
-            assert!(parameter_names().contains(name));
+        assert_eq!(PARAMETERS.len(), defaults.declarations().len());
+    }
+
+    #[test]
+    fn defaults_and_read_only_parameters_are_the_documented_ones() {
+        use ParameterValue::*;
+        // The README's parameter table: name, default, `*` = fixed at start-up.
+        let documented = [
+            ("default_bat", String("r161".into()), false),
+            ("default_modes", Integer(18), false),
+            ("time_step", Double(5e-6), false),
+            ("reference_ball_speed", Double(40.0), false),
+            ("reference_bat_cm_speed", Double(20.0), false),
+            ("reference_bat_angular_speed", Double(50.0), false),
+            ("max_bats", Integer(64), false),
+            ("max_balls", Integer(1024), false),
+            ("max_bat_slices", Integer(1200), false),
+            ("queue_capacity", Integer(16384), true),
+            ("workers", Integer(0), true),
+            ("record", Boolean(true), true),
+            ("record_path", String("".into()), true),
+            ("record_max_file_size", Integer(0), true),
+            ("record_max_file_duration", Double(0.0), true),
+            ("record_storage_preset", String("".into()), true),
+            ("record_compression", String("".into()), true),
+            ("diagnostics_period", Double(1.0), true),
+        ];
+        let declared = NodeSettings::default().declarations();
+        assert_eq!(declared.len(), documented.len());
+        for ((name, value), (doc_name, doc_value, doc_read_only)) in declared.into_iter().zip(documented) {
+            assert_eq!((name, &value), (doc_name, &doc_value));
+            assert_eq!(is_read_only(name), doc_read_only, "{name}");
         }
+        assert!(!is_read_only("frobs"));
     }
 
     #[test]

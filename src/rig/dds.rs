@@ -6,13 +6,12 @@
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Result};
-use ros2_client::QosProfile;
 use rustdds::no_key::{DataWriterCdr, SimpleDataReaderCdr};
 
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::msgs::RosMessage;
-use crate::ros::shell::{interrupt_flag, write_reliably};
-use crate::ros::{self, DdsConfig};
+use crate::ros::edge::{matched_subscriptions, reader, write_reliably, writer};
+use crate::ros::{self, interrupt_flag, topics, DdsConfig};
 
 /// Node name the rig's topics are resolved with (only `~/` names would use it).
 pub const RIG_NODE_NAME: &str = "sweetspot_rig";
@@ -41,53 +40,14 @@ impl TopicNames {
             ros::resolve_topic(t, namespace, RIG_NODE_NAME).map_err(|e| anyhow!("namespace '{namespace}': {e}"))
         };
         Ok(TopicNames {
-            bat_params: r("bat/params")?,
-            ball_params: r("ball/params")?,
-            swing: r("swing")?,
-            exit_velocity: r("exit_velocity")?,
-            modal_energies: r("modal_energies")?,
-            sweet_spot: r("sweet_spot")?,
+            bat_params: r(topics::BAT_PARAMS)?,
+            ball_params: r(topics::BALL_PARAMS)?,
+            swing: r(topics::SWING)?,
+            exit_velocity: r(topics::EXIT_VELOCITY)?,
+            modal_energies: r(topics::MODAL_ENERGIES)?,
+            sweet_spot: r(topics::SWEET_SPOT)?,
         })
     }
-}
-
-fn writer<T: RosMessage>(ctx: &ros2_client::Context, fq_topic: &str, qos: &QosProfile) -> Result<DataWriterCdr<T>> {
-    let topic = ctx
-        .create_topic(ros::dds_topic_name(fq_topic), ros::message_type_name::<T>(), qos)
-        .map_err(|e| anyhow!("cannot create topic {fq_topic}: {e}"))?;
-    let dds_qos = rustdds::QosPolicies::from(qos);
-    ctx.domain_participant()
-        .create_publisher(&dds_qos)
-        .and_then(|p| p.create_datawriter_no_key_cdr::<T>(&topic, Some(dds_qos.clone())))
-        .map_err(|e| anyhow!("cannot create a writer on {fq_topic}: {e}"))
-}
-
-fn reader<T: RosMessage>(
-    ctx: &ros2_client::Context,
-    fq_topic: &str,
-    qos: &QosProfile,
-) -> Result<SimpleDataReaderCdr<T>> {
-    let topic = ctx
-        .create_topic(ros::dds_topic_name(fq_topic), ros::message_type_name::<T>(), qos)
-        .map_err(|e| anyhow!("cannot create topic {fq_topic}: {e}"))?;
-    let dds_qos = rustdds::QosPolicies::from(qos);
-    ctx.domain_participant()
-        .create_subscriber(&dds_qos)
-        .and_then(|s| {
-            s.create_simple_datareader_no_key::<T, rustdds::CDRDeserializerAdapter<T>>(&topic, Some(dds_qos.clone()))
-        })
-        .map_err(|e| anyhow!("cannot subscribe to {fq_topic}: {e}"))
-}
-
-/// Subscriptions matched with `writer`, from its status events (RustDDS 0.15 has no direct query).
-fn matched<T: RosMessage>(writer: &DataWriterCdr<T>, mut current: usize) -> usize {
-    use rustdds::StatusEvented;
-    while let Some(status) = writer.try_recv_status() {
-        if let rustdds::dds::statusevents::DataWriterStatus::PublicationMatched { current: c, .. } = status {
-            current = usize::try_from(c.count()).unwrap_or(0);
-        }
-    }
-    current
 }
 
 /// The rig's publishers.
@@ -118,7 +78,7 @@ impl RigPublisher {
 
     /// Subscriptions (nodes, recorders, echoes) matched on `swing` so far.
     pub fn swing_subscribers(&mut self) -> usize {
-        self.swing_matches = matched(&self.swings, self.swing_matches);
+        self.swing_matches = matched_subscriptions(&self.swings, self.swing_matches);
         self.swing_matches
     }
 
@@ -208,38 +168,21 @@ impl AnswerListener {
     /// Everything received since the last call (undecodable samples are counted, not fatal).
     pub fn poll(&self) -> (Vec<Answer>, u64) {
         let mut out = Vec::new();
-        let mut bad = 0;
-        loop {
-            match self.exits.try_take_one() {
-                Ok(Some(s)) => out.push(Answer::Exit(s.into_value())),
-                Ok(None) => break,
-                Err(_) => {
-                    bad += 1;
-                    break;
-                }
-            }
-        }
-        loop {
-            match self.modals.try_take_one() {
-                Ok(Some(s)) => out.push(Answer::Modal(s.into_value())),
-                Ok(None) => break,
-                Err(_) => {
-                    bad += 1;
-                    break;
-                }
-            }
-        }
-        loop {
-            match self.spots.try_take_one() {
-                Ok(Some(s)) => out.push(Answer::SweetSpot(s.into_value())),
-                Ok(None) => break,
-                Err(_) => {
-                    bad += 1;
-                    break;
-                }
-            }
-        }
+        let bad = take_all(&self.exits, Answer::Exit, &mut out)
+            + take_all(&self.modals, Answer::Modal, &mut out)
+            + take_all(&self.spots, Answer::SweetSpot, &mut out);
         (out, bad)
+    }
+}
+
+/// Takes what `reader` holds into `out`, stopping at the first undecodable sample (returns 1 then, else 0).
+fn take_all<T: RosMessage>(reader: &SimpleDataReaderCdr<T>, answer: fn(T) -> Answer, out: &mut Vec<Answer>) -> u64 {
+    loop {
+        match reader.try_take_one() {
+            Ok(Some(sample)) => out.push(answer(sample.into_value())),
+            Ok(None) => return 0,
+            Err(_) => return 1,
+        }
     }
 }
 

@@ -1,4 +1,5 @@
-//! DDS plumbing shared by the node and the command-line tools: network-safe participants, QoS, topic naming.
+//! DDS plumbing shared by the node and the command-line tools: network-safe participants, QoS, topic names
+//! ([`topics`]) and naming rules, and the edge kit ([`edge`]: writers, readers, the shutdown signal).
 //!
 //! # Discovery range, and what RustDDS really does with it
 //!
@@ -56,11 +57,13 @@
 use std::net::{IpAddr, Ipv4Addr};
 
 pub mod args;
+pub mod edge;
 pub mod names;
 pub mod qos;
-pub mod shell;
+pub mod topics;
 
 pub use args::{NameResolver, NodeIdentity, RosArgs, RosArgsError};
+pub use edge::{interrupt_flag, shutdown_signal, write_reliably, WriteError};
 pub use names::{dds_topic_name, resolve_topic, NameError};
 pub use qos::{
     diagnostics_qos, params_qos, recorded_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos, PARAMS_DEPTH,
@@ -98,6 +101,15 @@ pub enum RosError {
     /// `--ros-args` could not be parsed.
     #[error("--ros-args: {0}")]
     Args(String),
+    /// A DDS topic could not be created.
+    #[error("cannot create topic {topic}: {reason}")]
+    CreateTopic { topic: String, reason: String },
+    /// A writer (or publisher) could not be created on a topic.
+    #[error("cannot create a writer on {topic}: {reason}")]
+    CreateWriter { topic: String, reason: String },
+    /// A reader (or subscription) could not be created on a topic.
+    #[error("cannot subscribe to {topic}: {reason}")]
+    CreateReader { topic: String, reason: String },
     /// RustDDS / ros2-client failed to create an entity.
     #[error("DDS: {0}")]
     Dds(String),

@@ -1,0 +1,171 @@
+//! How results leave the node: its publishers, its log lines (rosout + tracing), the sink that publishes and
+//! records answers in swing order, and whether anyone listens to ModalEnergies.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use futures::FutureExt as _;
+use ros2_client::ros2::LogLevel;
+use ros2_client::rosout::RosoutRaw;
+use ros2_client::{NodeLoggingHandle, Publisher};
+
+use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
+use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot, Swing};
+
+use super::convert;
+use super::pipeline::{Outcome, ResultSink};
+use super::recording::{Recorded, Tape};
+use super::stats::NodeStats;
+
+/// The node's publishers.
+pub struct Outputs {
+    /// ExitVelocity out (shared with the pipeline's sink).
+    pub exit_velocity: Arc<Publisher<ExitVelocity>>,
+    /// ModalEnergies out (shared with the pipeline's sink).
+    pub modal_energies: Arc<Publisher<ModalEnergies>>,
+    /// Whether `modal_energies` has a listener.
+    pub energies_listeners: EnergiesListeners,
+    /// SweetSpot out.
+    pub sweet_spot: Publisher<SweetSpot>,
+    /// DiagnosticArray out.
+    pub diagnostics: Publisher<DiagnosticArray>,
+}
+
+impl Outputs {
+    /// The sink that publishes answers (and records them on `tape`) for the pipeline.
+    pub fn sink(&self, tape: &Arc<Tape>, stats: &Arc<NodeStats>) -> DdsSink {
+        DdsSink {
+            exit_velocity: Arc::clone(&self.exit_velocity),
+            modal_energies: Arc::clone(&self.modal_energies),
+            energies_listened: Arc::clone(&self.energies_listeners.flag),
+            tape: Arc::clone(tape),
+            stats: Arc::clone(stats),
+        }
+    }
+
+    /// Re-checks whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
+    pub fn refresh_energies_listeners(&self, node: &ros2_client::Node) {
+        self.energies_listeners.refresh(&self.modal_energies, node);
+    }
+}
+
+/// rosout + tracing, from any thread.
+#[derive(Clone)]
+pub struct Log {
+    handle: Arc<NodeLoggingHandle>,
+    rosout: bool,
+}
+
+impl Log {
+    /// Logs to rosout (the node's handle; `rosout` false: tracing only) and tracing.
+    pub fn new(handle: NodeLoggingHandle, rosout: bool) -> Log {
+        Log { handle: Arc::new(handle), rosout }
+    }
+
+    fn log(&self, level: LogLevel, message: &str) {
+        // Our own tracing line (target `sweetspot`), and the same text on /rosout for ROS tools.
+        match level {
+            LogLevel::Fatal | LogLevel::Error => tracing::error!("{message}"),
+            LogLevel::Warn => tracing::warn!("{message}"),
+            LogLevel::Info => tracing::info!("{message}"),
+            LogLevel::Debug => tracing::debug!("{message}"),
+        }
+        if self.rosout {
+            self.handle.rosout_raw(
+                ros2_client::builtin_interfaces::Time::now(),
+                level,
+                self.handle.base_name(),
+                message,
+                file!(),
+                "sweetspot::node",
+                line!(),
+            );
+        }
+    }
+
+    /// An info line.
+    pub fn info(&self, m: &str) {
+        self.log(LogLevel::Info, m)
+    }
+
+    /// A warning.
+    pub fn warn(&self, m: &str) {
+        self.log(LogLevel::Warn, m)
+    }
+
+    /// An error.
+    pub fn error(&self, m: &str) {
+        self.log(LogLevel::Error, m)
+    }
+}
+
+/// Publishes and records results in swing order (on the pipeline's sequencer thread, or inline on the
+/// receive task when the pipeline is idle).
+pub struct DdsSink {
+    /// ExitVelocity out.
+    exit_velocity: Arc<Publisher<ExitVelocity>>,
+    /// ModalEnergies out.
+    modal_energies: Arc<Publisher<ModalEnergies>>,
+    /// Whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
+    energies_listened: Arc<AtomicBool>,
+    /// The recording.
+    tape: Arc<Tape>,
+    /// The node's counters.
+    stats: Arc<NodeStats>,
+}
+
+impl ResultSink<Swing> for DdsSink {
+    fn deliver(&mut self, outcome: &Outcome<Swing>) -> bool {
+        let swing = &outcome.payload;
+        let ev = convert::exit_velocity(swing, &outcome.bat_id, &outcome.ball_id, &outcome.result);
+        let stamp_ns = convert::stamp_ns(&swing.header.stamp);
+        let mut delivered = true;
+        if let Ok(computed) = &outcome.result {
+            let me = convert::modal_energies(swing, &outcome.bat_id, computed);
+            // Always recorded; published only when someone listens: a DDS write wakes RustDDS's event
+            // loop thread even with no reader, which costs every answer latency for nothing.
+            self.tape.record(Recorded::ModalEnergies, &me, convert::now_ns(), stamp_ns);
+            if self.energies_listened.load(Ordering::Relaxed) {
+                let published = self.modal_energies.publish(me).is_ok();
+                if published {
+                    NodeStats::bump(&self.stats.modal_energies_published);
+                }
+                delivered &= published;
+            }
+        }
+        // ExitVelocity last, so a listener that has the answer also has its energies.
+        self.tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), stamp_ns);
+        delivered &= self.exit_velocity.publish(ev).is_ok();
+        delivered
+    }
+}
+
+/// Whether the ModalEnergies writer has a matched subscription, kept in an atomic the sink reads per answer
+/// (no lock on the hot path). Refreshed on every discovery event the node's spinner reports: the spinner
+/// updates its match table, then sends the event, so the re-check sees the change. (Its event channel holds
+/// 8 and drops what does not fit — only when unread events wait, whose re-checks come later and see the
+/// later state, so no change goes unnoticed; no periodic re-check is needed, and none is made: each check
+/// registers a listener with the node that only the next event clears.) So a subscriber gets the
+/// ModalEnergies of every swing answered from the moment its match reaches the node's receive loop —
+/// microseconds to a few milliseconds after DDS matched it (the first or second swing after, in
+/// tests/node_modal_energies.rs); as the topic is volatile, nothing before the match was ever delivered
+/// anyway — and a node nobody listens to spends no DDS writes on it.
+pub struct EnergiesListeners {
+    flag: Arc<AtomicBool>,
+}
+
+impl Default for EnergiesListeners {
+    /// Nobody listening yet.
+    fn default() -> EnergiesListeners {
+        EnergiesListeners { flag: Arc::new(AtomicBool::new(false)) }
+    }
+}
+
+impl EnergiesListeners {
+    fn refresh(&self, publisher: &Publisher<ModalEnergies>, node: &ros2_client::Node) {
+        // Resolves at once iff a reader is matched now; unlike `get_subscription_count` it does not log an
+        // error for a writer that never had a reader.
+        let matched = publisher.wait_for_subscription(node).now_or_never().is_some();
+        self.flag.store(matched, Ordering::Relaxed);
+    }
+}

@@ -1,0 +1,422 @@
+//! The node's receive loop: one [`NodeLoop`] owning what the loop owns, one handler per input (bat params,
+//! ball params, swing, parameter change, SweetSpot ready, discovery event, diagnostics tick, shutdown).
+
+use std::pin::pin;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use anyhow::Context as _;
+use futures::stream::BoxStream;
+use futures::StreamExt;
+use ros2_client::{MessageInfo, NodeEvent, ReadResult, Subscription};
+use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender};
+
+use crate::msgs::std_msgs::msg::Header;
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+use crate::ros::{shutdown_signal, topics};
+
+use super::convert;
+use super::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
+use super::live_settings::LiveSettings;
+use super::outputs::{Log, Outputs};
+use super::pipeline::{InlinePacing, Pipeline};
+use super::recording::{Recorded, Tape};
+use super::settings::SettingEffect;
+use super::stats::{health_report, GapCounter, NodeStats, RateLimiter, StatsSnapshot};
+
+/// Messages from helper tasks back to the receive loop.
+pub enum Event {
+    /// A parameter was set through `ros2 param set`.
+    ParameterChanged(SettingEffect),
+    /// A bat's SweetSpot is ready (published only if the bat is still current).
+    Summary(Arc<BatEntry>, Box<Result<BatSummary, String>>),
+}
+
+/// The node's subscriptions (borrowed by the loop's streams, so kept apart from [`NodeLoop`]).
+pub struct Inputs {
+    /// BatParams in.
+    pub bat_params: Subscription<BatParams>,
+    /// BallParams in.
+    pub ball_params: Subscription<BallParams>,
+    /// Swings in.
+    pub swings: Subscription<Swing>,
+}
+
+/// Rate-limited warnings, so a flood of the same problem does not flood /rosout.
+pub struct Warnings {
+    /// Bats or balls forgotten by the registry.
+    eviction: RateLimiter,
+    /// Swings dropped at a full pipeline.
+    drop: RateLimiter,
+    /// Swings lost between a publisher and the node.
+    loss: RateLimiter,
+}
+
+impl Default for Warnings {
+    fn default() -> Warnings {
+        let every_5_s = || RateLimiter::new(Duration::from_secs(5));
+        Warnings { eviction: every_5_s(), drop: every_5_s(), loss: every_5_s() }
+    }
+}
+
+/// What the receive loop owns, and one handler per input.
+pub struct NodeLoop {
+    /// The node's fully-qualified name, for log lines and diagnostics.
+    pub fqn: String,
+    /// The current parameters.
+    pub settings: LiveSettings,
+    /// Bats and balls.
+    pub registry: Registry,
+    /// The registry's usage when evictions were last reported.
+    pub seen_usage: RegistryUsage,
+    /// Collision workers and in-order publication.
+    pub pipeline: Pipeline<Swing>,
+    /// How often a swing may be answered on the receive task itself.
+    pub inline_pacing: InlinePacing,
+    /// SweetSpot computations.
+    pub summaries: Summaries,
+    /// Publishers.
+    pub outputs: Outputs,
+    /// Discovery events of the node (each re-checks the ModalEnergies listeners).
+    pub graph_events: BoxStream<'static, NodeEvent>,
+    /// Events of the parameter services and the SweetSpot tasks.
+    pub events: UnboundedReceiver<Event>,
+    /// The recording.
+    pub tape: Arc<Tape>,
+    /// Counters.
+    pub stats: Arc<NodeStats>,
+    /// rosout + tracing.
+    pub log: Log,
+    /// Gaps in each publisher's swing sequence numbers.
+    pub transport_gaps: GapCounter<ros2_client::Gid>,
+    /// Rate-limited warnings.
+    pub warnings: Warnings,
+    /// The counters at the previous diagnostics tick.
+    pub last_report: StatsSnapshot,
+}
+
+impl NodeLoop {
+    /// Queues the SweetSpot of the default bat, which answers swings without any params.
+    pub fn start_default_bat(&mut self) {
+        let current = self.settings.snapshot();
+        match self.registry.resolve_bat("", &current) {
+            Ok((entry, _)) => self.summaries.spawn(entry, &self.registry),
+            Err(e) => self.log.error(&format!("default_bat: {e}")),
+        }
+    }
+
+    /// Handles inputs until SIGINT or SIGTERM.
+    pub async fn run(&mut self, inputs: &Inputs, node: &ros2_client::Node) {
+        let diagnostics_period = self.settings.read(|s| s.diagnostics_period);
+        let mut diagnostics = tokio::time::interval(Duration::from_secs_f64(diagnostics_period));
+        diagnostics.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+        let mut bats = pin!(inputs.bat_params.async_stream());
+        let mut balls = pin!(inputs.ball_params.async_stream());
+        let mut swings = pin!(inputs.swings.async_stream());
+        let mut shutdown = pin!(shutdown_signal());
+        loop {
+            tokio::select! {
+                biased;
+                signal = &mut shutdown => return self.on_shutdown(signal),
+                Some(event) = self.events.recv() => self.on_event(event),
+                Some(received) = bats.next() => self.on_bat_params(received),
+                Some(received) = balls.next() => self.on_ball_params(received),
+                Some(_event) = self.graph_events.next() => self.on_discovery(node),
+                _ = diagnostics.tick() => self.on_diagnostics_tick(),
+                Some(received) = swings.next() => self.on_swing_sample(received),
+            }
+        }
+    }
+
+    fn on_shutdown(&self, signal: &str) {
+        self.log.info(&format!("{signal}: shutting down"));
+    }
+
+    fn on_event(&mut self, event: Event) {
+        match event {
+            Event::ParameterChanged(effect) => self.on_parameter_changed(effect),
+            Event::Summary(entry, result) => self.on_summary(&entry, *result),
+        }
+    }
+
+    fn on_parameter_changed(&mut self, effect: SettingEffect) {
+        let current = self.settings.snapshot();
+        self.tape.note_settings(&current);
+        self.registry.set_limits(&current);
+        self.report_evictions();
+        let refresh: Vec<Arc<BatEntry>> = match effect {
+            SettingEffect::None => Vec::new(),
+            SettingEffect::ModesChanged => self.registry.refresh_default_modes(&current),
+            SettingEffect::SweetSpotsChanged => self.registry.bats(),
+        };
+        for entry in refresh {
+            self.summaries.spawn(entry, &self.registry);
+        }
+    }
+
+    fn on_summary(&self, entry: &Arc<BatEntry>, result: Result<BatSummary, String>) {
+        // A summary of params that have since been replaced is stale.
+        let current = self.registry.is_current(entry);
+        match result {
+            Ok(summary) if current => {
+                let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
+                let msg = convert::sweet_spot(&summary, header);
+                self.tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
+                if let Err(e) = self.outputs.sweet_spot.publish(msg) {
+                    self.log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
+                }
+            }
+            Ok(_) => {}
+            Err(e) => self.log.warn(&format!("SweetSpot not published: {e}")),
+        }
+    }
+
+    fn on_bat_params(&mut self, received: ReadResult<(BatParams, MessageInfo)>) {
+        let log_time = convert::now_ns();
+        let params = match received {
+            Ok((params, _info)) => params,
+            Err(e) => return self.unreadable(topics::BAT_PARAMS, &e),
+        };
+        self.tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+        let current = self.settings.snapshot();
+        // The slice cap is checked here, before any modes are solved.
+        match convert::bat_from_params_capped(&params, current.max_bat_slices) {
+            Ok(built) => {
+                NodeStats::bump(&self.stats.params_accepted);
+                let entry = self.registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
+                self.report_evictions();
+                self.log
+                    .info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
+                self.summaries.spawn(entry, &self.registry);
+            }
+            Err(reason) => {
+                NodeStats::bump(&self.stats.params_rejected);
+                let reason = format!("{reason}; the previous params of '{}' stay in force", params.bat_id);
+                self.reject_params(&reason, &params.header, &params.bat_id, "");
+            }
+        }
+    }
+
+    fn on_ball_params(&mut self, received: ReadResult<(BallParams, MessageInfo)>) {
+        let log_time = convert::now_ns();
+        let params = match received {
+            Ok((params, _info)) => params,
+            Err(e) => return self.unreadable(topics::BALL_PARAMS, &e),
+        };
+        self.tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+        match convert::ball_from_params(&params) {
+            Ok(ball) => {
+                NodeStats::bump(&self.stats.params_accepted);
+                self.registry.set_ball(&params.ball_id, ball);
+                self.report_evictions();
+                self.log.info(&format!("ball '{}' set", params.ball_id));
+            }
+            Err(reason) => {
+                NodeStats::bump(&self.stats.params_rejected);
+                let reason = format!("{reason}; the previous params of '{}' stay in force", params.ball_id);
+                self.reject_params(&reason, &params.header, "", &params.ball_id);
+            }
+        }
+    }
+
+    fn on_discovery(&self, node: &ros2_client::Node) {
+        self.outputs.refresh_energies_listeners(node);
+    }
+
+    fn on_diagnostics_tick(&mut self) {
+        let mut now = self.stats.snapshot(self.pipeline.in_flight());
+        let usage = self.registry.usage();
+        now.bats_cached = usage.bats as u64;
+        now.bats_evicted = usage.bats_evicted;
+        now.balls_cached = usage.balls as u64;
+        now.balls_evicted = usage.balls_evicted;
+        let report = health_report(&now, &self.last_report, &self.tape.state());
+        let msg = convert::diagnostic_array(&report, &self.fqn, convert::time_from_ns(convert::now_ns()));
+        if let Err(e) = self.outputs.diagnostics.publish(msg) {
+            tracing::debug!("publishing diagnostics: {e:?}");
+        }
+        self.last_report = now;
+    }
+
+    fn on_swing_sample(&mut self, received: ReadResult<(Swing, MessageInfo)>) {
+        let log_time = convert::now_ns();
+        let (swing, info) = match received {
+            Ok(sample) => sample,
+            Err(e) => return self.unreadable(topics::SWING, &e),
+        };
+        let lost = self.transport_gaps.observe(info.publisher_gid(), info.sequence_number());
+        if lost > 0 {
+            self.stats.swings_lost_in_transport.fetch_add(lost, std::sync::atomic::Ordering::Relaxed);
+            if let Some(suppressed) = self.warnings.loss.allow(Instant::now()) {
+                self.log.warn(&format!(
+                    "{lost} swings from one publisher never reached the node (DDS history overflow); {suppressed} more such reports suppressed"
+                ));
+            }
+        }
+        self.on_swing(swing, log_time);
+        if self.registry.usage() != self.seen_usage {
+            // A preset named by a swing pushed out another bat.
+            self.report_evictions();
+        }
+    }
+
+    fn on_swing(&mut self, swing: Swing, log_time: u64) {
+        let received = Instant::now();
+        NodeStats::bump(&self.stats.swings_received);
+        self.tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
+        // Planned under the read lock instead of cloning the settings (and their strings) for every swing.
+        let registry = &mut self.registry;
+        let (plan, new_bat) = self.settings.read(|settings| {
+            engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing))
+        });
+        if let Some(entry) = new_bat {
+            self.summaries.spawn(entry, &self.registry);
+        }
+        // Idle and cheap: answered here, without waking a worker and the sequencer (see `Pipeline::answer_inline`).
+        let (plan, swing) = if self.inline_pacing.allows(received) {
+            let started = Instant::now();
+            match self.pipeline.answer_inline(received, plan, swing) {
+                Ok(_) => {
+                    self.inline_pacing.answered(started, Instant::now());
+                    return;
+                }
+                Err(given_back) => given_back,
+            }
+        } else {
+            (plan, swing)
+        };
+        if let Err((_plan, swing)) = self.pipeline.submit(received, plan, swing) {
+            NodeStats::bump(&self.stats.swings_dropped);
+            if let Some(suppressed) = self.warnings.drop.allow(Instant::now()) {
+                self.log.warn(&format!(
+                    "swing {} dropped: {} swings already in flight (queue_capacity); {suppressed} more dropped since the last warning",
+                    swing.swing_id,
+                    self.pipeline.capacity()
+                ));
+            }
+        }
+    }
+
+    fn unreadable(&self, topic: &str, error: &ros2_client::ReadError) {
+        NodeStats::bump(&self.stats.samples_unreadable);
+        self.log.warn(&format!("{topic}: unreadable sample: {error:?}"));
+    }
+
+    /// Warns (rate-limited) when the registry forgot bats or balls since they were last reported.
+    fn report_evictions(&mut self) {
+        let now = self.registry.usage();
+        let seen = std::mem::replace(&mut self.seen_usage, now);
+        let (bats, balls) = (now.bats_evicted - seen.bats_evicted, now.balls_evicted - seen.balls_evicted);
+        if bats + balls == 0 {
+            return;
+        }
+        let Some(suppressed) = self.warnings.eviction.allow(Instant::now()) else { return };
+        let (max_bats, max_balls) = self.settings.read(|s| (s.max_bats, s.max_balls));
+        let mut parts = Vec::new();
+        if bats > 0 {
+            parts.push(format!(
+                "{bats} bat(s) forgotten, latest '{}' (max_bats = {max_bats} held, least recently used first; {} in all)",
+                self.registry.last_evicted_bat().unwrap_or_default(),
+                now.bats_evicted
+            ));
+        }
+        if balls > 0 {
+            parts.push(format!(
+                "{balls} ball(s) forgotten, latest '{}' (max_balls = {max_balls} held; {} in all)",
+                self.registry.last_evicted_ball().unwrap_or_default(),
+                now.balls_evicted
+            ));
+        }
+        self.log.warn(&format!(
+            "{}; swings naming them are REJECTED until their params are sent again (presets are re-solved); {suppressed} more such reports suppressed",
+            parts.join("; ")
+        ));
+    }
+
+    /// Answers params that cannot be used with an ExitVelocity REJECTED carrying `reason`.
+    fn reject_params(&self, reason: &str, header: &Header, bat_id: &str, ball_id: &str) {
+        self.log.error(reason);
+        let probe = Swing { header: header.clone(), measured_exit_speed: f64::NAN, ..Swing::default() };
+        let ev = convert::exit_velocity(&probe, bat_id, ball_id, &Err(reason.to_string()));
+        self.tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), convert::stamp_ns(&header.stamp));
+        if let Err(e) = self.outputs.exit_velocity.publish(ev) {
+            self.log.warn(&format!("publishing the params rejection: {e:?}"));
+        }
+    }
+
+    /// Stops taking swings, lets queued ones finish briefly, closes the bag and reports; then drops the
+    /// discovery events and the publishers (before the caller drops the subscriptions and the node).
+    pub async fn finish(self) -> anyhow::Result<()> {
+        let NodeLoop { fqn, registry, pipeline, outputs, graph_events, tape, stats, log, .. } = self;
+        let (pipeline_stats, tape_for_finish) = (Arc::clone(&stats), Arc::clone(&tape));
+        let (bag_result, final_stats) = tokio::task::spawn_blocking(move || {
+            let in_flight = pipeline.in_flight();
+            pipeline.shutdown(Duration::from_millis(600));
+            let bag = tape_for_finish.finish();
+            (bag, pipeline_stats.snapshot(in_flight))
+        })
+        .await
+        .context("joining the shutdown task")?;
+        let s = final_stats;
+        let usage = registry.usage();
+        let summary = format!(
+            "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped, {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses; {} bats and {} balls evicted",
+            s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.swings_lost_in_transport, s.latency_p50_us, s.latency_p99_us,
+            s.latency_max_us, s.mode_cache_hits, s.mode_cache_misses, usage.bats_evicted, usage.balls_evicted
+        );
+        log.info(&summary);
+        eprintln!("{summary}");
+        match bag_result {
+            Some(Ok(b)) => eprintln!(
+                "{fqn}: bag {} closed: {} messages written, {} dropped, {} bytes",
+                tape.dir().map(|d| d.display().to_string()).unwrap_or_default(),
+                b.written,
+                b.dropped,
+                b.bytes
+            ),
+            Some(Err(e)) => eprintln!("{fqn}: closing the bag failed: {e}"),
+            None => {}
+        }
+        drop(graph_events);
+        drop(outputs);
+        Ok(())
+    }
+}
+
+/// Computes SweetSpots off the DDS thread, one at a time: a burst of BatParams (each a sweep of collisions,
+/// and a modes solve of up to `max_bat_slices` slices) must not start a thread per message — tokio's blocking
+/// pool would grow to 512 threads — nor compete with the swing workers on every core.
+pub struct Summaries {
+    settings: LiveSettings,
+    stats: Arc<NodeStats>,
+    events: UnboundedSender<Event>,
+    one_at_a_time: Arc<tokio::sync::Semaphore>,
+}
+
+impl Summaries {
+    /// Summaries computed with `settings`, counted in `stats`, reported on `events`.
+    pub fn new(settings: LiveSettings, stats: Arc<NodeStats>, events: UnboundedSender<Event>) -> Summaries {
+        Summaries { settings, stats, events, one_at_a_time: Arc::new(tokio::sync::Semaphore::new(1)) }
+    }
+
+    /// Queues the SweetSpot of `entry` against the registry's current ball.
+    pub fn spawn(&self, entry: Arc<BatEntry>, registry: &Registry) {
+        let Ok((ball_id, ball)) = registry.resolve_ball("") else {
+            return;
+        };
+        let settings = self.settings.snapshot();
+        let (stats, events, slot) = (Arc::clone(&self.stats), self.events.clone(), Arc::clone(&self.one_at_a_time));
+        // Only the registry (and swings in flight) keep the entry alive: a bat replaced or forgotten before
+        // its turn comes is not solved for a SweetSpot nobody would publish, so waiting jobs cost no solves.
+        let entry = Arc::downgrade(&entry);
+        tokio::spawn(async move {
+            let Ok(_turn) = slot.acquire_owned().await else { return };
+            let job = tokio::task::spawn_blocking(move || {
+                let Some(entry) = entry.upgrade() else { return };
+                let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
+                let _ = events.send(Event::Summary(entry, Box::new(result)));
+            });
+            let _ = job.await;
+        });
+    }
+}
