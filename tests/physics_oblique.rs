@@ -304,11 +304,13 @@ fn gripping_gives_up_to_forty_percent_more_spin_than_rolling() {
     }
 }
 
-/// Outcomes over a grid of undercuts 0 … 0.95 (R + R_k) for one swing.
+/// Outcomes over a grid of undercuts 0 … 0.75 (R + R_k) for one swing: line-of-centres angles up to ~49°,
+/// past the onset of sliding but short of grazing contacts, where the ball is barely deflected and keeps most
+/// of the pitch's speed.
 fn undercut_scan(s: &Setup, impact: Impact, attack: f64, descent: f64) -> Vec<(f64, ObliqueResult)> {
     let probe = oblique(s, impact, 0.0, attack, descent, 0.0);
     let reach = reach(s, &probe);
-    (0..=38)
+    (0..=30)
         .map(|i| {
             let d = 0.025 * i as f64 * reach;
             (d, run(s, &oblique(s, impact, d, attack, descent, 0.0), &TangentialContact::default()))

@@ -87,12 +87,12 @@
 //! - Impulsive, planar: the spin axis is along the bat (no side spin from a tilted bat or a bat that is
 //!   early or late: that needs the bat's axis out of the impact plane).
 //! - The bat is rigid tangentially: the tangential impulse excites the bat's bending across t̂ too, which is
-//!   not modelled (it is small: J_t ≲ 0.3 J_n within the grip regime).
+//!   not modelled (it is small: |J_t| ≤ μ J_n).
 //! - e_T is taken constant; KNS found it independent of the impact conditions within their scatter, over bat
 //!   speeds of 63–88 mph and launch angles of 0–30°. Beyond that range, and near grazing (|D| → R + R_k), the
 //!   single-coefficient model is an extrapolation.
 //! - Nathan et al. 2012 found the outgoing spin "nearly independent" of the incoming spin for a baseball on a
-//!   fixed cylinder; in this model dΩ_out/d(pitch_spin) = (1 + e_T) μ_t R²/I_ball − 1, which is 0.003 for a
+//!   fixed cylinder; in this model dΩ_out/d(pitch_spin) = (1 + e_T) μ_t R²/I_ball − 1, which is 0.004 for a
 //!   fixed cylinder with the defaults and about −0.2 for a swinging wood bat (its recoil lowers μ_t).
 //!
 //! Cost: one [`collide`] plus a closed-form O(1) tangential step (and an O(N) sum for I_axial over the N
