@@ -107,6 +107,7 @@ pub mod error;
 mod lanes;
 pub mod metrics;
 pub mod modes;
+pub mod oblique;
 pub mod rigid;
 
 pub use ball::Ball;
@@ -115,4 +116,5 @@ pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Im
 pub use error::PhysicsError;
 pub use metrics::{BbcorReport, BesrReport, SweepPoint, SweetSpotSet};
 pub use modes::{BeamMatrices, EigenSolver, LinkRule, Mode, ModeSet};
+pub use oblique::{collide_oblique, ObliqueImpact, ObliqueResult, TangentialContact};
 pub use rigid::RigidBat;
