@@ -152,3 +152,19 @@ fn batter_round_trips_through_json() {
     let back: Batter = serde_json::from_str(&text).expect("parse");
     assert_eq!(back, b);
 }
+
+#[test]
+fn a_shorter_bat_turns_about_the_same_pivot_at_the_scaled_speed() {
+    // The typical batter turns the R161 about its knob; the 0.81-m aluminum bat's usual impact point sits
+    // 3 cm nearer the knob, yet the swing must keep the pivot and scale the impact-point speed by s alone.
+    let r161 = Bat::preset("r161").expect("r161").mass_properties();
+    let aluminum = Bat::preset("aluminum").expect("aluminum").mass_properties();
+    let b = Batter::typical(r161).expect("typical");
+    let p = b.predict(&aluminum).expect("prediction");
+    let pivot = aluminum.center_of_mass - p.bat_cm_speed / p.bat_angular_speed;
+    assert!(pivot.abs() < 1e-12, "pivot {pivot} m from the knob");
+    let s = (p.swing_weight / swing_weight(&r161)).powf(-0.25);
+    assert!((p.bat_speed - 31.963_36 * s).abs() < 1e-9, "{} vs {}", p.bat_speed, 31.963_36 * s);
+    assert!((p.impact_z - (0.81 - 0.1524)).abs() < 1e-9);
+    assert!((p.bat_speed - p.bat_angular_speed * p.impact_z).abs() < 1e-9);
+}
