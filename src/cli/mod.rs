@@ -11,6 +11,7 @@ pub mod bench;
 pub mod calibrate;
 pub mod case_file;
 pub mod common;
+pub mod compare;
 pub mod crisp_text;
 pub mod demo;
 pub mod figures;
@@ -59,6 +60,8 @@ pub enum Command {
     Rig(rig::RigArgs),
     /// Measure latency against raw DDS, sustained rate, recorder throughput and memory.
     Bench(bench::BenchArgs),
+    /// Compare bats as one batter swings them: equal effort, predicted bat speed, reaction time gained.
+    Compare(compare::CompareArgs),
     /// Fit the ball's COR (and bat stiffness) to the measured exit speeds of a recorded session.
     Calibrate(calibrate::CalibrateArgs),
 }
@@ -79,6 +82,7 @@ pub fn main() -> ExitCode {
         Command::Demo(args) => demo::run(args),
         Command::Rig(args) => rig::run(args),
         Command::Calibrate(args) => calibrate::run(args),
+        Command::Compare(args) => compare::run(args),
         Command::Bench(args) => bench::run(args),
     };
     match outcome {

@@ -102,6 +102,7 @@
 
 pub mod ball;
 pub mod bat;
+pub mod batter;
 pub mod collision;
 pub mod error;
 mod lanes;
