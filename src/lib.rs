@@ -8,10 +8,12 @@
 pub mod bag;
 pub mod bench;
 pub mod calibrate;
+pub mod child;
 pub mod cli;
 pub mod demo;
 pub mod msgs;
 pub mod node;
 pub mod physics;
+pub mod report;
 pub mod rig;
 pub mod ros;

@@ -80,10 +80,10 @@ fn figures_as_png() {
 
 #[test]
 fn library_charts_for_the_demo_draw_several_bats() {
-    use sweetspot::cli::figures::{exit_speed_chart, exit_speed_overlay_chart, mode_shapes_chart};
-    use sweetspot::cli::plot::{draw_line_chart, draw_panels};
-    use sweetspot::cli::sweep::{run_sweep, SweepRange};
     use sweetspot::physics::{Ball, Bat, CollisionOptions, Impact, ModeSet};
+    use sweetspot::report::figures::{exit_speed_chart, exit_speed_overlay_chart, mode_shapes_chart};
+    use sweetspot::report::plot::{draw_line_chart, draw_panels};
+    use sweetspot::report::sweep::{run_sweep, SweepRange};
 
     let options = CollisionOptions { modes: 6, ..CollisionOptions::default() };
     let swing = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: f64::NAN };

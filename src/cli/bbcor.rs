@@ -6,9 +6,10 @@ use clap::Args;
 use serde::Serialize;
 
 use super::common::{emit, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs};
-use super::output::{num, BallJson, BatJson, OptionsJson, Table};
 use crate::physics::metrics::{bbcor_report, besr, BBCOR_BALL_SPEED, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z};
 use crate::physics::{Ball, Bat, CollisionOptions, ModeSet};
+use crate::report::json::{BallJson, BatJson, OptionsJson};
+use crate::report::table::{num, Table};
 
 /// Metres per inch.
 const INCH: f64 = 0.0254;

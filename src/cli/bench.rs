@@ -1,7 +1,7 @@
 //! `sweetspot bench`: end-to-end latency against raw DDS, sustained rate with recording, recorder against dd,
 //! node memory. Runs only inside a private network namespace (`scripts/bench` makes one).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use anyhow::Context as _;
@@ -106,31 +106,31 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         latency_rates: args.rates,
         latency_seconds: args.seconds,
     };
-    if args.only == Some(BenchPart::Recorder) {
-        let loadavg = || std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string();
-        let before = loadavg();
-        let disk = bench::disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?;
-        println!("load average before: {before}, after: {}\n{}", loadavg(), bench::disk_table(&disk));
-        if let Some(path) = args.json {
-            let text = serde_json::to_string_pretty(&serde_json::json!(disk))?;
-            std::fs::write(&path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+    match args.only {
+        Some(BenchPart::Recorder) => {
+            let before = bench::loadavg();
+            let disk = bench::disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?;
+            println!("load average before: {before}, after: {}\n{}", bench::loadavg(), bench::disk_table(&disk));
+            write_json(args.json.as_deref(), &disk)
         }
-        return Ok(());
-    }
-    if args.only == Some(BenchPart::Latency) {
-        let report = bench::run_latency_interleaved(&opts)?;
-        println!("{}", bench::interleaved_table(&report));
-        if let Some(path) = args.json {
-            let text = serde_json::to_string_pretty(&serde_json::json!(report))?;
-            std::fs::write(&path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+        Some(BenchPart::Latency) => {
+            let report = bench::run_latency_interleaved(&opts)?;
+            println!("{}", bench::interleaved_table(&report));
+            write_json(args.json.as_deref(), &report)
         }
-        return Ok(());
+        Some(BenchPart::Sustained) | None => {
+            let report = bench::run(&opts)?;
+            println!("{}", bench::table(&report));
+            write_json(args.json.as_deref(), &report)
+        }
     }
-    let report = bench::run(&opts)?;
-    println!("{}", bench::table(&report));
-    if let Some(path) = args.json {
-        let text = serde_json::to_string_pretty(&bench::to_json(&report))?;
-        std::fs::write(&path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+}
+
+/// Writes `value` as pretty JSON to `path`, if given.
+fn write_json(path: Option<&Path>, value: &impl serde::Serialize) -> anyhow::Result<()> {
+    if let Some(path) = path {
+        let text = serde_json::to_string_pretty(value)?;
+        std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
 }

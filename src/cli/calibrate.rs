@@ -8,10 +8,10 @@ use anyhow::{Context, Result};
 use clap::Args;
 use serde_json::json;
 
-use super::output::{num, Table};
 use crate::calibrate::{fit, params_from_bat, problem_from_bag, Fit, FitOptions, Problem};
 use crate::msgs::json::ToJson;
 use crate::msgs::std_msgs::msg::Header;
+use crate::report::table::{num, Table};
 use crate::rig::ball_params;
 
 /// Arguments of `sweetspot calibrate`.

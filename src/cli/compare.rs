@@ -28,7 +28,8 @@ use clap::Args;
 use serde::{Deserialize, Serialize};
 
 use super::common::{emit, finite_f64, print_json, resolve_bat, BallArgs, NumericArgs, OutputArgs, DEFAULT_BALL_SPEED};
-use super::output::{num, BallJson, OptionsJson, Table};
+use crate::report::json::{BallJson, OptionsJson};
+use crate::report::table::{num, Table};
 use crate::physics::batter::{
     pitch_travel, reaction_time_gained, Batter, ReferenceSwing, SwingPrediction, SwingShape, DEFAULT_EXPONENT,
     DEFAULT_IMPACT_FROM_BARREL_END, DEFAULT_PIVOT_Z, DEFAULT_REFERENCE_SPEED, DEFAULT_SWING_LENGTH,

@@ -1,2 +1,72 @@
-//! `sweetspot demo` (arguments; the runner lives in `crate::demo`).
-pub use crate::demo::{run, DemoArgs};
+//! `sweetspot demo`: its arguments, checked and handed to [`crate::demo::run`].
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{bail, Result};
+
+use super::figures::FigureFormat;
+use super::rig::RigOptions;
+use crate::demo::DemoSettings;
+
+/// Arguments of `sweetspot demo`.
+#[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  cargo run --release -- demo
+  sweetspot demo --swings 400 --true-cor 0.50     # then: sweetspot calibrate <the bag it prints>
+  sweetspot demo --bats r161,aluminum --format svg --out /tmp/bags")]
+pub struct DemoArgs {
+    #[command(flatten)]
+    pub rig: RigOptions,
+    /// Swings in the session.
+    #[arg(long, default_value_t = 200, value_name = "N")]
+    pub swings: u64,
+    /// Swings per second (default: as fast as the node answers).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// Directory the bag (and its figures) are written under.
+    #[arg(long, default_value = "bags", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Namespace of the demo's node and rig.
+    #[arg(long, alias = "ns", default_value = "/demo", value_name = "NS")]
+    pub namespace: String,
+    /// Figure format.
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
+    /// Skip the figures.
+    #[arg(long)]
+    pub no_figures: bool,
+    /// Use ROS_AUTOMATIC_DISCOVERY_RANGE from the environment instead of LOCALHOST (e.g. to watch the demo
+    /// from Foxglove or `ros2 topic echo` on another machine).
+    #[arg(long)]
+    pub env_discovery: bool,
+    /// Seconds to wait for the node to start, and for any answer before giving up.
+    #[arg(long, default_value_t = 60.0, value_name = "S")]
+    pub timeout: f64,
+}
+
+/// Runs `sweetspot demo`.
+pub fn run(args: DemoArgs) -> Result<()> {
+    if args.swings == 0 || args.swings > 1_000_000 {
+        bail!("--swings must be between 1 and 1000000, got {}", args.swings);
+    }
+    if let Some(rate) = args.rate {
+        if !(rate.is_finite() && rate > 0.0 && rate <= 10_000.0) {
+            bail!("--rate must be in (0, 10000] swings per second, got {rate}");
+        }
+    }
+    if !(args.timeout.is_finite() && args.timeout > 0.0) {
+        bail!("--timeout must be positive seconds, got {}", args.timeout);
+    }
+    crate::demo::run(DemoSettings {
+        rig: args.rig.config()?,
+        swings_per_bat: args.rig.swings_per_bat,
+        swings: args.swings,
+        rate: args.rate,
+        out: args.out,
+        namespace: args.namespace,
+        figures: (!args.no_figures).then(|| args.format.into()),
+        env_discovery: args.env_discovery,
+        timeout: Duration::from_secs_f64(args.timeout),
+    })
+}

@@ -5,8 +5,9 @@ use clap::Args;
 use serde::Serialize;
 
 use super::common::{emit, print_json, BatArgs, OutputArgs, MAX_MODES};
-use super::output::{num, BatJson, Table};
 use crate::physics::ModeSet;
+use crate::report::json::BatJson;
+use crate::report::table::{num, Table};
 
 /// Arguments of `sweetspot modes`.
 #[derive(Debug, Args)]

@@ -8,8 +8,9 @@ use serde::Serialize;
 
 use super::case_file::load_case;
 use super::common::{emit, finite_f64, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs, SwingArgs};
-use super::output::{num, BallJson, BatJson, CollisionJson, OptionsJson, SwingJson, Table};
 use crate::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
+use crate::report::json::{BallJson, BatJson, CollisionJson, OptionsJson, SwingJson};
+use crate::report::table::{num, Table};
 
 /// Distance of the default impact point from the barrel end, m (6 in).
 pub const DEFAULT_IMPACT_FROM_TIP: f64 = 0.15;

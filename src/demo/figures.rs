@@ -1,0 +1,117 @@
+//! The demo's figures, written next to its bag.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context, Result};
+
+use super::summary::Answers;
+use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
+use crate::physics::metrics::{linspace, sweep};
+use crate::physics::Impact;
+use crate::report::figures::{write_figures, FigureSettings, EXIT_SPEED_LABEL, Z_LABEL};
+use crate::report::plot::{draw_panels, ImageFormat, LineChart, LineKind, Series, VerticalMarker};
+use crate::rig::{RigSwing, SessionGenerator, MPH};
+
+/// Where the figures of the bag `bag` go: a sibling directory `<bag>_figures`.
+pub fn figures_dir(bag: &Path) -> PathBuf {
+    PathBuf::from(format!("{}_figures", bag.display()))
+}
+
+/// The demo's figures: exit speed against impact point per bat (measured, model, and the model's curve for
+/// the session's mean swing), then `sweetspot figures`' seed comparisons and mode shapes. Returns the files.
+pub fn write_demo_figures(
+    dir: &Path,
+    rig: &SessionGenerator,
+    truths: &BTreeMap<u64, (RigSwing, Swing)>,
+    answers: &Answers,
+    image: ImageFormat,
+) -> Result<Vec<String>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create '{}'", dir.display()))?;
+    let ext = image.extension();
+    let ball = rig.config().ball;
+    let options = rig.config().options;
+    let mut panels = Vec::new();
+    let mut all_swings: Vec<Impact> = Vec::new();
+    for (i, b) in rig.bats().iter().enumerate() {
+        let swings: Vec<&(RigSwing, Swing)> = truths.values().filter(|(s, _)| s.bat_id == b.bat_id).collect();
+        if swings.is_empty() {
+            continue;
+        }
+        let n = swings.len() as f64;
+        let mean = Impact {
+            ball_speed: swings.iter().map(|(s, _)| s.measured.ball_speed).sum::<f64>() / n,
+            bat_cm_speed: swings.iter().map(|(s, _)| s.measured.bat_cm_speed).sum::<f64>() / n,
+            bat_angular_speed: swings.iter().map(|(s, _)| s.measured.bat_angular_speed).sum::<f64>() / n,
+            impact_z: f64::NAN,
+        };
+        all_swings.push(mean);
+        let length = b.modes.length();
+        let zs = linspace(0.5 * length, length - 0.02, 60);
+        let curve =
+            sweep(&b.modes, &ball, &mean, &zs, &options).with_context(|| format!("model curve of '{}'", b.bat_id))?;
+        let measured: Vec<(f64, f64)> =
+            swings.iter().map(|(s, _)| (s.measured.impact_z, s.reading.exit_speed)).collect();
+        let model: Vec<(f64, f64)> = swings
+            .iter()
+            .filter_map(|(s, m)| {
+                answers
+                    .exits
+                    .get(&m.swing_id)
+                    .filter(|e| e.status == ExitVelocity::STATUS_OK)
+                    .map(|e| (s.measured.impact_z, e.exit_speed))
+            })
+            .collect();
+        let mut chart = LineChart {
+            title: format!("{} ({} swings)", b.bat_id, swings.len()),
+            x_label: Z_LABEL.into(),
+            y_label: EXIT_SPEED_LABEL.into(),
+            series: vec![
+                Series { label: "rig radar (measured)".into(), points: measured, color: 6, kind: LineKind::Points },
+                Series {
+                    label: "node (model, same swing)".into(),
+                    points: model,
+                    color: i % 6,
+                    kind: LineKind::Points,
+                },
+                Series::solid(
+                    format!(
+                        "model, mean swing ({:.0} mph pitch, ω {:.0} rad/s)",
+                        mean.ball_speed / MPH,
+                        mean.bat_angular_speed
+                    ),
+                    i % 6,
+                    curve.iter().map(|p| (p.impact_z, p.result.exit_speed)).collect(),
+                ),
+            ],
+            ..Default::default()
+        };
+        if let Some(s) = answers.sweet_spots.get(&b.bat_id) {
+            chart.markers.push(VerticalMarker {
+                x: s.max_exit_speed_z,
+                label: "sweet spot (reference swing)".into(),
+                color: 4,
+                dashed: true,
+            });
+        }
+        panels.push(chart);
+    }
+    let mut files = Vec::new();
+    if !panels.is_empty() {
+        let file = format!("demo-exit-speed-vs-impact.{ext}");
+        draw_panels(&dir.join(&file), &panels, 2, Some("Demo session: exit speed against impact point"))?;
+        files.push(file);
+    }
+    // The seed's comparisons and the mode shapes, for the session's typical swing.
+    let n = all_swings.len().max(1) as f64;
+    let typical = Impact {
+        ball_speed: all_swings.iter().map(|s| s.ball_speed).sum::<f64>() / n,
+        bat_cm_speed: all_swings.iter().map(|s| s.bat_cm_speed).sum::<f64>() / n,
+        bat_angular_speed: all_swings.iter().map(|s| s.bat_angular_speed).sum::<f64>() / n,
+        impact_z: f64::NAN,
+    };
+    let settings = FigureSettings { format: image, points: 60, swing: typical, ball, options };
+    let entries = write_figures(dir, &settings).map_err(|e| anyhow!("seed figures: {e:#}"))?;
+    files.extend(entries.into_iter().map(|e| e.file));
+    Ok(files)
+}

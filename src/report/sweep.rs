@@ -1,0 +1,171 @@
+//! The exit-speed sweep as a document: flexible and rigid exit speed over impact points, the sweet-spot set
+//! and the nodes of modes 1 and 2 (what `sweetspot sweep` prints and the figures draw).
+
+// Negated comparisons (`!(a < b)`) are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+
+use super::json::{BallJson, BatJson, CollisionJson, OptionsJson, SweetSpotsJson, SwingJson};
+use crate::physics::metrics::{sweep, sweet_spots};
+use crate::physics::{Ball, Bat, CollisionOptions, Impact, ModeSet, SweepPoint};
+
+/// Length of the default sweep range, ending 1 cm short of the barrel end, m.
+pub const DEFAULT_BARREL_LENGTH: f64 = 0.35;
+/// Default step between impact points, m.
+pub const DEFAULT_STEP: f64 = 0.005;
+/// Largest number of impact points in one sweep.
+pub const MAX_POINTS: usize = 100_000;
+
+/// The JSON document of `sweetspot sweep --json`.
+#[derive(Debug, Serialize)]
+pub struct SweepJson {
+    /// The bat's mass properties (of the discretised beam).
+    pub bat: BatJson,
+    /// The ball.
+    pub ball: BallJson,
+    /// The swing.
+    pub swing: SwingJson,
+    /// Numerical options.
+    pub options: OptionsJson,
+    /// The sweet-spot set for this swing.
+    pub sweet_spots: SweetSpotsJson,
+    /// Node positions of vibrational modes 1 and 2, m from the knob.
+    pub nodes: NodesJson,
+    /// One collision per impact point, ascending z.
+    pub points: Vec<CollisionJson>,
+    /// The plot written, if any.
+    pub plot: Option<PathBuf>,
+}
+
+/// Node positions of the first two vibrational modes, m from the knob.
+#[derive(Debug, Clone, Serialize)]
+pub struct NodesJson {
+    /// Mode 1.
+    pub mode1: Vec<f64>,
+    /// Mode 2.
+    pub mode2: Vec<f64>,
+}
+
+/// The impact points of a sweep from `from` to `to` (inclusive) by `step` or in `points` points.
+pub fn impact_points(from: f64, to: f64, step: Option<f64>, points: Option<usize>) -> Result<Vec<f64>> {
+    if !(from < to) {
+        bail!("--from = {from} m must be less than --to = {to} m");
+    }
+    let count = match (step, points) {
+        (_, Some(n)) => {
+            if !(2..=MAX_POINTS).contains(&n) {
+                bail!("--points = {n} is out of range: expected 2 ≤ points ≤ {MAX_POINTS}");
+            }
+            n
+        }
+        (step, None) => {
+            let step = step.unwrap_or(DEFAULT_STEP);
+            if !(step > 0.0) {
+                bail!("--step = {step} m is out of range: expected step > 0");
+            }
+            let n = ((to - from) / step * (1.0 + 1e-9)).floor() as usize + 1;
+            if n > MAX_POINTS {
+                bail!("--step = {step} m gives {n} points: expected at most {MAX_POINTS}");
+            }
+            if n < 2 {
+                return Ok(vec![from]);
+            }
+            return Ok((0..n).map(|i| from + i as f64 * step).collect());
+        }
+    };
+    Ok((0..count).map(|i| from + (to - from) * i as f64 / (count - 1) as f64).collect())
+}
+
+/// Runs the sweep in chunks (for a progress bar when stderr is a terminal); each chunk is parallel.
+pub fn sweep_with_progress(
+    modes: &ModeSet,
+    ball: &Ball,
+    swing: &Impact,
+    zs: &[f64],
+    options: &CollisionOptions,
+) -> Result<Vec<SweepPoint>> {
+    if !std::io::stderr().is_terminal() || zs.len() < 64 {
+        return Ok(sweep(modes, ball, swing, zs, options)?);
+    }
+    let bar = indicatif::ProgressBar::new(zs.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} impact points ({eta})")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message("sweeping");
+    let chunk = zs.len().div_ceil(20).max(rayon::current_num_threads() * 4);
+    let mut out = Vec::with_capacity(zs.len());
+    for part in zs.chunks(chunk) {
+        out.extend(sweep(modes, ball, swing, part, options)?);
+        bar.inc(part.len() as u64);
+    }
+    bar.finish_and_clear();
+    Ok(out)
+}
+
+/// A complete sweep: modes, points, sweet spots, nodes.
+pub fn run_sweep(
+    bat: &Bat,
+    ball: &Ball,
+    swing: &Impact,
+    range: SweepRange,
+    options: &CollisionOptions,
+) -> Result<SweepJson> {
+    // At least two vibrational modes are solved so that the nodes of modes 1 and 2 exist even when fewer
+    // (or none: the rigid bat) are integrated.
+    let modes =
+        ModeSet::compute(bat, options.modes.max(2)).with_context(|| format!("normal modes of bat '{}'", bat.name))?;
+    let props = modes.mass_properties();
+    let from = range.from.unwrap_or((props.length - DEFAULT_BARREL_LENGTH).max(0.0));
+    let to = range.to.unwrap_or(props.length - 0.01);
+    let zs = impact_points(from, to, range.step, range.points)?;
+    let points = sweep_with_progress(&modes, ball, swing, &zs, options).context("exit-speed sweep")?;
+    let spots = sweet_spots(&modes, ball, swing, options).context("sweet spots")?;
+    let nodes = NodesJson { mode1: modes.nodes(1), mode2: modes.nodes(2) };
+    Ok(SweepJson {
+        bat: BatJson::new(&bat.name, &props),
+        ball: ball.into(),
+        swing: swing.into(),
+        options: options.into(),
+        sweet_spots: (&spots).into(),
+        nodes,
+        points: points.iter().map(|p| CollisionJson::new(p.impact_z, &p.result)).collect(),
+        plot: None,
+    })
+}
+
+/// `--from`, `--to`, `--step`, `--points`.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SweepRange {
+    /// First point, m.
+    pub from: Option<f64>,
+    /// Last point, m.
+    pub to: Option<f64>,
+    /// Step, m.
+    pub step: Option<f64>,
+    /// Point count.
+    pub points: Option<usize>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn points_by_step_and_count() {
+        let zs = impact_points(0.5, 0.6, Some(0.05), None).unwrap();
+        assert_eq!(zs.len(), 3);
+        assert!((zs[2] - 0.6).abs() < 1e-12);
+        let zs = impact_points(0.5, 0.6, None, Some(5)).unwrap();
+        assert_eq!(zs, vec![0.5, 0.525, 0.55, 0.575, 0.6]);
+        assert!(impact_points(0.6, 0.5, None, None).is_err());
+        assert!(impact_points(0.5, 0.6, Some(-1.0), None).is_err());
+        assert!(impact_points(0.5, 0.6, None, Some(1)).is_err());
+        assert!(impact_points(0.0, 1.0, Some(1e-9), None).is_err());
+    }
+}
