@@ -19,13 +19,15 @@ use anyhow::{anyhow, bail, Context, Result};
 use crate::cli::figures::{write_figures, FigureFormat, FigureSettings, EXIT_SPEED_LABEL, Z_LABEL};
 use crate::cli::output::{num, Table};
 use crate::cli::plot::{draw_panels, ImageFormat, LineChart, LineKind, Series, VerticalMarker};
-use crate::cli::rig::{now_ns, RigOptions};
+use crate::cli::rig::RigOptions;
+use crate::model::time::{now_ns, RosTime};
+use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::msgs::RosMessage;
 use crate::physics::metrics::{linspace, sweep};
 use crate::physics::Impact;
 use crate::rig::dds::{context, Answer, AnswerListener, RigPublisher};
-use crate::rig::{time_from_nanos, RigSwing, SessionGenerator, INCH, MPH, RIG_BALL_ID};
+use crate::rig::{RigSwing, SessionGenerator, INCH, MPH, RIG_BALL_ID};
 use crate::ros::{DdsConfig, DiscoveryRange};
 
 /// Node name of the demo's node.
@@ -384,7 +386,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     ));
 
     // Ball first: the node computes each bat's SweetSpot with the latest ball, and we wait for those.
-    let stamp = time_from_nanos(now_ns());
+    let stamp = Time::from_unix_ns(now_ns());
     publisher.publish_ball(rig.ball_params(stamp.clone()))?;
     if !publisher.wait_acknowledged(timeout) {
         bail!("the node did not acknowledge the ball params within {:.0} s", args.timeout);
@@ -427,7 +429,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
         };
         if sent < total && due {
             let swing = rig.next_swing().context("simulating a swing")?;
-            let msg = rig.swing_message(&swing, time_from_nanos(now_ns()));
+            let msg = rig.swing_message(&swing, Time::from_unix_ns(now_ns()));
             publisher.publish_swing(msg.clone())?;
             truths.insert(swing.swing_id, (swing, msg));
             sent += 1;

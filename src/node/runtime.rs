@@ -15,15 +15,17 @@ use ros2_client::ros2::LogLevel;
 use ros2_client::rosout::RosoutRaw;
 use ros2_client::{NodeLoggingHandle, NodeName, NodeOptions, ParameterValue, Publisher};
 
-use crate::bag::RecorderConfig;
+use crate::bag::{RecorderConfig, TopicInfo};
+use crate::model::convert;
+use crate::model::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
+use crate::model::time::{now_ns, RosTime};
+use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 
-use super::convert;
-use super::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
 use super::pipeline::{InlinePacing, Outcome, Pipeline, ResultSink};
-use super::recording::{topic_info, Recorded, Tape};
+use super::recording::{recorded_qos, Recorded, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::{NodeSettings, SettingEffect, READ_ONLY};
 use super::stats::{health_report, GapCounter, NodeStats, RateLimiter, StatsSnapshot};
@@ -32,22 +34,7 @@ use super::stats::{health_report, GapCounter, NodeStats, RateLimiter, StatsSnaps
 pub const DEFAULT_NODE_NAME: &str = "sweetspot";
 
 /// The node's topics, relative so `-r __ns:=` moves them (except `/diagnostics`, absolute by convention).
-pub mod topics {
-    /// BatParams in.
-    pub const BAT_PARAMS: &str = "bat/params";
-    /// BallParams in.
-    pub const BALL_PARAMS: &str = "ball/params";
-    /// Swing in.
-    pub const SWING: &str = "swing";
-    /// ExitVelocity out.
-    pub const EXIT_VELOCITY: &str = "exit_velocity";
-    /// ModalEnergies out.
-    pub const MODAL_ENERGIES: &str = "modal_energies";
-    /// SweetSpot out (latched).
-    pub const SWEET_SPOT: &str = "sweet_spot";
-    /// DiagnosticArray out.
-    pub const DIAGNOSTICS: &str = "/diagnostics";
-}
+pub use crate::model::topics;
 
 /// How `sweetspot node` was asked to run.
 #[derive(Debug, Clone, Default)]
@@ -100,9 +87,7 @@ pub fn run(config: NodeConfig) -> anyhow::Result<()> {
     result
 }
 
-use crate::ros::{
-    diagnostics_qos, params_qos, recorded_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos,
-};
+use crate::ros::{diagnostics_qos, params_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos};
 
 /// rosout + tracing, from any thread.
 #[derive(Clone)]
@@ -158,13 +143,13 @@ impl ResultSink<Swing> for DdsSink {
     fn deliver(&mut self, outcome: &Outcome<Swing>) -> bool {
         let swing = &outcome.payload;
         let ev = convert::exit_velocity(swing, &outcome.bat_id, &outcome.ball_id, &outcome.result);
-        let stamp_ns = convert::stamp_ns(&swing.header.stamp);
+        let stamp_ns = swing.header.stamp.unix_ns();
         let mut delivered = true;
         if let Ok(computed) = &outcome.result {
             let me = convert::modal_energies(swing, &outcome.bat_id, computed);
             // Always recorded; published only when someone listens: a DDS write wakes RustDDS's event
             // loop thread even with no reader, which costs every answer latency for nothing.
-            self.tape.record(Recorded::ModalEnergies, &me, convert::now_ns(), stamp_ns);
+            self.tape.record(Recorded::ModalEnergies, &me, now_ns(), stamp_ns);
             if self.energies_listened.load(Ordering::Relaxed) {
                 let published = self.modal_energies.publish(me).is_ok();
                 if published {
@@ -174,7 +159,7 @@ impl ResultSink<Swing> for DdsSink {
             }
         }
         // ExitVelocity last, so a listener that has the answer also has its energies.
-        self.tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), stamp_ns);
+        self.tape.record(Recorded::ExitVelocity, &ev, now_ns(), stamp_ns);
         delivered &= self.exit_velocity.publish(ev).is_ok();
         delivered
     }
@@ -333,7 +318,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         tape.dir().map(|d| d.display().to_string()).unwrap_or_else(|| "off".into())
     ));
 
-    let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+    let mut registry = Registry::with_limits(settings.model.max_bats, settings.model.max_balls);
     let summaries = Summaries {
         settings: Arc::clone(&shared_settings),
         stats: Arc::clone(&stats),
@@ -343,7 +328,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let eviction_warning = RateLimiter::new(Duration::from_secs(5));
     let mut seen_usage = registry.usage();
     // The default bat answers swings without any params; its SweetSpot is published right away.
-    match registry.resolve_bat("", &settings) {
+    match registry.resolve_bat("", &settings.model) {
         Ok((entry, _)) => summaries.spawn(entry, &registry),
         Err(e) => log.error(&format!("default_bat: {e}")),
     }
@@ -373,11 +358,11 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     Event::ParameterChanged(effect) => {
                         let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
                         tape.note_settings(&current);
-                        registry.set_limits(&current);
+                        registry.set_limits(&current.model);
                         report_evictions(&registry, &mut seen_usage, &current, &log, &eviction_warning);
                         let refresh: Vec<Arc<BatEntry>> = match effect {
                             SettingEffect::None => Vec::new(),
-                            SettingEffect::ModesChanged => registry.refresh_default_modes(&current),
+                            SettingEffect::ModesChanged => registry.refresh_default_modes(&current.model),
                             SettingEffect::SweetSpotsChanged => registry.bats(),
                         };
                         for entry in refresh {
@@ -389,9 +374,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                         let current = registry.is_current(&entry);
                         match *result {
                             Ok(summary) if current => {
-                                let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
+                                let header = Header { stamp: Time::now(), frame_id: String::new() };
                                 let msg = convert::sweet_spot(&summary, header);
-                                tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
+                                tape.record(Recorded::SweetSpot, &msg, now_ns(), msg.header.stamp.unix_ns());
                                 if let Err(e) = ss_pub.publish(msg) {
                                     log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
                                 }
@@ -402,16 +387,16 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     }
                 },
                 Some(received) = bats.next() => {
-                    let log_time = convert::now_ns();
+                    let log_time = now_ns();
                     match received {
                         Ok((params, _info)) => {
-                            tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                            tape.record(Recorded::BatParams, &params, log_time, params.header.stamp.unix_ns());
                             let current = shared_settings.read().map(|s| s.clone()).unwrap_or_else(|_| settings.clone());
                             // The slice cap is checked here, before any modes are solved (fuzz finding F4).
-                            match convert::bat_from_params_capped(&params, current.max_bat_slices) {
+                            match convert::bat_from_params_capped(&params, current.model.max_bat_slices) {
                                 Ok(built) => {
                                     NodeStats::bump(&stats.params_accepted);
-                                    let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
+                                    let entry = registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current.model));
                                     report_evictions(&registry, &mut seen_usage, &current, &log, &eviction_warning);
                                     log.info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
                                     summaries.spawn(entry, &registry);
@@ -429,10 +414,10 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     }
                 }
                 Some(received) = balls.next() => {
-                    let log_time = convert::now_ns();
+                    let log_time = now_ns();
                     match received {
                         Ok((params, _info)) => {
-                            tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+                            tape.record(Recorded::BallParams, &params, log_time, params.header.stamp.unix_ns());
                             match convert::ball_from_params(&params) {
                                 Ok(ball) => {
                                     NodeStats::bump(&stats.params_accepted);
@@ -464,14 +449,14 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                     now.balls_cached = usage.balls as u64;
                     now.balls_evicted = usage.balls_evicted;
                     let report = health_report(&now, &last_report, &tape.state());
-                    let msg = convert::diagnostic_array(&report, &fqn, convert::time_from_ns(convert::now_ns()));
+                    let msg = super::convert::diagnostic_array(&report, &fqn, Time::now());
                     if let Err(e) = diag_pub.publish(msg) {
                         tracing::debug!("publishing diagnostics: {e:?}");
                     }
                     last_report = now;
                 }
                 Some(received) = swings.next() => {
-                    let log_time = convert::now_ns();
+                    let log_time = now_ns();
                     match received {
                         Ok((swing, info)) => {
                         let lost = transport_gaps.observe(info.publisher_gid(), info.sequence_number());
@@ -558,13 +543,18 @@ fn on_swing(
 ) {
     let received = Instant::now();
     NodeStats::bump(&stats.swings_received);
-    tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
+    tape.record(Recorded::Swing, &swing, log_time, swing.header.stamp.unix_ns());
     // Planned under the read lock instead of cloning the settings (and their strings) for every swing; the
     // guard is dropped before the summary takes the lock again.
     let guard = shared_settings.read().ok();
     let settings = guard.as_deref().unwrap_or(fallback);
-    let (plan, new_bat) =
-        engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing));
+    let (plan, new_bat) = engine::plan_swing(
+        registry,
+        &settings.model,
+        &swing.bat_id,
+        &swing.ball_id,
+        convert::impact_from_swing(&swing),
+    );
     drop(guard);
     if let Some(entry) = new_bat {
         summaries.spawn(entry, registry);
@@ -614,7 +604,7 @@ fn report_evictions(
             parts.push(format!(
                 "{bats} bat(s) forgotten, latest '{}' (max_bats = {} held, least recently used first; {} in all)",
                 registry.last_evicted_bat().unwrap_or_default(),
-                settings.max_bats,
+                settings.model.max_bats,
                 now.bats_evicted
             ));
         }
@@ -622,7 +612,7 @@ fn report_evictions(
             parts.push(format!(
                 "{balls} ball(s) forgotten, latest '{}' (max_balls = {} held; {} in all)",
                 registry.last_evicted_ball().unwrap_or_default(),
-                settings.max_balls,
+                settings.model.max_balls,
                 now.balls_evicted
             ));
         }
@@ -645,7 +635,7 @@ fn reject_params(
     log.error(reason);
     let probe = Swing { header: header.clone(), measured_exit_speed: f64::NAN, ..Swing::default() };
     let ev = convert::exit_velocity(&probe, bat_id, ball_id, &Err(reason.to_string()));
-    tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), convert::stamp_ns(&header.stamp));
+    tape.record(Recorded::ExitVelocity, &ev, now_ns(), header.stamp.unix_ns());
     if let Err(e) = ev_pub.publish(ev) {
         log.warn(&format!("publishing the params rejection: {e:?}"));
     }
@@ -675,7 +665,14 @@ impl Summaries {
             let Ok(_turn) = slot.acquire_owned().await else { return };
             let job = tokio::task::spawn_blocking(move || {
                 let Some(entry) = entry.upgrade() else { return };
-                let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
+                let result = engine::summarize_bat(
+                    &entry,
+                    &ball_id,
+                    &ball,
+                    super::convert::reference_swing(&settings),
+                    &settings.model,
+                    &*stats,
+                );
                 let _ = events.send(Event::Summary(entry, Box::new(result)));
             });
             let _ = job.await;
@@ -703,12 +700,12 @@ fn start_tape(
         queue_capacity: 65_536,
     };
     let topics = vec![
-        topic_info::<BatParams>(&topic_names[topics::BAT_PARAMS], recorded_qos(&params_qos())),
-        topic_info::<BallParams>(&topic_names[topics::BALL_PARAMS], recorded_qos(&params_qos())),
-        topic_info::<Swing>(&topic_names[topics::SWING], recorded_qos(&swing_qos())),
-        topic_info::<ExitVelocity>(&topic_names[topics::EXIT_VELOCITY], recorded_qos(&results_qos())),
-        topic_info::<ModalEnergies>(&topic_names[topics::MODAL_ENERGIES], recorded_qos(&results_qos())),
-        topic_info::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&latched_results_qos())),
+        TopicInfo::of::<BatParams>(&topic_names[topics::BAT_PARAMS], recorded_qos(&params_qos())),
+        TopicInfo::of::<BallParams>(&topic_names[topics::BALL_PARAMS], recorded_qos(&params_qos())),
+        TopicInfo::of::<Swing>(&topic_names[topics::SWING], recorded_qos(&swing_qos())),
+        TopicInfo::of::<ExitVelocity>(&topic_names[topics::EXIT_VELOCITY], recorded_qos(&results_qos())),
+        TopicInfo::of::<ModalEnergies>(&topic_names[topics::MODAL_ENERGIES], recorded_qos(&results_qos())),
+        TopicInfo::of::<SweetSpot>(&topic_names[topics::SWEET_SPOT], recorded_qos(&latched_results_qos())),
     ];
     // record_storage_preset, then record_compression over it (rosbag2's order). apply() refused any
     // combination that does not go together, so the error arm is for settings built some other way.

@@ -9,6 +9,8 @@ use std::path::PathBuf;
 
 use ros2_client::ParameterValue;
 
+use crate::model::settings::ModelSettings;
+
 /// Parameters that only take effect at start-up; setting them on a running node is refused.
 pub const READ_ONLY: &[&str] = &[
     "queue_capacity",
@@ -78,24 +80,14 @@ pub const DESCRIPTIONS: &[(&str, &str, &str)] = &[
 /// The node's parameters, typed. Defaults are what `sweetspot node` uses without `-p`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodeSettings {
-    /// Bat used for swings with an empty bat_id before any BatParams arrived.
-    pub default_bat: String,
-    /// Modes integrated when a bat's params say 0.
-    pub default_modes: usize,
-    /// RK4 time step, s.
-    pub time_step: f64,
+    /// The settings of the model (default bat and modes, time step, registry limits), recorded with a bag.
+    pub model: ModelSettings,
     /// Reference swing's ball speed toward the bat, m/s.
     pub reference_ball_speed: f64,
     /// Reference swing's bat centre-of-mass speed, m/s.
     pub reference_bat_cm_speed: f64,
     /// Reference swing's bat angular speed, rad/s.
     pub reference_bat_angular_speed: f64,
-    /// Bats kept (least recently used forgotten first, never the latest received).
-    pub max_bats: usize,
-    /// Balls kept (least recently used forgotten first, never the latest received).
-    pub max_balls: usize,
-    /// Largest slice count a BatParams may ask for.
-    pub max_bat_slices: usize,
     /// Swings in flight before new ones are dropped.
     pub queue_capacity: usize,
     /// Worker threads; 0 = one per core.
@@ -121,20 +113,12 @@ pub struct NodeSettings {
 impl Default for NodeSettings {
     fn default() -> Self {
         NodeSettings {
-            default_bat: "r161".to_string(),
-            default_modes: 18,
-            time_step: 5e-6,
+            model: ModelSettings::default(),
             // A hard-hit ball: 40 m/s pitch (≈ 90 mph), the bat's centre of mass at 20 m/s turning at 50 rad/s
             // (barrel ≈ 30 m/s at the sweet spot of a 33-in bat).
             reference_ball_speed: 40.0,
             reference_bat_cm_speed: 20.0,
             reference_bat_angular_speed: 50.0,
-            // A lab uses a handful of bats; 64 leaves room for a whole team's and bounds the worst case (each
-            // entry at most max_bat_slices slices × 200 modes of shapes, ~4 MB) to a few hundred MB.
-            max_bats: 64,
-            // A ball is 40 bytes; the cap only stops a publisher inventing ids without end.
-            max_balls: 1024,
-            max_bat_slices: super::convert::DEFAULT_MAX_BAT_SLICES,
             // Covers a burst of 10,000 swings at a few hundred bytes each (≈ 5 MB worst case).
             queue_capacity: 16_384,
             workers: 0,
@@ -165,15 +149,15 @@ impl NodeSettings {
     pub fn declarations(&self) -> Vec<(&'static str, ParameterValue)> {
         use ParameterValue::*;
         vec![
-            ("default_bat", String(self.default_bat.clone())),
-            ("default_modes", Integer(self.default_modes as i64)),
-            ("time_step", Double(self.time_step)),
+            ("default_bat", String(self.model.default_bat.clone())),
+            ("default_modes", Integer(self.model.default_modes as i64)),
+            ("time_step", Double(self.model.time_step)),
             ("reference_ball_speed", Double(self.reference_ball_speed)),
             ("reference_bat_cm_speed", Double(self.reference_bat_cm_speed)),
             ("reference_bat_angular_speed", Double(self.reference_bat_angular_speed)),
-            ("max_bats", Integer(self.max_bats as i64)),
-            ("max_balls", Integer(self.max_balls as i64)),
-            ("max_bat_slices", Integer(self.max_bat_slices as i64)),
+            ("max_bats", Integer(self.model.max_bats as i64)),
+            ("max_balls", Integer(self.model.max_balls as i64)),
+            ("max_bat_slices", Integer(self.model.max_bat_slices as i64)),
             ("queue_capacity", Integer(self.queue_capacity as i64)),
             ("workers", Integer(self.workers as i64)),
             ("record", Boolean(self.record)),
@@ -223,18 +207,18 @@ impl NodeSettings {
         match (name, value) {
             ("default_bat", V::String(s)) => {
                 range(!s.trim().is_empty(), "a non-empty bat_id or preset name")?;
-                self.default_bat = s.clone();
+                self.model.default_bat = s.clone();
                 Ok(SettingEffect::None)
             }
             ("default_modes", V::Integer(n)) => {
                 range((1..=200).contains(n), "1 ≤ default_modes ≤ 200")?;
-                let changed = self.default_modes != *n as usize;
-                self.default_modes = *n as usize;
+                let changed = self.model.default_modes != *n as usize;
+                self.model.default_modes = *n as usize;
                 Ok(if changed { SettingEffect::ModesChanged } else { SettingEffect::None })
             }
             ("time_step", V::Double(x)) => {
                 range(x.is_finite() && (1e-8..=1e-4).contains(x), "1e-8 ≤ time_step ≤ 1e-4 s")?;
-                self.time_step = *x;
+                self.model.time_step = *x;
                 Ok(SettingEffect::SweetSpotsChanged)
             }
             ("reference_ball_speed", V::Double(x)) => {
@@ -254,18 +238,18 @@ impl NodeSettings {
             }
             ("max_bats", V::Integer(n)) => {
                 range((2..=100_000).contains(n), "2 ≤ max_bats ≤ 100000")?;
-                self.max_bats = *n as usize;
+                self.model.max_bats = *n as usize;
                 Ok(SettingEffect::None)
             }
             ("max_balls", V::Integer(n)) => {
                 range((2..=100_000).contains(n), "2 ≤ max_balls ≤ 100000")?;
-                self.max_balls = *n as usize;
+                self.model.max_balls = *n as usize;
                 Ok(SettingEffect::None)
             }
             ("max_bat_slices", V::Integer(n)) => {
                 let physics_max = crate::physics::bat::SLICE_COUNT_RANGE.1 as i64;
                 range((100..=physics_max).contains(n), &format!("100 ≤ max_bat_slices ≤ {physics_max}"))?;
-                self.max_bat_slices = *n as usize;
+                self.model.max_bat_slices = *n as usize;
                 Ok(SettingEffect::None)
             }
             ("queue_capacity", V::Integer(n)) => {
@@ -504,7 +488,7 @@ mod tests {
         let s = NodeSettings::with_overrides(&o).unwrap();
         assert_eq!(s.reference_ball_speed, 35.0);
         assert!(!s.record);
-        assert_eq!(s.default_modes, 12);
+        assert_eq!(s.model.default_modes, 12);
         let mut t = s.clone();
         assert_eq!(t.apply("default_modes", &ParameterValue::Integer(12)).unwrap(), SettingEffect::None);
         assert_eq!(t.apply("default_modes", &ParameterValue::Integer(10)).unwrap(), SettingEffect::ModesChanged);

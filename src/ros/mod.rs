@@ -63,8 +63,8 @@ pub mod shell;
 pub use args::{NameResolver, NodeIdentity, RosArgs, RosArgsError};
 pub use names::{dds_topic_name, resolve_topic, NameError};
 pub use qos::{
-    diagnostics_qos, params_qos, recorded_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos, PARAMS_DEPTH,
-    RESULTS_DEPTH, RESULTS_MAX_BLOCKING, SWING_DEPTH,
+    diagnostics_qos, params_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos, PARAMS_DEPTH, RESULTS_DEPTH,
+    RESULTS_MAX_BLOCKING, SWING_DEPTH,
 };
 
 /// Environment variable selecting how far discovery reaches (ROS 2 Iron+).

@@ -1,5 +1,6 @@
 //! `bag play`: republish the recorded inputs (BatParams, BallParams, Swing) over DDS with their original
-//! timing. The schedule is pure ([`schedule`]); [`play`] is the DDS shell around it.
+//! timing. The schedule is pure ([`schedule`]); [`play`] is the DDS shell around it. It lives beside the node,
+//! above both [`crate::bag`] (reading) and [`crate::ros`] (DDS), so neither of those imports the other.
 //!
 //! Params recorded before the first swing go out first, at once, on transient-local (latched) writers, so a
 //! node started later still gets them; params recorded later go out at their own time, so every swing meets
@@ -12,8 +13,8 @@ use std::time::{Duration, Instant};
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
 
-use super::reader::read_bag;
-use super::BagError;
+use crate::bag::reader::read_bag;
+use crate::bag::BagError;
 
 /// One message to publish.
 #[derive(Debug, Clone, PartialEq)]
