@@ -16,12 +16,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use arbitrary::{Arbitrary, Unstructured};
 
+use sweetspot::model::convert;
+use sweetspot::model::engine::{self, BatEntry, ModeCacheCount, Registry};
+use sweetspot::model::settings::ModelSettings;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use sweetspot::msgs::{decode_cdr, encode_cdr};
-use sweetspot::node::convert;
-use sweetspot::node::engine::{self, BatEntry, Registry};
-use sweetspot::node::settings::NodeSettings;
-use sweetspot::node::stats::NodeStats;
 use sweetspot::physics::{
     collide, Ball, Bat, CollisionOptions, CollisionResult, CoreFill, Impact, Material, ModeSet, Station,
 };
@@ -181,8 +180,8 @@ pub fn cdr_outputs(data: &[u8]) {
 /// settings: params are converted (`max_bat_slices` enforced) and stored, swings planned, computed and
 /// answered. Every answer must encode; an OK answer has no NaN.
 pub fn node_messages(data: &[u8]) {
-    let settings = NodeSettings::default();
-    let stats = NodeStats::new();
+    let settings = ModelSettings::default();
+    let stats = ModeCacheCount::default();
     let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
     let mut rest = data;
     let mut handled = 0;
@@ -195,7 +194,7 @@ pub fn node_messages(data: &[u8]) {
         match kind % 3 {
             0 => {
                 let Ok(params) = decode_cdr::<BatParams>(bytes) else { continue };
-                // The node's own rule, slice cap included (fuzz finding F4).
+                // The node's own rule, slice cap included.
                 match convert::bat_from_params_capped(&params, settings.max_bat_slices) {
                     Ok(built) => {
                         built.bat.validate().unwrap_or_else(|e| panic!("bat_from_params accepted an invalid bat: {e}"));

@@ -1,9 +1,16 @@
 //! sweetspot: bat–ball collision physics (Nathan 2000) behind a pure-Rust ROS 2 node with MCAP recording.
 //!
+//! Layers, each importing only those above it in this list:
+//!
 //! - [`physics`]: the pure, synchronous core (SI units, no I/O);
 //! - [`msgs`]: Rust types generated at build time from `msgs/sweetspot_msgs/msg/*.msg`;
-//! - [`node`]: the ROS 2 shell (topics, QoS, parameters, diagnostics);
-//! - [`bag`]: MCAP record / replay in the rosbag2 layout;
+//! - [`model`]: messages ↔ physics, the bat/ball registry, swing planning and computing, the model settings a
+//!   bag records — the one place the node, replay, calibration, the rig and the fuzz targets decide alike;
+//! - [`bag`]: MCAP record, read, export and replay in the rosbag2 layout;
+//!   [`ros`]: the DDS edge (names, `--ros-args`, QoS, the participant);
+//! - [`node`]: the ROS 2 node (topics, parameters, diagnostics, recording); [`play`]: `bag play` over DDS;
+//! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
+//!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
 //! - [`cli`]: the command line.
 pub mod bag;
 pub mod bench;
@@ -11,9 +18,11 @@ pub mod calibrate;
 pub mod child;
 pub mod cli;
 pub mod demo;
+pub mod model;
 pub mod msgs;
 pub mod node;
 pub mod physics;
+pub mod play;
 pub mod report;
 pub mod rig;
 pub mod ros;

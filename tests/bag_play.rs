@@ -8,7 +8,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use bag_support::sweetspot_bin;
-use sweetspot::bag::play::schedule;
+use sweetspot::play::schedule;
 
 /// ROS_DOMAIN_ID of these tests (other suites use 100.., 151..163).
 const DOMAIN: u16 = 201;

@@ -13,12 +13,13 @@ use std::process::Command;
 
 use bag_support::sweetspot_bin;
 use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
+use sweetspot::model::convert;
+use sweetspot::model::engine::{self, BatEntry, ModeCacheCount, Registry};
+use sweetspot::model::settings::ModelSettings;
+use sweetspot::model::time::RosTime;
+use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::encode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, Swing};
-use sweetspot::node::convert;
-use sweetspot::node::engine::{self, BatEntry, Registry};
-use sweetspot::node::settings::NodeSettings;
-use sweetspot::node::stats::NodeStats;
 
 const T0: u64 = 1_763_700_000_000_000_000;
 const Q: RecordedQos = RecordedQos { reliable: true, transient_local: false, depth: 100 };
@@ -26,7 +27,7 @@ const Q: RecordedQos = RecordedQos { reliable: true, transient_local: false, dep
 fn swing(i: u64, bat_id: &str) -> Swing {
     Swing {
         header: sweetspot::msgs::std_msgs::msg::Header {
-            stamp: convert::time_from_ns(T0 + i * 1_000_000),
+            stamp: Time::from_unix_ns(T0 + i * 1_000_000),
             frame_id: String::new(),
         },
         swing_id: i,
@@ -42,8 +43,8 @@ fn swing(i: u64, bat_id: &str) -> Swing {
 
 /// Records a run as the node would: bat "game" is r161 for swings 0..4, then aluminum for 5..9; swing 10
 /// asks for an unknown bat (rejected). Returns the settings used.
-fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> NodeSettings {
-    let settings = NodeSettings { default_modes: 8, ..NodeSettings::default() };
+fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> ModelSettings {
+    let settings = ModelSettings { default_modes: 8, ..ModelSettings::default() };
     let rec = Recorder::start(RecorderConfig::new(dir)).unwrap();
     rec.set_custom_data("sweetspot/default_modes", settings.default_modes.to_string());
     rec.set_custom_data("sweetspot/time_step", settings.time_step.to_string());
@@ -53,7 +54,7 @@ fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> NodeSettings {
     let swing_t = rec.register_topic(TopicInfo::of::<Swing>("/lab/swing", Q)).unwrap();
     let ev_t = rec.register_topic(TopicInfo::of::<ExitVelocity>("/lab/exit_velocity", Q)).unwrap();
     let me_t = rec.register_topic(TopicInfo::of::<ModalEnergies>("/lab/modal_energies", Q)).unwrap();
-    let stats = NodeStats::new();
+    let stats = ModeCacheCount::default();
     let mut registry = Registry::new();
     let mut t = T0;
     let mut next = || {
@@ -296,7 +297,7 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
     );
 
     // Without the limits, exactly the swings they decided come out differently.
-    let unlimited = NodeSettings { default_modes: 6, ..NodeSettings::default() };
+    let unlimited = ModelSettings { default_modes: 6, ..ModelSettings::default() };
     let report = sweetspot::bag::replay::replay(&bag, &unlimited, &Default::default(), 0.0, |_, _| {}).unwrap();
     let differ: Vec<u64> = report.rows.iter().filter(|r| !r.differences.is_empty()).map(|r| r.swing_id).collect();
     assert_eq!(differ, [1, 2, 6, 7, 10]);

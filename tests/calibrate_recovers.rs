@@ -7,9 +7,11 @@
 
 use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
 use sweetspot::calibrate::{fit, problem_from_bag, FitOptions};
+use sweetspot::model::time::RosTime;
+use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::encode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
-use sweetspot::rig::{time_from_nanos, RigConfig, SensorNoise, SessionGenerator};
+use sweetspot::rig::{RigConfig, SensorNoise, SessionGenerator};
 
 const TRUE_COR: f64 = 0.50;
 
@@ -33,15 +35,15 @@ fn write_session_with(
     let swing_topic = recorder.register_topic(TopicInfo::of::<Swing>("/rig/swing", stream)).unwrap();
     let mut rig = SessionGenerator::new(config).expect("rig").with_block(3);
     let mut t: u64 = 1_700_000_000_000_000_000;
-    for params in rig.bat_params(time_from_nanos(t)) {
+    for params in rig.bat_params(Time::from_unix_ns(t)) {
         assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
         t += 1000;
     }
-    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(time_from_nanos(t))).unwrap(), t, t));
+    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(Time::from_unix_ns(t))).unwrap(), t, t));
     for _ in 0..swings {
         t += 100_000_000;
         let swing = rig.next_swing().expect("swing");
-        let msg = rig.swing_message(&swing, time_from_nanos(t));
+        let msg = rig.swing_message(&swing, Time::from_unix_ns(t));
         assert!(recorder.record(swing_topic, encode_cdr(&msg).unwrap(), t, t));
     }
     extra(&recorder, bat_topic, swing_topic, t + 1_000_000);
@@ -175,7 +177,7 @@ fn calibrate_command_reports_and_writes_params_pub_can_send() {
     for b in &bats {
         assert!(b.preset.is_empty() && b.station_z.len() > 10 && b.youngs_modulus > 1e9, "{b:?}");
         // A fitted bat is the preset's geometry with the fitted modulus: it must build.
-        sweetspot::calibrate::bat_from_params(b).unwrap();
+        sweetspot::model::convert::bat_from_params(b).unwrap();
     }
 }
 

@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use sweetspot::bag::reader::read_bag;
-use sweetspot::calibrate::{ball_from_params, bat_from_params};
+use sweetspot::calibrate::problem_bat;
+use sweetspot::model::convert::ball_from_params;
+use sweetspot::model::settings::ModelSettings;
 use sweetspot::msgs::decode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Swing};
 use sweetspot::msgs::RosMessage;
@@ -94,12 +96,13 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
     })
     .unwrap();
     assert_eq!((bats.len(), balls.len(), swings.len(), exits.len()), (2, 1, SWINGS, SWINGS));
-    let ball = ball_from_params(&balls[0]);
+    let ball = ball_from_params(&balls[0]).unwrap();
     for swing in &swings {
         let exit = exits.iter().find(|e| e.swing_id == swing.swing_id).expect("an answer per swing");
         assert_eq!(exit.status, ExitVelocity::STATUS_OK, "{}", exit.message);
         let params = bats.iter().find(|b| b.bat_id == swing.bat_id).unwrap();
-        let (bat, modes) = bat_from_params(params).unwrap();
+        let bat = problem_bat(params, &ModelSettings::default()).unwrap();
+        let (bat, modes) = (bat.bat, bat.modes);
         let set = ModeSet::compute(&bat, modes).unwrap();
         let impact = Impact {
             ball_speed: swing.ball_speed,

@@ -12,10 +12,10 @@ use std::time::Duration;
 
 use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use ros2_client::Subscription;
+use sweetspot::model::convert;
 use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Swing};
-use sweetspot::node::convert;
 use sweetspot::physics::Bat;
 
 const WAIT: Duration = Duration::from_secs(60);

@@ -243,22 +243,21 @@ fn seeds_are_valid_inputs_of_their_targets() {
 /// ("modes = 200 is out of range: expected 0 ≤ modes ≤ 158") and its SweetSpot is never published.
 #[test]
 fn f1_accepted_bat_params_can_answer_swings() {
-    use sweetspot::node::convert::bat_from_params;
-    use sweetspot::node::engine::{compute, plan_swing, BatEntry, Registry};
-    use sweetspot::node::settings::NodeSettings;
-    use sweetspot::node::stats::NodeStats;
+    use sweetspot::model::convert::bat_from_params;
+    use sweetspot::model::engine::{compute, plan_swing, BatEntry, ModeCacheCount, Registry};
+    use sweetspot::model::settings::ModelSettings;
     let bytes = input("node_messages", "f1-max-modes-beyond-the-bat");
     let params: sweetspot::msgs::sweetspot_msgs::msg::BatParams =
         sweetspot::msgs::decode_cdr(&bytes[3..3 + u16::from_le_bytes([bytes[1], bytes[2]]) as usize]).unwrap();
     assert_eq!(params.max_modes, 200);
     let Ok(built) = bat_from_params(&params) else { return }; // rejecting the params is a valid fix
-    let settings = NodeSettings::default();
+    let settings = ModelSettings::default();
     let mut registry = Registry::new();
     registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &settings));
     let impact =
         sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
     let (plan, _) = plan_swing(&mut registry, &settings, &params.bat_id, "", impact);
-    let answer = compute(&plan, &NodeStats::new());
+    let answer = compute(&plan, &ModeCacheCount::default());
     assert!(answer.is_ok(), "params were accepted, yet a regular swing is rejected: {answer:?}");
 }
 
@@ -268,21 +267,20 @@ fn f1_accepted_bat_params_can_answer_swings() {
 /// refused before the solve is what makes it quick; no timing is asserted.)
 #[test]
 fn f4_a_bat_of_four_thousand_slices_is_refused_before_its_modes_are_solved() {
-    use sweetspot::node::convert::{bat_from_params, bat_from_params_capped};
-    use sweetspot::node::engine::{compute, plan_swing, Registry};
-    use sweetspot::node::settings::NodeSettings;
-    use sweetspot::node::stats::NodeStats;
+    use sweetspot::model::convert::{bat_from_params, bat_from_params_capped};
+    use sweetspot::model::engine::{compute, plan_swing, ModeCacheCount, Registry};
+    use sweetspot::model::settings::ModelSettings;
     let bytes = input("node_messages", "f4-four-thousand-slices");
     let params: sweetspot::msgs::sweetspot_msgs::msg::BatParams =
         sweetspot::msgs::decode_cdr(&bytes[3..3 + u16::from_le_bytes([bytes[1], bytes[2]]) as usize]).unwrap();
     // Within the physics' limits: only the node's cap stands between this input and a 4000-slice solve.
     assert_eq!(bat_from_params(&params).expect("a valid bat for the physics").bat.slice_count(), 4000);
-    let settings = NodeSettings::default();
+    let settings = ModelSettings::default();
     let reason = bat_from_params_capped(&params, settings.max_bat_slices).expect_err("the node refuses it");
     assert!(reason.starts_with("BatParams 'f4': slice_length = "), "{reason}");
     assert!(reason.contains("into 4000 slices") && reason.contains("max_bat_slices = 1200"), "{reason}");
     // So the bat stays unknown and its swing is REJECTED (rather than solving the modes on first use).
-    let stats = NodeStats::new();
+    let stats = ModeCacheCount::default();
     let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
     let impact =
         sweetspot::physics::Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.7 };
@@ -298,9 +296,9 @@ fn f4_a_bat_of_four_thousand_slices_is_refused_before_its_modes_are_solved() {
 // foreign writer belong to the node's tests).
 
 mod bad_input {
+    use sweetspot::model::convert::{ball_from_params, bat_from_params};
     use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
     use sweetspot::msgs::{decode_cdr, encode_cdr, MsgError};
-    use sweetspot::node::convert::{ball_from_params, bat_from_params};
 
     /// Picks one numeric field of a message.
     type FieldOf<T> = fn(&mut T) -> &mut f64;

@@ -9,10 +9,10 @@ use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+use sweetspot::model::convert;
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
-use sweetspot::node::convert;
 use sweetspot::physics::{collide, metrics, Ball, Bat, CollisionOptions, CollisionResult, Impact, ModeSet};
 
 const WAIT: Duration = Duration::from_secs(60);

@@ -252,7 +252,7 @@ fn params_file_and_dash_p_set_parameters_that_ros2_param_sees_validates_and_appl
     let r161 = Bat::preset("r161").unwrap();
     let at_5mm = BatParams {
         slice_length: 0.005,
-        ..sweetspot::node::convert::params_from_bat("fine", &r161, 0, Header::default())
+        ..sweetspot::model::convert::params_from_bat("fine", &r161, 0, Header::default())
     };
     peer.wait_for_reader(&bat_pub);
     bat_pub.publish(at_5mm).unwrap();

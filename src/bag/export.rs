@@ -47,7 +47,7 @@ pub struct ExportCounts {
 /// The node namespace of a recorded topic: the topic minus the node's relative name for that message type
 /// (`/rig3/bat/params` → `/rig3`), else minus its last segment (remapped topics).
 pub fn namespace_of(topic: &str, type_name: &str) -> String {
-    use crate::node::runtime::topics;
+    use crate::model::topics;
     let relative = match type_name {
         BatParams::TYPE_NAME => topics::BAT_PARAMS,
         BallParams::TYPE_NAME => topics::BALL_PARAMS,

@@ -9,7 +9,6 @@ use std::time::Duration;
 
 pub mod export;
 pub mod info;
-pub mod play;
 pub mod reader;
 mod recorder;
 pub mod recover;

@@ -1,15 +1,15 @@
 //! `bag replay`: re-run the physics on every recorded swing with the bat and ball in force at that moment,
 //! exactly as the node decides it, and compare with the recorded ExitVelocity and ModalEnergies.
 //!
-//! The node's own pure functions are used (`node::convert::{bat_from_params_capped, ball_from_params,
-//! impact_from_swing, exit_velocity, modal_energies}` and `node::engine::{Registry, plan_swing, compute}`), so
+//! The model the node runs is used (`model::convert::{bat_from_params_capped, ball_from_params,
+//! impact_from_swing, exit_velocity, modal_energies}` and `model::engine::{Registry, plan_swing, compute}`), so
 //! replay cannot drift from what the node does. One registry per namespace, like one node per rig.
 //!
-//! Node settings that shape results are not messages; they are read from the bag's rosbag2 `custom_data`
+//! Model settings that shape results are not messages; they are read from the bag's rosbag2 `custom_data`
 //! (`sweetspot/default_bat`, `default_modes`, `time_step`, `max_bats`, `max_balls`, `max_bat_slices`; see
-//! `node::recording`) when present, else the node defaults (so a bag written before the limits existed
-//! replays with today's, which only matter beyond 64 bats, 1024 balls or 1200-slice bats), and the first three
-//! can be given on the command line.
+//! [`ModelSettings::from_custom_data`]) when present, else the node defaults (so a bag written before the
+//! limits existed replays with today's, which only matter beyond 64 bats, 1024 balls or 1200-slice bats), and
+//! the first three can be given on the command line.
 //! The limits are replayed as the node applies them: the registry forgets the least recently used bats and
 //! balls beyond `max_bats` / `max_balls` (so a swing on a forgotten bat is REJECTED again), and a BatParams
 //! of more than `max_bat_slices` slices is refused (so its bat stays unknown). The bag holds the settings last
@@ -18,15 +18,10 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use crate::model::convert;
+use crate::model::engine::{self, BatEntry, Registry};
+use crate::model::settings::ModelSettings;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
-use crate::node::convert;
-use crate::node::engine::{self, BatEntry, Registry};
-use crate::node::recording::{
-    CUSTOM_DATA_DEFAULT_BAT, CUSTOM_DATA_DEFAULT_MODES, CUSTOM_DATA_MAX_BALLS, CUSTOM_DATA_MAX_BATS,
-    CUSTOM_DATA_MAX_BAT_SLICES, CUSTOM_DATA_TIME_STEP,
-};
-use crate::node::settings::NodeSettings;
-use crate::node::stats::NodeStats;
 use crate::physics::{Ball, Bat};
 
 use super::export::{read_run, RunEvent};
@@ -109,26 +104,9 @@ pub struct ReplayReport {
     pub what_if: bool,
     /// The sweetspot version that wrote the bag (from the MCAP library string), if known.
     pub recorded_by: String,
-    /// The node settings the replay used (those that shape results).
-    pub settings: ReplaySettings,
-}
-
-/// The node settings that shape a replay's results: what the recording node ran with (from the bag's
-/// `custom_data`), with any overrides applied.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct ReplaySettings {
-    /// Bat used when a swing names none.
-    pub default_bat: String,
-    /// Vibrational modes integrated.
-    pub default_modes: usize,
-    /// RK4 time step, s.
-    pub time_step: f64,
-    /// Solved bats kept (least recently used first out).
-    pub max_bats: usize,
-    /// Balls kept.
-    pub max_balls: usize,
-    /// Largest bat accepted, in slices.
-    pub max_bat_slices: usize,
+    /// The model settings the replay used: what the recording node ran with (from the bag's `custom_data`),
+    /// with any overrides applied.
+    pub settings: ModelSettings,
 }
 
 impl ReplayReport {
@@ -139,32 +117,11 @@ impl ReplayReport {
     }
 }
 
-/// Node settings for a replay: bag `custom_data` if present, else node defaults.
-pub fn recorded_settings(path: &Path) -> Result<NodeSettings, BagError> {
-    let mut settings = NodeSettings::default();
+/// Model settings for a replay: bag `custom_data` if present, else the defaults.
+pub fn recorded_settings(path: &Path) -> Result<ModelSettings, BagError> {
     let scans: Vec<_> =
         bag_files(path)?.iter().map(|f| super::reader::scan_file(f, |_| {})).collect::<Result<_, _>>()?;
-    let custom = super::info::custom_data_of(&scans);
-    if let Some(v) = custom.get(CUSTOM_DATA_DEFAULT_BAT) {
-        settings.default_bat = v.clone();
-    }
-    let number = |key: &str| custom.get(key).and_then(|v| v.parse::<usize>().ok());
-    if let Some(v) = number(CUSTOM_DATA_DEFAULT_MODES) {
-        settings.default_modes = v;
-    }
-    if let Some(v) = custom.get(CUSTOM_DATA_TIME_STEP).and_then(|v| v.parse().ok()) {
-        settings.time_step = v;
-    }
-    if let Some(v) = number(CUSTOM_DATA_MAX_BATS) {
-        settings.max_bats = v;
-    }
-    if let Some(v) = number(CUSTOM_DATA_MAX_BALLS) {
-        settings.max_balls = v;
-    }
-    if let Some(v) = number(CUSTOM_DATA_MAX_BAT_SLICES) {
-        settings.max_bat_slices = v;
-    }
-    Ok(settings)
+    Ok(ModelSettings::from_custom_data(&super::info::custom_data_of(&scans)))
 }
 
 fn library_of(path: &Path) -> String {
@@ -240,11 +197,11 @@ impl Comparer<'_> {
     }
 }
 
-/// Replays a bag. `settings` are the node settings to use (see [`recorded_settings`]); `tolerance` is the
+/// Replays a bag. `settings` are the model settings to use (see [`recorded_settings`]); `tolerance` is the
 /// relative tolerance (0 = bit-exact); `on_swing` is called after each swing (progress).
 pub fn replay(
     path: &Path,
-    settings: &NodeSettings,
+    settings: &ModelSettings,
     what_if: &WhatIf,
     tolerance: f64,
     mut on_swing: impl FnMut(usize, usize),
@@ -268,7 +225,6 @@ pub fn replay(
         None => None,
     };
     let run = read_run(path)?;
-    let stats = NodeStats::new();
     let mut registries: HashMap<String, Registry> = HashMap::new();
     let registry_for = |registries: &mut HashMap<String, Registry>, ns: &str| -> Registry {
         registries.remove(ns).unwrap_or_else(|| {
@@ -317,7 +273,7 @@ pub fn replay(
                 let (plan, _) =
                     engine::plan_swing(&mut registry, &settings, bat_id, ball_id, convert::impact_from_swing(swing));
                 registries.insert(row.namespace.clone(), registry);
-                let result = engine::compute(&plan, &stats);
+                let result = engine::compute(&plan, &());
                 let ev = convert::exit_velocity(swing, plan.bat_id(), plan.ball_id(), &result);
                 let me = result.as_ref().ok().map(|c| convert::modal_energies(swing, plan.bat_id(), c));
                 let mut differences = Vec::new();
@@ -359,18 +315,5 @@ pub fn replay(
             }
         }
     }
-    Ok(ReplayReport {
-        rows,
-        tolerance,
-        what_if: what_if.any(),
-        recorded_by: library_of(path),
-        settings: ReplaySettings {
-            default_bat: settings.default_bat.clone(),
-            default_modes: settings.default_modes,
-            time_step: settings.time_step,
-            max_bats: settings.max_bats,
-            max_balls: settings.max_balls,
-            max_bat_slices: settings.max_bat_slices,
-        },
-    })
+    Ok(ReplayReport { rows, tolerance, what_if: what_if.any(), recorded_by: library_of(path), settings })
 }

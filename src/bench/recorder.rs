@@ -173,8 +173,8 @@ fn bench_streams(message: BenchMessage) -> Vec<(TopicInfo, Vec<Vec<u8>>)> {
             }
         }
     }
-    let swing_topic = TopicInfo::of::<Swing>("/swing", crate::ros::recorded_qos(&crate::ros::swing_qos()));
-    let results_qos = crate::ros::recorded_qos(&crate::ros::results_qos());
+    let swing_topic = TopicInfo::of::<Swing>("/swing", crate::node::recording::recorded_qos(&crate::ros::swing_qos()));
+    let results_qos = crate::node::recording::recorded_qos(&crate::ros::results_qos());
     let exit_topic = TopicInfo::of::<ExitVelocity>("/exit_velocity", results_qos);
     let modal_topic = TopicInfo::of::<ModalEnergies>("/modal_energies", results_qos);
     match message {
@@ -204,7 +204,7 @@ pub fn disk_bench_one(
     let dd_before = dd_mb_s(dir, payload_bytes)?;
     let mut config = RecorderConfig::new(&bag);
     config.queue_capacity = 65_536;
-    let t0 = crate::node::convert::now_ns();
+    let t0 = crate::model::time::now_ns();
     let start = Instant::now();
     let recorder = Recorder::start_with(config, storage)?;
     let topics = topic_infos.into_iter().map(|t| recorder.register_topic(t)).collect::<Result<Vec<_>, _>>()?;

@@ -11,6 +11,10 @@
 //! √Cov_kk. It assumes independent, equal-variance errors in the measured exit speeds, and treats the
 //! measured swing inputs (ball speed, bat speed, impact point) as exact.
 //!
+//! **The node's rules.** Bats, balls and swings are read from the bag by [`crate::model`] — the conversions
+//! and settings the node ran with (mode counts, time step, `max_bat_slices`, default bat, all from the bag's
+//! `custom_data`) — so the fit simulates exactly the bats the node simulated.
+//!
 //! The sans-IO part ([`Problem`], [`fit`]) is pure; [`problem_from_bag`] reads a recorded session.
 
 use std::collections::BTreeMap;
@@ -21,18 +25,12 @@ use rayon::prelude::*;
 
 use crate::bag::reader::read_bag;
 use crate::bag::BagError;
+use crate::model::convert::{ball_from_params, bat_from_params_capped, impact_from_swing};
+use crate::model::engine::DEFAULT_BALL_ID;
+use crate::model::settings::ModelSettings;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
-use crate::physics::{
-    collide, Ball, Bat, CollisionOptions, CoreFill, Impact, Material, ModeSet, PhysicsError, Station,
-};
-
-/// Default number of vibrational modes when a BatParams says 0 (the node's default).
-pub const DEFAULT_MODES: usize = 18;
-/// Default RK4 time step, s (the node's default).
-pub const DEFAULT_TIME_STEP: f64 = 5e-6;
-/// ball_id the node uses for its built-in baseball when a swing names no ball and none was announced.
-pub const DEFAULT_BALL_ID: &str = "baseball";
+use crate::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet, PhysicsError};
 
 /// Errors of calibration.
 #[derive(Debug, thiserror::Error)]
@@ -411,62 +409,13 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
     })
 }
 
-/// The physics bat a BatParams message describes (a preset, or the profile and materials in its fields), and
-/// the modes the node integrates for it (with a preset, BatParams.msg ignores max_modes: the node's default).
-pub fn bat_from_params(params: &BatParams) -> Result<(Bat, usize), PhysicsError> {
-    let modes =
-        if params.max_modes == 0 || !params.preset.is_empty() { DEFAULT_MODES } else { params.max_modes as usize };
-    if !params.preset.is_empty() {
-        let mut bat = Bat::preset(&params.preset)?;
-        bat.name = params.bat_id.clone();
-        return Ok((bat, modes));
-    }
-    let n = params.station_z.len();
-    if params.outer_radius.len() != n || params.inner_radius.len() != n {
-        return Err(PhysicsError::BadProfile(format!(
-            "station_z, outer_radius and inner_radius must have the same length (got {n}, {}, {})",
-            params.outer_radius.len(),
-            params.inner_radius.len()
-        )));
-    }
-    let stations = (0..n)
-        .map(|i| Station {
-            z: params.station_z[i],
-            outer_radius: params.outer_radius[i],
-            inner_radius: params.inner_radius[i],
-        })
-        .collect();
-    let shell = Material {
-        density: params.density,
-        youngs_modulus: params.youngs_modulus,
-        shear_modulus: params.shear_modulus,
-    };
-    let core = (params.core_density > 0.0).then_some(CoreFill {
-        material: Material {
-            density: params.core_density,
-            youngs_modulus: params.core_youngs_modulus,
-            shear_modulus: params.core_shear_modulus,
-        },
-        z_start: params.core_z_start,
-        z_end: params.core_z_end,
-    });
-    let slice_length = if params.slice_length > 0.0 { params.slice_length } else { 0.01 };
-    Ok((Bat::new(params.bat_id.clone(), stations, shell, core, slice_length)?, modes))
-}
-
-/// A BatParams message carrying every field of `bat` (no preset), so a fitted bat can be published: the
-/// node's own conversion, the inverse of the one it reads BatParams with.
-pub use crate::node::convert::params_from_bat;
-
-/// The physics ball of a BallParams message.
-pub fn ball_from_params(params: &BallParams) -> Ball {
-    Ball {
-        mass: params.mass,
-        radius: params.radius,
-        cor: params.cor,
-        stiffness: params.stiffness,
-        exponent: params.exponent,
-    }
+/// The bat a BatParams describes and the modes the node integrates for it, by the node's rules
+/// ([`crate::model::convert::bat_from_params_capped`], [`ModelSettings::modes_for`]); the error is the
+/// node's rejection.
+pub fn problem_bat(params: &BatParams, settings: &ModelSettings) -> Result<ProblemBat, String> {
+    let built = bat_from_params_capped(params, settings.max_bat_slices)?;
+    let modes = settings.modes_for(&built.bat, built.max_modes);
+    Ok(ProblemBat { bat: built.bat, modes, params: params.clone() })
 }
 
 /// Inputs of a recorded session, in log-time order, before they are turned into a [`Problem`].
@@ -478,13 +427,15 @@ pub struct RecordedInputs {
     pub balls: Vec<(u64, BallParams)>,
     /// (log time ns, message).
     pub swings: Vec<(u64, Swing)>,
+    /// The settings the node ran with (the bag's `custom_data`; defaults for a bag without them).
+    pub settings: ModelSettings,
 }
 
 /// Reads every BatParams, BallParams and Swing from a bag (by type, whatever the namespace).
 pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
     let mut inputs = RecordedInputs::default();
     let mut undecodable = 0u64;
-    read_bag(path, |m| {
+    let scans = read_bag(path, |m| {
         let t = m.log_time_ns;
         let ty = m.channel.topic.type_name.as_str();
         let ok = if ty == BatParams::TYPE_NAME {
@@ -506,53 +457,56 @@ pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
     inputs.bats.sort_by_key(|(t, _)| *t);
     inputs.balls.sort_by_key(|(t, _)| *t);
     inputs.swings.sort_by_key(|(t, _)| *t);
+    inputs.settings = ModelSettings::from_custom_data(&crate::bag::info::custom_data_of(&scans));
     Ok(inputs)
 }
 
 /// The fitting problem of recorded inputs: swings with a measured exit speed, resolved to the bat and ball
-/// in force when they were received (empty ids = the latest received, as the node does). Only swings with
+/// in force when they were received (empty ids = the latest received, else the default bat and the built-in
+/// ball, as the node does), computed with the recorded settings ([`RecordedInputs::settings`]). Only swings with
 /// `ball_id` (None = the ball most measured swings used) are kept.
 pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Result<Problem, CalibrateError> {
     // Params re-announced under the same id replace the old ones; we fit against the last version of each.
     let mut skipped = Vec::new();
     let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
-    for (_, params) in &inputs.bats {
+    let settings = &inputs.settings;
+    // (log time, id) of the accepted params: only those become "the latest received" for empty ids.
+    let mut bat_times: Vec<(u64, String)> = Vec::new();
+    for (t, params) in &inputs.bats {
         // The node rejects bad params and keeps the previous ones in force; so do we, by its own rules (e.g. a
-        // mode count beyond the bat's). Its `max_bat_slices` is not in the bag: the physics' limit applies here.
-        if let Err(reason) = crate::node::convert::bat_from_params(params) {
-            skipped.push(reason);
-            continue;
-        }
-        let (bat, modes) = match bat_from_params(params) {
-            Ok(built) => built,
-            Err(e) => {
-                skipped.push(format!("BatParams '{}': {e}", params.bat_id));
-                continue;
+        // mode count beyond the bat's, a bat finer than the recorded `max_bat_slices`).
+        match problem_bat(params, settings) {
+            Ok(bat) => {
+                bats.insert(params.bat_id.clone(), bat);
+                bat_times.push((*t, params.bat_id.clone()));
             }
-        };
-        bats.insert(params.bat_id.clone(), ProblemBat { bat, modes, params: params.clone() });
+            Err(reason) => skipped.push(reason),
+        }
     }
     let mut balls: BTreeMap<String, Ball> = BTreeMap::new();
     balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
-    for (_, params) in &inputs.balls {
-        let ball = ball_from_params(params);
-        match ball.validate() {
-            Ok(()) => {
+    let mut ball_times: Vec<(u64, String)> = Vec::new();
+    for (t, params) in &inputs.balls {
+        match ball_from_params(params) {
+            Ok(ball) => {
                 balls.insert(params.ball_id.clone(), ball);
+                ball_times.push((*t, params.ball_id.clone()));
             }
-            Err(e) => skipped.push(format!("BallParams '{}': {e}", params.ball_id)),
+            Err(reason) => skipped.push(reason),
         }
     }
     // Resolve empty ids to the latest announced at the swing's time.
     let latest = |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
-    let bat_times: Vec<(u64, String)> = inputs.bats.iter().map(|(t, p)| (*t, p.bat_id.clone())).collect();
-    let ball_times: Vec<(u64, String)> = inputs.balls.iter().map(|(t, p)| (*t, p.ball_id.clone())).collect();
     let mut by_ball: BTreeMap<String, Vec<Observation>> = BTreeMap::new();
     for (t, s) in &inputs.swings {
         if !s.measured_exit_speed.is_finite() {
             continue;
         }
-        let bat_id = if s.bat_id.is_empty() { latest(&bat_times, *t).unwrap_or_default() } else { s.bat_id.clone() };
+        let bat_id = if s.bat_id.is_empty() {
+            latest(&bat_times, *t).unwrap_or_else(|| settings.default_bat.clone())
+        } else {
+            s.bat_id.clone()
+        };
         let ball = if s.ball_id.is_empty() {
             latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string())
         } else {
@@ -561,14 +515,9 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         if !bats.contains_key(&bat_id) {
             if let Ok(bat) = Bat::preset(&bat_id) {
                 // A swing naming a preset bat that was never announced: the node resolves it the same way.
-                bats.insert(
-                    bat_id.clone(),
-                    ProblemBat {
-                        bat,
-                        modes: DEFAULT_MODES,
-                        params: BatParams { bat_id: bat_id.clone(), preset: bat_id.clone(), ..Default::default() },
-                    },
-                );
+                let modes = settings.modes_for(&bat, None);
+                let params = BatParams { bat_id: bat_id.clone(), preset: bat_id.clone(), ..Default::default() };
+                bats.insert(bat_id.clone(), ProblemBat { bat, modes, params });
             } else {
                 skipped.push(format!("swing {}: unknown bat '{bat_id}'", s.swing_id));
                 continue;
@@ -577,12 +526,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         by_ball.entry(ball).or_default().push(Observation {
             swing_id: s.swing_id,
             bat_id,
-            impact: Impact {
-                ball_speed: s.ball_speed,
-                bat_cm_speed: s.bat_cm_speed,
-                bat_angular_speed: s.bat_angular_speed,
-                impact_z: s.impact_z,
-            },
+            impact: impact_from_swing(s),
             measured_exit_speed: s.measured_exit_speed,
         });
     }
@@ -621,7 +565,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
     })?;
     let used: std::collections::BTreeSet<&str> = observations.iter().map(|o| o.bat_id.as_str()).collect();
     bats.retain(|id, _| used.contains(id.as_str()));
-    Ok(Problem { bats, ball_id: chosen, ball, observations, time_step: DEFAULT_TIME_STEP, skipped })
+    Ok(Problem { bats, ball_id: chosen, ball, observations, time_step: settings.time_step, skipped })
 }
 
 /// Reads a bag and builds its fitting problem (see [`problem_from_inputs`]).
@@ -632,8 +576,8 @@ pub fn problem_from_bag(path: &Path, ball_id: Option<&str>) -> Result<Problem, C
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::convert::{params_from_bat, params_of_preset};
     use crate::msgs::std_msgs::msg::Header;
-    use crate::node::convert::{params_from_bat, params_of_preset};
 
     fn measured_swing(id: u64, bat_id: &str) -> Swing {
         Swing {
@@ -657,8 +601,8 @@ mod tests {
         let preset = BatParams { max_modes: 6, ..params_of_preset("game", "torpedo", Header::default()) };
         let inputs = RecordedInputs {
             bats: vec![(1, coarse), (2, preset)],
-            balls: vec![],
             swings: vec![(3, measured_swing(1, "coarse")), (4, measured_swing(2, "game"))],
+            ..RecordedInputs::default()
         };
         let problem = problem_from_inputs(&inputs, None).unwrap();
         assert!(
@@ -667,7 +611,48 @@ mod tests {
             problem.skipped
         );
         assert!(!problem.bats.contains_key("coarse"));
-        assert_eq!(problem.bats["game"].modes, DEFAULT_MODES);
+        assert_eq!(problem.bats["game"].modes, 18, "the node's default_modes");
         assert_eq!(problem.observations.len(), 1);
+    }
+
+    #[test]
+    fn the_problem_is_computed_with_the_settings_the_bag_recorded() {
+        use crate::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
+        use crate::msgs::encode_cdr;
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("run");
+        let recorded = ModelSettings {
+            default_bat: "torpedo".into(),
+            default_modes: 7,
+            time_step: 2.5e-6,
+            max_bat_slices: 300,
+            ..ModelSettings::default()
+        };
+        let rec = Recorder::start(RecorderConfig::new(&dir)).unwrap();
+        for (key, value) in recorded.custom_data() {
+            rec.set_custom_data(key, value);
+        }
+        let qos = RecordedQos { reliable: true, transient_local: false, depth: 10 };
+        let bat_t = rec.register_topic(TopicInfo::of::<BatParams>("/bat/params", qos)).unwrap();
+        let swing_t = rec.register_topic(TopicInfo::of::<Swing>("/swing", qos)).unwrap();
+        // 0.84 m at 2 mm: 420 slices, over the recorded cap of 300, so the node refused it.
+        let fine = BatParams {
+            slice_length: 0.002,
+            ..params_from_bat("fine", &Bat::preset("r161").unwrap(), 0, Header::default())
+        };
+        assert!(rec.record(bat_t, encode_cdr(&fine).unwrap(), 1, 1));
+        // No bat_id and no BatParams in force: the node's default_bat.
+        assert!(rec.record(swing_t, encode_cdr(&measured_swing(1, "")).unwrap(), 2, 2));
+        assert!(rec.record(swing_t, encode_cdr(&measured_swing(2, "fine")).unwrap(), 3, 3));
+        rec.finish().unwrap();
+
+        let inputs = read_inputs(&dir).unwrap();
+        assert_eq!(inputs.settings, recorded);
+        let problem = problem_from_inputs(&inputs, None).unwrap();
+        assert_eq!(problem.time_step, 2.5e-6);
+        assert!(problem.skipped.iter().any(|s| s.contains("max_bat_slices = 300")), "{:?}", problem.skipped);
+        assert_eq!(problem.observations.len(), 1);
+        assert_eq!(problem.observations[0].bat_id, "torpedo");
+        assert_eq!(problem.bats["torpedo"].modes, 7);
     }
 }

@@ -106,7 +106,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             if !(timeout > 0.0 && timeout.is_finite()) {
                 anyhow::bail!("--timeout {timeout} is out of range: expected a finite value > 0 s");
             }
-            let options = bag::play::PlayOptions {
+            let options = crate::play::PlayOptions {
                 rate,
                 repeat,
                 topics,
@@ -312,11 +312,11 @@ fn replay(
     Ok(())
 }
 
-fn play(path: PathBuf, options: bag::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
+fn play(path: PathBuf, options: crate::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
     let stop = crate::ros::interrupt_flag();
-    let total = bag::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
+    let total = crate::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
     let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
-    let stats = bag::play::play(&path, &options, &stop, |item| {
+    let stats = crate::play::play(&path, &options, &stop, |item| {
         bar.inc(1);
         if !quiet {
             println!("{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());

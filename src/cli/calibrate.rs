@@ -8,11 +8,11 @@ use anyhow::{Context, Result};
 use clap::Args;
 use serde_json::json;
 
-use crate::calibrate::{fit, params_from_bat, problem_from_bag, Fit, FitOptions, Problem};
+use crate::calibrate::{fit, problem_from_bag, Fit, FitOptions, Problem};
+use crate::model::convert::{params_from_ball, params_from_bat};
 use crate::msgs::json::ToJson;
 use crate::msgs::std_msgs::msg::Header;
 use crate::report::table::{num, Table};
-use crate::rig::ball_params;
 
 /// Arguments of `sweetspot calibrate`.
 #[derive(Debug, Args)]
@@ -157,7 +157,7 @@ pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
 /// Writes the fitted ball (and bats) as JSON lines `sweetspot pub` reads; returns the files written.
 pub fn write_params(path: &Path, problem: &Problem, result: &Fit) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    let ball = ball_params(&problem.ball_id, &result.ball, Default::default());
+    let ball = params_from_ball(&problem.ball_id, &result.ball, Header::default());
     write_lines(path, &[ball.to_json()])?;
     written.push(path.to_path_buf());
     if !result.bats.is_empty() {
@@ -168,7 +168,7 @@ pub fn write_params(path: &Path, problem: &Problem, result: &Fit) -> Result<Vec<
             .bats
             .iter()
             .map(|(id, bat)| {
-                let modes = problem.bats.get(id).map(|b| b.modes).unwrap_or(crate::calibrate::DEFAULT_MODES);
+                let modes = problem.bats.get(id).map_or(0, |b| b.modes);
                 params_from_bat(id, bat, modes, Header::default()).to_json()
             })
             .collect();

@@ -28,8 +28,6 @@ use clap::Args;
 use serde::{Deserialize, Serialize};
 
 use super::common::{emit, finite_f64, print_json, resolve_bat, BallArgs, NumericArgs, OutputArgs, DEFAULT_BALL_SPEED};
-use crate::report::json::{BallJson, OptionsJson};
-use crate::report::table::{num, Table};
 use crate::physics::batter::{
     pitch_travel, reaction_time_gained, Batter, ReferenceSwing, SwingPrediction, SwingShape, DEFAULT_EXPONENT,
     DEFAULT_IMPACT_FROM_BARREL_END, DEFAULT_PIVOT_Z, DEFAULT_REFERENCE_SPEED, DEFAULT_SWING_LENGTH,
@@ -37,6 +35,8 @@ use crate::physics::batter::{
 };
 use crate::physics::metrics::{bbcor, sweet_spots};
 use crate::physics::{collide, Ball, Bat, CollisionOptions, ModeSet};
+use crate::report::json::{BallJson, OptionsJson};
+use crate::report::table::{num, Table};
 
 /// The bats compared when `--bats` is not given.
 pub const DEFAULT_BATS: &str = "r161,r161-corked,aluminum,torpedo";

@@ -7,9 +7,11 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
+use crate::model::time::{now_ns, RosTime};
+use crate::msgs::builtin_interfaces::msg::Time;
 use crate::physics::Bat;
 use crate::rig::dds::{context, RigPublisher};
-use crate::rig::{time_from_nanos, RigConfig, SensorNoise, SessionGenerator, MPH};
+use crate::rig::{RigConfig, SensorNoise, SessionGenerator, MPH};
 use crate::ros::DdsConfig;
 
 /// What the simulated rig swings and how noisy its sensors are (shared by `rig` and `demo`).
@@ -136,8 +138,8 @@ pub fn run(args: RigArgs) -> Result<()> {
         })?;
     }
     let now = now_ns();
-    publisher.publish_ball(rig.ball_params(time_from_nanos(now)))?;
-    for p in rig.bat_params(time_from_nanos(now)) {
+    publisher.publish_ball(rig.ball_params(Time::from_unix_ns(now)))?;
+    for p in rig.bat_params(Time::from_unix_ns(now)) {
         publisher.publish_bat(p)?;
     }
     let period = Duration::from_secs_f64(1.0 / args.rate);
@@ -149,7 +151,7 @@ pub fn run(args: RigArgs) -> Result<()> {
             std::thread::sleep(wait);
         }
         let swing = rig.next_swing().context("simulating a swing")?;
-        let msg = rig.swing_message(&swing, time_from_nanos(now_ns()));
+        let msg = rig.swing_message(&swing, Time::from_unix_ns(now_ns()));
         if !args.quiet {
             println!(
                 "swing {:>5}  {:<12} pitch {:5.1} mph  barrel ω {:5.1} rad/s  impact {:.3} m  measured exit {:5.1} mph",
@@ -171,11 +173,6 @@ pub fn run(args: RigArgs) -> Result<()> {
     std::thread::sleep(Duration::from_millis(500));
     eprintln!("rig: published {sent} swings");
     Ok(())
-}
-
-/// Nanoseconds since the Unix epoch.
-pub fn now_ns() -> u64 {
-    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos() as u64).unwrap_or(0)
 }
 
 pub use crate::ros::interrupt_flag;

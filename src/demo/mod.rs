@@ -22,12 +22,13 @@ pub use figures::{figures_dir, write_demo_figures};
 pub use summary::{summarize, table, Answers, BatRow};
 
 use crate::child::{ChildCommand, ChildProcess};
+use crate::model::time::{now_ns, RosTime};
+use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
 use crate::msgs::RosMessage;
-use crate::node::convert::now_ns;
 use crate::report::plot::ImageFormat;
 use crate::rig::dds::{context, AnswerListener, RigPublisher};
-use crate::rig::{time_from_nanos, RigConfig, RigSwing, SessionGenerator, MPH};
+use crate::rig::{RigConfig, RigSwing, SessionGenerator, MPH};
 use crate::ros::{DdsConfig, DiscoveryRange};
 
 /// Node name of the demo's node.
@@ -152,7 +153,7 @@ impl Session<'_> {
     /// Publishes the ball, then the bats, and waits until the node has published a SweetSpot for every bat.
     fn announce(&mut self) -> Result<()> {
         // Ball first: the node computes each bat's SweetSpot with the latest ball, and we wait for those.
-        let stamp = time_from_nanos(now_ns());
+        let stamp = Time::from_unix_ns(now_ns());
         self.publisher.publish_ball(self.rig.ball_params(stamp.clone()))?;
         if !self.publisher.wait_acknowledged(self.timeout) {
             bail!("the node did not acknowledge the ball params within {:.0} s", self.timeout.as_secs_f64());
@@ -215,7 +216,7 @@ impl Session<'_> {
             };
             if sent < total && due {
                 let swing = self.rig.next_swing().context("simulating a swing")?;
-                let msg = self.rig.swing_message(&swing, time_from_nanos(now_ns()));
+                let msg = self.rig.swing_message(&swing, Time::from_unix_ns(now_ns()));
                 self.publisher.publish_swing(msg.clone())?;
                 truths.insert(swing.swing_id, (swing, msg));
                 sent += 1;

@@ -1,8 +1,10 @@
 //! The ROS 2 shell (`sweetspot node`): topics, QoS, parameters, diagnostics, recording.
 //!
-//! Data flows one way: message → physics → result → publish + record. The pure parts ([`ros_args`],
-//! [`settings`], [`stats`], [`convert`], [`engine`], [`lru`], [`pipeline`]) are plain functions and threads tested
-//! without DDS; the DDS wiring lives in [`runtime`], the receive loop and its handlers in `receive_loop`.
+//! Data flows one way: message → physics → result → publish + record. What a message means and what a swing
+//! is answered with is decided by [`crate::model`] (conversions, registry, planning, computing); the node's
+//! own pure parts ([`settings`], [`stats`], [`convert`], [`pipeline`], [`recording`]) are plain functions and
+//! threads tested without DDS; the DDS wiring lives in [`runtime`], the receive loop and its handlers in
+//! `receive_loop`.
 //!
 //! ```text
 //! sweetspot node [--no-record] [--ros-args -r __ns:=/rig3 -r __node:=NAME -r FROM:=TO -p NAME:=VALUE --params-file FILE]
@@ -27,7 +29,7 @@
 //!   `default_bat` (preset `r161`) and the regulation `baseball`; any preset name is a valid bat_id.
 //! - Modes are computed once per bat (on first use, off the DDS thread) and cached; new params for a bat_id
 //!   replace its entry (swings already queued keep the bat they were sent for) and publish a new SweetSpot.
-//! - At most `max_bats` bats and `max_balls` balls are kept ([`lru::LruMap`]): the least recently used is
+//! - At most `max_bats` bats and `max_balls` balls are kept ([`crate::model::lru::LruMap`]): the least recently used is
 //!   forgotten first, never the latest received; a swing naming a forgotten id is REJECTED saying so (a
 //!   preset is solved again instead); evictions are warned about and counted on /diagnostics. A BatParams of
 //!   more than `max_bat_slices` slices is REJECTED before its modes are solved.
@@ -56,9 +58,7 @@
 //! ([`settings::is_read_only`]) are refused by `ros2 param set` on a running node.
 
 pub mod convert;
-pub mod engine;
 mod live_settings;
-pub mod lru;
 mod outputs;
 pub mod pipeline;
 mod receive_loop;

@@ -1,6 +1,7 @@
 //! How results leave the node: its publishers, its log lines (rosout + tracing), the sink that publishes and
 //! records answers in swing order, and whether anyone listens to ModalEnergies.
 
+use crate::model::time::RosTime;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -12,7 +13,6 @@ use ros2_client::{NodeLoggingHandle, Publisher};
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot, Swing};
 
-use super::convert;
 use super::pipeline::{Outcome, ResultSink};
 use super::recording::{Recorded, Tape};
 use super::stats::NodeStats;
@@ -117,14 +117,14 @@ pub struct DdsSink {
 impl ResultSink<Swing> for DdsSink {
     fn deliver(&mut self, outcome: &Outcome<Swing>) -> bool {
         let swing = &outcome.payload;
-        let ev = convert::exit_velocity(swing, &outcome.bat_id, &outcome.ball_id, &outcome.result);
-        let stamp_ns = convert::stamp_ns(&swing.header.stamp);
+        let ev = crate::model::convert::exit_velocity(swing, &outcome.bat_id, &outcome.ball_id, &outcome.result);
+        let stamp_ns = swing.header.stamp.unix_ns();
         let mut delivered = true;
         if let Ok(computed) = &outcome.result {
-            let me = convert::modal_energies(swing, &outcome.bat_id, computed);
+            let me = crate::model::convert::modal_energies(swing, &outcome.bat_id, computed);
             // Always recorded; published only when someone listens: a DDS write wakes RustDDS's event
             // loop thread even with no reader, which costs every answer latency for nothing.
-            self.tape.record(Recorded::ModalEnergies, &me, convert::now_ns(), stamp_ns);
+            self.tape.record(Recorded::ModalEnergies, &me, crate::model::time::now_ns(), stamp_ns);
             if self.energies_listened.load(Ordering::Relaxed) {
                 let published = self.modal_energies.publish(me).is_ok();
                 if published {
@@ -134,7 +134,7 @@ impl ResultSink<Swing> for DdsSink {
             }
         }
         // ExitVelocity last, so a listener that has the answer also has its energies.
-        self.tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), stamp_ns);
+        self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), stamp_ns);
         delivered &= self.exit_velocity.publish(ev).is_ok();
         delivered
     }

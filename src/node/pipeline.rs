@@ -19,8 +19,8 @@ use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, RecvTimeoutError, Sender};
 
-use super::engine::{compute, Computed, Plan};
 use super::stats::NodeStats;
+use crate::model::engine::{compute, Computed, Plan};
 
 /// One swing on its way through the pipeline; `payload` is carried along untouched (the swing message).
 #[derive(Debug)]
@@ -468,13 +468,13 @@ mod tests {
 
     #[test]
     fn inline_takes_a_collision_only_once_its_bat_has_modes() {
-        use crate::node::engine::BatEntry;
-        use crate::node::settings::NodeSettings;
+        use crate::model::engine::BatEntry;
+        use crate::model::settings::ModelSettings;
         use crate::physics::{Ball, Bat, CollisionOptions, Impact};
         let out = Arc::new(Mutex::new(Vec::new()));
         let stats = Arc::new(NodeStats::new());
         let p = Pipeline::start(1, 8, Arc::clone(&stats), VecSink(Arc::clone(&out))).unwrap();
-        let bat = Arc::new(BatEntry::new("r161", Bat::preset("r161").unwrap(), Some(6), &NodeSettings::default()));
+        let bat = Arc::new(BatEntry::new("r161", Bat::preset("r161").unwrap(), Some(6), &ModelSettings::default()));
         let collide = || Plan::Collide {
             bat: Arc::clone(&bat),
             ball_id: "baseball".into(),

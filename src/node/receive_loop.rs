@@ -1,6 +1,7 @@
 //! The node's receive loop: one [`NodeLoop`] owning what the loop owns, one handler per input (bat params,
 //! ball params, swing, parameter change, SweetSpot ready, discovery event, diagnostics tick, shutdown).
 
+use crate::model::time::RosTime;
 use std::pin::pin;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -11,18 +12,19 @@ use futures::StreamExt;
 use ros2_client::{MessageInfo, NodeEvent, ReadResult, Subscription};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender};
 
+use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::ros::{shutdown_signal, topics};
 
 use super::convert;
-use super::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
 use super::live_settings::LiveSettings;
 use super::outputs::{Log, Outputs};
 use super::pipeline::{InlinePacing, Pipeline};
 use super::recording::{Recorded, Tape};
 use super::settings::SettingEffect;
 use super::stats::{health_report, GapCounter, NodeStats, RateLimiter, StatsSnapshot};
+use crate::model::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
 
 /// Messages from helper tasks back to the receive loop.
 pub enum Event {
@@ -99,7 +101,7 @@ impl NodeLoop {
     /// Queues the SweetSpot of the default bat, which answers swings without any params.
     pub fn start_default_bat(&mut self) {
         let current = self.settings.snapshot();
-        match self.registry.resolve_bat("", &current) {
+        match self.registry.resolve_bat("", &current.model) {
             Ok((entry, _)) => self.summaries.spawn(entry, &self.registry),
             Err(e) => self.log.error(&format!("default_bat: {e}")),
         }
@@ -142,11 +144,11 @@ impl NodeLoop {
     fn on_parameter_changed(&mut self, effect: SettingEffect) {
         let current = self.settings.snapshot();
         self.tape.note_settings(&current);
-        self.registry.set_limits(&current);
+        self.registry.set_limits(&current.model);
         self.report_evictions();
         let refresh: Vec<Arc<BatEntry>> = match effect {
             SettingEffect::None => Vec::new(),
-            SettingEffect::ModesChanged => self.registry.refresh_default_modes(&current),
+            SettingEffect::ModesChanged => self.registry.refresh_default_modes(&current.model),
             SettingEffect::SweetSpotsChanged => self.registry.bats(),
         };
         for entry in refresh {
@@ -159,9 +161,9 @@ impl NodeLoop {
         let current = self.registry.is_current(entry);
         match result {
             Ok(summary) if current => {
-                let header = Header { stamp: convert::time_from_ns(convert::now_ns()), frame_id: String::new() };
-                let msg = convert::sweet_spot(&summary, header);
-                self.tape.record(Recorded::SweetSpot, &msg, convert::now_ns(), convert::stamp_ns(&msg.header.stamp));
+                let header = Header { stamp: Time::now(), frame_id: String::new() };
+                let msg = crate::model::convert::sweet_spot(&summary, header);
+                self.tape.record(Recorded::SweetSpot, &msg, crate::model::time::now_ns(), msg.header.stamp.unix_ns());
                 if let Err(e) = self.outputs.sweet_spot.publish(msg) {
                     self.log.warn(&format!("publishing SweetSpot of '{}': {e:?}", summary.bat_id));
                 }
@@ -172,18 +174,19 @@ impl NodeLoop {
     }
 
     fn on_bat_params(&mut self, received: ReadResult<(BatParams, MessageInfo)>) {
-        let log_time = convert::now_ns();
+        let log_time = crate::model::time::now_ns();
         let params = match received {
             Ok((params, _info)) => params,
             Err(e) => return self.unreadable(topics::BAT_PARAMS, &e),
         };
-        self.tape.record(Recorded::BatParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
+        self.tape.record(Recorded::BatParams, &params, log_time, params.header.stamp.unix_ns());
         let current = self.settings.snapshot();
         // The slice cap is checked here, before any modes are solved.
-        match convert::bat_from_params_capped(&params, current.max_bat_slices) {
+        match crate::model::convert::bat_from_params_capped(&params, current.model.max_bat_slices) {
             Ok(built) => {
                 NodeStats::bump(&self.stats.params_accepted);
-                let entry = self.registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current));
+                let entry =
+                    self.registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current.model));
                 self.report_evictions();
                 self.log
                     .info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
@@ -198,13 +201,13 @@ impl NodeLoop {
     }
 
     fn on_ball_params(&mut self, received: ReadResult<(BallParams, MessageInfo)>) {
-        let log_time = convert::now_ns();
+        let log_time = crate::model::time::now_ns();
         let params = match received {
             Ok((params, _info)) => params,
             Err(e) => return self.unreadable(topics::BALL_PARAMS, &e),
         };
-        self.tape.record(Recorded::BallParams, &params, log_time, convert::stamp_ns(&params.header.stamp));
-        match convert::ball_from_params(&params) {
+        self.tape.record(Recorded::BallParams, &params, log_time, params.header.stamp.unix_ns());
+        match crate::model::convert::ball_from_params(&params) {
             Ok(ball) => {
                 NodeStats::bump(&self.stats.params_accepted);
                 self.registry.set_ball(&params.ball_id, ball);
@@ -231,7 +234,7 @@ impl NodeLoop {
         now.balls_cached = usage.balls as u64;
         now.balls_evicted = usage.balls_evicted;
         let report = health_report(&now, &self.last_report, &self.tape.state());
-        let msg = convert::diagnostic_array(&report, &self.fqn, convert::time_from_ns(convert::now_ns()));
+        let msg = convert::diagnostic_array(&report, &self.fqn, Time::now());
         if let Err(e) = self.outputs.diagnostics.publish(msg) {
             tracing::debug!("publishing diagnostics: {e:?}");
         }
@@ -239,7 +242,7 @@ impl NodeLoop {
     }
 
     fn on_swing_sample(&mut self, received: ReadResult<(Swing, MessageInfo)>) {
-        let log_time = convert::now_ns();
+        let log_time = crate::model::time::now_ns();
         let (swing, info) = match received {
             Ok(sample) => sample,
             Err(e) => return self.unreadable(topics::SWING, &e),
@@ -263,11 +266,17 @@ impl NodeLoop {
     fn on_swing(&mut self, swing: Swing, log_time: u64) {
         let received = Instant::now();
         NodeStats::bump(&self.stats.swings_received);
-        self.tape.record(Recorded::Swing, &swing, log_time, convert::stamp_ns(&swing.header.stamp));
+        self.tape.record(Recorded::Swing, &swing, log_time, swing.header.stamp.unix_ns());
         // Planned under the read lock instead of cloning the settings (and their strings) for every swing.
         let registry = &mut self.registry;
         let (plan, new_bat) = self.settings.read(|settings| {
-            engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, convert::impact_from_swing(&swing))
+            engine::plan_swing(
+                registry,
+                &settings.model,
+                &swing.bat_id,
+                &swing.ball_id,
+                crate::model::convert::impact_from_swing(&swing),
+            )
         });
         if let Some(entry) = new_bat {
             self.summaries.spawn(entry, &self.registry);
@@ -311,7 +320,7 @@ impl NodeLoop {
             return;
         }
         let Some(suppressed) = self.warnings.eviction.allow(Instant::now()) else { return };
-        let (max_bats, max_balls) = self.settings.read(|s| (s.max_bats, s.max_balls));
+        let (max_bats, max_balls) = self.settings.read(|s| (s.model.max_bats, s.model.max_balls));
         let mut parts = Vec::new();
         if bats > 0 {
             parts.push(format!(
@@ -337,8 +346,8 @@ impl NodeLoop {
     fn reject_params(&self, reason: &str, header: &Header, bat_id: &str, ball_id: &str) {
         self.log.error(reason);
         let probe = Swing { header: header.clone(), measured_exit_speed: f64::NAN, ..Swing::default() };
-        let ev = convert::exit_velocity(&probe, bat_id, ball_id, &Err(reason.to_string()));
-        self.tape.record(Recorded::ExitVelocity, &ev, convert::now_ns(), convert::stamp_ns(&header.stamp));
+        let ev = crate::model::convert::exit_velocity(&probe, bat_id, ball_id, &Err(reason.to_string()));
+        self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), header.stamp.unix_ns());
         if let Err(e) = self.outputs.exit_velocity.publish(ev) {
             self.log.warn(&format!("publishing the params rejection: {e:?}"));
         }
@@ -413,7 +422,14 @@ impl Summaries {
             let Ok(_turn) = slot.acquire_owned().await else { return };
             let job = tokio::task::spawn_blocking(move || {
                 let Some(entry) = entry.upgrade() else { return };
-                let result = engine::summarize_bat(&entry, &ball_id, &ball, &settings, &stats);
+                let result = engine::summarize_bat(
+                    &entry,
+                    &ball_id,
+                    &ball,
+                    convert::reference_swing(&settings),
+                    &settings.model,
+                    &*stats,
+                );
                 let _ = events.send(Event::Summary(entry, Box::new(result)));
             });
             let _ = job.await;

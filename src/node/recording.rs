@@ -1,9 +1,12 @@
-//! The node's side of recording: which topics are recorded, CDR-encoding each message once, and the
-//! recorder's state for `/diagnostics`. Recording never blocks and never stops the node: when the recorder
+//! The node's side of recording: which topics are recorded (with their QoS as rosbag2 stores it), CDR-encoding
+//! each message once, the model settings written to the bag, and the recorder's state for `/diagnostics`. Recording never blocks and never stops the node: when the recorder
 //! fails, the node reports it and keeps computing and publishing.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
+
+use ros2_client::qos::{Durability, History, Reliability};
+use ros2_client::QosProfile;
 
 use crate::bag::{BagError, RecordedQos, RecorderStats, TopicId, TopicInfo};
 use crate::msgs::{encode_cdr, RosMessage};
@@ -23,19 +26,6 @@ pub trait RecordBackend: Send {
     /// Stores a rosbag2 `custom_data` entry (kept in the bag's metadata); backends without metadata ignore it.
     fn set_custom_data(&self, _key: &str, _value: &str) {}
 }
-
-/// The rosbag2 `custom_data` keys `sweetspot bag replay` reads the node's settings from (see `bag::replay`).
-pub const CUSTOM_DATA_DEFAULT_BAT: &str = "sweetspot/default_bat";
-/// See [`CUSTOM_DATA_DEFAULT_BAT`].
-pub const CUSTOM_DATA_DEFAULT_MODES: &str = "sweetspot/default_modes";
-/// See [`CUSTOM_DATA_DEFAULT_BAT`].
-pub const CUSTOM_DATA_TIME_STEP: &str = "sweetspot/time_step";
-/// See [`CUSTOM_DATA_DEFAULT_BAT`]: which bats were forgotten, and so which swings were REJECTED, depends on it.
-pub const CUSTOM_DATA_MAX_BATS: &str = "sweetspot/max_bats";
-/// See [`CUSTOM_DATA_MAX_BATS`].
-pub const CUSTOM_DATA_MAX_BALLS: &str = "sweetspot/max_balls";
-/// See [`CUSTOM_DATA_DEFAULT_BAT`]: a BatParams over it was REJECTED, so its bat never answered a swing.
-pub const CUSTOM_DATA_MAX_BAT_SLICES: &str = "sweetspot/max_bat_slices";
 
 /// The topics the node records, in registration order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -117,23 +107,15 @@ impl Tape {
         }
     }
 
-    /// Writes the settings a replay needs to recompute the recorded swings into the bag's `custom_data`.
+    /// Writes the model settings a replay needs to recompute the recorded swings into the bag's `custom_data`
+    /// ([`crate::model::settings::ModelSettings::custom_data`]).
     /// Called at start and after every parameter change, so the bag holds the settings last in force.
     pub fn note_settings(&self, settings: &super::settings::NodeSettings) {
         let Ok(backend) = self.backend.lock() else { return };
         let Some(backend) = backend.as_ref() else { return };
-        backend.set_custom_data(CUSTOM_DATA_DEFAULT_BAT, &settings.default_bat);
-        backend.set_custom_data(CUSTOM_DATA_DEFAULT_MODES, &settings.default_modes.to_string());
-        // `{:?}` keeps every digit of the f64, so the replay parses back the exact step.
-        backend.set_custom_data(CUSTOM_DATA_TIME_STEP, &format!("{:?}", settings.time_step));
-        backend.set_custom_data(CUSTOM_DATA_MAX_BATS, &settings.max_bats.to_string());
-        backend.set_custom_data(CUSTOM_DATA_MAX_BALLS, &settings.max_balls.to_string());
-        backend.set_custom_data(CUSTOM_DATA_MAX_BAT_SLICES, &settings.max_bat_slices.to_string());
-    }
-
-    /// Whether messages are being recorded.
-    pub fn is_recording(&self) -> bool {
-        self.backend.lock().map(|b| b.is_some()).unwrap_or(false)
+        for (key, value) in settings.model.custom_data() {
+            backend.set_custom_data(key, &value);
+        }
     }
 
     /// The state for `/diagnostics`.
@@ -169,13 +151,15 @@ impl Tape {
     }
 }
 
-/// The schema and QoS of a recorded topic.
-pub fn topic_info<M: RosMessage>(name: &str, qos: RecordedQos) -> TopicInfo {
-    TopicInfo {
-        name: name.to_string(),
-        type_name: M::TYPE_NAME.to_string(),
-        schema_text: M::SCHEMA_TEXT.to_string(),
-        qos,
+/// A ROS QoS as the recorder writes it into `offered_qos_profiles`.
+pub fn recorded_qos(qos: &QosProfile) -> RecordedQos {
+    RecordedQos {
+        reliable: matches!(qos.reliability, Reliability::Reliable { .. }),
+        transient_local: matches!(qos.durability, Durability::TransientLocal),
+        depth: match qos.history {
+            History::KeepLast { depth } => u32::try_from(depth).unwrap_or(u32::MAX),
+            History::KeepAll => 0,
+        },
     }
 }
 
@@ -202,5 +186,21 @@ impl RecordBackend for crate::bag::Recorder {
     }
     fn set_custom_data(&self, key: &str, value: &str) {
         crate::bag::Recorder::set_custom_data(self, key, value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ros::qos::{params_qos, results_qos, sweet_spot_qos, swing_qos};
+
+    #[test]
+    fn recorded_qos_keeps_reliability_durability_and_depth() {
+        assert_eq!(recorded_qos(&params_qos()), RecordedQos { reliable: true, transient_local: true, depth: 16 });
+        assert_eq!(recorded_qos(&swing_qos()), RecordedQos { reliable: true, transient_local: false, depth: 1000 });
+        assert_eq!(recorded_qos(&results_qos()), RecordedQos { reliable: true, transient_local: false, depth: 1000 });
+        assert!(recorded_qos(&sweet_spot_qos()).transient_local);
+        let keep_all = swing_qos().history(History::KeepAll);
+        assert_eq!(recorded_qos(&keep_all).depth, 0);
     }
 }

@@ -15,25 +15,22 @@ use ros2_client::{NodeName, NodeOptions, ParameterValue};
 use tokio::sync::mpsc::UnboundedSender;
 use tokio::task::JoinHandle;
 
-use crate::bag::RecorderConfig;
+use crate::bag::{RecorderConfig, TopicInfo};
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::ros::edge::{publisher, subscription};
-use crate::ros::{
-    diagnostics_qos, params_qos, recorded_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos,
-};
+use crate::ros::{diagnostics_qos, params_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos};
 
-use super::engine::Registry;
 use super::live_settings::LiveSettings;
 use super::outputs::{EnergiesListeners, Log, Outputs};
 use super::pipeline::{InlinePacing, Pipeline};
 use super::receive_loop::{Event, Inputs, NodeLoop, Summaries, Warnings};
-use super::recording::{topic_info, Tape};
+use super::recording::{recorded_qos, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::NodeSettings;
 use super::stats::{GapCounter, NodeStats, StatsSnapshot};
+use crate::model::engine::Registry;
 
-/// The node's topics (relative, so `-r __ns:=` moves them; `/diagnostics` absolute by convention).
-pub use crate::ros::topics;
+use crate::model::topics;
 
 /// Default node name (`-r __node:=` changes it).
 pub const DEFAULT_NODE_NAME: &str = "sweetspot";
@@ -138,7 +135,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         .context("starting the worker threads")?;
     announce(&log, &fqn, &dds_config, &settings, &topic_names, &tape);
 
-    let registry = Registry::with_limits(settings.max_bats, settings.max_balls);
+    let registry = Registry::with_limits(settings.model.max_bats, settings.model.max_balls);
     let mut node_loop = NodeLoop {
         fqn,
         seen_usage: registry.usage(),
@@ -284,12 +281,12 @@ fn start_tape(
         queue_capacity: 65_536,
     };
     let topics = vec![
-        topic_info::<BatParams>(topic_names.get(topics::BAT_PARAMS), recorded_qos(&params_qos())),
-        topic_info::<BallParams>(topic_names.get(topics::BALL_PARAMS), recorded_qos(&params_qos())),
-        topic_info::<Swing>(topic_names.get(topics::SWING), recorded_qos(&swing_qos())),
-        topic_info::<ExitVelocity>(topic_names.get(topics::EXIT_VELOCITY), recorded_qos(&results_qos())),
-        topic_info::<ModalEnergies>(topic_names.get(topics::MODAL_ENERGIES), recorded_qos(&results_qos())),
-        topic_info::<SweetSpot>(topic_names.get(topics::SWEET_SPOT), recorded_qos(&latched_results_qos())),
+        TopicInfo::of::<BatParams>(topic_names.get(topics::BAT_PARAMS), recorded_qos(&params_qos())),
+        TopicInfo::of::<BallParams>(topic_names.get(topics::BALL_PARAMS), recorded_qos(&params_qos())),
+        TopicInfo::of::<Swing>(topic_names.get(topics::SWING), recorded_qos(&swing_qos())),
+        TopicInfo::of::<ExitVelocity>(topic_names.get(topics::EXIT_VELOCITY), recorded_qos(&results_qos())),
+        TopicInfo::of::<ModalEnergies>(topic_names.get(topics::MODAL_ENERGIES), recorded_qos(&results_qos())),
+        TopicInfo::of::<SweetSpot>(topic_names.get(topics::SWEET_SPOT), recorded_qos(&latched_results_qos())),
     ];
     // record_storage_preset, then record_compression over it (rosbag2's order). apply() refused any
     // combination that does not go together, so the error arm is for settings built some other way.

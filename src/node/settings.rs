@@ -11,27 +11,19 @@ use std::path::PathBuf;
 
 use ros2_client::ParameterValue;
 
+use crate::model::settings::ModelSettings;
+
 /// The node's parameters, typed. Defaults are what `sweetspot node` uses without `-p`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodeSettings {
-    /// Bat used for swings with an empty bat_id before any BatParams arrived.
-    pub default_bat: String,
-    /// Modes integrated when a bat's params say 0.
-    pub default_modes: usize,
-    /// RK4 time step, s.
-    pub time_step: f64,
+    /// The settings of the model (default bat and modes, time step, registry limits), recorded with a bag.
+    pub model: ModelSettings,
     /// Reference swing's ball speed toward the bat, m/s.
     pub reference_ball_speed: f64,
     /// Reference swing's bat centre-of-mass speed, m/s.
     pub reference_bat_cm_speed: f64,
     /// Reference swing's bat angular speed, rad/s.
     pub reference_bat_angular_speed: f64,
-    /// Bats kept (least recently used forgotten first, never the latest received).
-    pub max_bats: usize,
-    /// Balls kept (least recently used forgotten first, never the latest received).
-    pub max_balls: usize,
-    /// Largest slice count a BatParams may ask for.
-    pub max_bat_slices: usize,
     /// Swings in flight before new ones are dropped.
     pub queue_capacity: usize,
     /// Worker threads; 0 = one per core.
@@ -120,11 +112,11 @@ pub static PARAMETERS: &[Parameter] = &[
             default: "r161",
             set: |s, v| {
                 within(!v.trim().is_empty(), "a non-empty bat_id or preset name")?;
-                s.default_bat = v.to_string();
+                s.model.default_bat = v.to_string();
                 STORED
             },
         },
-        get: |s| ParameterValue::String(s.default_bat.clone()),
+        get: |s| ParameterValue::String(s.model.default_bat.clone()),
     },
     Parameter {
         name: "default_modes",
@@ -135,12 +127,12 @@ pub static PARAMETERS: &[Parameter] = &[
             default: 18,
             set: |s, n| {
                 within((1..=200).contains(&n), "1 ≤ default_modes ≤ 200")?;
-                let changed = s.default_modes != n as usize;
-                s.default_modes = n as usize;
+                let changed = s.model.default_modes != n as usize;
+                s.model.default_modes = n as usize;
                 Ok(if changed { SettingEffect::ModesChanged } else { SettingEffect::None })
             },
         },
-        get: |s| ParameterValue::Integer(s.default_modes as i64),
+        get: |s| ParameterValue::Integer(s.model.default_modes as i64),
     },
     Parameter {
         name: "time_step",
@@ -151,11 +143,11 @@ pub static PARAMETERS: &[Parameter] = &[
             default: 5e-6,
             set: |s, x| {
                 within(x.is_finite() && (1e-8..=1e-4).contains(&x), "1e-8 ≤ time_step ≤ 1e-4 s")?;
-                s.time_step = x;
+                s.model.time_step = x;
                 Ok(SettingEffect::SweetSpotsChanged)
             },
         },
-        get: |s| ParameterValue::Double(s.time_step),
+        get: |s| ParameterValue::Double(s.model.time_step),
     },
     // The reference swing is a hard-hit ball: 40 m/s pitch (≈ 90 mph), the bat's centre of mass at 20 m/s
     // turning at 50 rad/s (barrel ≈ 30 m/s at the sweet spot of a 33-in bat).
@@ -217,11 +209,11 @@ pub static PARAMETERS: &[Parameter] = &[
             default: 64,
             set: |s, n| {
                 within((2..=100_000).contains(&n), "2 ≤ max_bats ≤ 100000")?;
-                s.max_bats = n as usize;
+                s.model.max_bats = n as usize;
                 STORED
             },
         },
-        get: |s| ParameterValue::Integer(s.max_bats as i64),
+        get: |s| ParameterValue::Integer(s.model.max_bats as i64),
     },
     // A ball is 40 bytes; the cap only stops a publisher inventing ids without end.
     Parameter {
@@ -234,11 +226,11 @@ pub static PARAMETERS: &[Parameter] = &[
             default: 1024,
             set: |s, n| {
                 within((2..=100_000).contains(&n), "2 ≤ max_balls ≤ 100000")?;
-                s.max_balls = n as usize;
+                s.model.max_balls = n as usize;
                 STORED
             },
         },
-        get: |s| ParameterValue::Integer(s.max_balls as i64),
+        get: |s| ParameterValue::Integer(s.model.max_balls as i64),
     },
     Parameter {
         name: "max_bat_slices",
@@ -247,15 +239,15 @@ pub static PARAMETERS: &[Parameter] = &[
                       bats are REJECTED before their modes are solved",
         read_only: false,
         rule: Rule::Integer {
-            default: super::convert::DEFAULT_MAX_BAT_SLICES as i64,
+            default: crate::model::settings::DEFAULT_MAX_BAT_SLICES as i64,
             set: |s, n| {
                 let physics_max = crate::physics::bat::SLICE_COUNT_RANGE.1 as i64;
                 within((100..=physics_max).contains(&n), &format!("100 ≤ max_bat_slices ≤ {physics_max}"))?;
-                s.max_bat_slices = n as usize;
+                s.model.max_bat_slices = n as usize;
                 STORED
             },
         },
-        get: |s| ParameterValue::Integer(s.max_bat_slices as i64),
+        get: |s| ParameterValue::Integer(s.model.max_bat_slices as i64),
     },
     // Covers a burst of 10,000 swings at a few hundred bytes each (≈ 5 MB worst case).
     Parameter {
@@ -469,15 +461,10 @@ impl Default for NodeSettings {
     /// Every parameter's default from [`PARAMETERS`].
     fn default() -> Self {
         let mut settings = NodeSettings {
-            default_bat: String::new(),
-            default_modes: 0,
-            time_step: 0.0,
+            model: ModelSettings::default(),
             reference_ball_speed: 0.0,
             reference_bat_cm_speed: 0.0,
             reference_bat_angular_speed: 0.0,
-            max_bats: 0,
-            max_balls: 0,
-            max_bat_slices: 0,
             queue_capacity: 0,
             workers: 0,
             record: false,
@@ -719,7 +706,7 @@ mod tests {
         let s = NodeSettings::with_overrides(&o).unwrap();
         assert_eq!(s.reference_ball_speed, 35.0);
         assert!(!s.record);
-        assert_eq!(s.default_modes, 12);
+        assert_eq!(s.model.default_modes, 12);
         let mut t = s.clone();
         assert_eq!(t.apply("default_modes", &ParameterValue::Integer(12)).unwrap(), SettingEffect::None);
         assert_eq!(t.apply("default_modes", &ParameterValue::Integer(10)).unwrap(), SettingEffect::ModesChanged);

@@ -29,6 +29,7 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
+use crate::model::convert::{params_from_ball, params_of_preset};
 use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
@@ -305,7 +306,7 @@ impl SessionGenerator {
             .iter()
             .map(|b| {
                 let header = Header { stamp: stamp.clone(), frame_id: String::new() };
-                crate::node::convert::params_of_preset(&b.bat_id, &b.bat_id, header)
+                params_of_preset(&b.bat_id, &b.bat_id, header)
             })
             .collect()
     }
@@ -370,25 +371,7 @@ impl SessionGenerator {
 
 /// A BallParams message for `ball` under `ball_id`.
 pub fn ball_params(ball_id: &str, ball: &Ball, stamp: Time) -> BallParams {
-    BallParams {
-        header: Header { stamp, frame_id: String::new() },
-        ball_id: ball_id.to_string(),
-        mass: ball.mass,
-        radius: ball.radius,
-        cor: ball.cor,
-        stiffness: ball.stiffness,
-        exponent: ball.exponent,
-    }
-}
-
-/// A ROS time stamp from nanoseconds since the Unix epoch.
-pub fn time_from_nanos(ns: u64) -> Time {
-    Time { sec: (ns / 1_000_000_000).min(i32::MAX as u64) as i32, nanosec: (ns % 1_000_000_000) as u32 }
-}
-
-/// Nanoseconds since the Unix epoch of a ROS time stamp (negative seconds clamp to 0).
-pub fn nanos_from_time(t: &Time) -> u64 {
-    (t.sec.max(0) as u64) * 1_000_000_000 + t.nanosec as u64
+    params_from_ball(ball_id, ball, Header { stamp, frame_id: String::new() })
 }
 
 fn uniform(rng: &mut StdRng, (lo, hi): (f64, f64)) -> f64 {

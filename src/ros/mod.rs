@@ -60,14 +60,14 @@ pub mod args;
 pub mod edge;
 pub mod names;
 pub mod qos;
-pub mod topics;
+pub use crate::model::topics;
 
 pub use args::{NameResolver, NodeIdentity, RosArgs, RosArgsError};
 pub use edge::{interrupt_flag, shutdown_signal, write_reliably, WriteError};
 pub use names::{dds_topic_name, resolve_topic, NameError};
 pub use qos::{
-    diagnostics_qos, params_qos, recorded_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos, PARAMS_DEPTH,
-    RESULTS_DEPTH, RESULTS_MAX_BLOCKING, SWING_DEPTH,
+    diagnostics_qos, params_qos, results_qos, rosout_qos, sweet_spot_qos, swing_qos, PARAMS_DEPTH, RESULTS_DEPTH,
+    RESULTS_MAX_BLOCKING, SWING_DEPTH,
 };
 
 /// Environment variable selecting how far discovery reaches (ROS 2 Iron+).

@@ -1,4 +1,5 @@
-//! QoS profiles of sweetspot's topics, shared by the node, `sweetspot pub` / `echo` and the recorder.
+//! QoS profiles of sweetspot's topics, shared by the node, `sweetspot pub` / `echo` and the rig (the node's
+//! recording stores them through `node::recording::recorded_qos`).
 //!
 //! A subscription matches a publication only if the offered QoS is at least as strong as the requested one
 //! (reliable ≥ best effort, transient-local ≥ volatile); depth does not affect matching. The profiles here are
@@ -10,8 +11,6 @@ use std::time::Duration;
 
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::QosProfile;
-
-use crate::bag::RecordedQos;
 
 /// Params kept for late joiners on `bat/params` / `ball/params`: more than one, so a node started late still
 /// receives every bat of a rig that publishes several from one process, not only the last.
@@ -65,32 +64,17 @@ pub fn rosout_qos() -> QosProfile {
     reliable(1000, Durability::TransientLocal).lifespan(Some(Duration::from_secs(10)))
 }
 
-/// The QoS as the recorder writes it into `offered_qos_profiles`.
-pub fn recorded_qos(qos: &QosProfile) -> RecordedQos {
-    RecordedQos {
-        reliable: matches!(qos.reliability, Reliability::Reliable { .. }),
-        transient_local: matches!(qos.durability, Durability::TransientLocal),
-        depth: match qos.history {
-            History::KeepLast { depth } => u32::try_from(depth).unwrap_or(u32::MAX),
-            History::KeepAll => 0,
-        },
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn profiles() {
-        assert_eq!(recorded_qos(&params_qos()), RecordedQos { reliable: true, transient_local: true, depth: 16 });
-        assert_eq!(recorded_qos(&swing_qos()), RecordedQos { reliable: true, transient_local: false, depth: 1000 });
-        assert_eq!(recorded_qos(&results_qos()), RecordedQos { reliable: true, transient_local: false, depth: 1000 });
         assert!(matches!(
             results_qos().reliability,
             Reliability::Reliable { when_full: WhenFull::Wait(d) } if d == RESULTS_MAX_BLOCKING
         ));
-        assert!(recorded_qos(&sweet_spot_qos()).transient_local);
+        assert!(matches!(sweet_spot_qos().durability, Durability::TransientLocal));
         assert_eq!(rosout_qos().lifespan, Some(Duration::from_secs(10)));
     }
 }

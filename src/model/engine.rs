@@ -1,6 +1,7 @@
-//! The node's state and decisions, free of DDS: which bats and balls are known, which modes are cached, and
-//! what a swing turns into (a collision to compute, or a rejection with its reason).
+//! The model's state and decisions: which bats and balls are known, which modes are cached, and what a swing
+//! turns into (a collision to compute, or a rejection with its reason).
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 
 use crate::physics::{
@@ -9,11 +10,35 @@ use crate::physics::{
 };
 
 use super::lru::LruMap;
-use super::settings::NodeSettings;
-use super::stats::NodeStats;
+use super::settings::ModelSettings;
 
 /// ball_id of the built-in regulation baseball ([`Ball::default`]).
 pub const DEFAULT_BALL_ID: &str = "baseball";
+
+/// Where mode-cache hits and misses are counted (the node's statistics; [`ModeCacheCount`]; `()` for none).
+pub trait ModeCacheStats {
+    /// One lookup of a bat's modes: `hit` = they were computed already.
+    fn count_mode_lookup(&self, hit: bool);
+}
+
+impl ModeCacheStats for () {
+    fn count_mode_lookup(&self, _hit: bool) {}
+}
+
+/// Mode-cache hits and misses counted on their own.
+#[derive(Debug, Default)]
+pub struct ModeCacheCount {
+    /// Lookups that found the modes computed.
+    pub hits: AtomicU64,
+    /// Lookups that computed them.
+    pub misses: AtomicU64,
+}
+
+impl ModeCacheStats for ModeCacheCount {
+    fn count_mode_lookup(&self, hit: bool) {
+        (if hit { &self.hits } else { &self.misses }).fetch_add(1, Ordering::Relaxed);
+    }
+}
 
 /// One bat the node knows, with its modes computed on first use and shared by every later swing. A new
 /// BatParams for the same bat_id makes a new entry, so swings already queued keep the bat they were sent for.
@@ -32,26 +57,24 @@ pub struct BatEntry {
 
 impl BatEntry {
     /// An entry whose modes are not computed yet.
-    pub fn new(bat_id: impl Into<String>, bat: Bat, max_modes: Option<usize>, settings: &NodeSettings) -> BatEntry {
-        // The node-wide default may exceed what a coarse bat has; an explicit count was checked already.
-        let available = super::convert::vibrational_mode_count(&bat);
+    pub fn new(bat_id: impl Into<String>, bat: Bat, max_modes: Option<usize>, settings: &ModelSettings) -> BatEntry {
         BatEntry {
             bat_id: bat_id.into(),
+            max_modes: settings.modes_for(&bat, max_modes),
             bat,
-            max_modes: max_modes.unwrap_or(settings.default_modes).min(available),
             uses_default_modes: max_modes.is_none(),
             modes: OnceLock::new(),
         }
     }
 
     /// The bat's modes: computed by the first caller (a cache miss), shared afterwards (a hit).
-    pub fn modes(&self, stats: &NodeStats) -> Result<Arc<ModeSet>, PhysicsError> {
+    pub fn modes(&self, stats: &impl ModeCacheStats) -> Result<Arc<ModeSet>, PhysicsError> {
         let mut computed = false;
         let modes = self.modes.get_or_init(|| {
             computed = true;
             ModeSet::compute(&self.bat, self.max_modes).map(Arc::new)
         });
-        NodeStats::bump(if computed { &stats.mode_cache_misses } else { &stats.mode_cache_hits });
+        stats.count_mode_lookup(!computed);
         modes.clone()
     }
 
@@ -94,7 +117,7 @@ impl Registry {
     /// The limits of the default settings; bats are created from presets on first use, the built-in ball
     /// ([`DEFAULT_BALL_ID`]) needs no params.
     pub fn new() -> Registry {
-        let defaults = NodeSettings::default();
+        let defaults = ModelSettings::default();
         Registry::with_limits(defaults.max_bats, defaults.max_balls)
     }
 
@@ -105,7 +128,7 @@ impl Registry {
 
     /// Applies the settings' `max_bats` / `max_balls` (forgetting the least recently used at once if they
     /// shrank). Returns how many bats and balls were forgotten.
-    pub fn set_limits(&mut self, settings: &NodeSettings) -> (usize, usize) {
+    pub fn set_limits(&mut self, settings: &ModelSettings) -> (usize, usize) {
         let bats = self.bats.set_capacity(settings.max_bats, self.latest_bat.as_deref());
         let balls = self.balls.set_capacity(settings.max_balls, self.latest_ball.as_deref());
         (bats, balls)
@@ -150,7 +173,7 @@ impl Registry {
     /// The bat a swing asks for: empty = the latest received (else `default_bat`); an unknown id that names a
     /// preset becomes a bat (again, if it was forgotten). Returns the entry and whether it was just created
     /// (its SweetSpot is new).
-    pub fn resolve_bat(&mut self, requested: &str, settings: &NodeSettings) -> Result<(Arc<BatEntry>, bool), String> {
+    pub fn resolve_bat(&mut self, requested: &str, settings: &ModelSettings) -> Result<(Arc<BatEntry>, bool), String> {
         let bat_id = self.effective_bat_id(requested, settings);
         if let Some(entry) = self.bats.get(&bat_id) {
             return Ok((Arc::clone(entry), false));
@@ -182,7 +205,7 @@ impl Registry {
     }
 
     /// The bat_id an empty or explicit request refers to.
-    pub fn effective_bat_id(&self, requested: &str, settings: &NodeSettings) -> String {
+    pub fn effective_bat_id(&self, requested: &str, settings: &ModelSettings) -> String {
         if requested.is_empty() {
             self.latest_bat.clone().unwrap_or_else(|| settings.default_bat.clone())
         } else {
@@ -235,7 +258,7 @@ impl Registry {
 
     /// After `default_modes` changed: replaces every bat that used it with a fresh entry (its modes will be
     /// recomputed on next use). Returns the new entries.
-    pub fn refresh_default_modes(&mut self, settings: &NodeSettings) -> Vec<Arc<BatEntry>> {
+    pub fn refresh_default_modes(&mut self, settings: &ModelSettings) -> Vec<Arc<BatEntry>> {
         let stale: Vec<Arc<BatEntry>> = self
             .bats
             .iter()
@@ -337,7 +360,7 @@ impl Plan {
 /// Resolves a swing's bat and ball. The second value is a bat created from a preset on first use.
 pub fn plan_swing(
     registry: &mut Registry,
-    settings: &NodeSettings,
+    settings: &ModelSettings,
     bat_id: &str,
     ball_id: &str,
     impact: Impact,
@@ -370,7 +393,7 @@ pub struct Computed {
 }
 
 /// Runs a planned collision: the bat's modes (cached), then the collision. Errors are the physics' text.
-pub fn compute(plan: &Plan, stats: &NodeStats) -> Result<Computed, String> {
+pub fn compute(plan: &Plan, stats: &impl ModeCacheStats) -> Result<Computed, String> {
     match plan {
         Plan::Reject { reason, .. } => Err(reason.clone()),
         Plan::Collide { bat, ball, impact, options, .. } => {
@@ -410,27 +433,18 @@ pub struct BatSummary {
     pub mass: MassProperties,
 }
 
-/// The reference swing of the settings (impact point filled in by the sweet-spot search).
-pub fn reference_swing(settings: &NodeSettings) -> Impact {
-    Impact {
-        ball_speed: settings.reference_ball_speed,
-        bat_cm_speed: settings.reference_bat_cm_speed,
-        bat_angular_speed: settings.reference_bat_angular_speed,
-        impact_z: 0.0,
-    }
-}
-
-/// Computes a bat's SweetSpot (slow: a sweep of collisions; run it off the DDS thread).
+/// Computes a bat's SweetSpot for the `reference` swing (its impact point is filled in by the sweet-spot
+/// search). Slow: a sweep of collisions; run it off the DDS thread.
 pub fn summarize_bat(
     bat: &BatEntry,
     ball_id: &str,
     ball: &Ball,
-    settings: &NodeSettings,
-    stats: &NodeStats,
+    reference: Impact,
+    settings: &ModelSettings,
+    stats: &impl ModeCacheStats,
 ) -> Result<BatSummary, String> {
     let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
     let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
-    let reference = reference_swing(settings);
     let sweet_spots = metrics::sweet_spots(&modes, ball, &reference, &options)
         .map_err(|e| format!("bat '{}': sweet spots: {e}", bat.bat_id))?;
     let bbcor = metrics::bbcor(&modes, &options).map_err(|e| format!("bat '{}': BBCOR: {e}", bat.bat_id))?;
@@ -455,7 +469,7 @@ mod tests {
 
     #[test]
     fn defaults_answer_without_params_and_modes_are_computed_once() {
-        let (settings, stats) = (NodeSettings::default(), NodeStats::new());
+        let (settings, stats) = (ModelSettings::default(), ModeCacheCount::default());
         let mut registry = Registry::new();
         let (plan, new_bat) = plan_swing(&mut registry, &settings, "", "", swing(0.7));
         assert!(new_bat.is_some(), "the default bat is created on first use");
@@ -464,8 +478,7 @@ mod tests {
         let (plan2, new_bat) = plan_swing(&mut registry, &settings, "r161", "", swing(0.7));
         assert!(new_bat.is_none());
         assert_eq!(compute(&plan2, &stats).unwrap(), first);
-        let snap = stats.snapshot(0);
-        assert_eq!((snap.mode_cache_misses, snap.mode_cache_hits), (1, 1));
+        assert_eq!((stats.misses.load(Ordering::Relaxed), stats.hits.load(Ordering::Relaxed)), (1, 1));
         // The same numbers as calling the library directly.
         let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
         let direct = collide(&modes, &Ball::default(), &swing(0.7), &CollisionOptions::default()).unwrap();
@@ -475,7 +488,7 @@ mod tests {
 
     #[test]
     fn unknown_ids_and_bad_numbers_are_rejected_with_reasons() {
-        let (settings, stats) = (NodeSettings::default(), NodeStats::new());
+        let (settings, stats) = (ModelSettings::default(), ModeCacheCount::default());
         let mut registry = Registry::new();
         let (plan, _) = plan_swing(&mut registry, &settings, "nope", "", swing(0.7));
         let e = compute(&plan, &stats).unwrap_err();
@@ -491,8 +504,8 @@ mod tests {
 
     #[test]
     fn bats_beyond_max_bats_are_forgotten_least_recently_used_first_and_then_rejected_with_the_reason() {
-        let settings = NodeSettings { max_bats: 3, ..NodeSettings::default() };
-        let stats = NodeStats::new();
+        let settings = ModelSettings { max_bats: 3, ..ModelSettings::default() };
+        let stats = ModeCacheCount::default();
         let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
         let bat = Bat::preset("r161").unwrap();
         for id in ["a", "b", "c"] {
@@ -522,14 +535,14 @@ mod tests {
         registry.set_bat(BatEntry::new("b", bat.clone(), Some(4), &settings));
         assert!(registry.resolve_bat("b", &settings).is_ok());
         // Shrinking max_bats forgets at once, sparing the latest.
-        let (forgotten, _) = registry.set_limits(&NodeSettings { max_bats: 2, ..settings.clone() });
+        let (forgotten, _) = registry.set_limits(&ModelSettings { max_bats: 2, ..settings.clone() });
         assert_eq!((forgotten, registry.usage().bats), (1, 2));
         assert_eq!(registry.resolve_bat("", &settings).unwrap().0.bat_id, "b");
     }
 
     #[test]
     fn balls_beyond_max_balls_are_forgotten_and_the_built_in_ball_stays_available() {
-        let settings = NodeSettings { max_balls: 2, ..NodeSettings::default() };
+        let settings = ModelSettings { max_balls: 2, ..ModelSettings::default() };
         let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
         for (i, id) in ["x", "y", "z"].into_iter().enumerate() {
             registry.set_ball(id, Ball { cor: 0.4 + 0.01 * i as f64, ..Ball::default() });
@@ -545,7 +558,7 @@ mod tests {
 
     #[test]
     fn new_params_replace_the_entry_and_latest_wins_for_empty_ids() {
-        let settings = NodeSettings::default();
+        let settings = ModelSettings::default();
         let mut registry = Registry::new();
         let old = registry.set_bat(BatEntry::new("mine", Bat::preset("r161").unwrap(), Some(6), &settings));
         let new = registry.set_bat(BatEntry::new("mine", Bat::preset("torpedo").unwrap(), None, &settings));
@@ -555,7 +568,7 @@ mod tests {
         assert_eq!(resolved.max_modes, 18);
         registry.set_ball("soft", Ball { cor: 0.4, ..Ball::default() });
         assert_eq!(registry.resolve_ball("").unwrap().0, "soft");
-        let changed = NodeSettings { default_modes: 10, ..settings };
+        let changed = ModelSettings { default_modes: 10, ..settings };
         let refreshed = registry.refresh_default_modes(&changed);
         assert_eq!(refreshed.len(), 1);
         assert_eq!(refreshed[0].max_modes, 10);

@@ -1,6 +1,6 @@
 //! The node's topic names, relative so `-r __ns:=` moves them, except `/diagnostics` and `/rosout`, which are
-//! absolute by convention. Every program that talks to the node (the node itself, `pub`/`echo`, the rig, bag
-//! export) takes them from here.
+//! absolute by convention. Every program that talks to the node (the node itself, `pub`/`echo`, the rig, `bag
+//! export`/`replay`) takes them from here.
 
 /// BatParams in.
 pub const BAT_PARAMS: &str = "bat/params";

@@ -1,5 +1,6 @@
 //! `bag play`: republish the recorded inputs (BatParams, BallParams, Swing) over DDS with their original
-//! timing. The schedule is pure ([`schedule`]); [`play`] is the DDS shell around it.
+//! timing. The schedule is pure ([`schedule`]); [`play`] is the DDS shell around it. It lives beside the node,
+//! above both [`crate::bag`] (reading) and [`crate::ros`] (DDS), so neither of those imports the other.
 //!
 //! Params recorded before the first swing go out first, at once, on transient-local (latched) writers, so a
 //! node started later still gets them; params recorded later go out at their own time, so every swing meets
@@ -12,8 +13,8 @@ use std::time::{Duration, Instant};
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
 
-use super::reader::read_bag;
-use super::BagError;
+use crate::bag::reader::read_bag;
+use crate::bag::BagError;
 
 /// One message to publish.
 #[derive(Debug, Clone, PartialEq)]
@@ -124,19 +125,12 @@ enum Writer {
     Swing(rustdds::no_key::DataWriterCdr<Swing>),
 }
 
-fn make_writer<T: RosMessage + serde::Serialize>(
+fn make_writer<T: RosMessage>(
     ctx: &ros2_client::Context,
     topic: &str,
     qos: &ros2_client::QosProfile,
 ) -> Result<rustdds::no_key::DataWriterCdr<T>, BagError> {
-    let dds_topic = ctx
-        .create_topic(crate::ros::dds_topic_name(topic), crate::ros::message_type_name::<T>(), qos)
-        .map_err(|e| BagError::Format(format!("cannot create topic {topic}: {e}")))?;
-    let dds_qos = rustdds::QosPolicies::from(qos);
-    ctx.domain_participant()
-        .create_publisher(&dds_qos)
-        .and_then(|p| p.create_datawriter_no_key_cdr::<T>(&dds_topic, Some(dds_qos.clone())))
-        .map_err(|e| BagError::Format(format!("cannot create a writer on {topic}: {e}")))
+    crate::ros::edge::writer::<T>(ctx, topic, qos).map_err(|e| BagError::Format(e.to_string()))
 }
 
 fn write_one<T: RosMessage + serde::de::DeserializeOwned + serde::Serialize>(
@@ -164,13 +158,8 @@ fn write_one<T: RosMessage + serde::de::DeserializeOwned + serde::Serialize>(
     }
 }
 
-fn matched<T: RosMessage + serde::Serialize>(writer: &rustdds::no_key::DataWriterCdr<T>, current: &mut usize) {
-    use rustdds::StatusEvented;
-    while let Some(status) = writer.try_recv_status() {
-        if let rustdds::dds::statusevents::DataWriterStatus::PublicationMatched { current: c, .. } = status {
-            *current = usize::try_from(c.count()).unwrap_or(0);
-        }
-    }
+fn matched<T: RosMessage>(writer: &rustdds::no_key::DataWriterCdr<T>, current: &mut usize) {
+    *current = crate::ros::edge::matched_subscriptions(writer, *current);
 }
 
 /// Publishes the schedule over DDS (participant from `crate::ros`, QoS of `crate::ros::qos`). Stops early when

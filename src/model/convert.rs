@@ -1,0 +1,415 @@
+//! Messages ↔ physics: params → Bat/Ball (validated), Bat → params, Swing → Impact, results → ExitVelocity,
+//! ModalEnergies and SweetSpot. Pure functions; every error names the message, its id and the field. These
+//! are the only rules by which a message becomes a bat, a ball or a swing.
+
+use crate::msgs::std_msgs::msg::Header;
+use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use crate::physics::bat::SLICE_COUNT_RANGE;
+use crate::physics::{Ball, Bat, CoreFill, Impact, Material, Station};
+
+use super::engine::{BatSummary, Computed};
+#[cfg(test)]
+use super::settings::DEFAULT_MAX_BAT_SLICES;
+
+/// Slice length used when BatParams.slice_length is 0: 1 cm, as for the built-in presets.
+pub const DEFAULT_SLICE_LENGTH: f64 = 0.01;
+
+/// A bat built from BatParams: the bat and the mode count it asks for (`None` = the node's default).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BatFromParams {
+    /// The bat.
+    pub bat: Bat,
+    /// BatParams.max_modes, unless 0.
+    pub max_modes: Option<usize>,
+}
+
+/// Builds and validates the bat a BatParams describes, up to the physics' own slice limit
+/// ([`SLICE_COUNT_RANGE`]). The error starts with `BatParams 'id':`.
+pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
+    bat_from_params_capped(p, SLICE_COUNT_RANGE.1)
+}
+
+/// As [`bat_from_params`], and refuses a bat cut into more than `max_slices` slices before anything costly
+/// (the modes solve grows faster than N²) is done. The error names `slice_length` and the range it may take
+/// for this bat.
+pub fn bat_from_params_capped(p: &BatParams, max_slices: usize) -> Result<BatFromParams, String> {
+    let context = |e: String| format!("BatParams '{}': {e}", p.bat_id);
+    if p.bat_id.trim().is_empty() {
+        return Err("BatParams: bat_id must be a non-empty name".to_string());
+    }
+    if !p.preset.is_empty() {
+        let bat = Bat::preset(&p.preset).map_err(|e| context(format!("preset: {e}")))?;
+        check_slice_count(&bat, max_slices).map_err(context)?;
+        return Ok(BatFromParams { bat, max_modes: None });
+    }
+    let n = p.station_z.len();
+    if p.outer_radius.len() != n || p.inner_radius.len() != n {
+        return Err(context(format!(
+            "station_z, outer_radius and inner_radius must have the same length (got {n}, {}, {})",
+            p.outer_radius.len(),
+            p.inner_radius.len()
+        )));
+    }
+    let stations = (0..n)
+        .map(|i| Station { z: p.station_z[i], outer_radius: p.outer_radius[i], inner_radius: p.inner_radius[i] })
+        .collect();
+    let shell = Material { density: p.density, youngs_modulus: p.youngs_modulus, shear_modulus: p.shear_modulus };
+    let core = (p.core_density != 0.0).then_some(CoreFill {
+        material: Material {
+            density: p.core_density,
+            youngs_modulus: p.core_youngs_modulus,
+            shear_modulus: p.core_shear_modulus,
+        },
+        z_start: p.core_z_start,
+        z_end: p.core_z_end,
+    });
+    let slice_length = if p.slice_length == 0.0 { DEFAULT_SLICE_LENGTH } else { p.slice_length };
+    let bat = Bat::new(p.bat_id.clone(), stations, shell, core, slice_length).map_err(|e| context(e.to_string()))?;
+    check_slice_count(&bat, max_slices).map_err(context)?;
+    // A bat of N slices has 2N − 2 vibrational modes; accepting more would reject every later swing.
+    let available = vibrational_mode_count(&bat);
+    let limit = available.min(200);
+    if p.max_modes as usize > limit {
+        return Err(context(format!(
+            "max_modes = {} is out of range: expected 0 (node default) ≤ max_modes ≤ {limit} \
+             (this bat's {} slices have {available} vibrational modes)",
+            p.max_modes,
+            bat.slice_count()
+        )));
+    }
+    Ok(BatFromParams { bat, max_modes: (p.max_modes > 0).then_some(p.max_modes as usize) })
+}
+
+/// Refuses a bat of more than `max_slices` slices, naming slice_length and its allowed range for this bat.
+pub fn check_slice_count(bat: &Bat, max_slices: usize) -> Result<(), String> {
+    let (min_slices, physics_max) = SLICE_COUNT_RANGE;
+    let max_slices = max_slices.clamp(min_slices, physics_max);
+    let n = bat.slice_count();
+    if n <= max_slices {
+        return Ok(());
+    }
+    let length = bat.length();
+    // The bat has round(length / slice_length) slices: the bounds are where the rounding changes count.
+    Err(format!(
+        "slice_length = {} m is out of range: it cuts the {length:.3} m bat into {n} slices and this node accepts \
+         at most max_bat_slices = {max_slices}, i.e. {:.3e} ≤ slice_length ≤ {:.3e} m for this bat",
+        bat.slice_length,
+        length / (max_slices as f64 + 0.49),
+        length / (min_slices as f64 - 0.49),
+    ))
+}
+
+/// A BatParams spelling out every field of `bat` (no preset) under `bat_id`, so that [`bat_from_params`]
+/// builds the same bat back. `max_modes` 0 means the node's `default_modes`.
+pub fn params_from_bat(bat_id: &str, bat: &Bat, max_modes: usize, header: Header) -> BatParams {
+    let core = bat.core.as_ref();
+    BatParams {
+        header,
+        bat_id: bat_id.to_string(),
+        preset: String::new(),
+        station_z: bat.stations.iter().map(|s| s.z).collect(),
+        outer_radius: bat.stations.iter().map(|s| s.outer_radius).collect(),
+        inner_radius: bat.stations.iter().map(|s| s.inner_radius).collect(),
+        density: bat.shell.density,
+        youngs_modulus: bat.shell.youngs_modulus,
+        shear_modulus: bat.shell.shear_modulus,
+        core_density: core.map_or(0.0, |c| c.material.density),
+        core_youngs_modulus: core.map_or(0.0, |c| c.material.youngs_modulus),
+        core_shear_modulus: core.map_or(0.0, |c| c.material.shear_modulus),
+        core_z_start: core.map_or(0.0, |c| c.z_start),
+        core_z_end: core.map_or(0.0, |c| c.z_end),
+        slice_length: bat.slice_length,
+        max_modes: mode_count_field(max_modes),
+    }
+}
+
+/// A BatParams naming a built-in preset (`Bat::preset_names`) under `bat_id`: short on the wire and in bags,
+/// and the node builds exactly the preset with its `default_modes` (BatParams.msg: with a preset, the other
+/// fields, max_modes included, are ignored; use [`params_from_bat`] to ask for a mode count).
+pub fn params_of_preset(bat_id: &str, preset: &str, header: Header) -> BatParams {
+    BatParams { header, bat_id: bat_id.to_string(), preset: preset.to_string(), ..BatParams::default() }
+}
+
+/// BatParams.max_modes of a mode count (saturating: anything beyond u32 is rejected by the node anyway).
+fn mode_count_field(max_modes: usize) -> u32 {
+    u32::try_from(max_modes).unwrap_or(u32::MAX)
+}
+
+/// Vibrational modes a bat's discretisation has: 2 DOF per slice minus the two rigid-body modes.
+pub fn vibrational_mode_count(bat: &Bat) -> usize {
+    (2 * bat.slice_count()).saturating_sub(2)
+}
+
+/// Builds and validates the ball a BallParams describes. The error starts with `BallParams 'id':`.
+pub fn ball_from_params(p: &BallParams) -> Result<Ball, String> {
+    if p.ball_id.trim().is_empty() {
+        return Err("BallParams: ball_id must be a non-empty name".to_string());
+    }
+    let ball = Ball { mass: p.mass, radius: p.radius, stiffness: p.stiffness, exponent: p.exponent, cor: p.cor };
+    ball.validate().map_err(|e| format!("BallParams '{}': {e}", p.ball_id))?;
+    Ok(ball)
+}
+
+/// A BallParams carrying every field of `ball` under `ball_id`, so that [`ball_from_params`] builds it back.
+pub fn params_from_ball(ball_id: &str, ball: &Ball, header: Header) -> BallParams {
+    BallParams {
+        header,
+        ball_id: ball_id.to_string(),
+        mass: ball.mass,
+        radius: ball.radius,
+        cor: ball.cor,
+        stiffness: ball.stiffness,
+        exponent: ball.exponent,
+    }
+}
+
+/// The initial conditions of a swing (validated by the physics core when it runs).
+pub fn impact_from_swing(s: &Swing) -> Impact {
+    Impact {
+        ball_speed: s.ball_speed,
+        bat_cm_speed: s.bat_cm_speed,
+        bat_angular_speed: s.bat_angular_speed,
+        impact_z: s.impact_z,
+    }
+}
+
+/// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers.
+pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result<Computed, String>) -> ExitVelocity {
+    let mut ev = ExitVelocity {
+        header: swing.header.clone(),
+        swing_id: swing.swing_id,
+        bat_id: bat_id.to_string(),
+        ball_id: ball_id.to_string(),
+        impact_z: swing.impact_z,
+        measured_exit_speed: swing.measured_exit_speed,
+        ..ExitVelocity::default()
+    };
+    match result {
+        Ok(computed) => {
+            let c = &computed.collision;
+            ev.status = ExitVelocity::STATUS_OK;
+            ev.exit_speed = c.exit_speed;
+            ev.rigid_exit_speed = c.rigid_exit_speed;
+            ev.effective_cor = c.effective_cor;
+            ev.collision_efficiency = c.collision_efficiency;
+            ev.contact_time = c.contact_time;
+            ev.peak_force = c.peak_force;
+            ev.impulse = c.impulse;
+            ev.max_compression = c.max_compression;
+            ev.residual = swing.measured_exit_speed - c.exit_speed; // NaN when not measured
+        }
+        Err(reason) => {
+            ev.status = ExitVelocity::STATUS_REJECTED;
+            ev.message = reason.clone();
+            // NaN, not 0: a rejected swing has no numbers, and 0 m/s would read as a result.
+            for x in [
+                &mut ev.exit_speed,
+                &mut ev.rigid_exit_speed,
+                &mut ev.effective_cor,
+                &mut ev.collision_efficiency,
+                &mut ev.contact_time,
+                &mut ev.peak_force,
+                &mut ev.impulse,
+                &mut ev.max_compression,
+                &mut ev.residual,
+            ] {
+                *x = f64::NAN;
+            }
+        }
+    }
+    ev
+}
+
+/// The energy breakdown of a computed swing.
+pub fn modal_energies(swing: &Swing, bat_id: &str, computed: &Computed) -> ModalEnergies {
+    let c = &computed.collision;
+    let fraction = |e: f64| if computed.collision_energy > 0.0 { e / computed.collision_energy } else { f64::NAN };
+    ModalEnergies {
+        header: swing.header.clone(),
+        swing_id: swing.swing_id,
+        bat_id: bat_id.to_string(),
+        frequency: c.mode_energies.iter().map(|m| m.frequency).collect(),
+        energy: c.mode_energies.iter().map(|m| m.energy).collect(),
+        fraction: c.mode_energies.iter().map(|m| fraction(m.energy)).collect(),
+        vibration_energy: c.energy.vibration,
+        hysteresis_loss: c.energy.hysteresis_loss,
+        energy_residual: c.energy.residual,
+    }
+}
+
+/// The SweetSpot message of a bat summary.
+pub fn sweet_spot(summary: &BatSummary, header: Header) -> SweetSpot {
+    let s = &summary.sweet_spots;
+    SweetSpot {
+        header,
+        bat_id: summary.bat_id.clone(),
+        ball_id: summary.ball_id.clone(),
+        max_exit_speed_z: s.max_exit_speed_z,
+        max_exit_speed: s.max_exit_speed,
+        rigid_optimum_z: s.rigid_optimum_z,
+        node1_z: s.node1_z,
+        node2_z: s.node2_z,
+        center_of_percussion_z: s.center_of_percussion_z,
+        ball_speed: summary.reference.ball_speed,
+        bat_cm_speed: summary.reference.bat_cm_speed,
+        bat_angular_speed: summary.reference.bat_angular_speed,
+        bbcor: summary.bbcor,
+        frequency: summary.frequencies_hz.clone(),
+        mass: summary.mass.mass,
+        center_of_mass: summary.mass.center_of_mass,
+        moment_of_inertia: summary.mass.moment_of_inertia,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::msgs::builtin_interfaces::msg::Time;
+    use crate::physics::{CollisionResult, EnergyBudget, ModeEnergy};
+
+    fn swing(measured: f64) -> Swing {
+        Swing {
+            header: Header { stamp: Time { sec: 12, nanosec: 345 }, frame_id: "rig".into() },
+            swing_id: 42,
+            ball_speed: 40.0,
+            bat_cm_speed: 20.0,
+            bat_angular_speed: 50.0,
+            impact_z: 0.7,
+            measured_exit_speed: measured,
+            ..Swing::default()
+        }
+    }
+
+    fn computed() -> Computed {
+        Computed {
+            collision: CollisionResult {
+                exit_speed: 45.5,
+                rigid_exit_speed: 47.0,
+                effective_cor: 0.2,
+                collision_efficiency: 0.21,
+                contact_time: 7e-4,
+                peak_force: 2e4,
+                impulse: 12.0,
+                max_compression: 0.012,
+                bat_cm_speed_after: 5.0,
+                bat_angular_speed_after: 10.0,
+                mode_energies: vec![
+                    ModeEnergy { frequency: 170.0, energy: 3.0 },
+                    ModeEnergy { frequency: 560.0, energy: 1.0 },
+                ],
+                energy: EnergyBudget {
+                    initial: 300.0,
+                    ball: 150.0,
+                    bat_rigid: 100.0,
+                    vibration: 4.0,
+                    hysteresis_loss: 46.0,
+                    residual: 0.0,
+                },
+            },
+            collision_energy: 200.0,
+        }
+    }
+
+    #[test]
+    fn ok_answer_carries_the_swing_identity_and_the_collision_numbers() {
+        let ev = exit_velocity(&swing(44.0), "r161", "baseball", &Ok(computed()));
+        assert_eq!(ev.status, ExitVelocity::STATUS_OK);
+        assert_eq!(ev.header, swing(44.0).header);
+        assert_eq!((ev.swing_id, ev.bat_id.as_str(), ev.ball_id.as_str()), (42, "r161", "baseball"));
+        assert_eq!((ev.exit_speed, ev.rigid_exit_speed, ev.impact_z), (45.5, 47.0, 0.7));
+        assert_eq!((ev.peak_force, ev.impulse, ev.max_compression), (2e4, 12.0, 0.012));
+        assert_eq!(ev.residual, 44.0 - 45.5);
+        assert!(ev.message.is_empty());
+        let unmeasured = exit_velocity(&swing(f64::NAN), "r161", "baseball", &Ok(computed()));
+        assert!(unmeasured.residual.is_nan() && unmeasured.measured_exit_speed.is_nan());
+    }
+
+    #[test]
+    fn rejected_answer_has_the_reason_and_no_numbers() {
+        let ev = exit_velocity(&swing(44.0), "nope", "baseball", &Err("unknown bat_id 'nope'".into()));
+        assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED);
+        assert_eq!(ev.message, "unknown bat_id 'nope'");
+        assert!(ev.exit_speed.is_nan() && ev.effective_cor.is_nan() && ev.residual.is_nan());
+        assert_eq!(ev.swing_id, 42);
+    }
+
+    #[test]
+    fn modal_energies_are_fractions_of_the_collision_energy() {
+        let me = modal_energies(&swing(f64::NAN), "r161", &computed());
+        assert_eq!(me.frequency, vec![170.0, 560.0]);
+        assert_eq!(me.energy, vec![3.0, 1.0]);
+        assert_eq!(me.fraction, vec![3.0 / 200.0, 1.0 / 200.0]);
+        assert_eq!((me.vibration_energy, me.hysteresis_loss, me.energy_residual), (4.0, 46.0, 0.0));
+        assert_eq!(me.header.stamp, Time { sec: 12, nanosec: 345 });
+    }
+
+    #[test]
+    fn bad_params_name_the_message_id_and_field() {
+        let e = bat_from_params(&BatParams::default()).unwrap_err();
+        assert!(e.contains("bat_id"), "{e}");
+        let p = BatParams {
+            bat_id: "mine".into(),
+            station_z: vec![0.0, 0.5, 0.8],
+            outer_radius: vec![0.01, 0.03],
+            inner_radius: vec![0.0, 0.0, 0.0],
+            ..BatParams::default()
+        };
+        let e = bat_from_params(&p).unwrap_err();
+        assert!(e.starts_with("BatParams 'mine':") && e.contains("outer_radius"), "{e}");
+        let e = ball_from_params(&BallParams::default()).unwrap_err();
+        assert!(e.contains("ball_id"), "{e}");
+    }
+
+    #[test]
+    fn bat_to_params_and_back_is_the_same_bat_with_the_same_modes() {
+        use crate::physics::ModeSet;
+        for name in Bat::preset_names() {
+            let bat = Bat::preset(name).unwrap();
+            let params = params_from_bat(&bat.name, &bat, 6, Header::default());
+            assert!(params.preset.is_empty(), "every field is spelled out");
+            let built = bat_from_params(&params).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(built.bat, bat, "{name}");
+            assert_eq!(built.max_modes, Some(6));
+            assert_eq!(built.bat.mass_properties(), bat.mass_properties(), "{name}");
+            let (before, after) = (ModeSet::compute(&bat, 18).unwrap(), ModeSet::compute(&built.bat, 18).unwrap());
+            assert_eq!(before.frequencies_hz(), after.frequencies_hz(), "{name}");
+            assert_eq!(before.mass_properties(), after.mass_properties(), "{name}");
+            // 0 = the node's default, both ways.
+            assert_eq!(bat_from_params(&params_from_bat("x", &bat, 0, Header::default())).unwrap().max_modes, None);
+        }
+        let corked = Bat::preset("r161-corked").unwrap();
+        assert!(corked.core.is_some() && params_from_bat("c", &corked, 0, Header::default()).core_density > 0.0);
+    }
+
+    #[test]
+    fn preset_params_build_the_preset() {
+        let params = params_of_preset("game bat", "torpedo", Header::default());
+        let built = bat_from_params(&params).unwrap();
+        assert_eq!(built.bat, Bat::preset("torpedo").unwrap());
+        assert_eq!((params.bat_id.as_str(), built.max_modes), ("game bat", None));
+    }
+
+    #[test]
+    fn a_bat_cut_finer_than_the_slice_cap_is_refused_naming_slice_length_and_its_range() {
+        let fine = |slice_length: f64| BatParams {
+            slice_length,
+            ..params_from_bat("fine", &Bat::preset("r161").unwrap(), 0, Header::default())
+        };
+        // 0.84 m at 0.5 mm = 1680 slices: over the default cap, under the physics' 4000.
+        let e = bat_from_params_capped(&fine(0.0005), DEFAULT_MAX_BAT_SLICES).unwrap_err();
+        assert!(e.starts_with("BatParams 'fine': slice_length = 0.0005 m is out of range"), "{e}");
+        assert!(e.contains("1680 slices") && e.contains("max_bat_slices = 1200"), "{e}");
+        // The range quoted is right: its ends are accepted, just outside them refused.
+        let lower = 0.84 / (DEFAULT_MAX_BAT_SLICES as f64 + 0.49);
+        assert!(e.contains(&format!("{lower:.3e} ≤ slice_length")), "{e}");
+        assert!(bat_from_params_capped(&fine(lower * 1.0001), DEFAULT_MAX_BAT_SLICES).is_ok());
+        assert!(bat_from_params_capped(&fine(lower * 0.999), DEFAULT_MAX_BAT_SLICES).is_err());
+        assert_eq!(bat_from_params_capped(&fine(0.0005), 2000).unwrap().bat.slice_count(), 1680);
+        // A 1-mm grid on a real bat is within the default; beyond the physics' limit even the uncapped form refuses.
+        assert_eq!(bat_from_params_capped(&fine(0.001), DEFAULT_MAX_BAT_SLICES).unwrap().bat.slice_count(), 840);
+        let e = bat_from_params(&fine(0.0002)).unwrap_err();
+        assert!(e.contains("slice_length") && e.contains("4000"), "{e}");
+        // Presets are far below any allowed cap.
+        assert!(bat_from_params_capped(&params_of_preset("p", "torpedo", Header::default()), 100).is_ok());
+    }
+}

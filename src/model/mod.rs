@@ -1,0 +1,22 @@
+//! The model: how sweetspot's messages become physics and back, and the state that decides what a swing is
+//! answered with. Everything here is pure and synchronous (no DDS, no files); it sits between
+//! [`crate::physics`] and everything that serves it.
+//!
+//! - [`convert`]: BatParams/BallParams → Bat/Ball (validated, the one rule set), Bat → BatParams, Swing →
+//!   Impact, results → ExitVelocity / ModalEnergies / SweetSpot;
+//! - [`engine`]: the bat/ball [`engine::Registry`] (bounded by [`lru::LruMap`]), swing planning
+//!   ([`engine::plan_swing`]), computing ([`engine::compute`]) and bat summaries ([`engine::summarize_bat`]);
+//! - [`settings`]: [`settings::ModelSettings`] (time step, default bat and modes, limits) and the rosbag2
+//!   `custom_data` keys it is recorded under;
+//! - [`time`]: ROS `Time` ↔ Unix nanoseconds; [`topics`]: the node's topic names.
+//!
+//! Used by the node (live), `bag replay` and `bag export` (recorded), `calibrate` (fitting recorded swings),
+//! the rig (its BatParams) and the fuzz targets, so that none of them can decide differently. It imports only
+//! [`crate::physics`] and [`crate::msgs`].
+
+pub mod convert;
+pub mod engine;
+pub mod lru;
+pub mod settings;
+pub mod time;
+pub mod topics;
