@@ -42,37 +42,36 @@ impl Run {
     }
 }
 
-/// Runs `sweetspot ARGS…` and measures its max RSS through `wait4` (this child only, not the test's other
-/// children). Stdout and stderr go to files so a long output cannot block the child.
+/// Runs `sweetspot ARGS…` and measures its max RSS. A child's `ru_maxrss` counts what its parent had resident
+/// when it forked, so the tool is started from a small Python process (the tests' Python) that reports
+/// `RUSAGE_CHILDREN` for this one child; stdout and stderr go to files so a long output cannot block it.
 fn sweetspot(args: &[&dyn AsRef<std::ffi::OsStr>]) -> Run {
+    const WRAPPER: &str = r#"
+import resource, subprocess, sys
+with open(sys.argv[1], "wb") as out, open(sys.argv[2], "wb") as err:
+    code = subprocess.run(sys.argv[3:], stdin=subprocess.DEVNULL, stdout=out, stderr=err).returncode
+print(code, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+"#;
     let scratch = tempfile::tempdir().unwrap();
     let out_path = scratch.path().join("stdout");
     let err_path = scratch.path().join("stderr");
-    let mut command = Command::new(sweetspot_bin());
+    let mut command = Command::new(python());
+    command.arg("-c").arg(WRAPPER).arg(&out_path).arg(&err_path).arg(sweetspot_bin());
     for a in args {
         command.arg(a);
     }
-    let child = command
-        .stdin(Stdio::null())
-        .stdout(std::fs::File::create(&out_path).unwrap())
-        .stderr(std::fs::File::create(&err_path).unwrap())
-        .spawn()
-        .unwrap();
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: an all-zero rusage is a valid value; wait4 fills it for our own child `pid`.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: plain FFI call with valid pointers to locals.
-    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(waited, pid, "wait4: {}", std::io::Error::last_os_error());
-    std::mem::forget(child);
-    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
+    let wrapper = command.stdin(Stdio::null()).output().unwrap();
+    let report = String::from_utf8_lossy(&wrapper.stdout).to_string();
+    let mut fields = report.split_whitespace().map(|f| f.parse::<i64>().unwrap_or(i64::MIN));
+    let (code, max_rss_kib) = (fields.next(), fields.next());
+    assert!(wrapper.status.success() && max_rss_kib.is_some(), "{report}{}", String::from_utf8_lossy(&wrapper.stderr));
+    let code = code.and_then(|c| i32::try_from(c).ok()).filter(|&c| c >= 0);
     Run {
         ok: code == Some(0),
         code,
         stdout: std::fs::read_to_string(&out_path).unwrap_or_default(),
         stderr: std::fs::read_to_string(&err_path).unwrap_or_default(),
-        max_rss_kib: usage.ru_maxrss,
+        max_rss_kib: max_rss_kib.unwrap_or(i64::MAX),
     }
 }
 
@@ -209,7 +208,11 @@ fn every_tool_reports(dir: &Path, needles: &[String], kept: u64) {
     assert!(replay.stdout.contains(&format!("{kept} swings:")), "{}", replay.text());
     for run in [&export, &replay] {
         for needle in needles {
-            assert!(run.stderr.contains(needle.as_str()), "{needle:?} still listed with --skip-damaged: {}", run.text());
+            assert!(
+                run.stderr.contains(needle.as_str()),
+                "{needle:?} still listed with --skip-damaged: {}",
+                run.text()
+            );
         }
     }
 }
@@ -217,7 +220,11 @@ fn every_tool_reports(dir: &Path, needles: &[String], kept: u64) {
 /// `bag recover` writes DIR.recovered beside DIR holding exactly `kept` messages, says what it dropped,
 /// and leaves the original byte for byte.
 fn recover_reports(dir: &Path, needles: &[String], kept: u64) {
-    let file = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).find(|p| p.extension().is_some_and(|e| e == "mcap")).unwrap();
+    let file = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "mcap"))
+        .unwrap();
     let before = std::fs::read(&file).unwrap();
     let metadata_before = std::fs::read(dir.join("metadata.yaml")).unwrap();
     let run = sweetspot(&[&"bag", &"recover", &dir]);
@@ -304,7 +311,8 @@ fn a_chunk_cut_short_by_the_end_of_the_file_is_damage_and_recover_keeps_the_chun
     let victim = chunks[3];
     let dir = damaged_copy(&good, "cut", |b| b.truncate((victim.offset + victim.length / 2) as usize));
     let kept: u64 = chunks[..3].iter().map(|c| c.messages).sum();
-    let needles = vec!["cut_0.mcap".to_string(), format!("chunk 3 at offset {}", victim.offset), "ends inside".to_string()];
+    let needles =
+        vec!["cut_0.mcap".to_string(), format!("chunk 3 at offset {}", victim.offset), "ends inside".to_string()];
     every_tool_reports(&dir, &needles, kept);
     recover_reports(&dir, &needles[..2], kept);
 }
@@ -477,7 +485,11 @@ fn decompression_bombs_are_refused_in_bounded_memory() {
         std::fs::write(&path, bomb_file(&zeros, claimed, chunks)).unwrap();
         let run = sweetspot(&[&"bag", &"info", &path]);
         assert!(!run.ok, "{}", run.text());
-        assert!(run.stdout.contains("chunk 0 at offset 8") || run.stdout.contains("chunk 0 at offset"), "{}", run.text());
+        assert!(
+            run.stdout.contains("chunk 0 at offset 8") || run.stdout.contains("chunk 0 at offset"),
+            "{}",
+            run.text()
+        );
         assert!(run.stdout.contains("refused unread: claims 255000000 uncompressed bytes"), "{}", run.text());
         assert_eq!(run.stdout.matches("DAMAGED:").count(), chunks, "{}", run.text());
         assert!(run.max_rss_kib < RSS_BOUND_KIB, "{name}: max RSS {} KiB", run.max_rss_kib);
@@ -489,9 +501,7 @@ fn decompression_bombs_are_refused_in_bounded_memory() {
     // decompressing it all, and a chunk that lies about its size (claims 1 KiB, holds 16 MiB) stops at 1 KiB.
     let sixteen = 16 * 1024 * 1024;
     let zeros = zstd_zeros(sixteen);
-    for (name, claimed, why) in
-        [("zeros.mcap", sixteen, "opcode 0x00"), ("liar.mcap", 1024, "opcode 0x00")]
-    {
+    for (name, claimed, why) in [("zeros.mcap", sixteen, "opcode 0x00"), ("liar.mcap", 1024, "opcode 0x00")] {
         let path = tmp.path().join(name);
         std::fs::write(&path, bomb_file(&zeros, claimed, 50)).unwrap();
         let run = sweetspot(&[&"bag", &"info", &path]);

@@ -292,7 +292,8 @@ impl std::fmt::Display for BagInfo {
                 (n, true) => format!("at least {n} messages lost"),
             };
             let state = if file.complete { "finished, damaged" } else { "unfinished (no summary)" };
-            let expected = file.expected_messages.map(|n| format!(" of the {n} its statistics list")).unwrap_or_default();
+            let expected =
+                file.expected_messages.map(|n| format!(" of the {n} its statistics list")).unwrap_or_default();
             writeln!(
                 f,
                 "WARNING: {} is {state}: {} messages read{expected}, {lost}, {} bytes cut off, {} chunks skipped — \

@@ -188,7 +188,10 @@ impl std::fmt::Display for DamageKind {
                  being written"
             ),
             DamageKind::Unparsable { reason, resumed_at: Some(at), chunks_skipped } => {
-                write!(f, "{reason}; skipped to the next indexed chunk at offset {at} ({chunks_skipped} chunks not read)")
+                write!(
+                    f,
+                    "{reason}; skipped to the next indexed chunk at offset {at} ({chunks_skipped} chunks not read)"
+                )
             }
             DamageKind::Unparsable { reason, resumed_at: None, .. } => {
                 write!(f, "{reason}; the rest of the data section is not read")
@@ -733,7 +736,12 @@ impl FileReader {
                 };
                 self.scan.corrupt_chunks += skipped;
                 let chunk = if skipped > 0 { Some(self.chunk_index_at(at)) } else { None };
-                self.damage(at, chunk, DamageKind::Unparsable { reason, resumed_at: None, chunks_skipped: skipped }, lost);
+                self.damage(
+                    at,
+                    chunk,
+                    DamageKind::Unparsable { reason, resumed_at: None, chunks_skipped: skipped },
+                    lost,
+                );
                 self.end_of_data();
                 Ok(())
             }
@@ -766,7 +774,10 @@ impl FileReader {
             if !self.scan.complete {
                 return self.cut_off(start, remaining, Some(opcode));
             }
-            self.lose_framing(start, format!("a record (opcode {opcode:#04x}) claims {length} bytes, past the data section"))?;
+            self.lose_framing(
+                start,
+                format!("a record (opcode {opcode:#04x}) claims {length} bytes, past the data section"),
+            )?;
             return Ok(false);
         }
         if opcode != op::MESSAGE_INDEX {
@@ -815,8 +826,14 @@ impl FileReader {
             }
             _ if length > MAX_RECORD_SIZE => {
                 self.src.skip(length)?;
-                let reason = format!("a record (opcode {opcode:#04x}) of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
-                self.damage(start, None, DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 }, None);
+                let reason =
+                    format!("a record (opcode {opcode:#04x}) of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
+                self.damage(
+                    start,
+                    None,
+                    DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 },
+                    None,
+                );
             }
             _ => {
                 self.record.clear();
@@ -832,7 +849,12 @@ impl FileReader {
                             }
                         } else {
                             let reason = "a message record does not parse".to_string();
-                            self.damage(start, None, DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 }, Some(1));
+                            self.damage(
+                                start,
+                                None,
+                                DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 },
+                                Some(1),
+                            );
                         }
                     }
                     _ => {
@@ -902,9 +924,8 @@ impl FileReader {
         let body_left = length - fixed - name_len;
         if records_len != body_left {
             self.src.skip(body_left)?;
-            pending.fault = Some(fail(format!(
-                "its records claim {records_len} bytes where the record holds {body_left}"
-            )));
+            pending.fault =
+                Some(fail(format!("its records claim {records_len} bytes where the record holds {body_left}")));
             self.pending = Some(pending);
             return Ok(());
         }
@@ -912,9 +933,7 @@ impl FileReader {
         let refusal = if uncompressed_size > limit {
             Some(DamageKind::ChunkTooLarge { uncompressed_size, compressed_size: records_len, limit })
         } else if compression.is_empty() && uncompressed_size != records_len {
-            Some(fail(format!(
-                "an uncompressed chunk of {records_len} bytes that claims {uncompressed_size}"
-            )))
+            Some(fail(format!("an uncompressed chunk of {records_len} bytes that claims {uncompressed_size}")))
         } else if !matches!(compression.as_str(), "" | "zstd" | "lz4") {
             Some(fail(format!("unsupported compression {compression:?}")))
         } else {

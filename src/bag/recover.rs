@@ -118,10 +118,9 @@ pub fn recover(
         std::fs::create_dir(&output).map_err(|source| BagError::Io { path: output.clone(), source })?;
     }
     let mut metadata = metadata_of(&scans);
-    metadata.custom_data.insert(
-        CUSTOM_DATA_RECOVERED.to_string(),
-        format!("{}: {}", path.display(), damage_summary(&scans)),
-    );
+    metadata
+        .custom_data
+        .insert(CUSTOM_DATA_RECOVERED.to_string(), format!("{}: {}", path.display(), damage_summary(&scans)));
     if !is_dir {
         if let (Some(file), Some(name)) = (metadata.files.first_mut(), output.file_name()) {
             file.path = name.to_string_lossy().into_owned();
@@ -173,7 +172,11 @@ fn rewrite(original: &Path, target: &Path, scan: &FileScan, rosbag2_yaml: &str) 
             None => {
                 let channel = m.channel;
                 let schema = writer
-                    .add_schema(&channel.topic.type_name, &channel.schema_encoding, channel.topic.schema_text.as_bytes())
+                    .add_schema(
+                        &channel.topic.type_name,
+                        &channel.schema_encoding,
+                        channel.topic.schema_text.as_bytes(),
+                    )
                     .map_err(mcap)?;
                 let id = writer
                     .add_channel(schema, &channel.topic.name, &channel.message_encoding, &channel.metadata)

@@ -168,7 +168,8 @@ fn flat(err: bag::BagError) -> anyhow::Error {
 /// place unless `skip_damaged`; then it is listed on stderr and its one-line summary returned, for the tool
 /// to repeat when it is done.
 fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Option<String>> {
-    let files = bag::reader::bag_files(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let files =
+        bag::reader::bag_files(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
     let bar = progress(files.len() as u64, "checking");
     let mut reader =
         bag::reader::BagReader::open(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
