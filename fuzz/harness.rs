@@ -46,6 +46,7 @@ pub const TARGETS: &[(&str, Target)] = &[
     ("case_file", case_file),
     ("bat_toml", bat_toml),
     ("bag_reader", bag_reader),
+    ("bag_hostile", bag_hostile),
 ];
 
 // ------------------------------------------------------------------------------------------------------------
@@ -596,17 +597,149 @@ pub fn bag_reader(data: &[u8]) {
     let _ = info::custom_data_of(&scans);
     let _ = export::swing_rows(&bag_dir);
 
-    let report = match recover::recover(&file, |_| {}) {
-        Ok(report) => report,
+    for damage in scans.iter().flat_map(|s| s.damage.iter()) {
+        assert!(damage.to_string().contains("bag_0.mcap"), "damage names its file: {damage}");
+    }
+
+    let recovery = match recover::recover(&file, None, |_| {}) {
+        Ok(recovery) => recovery,
         Err(e) => {
             assert!(!e.to_string().is_empty());
+            assert_eq!(std::fs::read(&file).expect("the original"), data, "a refused recovery left the file alone");
             return;
         }
     };
-    for entry in report.iter().filter(|r| r.rebuilt) {
-        let scan =
-            reader::scan_file(&entry.path, |_| {}).unwrap_or_else(|e| panic!("cannot read the recovered file: {e}"));
+    assert_eq!(std::fs::read(&file).expect("the original"), data, "recovery never modifies the original");
+    let needed = scans.iter().any(|s| !s.complete || !s.damage.is_empty());
+    assert_eq!(recovery.output.is_some(), needed, "a copy is written exactly when something needed repair");
+    for entry in recovery.files.iter().filter(|r| r.rebuilt) {
+        let output = entry.output.as_ref().expect("a rebuilt file has an output");
+        let scan = reader::scan_file(output, |_| {}).unwrap_or_else(|e| panic!("cannot read the recovered file: {e}"));
         assert!(scan.complete, "the recovered file has no footer");
+        assert!(scan.damage.is_empty(), "the recovered file is damaged: {:?}", scan.damage);
         assert_eq!(scan.message_count(), entry.messages, "the recovered file lost messages");
+    }
+}
+
+/// A zstd frame of `size` copies of `byte`: RLE blocks of at most 128 KiB, 4 bytes each (a decompression bomb
+/// of ratio ~32,000 written without holding what it expands to).
+pub fn zstd_rle_frame(byte: u8, size: u64) -> Vec<u8> {
+    // Magic, frame header descriptor (no content size, no checksum), window descriptor 2^17.
+    let mut out = vec![0x28, 0xB5, 0x2F, 0xFD, 0x00, 0x38];
+    let mut left = size;
+    loop {
+        let n = left.min(128 * 1024);
+        left -= n;
+        let header = u32::from(left == 0) | (1 << 1) | ((n as u32) << 3);
+        out.extend_from_slice(&header.to_le_bytes()[..3]);
+        out.push(byte);
+        if left == 0 {
+            return out;
+        }
+    }
+}
+
+fn mcap_record(opcode: u8, body: &[u8]) -> Vec<u8> {
+    let mut out = vec![opcode];
+    out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    out.extend_from_slice(body);
+    out
+}
+
+/// An MCAP file of zstd chunks, each (compressed frame, claimed uncompressed size), closed by a data end
+/// and a footer without summary.
+pub fn mcap_of_chunks(chunks: &[(Vec<u8>, u64)]) -> Vec<u8> {
+    let string = |s: &str| [(s.len() as u32).to_le_bytes().to_vec(), s.as_bytes().to_vec()].concat();
+    let mut out = sweetspot::bag::reader::MCAP_MAGIC.to_vec();
+    out.extend(mcap_record(0x01, &[string("ros2"), string("fuzz")].concat()));
+    for (frame, claimed) in chunks {
+        let mut body = Vec::new();
+        body.extend_from_slice(&[0u8; 16]);
+        body.extend_from_slice(&claimed.to_le_bytes());
+        body.extend_from_slice(&0u32.to_le_bytes());
+        body.extend(string("zstd"));
+        body.extend_from_slice(&(frame.len() as u64).to_le_bytes());
+        body.extend_from_slice(frame);
+        out.extend(mcap_record(0x06, &body));
+    }
+    out.extend(mcap_record(0x0f, &0u32.to_le_bytes()));
+    out.extend(mcap_record(0x02, &[0u8; 20]));
+    out.extend_from_slice(sweetspot::bag::reader::MCAP_MAGIC);
+    out
+}
+
+/// The first byte picks what the bag's `bag_0.mcap` is: 0 the other bytes as a file, 1 a symlink to such a
+/// file, 2 a symlink to /dev/zero, 3 to /dev/urandom, 4 a FIFO, 5 a directory, 6 a dangling symlink, 7 an MCAP
+/// file of decompression bombs built from the other bytes, 3 per chunk (the byte repeated, log2 of how many
+/// times, what size the chunk claims). Non-regular files are refused with a typed error without blocking or
+/// reading a device, and `bag recover` writes nothing for them; every bomb chunk is reported as damage, the
+/// ones claiming more than the limits refused unread.
+pub fn bag_hostile(data: &[u8]) {
+    use sweetspot::bag::reader::{self, DamageKind};
+    use sweetspot::bag::{recover, BagError};
+    let Some((&kind, rest)) = data.split_first() else { return };
+    let scratch = ScratchDir::new();
+    let dir = scratch.0.join("bag");
+    std::fs::create_dir_all(&dir).expect("bag directory");
+    let file = dir.join("bag_0.mcap");
+    let mut claims = Vec::new();
+    match kind % 8 {
+        0 => std::fs::write(&file, rest).expect("write"),
+        1 => {
+            let target = scratch.0.join("target.mcap");
+            std::fs::write(&target, rest).expect("write");
+            std::os::unix::fs::symlink(&target, &file).expect("symlink");
+        }
+        2 => std::os::unix::fs::symlink("/dev/zero", &file).expect("symlink"),
+        3 => std::os::unix::fs::symlink("/dev/urandom", &file).expect("symlink"),
+        4 => {
+            let made = std::process::Command::new("mkfifo").arg(&file).status().expect("mkfifo");
+            assert!(made.success(), "mkfifo");
+        }
+        5 => std::fs::create_dir(&file).expect("directory"),
+        6 => std::os::unix::fs::symlink(scratch.0.join("missing"), &file).expect("symlink"),
+        _ => {
+            let chunks: Vec<(Vec<u8>, u64)> = rest
+                .chunks_exact(3)
+                .take(64)
+                .map(|spec| {
+                    let size = 1u64 << (spec[1] % 29);
+                    let claimed = match spec[2] % 8 {
+                        0 => size,
+                        1 => 1024,
+                        2 => 255_000_000,
+                        3 => u64::MAX,
+                        _ => 1 << (spec[2] % 64),
+                    };
+                    (zstd_rle_frame(spec[0], size), claimed)
+                })
+                .collect();
+            claims = chunks.iter().map(|(frame, claimed)| (frame.len() as u64, *claimed)).collect();
+            std::fs::write(&file, mcap_of_chunks(&chunks)).expect("write");
+        }
+    }
+    let before: Vec<_> = std::fs::read_dir(&dir).expect("list").map(|e| e.expect("entry").file_name()).collect();
+    let mut messages = 0u64;
+    let result = reader::read_bag(&dir, |_| messages += 1);
+    match kind % 8 {
+        2..=5 => assert!(matches!(result, Err(BagError::NotRegularFile { .. })), "refused: {result:?}"),
+        6 => assert!(matches!(result, Err(BagError::Io { .. })), "a dangling symlink is an I/O error: {result:?}"),
+        7 => {
+            let scans = result.expect("a file of bombs is an MCAP file");
+            assert_eq!(messages, 0, "no message comes out of a bomb");
+            let damage = &scans[0].damage;
+            assert_eq!(damage.len(), claims.len(), "every bomb chunk is reported: {damage:?}");
+            for (i, (d, &(compressed, claimed))) in damage.iter().zip(&claims).enumerate() {
+                assert_eq!(d.chunk, Some(i as u64));
+                let too_large = claimed > reader::chunk_size_limit(compressed);
+                assert_eq!(matches!(d.kind, DamageKind::ChunkTooLarge { .. }), too_large, "chunk {i}: {d}");
+            }
+        }
+        _ => return,
+    }
+    if kind % 8 != 7 {
+        assert!(recover::recover(&file, None, |_| {}).is_err(), "recover refuses what is not an MCAP file");
+        let after: Vec<_> = std::fs::read_dir(&dir).expect("list").map(|e| e.expect("entry").file_name()).collect();
+        assert_eq!(before, after, "recover wrote nothing");
     }
 }

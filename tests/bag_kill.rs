@@ -1,6 +1,7 @@
 //! kill -9 while recording under load, then `sweetspot bag recover`: everything older than the flush
-//! interval (plus a margin for scheduling) survives, gap-free and uncorrupted. Unchunked (`fastwrite`) files
-//! cut anywhere keep every complete message.
+//! interval (plus a margin for scheduling) survives, gap-free and uncorrupted, in a repaired copy beside the
+//! bag (`DIR.recovered/`); the original is left byte for byte. Unchunked (`fastwrite`) files cut anywhere keep
+//! every complete message.
 
 mod bag_support;
 
@@ -56,11 +57,16 @@ fn sigkill_mid_recording_loses_at_most_the_last_flush_interval() {
     assert_eq!(files.len(), 1);
     let before = scan_file(&files[0], |_| {}).unwrap();
     assert!(!before.complete, "a killed recording has no summary");
+    let original = std::fs::read(&files[0]).unwrap();
 
     let out = Command::new(sweetspot_bin()).args(["bag", "recover"]).arg(&dir).output().unwrap();
     assert!(out.status.success(), "recover failed: {}", String::from_utf8_lossy(&out.stderr));
     let report = String::from_utf8_lossy(&out.stdout);
     assert!(report.contains("rebuilt"), "{report}");
+    assert_eq!(std::fs::read(&files[0]).unwrap(), original, "the original is left byte for byte");
+    let killed = dir;
+    let dir = tmp.path().join("load.recovered");
+    assert!(report.contains(&dir.display().to_string()), "the report names the copy: {report}");
 
     let mut indices = Vec::new();
     let mut last_log_time = 0;
@@ -99,9 +105,15 @@ fn sigkill_mid_recording_loses_at_most_the_last_flush_interval() {
         .map(|t| verdict["rosbags"]["topics"][t]["count"].as_u64().unwrap())
         .sum();
     assert_eq!(total, n);
-    // Recovering again leaves the complete file alone.
+    // The copy is finished and undamaged: recovering it writes nothing.
     let again = Command::new(sweetspot_bin()).args(["bag", "recover"]).arg(&dir).output().unwrap();
-    assert!(String::from_utf8_lossy(&again.stdout).contains("left as is"));
+    assert!(again.status.success());
+    assert!(String::from_utf8_lossy(&again.stdout).contains("nothing to recover"));
+    assert!(!tmp.path().join("load.recovered.recovered").exists());
+    // Recovering the original again is refused rather than overwriting the copy.
+    let twice = Command::new(sweetspot_bin()).args(["bag", "recover"]).arg(&killed).output().unwrap();
+    assert!(!twice.status.success());
+    assert!(String::from_utf8_lossy(&twice.stderr).contains("already exists"));
 }
 
 #[test]
@@ -135,15 +147,22 @@ fn info_reports_topics_counts_and_an_unfinished_file() {
     assert_eq!(json["files"][0]["complete"], true);
     assert_eq!(json["profile"], "ros2");
 
-    // Cut the file in the middle: info still reads what is complete and flags it.
+    // Cut the file in the middle of a record: info still reads what is complete, but the cut-off record is
+    // a loss, named, and an error unless the user skips damage.
     let file = dir.join("info_0.mcap");
     let bytes = std::fs::read(&file).unwrap();
     std::fs::write(&file, &bytes[..bytes.len() / 2]).unwrap();
     let out = Command::new(sweetspot_bin()).args(["bag", "info", "--json"]).arg(&dir).output().unwrap();
+    assert!(!out.status.success(), "a cut-off record is damage");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("info_0.mcap") && stderr.contains("ends inside a record"), "{stderr}");
+    let out =
+        Command::new(sweetspot_bin()).args(["bag", "info", "--json", "--skip-damaged"]).arg(&dir).output().unwrap();
     assert!(out.status.success());
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["files"][0]["complete"], false);
     assert!(json["files"][0]["truncated_bytes"].as_u64().unwrap() > 0);
+    assert_eq!(json["files"][0]["damage"][0]["kind"], "truncated");
 }
 
 /// (end offset of the record, log time, channel id, payload) of each top-level Message record of a file.
@@ -199,7 +218,9 @@ fn a_cut_off_fastwrite_file_recovers_with_every_complete_message() {
         if survivors > 0 {
             assert!(stdout.contains(&format!("kept {survivors} messages unchunked;")), "{stdout}");
         }
-        assert!(case.join("cut_0.mcap.broken").exists(), "the original is kept");
+        assert_eq!(std::fs::read(&file).unwrap(), &bytes[..cut as usize], "the original is left as it was");
+        let case = tmp.path().join(format!("cut_{cut}.recovered"));
+        let file = case.join("cut_0.mcap");
 
         let mut recovered = Vec::new();
         let scans = read_bag(&case, |m| recovered.push((m.log_time_ns, m.channel_id, m.data.to_vec()))).unwrap();
@@ -244,7 +265,12 @@ fn fastwrite_flushes_every_interval_so_a_kill_keeps_what_was_recorded_before_it(
     let deadline = std::time::Instant::now() + Duration::from_secs(30);
     let found = loop {
         std::fs::copy(dir.join("live_0.mcap"), &copy).unwrap();
-        let count = scan_file(&copy, |_| {}).unwrap().message_count();
+        // Until the writer's first flush the file is empty, which is not an MCAP file (yet).
+        let count = match scan_file(&copy, |_| {}) {
+            Ok(scan) => scan.message_count(),
+            Err(sweetspot::bag::BagError::NotMcap { reason, .. }) if reason.contains("empty") => 0,
+            Err(e) => panic!("{e}"),
+        };
         if count == 500 || std::time::Instant::now() > deadline {
             break count;
         }
@@ -254,7 +280,7 @@ fn fastwrite_flushes_every_interval_so_a_kill_keeps_what_was_recorded_before_it(
     let out = Command::new(sweetspot_bin()).args(["bag", "recover"]).arg(&snapshot).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let mut indices = Vec::new();
-    let scans = read_bag(&snapshot, |m| {
+    let scans = read_bag(&tmp.path().join("snapshot.recovered"), |m| {
         indices.push(std::str::from_utf8(&m.data[8..]).unwrap().trim_end_matches('\0').parse::<u64>().unwrap())
     })
     .unwrap();

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::reader::{read_bag, FileScan};
+use super::reader::{read_bag, Damage, FileScan};
 use super::rosbag2::{BagMetadata, FileEntry};
 use super::{BagError, McapLayout, TopicInfo};
 
@@ -45,8 +45,16 @@ pub struct FileSummary {
     pub complete: bool,
     /// Bytes after the last complete record.
     pub truncated_bytes: u64,
-    /// Chunks skipped because they failed to decode.
+    /// Chunks skipped because they failed their checks.
     pub corrupt_chunks: u64,
+    /// Messages the file's statistics say it holds (finished files with an intact summary), else null.
+    pub expected_messages: Option<u64>,
+    /// Messages lost to damage, as far as the file's indexes tell.
+    pub lost_messages: u64,
+    /// Whether some damage has an unknown message count (lost_messages is then a lower bound).
+    pub lost_messages_unknown: bool,
+    /// Every damaged place: offset, chunk index, kind, messages lost.
+    pub damage: Vec<Damage>,
 }
 
 /// Everything `bag info` prints.
@@ -76,6 +84,8 @@ pub struct BagInfo {
     pub messages: u64,
     /// Topics in first-seen order.
     pub topics: Vec<TopicSummary>,
+    /// Whether any file is damaged (see each file's `damage`).
+    pub damaged: bool,
 }
 
 impl BagInfo {
@@ -162,6 +172,10 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
                 complete: s.complete,
                 truncated_bytes: s.truncated_bytes,
                 corrupt_chunks: s.corrupt_chunks,
+                expected_messages: s.expected_messages,
+                lost_messages: s.lost_messages().0,
+                lost_messages_unknown: s.lost_messages().1,
+                damage: s.damage.clone(),
             })
             .collect(),
         size: scans.iter().map(|s| s.size).sum(),
@@ -194,6 +208,7 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
                 depth: t.qos.depth,
             })
             .collect(),
+        damaged: scans.iter().any(FileScan::damaged),
     }
 }
 
@@ -264,11 +279,26 @@ impl std::fmt::Display for BagInfo {
                 t.depth
             )?;
         }
-        for file in self.files.iter().filter(|x| !x.complete) {
+        for file in &self.files {
+            for damage in &file.damage {
+                writeln!(f, "DAMAGED: {damage}")?;
+            }
+            if file.damage.is_empty() && file.complete {
+                continue;
+            }
+            let lost = match (file.lost_messages, file.lost_messages_unknown) {
+                (0, false) => "no message lost".to_string(),
+                (n, false) => format!("{n} messages lost"),
+                (n, true) => format!("at least {n} messages lost"),
+            };
+            let state = if file.complete { "finished, damaged" } else { "unfinished (no summary)" };
+            let expected =
+                file.expected_messages.map(|n| format!(" of the {n} its statistics list")).unwrap_or_default();
             writeln!(
                 f,
-                "WARNING: {} is unfinished (no summary; {} bytes cut off, {} corrupt chunks) — run `sweetspot bag recover`",
-                file.path, file.truncated_bytes, file.corrupt_chunks
+                "WARNING: {} is {state}: {} messages read{expected}, {lost}, {} bytes cut off, {} chunks skipped — \
+                 `sweetspot bag recover` writes a repaired copy beside it",
+                file.path, file.messages, file.truncated_bytes, file.corrupt_chunks
             )?;
         }
         Ok(())

@@ -35,6 +35,15 @@ pub enum BagError {
     /// Storage options that do not name a compression or preset, or do not go together.
     #[error("{0}")]
     Options(String),
+    /// A path that is not a regular file (after following symlinks): a FIFO, a device, a directory.
+    #[error("{path}: {what}, not a regular file: refused (bags are regular .mcap files)")]
+    NotRegularFile { path: PathBuf, what: String },
+    /// A regular file that is not an MCAP file.
+    #[error("{path}: not an MCAP file: {reason}")]
+    NotMcap { path: PathBuf, reason: String },
+    /// The bag is damaged and the caller did not ask to skip damage (each line names file, chunk and loss).
+    #[error("{summary}:\n{details}\npass --skip-damaged to go on with everything intact around the damage")]
+    Damaged { summary: String, details: String },
 }
 
 /// QoS a topic was offered with, as recorded in the channel metadata `offered_qos_profiles`.

@@ -1,18 +1,61 @@
-//! Reading bags back: a lenient linear scan that keeps every complete chunk (and, in unchunked files, every
-//! complete top-level message), so finished files and files cut off by a crash (no summary, no footer) are
-//! read the same way.
+//! Reading bags back, streaming: one pass from the start of each file to the end of its data section, one
+//! chunk in memory at a time, so finished files and files cut off by a crash (no summary, no footer) are read
+//! the same way, and a bag of any size is read in bounded memory.
+//!
+//! Nothing is hidden. Every chunk is checked (its CRC, its decompressed size against what it claims, every
+//! record inside it) before any of its messages is handed on; a chunk that fails is skipped and recorded as
+//! [`Damage`] naming the file, the chunk (index and offset) and how many messages it held (from the message
+//! indexes that follow it, or the summary's chunk index). A finished file is checked against its own
+//! summary: the data-section and summary CRCs, and the message count of its statistics. Records that do not
+//! frame are skipped to the next chunk the summary knows, or end the read where there is none.
+//!
+//! Inputs that are not MCAP files are refused before anything is read: anything that is not a regular file
+//! (after following symlinks: a FIFO, a device such as /dev/zero, a directory) and anything that does not start
+//! with the MCAP magic. Limits on what a file may make the reader hold are the constants below
+//! (docs/file-formats.md, "MCAP reading limits").
+//!
+//! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
+//! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4), one top-level record (at most
+//! [`MAX_RECORD_SIZE`]), the channels, and 24 bytes per chunk of the summary's chunk index. For the bags
+//! sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever the bag's size.
+//!
+//! Order: messages come in file order, files in split order (`_0`, `_1`, …). File order is the order in which
+//! the recorder received them (inputs) or published them (outputs); log times, taken on several threads, can
+//! go backwards by microseconds within a file.
 
 use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use mcap::records::Record;
-use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
+use mcap::records::{op, Record};
 
 use super::rosbag2::parse_offered_qos;
 use super::{BagError, McapLayout, RecordedQos, TopicInfo};
 
-/// Largest uncompressed chunk the reader accepts (sweetspot writes chunks of a few MiB at most).
-const MAX_CHUNK_UNCOMPRESSED_SIZE: u64 = 256 * 1024 * 1024;
+/// Largest uncompressed chunk the reader decompresses, bytes (sweetspot writes chunks of 4 MiB at most;
+/// rosbag2 and the mcap writers default to well under 1 MiB).
+pub const MAX_CHUNK_UNCOMPRESSED_SIZE: u64 = 256 * 1024 * 1024;
+/// A chunk may claim up to this many uncompressed bytes whatever its compressed size.
+pub const CHUNK_EXPANSION_FREE_SIZE: u64 = 16 * 1024 * 1024;
+/// Beyond [`CHUNK_EXPANSION_FREE_SIZE`], a chunk may claim at most this many times its compressed size: more is
+/// a decompression bomb, refused before anything is allocated (zstd and LZ4 reach ~10× on CDR; a chunk of a
+/// few MiB of identical images may reach more and stays under the free size).
+pub const MAX_CHUNK_EXPANSION: u64 = 1024;
+/// Largest top-level record other than a chunk or an attachment (a schema, channel, metadata record, message
+/// of an unchunked file, or summary record) read into memory, bytes. Attachments are skipped unread.
+pub const MAX_RECORD_SIZE: u64 = 256 * 1024 * 1024;
+/// Largest zstd window the decoder accepts, as a power of two (zstd's own decoding default: 128 MiB).
+pub const ZSTD_WINDOW_LOG_MAX: u32 = 27;
+/// The MCAP magic, at the start and the end of every MCAP file.
+pub const MCAP_MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
+
+/// Opcode + record length in front of every record.
+const FRAME: u64 = 9;
+/// Footer record (frame + 20 bytes) and the closing magic.
+const FOOTER_AND_MAGIC: u64 = FRAME + 20 + 8;
+/// Channel id, sequence, log time, publish time at the start of a Message record.
+const MESSAGE_HEADER: usize = 22;
 
 /// A channel as found in a file, with its topic description.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +87,148 @@ pub struct MessageRef<'a> {
     pub data: &'a [u8],
 }
 
+/// What is wrong with a damaged part of a file.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum DamageKind {
+    /// The chunk's records do not match the CRC stored with them.
+    ChunkCrc {
+        /// CRC in the chunk record.
+        stored: u32,
+        /// CRC of the decompressed records.
+        computed: u32,
+    },
+    /// The chunk does not decompress to what it claims, or holds records that do not parse.
+    ChunkUndecodable {
+        /// What failed.
+        reason: String,
+    },
+    /// The chunk claims more uncompressed bytes than the reader's limits allow; refused unread.
+    ChunkTooLarge {
+        /// Uncompressed size the chunk claims, bytes.
+        uncompressed_size: u64,
+        /// Its compressed size, bytes.
+        compressed_size: u64,
+        /// The most this chunk may claim, bytes.
+        limit: u64,
+    },
+    /// The file ends inside a record: cut off by a crash, or still being written.
+    Truncated {
+        /// Bytes of the incomplete record present in the file.
+        cut_bytes: u64,
+    },
+    /// A record does not frame or parse; the read went on at `resumed_at`, or stopped there if None.
+    Unparsable {
+        /// What failed.
+        reason: String,
+        /// Where reading resumed (the next chunk the summary knows), if anywhere.
+        resumed_at: Option<u64>,
+        /// Chunks of the summary's chunk index skipped over.
+        chunks_skipped: u64,
+    },
+    /// Messages on a channel no Channel record declares.
+    UnknownChannel {
+        /// The channel id.
+        channel_id: u16,
+    },
+    /// Fewer (or more) messages were read than the file's own index or statistics say it holds.
+    CountMismatch {
+        /// What the file says.
+        expected: u64,
+        /// What was read.
+        read: u64,
+        /// `message index` (one chunk) or `statistics` (the whole file).
+        source: String,
+    },
+    /// The data section does not match its CRC in the DataEnd record.
+    DataSectionCrc {
+        /// CRC in the DataEnd record.
+        stored: u32,
+        /// CRC of the bytes read.
+        computed: u32,
+    },
+    /// The summary section is damaged (CRC or records); its chunk index and statistics are not used.
+    Summary {
+        /// What failed.
+        reason: String,
+    },
+}
+
+/// One damaged place in a file: what, where, and how many messages it cost.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct Damage {
+    /// The file.
+    pub file: PathBuf,
+    /// Offset in the file of the damaged record (or of the section checked).
+    pub offset: u64,
+    /// Index of the damaged chunk among the file's chunks (0-based), when a chunk is damaged.
+    pub chunk: Option<u64>,
+    /// What is wrong.
+    #[serde(flatten)]
+    pub kind: DamageKind,
+    /// Messages lost, when the file's indexes or statistics tell; None = unknown.
+    pub lost_messages: Option<u64>,
+}
+
+impl std::fmt::Display for DamageKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DamageKind::ChunkCrc { stored, computed } => {
+                write!(f, "CRC mismatch (stored {stored:#010x}, computed {computed:#010x})")
+            }
+            DamageKind::ChunkUndecodable { reason } => write!(f, "does not decode: {reason}"),
+            DamageKind::ChunkTooLarge { uncompressed_size, compressed_size, limit } => write!(
+                f,
+                "refused unread: claims {uncompressed_size} uncompressed bytes from {compressed_size} compressed, \
+                 more than the limit of {limit} bytes for this chunk (docs/file-formats.md, MCAP reading limits)"
+            ),
+            DamageKind::Truncated { cut_bytes } => write!(
+                f,
+                "the file ends inside a record ({cut_bytes} bytes of it present): cut off by a crash, or still \
+                 being written"
+            ),
+            DamageKind::Unparsable { reason, resumed_at: Some(at), chunks_skipped } => {
+                write!(
+                    f,
+                    "{reason}; skipped to the next indexed chunk at offset {at} ({chunks_skipped} chunks not read)"
+                )
+            }
+            DamageKind::Unparsable { reason, resumed_at: None, .. } => {
+                write!(f, "{reason}; the rest of the data section is not read")
+            }
+            DamageKind::UnknownChannel { channel_id } => {
+                write!(f, "messages on channel {channel_id}, which no Channel record declares")
+            }
+            DamageKind::CountMismatch { expected, read, source } => {
+                write!(f, "{read} messages read where the {source} says {expected}")
+            }
+            DamageKind::DataSectionCrc { stored, computed } => write!(
+                f,
+                "data section CRC mismatch (stored {stored:#010x}, computed {computed:#010x}): bytes outside the \
+                 checked chunks changed (an unchunked message, a message index, a channel)"
+            ),
+            DamageKind::Summary { reason } => {
+                write!(f, "summary damaged ({reason}); its chunk index and statistics are not used")
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Damage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: ", self.file.display())?;
+        match self.chunk {
+            Some(index) => write!(f, "chunk {index} at offset {}: ", self.offset)?,
+            None => write!(f, "at offset {}: ", self.offset)?,
+        }
+        write!(f, "{}; ", self.kind)?;
+        match self.lost_messages {
+            Some(n) => write!(f, "{n} messages lost"),
+            None => write!(f, "messages lost: unknown (no index tells)"),
+        }
+    }
+}
+
 /// What a scan of one file found.
 #[derive(Debug, Clone, Default)]
 pub struct FileScan {
@@ -59,15 +244,15 @@ pub struct FileScan {
     pub channels: BTreeMap<u16, ChannelInfo>,
     /// Messages read, per channel id.
     pub counts: BTreeMap<u16, u64>,
-    /// Complete chunks read.
+    /// Complete, undamaged chunks read.
     pub chunks: u64,
     /// Messages read from top-level Message records, outside any chunk (unchunked files).
     pub unchunked_messages: u64,
     /// Chunk compressions seen (e.g. `zstd`).
     pub compressions: Vec<String>,
-    /// Whether the file ended properly (data end, summary, footer, magic).
+    /// Whether the file ended properly (summary, footer, closing magic).
     pub complete: bool,
-    /// Chunks that were complete on disk but failed to decode (CRC or decompression), skipped.
+    /// Chunks skipped because they failed their checks (each is also in `damage`).
     pub corrupt_chunks: u64,
     /// Bytes at the end that did not form a complete record (cut off by a crash).
     pub truncated_bytes: u64,
@@ -75,6 +260,10 @@ pub struct FileScan {
     pub time_range: Option<(u64, u64)>,
     /// The last `rosbag2` metadata record's `serialized_metadata`, if any.
     pub rosbag2_metadata: Option<String>,
+    /// Messages the file's statistics record says it holds (finished files with an intact summary).
+    pub expected_messages: Option<u64>,
+    /// Every damaged place found, in file order.
+    pub damage: Vec<Damage>,
 }
 
 impl FileScan {
@@ -94,6 +283,32 @@ impl FileScan {
             None
         }
     }
+
+    /// Whether anything in the file is damaged.
+    pub fn damaged(&self) -> bool {
+        !self.damage.is_empty()
+    }
+
+    /// Messages lost to damage: (known count, whether some damage has an unknown count).
+    pub fn lost_messages(&self) -> (u64, bool) {
+        let known = self.damage.iter().filter_map(|d| d.lost_messages).sum();
+        (known, self.damage.iter().any(|d| d.lost_messages.is_none()))
+    }
+}
+
+/// Every damaged place of the scanned files, in order.
+pub fn damage_of(scans: &[FileScan]) -> Vec<&Damage> {
+    scans.iter().flat_map(|s| s.damage.iter()).collect()
+}
+
+/// One line summing up the damage of scanned files, e.g. `3 damaged places in 2 files, 1,024 messages lost`.
+pub fn damage_summary(scans: &[FileScan]) -> String {
+    let places = scans.iter().map(|s| s.damage.len()).sum::<usize>();
+    let files = scans.iter().filter(|s| s.damaged()).count();
+    let known: u64 = scans.iter().map(|s| s.lost_messages().0).sum();
+    let unknown = scans.iter().any(|s| s.lost_messages().1);
+    let lost = if unknown { format!("at least {known} messages lost") } else { format!("{known} messages lost") };
+    format!("{places} damaged place(s) in {files} file(s), {lost}")
 }
 
 /// The MCAP files of a bag: the `*.mcap` of a directory in split order (`_0`, `_1`, …), or the file itself.
@@ -124,131 +339,825 @@ pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
     Ok(files.into_iter().map(|(_, f)| f).collect())
 }
 
-/// Scans one MCAP file from start to end, calling `on_message` for every message of every complete
-/// chunk (or unchunked message). A file cut off mid-record is read up to its last complete record.
-pub fn scan_file(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Result<FileScan, BagError> {
-    let bytes = std::fs::read(path).map_err(|source| BagError::Io { path: path.to_path_buf(), source })?;
-    let mut scan = FileScan { path: path.to_path_buf(), size: bytes.len() as u64, ..FileScan::default() };
-    let mut schemas: BTreeMap<u16, (String, String, String)> = BTreeMap::new();
-    let mut reader = LinearReader::new_with_options(
-        LinearReaderOptions::default()
-            .with_emit_chunks(true)
-            .with_skip_end_magic(false)
-            // No record can be longer than the file; a longer length is a torn tail, not an allocation.
-            .with_record_length_limit(bytes.len()),
-    );
-    let mut offset = 0usize;
-    let mut consumed_records_end = 0u64;
-    let mut fed_all = false;
-    while let Some(event) = reader.next_event() {
-        let event = match event {
-            Ok(event) => event,
-            // A broken tail (e.g. garbage after a crash) ends the scan; everything before it is kept.
-            Err(_) => break,
+/// What a path is when it is not a regular file (following symlinks).
+fn not_regular(file_type: std::fs::FileType) -> Option<&'static str> {
+    use std::os::unix::fs::FileTypeExt;
+    if file_type.is_file() {
+        None
+    } else if file_type.is_dir() {
+        Some("a directory")
+    } else if file_type.is_fifo() {
+        Some("a FIFO")
+    } else if file_type.is_char_device() {
+        Some("a character device")
+    } else if file_type.is_block_device() {
+        Some("a block device")
+    } else if file_type.is_socket() {
+        Some("a socket")
+    } else {
+        Some("not a regular file")
+    }
+}
+
+/// Opens `path` for reading if it is (or a symlink resolves to) a regular file that starts with the MCAP magic;
+/// returns it with its size. Never blocks (a FIFO is refused before it is opened) and never reads more than
+/// the magic.
+pub fn open_mcap(path: &Path) -> Result<(File, u64), BagError> {
+    use std::os::unix::fs::OpenOptionsExt;
+    let io = |source| BagError::Io { path: path.to_path_buf(), source };
+    let refuse = |what: &str| BagError::NotRegularFile { path: path.to_path_buf(), what: what.to_string() };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if let Some(what) = not_regular(meta.file_type()) {
+        return Err(refuse(what));
+    }
+    // O_NONBLOCK: should the path become a FIFO between the check and the open, the open does not hang.
+    let mut file = std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK).open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if let Some(what) = not_regular(meta.file_type()) {
+        return Err(refuse(what));
+    }
+    let size = meta.len();
+    let not_mcap = |reason: String| BagError::NotMcap { path: path.to_path_buf(), reason };
+    if size == 0 {
+        return Err(not_mcap("the file is empty".to_string()));
+    }
+    let mut magic = [0u8; 8];
+    let n = read_up_to(&mut file, &mut magic).map_err(io)?;
+    if n < magic.len() || &magic != MCAP_MAGIC {
+        let shown: String = magic[..n].iter().map(|&b| if b.is_ascii_graphic() { b as char } else { '.' }).collect();
+        return Err(not_mcap(format!(
+            "it does not start with the MCAP magic \\x89MCAP0\\r\\n (it starts with {shown:?}, {size} bytes in all)"
+        )));
+    }
+    Ok((file, size))
+}
+
+/// Reads until `buf` is full or the end of the input; returns how many bytes were read.
+fn read_up_to(reader: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut filled = 0;
+    while filled < buf.len() {
+        match reader.read(&mut buf[filled..]) {
+            Ok(0) => break,
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(filled)
+}
+
+/// The file read front to back, hashing what passes (the data-section CRC) and counting the offset.
+struct Source {
+    file: BufReader<File>,
+    pos: u64,
+    crc: Option<crc32fast::Hasher>,
+}
+
+impl Read for Source {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.file.read(buf)?;
+        if let Some(crc) = &mut self.crc {
+            crc.update(&buf[..n]);
+        }
+        self.pos += n as u64;
+        Ok(n)
+    }
+}
+
+impl Source {
+    /// Jumps to `pos`; the data-section CRC can no longer be computed.
+    fn seek_to(&mut self, pos: u64) -> std::io::Result<()> {
+        self.file.seek(SeekFrom::Start(pos))?;
+        self.pos = pos;
+        self.crc = None;
+        Ok(())
+    }
+
+    /// Reads and drops `n` bytes (hashed as they pass).
+    fn skip(&mut self, n: u64) -> std::io::Result<()> {
+        let copied = std::io::copy(&mut Read::by_ref(self).take(n), &mut std::io::sink())?;
+        if copied < n {
+            return Err(std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "file shorter than its records"));
+        }
+        Ok(())
+    }
+
+    fn u64(&mut self) -> std::io::Result<u64> {
+        let mut b = [0u8; 8];
+        self.read_exact(&mut b)?;
+        Ok(u64::from_le_bytes(b))
+    }
+}
+
+/// A chunk listed in the summary's chunk index.
+#[derive(Debug, Clone, Copy)]
+struct IndexedChunk {
+    offset: u64,
+    /// Messages in it (from the length of its message indexes), if that length is consistent.
+    messages: Option<u64>,
+}
+
+/// The chunk just read, until the message indexes after it have been counted.
+#[derive(Debug)]
+struct PendingChunk {
+    index: u64,
+    offset: u64,
+    fault: Option<DamageKind>,
+    /// Message records inside it (0 if it failed).
+    messages: u64,
+    /// Entries of the message index records that follow it.
+    indexed: Option<u64>,
+}
+
+/// Where the message to hand out lives.
+#[derive(Debug, Clone, Copy)]
+struct Current {
+    channel_id: u16,
+    sequence: u32,
+    log_time: u64,
+    publish_time: u64,
+    in_chunk: bool,
+    start: usize,
+    end: usize,
+}
+
+/// A streaming reader of one MCAP file: [`FileReader::advance`] moves to the next message,
+/// [`FileReader::message`] borrows it, [`FileReader::finish`] returns what the scan found.
+pub struct FileReader {
+    src: Source,
+    scan: FileScan,
+    schemas: BTreeMap<u16, (String, String, String)>,
+    /// End of the data section: the summary's start, the footer, or the end of an unfinished file.
+    data_end: u64,
+    /// Chunk index of an intact summary, by offset.
+    indexed_chunks: Vec<IndexedChunk>,
+    statistics: Option<u64>,
+    next_chunk: u64,
+    pending: Option<PendingChunk>,
+    /// The current chunk's decompressed records, and (opcode, body start, body end) of each.
+    chunk: Vec<u8>,
+    spans: Vec<(u8, usize, usize)>,
+    next_span: usize,
+    /// The body of the current top-level record.
+    record: Vec<u8>,
+    current: Option<Current>,
+    unknown_channels: BTreeMap<u16, (u64, u64)>,
+    /// End of the last complete record read.
+    consumed: u64,
+    done: bool,
+}
+
+impl FileReader {
+    /// Opens one MCAP file (refusing anything that is not a regular MCAP file) and reads its summary, if it
+    /// has an intact one.
+    pub fn open(path: &Path) -> Result<FileReader, BagError> {
+        let (mut file, size) = open_mcap(path)?;
+        let io = |source| BagError::Io { path: path.to_path_buf(), source };
+        let mut scan = FileScan { path: path.to_path_buf(), size, ..FileScan::default() };
+        let mut indexed_chunks = Vec::new();
+        let mut statistics = None;
+        let mut data_end = size;
+        if size >= 8 + FOOTER_AND_MAGIC {
+            let footer_at = size - FOOTER_AND_MAGIC;
+            let mut tail = [0u8; FOOTER_AND_MAGIC as usize];
+            file.seek(SeekFrom::Start(footer_at)).map_err(io)?;
+            file.read_exact(&mut tail).map_err(io)?;
+            if &tail[29..] == MCAP_MAGIC {
+                let le64 = |at: usize| u64::from_le_bytes(tail[at..at + 8].try_into().unwrap_or([0; 8]));
+                let summary_start = le64(9);
+                let summary_crc = u32::from_le_bytes(tail[25..29].try_into().unwrap_or([0; 4]));
+                let footer_ok = tail[0] == op::FOOTER
+                    && le64(1) == 20
+                    && (summary_start == 0 || (8..=footer_at).contains(&summary_start));
+                if footer_ok {
+                    scan.complete = true;
+                    data_end = if summary_start == 0 { footer_at } else { summary_start };
+                    if summary_start != 0 {
+                        match read_summary(&mut file, summary_start, footer_at, &tail[..25], summary_crc) {
+                            Ok(Ok((chunks, stats))) => {
+                                indexed_chunks = chunks;
+                                statistics = stats;
+                            }
+                            Ok(Err(reason)) => scan.damage.push(Damage {
+                                file: path.to_path_buf(),
+                                offset: summary_start,
+                                chunk: None,
+                                kind: DamageKind::Summary { reason },
+                                lost_messages: None,
+                            }),
+                            Err(e) => return Err(io(e)),
+                        }
+                    }
+                } else {
+                    scan.damage.push(Damage {
+                        file: path.to_path_buf(),
+                        offset: footer_at,
+                        chunk: None,
+                        kind: DamageKind::Summary { reason: "the footer record does not parse".to_string() },
+                        lost_messages: None,
+                    });
+                }
+            }
+        }
+        file.seek(SeekFrom::Start(0)).map_err(io)?;
+        let mut src = Source { file: BufReader::with_capacity(64 * 1024, file), pos: 0, crc: Some(Default::default()) };
+        src.skip(8).map_err(io)?;
+        scan.expected_messages = statistics;
+        Ok(FileReader {
+            src,
+            scan,
+            schemas: BTreeMap::new(),
+            data_end,
+            indexed_chunks,
+            statistics,
+            next_chunk: 0,
+            pending: None,
+            chunk: Vec::new(),
+            spans: Vec::new(),
+            next_span: 0,
+            record: Vec::new(),
+            current: None,
+            unknown_channels: BTreeMap::new(),
+            consumed: 8,
+            done: false,
+        })
+    }
+
+    /// Moves to the next message; false at the end of the file. Damage is recorded and read around, never
+    /// returned as an error: errors are I/O failures only.
+    pub fn advance(&mut self) -> Result<bool, BagError> {
+        self.current = None;
+        loop {
+            while self.next_span < self.spans.len() {
+                let (opcode, start, end) = self.spans[self.next_span];
+                self.next_span += 1;
+                if opcode == op::MESSAGE {
+                    if self.take_message(true, start, end) {
+                        return Ok(true);
+                    }
+                } else if let Ok(record) = mcap::parse_record(opcode, &self.chunk[start..end]) {
+                    take_definition(record, &mut self.scan, &mut self.schemas);
+                }
+            }
+            if self.done {
+                return Ok(false);
+            }
+            if self.read_top_level().map_err(|source| BagError::Io { path: self.scan.path.clone(), source })? {
+                return Ok(true);
+            }
+        }
+    }
+
+    /// The message [`FileReader::advance`] moved to.
+    pub fn message(&self) -> Option<MessageRef<'_>> {
+        let c = self.current?;
+        let channel = self.scan.channels.get(&c.channel_id)?;
+        let data = if c.in_chunk { self.chunk.get(c.start..c.end)? } else { self.record.get(c.start..c.end)? };
+        Some(MessageRef {
+            channel,
+            channel_id: c.channel_id,
+            sequence: c.sequence,
+            log_time_ns: c.log_time,
+            publish_time_ns: c.publish_time,
+            data,
+        })
+    }
+
+    /// What the file held so far (everything, after [`FileReader::advance`] returned false).
+    pub fn scan(&self) -> &FileScan {
+        &self.scan
+    }
+
+    /// Reads whatever is left and returns the scan of the whole file.
+    pub fn finish(mut self) -> Result<FileScan, BagError> {
+        while self.advance()? {}
+        Ok(self.scan)
+    }
+
+    fn damage(&mut self, offset: u64, chunk: Option<u64>, kind: DamageKind, lost_messages: Option<u64>) {
+        self.scan.damage.push(Damage { file: self.scan.path.clone(), offset, chunk, kind, lost_messages });
+    }
+
+    /// Makes the message record at `start..end` of the chunk (or record) buffer current; false if its
+    /// channel is unknown (counted as damage) or it does not parse.
+    fn take_message(&mut self, in_chunk: bool, start: usize, end: usize) -> bool {
+        let body = if in_chunk { &self.chunk[start..end] } else { &self.record[start..end] };
+        if body.len() < MESSAGE_HEADER {
+            return false;
+        }
+        let channel_id = u16::from_le_bytes([body[0], body[1]]);
+        let sequence = u32::from_le_bytes(body[2..6].try_into().unwrap_or([0; 4]));
+        let log_time = u64::from_le_bytes(body[6..14].try_into().unwrap_or([0; 8]));
+        let publish_time = u64::from_le_bytes(body[14..22].try_into().unwrap_or([0; 8]));
+        if !self.scan.channels.contains_key(&channel_id) {
+            let offset = self.pending.as_ref().map_or(self.src.pos, |p| p.offset);
+            self.unknown_channels.entry(channel_id).or_insert((offset, 0)).1 += 1;
+            return false;
+        }
+        *self.scan.counts.entry(channel_id).or_insert(0) += 1;
+        self.scan.time_range = Some(match self.scan.time_range {
+            None => (log_time, log_time),
+            Some((a, b)) => (a.min(log_time), b.max(log_time)),
+        });
+        self.current = Some(Current {
+            channel_id,
+            sequence,
+            log_time,
+            publish_time,
+            in_chunk,
+            start: start + MESSAGE_HEADER,
+            end,
+        });
+        true
+    }
+
+    /// The index of the chunk at `offset`: its place in the summary's chunk index, else its place in the file.
+    fn chunk_index_at(&self, offset: u64) -> u64 {
+        match self.indexed_chunks.binary_search_by_key(&offset, |c| c.offset) {
+            Ok(i) => i as u64,
+            Err(_) => self.next_chunk,
+        }
+    }
+
+    /// Records the damage of the chunk just read, now that the message indexes after it are counted.
+    fn settle_pending_chunk(&mut self) {
+        let Some(chunk) = self.pending.take() else { return };
+        let summary_count = || {
+            self.indexed_chunks
+                .binary_search_by_key(&chunk.offset, |c| c.offset)
+                .ok()
+                .and_then(|i| self.indexed_chunks[i].messages)
         };
-        match event {
-            LinearReadEvent::ReadRequest(need) => {
-                if offset >= bytes.len() {
-                    fed_all = true;
-                    break;
-                }
-                let n = need.min(bytes.len() - offset).max(1).min(bytes.len() - offset);
-                reader.insert(n).copy_from_slice(&bytes[offset..offset + n]);
-                reader.notify_read(n);
-                offset += n;
+        match chunk.fault {
+            Some(kind) => {
+                let lost = chunk.indexed.or_else(summary_count);
+                self.scan.corrupt_chunks += 1;
+                self.damage(chunk.offset, Some(chunk.index), kind, lost);
             }
-            LinearReadEvent::Record { data, opcode } => {
-                consumed_records_end += 9 + data.len() as u64;
-                let record = match mcap::parse_record(opcode, data) {
-                    Ok(record) => record,
-                    // A record that does not parse means the framing can no longer be trusted: stop.
-                    Err(_) => {
-                        consumed_records_end -= 9 + data.len() as u64;
-                        break;
-                    }
-                };
-                match record {
-                    Record::Header(h) => {
-                        scan.profile = h.profile;
-                        scan.library = h.library;
-                    }
-                    Record::Chunk { header, data } => {
-                        let compression = header.compression.clone();
-                        let Ok(inner) = chunk_records(&header, &data) else {
-                            scan.corrupt_chunks += 1;
-                            continue;
+            None => {
+                if let Some(expected) = chunk.indexed.or_else(summary_count) {
+                    if expected != chunk.messages {
+                        let kind = DamageKind::CountMismatch {
+                            expected,
+                            read: chunk.messages,
+                            source: "chunk's message index".to_string(),
                         };
-                        scan.chunks += 1;
-                        if !compression.is_empty() && !scan.compressions.contains(&compression) {
-                            scan.compressions.push(compression);
-                        }
-                        for rec in inner {
-                            handle_record(rec, &mut scan, &mut schemas, &mut on_message);
-                        }
-                    }
-                    Record::Footer(_) => scan.complete = true,
-                    other => {
-                        if handle_record(other, &mut scan, &mut schemas, &mut on_message) {
-                            scan.unchunked_messages += 1;
-                        }
+                        self.damage(chunk.offset, Some(chunk.index), kind, expected.checked_sub(chunk.messages));
                     }
                 }
             }
         }
     }
-    let _ = fed_all;
-    // Magic (8) + records; anything beyond the last complete record is a cut-off tail.
-    let accounted = 8 + consumed_records_end + if scan.complete { 8 } else { 0 };
-    scan.truncated_bytes = scan.size.saturating_sub(accounted);
-    Ok(scan)
-}
 
-/// The records inside one chunk, decompressed and framed by hand so that no length a corrupt file claims is
-/// ever allocated before it is checked: mcap's ChunkReader reserves the sizes it reads up front, which aborts
-/// the process on a header claiming exabytes. Err = the chunk is corrupt.
-fn chunk_records(header: &mcap::records::ChunkHeader, data: &[u8]) -> Result<Vec<Record<'static>>, ()> {
-    use std::io::Read;
-    let claimed = header.uncompressed_size;
-    if claimed > MAX_CHUNK_UNCOMPRESSED_SIZE {
-        return Err(());
-    }
-    let decompressed: std::borrow::Cow<'_, [u8]> = match header.compression.as_str() {
-        "" => std::borrow::Cow::Borrowed(data),
-        "zstd" => std::borrow::Cow::Owned(zstd::bulk::decompress(data, claimed as usize).map_err(|_| ())?),
-        "lz4" => {
-            let mut out = Vec::new();
-            lz4::Decoder::new(data).map_err(|_| ())?.take(claimed + 1).read_to_end(&mut out).map_err(|_| ())?;
-            std::borrow::Cow::Owned(out)
+    /// The framing broke at `at`: resume at the next chunk the summary knows, or stop.
+    fn lose_framing(&mut self, at: u64, reason: String) -> std::io::Result<()> {
+        self.settle_pending_chunk();
+        let next = self.indexed_chunks.iter().position(|c| c.offset > at);
+        match next {
+            Some(next) if self.indexed_chunks[next].offset < self.data_end => {
+                let first = self.indexed_chunks.iter().position(|c| c.offset >= at).unwrap_or(next);
+                let skipped = &self.indexed_chunks[first..next];
+                let lost = skipped.iter().map(|c| c.messages).sum::<Option<u64>>();
+                let resume = self.indexed_chunks[next].offset;
+                let kind =
+                    DamageKind::Unparsable { reason, resumed_at: Some(resume), chunks_skipped: skipped.len() as u64 };
+                let chunk = if skipped.is_empty() { None } else { Some(first as u64) };
+                self.scan.corrupt_chunks += skipped.len() as u64;
+                self.damage(at, chunk, kind, lost);
+                self.next_chunk = next as u64;
+                self.src.seek_to(resume)
+            }
+            _ => {
+                let skipped = self.indexed_chunks.iter().filter(|c| c.offset >= at).count() as u64;
+                let lost = if self.indexed_chunks.is_empty() {
+                    None
+                } else {
+                    self.indexed_chunks.iter().filter(|c| c.offset >= at).map(|c| c.messages).sum::<Option<u64>>()
+                };
+                self.scan.corrupt_chunks += skipped;
+                let chunk = if skipped > 0 { Some(self.chunk_index_at(at)) } else { None };
+                self.damage(
+                    at,
+                    chunk,
+                    DamageKind::Unparsable { reason, resumed_at: None, chunks_skipped: skipped },
+                    lost,
+                );
+                self.end_of_data();
+                Ok(())
+            }
         }
-        _ => return Err(()),
-    };
-    if decompressed.len() as u64 != claimed {
-        return Err(());
     }
-    let bytes = &decompressed[..];
-    let mut records = Vec::new();
-    let mut offset = 0usize;
-    while offset < bytes.len() {
-        let frame = bytes.get(offset..offset + 9).ok_or(())?;
+
+    /// Reads the next top-level record; true if it is a message (of an unchunked file) to hand out.
+    fn read_top_level(&mut self) -> std::io::Result<bool> {
+        self.spans.clear();
+        self.next_span = 0;
+        let start = self.src.pos;
+        let crc_before = self.src.crc.clone();
+        if start >= self.data_end {
+            self.end_of_data();
+            return Ok(false);
+        }
+        let remaining = self.data_end - start;
+        if remaining < FRAME {
+            return self.cut_off(start, remaining, None);
+        }
+        let mut frame = [0u8; FRAME as usize];
+        self.src.read_exact(&mut frame)?;
         let opcode = frame[0];
-        let mut length = [0u8; 8];
-        length.copy_from_slice(&frame[1..9]);
-        let length = usize::try_from(u64::from_le_bytes(length)).map_err(|_| ())?;
-        let body_start = offset + 9;
-        let body = bytes.get(body_start..body_start.checked_add(length).ok_or(())?).ok_or(())?;
-        records.push(mcap::parse_record(opcode, body).map_err(|_| ())?.into_owned());
-        offset = body_start + length;
+        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
+        if opcode == 0 || (op::DATA_END < opcode && opcode < 0x80) {
+            self.lose_framing(start, format!("a record with the invalid opcode {opcode:#04x}"))?;
+            return Ok(false);
+        }
+        if length > remaining - FRAME {
+            if !self.scan.complete {
+                return self.cut_off(start, remaining, Some(opcode));
+            }
+            self.lose_framing(
+                start,
+                format!("a record (opcode {opcode:#04x}) claims {length} bytes, past the data section"),
+            )?;
+            return Ok(false);
+        }
+        if opcode != op::MESSAGE_INDEX {
+            self.settle_pending_chunk();
+        }
+        let end = start + FRAME + length;
+        match opcode {
+            op::CHUNK => self.read_chunk(start, length)?,
+            op::MESSAGE_INDEX => {
+                if length >= 6 {
+                    let mut head = [0u8; 6];
+                    self.src.read_exact(&mut head)?;
+                    self.src.skip(length - 6)?;
+                    let bytes = u64::from(u32::from_le_bytes(head[2..6].try_into().unwrap_or([0; 4])));
+                    if let Some(chunk) = &mut self.pending {
+                        if bytes + 6 == length && bytes % 16 == 0 {
+                            *chunk.indexed.get_or_insert(0) += bytes / 16;
+                        }
+                    }
+                } else {
+                    self.src.skip(length)?;
+                }
+            }
+            op::ATTACHMENT => self.src.skip(length)?,
+            op::DATA_END => {
+                let mut stored = [0u8; 4];
+                let present = length.min(4);
+                self.src.read_exact(&mut stored[..present as usize])?;
+                self.src.skip(length - present)?;
+                if let (Some(crc), true) = (crc_before, present == 4) {
+                    let stored = u32::from_le_bytes(stored);
+                    let computed = crc.finalize();
+                    if stored != 0 && stored != computed {
+                        self.damage(start, None, DamageKind::DataSectionCrc { stored, computed }, None);
+                    }
+                }
+                self.consumed = end;
+                self.end_of_data();
+                return Ok(false);
+            }
+            op::FOOTER => {
+                self.src.skip(length)?;
+                self.consumed = end;
+                self.end_of_data();
+                return Ok(false);
+            }
+            _ if length > MAX_RECORD_SIZE => {
+                self.src.skip(length)?;
+                let reason =
+                    format!("a record (opcode {opcode:#04x}) of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
+                self.damage(
+                    start,
+                    None,
+                    DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 },
+                    None,
+                );
+            }
+            _ => {
+                self.record.clear();
+                self.record.resize(length as usize, 0);
+                self.src.read_exact(&mut self.record)?;
+                self.consumed = end;
+                match opcode {
+                    op::MESSAGE => {
+                        if mcap::parse_record(opcode, &self.record).is_ok() {
+                            if self.take_message(false, 0, self.record.len()) {
+                                self.scan.unchunked_messages += 1;
+                                return Ok(true);
+                            }
+                        } else {
+                            let reason = "a message record does not parse".to_string();
+                            self.damage(
+                                start,
+                                None,
+                                DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 },
+                                Some(1),
+                            );
+                        }
+                    }
+                    _ => {
+                        let problem = match mcap::parse_record(opcode, &self.record) {
+                            Ok(Record::Header(h)) => {
+                                self.scan.profile = h.profile;
+                                self.scan.library = h.library;
+                                None
+                            }
+                            Ok(record) => {
+                                take_definition(record, &mut self.scan, &mut self.schemas);
+                                None
+                            }
+                            Err(e) => Some(format!("a record (opcode {opcode:#04x}) does not parse: {e}")),
+                        };
+                        if let Some(reason) = problem {
+                            let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
+                            self.damage(start, None, kind, None);
+                        }
+                    }
+                }
+            }
+        }
+        self.consumed = end;
+        Ok(false)
     }
-    Ok(records)
+
+    /// The file ends inside the record at `start` (of type `opcode`, if its frame is there).
+    fn cut_off(&mut self, start: u64, present: u64, opcode: Option<u8>) -> std::io::Result<bool> {
+        self.settle_pending_chunk();
+        let chunk = (opcode == Some(op::CHUNK)).then_some(self.next_chunk);
+        self.damage(start, chunk, DamageKind::Truncated { cut_bytes: present }, None);
+        self.end_of_data();
+        Ok(false)
+    }
+
+    /// Reads the chunk record of `length` bytes at `start` (its frame already read).
+    fn read_chunk(&mut self, start: u64, length: u64) -> std::io::Result<()> {
+        let index = self.chunk_index_at(start);
+        self.next_chunk = index + 1;
+        let mut pending = PendingChunk { index, offset: start, fault: None, messages: 0, indexed: None };
+        let end = start + FRAME + length;
+        // message_start_time, message_end_time, uncompressed_size, uncompressed_crc, compression length.
+        let mut head = [0u8; 32];
+        let fixed = 32 + 8;
+        let fail = |reason: String| DamageKind::ChunkUndecodable { reason };
+        if length < fixed {
+            self.src.skip(length)?;
+            pending.fault = Some(fail(format!("a chunk record of only {length} bytes")));
+            self.pending = Some(pending);
+            return Ok(());
+        }
+        self.src.read_exact(&mut head)?;
+        let uncompressed_size = u64::from_le_bytes(head[16..24].try_into().unwrap_or([0; 8]));
+        let stored_crc = u32::from_le_bytes(head[24..28].try_into().unwrap_or([0; 4]));
+        let name_len = u64::from(u32::from_le_bytes(head[28..32].try_into().unwrap_or([0; 4])));
+        if name_len > 255 || fixed + name_len > length {
+            self.src.skip(length - 32)?;
+            pending.fault = Some(fail(format!("a compression name of {name_len} bytes")));
+            self.pending = Some(pending);
+            return Ok(());
+        }
+        let mut name = vec![0u8; name_len as usize];
+        self.src.read_exact(&mut name)?;
+        let compression = String::from_utf8_lossy(&name).into_owned();
+        let records_len = self.src.u64()?;
+        let body_left = length - fixed - name_len;
+        if records_len != body_left {
+            self.src.skip(body_left)?;
+            pending.fault =
+                Some(fail(format!("its records claim {records_len} bytes where the record holds {body_left}")));
+            self.pending = Some(pending);
+            return Ok(());
+        }
+        let limit = chunk_size_limit(records_len);
+        let refusal = if uncompressed_size > limit {
+            Some(DamageKind::ChunkTooLarge { uncompressed_size, compressed_size: records_len, limit })
+        } else if compression.is_empty() && uncompressed_size != records_len {
+            Some(fail(format!("an uncompressed chunk of {records_len} bytes that claims {uncompressed_size}")))
+        } else if !matches!(compression.as_str(), "" | "zstd" | "lz4") {
+            Some(fail(format!("unsupported compression {compression:?}")))
+        } else {
+            None
+        };
+        if let Some(kind) = refusal {
+            self.src.skip(records_len)?;
+            pending.fault = Some(kind);
+            self.pending = Some(pending);
+            return Ok(());
+        }
+        self.chunk.clear();
+        self.spans.clear();
+        self.next_span = 0;
+        let decoded = {
+            let mut take = Read::by_ref(&mut self.src).take(records_len);
+            let decoded = match compression.as_str() {
+                "" => fill_chunk(&mut take, uncompressed_size, &mut self.chunk, &mut self.spans),
+                "zstd" => match zstd::stream::read::Decoder::new(&mut take) {
+                    Ok(mut decoder) => match decoder.window_log_max(ZSTD_WINDOW_LOG_MAX) {
+                        Ok(()) => fill_chunk(&mut decoder, uncompressed_size, &mut self.chunk, &mut self.spans),
+                        Err(e) => Err(format!("zstd: {e}")),
+                    },
+                    Err(e) => Err(format!("zstd: {e}")),
+                },
+                _ => match lz4::Decoder::new(&mut take) {
+                    Ok(mut decoder) => fill_chunk(&mut decoder, uncompressed_size, &mut self.chunk, &mut self.spans),
+                    Err(e) => Err(format!("lz4: {e}")),
+                },
+            };
+            std::io::copy(&mut take, &mut std::io::sink())?;
+            decoded
+        };
+        if self.src.pos != end {
+            return Err(std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "file shorter than its records"));
+        }
+        let verdict = decoded.map_err(fail).and_then(|()| {
+            let computed = crc32fast::hash(&self.chunk);
+            if stored_crc != 0 && stored_crc != computed {
+                return Err(DamageKind::ChunkCrc { stored: stored_crc, computed });
+            }
+            for (i, &(opcode, s, e)) in self.spans.iter().enumerate() {
+                if let Err(err) = mcap::parse_record(opcode, &self.chunk[s..e]) {
+                    return Err(fail(format!("record {i} (opcode {opcode:#04x}) does not parse: {err}")));
+                }
+            }
+            Ok(())
+        });
+        match verdict {
+            Ok(()) => {
+                pending.messages = self.spans.iter().filter(|s| s.0 == op::MESSAGE).count() as u64;
+                self.scan.chunks += 1;
+                if !compression.is_empty() && !self.scan.compressions.contains(&compression) {
+                    self.scan.compressions.push(compression);
+                }
+            }
+            Err(kind) => {
+                self.chunk.clear();
+                self.spans.clear();
+                pending.fault = Some(kind);
+            }
+        }
+        self.consumed = end;
+        self.pending = Some(pending);
+        Ok(())
+    }
+
+    /// The data section is over: settle what is pending and check the counts against the statistics.
+    fn end_of_data(&mut self) {
+        if self.done {
+            return;
+        }
+        self.done = true;
+        self.settle_pending_chunk();
+        for (channel_id, (offset, count)) in std::mem::take(&mut self.unknown_channels) {
+            self.damage(offset, None, DamageKind::UnknownChannel { channel_id }, Some(count));
+        }
+        if !self.scan.complete {
+            self.scan.truncated_bytes = self.scan.size.saturating_sub(self.consumed);
+        }
+        let Some(expected) = self.statistics else { return };
+        let read = self.scan.message_count();
+        let (known, _) = self.scan.lost_messages();
+        if read + known == expected {
+            return;
+        }
+        let missing = expected.checked_sub(read + known);
+        let unknown: Vec<usize> =
+            (0..self.scan.damage.len()).filter(|&i| self.scan.damage[i].lost_messages.is_none()).collect();
+        match (missing, unknown.as_slice()) {
+            (Some(missing), [only]) => self.scan.damage[*only].lost_messages = Some(missing),
+            _ => {
+                let kind = DamageKind::CountMismatch { expected, read, source: "statistics".to_string() };
+                self.damage(8, None, kind, missing);
+            }
+        }
+    }
 }
 
-/// Takes in one record; true if it was a message handed to `on_message`.
-fn handle_record(
-    record: Record<'_>,
-    scan: &mut FileScan,
-    schemas: &mut BTreeMap<u16, (String, String, String)>,
-    on_message: &mut impl FnMut(MessageRef<'_>),
-) -> bool {
+/// The most uncompressed bytes a chunk of `compressed_size` bytes may claim (see the limits above).
+pub fn chunk_size_limit(compressed_size: u64) -> u64 {
+    MAX_CHUNK_UNCOMPRESSED_SIZE.min(CHUNK_EXPANSION_FREE_SIZE.max(compressed_size.saturating_mul(MAX_CHUNK_EXPANSION)))
+}
+
+/// Decompressed chunk records into `out`, each record checked as it arrives so that a bomb of zeros or
+/// garbage stops at its first bad record: only Schema, Channel and Message records, none past the size the
+/// chunk claims, and exactly that many bytes in all.
+fn fill_chunk(
+    reader: &mut impl Read,
+    claimed: u64,
+    out: &mut Vec<u8>,
+    spans: &mut Vec<(u8, usize, usize)>,
+) -> Result<(), String> {
+    let claimed = usize::try_from(claimed).map_err(|_| "too large for this machine".to_string())?;
+    let io = |e: std::io::Error| format!("{e}");
+    while out.len() < claimed {
+        let at = out.len();
+        if claimed - at < FRAME as usize {
+            return Err(format!("{} stray bytes at the end of its records", claimed - at));
+        }
+        let mut frame = [0u8; FRAME as usize];
+        let n = read_up_to(reader, &mut frame).map_err(io)?;
+        if n < frame.len() {
+            return Err(format!("it decompresses to {} bytes, not the {claimed} it claims", at + n));
+        }
+        let opcode = frame[0];
+        if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
+            return Err(format!(
+                "byte {at} of its records starts a record with opcode {opcode:#04x} (a chunk holds only schemas, \
+                 channels and messages)"
+            ));
+        }
+        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
+        let room = (claimed - at - FRAME as usize) as u64;
+        if length > room {
+            return Err(format!("the record at byte {at} claims {length} bytes, past the chunk's end"));
+        }
+        out.extend_from_slice(&frame);
+        let body_start = out.len();
+        out.resize(body_start + length as usize, 0);
+        let n = read_up_to(reader, &mut out[body_start..]).map_err(io)?;
+        if n < length as usize {
+            return Err(format!("it decompresses to {} bytes, not the {claimed} it claims", body_start + n));
+        }
+        spans.push((opcode, body_start, out.len()));
+    }
+    let mut extra = [0u8; 1];
+    if read_up_to(reader, &mut extra).map_err(io)? > 0 {
+        return Err(format!("it decompresses to more than the {claimed} bytes it claims"));
+    }
+    Ok(())
+}
+
+/// Reads and checks the summary section `[start, footer_at)`: the chunk index (by offset) and the statistics'
+/// message count. Ok(Err(reason)) when the summary is damaged.
+#[allow(clippy::type_complexity)]
+fn read_summary(
+    file: &mut File,
+    start: u64,
+    footer_at: u64,
+    footer_prefix: &[u8],
+    stored_crc: u32,
+) -> std::io::Result<Result<(Vec<IndexedChunk>, Option<u64>), String>> {
+    file.seek(SeekFrom::Start(start))?;
+    let mut reader = BufReader::with_capacity(64 * 1024, Read::by_ref(file).take(footer_at - start));
+    let mut crc = crc32fast::Hasher::new();
+    let mut chunks = Vec::new();
+    let mut statistics = None;
+    let mut pos = start;
+    let mut body = Vec::new();
+    let mut problem = None;
+    while pos < footer_at {
+        let mut frame = [0u8; FRAME as usize];
+        if footer_at - pos < FRAME {
+            problem = Some(format!("{} stray bytes before the footer", footer_at - pos));
+            break;
+        }
+        reader.read_exact(&mut frame)?;
+        let opcode = frame[0];
+        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
+        if length > footer_at - pos - FRAME || length > MAX_RECORD_SIZE {
+            problem = Some(format!("a record at offset {pos} claims {length} bytes"));
+            break;
+        }
+        crc.update(&frame);
+        body.clear();
+        body.resize(length as usize, 0);
+        reader.read_exact(&mut body)?;
+        crc.update(&body);
+        match mcap::parse_record(opcode, &body) {
+            Ok(Record::ChunkIndex(index)) => {
+                let channels = index.message_index_offsets.len() as u64;
+                let framing = (FRAME + 6) * channels;
+                let messages = index
+                    .message_index_length
+                    .checked_sub(framing)
+                    .filter(|bytes| bytes % 16 == 0)
+                    .map(|bytes| bytes / 16);
+                chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
+            }
+            Ok(Record::Statistics(stats)) => statistics = Some(stats.message_count),
+            Ok(_) => {}
+            Err(e) => {
+                problem.get_or_insert(format!("a record (opcode {opcode:#04x}) at offset {pos} does not parse: {e}"));
+            }
+        }
+        pos += FRAME + length;
+    }
+    if problem.is_none() {
+        crc.update(footer_prefix);
+        let computed = crc.finalize();
+        if stored_crc != 0 && stored_crc != computed {
+            problem = Some(format!("CRC mismatch: stored {stored_crc:#010x}, computed {computed:#010x}"));
+        }
+    }
+    if let Some(reason) = problem {
+        return Ok(Err(reason));
+    }
+    chunks.sort_by_key(|c| c.offset);
+    Ok(Ok((chunks, statistics)))
+}
+
+/// Takes in a schema, channel or metadata record.
+fn take_definition(record: Record<'_>, scan: &mut FileScan, schemas: &mut BTreeMap<u16, (String, String, String)>) {
     match record {
         Record::Schema { header, data } => {
             let text = String::from_utf8_lossy(&data).into_owned();
@@ -269,24 +1178,6 @@ fn handle_record(
                 metadata: channel.metadata,
             });
         }
-        Record::Message { header, data } => {
-            if let Some(channel) = scan.channels.get(&header.channel_id) {
-                on_message(MessageRef {
-                    channel,
-                    channel_id: header.channel_id,
-                    sequence: header.sequence,
-                    log_time_ns: header.log_time,
-                    publish_time_ns: header.publish_time,
-                    data: &data,
-                });
-                *scan.counts.entry(header.channel_id).or_insert(0) += 1;
-                scan.time_range = Some(match scan.time_range {
-                    None => (header.log_time, header.log_time),
-                    Some((a, b)) => (a.min(header.log_time), b.max(header.log_time)),
-                });
-                return true;
-            }
-        }
         Record::Metadata(m) if m.name == "rosbag2" => {
             if let Some(text) = m.metadata.get("serialized_metadata") {
                 scan.rosbag2_metadata = Some(text.clone());
@@ -294,14 +1185,83 @@ fn handle_record(
         }
         _ => {}
     }
-    false
 }
 
-/// Reads every message of a bag (directory or file), in file order then record order.
-pub fn read_bag(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Result<Vec<FileScan>, BagError> {
-    let mut scans = Vec::new();
-    for file in bag_files(path)? {
-        scans.push(scan_file(&file, &mut on_message)?);
+/// A streaming reader of a whole bag (a directory of split files, or one file): every file is checked to be
+/// a regular MCAP file when the bag is opened, then read one after the other, one chunk in memory at a time.
+pub struct BagReader {
+    files: std::vec::IntoIter<PathBuf>,
+    current: Option<FileReader>,
+    scans: Vec<FileScan>,
+}
+
+impl BagReader {
+    /// Opens a bag; refuses it if any of its files is not a regular file starting with the MCAP magic.
+    pub fn open(path: &Path) -> Result<BagReader, BagError> {
+        let files = bag_files(path)?;
+        for file in &files {
+            open_mcap(file)?;
+        }
+        Ok(BagReader { files: files.into_iter(), current: None, scans: Vec::new() })
     }
-    Ok(scans)
+
+    /// The next message in file order (files in split order), or None at the end of the bag.
+    pub fn next_message(&mut self) -> Result<Option<MessageRef<'_>>, BagError> {
+        loop {
+            match self.current.as_mut() {
+                Some(reader) => {
+                    if reader.advance()? {
+                        break;
+                    }
+                    if let Some(reader) = self.current.take() {
+                        self.scans.push(reader.finish()?);
+                    }
+                }
+                None => match self.files.next() {
+                    Some(file) => self.current = Some(FileReader::open(&file)?),
+                    None => return Ok(None),
+                },
+            }
+        }
+        Ok(self.current.as_ref().and_then(FileReader::message))
+    }
+
+    /// Scans of the files read to their end so far.
+    pub fn scans(&self) -> &[FileScan] {
+        &self.scans
+    }
+
+    /// Damage found so far, in order (files read to their end, then the file being read).
+    pub fn damage(&self) -> impl Iterator<Item = &Damage> {
+        self.scans.iter().chain(self.current.as_ref().map(FileReader::scan)).flat_map(|s| s.damage.iter())
+    }
+
+    /// Reads whatever is left and returns the scans of every file.
+    pub fn finish(mut self) -> Result<Vec<FileScan>, BagError> {
+        while self.next_message()?.is_some() {}
+        Ok(self.scans)
+    }
+}
+
+/// Scans one MCAP file from start to end, calling `on_message` for every message of every intact chunk (or
+/// unchunked message). Damage is in the returned scan, not an error: errors are for files that cannot be
+/// read at all (I/O, not a regular file, not MCAP).
+pub fn scan_file(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Result<FileScan, BagError> {
+    let mut reader = FileReader::open(path)?;
+    while reader.advance()? {
+        if let Some(message) = reader.message() {
+            on_message(message);
+        }
+    }
+    reader.finish()
+}
+
+/// Reads every message of a bag (directory or file), in file order then record order, streaming. Damage is in
+/// the returned scans ([`FileScan::damage`]); callers that must not go on past damage check them.
+pub fn read_bag(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Result<Vec<FileScan>, BagError> {
+    let mut reader = BagReader::open(path)?;
+    while let Some(message) = reader.next_message()? {
+        on_message(message);
+    }
+    reader.finish()
 }

@@ -1,122 +1,157 @@
-//! `bag recover`: rebuild files cut off by a crash (no summary/footer), keeping every complete chunk, or in
-//! an unchunked file every complete message; a rebuilt file keeps its layout (chunked or unchunked).
+//! `bag recover`: a repaired copy of a bag whose files were cut off by a crash (no summary/footer) or are
+//! damaged, written beside it; the original is never renamed, rewritten or deleted.
+//!
+//! Every message the streaming reader can vouch for is kept (every intact chunk; in an unchunked file every
+//! complete message), in file order, in a file of the same layout (chunked or unchunked) with a fresh summary.
+//! What could not be kept is reported per file: the damaged places (file, chunk, offset) and the messages
+//! lost. Files that are finished and undamaged are linked (or copied) into the copy unchanged. A bag with
+//! nothing to repair gets no copy at all. Anything that is not a regular MCAP file is refused before anything
+//! is written.
 
 use std::collections::BTreeMap;
-use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use mcap::records::MessageHeader;
 
 use super::info::metadata_of;
-use super::reader::{bag_files, scan_file, FileScan};
+use super::reader::{bag_files, damage_summary, open_mcap, scan_file, Damage, FileReader, FileScan};
 use super::writer::LIBRARY;
 use super::{BagError, McapLayout};
 
-/// What recovery did to one file.
+/// `custom_data` key of a recovered bag: where it was recovered from and what was lost.
+pub const CUSTOM_DATA_RECOVERED: &str = "sweetspot/recovered_from";
+
+/// What recovery did with one file.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct RecoveredFile {
-    /// The file.
+    /// The original file (never modified).
     pub path: PathBuf,
-    /// Whether it needed rebuilding (false: it was complete and left untouched).
+    /// Where its messages are in the copy (None when no copy was written).
+    pub output: Option<PathBuf>,
+    /// Whether it was rebuilt (false: finished and undamaged, linked or copied as it is, or nothing written).
     pub rebuilt: bool,
+    /// Whether the original ended properly (summary and footer).
+    pub complete: bool,
     /// Messages kept.
     pub messages: u64,
-    /// Complete chunks kept.
+    /// Intact chunks kept.
     pub chunks: u64,
     /// How the file holds its messages (None: it has none).
     pub layout: Option<McapLayout>,
     /// Bytes of cut-off tail dropped.
     pub dropped_tail_bytes: u64,
-    /// Chunks dropped because they failed to decode.
+    /// Chunks dropped because they failed their checks.
     pub dropped_corrupt_chunks: u64,
-    /// Where the original was kept (`<file>.broken`), if rebuilt.
-    pub original_kept_as: Option<PathBuf>,
+    /// Messages dropped, as far as the file's indexes tell.
+    pub lost_messages: u64,
+    /// Whether some of the damage has an unknown message count (`lost_messages` is then a lower bound).
+    pub lost_messages_unknown: bool,
+    /// Every damaged place found.
+    pub damage: Vec<Damage>,
 }
 
-struct Kept {
-    channel: u16,
-    sequence: u32,
-    log_time: u64,
-    publish_time: u64,
-    data: Vec<u8>,
+/// What recovery did.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Recovery {
+    /// The repaired copy (a file for a file, a bag directory for a directory), or None when nothing needed
+    /// repair and nothing was written.
+    pub output: Option<PathBuf>,
+    /// Per file of the original, in order.
+    pub files: Vec<RecoveredFile>,
 }
 
-/// Recovers a bag directory (every unfinished file, then `metadata.yaml`) or a single `.mcap` file.
-/// `on_file` is called after each file (for progress).
-pub fn recover(path: &Path, mut on_file: impl FnMut(&RecoveredFile)) -> Result<Vec<RecoveredFile>, BagError> {
+/// Where the copy goes by default: `NAME.recovered.mcap` beside `NAME.mcap`, `DIR.recovered/` beside `DIR/`.
+pub fn default_output(path: &Path) -> PathBuf {
+    let is_dir = path.is_dir();
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "bag".to_string());
+    let parent = path.parent().unwrap_or_else(|| Path::new(""));
+    if is_dir {
+        parent.join(format!("{name}.recovered"))
+    } else {
+        let stem = name.strip_suffix(".mcap").unwrap_or(&name);
+        parent.join(format!("{stem}.recovered.mcap"))
+    }
+}
+
+/// Recovers a bag directory or a single `.mcap` file into `output` (default [`default_output`]), which must
+/// not exist. `on_file` is called after each file (progress).
+pub fn recover(
+    path: &Path,
+    output: Option<&Path>,
+    mut on_file: impl FnMut(&RecoveredFile),
+) -> Result<Recovery, BagError> {
     let is_dir = path.is_dir();
     let files = bag_files(path)?;
-    let mut scans: Vec<FileScan> = Vec::new();
-    let mut pending: Vec<(usize, Vec<Kept>)> = Vec::new();
     for file in &files {
-        let mut kept = Vec::new();
-        let scan = scan_file(file, |m| {
-            kept.push(Kept {
-                channel: m.channel_id,
-                sequence: m.sequence,
-                log_time: m.log_time_ns,
-                publish_time: m.publish_time_ns,
-                data: m.data.to_vec(),
-            });
-        })?;
-        if !scan.complete {
-            pending.push((scans.len(), kept));
-        }
-        scans.push(scan);
+        open_mcap(file)?;
     }
-    // The rosbag2 record of rebuilt files describes the bag as recovered.
-    let metadata = metadata_of(&scans);
-    let mut report = Vec::new();
-    let mut pending = pending.into_iter().peekable();
-    for (index, scan) in scans.iter().enumerate() {
-        let rebuilt = pending.peek().is_some_and(|(i, _)| *i == index);
-        let entry = if rebuilt {
-            let (_, kept) = pending.next().ok_or_else(|| BagError::Format("internal: recovery queue".into()))?;
-            let broken = with_suffix(&scan.path, ".broken");
-            std::fs::rename(&scan.path, &broken).map_err(|source| BagError::Io { path: scan.path.clone(), source })?;
-            rewrite(&scan.path, scan, &kept, &metadata.to_yaml_body(0))?;
-            RecoveredFile {
-                path: scan.path.clone(),
-                rebuilt: true,
-                messages: kept.len() as u64,
-                chunks: scan.chunks,
-                layout: scan.layout(),
-                dropped_tail_bytes: scan.truncated_bytes,
-                dropped_corrupt_chunks: scan.corrupt_chunks,
-                original_kept_as: Some(broken),
-            }
-        } else {
-            RecoveredFile {
-                path: scan.path.clone(),
-                rebuilt: false,
-                messages: scan.message_count(),
-                chunks: scan.chunks,
-                layout: scan.layout(),
-                dropped_tail_bytes: 0,
-                dropped_corrupt_chunks: 0,
-                original_kept_as: None,
-            }
-        };
-        on_file(&entry);
-        report.push(entry);
+    let scans: Vec<FileScan> = files.iter().map(|f| scan_file(f, |_| {})).collect::<Result<_, _>>()?;
+    let needs_repair = |s: &FileScan| !s.complete || s.damaged();
+    let entry = |s: &FileScan, output: Option<PathBuf>, rebuilt: bool| RecoveredFile {
+        path: s.path.clone(),
+        output,
+        rebuilt,
+        complete: s.complete,
+        messages: s.message_count(),
+        chunks: s.chunks,
+        layout: s.layout(),
+        dropped_tail_bytes: s.truncated_bytes,
+        dropped_corrupt_chunks: s.corrupt_chunks,
+        lost_messages: s.lost_messages().0,
+        lost_messages_unknown: s.lost_messages().1,
+        damage: s.damage.clone(),
+    };
+    if !scans.iter().any(needs_repair) {
+        let report: Vec<RecoveredFile> = scans.iter().map(|s| entry(s, None, false)).collect();
+        report.iter().for_each(&mut on_file);
+        return Ok(Recovery { output: None, files: report });
+    }
+    let output = output.map(Path::to_path_buf).unwrap_or_else(|| default_output(path));
+    if std::fs::symlink_metadata(&output).is_ok() {
+        return Err(BagError::Format(format!(
+            "{} already exists: recovery never overwrites anything (remove it or pass --output)",
+            output.display()
+        )));
     }
     if is_dir {
-        metadata.write_to_dir(path)?;
+        std::fs::create_dir(&output).map_err(|source| BagError::Io { path: output.clone(), source })?;
     }
-    Ok(report)
+    let mut metadata = metadata_of(&scans);
+    metadata
+        .custom_data
+        .insert(CUSTOM_DATA_RECOVERED.to_string(), format!("{}: {}", path.display(), damage_summary(&scans)));
+    if !is_dir {
+        if let (Some(file), Some(name)) = (metadata.files.first_mut(), output.file_name()) {
+            file.path = name.to_string_lossy().into_owned();
+        }
+    }
+    let rosbag2_yaml = metadata.to_yaml_body(0);
+    let mut report = Vec::new();
+    for scan in &scans {
+        let name = scan.path.file_name().map(PathBuf::from).unwrap_or_default();
+        let target = if is_dir { output.join(&name) } else { output.clone() };
+        let rebuilt = needs_repair(scan);
+        if rebuilt {
+            rewrite(&scan.path, &target, scan, &rosbag2_yaml)?;
+        } else if std::fs::hard_link(&scan.path, &target).is_err() {
+            std::fs::copy(&scan.path, &target).map_err(|source| BagError::Io { path: target.clone(), source })?;
+        }
+        let file = entry(scan, Some(target), rebuilt);
+        on_file(&file);
+        report.push(file);
+    }
+    if is_dir {
+        metadata.write_to_dir(&output)?;
+    }
+    Ok(Recovery { output: Some(output), files: report })
 }
 
-fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
-    let mut s = path.as_os_str().to_owned();
-    s.push(suffix);
-    PathBuf::from(s)
-}
-
-fn rewrite(path: &Path, scan: &FileScan, kept: &[Kept], rosbag2_yaml: &str) -> Result<(), BagError> {
-    let io = |source| BagError::Io { path: path.to_path_buf(), source };
-    let mcap = |e: mcap::McapError| BagError::Mcap(format!("{}: {e}", path.display()));
-    let file = File::create(path).map_err(io)?;
+/// Writes every message the reader vouches for from `original` into a new file `target`, streaming.
+fn rewrite(original: &Path, target: &Path, scan: &FileScan, rosbag2_yaml: &str) -> Result<(), BagError> {
+    let io = |source| BagError::Io { path: target.to_path_buf(), source };
+    let mcap = |e: mcap::McapError| BagError::Mcap(format!("{}: {e}", target.display()));
+    let file = std::fs::OpenOptions::new().write(true).create_new(true).open(target).map_err(io)?;
     let profile = if scan.profile.is_empty() { "ros2" } else { scan.profile.as_str() };
     let mut writer = mcap::WriteOptions::new()
         .profile(profile)
@@ -129,20 +164,45 @@ fn rewrite(path: &Path, scan: &FileScan, kept: &[Kept], rosbag2_yaml: &str) -> R
         .create(BufWriter::new(file))
         .map_err(mcap)?;
     let mut by_original: BTreeMap<u16, u16> = BTreeMap::new();
-    for (&original_id, channel) in &scan.channels {
+    let mut reader = FileReader::open(original)?;
+    while reader.advance()? {
+        let Some(m) = reader.message() else { continue };
+        let channel_id = match by_original.get(&m.channel_id) {
+            Some(&id) => id,
+            None => {
+                let channel = m.channel;
+                let schema = writer
+                    .add_schema(
+                        &channel.topic.type_name,
+                        &channel.schema_encoding,
+                        channel.topic.schema_text.as_bytes(),
+                    )
+                    .map_err(mcap)?;
+                let id = writer
+                    .add_channel(schema, &channel.topic.name, &channel.message_encoding, &channel.metadata)
+                    .map_err(mcap)?;
+                by_original.insert(m.channel_id, id);
+                id
+            }
+        };
+        let header = MessageHeader {
+            channel_id,
+            sequence: m.sequence,
+            log_time: m.log_time_ns,
+            publish_time: m.publish_time_ns,
+        };
+        writer.write_to_known_channel(&header, m.data).map_err(mcap)?;
+    }
+    // Channels without a surviving message are kept too: a reader still sees every topic of the recording.
+    let read = reader.finish()?;
+    for (original_id, channel) in &read.channels {
+        if by_original.contains_key(original_id) {
+            continue;
+        }
         let schema = writer
             .add_schema(&channel.topic.type_name, &channel.schema_encoding, channel.topic.schema_text.as_bytes())
             .map_err(mcap)?;
-        let id = writer
-            .add_channel(schema, &channel.topic.name, &channel.message_encoding, &channel.metadata)
-            .map_err(mcap)?;
-        by_original.insert(original_id, id);
-    }
-    for m in kept {
-        let Some(&channel_id) = by_original.get(&m.channel) else { continue };
-        let header =
-            MessageHeader { channel_id, sequence: m.sequence, log_time: m.log_time, publish_time: m.publish_time };
-        writer.write_to_known_channel(&header, &m.data).map_err(mcap)?;
+        writer.add_channel(schema, &channel.topic.name, &channel.message_encoding, &channel.metadata).map_err(mcap)?;
     }
     let record = mcap::records::Metadata {
         name: "rosbag2".to_string(),
@@ -154,4 +214,15 @@ fn rewrite(path: &Path, scan: &FileScan, kept: &[Kept], rosbag2_yaml: &str) -> R
     inner.flush().map_err(io)?;
     inner.get_ref().sync_all().map_err(io)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_copy_goes_beside_the_original() {
+        assert_eq!(default_output(Path::new("/x/run_0.mcap")), PathBuf::from("/x/run_0.recovered.mcap"));
+        assert_eq!(default_output(Path::new("/x/notes")), PathBuf::from("/x/notes.recovered.mcap"));
+    }
 }

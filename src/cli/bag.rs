@@ -17,12 +17,19 @@ pub enum BagCommand {
         /// Print JSON instead of the `ros2 bag info` layout.
         #[arg(long)]
         json: bool,
+        /// Exit 0 even if the bag is damaged (the damage is still listed).
+        #[arg(long)]
+        skip_damaged: bool,
     },
-    /// Rebuild files cut off by a crash (no summary/footer), keeping every complete chunk, and rewrite
-    /// metadata.yaml. Originals are kept as `<file>.broken`.
+    /// Write a repaired copy of a bag cut off by a crash (no summary/footer) or damaged, keeping every intact
+    /// chunk (every complete message of an unchunked file), and say what was dropped. The original is never
+    /// modified; the copy goes beside it (`NAME.recovered.mcap`, `DIR.recovered/`) or to --output.
     Recover {
         /// Bag directory or .mcap file.
         path: PathBuf,
+        /// Where to write the copy (must not exist).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
     },
     /// One row per recorded swing: its inputs joined with the ExitVelocity and ModalEnergies computed for
     /// it (matched by namespace and swing_id).
@@ -35,6 +42,9 @@ pub enum BagCommand {
         /// Output file (default: stdout).
         #[arg(short, long)]
         output: Option<PathBuf>,
+        /// Go on past damaged chunks with everything intact around them (the damage is still listed).
+        #[arg(long)]
+        skip_damaged: bool,
     },
     /// Re-run the physics on every recorded swing with the bat/ball in force at that moment and compare with
     /// the recorded ExitVelocity and ModalEnergies. Exits non-zero if any swing differs beyond the tolerance
@@ -69,6 +79,9 @@ pub enum BagCommand {
         /// Print the report as JSON.
         #[arg(long)]
         json: bool,
+        /// Go on past damaged chunks with everything intact around them (the damage is still listed).
+        #[arg(long)]
+        skip_damaged: bool,
     },
     /// Republish the recorded inputs (BatParams, BallParams, Swing) over DDS with their original timing;
     /// params recorded before the first swing go out first, latched (transient-local).
@@ -93,16 +106,23 @@ pub enum BagCommand {
         /// Do not print each message.
         #[arg(short, long)]
         quiet: bool,
+        /// Go on past damaged chunks with everything intact around them (the damage is still listed).
+        #[arg(long)]
+        skip_damaged: bool,
     },
 }
 
 /// Runs one `bag` subcommand.
 pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
     match cmd {
-        BagCommand::Info { path, json } => info(path, json),
-        BagCommand::Recover { path } => recover(path),
-        BagCommand::Export { path, csv: _, output } => export(path, output),
-        BagCommand::Play { path, rate, repeat, topics, wait_subscribers, timeout, quiet } => {
+        BagCommand::Info { path, json, skip_damaged } => info(path, json, skip_damaged),
+        BagCommand::Recover { path, output } => recover(path, output),
+        BagCommand::Export { path, csv: _, output, skip_damaged } => {
+            let skipped = check_damage(&path, skip_damaged)?;
+            export(path, output, skipped)
+        }
+        BagCommand::Play { path, rate, repeat, topics, wait_subscribers, timeout, quiet, skip_damaged } => {
+            check_damage(&path, skip_damaged)?;
             if !(timeout > 0.0 && timeout.is_finite()) {
                 anyhow::bail!("--timeout {timeout} is out of range: expected a finite value > 0 s");
             }
@@ -115,9 +135,26 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             };
             play(path, options, quiet)
         }
-        BagCommand::Replay { path, tolerance, bat, ball, modes, time_step, default_modes, default_bat, all, json } => {
+        BagCommand::Replay {
+            path,
+            tolerance,
+            bat,
+            ball,
+            modes,
+            time_step,
+            default_modes,
+            default_bat,
+            all,
+            json,
+            skip_damaged,
+        } => {
+            let skipped = check_damage(&path, skip_damaged)?;
             let what_if = bag::replay::WhatIf { bat, ball, modes };
-            replay(path, tolerance, what_if, (time_step, default_modes, default_bat), all, json)
+            replay(path, tolerance, what_if, (time_step, default_modes, default_bat), all, json)?;
+            if let Some(skipped) = skipped {
+                eprintln!("skipped (--skip-damaged): {skipped}");
+            }
+            Ok(())
         }
     }
 }
@@ -125,6 +162,44 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
 /// BagError's message already includes its I/O cause; flatten it so anyhow's chain does not print it twice.
 fn flat(err: bag::BagError) -> anyhow::Error {
     anyhow::anyhow!("{err}")
+}
+
+/// Reads a bag once, streaming, to find damage before a tool uses it. Damage is an error naming every damaged
+/// place unless `skip_damaged`; then it is listed on stderr and its one-line summary returned, for the tool
+/// to repeat when it is done.
+fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Option<String>> {
+    let files =
+        bag::reader::bag_files(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let bar = progress(files.len() as u64, "checking");
+    let mut reader =
+        bag::reader::BagReader::open(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let mut seen = 0;
+    while reader.next_message().map_err(flat)?.is_some() {
+        if reader.scans().len() != seen {
+            seen = reader.scans().len();
+            bar.set_position(seen as u64);
+        }
+    }
+    bar.finish_and_clear();
+    let scans = reader.finish().map_err(flat)?;
+    damage_verdict(&scans, skip_damaged)
+}
+
+/// Ok(None) for an undamaged bag; for a damaged one, an error listing the damage, or with `skip_damaged` the
+/// list on stderr and Ok(summary).
+fn damage_verdict(scans: &[bag::reader::FileScan], skip_damaged: bool) -> anyhow::Result<Option<String>> {
+    let damage = bag::reader::damage_of(scans);
+    if damage.is_empty() {
+        return Ok(None);
+    }
+    let details = damage.iter().map(|d| format!("  {d}")).collect::<Vec<_>>().join("\n");
+    let summary = format!("damaged bag: {}", bag::reader::damage_summary(scans));
+    if skip_damaged {
+        eprintln!("{summary}; going on without it (--skip-damaged):\n{details}");
+        Ok(Some(summary))
+    } else {
+        Err(flat(bag::BagError::Damaged { summary, details }))
+    }
 }
 
 /// A spinner/bar on stderr, only when stderr is a terminal (scripts and tests get clean output).
@@ -140,10 +215,12 @@ pub(crate) fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
     bar
 }
 
-fn info(path: PathBuf, json: bool) -> anyhow::Result<()> {
+fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
     let files =
         bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
     let bar = progress(files.len() as u64, "scanning");
+    // Every file is checked (regular file, MCAP magic) before any is read.
+    bag::reader::BagReader::open(&path).map_err(flat)?;
     let mut scans = Vec::new();
     for file in &files {
         scans.push(
@@ -160,42 +237,62 @@ fn info(path: PathBuf, json: bool) -> anyhow::Result<()> {
     } else {
         print!("{info}");
     }
+    damage_verdict(&scans, skip_damaged)?;
     Ok(())
 }
 
-fn recover(path: PathBuf) -> anyhow::Result<()> {
+fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
     let files =
         bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
     let bar = progress(files.len() as u64, "recovering");
-    let report = bag::recover::recover(&path, |_| bar.inc(1))
+    let recovery = bag::recover::recover(&path, output.as_deref(), |_| bar.inc(1))
         .map_err(flat)
         .with_context(|| format!("recovering {}", path.display()))?;
     bar.finish_and_clear();
-    for file in &report {
+    for file in &recovery.files {
         let name = file.path.display();
-        if file.rebuilt {
-            let kept_in = match file.layout {
-                Some(bag::McapLayout::Unchunked) => "unchunked".to_string(),
-                _ => format!("in {} complete chunks", file.chunks),
-            };
-            println!(
-                "{name}: rebuilt — kept {} messages {kept_in}; dropped {} bytes of cut-off tail and {} corrupt chunks; original kept as {}",
+        for damage in &file.damage {
+            println!("{name}: dropped: {damage}");
+        }
+        let lost = match (file.lost_messages, file.lost_messages_unknown) {
+            (n, false) => format!("{n} messages"),
+            (n, true) => format!("at least {n} messages (the rest of the count is unknown)"),
+        };
+        let kept_in = match file.layout {
+            Some(bag::McapLayout::Unchunked) => "unchunked".to_string(),
+            _ => format!("in {} intact chunks", file.chunks),
+        };
+        let state = if file.complete { "finished but damaged" } else { "unfinished (no summary)" };
+        match (&file.output, file.rebuilt) {
+            (Some(out), true) => println!(
+                "{name}: {state}: rebuilt as {} — kept {} messages {kept_in}; dropped {lost}, {} bytes of cut-off tail \
+                 and {} damaged chunks",
+                out.display(),
                 file.messages,
                 file.dropped_tail_bytes,
-                file.dropped_corrupt_chunks,
-                file.original_kept_as.as_ref().map(|p| p.display().to_string()).unwrap_or_default()
-            );
-        } else {
-            println!("{name}: complete, left as is ({} messages)", file.messages);
+                file.dropped_corrupt_chunks
+            ),
+            (Some(out), false) => {
+                println!("{name}: finished and undamaged ({} messages): copied as {}", file.messages, out.display())
+            }
+            (None, _) => println!("{name}: finished and undamaged ({} messages): nothing to recover", file.messages),
         }
     }
-    if path.is_dir() {
-        println!("{}: metadata.yaml rewritten", path.display());
+    match &recovery.output {
+        Some(out) if path.is_dir() => println!(
+            "{}: repaired copy written to {} (metadata.yaml rebuilt); the original is unchanged",
+            path.display(),
+            out.display()
+        ),
+        Some(out) => {
+            println!("{}: repaired copy written to {}; the original is unchanged", path.display(), out.display())
+        }
+        None => println!("{}: nothing to recover, nothing written", path.display()),
     }
     Ok(())
 }
 
-fn export(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
+fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> anyhow::Result<()> {
     let (rows, counts) =
         bag::export::swing_rows(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
     match &output {
@@ -209,6 +306,9 @@ fn export(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
         "exported {} swings ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
         counts.swings, counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
     );
+    if let Some(skipped) = skipped {
+        eprintln!("skipped (--skip-damaged): {skipped}");
+    }
     Ok(())
 }
 
