@@ -104,6 +104,7 @@ pub mod ball;
 pub mod bat;
 pub mod collision;
 pub mod error;
+pub mod hoop;
 mod lanes;
 pub mod metrics;
 pub mod modes;
@@ -111,8 +112,9 @@ pub mod rigid;
 
 pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
-pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
+pub use collision::{collide, collide_with_hoop, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
 pub use error::PhysicsError;
+pub use hoop::HoopMode;
 pub use metrics::{BbcorReport, BesrReport, SweepPoint, SweetSpotSet};
 pub use modes::{BeamMatrices, EigenSolver, LinkRule, Mode, ModeSet};
 pub use rigid::RigidBat;
