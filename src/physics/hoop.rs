@@ -196,7 +196,7 @@ impl HoopProfile {
     /// in [`Bat::radii_at`]); `None` for a solid, filled or non-isotropic section, or a z off the bat.
     pub fn at(&self, z: f64) -> Option<HoopMode> {
         let length = self.stations.last().map_or(0.0, |s| s.z);
-        if !self.any || !(z >= 0.0 && z <= length) {
+        if !(self.any && z >= 0.0 && z <= length) {
             return None;
         }
         let (outer, inner) = radii_at(&self.stations, z);
