@@ -197,23 +197,18 @@ pub struct EnergyBudget {
     pub vibration: f64,
     /// Energy dissipated by the ball's hysteresis, J.
     pub hysteresis_loss: f64,
-    /// Energy left in the wall's hoop mode after separation, J (0 without one; absent from JSON then).
-    #[serde(default, skip_serializing_if = "is_zero")]
+    /// Energy left in the wall's hoop mode after separation, J (0 without one; not in JSON until the CLI's documents carry it).
+    #[serde(skip)]
     pub hoop: f64,
     /// Energy the ball put into the wall's hoop mode during contact (the sum of its increases), J.
-    #[serde(default, skip_serializing_if = "is_zero")]
+    #[serde(skip)]
     pub hoop_stored: f64,
     /// Energy the wall's hoop mode gave back during contact (the sum of its decreases), J;
     /// `hoop_stored − hoop_returned = hoop`.
-    #[serde(default, skip_serializing_if = "is_zero")]
+    #[serde(skip)]
     pub hoop_returned: f64,
     /// initial − (ball + bat_rigid + vibration + hoop + hysteresis_loss), J.
     pub residual: f64,
-}
-
-/// Whether an energy is exactly zero (the hoop fields of a bat without a hoop mode are left out of JSON).
-fn is_zero(value: &f64) -> bool {
-    *value == 0.0
 }
 
 /// Outcome of one collision, SI units.
@@ -243,8 +238,9 @@ pub struct CollisionResult {
     pub bat_cm_speed_after: f64,
     /// Bat angular speed after separation, rad/s (positive when the barrel leads).
     pub bat_angular_speed_after: f64,
-    /// The wall's hoop mode at the impact point, if the section there has one (absent from JSON otherwise).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// The wall's hoop mode at the impact point, if the section there has one (not in JSON until the CLI's
+    /// documents carry it).
+    #[serde(skip)]
     pub hoop: Option<HoopMode>,
 }
 

@@ -48,10 +48,6 @@ pub struct SweetSpotSet {
     pub node2_z: f64,
     /// Centre of percussion for a pivot 6 in (0.1524 m) from the knob, m.
     pub center_of_percussion_z: f64,
-    /// Hoop frequency of the wall at the maximum-exit-speed point, Hz (hollow bats only; absent from JSON
-    /// otherwise).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub hoop_frequency: Option<f64>,
 }
 
 /// One point of an exit-speed sweep.
@@ -188,7 +184,6 @@ pub fn sweet_spots(
         node1_z: node_or_end(1),
         node2_z: node_or_end(2),
         center_of_percussion_z: mp.center_of_percussion(PIVOT_Z),
-        hoop_frequency: modes.hoop_frequency_at(max_z),
     })
 }
 
