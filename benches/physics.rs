@@ -6,7 +6,9 @@
 //! (from /proc/thread-self/schedstat) and exits.
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use sweetspot::physics::metrics::{linspace, sweep};
-use sweetspot::physics::{collide, Ball, Bat, CollisionOptions, EigenSolver, Impact, LinkRule, ModeSet};
+use sweetspot::physics::{
+    collide, collide_with_hoop, Ball, Bat, CollisionOptions, EigenSolver, Impact, LinkRule, ModeSet,
+};
 
 fn swing(impact_z: f64) -> Impact {
     Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 50.0, impact_z }
@@ -59,6 +61,18 @@ fn benches(c: &mut Criterion) {
     });
     c.bench_function("collision_r161_18_modes_5us", |b| {
         b.iter(|| collide(black_box(&modes), &ball, black_box(&impact), &options).expect("collide"))
+    });
+    // A hollow barrel: the same collision with the wall's hoop mode as one more integrated mode (compare with
+    // collision_r161_18_modes_5us for the hoop's cost; the solid bat's path is unchanged).
+    let alloy = ModeSet::compute(&Bat::preset("aluminum").expect("aluminum preset"), 18).expect("modes");
+    let alloy_impact = swing(0.68);
+    c.bench_function("collision_aluminum_hoop_18_modes_5us", |b| {
+        b.iter(|| collide(black_box(&alloy), &ball, black_box(&alloy_impact), &options).expect("collide"))
+    });
+    c.bench_function("collision_aluminum_no_hoop_18_modes_5us", |b| {
+        b.iter(|| {
+            collide_with_hoop(black_box(&alloy), &ball, black_box(&alloy_impact), &options, None).expect("collide")
+        })
     });
     c.bench_function(&format!("sweep_r161_50_points_{}_threads", rayon::current_num_threads()), |b| {
         b.iter(|| sweep(black_box(&modes), &ball, &swing(0.0), &zs, &options).expect("sweep"))

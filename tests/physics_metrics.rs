@@ -62,14 +62,20 @@ fn bbcor_is_e0_for_a_rigid_bat_and_lower_for_a_flexible_one() {
         let rigid_report =
             metrics::bbcor_report(&m, &ball, &CollisionOptions { modes: 0, ..CollisionOptions::default() })
                 .expect("bbcor");
-        assert!(
-            (rigid_report.bbcor - ball.cor).abs() < 1e-6,
-            "{name}: rigid BBCOR {} vs e0 {}",
-            rigid_report.bbcor,
-            ball.cor
-        );
         let flexible = metrics::bbcor(&m, &CollisionOptions::default()).expect("bbcor");
-        assert!(flexible > 0.3 && flexible <= ball.cor + 1e-9, "{name}: BBCOR {flexible}");
+        if m.hoop_at(rigid_report.impact_z).is_some() {
+            // A hollow barrel's wall gives back what it stored: the trampoline lifts even a rigid beam above e0.
+            assert!(rigid_report.bbcor > ball.cor + 1e-3, "{name}: rigid-beam BBCOR {}", rigid_report.bbcor);
+            assert!(flexible > 0.3 && flexible < 1.0, "{name}: BBCOR {flexible}");
+        } else {
+            assert!(
+                (rigid_report.bbcor - ball.cor).abs() < 1e-6,
+                "{name}: rigid BBCOR {} vs e0 {}",
+                rigid_report.bbcor,
+                ball.cor
+            );
+            assert!(flexible > 0.3 && flexible <= ball.cor + 1e-9, "{name}: BBCOR {flexible}");
+        }
         // For a bat at rest the protocol's BBCOR = e_A(1 + r) + r with r = m_ball / m_eff.
         let report = metrics::bbcor_report(&m, &ball, &CollisionOptions::default()).expect("bbcor");
         let r = ball.mass / m.mass_properties().effective_mass_at(report.impact_z);

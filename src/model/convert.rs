@@ -303,8 +303,12 @@ mod tests {
                     bat_rigid: 100.0,
                     vibration: 4.0,
                     hysteresis_loss: 46.0,
+                    hoop: 0.0,
+                    hoop_stored: 0.0,
+                    hoop_returned: 0.0,
                     residual: 0.0,
                 },
+                hoop: None,
             },
             collision_energy: 200.0,
         }

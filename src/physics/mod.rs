@@ -105,6 +105,7 @@ pub mod bat;
 pub mod batter;
 pub mod collision;
 pub mod error;
+pub mod hoop;
 mod lanes;
 pub mod metrics;
 pub mod modes;
@@ -113,8 +114,9 @@ pub mod rigid;
 
 pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
-pub use collision::{collide, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
+pub use collision::{collide, collide_with_hoop, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
 pub use error::PhysicsError;
+pub use hoop::HoopMode;
 pub use metrics::{BbcorReport, BesrReport, SweepPoint, SweetSpotSet};
 pub use modes::{BeamMatrices, EigenSolver, LinkRule, Mode, ModeSet};
 pub use oblique::{collide_oblique, ObliqueImpact, ObliqueResult, TangentialContact};

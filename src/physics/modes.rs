@@ -7,6 +7,7 @@
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 use super::bat::{mass_properties_of, Slice};
+use super::hoop::{HoopMode, HoopProfile};
 use super::{Bat, MassProperties, PhysicsError};
 
 /// One normal mode, mass-normalised: Σ m_i y_i² + Σ J_i φ_i² = 1 (units of y: m per √kg of modal amplitude).
@@ -403,6 +404,8 @@ pub struct ModeSet {
     mass_properties: MassProperties,
     /// [translation, rotation, vibrational 1, 2, …], each mass-normalised.
     modes: Vec<Mode>,
+    /// The wall's hoop (n = 2 shell) mode along the bat, for hollow bats.
+    hoop: HoopProfile,
 }
 
 impl ModeSet {
@@ -525,6 +528,7 @@ impl ModeSet {
             length: bat.length(),
             mass_properties: mp,
             modes,
+            hoop: HoopProfile::of(bat),
         })
     }
 
@@ -611,6 +615,17 @@ impl ModeSet {
         let Some(mode) = self.modes.get(index) else { return 0.0 };
         let (i, t) = self.interpolation(z);
         (1.0 - t) * mode.displacement[i] + t * mode.displacement[i + 1]
+    }
+
+    /// The wall's hoop (n = 2 shell) mode at `z` (m from the knob), `None` where the section has no hoop
+    /// compliance (solid, filled or wooden; see [`crate::physics::hoop`]).
+    pub fn hoop_at(&self, z: f64) -> Option<HoopMode> {
+        self.hoop.at(z)
+    }
+
+    /// Hoop frequency of the wall at `z` (m from the knob), Hz; `None` where there is no hoop mode.
+    pub fn hoop_frequency_at(&self, z: f64) -> Option<f64> {
+        self.hoop.at(z).map(|h| h.frequency_hz())
     }
 
     /// Effective mass of mode `index` at `z`, kg: 1/Y(z)² for the mass-normalised shape (infinite at a node).

@@ -1,0 +1,356 @@
+//! The hoop (trampoline) mode of hollow barrels: its stiffness, mass and frequency against independent
+//! solutions, the collision with it against its limits, and the direction of its effect.
+
+// Index loops mirror the banded elimination's matrix notation.
+#![allow(clippy::needless_range_loop)]
+
+use sweetspot::physics::bat::{ALUMINUM_BARREL_WALL, BBCOR_ALLOY_BARREL_WALL};
+use sweetspot::physics::collision::collide_with_hoop;
+use sweetspot::physics::hoop::{poisson_ratio, ring_frequency_hz};
+use sweetspot::physics::{
+    collide, metrics, Ball, Bat, CollisionOptions, CollisionResult, HoopMode, Impact, Material, ModeSet, PhysicsError,
+};
+
+fn modes(bat: &Bat) -> ModeSet {
+    ModeSet::compute(bat, 18).expect("modes")
+}
+
+fn swing(impact_z: f64) -> Impact {
+    Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 50.0, impact_z }
+}
+
+fn bbcor_shot(impact_z: f64) -> Impact {
+    Impact { ball_speed: metrics::BBCOR_BALL_SPEED, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z }
+}
+
+fn with_dt(time_step: f64) -> CollisionOptions {
+    CollisionOptions { time_step, ..CollisionOptions::default() }
+}
+
+/// Every number of a result as bits, so that equality means bit for bit.
+fn bits(r: &CollisionResult) -> Vec<u64> {
+    let e = &r.energy;
+    let mut v = vec![
+        r.exit_speed,
+        r.rigid_exit_speed,
+        r.effective_cor,
+        r.collision_efficiency,
+        r.contact_time,
+        r.peak_force,
+        r.impulse,
+        r.max_compression,
+        e.initial,
+        e.ball,
+        e.bat_rigid,
+        e.vibration,
+        e.hysteresis_loss,
+        e.hoop,
+        e.hoop_stored,
+        e.hoop_returned,
+        e.residual,
+        r.bat_cm_speed_after,
+        r.bat_angular_speed_after,
+    ];
+    v.extend(r.mode_energies.iter().flat_map(|m| [m.frequency, m.energy]));
+    v.into_iter().map(f64::to_bits).collect()
+}
+
+#[test]
+fn solid_and_wooden_sections_take_the_no_hoop_path_bit_for_bit() {
+    let ball = Ball::default();
+    for name in ["r161", "torpedo", "r161-corked"] {
+        let m = modes(&Bat::preset(name).expect("preset"));
+        for z in [0.3, 0.55, 0.62, 0.69, 0.75, 0.8] {
+            assert_eq!(m.hoop_at(z), None, "{name} at {z}");
+            let full = collide(&m, &ball, &swing(z), &CollisionOptions::default()).expect("collide");
+            let off = collide_with_hoop(&m, &ball, &swing(z), &CollisionOptions::default(), None).expect("collide");
+            assert_eq!(bits(&full), bits(&off), "{name} at {z}");
+            assert_eq!(full.hoop, None);
+            assert_eq!((full.energy.hoop, full.energy.hoop_stored, full.energy.hoop_returned), (0.0, 0.0, 0.0));
+        }
+    }
+    // The alloy bat's knob slice is solid: no hoop there either.
+    let alloy = modes(&Bat::preset("aluminum").expect("preset"));
+    assert_eq!(alloy.hoop_at(0.004), None);
+    let full = collide(&alloy, &ball, &swing(0.004), &CollisionOptions::default());
+    let off = collide_with_hoop(&alloy, &ball, &swing(0.004), &CollisionOptions::default(), None);
+    match (full, off) {
+        (Ok(a), Ok(b)) => assert_eq!(bits(&a), bits(&b)),
+        (a, b) => assert_eq!(a.map(|r| bits(&r)), b.map(|r| bits(&r))),
+    }
+}
+
+/// The in-plane (inextensional) ring mode formula in its textbook form (Blevins, "Formulas for natural
+/// frequency and mode shape", ring in-plane bending): f_n = n (n² − 1)/(2π √(n² + 1)) · √(E I/(m a⁴)), here
+/// per unit length of a long tube (plate modulus E/(1 − ν²), I = h³/12, m = ρ h).
+fn blevins_ring_hz(n: f64, e: f64, nu: f64, rho: f64, a: f64, h: f64) -> f64 {
+    let ei = e / (1.0 - nu * nu) * h.powi(3) / 12.0;
+    n * (n * n - 1.0) / (std::f64::consts::TAU * (n * n + 1.0).sqrt()) * (ei / (rho * h * a.powi(4))).sqrt()
+}
+
+#[test]
+fn the_ring_frequency_of_a_thin_aluminum_tube_is_the_textbook_one() {
+    let al = Material::ALUMINUM;
+    let nu = poisson_ratio(&al);
+    assert!((nu - (70.0 / 52.0 - 1.0)).abs() < 1e-15);
+    for (a, h) in [(0.0321, 0.0024), (0.0286, 0.0015), (0.05, 0.001)] {
+        let ours = ring_frequency_hz(&al, a, h);
+        let textbook = blevins_ring_hz(2.0, al.youngs_modulus, nu, al.density, a, h);
+        assert!(((ours - textbook) / textbook).abs() < 1e-12, "a = {a}, h = {h}: {ours} vs {textbook} Hz");
+    }
+    // A 2⅝-in alloy barrel with a 2.4-mm wall: ~1.5 kHz ring, ~1.8 kHz hoop mode, in the measured band.
+    let hoop = HoopMode::of_section(0.0333375, 0.0333375 - 0.0024, &al, false).expect("hollow");
+    let ring = ring_frequency_hz(&al, hoop.radius, hoop.wall_thickness);
+    assert!((1400.0..1650.0).contains(&ring), "{ring}");
+    assert!((1000.0..2500.0).contains(&hoop.frequency_hz()), "{}", hoop.frequency_hz());
+}
+
+/// Static point load on the wall's n = 2 amplitude: a beam of stiffness B on a foundation k_f, solved by
+/// finite differences on a long barrel with free ends (independent of the closed form in `hoop`).
+/// Returns (point stiffness, Rayleigh mass ∫μW²/W₀²).
+fn finite_difference_point_load(b: f64, k_f: f64, mu: f64, half_length: f64, cells: usize) -> (f64, f64) {
+    let n = 2 * cells + 1;
+    let dz = 2.0 * half_length / (n - 1) as f64;
+    // Energy ½ Σ B (w_{i+1} − 2 w_i + w_{i−1})²/Δz⁴ Δz + ½ Σ k_f w_i² Δz − P w_mid: its gradient is the system.
+    let mut a = vec![vec![0.0; n]; n];
+    for i in 1..n - 1 {
+        let c = b / dz.powi(3);
+        let idx = [i - 1, i, i + 1];
+        let coef = [1.0, -2.0, 1.0];
+        for (p, &ip) in idx.iter().enumerate() {
+            for (q, &iq) in idx.iter().enumerate() {
+                a[ip][iq] += c * coef[p] * coef[q];
+            }
+        }
+    }
+    for (i, row) in a.iter_mut().enumerate() {
+        let w = if i == 0 || i == n - 1 { 0.5 } else { 1.0 };
+        row[i] += k_f * dz * w;
+    }
+    let mut rhs = vec![0.0; n];
+    rhs[cells] = 1.0;
+    // Banded Gaussian elimination (half-bandwidth 2), no pivoting (the matrix is positive definite).
+    for k in 0..n {
+        for i in k + 1..(k + 3).min(n) {
+            let f = a[i][k] / a[k][k];
+            for j in k..(k + 3).min(n) {
+                a[i][j] -= f * a[k][j];
+            }
+            rhs[i] -= f * rhs[k];
+        }
+    }
+    let mut w = vec![0.0; n];
+    for k in (0..n).rev() {
+        let mut sum = rhs[k];
+        for j in k + 1..(k + 3).min(n) {
+            sum -= a[k][j] * w[j];
+        }
+        w[k] = sum / a[k][k];
+    }
+    let w0 = w[cells];
+    let mass: f64 =
+        w.iter().enumerate().map(|(i, x)| if i == 0 || i == n - 1 { 0.5 } else { 1.0 } * mu * x * x * dz).sum();
+    (1.0 / w0, mass / (w0 * w0))
+}
+
+#[test]
+fn hoop_stiffness_and_mass_match_a_finite_difference_shell_under_a_point_load() {
+    let al = Material::ALUMINUM;
+    let nu = poisson_ratio(&al);
+    for (outer, wall) in [(0.0333375, ALUMINUM_BARREL_WALL), (0.0286, 0.0015), (0.0333375, 0.004)] {
+        let hoop = HoopMode::of_section(outer, outer - wall, &al, false).expect("hollow");
+        let (a, h, e) = (outer - 0.5 * wall, wall, al.youngs_modulus);
+        // The n = 2 harmonic's energies per unit length (semi-membrane theory): ring bending, axial stretch.
+        let pi = std::f64::consts::PI;
+        let d = e * h.powi(3) / (12.0 * (1.0 - nu * nu));
+        let k_f = pi * d * 9.0 / a.powi(3);
+        let b = pi * e * h * a.powi(3) / 16.0;
+        let mu = pi * a * al.density * h * 5.0 / 4.0;
+        let (k_fd, m_fd) = finite_difference_point_load(b, k_f, mu, 20.0 * hoop.decay_length, 4000);
+        assert!(((hoop.stiffness - k_fd) / k_fd).abs() < 1e-4, "k_h {} vs {k_fd} N/m", hoop.stiffness);
+        assert!(((hoop.effective_mass - m_fd) / m_fd).abs() < 1e-4, "m_h {} vs {m_fd} kg", hoop.effective_mass);
+    }
+}
+
+#[test]
+fn the_alloy_barrel_has_a_hoop_mode_and_the_budget_closes() {
+    let bat = Bat::preset("aluminum").expect("preset");
+    let m = modes(&bat);
+    for (impact, label) in [(swing(0.62), "swing"), (swing(0.70), "swing"), (bbcor_shot(0.66), "bbcor")] {
+        let z = impact.impact_z;
+        let r = collide(&m, &Ball::default(), &impact, &CollisionOptions::default()).expect("collide");
+        let hoop = r.hoop.expect("hollow barrel");
+        assert_eq!(Some(hoop), bat.hoop_at(z));
+        assert_eq!(m.hoop_frequency_at(z), Some(hoop.frequency_hz()));
+        let e = &r.energy;
+        let relative = (e.residual / e.initial).abs();
+        assert!(relative < 1e-6, "{label} at {z}: residual {relative:e}");
+        assert!(e.hoop_stored > 0.5, "{label} at {z}: the wall took {} J", e.hoop_stored);
+        assert!(e.hoop_returned > 0.5 * e.hoop_stored, "{label} at {z}: it gave back {} J", e.hoop_returned);
+        assert!((e.hoop_stored - e.hoop_returned - e.hoop).abs() < 1e-9 * e.hoop_stored);
+        // The sum of the parts, written out.
+        let sum = e.ball + e.bat_rigid + e.vibration + e.hoop + e.hysteresis_loss + e.residual;
+        assert!((sum - e.initial).abs() < 1e-12 * e.initial);
+        assert!(r.mode_energies.len() == 18, "the hoop mode is reported apart from the beam modes");
+    }
+}
+
+#[test]
+fn momentum_and_angular_momentum_pass_through_the_wall_unchanged() {
+    let bat = Bat::preset("aluminum").expect("preset");
+    let m = modes(&bat);
+    let mp = m.mass_properties();
+    let ball = Ball::default();
+    for z in [0.58, 0.66, 0.74] {
+        let impact = swing(z);
+        let r = collide(&m, &ball, &impact, &CollisionOptions::default()).expect("collide");
+        assert!(r.hoop.is_some());
+        let impulse = ball.mass * (r.exit_speed + impact.ball_speed);
+        let bat_linear = mp.mass * (impact.bat_cm_speed - r.bat_cm_speed_after);
+        assert!(((impulse - bat_linear) / impulse).abs() < 1e-12, "z = {z}: {impulse} vs {bat_linear}");
+        let bat_angular = mp.moment_of_inertia * (impact.bat_angular_speed - r.bat_angular_speed_after);
+        let arm = z - mp.center_of_mass;
+        assert!(((impulse * arm - bat_angular) / (impulse * arm)).abs() < 1e-12, "z = {z}");
+    }
+}
+
+#[test]
+fn the_hoop_collision_converges_in_the_time_step() {
+    let m = modes(&Bat::preset("aluminum").expect("preset"));
+    let ball = Ball::default();
+    let impact = swing(0.68);
+    let exit = |dt: f64| collide(&m, &ball, &impact, &with_dt(dt)).expect("collide").exit_speed;
+    let reference = exit(0.25e-6);
+    let errors: Vec<f64> = [8e-6, 4e-6, 2e-6, 1e-6].iter().map(|&dt| (exit(dt) - reference).abs()).collect();
+    for pair in errors.windows(2) {
+        assert!(pair[1] < pair[0] / 4.0 || pair[1] < 1e-10, "errors {errors:?}");
+    }
+    assert!((exit(5e-6) - reference).abs() < 1e-5, "the default step is converged to 10 µm/s");
+}
+
+#[test]
+fn a_stiffer_wall_tends_continuously_to_the_rigid_wall() {
+    let bat = Bat::preset("aluminum").expect("preset");
+    let m = modes(&bat);
+    let ball = Ball::default();
+    let impact = swing(0.68);
+    let options = CollisionOptions::default();
+    let rigid = collide_with_hoop(&m, &ball, &impact, &options, None).expect("collide").exit_speed;
+    let hoop = bat.hoop_at(0.68).expect("hollow");
+    // k_h → ∞ at a fixed frequency (k_h and m_h scaled together): the wall's compliance 1/k_h → 0.
+    let mut previous = f64::INFINITY;
+    for scale in [1.0, 10.0, 100.0, 1e3, 1e4, 1e5] {
+        let stiff = HoopMode { stiffness: hoop.stiffness * scale, effective_mass: hoop.effective_mass * scale, ..hoop };
+        let gap =
+            (collide_with_hoop(&m, &ball, &impact, &options, Some(&stiff)).expect("collide").exit_speed - rigid).abs();
+        assert!(gap < previous / 5.0, "scale {scale}: gap {gap} after {previous}");
+        previous = gap;
+    }
+    assert!(previous < 1e-4, "k_h × 1e5 is within {previous} m/s of the rigid wall");
+    // The wall thickened toward solid: the hoop's effect shrinks monotonically (each bat against itself
+    // without the hoop, since a thicker wall changes the beam too).
+    let mut previous = f64::INFINITY;
+    let mut first = None;
+    for wall in [0.002, ALUMINUM_BARREL_WALL, 0.004, 0.008, 0.016, 0.030] {
+        let b = Bat::alloy_profile("wall", wall).expect("bat");
+        let m = modes(&b);
+        let with = collide(&m, &ball, &impact, &options).expect("collide").exit_speed;
+        let without = collide_with_hoop(&m, &ball, &impact, &options, None).expect("collide").exit_speed;
+        let gain = with - without;
+        eprintln!("wall {wall} m: hoop gain {gain} m/s");
+        assert!(gain >= 0.0 && gain < previous, "wall {wall} m: gain {gain} after {previous}");
+        first.get_or_insert(gain);
+        previous = gain;
+    }
+    // Thin-shell theory keeps a small compliance even as the bore closes (see `hoop`'s docs): the gain of a
+    // 30-mm wall is a small fraction of the 2-mm wall's, not zero.
+    let first = first.expect("walls");
+    assert!(previous < first / 50.0, "a 30-mm wall: gain {previous} m/s against {first} m/s for 2 mm");
+}
+
+#[test]
+fn an_unresolved_hoop_mode_is_refused_by_name() {
+    let m = modes(&Bat::preset("aluminum").expect("preset"));
+    // In the thick, narrow handle the hoop mode rings near 20 kHz.
+    let hoop = m.hoop_at(0.2).expect("hollow handle");
+    assert!(hoop.frequency_hz() > 10_000.0, "{}", hoop.frequency_hz());
+    let options = CollisionOptions { modes: 0, time_step: 5e-5 };
+    let impact = Impact { impact_z: 0.2, ..swing(0.2) };
+    match collide(&m, &Ball::default(), &impact, &options) {
+        Err(PhysicsError::OutOfRange { field, allowed, .. }) => {
+            assert_eq!(field, "time_step");
+            assert!(allowed.contains("hoop mode"), "{allowed}");
+        }
+        other => panic!("expected a refused time step, got {other:?}"),
+    }
+    let bad = HoopMode { stiffness: f64::NAN, ..hoop };
+    assert!(collide_with_hoop(&m, &Ball::default(), &swing(0.68), &CollisionOptions::default(), Some(&bad)).is_err());
+}
+
+/// The protocol's BBCOR grid (3 to 9 in from the barrel end) evaluated with the hoop mode on or off.
+fn best_grid_bbcor(m: &ModeSet, hoop_on: bool) -> f64 {
+    let ball = Ball::bbcor_protocol();
+    (0..13)
+        .map(|i| m.length() - (9.0 - 0.5 * i as f64) * 0.0254)
+        .map(|z| {
+            let hoop = if hoop_on { m.hoop_at(z) } else { None };
+            collide_with_hoop(m, &ball, &bbcor_shot(z), &CollisionOptions::default(), hoop.as_ref())
+                .expect("collide")
+                .effective_cor
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+#[test]
+fn the_trampoline_raises_the_alloy_bats_bbcor_and_exit_speed() {
+    let m = modes(&Bat::preset("aluminum").expect("preset"));
+    let with = best_grid_bbcor(&m, true);
+    let without = best_grid_bbcor(&m, false);
+    assert!(with > without + 0.005, "BBCOR {with} with the hoop vs {without} without");
+    assert!(metrics::bbcor(&m, &CollisionOptions::default()).expect("bbcor") >= with - 1e-12);
+    let ball = Ball::default();
+    for z in [0.60, 0.65, 0.70, 0.75] {
+        let on = collide(&m, &ball, &swing(z), &CollisionOptions::default()).expect("collide");
+        let off = collide_with_hoop(&m, &ball, &swing(z), &CollisionOptions::default(), None).expect("collide");
+        assert!(on.exit_speed > off.exit_speed, "z = {z}: {} vs {}", on.exit_speed, off.exit_speed);
+        // Less is lost in the ball: it compresses less.
+        assert!(on.energy.hysteresis_loss < off.energy.hysteresis_loss && on.max_compression < off.max_compression);
+    }
+}
+
+#[test]
+fn the_bbcor_alloy_preset_sits_at_the_ncaa_limit() {
+    let bat = Bat::preset("bbcor-alloy").expect("preset");
+    const { assert!(BBCOR_ALLOY_BARREL_WALL > ALUMINUM_BARREL_WALL) };
+    let bbcor = metrics::bbcor(&modes(&bat), &CollisionOptions::default()).expect("bbcor");
+    assert!((bbcor - 0.50).abs() < 5e-4, "BBCOR {bbcor}");
+}
+
+/// The root solve behind [`BBCOR_ALLOY_BARREL_WALL`]: the barrel wall of the alloy profile at which the
+/// model's BBCOR is 0.50 (secant on the wall, 18 modes, 5-µs steps). Slow; run with `--ignored`.
+#[test]
+#[ignore]
+fn bbcor_alloy_wall_solve() {
+    let bbcor_of = |wall: f64| {
+        let bat = Bat::alloy_profile("solve", wall).expect("bat");
+        metrics::bbcor(&modes(&bat), &CollisionOptions::default()).expect("bbcor") - 0.50
+    };
+    let (mut a, mut b) = (ALUMINUM_BARREL_WALL, 0.004);
+    let (mut fa, mut fb) = (bbcor_of(a), bbcor_of(b));
+    eprintln!("wall {a} → {fa:+e}; wall {b} → {fb:+e}");
+    for _ in 0..30 {
+        let c = b - fb * (b - a) / (fb - fa);
+        let fc = bbcor_of(c);
+        eprintln!("wall {c} → {fc:+e}");
+        (a, fa, b, fb) = (b, fb, c, fc);
+        if fb.abs() < 1e-7 || (b - a).abs() < 1e-9 {
+            break;
+        }
+    }
+    let mp = Bat::alloy_profile("solve", b).expect("bat").mass_properties();
+    eprintln!(
+        "bbcor-alloy barrel wall = {b} m; mass {} kg, CM {} m, I_cm {} kg m²",
+        mp.mass, mp.center_of_mass, mp.moment_of_inertia
+    );
+    assert!(fb.abs() < 1e-6);
+}
