@@ -12,13 +12,13 @@
 //! (`wait4`'s rusage of that one child). A bag several times larger than that bound is read by info, export
 //! and replay within it.
 
-mod bag_support;
+mod support;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use bag_support::*;
+use support::bag::*;
 use sweetspot::bag::{ChunkCompression, McapLayout, Recorder, RecorderConfig, StorageOptions, TopicInfo};
 use sweetspot::msgs::encode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::Swing;

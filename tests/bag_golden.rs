@@ -2,12 +2,12 @@
 //! bags/golden/make_golden.sh) must replay bit-exactly: any change to the physics, the params→model
 //! conversion or the node's decisions shows up here. Regenerate it deliberately when such a change is intended.
 
-mod bag_support;
+mod support;
 
 use std::path::PathBuf;
 use std::process::Command;
 
-use bag_support::*;
+use support::bag::*;
 use sweetspot::bag::replay::{recorded_settings, replay, Verdict};
 
 fn golden() -> PathBuf {

@@ -3,13 +3,13 @@
 //! bag (`DIR.recovered/`); the original is left byte for byte. Unchunked (`fastwrite`) files cut anywhere keep
 //! every complete message.
 
-mod bag_support;
+mod support;
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use bag_support::*;
+use support::bag::*;
 use sweetspot::bag::reader::{bag_files, read_bag, scan_file};
 
 const FLUSH_MS: u64 = 200;

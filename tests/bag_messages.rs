@@ -1,11 +1,11 @@
 //! Real sweetspot_msgs recorded with the Recorder: every message decodes from the embedded schemas alone
 //! (mcap-ros2-support), through metadata.yaml + stored msgdefs (rosbags), and `bag export --csv` joins them.
 
-mod bag_support;
+mod support;
 
 use std::process::Command;
 
-use bag_support::*;
+use support::bag::*;
 use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::encode_cdr;

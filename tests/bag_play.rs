@@ -1,13 +1,13 @@
 //! `bag play`: the schedule keeps latched params first and the recorded timing; over real DDS (inside the
 //! private network namespace of scripts/test) playing the golden bag into a fresh node reproduces its answers.
 
-mod bag_support;
+mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use bag_support::sweetspot_bin;
+use support::bag::sweetspot_bin;
 use sweetspot::play::schedule;
 
 /// ROS_DOMAIN_ID of these tests (other suites use 100.., 151..163).

@@ -1,10 +1,10 @@
 //! The Recorder writes rosbag2 directories that the project and independent readers read back exactly.
 
-mod bag_support;
+mod support;
 
 use std::time::Duration;
 
-use bag_support::*;
+use support::bag::*;
 use sweetspot::bag::reader::{bag_files, read_bag, scan_file};
 use sweetspot::bag::{BagError, McapLayout, Recorder, RecorderConfig, StorageOptions, TopicId};
 

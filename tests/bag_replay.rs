@@ -5,13 +5,12 @@
 //! node's limits (max_bats, max_balls, max_bat_slices) are checked against the real `sweetspot node` over DDS
 //! (inside the private network namespace of scripts/test): which bats it forgot or refused is its decision.
 
-mod bag_support;
-mod node_support;
+mod support;
 
 use std::path::Path;
 use std::process::Command;
 
-use bag_support::sweetspot_bin;
+use support::bag::sweetspot_bin;
 use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
 use sweetspot::model::convert;
 use sweetspot::model::engine::{self, BatEntry, ModeCacheCount, Registry};
@@ -173,7 +172,7 @@ fn what_if_prints_differences_without_failing() {
 /// replay without the limits must not (so the match is the limits' doing).
 #[test]
 fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() {
-    use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+    use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
     use sweetspot::msgs::std_msgs::msg::Header;
     use sweetspot::physics::Bat;
     const WAIT: std::time::Duration = std::time::Duration::from_secs(60);

@@ -3,13 +3,13 @@
 //! independent Python readers; batched messages from many threads all arrive, in order. rosbag2's storage
 //! presets, unchunked `fastwrite` included, write what rosbag2 writes and read back everywhere.
 
-mod bag_support;
+mod support;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use bag_support::*;
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
+use support::bag::*;
 use sweetspot::bag::reader::{bag_files, read_bag, scan_file};
 use sweetspot::bag::{
     ChunkCompression, McapLayout, Recorder, RecorderConfig, StorageOptions, StoragePreset, TopicId, TopicInfo,

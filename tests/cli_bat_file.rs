@@ -1,9 +1,9 @@
 //! The bat file format: presets round-trip exactly through TOML + CSV, the shipped examples equal their
 //! presets, and the binary gives identical numbers for a preset and its file.
 
-mod cli_support;
+mod support;
 
-use cli_support::{json, ok, repo, s};
+use support::cli::{json, ok, repo, s};
 use sweetspot::cli::bat_file::{load_bat_file, parse_bat_toml, spec_to_toml, write_bat_files, BatSpec};
 use sweetspot::physics::Bat;
 

@@ -1,9 +1,9 @@
 //! `sweetspot compare`: bats at equal batter effort, run through the real binary.
 
-mod cli_support;
+mod support;
 
-use cli_support::{fails, json, num, ok, s};
 use serde_json::Value;
+use support::cli::{fails, json, num, ok, s};
 
 /// 71.5 mph in m/s (Statcast's 2024 MLB average bat speed), written out by hand.
 const STATCAST_SPEED: f64 = 31.963_36;

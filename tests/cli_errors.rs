@@ -1,8 +1,8 @@
 //! Bad input never panics: the binary exits non-zero with a message naming the field (and its range).
 
-mod cli_support;
+mod support;
 
-use cli_support::{fails, s};
+use support::cli::{fails, s};
 
 fn contains_all(stderr: &str, needles: &[&str]) {
     for needle in needles {

@@ -1,10 +1,10 @@
 //! `--json` output of the physics commands: one document with exactly the documented fields
 //! (docs/file-formats.md), and numbers equal to the library's for the same inputs.
 
-mod cli_support;
+mod support;
 
-use cli_support::{json, num};
 use serde_json::Value;
+use support::cli::{json, num};
 use sweetspot::physics::metrics::{bbcor_report, besr, sweep, sweet_spots};
 use sweetspot::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
 
@@ -331,7 +331,8 @@ fn simulate_json_field_names_are_exactly_the_documented_ones_in_order() {
 
     // docs/file-formats.md lists the same: the top-level keys, the bat table and the collision-result table
     // (in output order), and the mode_energies entry's fields.
-    let docs = std::fs::read_to_string(cli_support::repo().join("docs/file-formats.md")).expect("docs/file-formats.md");
+    let docs =
+        std::fs::read_to_string(support::repo().join("docs/file-formats.md")).expect("docs/file-formats.md");
     assert!(
         docs.contains(r#"`{"bat", "ball", "swing", "options", "results": [collision result, …]}`"#),
         "simulate's top level"

@@ -1,10 +1,10 @@
 //! Plots and figures are written, non-empty and of the requested format (PNG magic / SVG root).
 
-mod cli_support;
+mod support;
 
 use std::path::Path;
 
-use cli_support::{json, ok, s};
+use support::cli::{json, ok, s};
 
 const PNG_MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
 

@@ -2,13 +2,13 @@
 //! wrong-type payloads on every input topic from a raw writer with the right topic and type name, and params
 //! with NaN, negative or huge values. The node must report each, stay alive, and answer every valid swing.
 
-mod node_support;
+mod support;
 
 use std::collections::BTreeSet;
 use std::time::Duration;
 
-use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use ros2_client::Publisher;
+use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Swing};
 

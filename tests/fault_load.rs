@@ -2,7 +2,7 @@
 //! what the node can compute, recording to a full or unwritable disk, and SIGTERM while swings keep coming.
 //! No timing assertions: every check is about what was counted, reported, answered and recorded.
 
-mod node_support;
+mod support;
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use node_support::{blocking, dds, domain, keep_all, python, Peer};
+use support::node::{blocking, dds, domain, keep_all, python, Peer};
 use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};

@@ -6,12 +6,12 @@
 //! - a BatParams cut into more slices than `max_bat_slices` (fuzz finding F4: 4000 slices cost ~10 s of modes
 //!   solve) is REJECTED naming slice_length and its range, and no modes are solved for it.
 
-mod node_support;
+mod support;
 
 use std::time::Duration;
 
-use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use ros2_client::Subscription;
+use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use sweetspot::model::convert;
 use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use sweetspot::msgs::std_msgs::msg::Header;

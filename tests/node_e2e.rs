@@ -3,12 +3,12 @@
 //! listening to the answers. Every number the node publishes is compared with the library's for the same
 //! inputs, exactly (the same code computes both).
 
-mod node_support;
+mod support;
 
 use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
-use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use sweetspot::model::convert;
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::std_msgs::msg::Header;

@@ -4,15 +4,14 @@
 //! numbers must equal the library's. Runs inside the private network namespace of scripts/test; Cyclone is
 //! additionally kept on loopback.
 
-mod node_support;
+mod support;
 
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use node_support::shared as support;
-use node_support::{domain, NodeProcess};
 use serde_json::{json, Value};
+use support::node::{domain, NodeProcess};
 use sweetspot::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
 
 fn cyclone(domain: u16, args: &[&str]) -> Command {
@@ -77,7 +76,7 @@ fn bat_json(bat_id: &str, bat: &Bat) -> Value {
 
 #[test]
 fn cyclone_dds_peer_sends_params_and_swings_and_gets_the_library_numbers() {
-    node_support::require_isolated_network();
+    support::node::require_isolated_network();
     let domain = domain(10);
     let dir = tempfile::tempdir().unwrap();
     let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);

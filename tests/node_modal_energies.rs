@@ -3,11 +3,11 @@
 //! network namespace of scripts/test: a listener that subscribes while the node runs gets the energies of
 //! every swing answered after its subscription reached the node, none is skipped, and the bag has them all.
 
-mod node_support;
+mod support;
 
 use std::time::{Duration, Instant};
 
-use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use sweetspot::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, Swing};
 

@@ -3,11 +3,10 @@
 //! `ros2 param` sees (through the rcl_interfaces services) and that change the answers; `ros2 param set` is
 //! validated; SIGTERM ends the node with a finished bag holding every input and output.
 
-mod node_support;
+mod support;
 
 use std::time::Duration;
 
-use node_support::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use ros2_client::qos::History;
 use ros2_client::rcl_interfaces::{
     GetParametersRequest, GetParametersResponse, ListParametersRequest, ListParametersResponse, SetParametersRequest,
@@ -15,6 +14,7 @@ use ros2_client::rcl_interfaces::{
 };
 use ros2_client::service::Client;
 use ros2_client::{Message, Name, Parameter, ParameterValue, QosProfile, ServiceMapping, ServiceTypeName};
+use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
@@ -457,7 +457,7 @@ fn fastwrite_preset_records_an_unchunked_bag_that_reads_back_complete() {
 
 #[test]
 fn fastwrite_with_a_compression_refuses_to_start_naming_both_parameters() {
-    node_support::shared::require_isolated_network();
+    support::require_isolated_network();
     let dir = tempfile::tempdir().unwrap();
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
         .args(["node", "--ros-args", "-p", "record_storage_preset:=fastwrite", "-p", "record_compression:=zstd"])

@@ -3,7 +3,7 @@
 //! DDS must take that as a spurious wake-up, not as the end of its event loops. Over real DDS on loopback,
 //! inside the private network namespace of scripts/test (`bash scripts/test --test node_sigstop`).
 
-mod node_support;
+mod support;
 
 use std::collections::BTreeMap;
 use std::pin::pin;
@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use futures::StreamExt;
-use node_support::{dds, domain, keep_all, NodeProcess, Peer};
+use support::node::{dds, domain, keep_all, NodeProcess, Peer};
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus};
 use sweetspot::msgs::std_msgs::msg::Header;

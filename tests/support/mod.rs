@@ -1,7 +1,12 @@
-//! Helpers shared by the DDS, interop and message test files (`mod support;`): the repository and Python
-//! lookup, the private-network guard, and running the `sweetspot` binary and the Cyclone DDS peer on one
-//! domain of loopback discovery.
+//! The one support module of the integration tests (`mod support;`): the repository and Python lookup, the
+//! private-network guard, and running the `sweetspot` binary and the Cyclone DDS peer on one domain of
+//! loopback discovery; [`bag`] (hand-made topics and the Python bag readers), [`cli`] (running the binary for
+//! CLI tests) and [`node`] (the node as a child process and an in-test ROS 2 peer).
 #![allow(dead_code)]
+
+pub mod bag;
+pub mod cli;
+pub mod node;
 
 use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
@@ -20,7 +25,9 @@ pub fn repo() -> PathBuf {
 /// else <repo>/.venv/bin/python; a test that needs it fails without it, never skips.
 pub fn python() -> PathBuf {
     if let Some(p) = std::env::var_os("SWEETSPOT_PYTHON") {
-        return PathBuf::from(p);
+        let p = PathBuf::from(p);
+        assert!(p.exists(), "SWEETSPOT_PYTHON={} does not exist", p.display());
+        return p;
     }
     let venv = repo().join(".venv/bin/python");
     assert!(

@@ -1,5 +1,4 @@
 //! Shared helpers of the bag tests: a tiny hand-written message type and the independent Python peers.
-#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -38,23 +37,7 @@ pub fn cdr_string(text: &str) -> Vec<u8> {
     out
 }
 
-/// The Python with the independent peers: `$SWEETSPOT_PYTHON`, else `<repo>/.venv/bin/python`. Panics
-/// with instructions if neither exists — these checks are never skipped silently.
-pub fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("SWEETSPOT_PYTHON") {
-        let p = PathBuf::from(p);
-        assert!(p.exists(), "SWEETSPOT_PYTHON={} does not exist", p.display());
-        return p;
-    }
-    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
-    assert!(
-        venv.exists(),
-        "no Python with the independent readers: set SWEETSPOT_PYTHON or create {} \
-         (scripts/test does: python3 -m venv .venv && .venv/bin/pip install -r tests/python/requirements.txt)",
-        venv.display()
-    );
-    venv
-}
+pub use super::python;
 
 /// Runs tests/python/check_bag.py on a bag directory and returns its JSON verdict (panics on failure).
 pub fn python_check_bag(dir: &Path) -> serde_json::Value {

@@ -1,6 +1,5 @@
 //! Shared helpers of the node tests: the `sweetspot node` process, a unique DDS domain per test, and an
 //! in-test ros2-client participant. Every DDS use goes through the msgs helper's network guard first.
-#![allow(dead_code)]
 
 use std::io::{BufRead, BufReader};
 use std::path::Path;
@@ -110,12 +109,8 @@ pub fn domain(offset: u16) -> u16 {
     100 + offset
 }
 
-// The helpers every DDS test file shares (Python lookup, network guard, the Cyclone peer); a test file that
-// uses node_support reaches them as `node_support::shared` rather than declaring `mod support` again.
-#[path = "../support/mod.rs"]
-pub mod shared;
 #[allow(unused_imports)] // used by some test files only
-pub use shared::python;
+pub use super::python;
 
 // ---------------------------------------------------------------------------------------------------------
 // An in-test ROS 2 participant (ros2-client), for publishing inputs and listening to the node.
@@ -128,7 +123,7 @@ use ros2_client::qos::{History, Reliability, WhenFull};
 use ros2_client::{Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription};
 use sweetspot::msgs::RosMessage;
 
-pub use shared::require_isolated_network;
+pub use super::require_isolated_network;
 
 /// A ros2-client node of the test on `domain`, with its own async runtime.
 pub struct Peer {

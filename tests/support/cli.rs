@@ -1,8 +1,9 @@
 //! Runs the real `sweetspot` binary for the CLI tests.
-#![allow(dead_code)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
+
+pub use super::repo;
 
 /// The outcome of one run.
 pub struct Run {
@@ -51,11 +52,6 @@ pub fn fails(args: &[&str]) -> String {
     assert!(!run.stderr.contains("panicked"), "sweetspot {args:?} panicked:\n{}", run.stderr);
     assert!(!run.stderr.trim().is_empty(), "no error message for {args:?}");
     run.stderr
-}
-
-/// The repository root.
-pub fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// A number from a JSON document.
