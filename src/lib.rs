@@ -9,9 +9,11 @@
 //! - [`bag`]: MCAP record, read, export and replay in the rosbag2 layout;
 //!   [`ros`]: the DDS edge (names, `--ros-args`, QoS, the participant);
 //! - [`node`]: the ROS 2 node (topics, parameters, diagnostics, recording); [`play`]: `bag play` over DDS;
+//! - [`report`]: tables, JSON documents, plots and the seed's figures, for the tools below; [`child`]: the
+//!   node (or any tool) as a child process;
 //! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
 //!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
-//! - [`cli`]: the command line.
+//! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
 pub mod bag;
 pub mod bench;
 pub mod calibrate;
