@@ -1,6 +1,7 @@
 //! `sweetspot bag …`: inspect, recover, export, replay and play recorded bags.
 
 use std::io::IsTerminal;
+use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Context;
@@ -36,8 +37,8 @@ pub enum BagCommand {
     Export {
         /// Bag directory or .mcap file.
         path: PathBuf,
-        /// Write CSV (the only format so far; required so that future formats stay explicit).
-        #[arg(long, required = true)]
+        /// Write CSV (the default, and the only format so far).
+        #[arg(long)]
         csv: bool,
         /// Output file (default: stdout).
         #[arg(short, long)]
@@ -148,6 +149,16 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             json,
             skip_damaged,
         } => {
+            // A what-if names presets: check them here so a typo is blamed on the flag, not on the bag.
+            for (flag, name, known) in [
+                ("--bat", &bat, crate::physics::Bat::preset_names()),
+                ("--ball", &ball, crate::physics::Ball::preset_names()),
+                ("--default-bat", &default_bat, crate::physics::Bat::preset_names()),
+            ] {
+                if let Some(name) = name.as_deref().filter(|n| !known.contains(n)) {
+                    anyhow::bail!("{flag} '{name}' is not a preset (presets: {})", known.join(", "));
+                }
+            }
             let skipped = check_damage(&path, skip_damaged)?;
             let what_if = bag::replay::WhatIf { bat, ball, modes };
             replay(path, tolerance, what_if, (time_step, default_modes, default_bat), all, json)?;
@@ -233,9 +244,9 @@ fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let info = bag::info::info_of(&scans);
     if json {
-        println!("{}", serde_json::to_string_pretty(&info)?);
+        crate::outln!("{}", serde_json::to_string_pretty(&info)?)?;
     } else {
-        print!("{info}");
+        crate::cli::common::emit(&info.to_string())?;
     }
     damage_verdict(&scans, skip_damaged)?;
     Ok(())
@@ -252,7 +263,7 @@ fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
     for file in &recovery.files {
         let name = file.path.display();
         for damage in &file.damage {
-            println!("{name}: dropped: {damage}");
+            crate::outln!("{name}: dropped: {damage}")?;
         }
         let lost = match (file.lost_messages, file.lost_messages_unknown) {
             (n, false) => format!("{n} messages"),
@@ -264,30 +275,34 @@ fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
         };
         let state = if file.complete { "finished but damaged" } else { "unfinished (no summary)" };
         match (&file.output, file.rebuilt) {
-            (Some(out), true) => println!(
+            (Some(out), true) => crate::outln!(
                 "{name}: {state}: rebuilt as {} — kept {} messages {kept_in}; dropped {lost}, {} bytes of cut-off tail \
                  and {} damaged chunks",
                 out.display(),
                 file.messages,
                 file.dropped_tail_bytes,
                 file.dropped_corrupt_chunks
-            ),
-            (Some(out), false) => {
-                println!("{name}: finished and undamaged ({} messages): copied as {}", file.messages, out.display())
+            )?,
+            (Some(out), false) => crate::outln!(
+                "{name}: finished and undamaged ({} messages): copied as {}",
+                file.messages,
+                out.display()
+            )?,
+            (None, _) => {
+                crate::outln!("{name}: finished and undamaged ({} messages): nothing to recover", file.messages)?
             }
-            (None, _) => println!("{name}: finished and undamaged ({} messages): nothing to recover", file.messages),
         }
     }
     match &recovery.output {
-        Some(out) if path.is_dir() => println!(
+        Some(out) if path.is_dir() => crate::outln!(
             "{}: repaired copy written to {} (metadata.yaml rebuilt); the original is unchanged",
             path.display(),
             out.display()
-        ),
+        )?,
         Some(out) => {
-            println!("{}: repaired copy written to {}; the original is unchanged", path.display(), out.display())
+            crate::outln!("{}: repaired copy written to {}; the original is unchanged", path.display(), out.display())?
         }
-        None => println!("{}: nothing to recover, nothing written", path.display()),
+        None => crate::outln!("{}: nothing to recover, nothing written", path.display())?,
     }
     Ok(())
 }
@@ -300,7 +315,7 @@ fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> an
             let out = std::fs::File::create(file).with_context(|| format!("creating {}", file.display()))?;
             bag::export::write_csv(&rows, std::io::BufWriter::new(out)).map_err(flat)?;
         }
-        None => bag::export::write_csv(&rows, std::io::stdout().lock()).map_err(flat)?,
+        None => bag::export::write_csv(&rows, super::common::Stdout::default()).map_err(flat)?,
     }
     eprintln!(
         "exported {} swings ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
@@ -345,13 +360,20 @@ fn replay(
     bar.finish_and_clear();
     let (matched, differ, unrecorded) = report.tally();
     if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        crate::outln!("{}", serde_json::to_string_pretty(&report)?)?;
     } else {
         let show_all = all || report.rows.len() <= 40;
-        println!(
+        crate::outln!(
             "{:<10} {:>9} {:<12} {:<10} {:>14} {:>14} {:>12} {:>10}  verdict",
-            "namespace", "swing_id", "bat", "ball", "recorded v_f", "replayed v_f", "Δ v_f", "worst rel"
-        );
+            "namespace",
+            "swing_id",
+            "bat",
+            "ball",
+            "recorded v_f",
+            "replayed v_f",
+            "Δ v_f",
+            "worst rel"
+        )?;
         let mut shown = 0;
         for row in &report.rows {
             if !show_all && (row.verdict != Verdict::Differs || shown >= 40) {
@@ -372,7 +394,7 @@ fn replay(
                     )
                 }
             };
-            println!(
+            crate::outln!(
                 "{:<10} {:>9} {:<12} {:<10} {:>14.6} {:>14.6} {:>12.3e} {:>10.2e}  {verdict}",
                 row.namespace,
                 row.swing_id,
@@ -382,7 +404,7 @@ fn replay(
                 row.replayed_exit_speed,
                 row.replayed_exit_speed - row.recorded_exit_speed,
                 row.worst_relative
-            );
+            )?;
         }
         let tol = if report.tolerance == 0.0 {
             "bit-exact".to_string()
@@ -390,7 +412,7 @@ fn replay(
             format!("relative tolerance {}", report.tolerance)
         };
         let s = &report.settings;
-        println!(
+        crate::outln!(
             "{} swings: {matched} match, {differ} differ ({tol}), {unrecorded} without recorded output. Settings: default_bat {}, default_modes {}, time_step {} s, max_bats {}, max_balls {}, max_bat_slices {}. Bag written by: {}",
             report.rows.len(),
             s.default_bat,
@@ -400,10 +422,10 @@ fn replay(
             s.max_balls,
             s.max_bat_slices,
             report.recorded_by
-        );
+        )?;
     }
     if report.what_if {
-        println!("what-if replay (--bat/--ball/--modes): differences are the answer, not a failure");
+        crate::outln!("what-if replay (--bat/--ball/--modes): differences are the answer, not a failure")?;
         return Ok(());
     }
     if differ > 0 {
@@ -416,10 +438,12 @@ fn play(path: PathBuf, options: crate::play::PlayOptions, quiet: bool) -> anyhow
     let stop = crate::ros::interrupt_flag();
     let total = crate::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
     let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
+    let mut listing = super::common::Stdout::default();
     let stats = crate::play::play(&path, &options, &stop, |item| {
         bar.inc(1);
         if !quiet {
-            println!("{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
+            // The listing is a courtesy: a stdout that fails must not stop what is being published.
+            let _ = writeln!(listing, "{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
         }
     })
     .map_err(flat)

@@ -173,10 +173,50 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
 /// Writes `text` to stdout; a closed pipe (e.g. `| head`) ends the output quietly instead of panicking.
 pub fn emit(text: &str) -> Result<()> {
     use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
-        Err(err) if err.kind() != std::io::ErrorKind::BrokenPipe => Err(err).context("cannot write to stdout"),
-        _ => Ok(()),
+    Stdout::default().write_all(text.as_bytes()).context("cannot write to stdout")
+}
+
+/// Prints a line to stdout through [`emit`] (a closed pipe ends the output quietly): `println!` for the CLI.
+#[macro_export]
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::cli::common::emit(&format!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// Standard output for the CLI's tables and streams: once the reader closes the pipe (`| head`), everything
+/// later is dropped and reported as written, so a tool ends quietly with status 0, as Unix filters do,
+/// instead of panicking or blaming its input.
+#[derive(Debug, Default)]
+pub struct Stdout {
+    closed: bool,
+}
+
+impl std::io::Write for Stdout {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.closed {
+            return Ok(buf.len());
+        }
+        match std::io::stdout().lock().write(buf) {
+            Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => {
+                self.closed = true;
+                Ok(buf.len())
+            }
+            other => other,
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        if self.closed {
+            return Ok(());
+        }
+        match std::io::stdout().lock().flush() {
+            Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => {
+                self.closed = true;
+                Ok(())
+            }
+            other => other,
+        }
     }
 }
 
