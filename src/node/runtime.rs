@@ -299,10 +299,10 @@ fn start_tape(
     })?;
     match super::recording::start_backend(config, storage) {
         Ok(backend) => Ok(Tape::start(dir, backend, topics)),
+        // The error names the directory (the default one when record_path is empty).
         Err(e) => Err(anyhow::anyhow!(
-            "record_path = '{}': cannot record to {}: {e} (pass another record_path, or record:=false)",
-            settings.record_path,
-            dir.display()
+            "record_path = '{}': cannot record: {e} (pass another record_path, or record:=false)",
+            settings.record_path
         )),
     }
 }
