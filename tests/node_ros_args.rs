@@ -219,6 +219,8 @@ fn params_file_and_dash_p_set_parameters_that_ros2_param_sees_validates_and_appl
     // `ros2 param set`: bad values and read-only parameters are refused with a reason, nothing changes.
     let (ok, reason) = set(&peer, &clients, "default_modes", ParameterValue::Integer(0));
     assert!(!ok && reason.contains("default_modes") && reason.contains("200"), "{reason}");
+    let (ok, reason) = set(&peer, &clients, "default_bat", ParameterValue::String("alumnium".into()));
+    assert!(!ok && reason.contains("default_bat") && reason.contains("aluminum"), "{reason}");
     let (ok, reason) = set(&peer, &clients, "queue_capacity", ParameterValue::Integer(5));
     assert!(!ok && reason.contains("read-only"), "{reason}");
     let (ok, reason) = set(&peer, &clients, "time_step", ParameterValue::String("fast".into()));
@@ -380,29 +382,38 @@ fn sigterm_ends_the_node_with_a_finished_bag_of_every_input_and_output() {
     assert!(stdout.contains(&format!("{N} swings: {N} match")), "{stdout}");
 }
 
+/// A node told to record that cannot record does not pretend to: it stops at start-up with one line naming
+/// record_path and the reason.
 #[test]
-fn an_unwritable_record_path_is_reported_and_the_node_keeps_answering() {
-    use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
-    let domain = domain(9);
+fn an_unwritable_record_path_stops_the_node_at_start_up_naming_it() {
+    node_support::shared::require_isolated_network();
     let dir = tempfile::tempdir().unwrap();
-    let mut peer = Peer::new(domain, "badbag_peer");
-    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
-    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
-    let diagnostics = peer.subscription::<DiagnosticArray>("/diagnostics", keep_all(dds::results()));
     // Not even root can create a directory under /proc.
-    let node = NodeProcess::spawn(domain, dir.path(), &["--ros-args", "-p", "record_path:=/proc/sweetspot/bag"]);
-    peer.wait_for_reader(&swing_pub);
-    swing_pub.publish(swing(1, "", 0.6)).unwrap();
-    let ev = &peer.collect(&answers, 1, WAIT)[0];
-    assert_eq!(ev.status, ExitVelocity::STATUS_OK, "{}", ev.message);
-    let report = &peer.collect(&diagnostics, 1, WAIT)[0].status[0];
-    assert_eq!(report.level, 2, "ERROR while recording is broken: {}", report.message);
-    assert!(report.message.contains("recording failed"), "{}", report.message);
-    let state = report.values.iter().find(|kv| kv.key == "recorder_state").map(|kv| kv.value.as_str());
-    assert_eq!(state, Some("failed"));
-    let (status, _, log) = node.stop_with(15);
-    assert!(status.success(), "{log}");
-    assert!(log.contains("/proc/sweetspot/bag"), "the log names the path: {log}");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .args(["node", "--ros-args", "-p", "record_path:=/proc/sweetspot/bag"])
+        .current_dir(dir.path())
+        .env("ROS_DOMAIN_ID", domain(9).to_string())
+        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + WAIT;
+    while child.try_wait().unwrap().is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("the node started although it cannot record to /proc/sweetspot/bag");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(errors[0].contains("record_path") && errors[0].contains("/proc/sweetspot/bag"), "{stderr}");
+    assert!(!stderr.contains("recording /proc"), "it must not claim to record: {stderr}");
 }
 
 #[test]

@@ -245,3 +245,166 @@ fn ros_cli_ten_thousand_swings_back_to_back_arrive_in_order() {
     let ids: Vec<u64> = got.iter().map(|m| m["swing_id"].as_u64().unwrap()).collect();
     assert_eq!(ids, (1..=n as u64).collect::<Vec<_>>());
 }
+
+/// `sweetspot node` on `domain` with `ros_args` after `--ros-args`, stderr piped; returns once it is up.
+fn start_node(domain: u16, ros_args: &[&str]) -> Child {
+    let mut args = vec!["node", "--no-record", "--ros-args"];
+    args.extend_from_slice(ros_args);
+    let mut node = cmd(domain, &args).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().expect("start node");
+    let stderr = node.stderr.take().unwrap();
+    let mut lines = BufReader::new(stderr).lines();
+    loop {
+        let line = lines.next().expect("the node ended before it was up").unwrap();
+        if line.contains(" up on ROS_DOMAIN_ID") {
+            break;
+        }
+    }
+    // Keep draining its log so it never blocks on a full pipe.
+    std::thread::spawn(move || for _ in lines {});
+    node
+}
+
+/// Ends the node with SIGTERM (it finishes cleanly).
+fn stop(mut node: Child) {
+    let _ = Command::new("kill").args(["-TERM", &node.id().to_string()]).status();
+    let _ = node.wait();
+}
+
+/// A process that should end on its own; killed (and the test failed) if it is still running after `secs`.
+fn exits_by_itself(mut c: Command, secs: u64) -> Output {
+    let mut child = c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn");
+    for _ in 0..secs * 10 {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let _ = child.kill();
+    let out = child.wait_with_output().unwrap();
+    panic!("still running after {secs} s; stderr:\n{}", String::from_utf8_lossy(&out.stderr));
+}
+
+/// The README's `sweetspot pub swing '{…}'` run before the node is up: pub waits for the node's subscription
+/// (as `ros2 topic pub --once` does), so the swing is answered instead of lost.
+#[test]
+fn ros_cli_pub_waits_for_a_node_started_afterwards() {
+    guard();
+    let domain = 190;
+    let publisher = support::spawn_piped(cmd(
+        domain,
+        &[
+            "pub",
+            "swing",
+            r#"{"bat_id": "r161", "ball_speed": 40, "bat_cm_speed": 25, "bat_angular_speed": 45, "impact_z": 0.62}"#,
+            "--timeout",
+            "60",
+        ],
+    ));
+    let echo = start_echo(domain, "exit_velocity", 1, &[]);
+    std::thread::sleep(std::time::Duration::from_secs(1)); // the node comes up after pub started waiting
+    let node = start_node(domain, &[]);
+    let published = finish(publisher);
+    support::assert_success(&published, "pub");
+    assert!(String::from_utf8_lossy(&published.stderr).contains("published 1 message(s) to /swing"));
+    let got = json_lines(&finish(echo));
+    stop(node);
+    assert_eq!(got.len(), 1);
+    assert_eq!(got[0]["swing_id"], 1);
+    assert_eq!(got[0]["bat_id"], "r161");
+    assert_eq!(got[0]["status"], 0, "answered: {}", got[0]);
+}
+
+/// `ros2 topic pub TOPIC TYPE VALUES --once` with YAML flow values, and `-t 3` at `-r`.
+#[test]
+fn ros_cli_pub_takes_the_positional_yaml_once_and_times_forms() {
+    guard();
+    let domain = 191;
+    let echo = start_echo(domain, "/swing", 1, &[]);
+    let out = run_ok(cmd(
+        domain,
+        &[
+            "pub",
+            "/swing",
+            "sweetspot_msgs/msg/Swing",
+            "{swing_id: 7, bat_id: r161, impact_z: 0.7}",
+            "-1",
+            "--timeout",
+            "60",
+        ],
+    ));
+    assert_eq!(String::from_utf8_lossy(&out.stdout).matches("publishing #").count(), 1);
+    let got = json_lines(&finish(echo));
+    assert_eq!(got.len(), 1);
+    assert_eq!((got[0]["swing_id"].as_u64(), got[0]["bat_id"].as_str()), (Some(7), Some("r161")));
+    assert_eq!(got[0]["impact_z"], 0.7);
+
+    // The issue's own line: YAML flow, the kind word, no type.
+    let echo = start_echo(domain, "swing", 1, &[]);
+    run_ok(cmd(domain, &["pub", "swing", "{swing_id: 1, bat_id: r161}", "--timeout", "60", "-q"]));
+    let got = json_lines(&finish(echo));
+    assert_eq!((got[0]["swing_id"].as_u64(), got[0]["bat_id"].as_str()), (Some(1), Some("r161")));
+
+    let echo = start_echo(domain, "swing", 3, &[]);
+    let out = run_ok(cmd(domain, &["pub", "swing", "bat_id: torpedo", "-t", "3", "-r", "20", "--timeout", "60"]));
+    assert_eq!(String::from_utf8_lossy(&out.stdout).matches("publishing #").count(), 3);
+    let got = json_lines(&finish(echo));
+    let ids: Vec<u64> = got.iter().map(|m| m["swing_id"].as_u64().unwrap()).collect();
+    assert_eq!(ids, [1, 2, 3]);
+    assert!(got.iter().all(|m| m["bat_id"] == "torpedo"));
+}
+
+/// With nobody subscribed, `-w 1` gives up after --timeout with a warning and a failure status.
+#[test]
+fn ros_cli_pub_without_a_matching_subscription_fails_with_a_warning() {
+    guard();
+    let out = exits_by_itself(cmd(192, &["pub", "swing", "{impact_z: 0.7}", "-w", "1", "--timeout", "1.5"]), 30);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("warning:") && stderr.contains("nothing was published"), "{stderr}");
+    assert!(stderr.contains("/swing"), "{stderr}");
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("publishing #"), "nothing may be published");
+    // The default is the same wait.
+    let out = exits_by_itself(cmd(192, &["pub", "swing", "--timeout", "1"]), 30);
+    assert!(!out.status.success());
+}
+
+/// `echo /exit_velocity` with the node in /lab says where that type is published; `--namespace /lab --once`
+/// then prints one answer and exits.
+#[test]
+fn ros_cli_echo_in_the_wrong_namespace_names_the_right_one() {
+    guard();
+    let domain = 193;
+    let node = start_node(domain, &["-r", "__ns:=/lab"]);
+    let out = exits_by_itself(cmd(domain, &["echo", "/exit_velocity", "--timeout", "8"]), 60);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("nothing publishes /exit_velocity"), "{stderr}");
+    assert!(stderr.contains("/lab/exit_velocity") && stderr.contains("--ns /lab"), "{stderr}");
+
+    let echo = support::spawn_piped(cmd(domain, &["echo", "exit_velocity", "--namespace", "/lab", "--once", "--json"]));
+    run_ok(cmd(domain, &["pub", "swing", "{bat_id: r161, impact_z: 0.7}", "--ns", "/lab", "--timeout", "60", "-q"]));
+    let answered = finish(echo);
+    stop(node);
+    let got = json_lines(&answered);
+    assert_eq!(got.len(), 1, "--once prints one message and exits");
+    assert_eq!(got[0]["bat_id"], "r161");
+}
+
+/// Parameters are checked alike at start-up: a bad default_bat or a record_path that cannot be written stops
+/// the node with one line naming the parameter.
+#[test]
+fn ros_cli_node_refuses_a_bad_default_bat_or_record_path_at_start_up() {
+    guard();
+    let out = exits_by_itself(cmd(194, &["node", "--ros-args", "-p", "default_bat:=alumnium"]), 30);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("default_bat") && stderr.contains("alumnium") && stderr.contains("aluminum"), "{stderr}");
+    assert_eq!(stderr.lines().filter(|l| l.starts_with("error:")).count(), 1, "{stderr}");
+
+    let out = exits_by_itself(cmd(194, &["node", "--ros-args", "-p", "record_path:=/proc/nope"]), 30);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let error: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(error.len(), 1, "{stderr}");
+    assert!(error[0].contains("record_path") && error[0].contains("/proc/nope"), "{stderr}");
+    assert!(!stderr.contains("recording /proc/nope"), "{stderr}");
+}

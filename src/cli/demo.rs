@@ -28,7 +28,7 @@ pub struct DemoArgs {
     #[arg(long, default_value = "bags", value_name = "DIR")]
     pub out: PathBuf,
     /// Namespace of the demo's node and rig.
-    #[arg(long, alias = "ns", default_value = "/demo", value_name = "NS")]
+    #[arg(long, visible_alias = "ns", default_value = "/demo", value_name = "NS")]
     pub namespace: String,
     /// Figure format.
     #[arg(long, value_enum, default_value_t = FigureFormat::Png)]

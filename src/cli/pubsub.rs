@@ -25,47 +25,67 @@ use crate::ros::{self, interrupt_flag, shutdown_signal, topics, DdsConfig, RosAr
 #[derive(Debug, clap::Args)]
 #[command(after_help = "\
 Examples:
-  sweetspot pub bat '{\"bat_id\": \"r161\", \"preset\": \"r161\"}' --keep-alive 5
-  sweetspot pub swing '{\"bat_id\": \"r161\", \"ball_speed\": 40, \"bat_cm_speed\": 20, \"bat_angular_speed\": 50, \"impact_z\": 0.7}'
-  sweetspot pub swing --file swings.csv --rate 100 --wait-subscribers 1
+  sweetspot pub swing '{swing_id: 1, bat_id: r161, ball_speed: 40, bat_cm_speed: 20, impact_z: 0.7}'
+  sweetspot pub /swing sweetspot_msgs/msg/Swing '{bat_id: r161, impact_z: 0.62}' -1
+  sweetspot pub bat '{\"bat_id\": \"mine\", \"preset\": \"aluminum\"}' --keep-alive 5
+  sweetspot pub swing '{impact_z: 0.7}' -r 10 -t 30
+  sweetspot pub swing --file swings.csv --rate 100 -w 1
   sweetspot pub /lab/swing --type Swing --file swings.jsonl --ros-args -r __ns:=/rig3
 
-Fields left out keep their defaults; header.stamp defaults to the publish time, a Swing's swing_id to 1, 2, 3…
-and its measured_exit_speed to NaN (not measured). Floats accept null/\"nan\" for NaN.")]
+VALUES are YAML (flow `{a: 1}` or block `a: 1`, as `ros2 topic pub` takes them) or JSON; a list publishes
+each item. Fields left out keep their defaults; header.stamp defaults to the publish time, a Swing's
+swing_id to 1, 2, 3… and its measured_exit_speed to NaN (not measured). Floats accept null/nan/.nan.
+
+Like `ros2 topic pub --once/--times`, pub waits for a matching subscription (-w, default 1) before the first
+message and exits non-zero with a warning if none appears within --timeout; on a latched topic (bat, ball)
+it does not wait (late joiners get the message), nor when one message repeats forever at --rate.")]
 pub struct PubArgs {
     /// What to publish: a message kind (bat, ball, swing, or a type such as BatParams or
     /// sweetspot_msgs/msg/Swing) on its default topic, or a topic name (relative names are resolved in the
     /// namespace).
     pub target: String,
-    /// The message as a JSON object (or a JSON array of objects).
+    /// `TYPE VALUES` or `VALUES` (the `ros2 topic pub TOPIC TYPE VALUES` form): a type when it is not a
+    /// message, e.g. `sweetspot_msgs/msg/Swing`.
+    #[arg(value_name = "TYPE|VALUES")]
+    pub type_or_message: Option<String>,
+    /// The message as YAML or JSON: an object, or a list of objects.
+    #[arg(value_name = "VALUES")]
     pub message: Option<String>,
     /// Message type when TARGET is a topic whose type cannot be told from its name.
     #[arg(long = "type", value_name = "TYPE")]
     pub msg_type: Option<String>,
-    /// Read messages from a file: JSON lines (one object per line; `-` = stdin) or CSV (`.csv`, one column per
-    /// field, nested fields as `header.frame_id`, arrays as `[1,2]` or `1;2`).
+    /// Read messages from a file: JSON lines (one object per line; `-` = stdin), YAML (`.yaml`/`.yml`: a list
+    /// or `---`-separated documents) or CSV (`.csv`, one column per field, nested fields as `header.frame_id`,
+    /// arrays as `[1,2]` or `1;2`).
     #[arg(long, value_name = "PATH")]
     pub file: Option<PathBuf>,
     /// Publish at this rate (messages per second); without it messages go out as fast as they are acknowledged.
-    #[arg(long, value_name = "HZ")]
+    #[arg(short = 'r', long, value_name = "HZ")]
     pub rate: Option<f64>,
     /// Publish this many messages in total, cycling through the input (default: each input message once, or
     /// forever when a single message is repeated with --rate).
-    #[arg(long, value_name = "N")]
+    #[arg(short = 't', long = "times", visible_alias = "count", value_name = "N")]
     pub count: Option<u64>,
-    /// Before publishing, wait until this many subscriptions on the topic have matched this publisher.
-    #[arg(long, value_name = "N", default_value_t = 0)]
-    pub wait_subscribers: usize,
-    /// Seconds to wait for --wait-subscribers, and for subscribers to acknowledge everything at the end.
-    #[arg(long, value_name = "SECS", default_value_t = 10.0)]
+    /// Publish one message and exit (same as `--times 1`).
+    #[arg(short = '1', long, conflicts_with = "count")]
+    pub once: bool,
+    /// Before the first message, wait until this many subscriptions on the topic have matched this publisher
+    /// (default 1; 0 on latched topics and when repeating forever at --rate).
+    #[arg(short = 'w', long = "wait-matching-subscriptions", visible_alias = "wait-subscribers", value_name = "N")]
+    pub wait_subscribers: Option<usize>,
+    /// Seconds to wait for matching subscriptions, and for subscribers to acknowledge everything at the end.
+    #[arg(long, visible_alias = "max-wait-time-secs", value_name = "SECS", default_value_t = 10.0)]
     pub timeout: f64,
     /// Stay up this many seconds after every subscription acknowledged the last message: readers need a moment
     /// to take what they acknowledged (a RustDDS reader drops the untaken samples of a writer whose participant
     /// has left), and late joiners get latched params only while we are up.
     #[arg(long, value_name = "SECS", default_value_t = 0.5)]
     pub keep_alive: f64,
+    /// QoS over the topic's own.
+    #[command(flatten)]
+    pub qos: QosArgs,
     /// Namespace for relative topic names (same as `--ros-args -r __ns:=NS`).
-    #[arg(long, value_name = "NS")]
+    #[arg(long, visible_alias = "namespace", value_name = "NS")]
     pub ns: Option<String>,
     /// Do not print what is published.
     #[arg(long, short)]
@@ -80,12 +100,20 @@ pub struct PubArgs {
 #[command(after_help = "\
 Examples:
   sweetspot echo exit_velocity
+  sweetspot echo /exit_velocity --ns /lab --once
   sweetspot echo /rig3/modal_energies --json --count 10 --timeout 30
-  sweetspot echo /diagnostics")]
+  sweetspot echo /lab/thing sweetspot_msgs/msg/Swing --qos-reliability best_effort
+  sweetspot echo /diagnostics
+
+When nothing publishes on the topic after a few seconds, echo says so on stderr and names the topics (and so
+the namespaces) where that message type is published, then keeps listening.")]
 pub struct EchoArgs {
     /// Topic to print (relative names are resolved in the namespace), or a message kind (bat, ball, swing,
     /// exit_velocity, modal_energies, sweet_spot, diagnostics, rosout) for its default topic.
     pub topic: String,
+    /// Message type (the `ros2 topic echo TOPIC TYPE` form), same as --type.
+    #[arg(value_name = "TYPE")]
+    pub positional_type: Option<String>,
     /// Message type when the topic's type cannot be told from its name.
     #[arg(long = "type", value_name = "TYPE")]
     pub msg_type: Option<String>,
@@ -95,18 +123,65 @@ pub struct EchoArgs {
     /// Exit after this many messages (exit status 1 if --timeout ends the wait first).
     #[arg(long, value_name = "N")]
     pub count: Option<u64>,
+    /// Print the first message received and exit (same as `--count 1`).
+    #[arg(long, conflicts_with = "count")]
+    pub once: bool,
     /// Exit after this many seconds.
     #[arg(long, value_name = "SECS")]
     pub timeout: Option<f64>,
     /// Subscribe volatile even on latched topics (params, sweet_spot): only messages published from now on.
     #[arg(long)]
     pub no_latched: bool,
+    /// QoS over the topic's own.
+    #[command(flatten)]
+    pub qos: QosArgs,
     /// Namespace for relative topic names (same as `--ros-args -r __ns:=NS`).
-    #[arg(long, value_name = "NS")]
+    #[arg(long, visible_alias = "namespace", value_name = "NS")]
     pub ns: Option<String>,
     /// ROS arguments (`-r __ns:=/rig3`, `-r from:=to`), as for any ROS 2 node; must come last.
     #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
     pub ros_args: Option<Vec<String>>,
+}
+
+/// `--qos-*` overrides of a topic's QoS, as `ros2 topic pub/echo` take them.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct QosArgs {
+    /// Reliability: reliable, best_effort, or system_default (the topic's own).
+    #[arg(long, value_name = "POLICY", value_parser = ["reliable", "best_effort", "system_default"])]
+    pub qos_reliability: Option<String>,
+    /// Durability: volatile, transient_local, or system_default (the topic's own).
+    #[arg(long, value_name = "POLICY", value_parser = ["volatile", "transient_local", "system_default"])]
+    pub qos_durability: Option<String>,
+    /// History depth (keep last N).
+    #[arg(long, value_name = "N")]
+    pub qos_depth: Option<usize>,
+}
+
+impl QosArgs {
+    /// `qos` with these overrides.
+    pub fn apply(&self, qos: ros2_client::QosProfile) -> anyhow::Result<ros2_client::QosProfile> {
+        use ros2_client::qos::{Durability, History, Reliability, WhenFull};
+        let mut qos = qos;
+        match self.qos_reliability.as_deref() {
+            Some("best_effort") => qos = qos.reliability(Reliability::BestEffort),
+            Some("reliable") if qos.reliability == Reliability::BestEffort => {
+                qos = qos.reliability(Reliability::Reliable { when_full: WhenFull::DEFAULT })
+            }
+            _ => {}
+        }
+        match self.qos_durability.as_deref() {
+            Some("volatile") => qos = qos.durability(Durability::Volatile),
+            Some("transient_local") => qos = qos.durability(Durability::TransientLocal),
+            _ => {}
+        }
+        if let Some(depth) = self.qos_depth {
+            if depth == 0 {
+                bail!("--qos-depth must be at least 1");
+            }
+            qos = qos.history(History::KeepLast { depth });
+        }
+        Ok(qos)
+    }
 }
 
 /// The message types `pub` and `echo` know.
@@ -319,11 +394,10 @@ fn complete(kind: Kind, template: &Value, input: &Value, sequence: u64, stamp: &
 }
 
 /// The input messages as JSON values, with a description of where each came from (for errors).
-fn read_inputs(args: &PubArgs) -> anyhow::Result<Vec<(String, Value)>> {
+fn read_inputs(message: Option<&str>, args: &PubArgs) -> anyhow::Result<Vec<(String, Value)>> {
     let mut out = Vec::new();
-    if let Some(text) = &args.message {
-        let v: Value = serde_json::from_str(text).context("the message is not valid JSON")?;
-        match v {
+    if let Some(text) = message {
+        match parse_values(text)? {
             Value::Array(items) => {
                 for (i, item) in items.into_iter().enumerate() {
                     out.push((format!("message[{i}]"), item));
@@ -334,17 +408,114 @@ fn read_inputs(args: &PubArgs) -> anyhow::Result<Vec<(String, Value)>> {
     }
     if let Some(path) = &args.file {
         let is_csv = path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+        let is_yaml = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
         if is_csv {
             out.extend(read_csv(path)?);
+        } else if is_yaml {
+            out.extend(read_yaml_file(path)?);
         } else {
             out.extend(read_json_lines(path)?);
         }
     }
-    if args.message.is_none() && args.file.is_none() {
+    if message.is_none() && args.file.is_none() {
         // Like `ros2 topic pub` with no values: a message with every default.
         out.push(("defaults".into(), Value::Object(Map::new())));
     }
     Ok(out)
+}
+
+/// A message given on the command line: JSON, else YAML (flow `{a: 1, b: x}` or block `a: 1`), as
+/// `ros2 topic pub` takes it. JSON goes first so that its numbers (e.g. a u64 above i64) keep their exact value.
+fn parse_values(text: &str) -> anyhow::Result<Value> {
+    if let Ok(v) = serde_json::from_str::<Value>(text) {
+        return Ok(v);
+    }
+    let docs = yaml_rust2::YamlLoader::load_from_str(text)
+        .map_err(|e| anyhow!("the message is not valid JSON or YAML: {e}"))?;
+    match docs.len() {
+        0 => bail!("the message is empty"),
+        1 => yaml_to_json(&docs[0]).map_err(|e| anyhow!("the message: {e}")),
+        _ => Ok(Value::Array(docs.iter().map(yaml_to_json).collect::<Result<_, _>>()?)),
+    }
+}
+
+/// A YAML file: one list of messages, or one message per `---` document.
+fn read_yaml_file(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let docs =
+        yaml_rust2::YamlLoader::load_from_str(&text).map_err(|e| anyhow!("{}: invalid YAML: {e}", path.display()))?;
+    let mut out = Vec::new();
+    for (d, doc) in docs.iter().enumerate() {
+        match yaml_to_json(doc).map_err(|e| anyhow!("{}: document {}: {e}", path.display(), d + 1))? {
+            Value::Array(items) => {
+                out.extend(items.into_iter().enumerate().map(|(i, v)| (format!("{}[{i}]", path.display()), v)))
+            }
+            other => out.push((format!("{}: document {}", path.display(), d + 1), other)),
+        }
+    }
+    Ok(out)
+}
+
+/// YAML as the JSON the message decoder reads: `.nan`/`.inf` become the strings it accepts for floats, and
+/// scalar keys become strings.
+fn yaml_to_json(y: &yaml_rust2::Yaml) -> anyhow::Result<Value> {
+    use yaml_rust2::Yaml;
+    Ok(match y {
+        Yaml::Null => Value::Null,
+        Yaml::Boolean(b) => Value::Bool(*b),
+        Yaml::Integer(i) => Value::from(*i),
+        Yaml::Real(text) => match y.as_f64() {
+            Some(x) if x.is_finite() => serde_json::Number::from_f64(x).map(Value::Number).unwrap_or(Value::Null),
+            Some(x) if x.is_nan() => Value::String("nan".into()),
+            Some(x) if x > 0.0 => Value::String("inf".into()),
+            Some(_) => Value::String("-inf".into()),
+            None => Value::String(text.clone()),
+        },
+        Yaml::String(s) => Value::String(s.clone()),
+        Yaml::Array(items) => Value::Array(items.iter().map(yaml_to_json).collect::<Result<_, _>>()?),
+        Yaml::Hash(map) => {
+            let mut obj = Map::new();
+            for (k, v) in map {
+                let key = match k {
+                    Yaml::String(s) | Yaml::Real(s) => s.clone(),
+                    Yaml::Integer(i) => i.to_string(),
+                    Yaml::Boolean(b) => b.to_string(),
+                    other => bail!("a field name must be a word, found {other:?}"),
+                };
+                obj.insert(key, yaml_to_json(v)?);
+            }
+            Value::Object(obj)
+        }
+        Yaml::Alias(_) | Yaml::BadValue => bail!("unsupported YAML value {y:?}"),
+    })
+}
+
+/// Whether a positional argument after TARGET is a message (YAML/JSON) rather than a type name: type names
+/// (`Swing`, `sweetspot_msgs/msg/Swing`) have no braces, brackets, colons or line breaks.
+fn looks_like_values(text: &str) -> bool {
+    let t = text.trim();
+    t.is_empty() || t.starts_with(['{', '[', '-', '"', '\'']) || t.contains([':', '\n'])
+}
+
+/// The type and the message from `TARGET [TYPE] [VALUES]` and `--type` (which must agree with TYPE).
+fn split_positionals(args: &PubArgs) -> anyhow::Result<(Option<String>, Option<String>)> {
+    let (positional_type, message) = match (&args.type_or_message, &args.message) {
+        (Some(t), Some(m)) => (Some(t.clone()), Some(m.clone())),
+        (Some(x), None) if looks_like_values(x) => (None, Some(x.clone())),
+        (Some(t), None) => (Some(t.clone()), None),
+        (None, m) => (None, m.clone()),
+    };
+    let msg_type = match (&args.msg_type, positional_type) {
+        (Some(flag), Some(pos)) if Kind::from_word(flag) != Kind::from_word(&pos) => {
+            bail!("the TYPE argument {pos:?} and --type {flag:?} disagree")
+        }
+        (Some(flag), _) => Some(flag.clone()),
+        (None, pos) => pos,
+    };
+    Ok((msg_type, message))
 }
 
 fn read_json_lines(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
@@ -423,7 +594,8 @@ fn insert_dotted(obj: &mut Map<String, Value>, dotted: &str, value: Value) {
 /// Publishes messages.
 pub fn run_pub(args: PubArgs) -> anyhow::Result<()> {
     let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_pub")?;
-    let (fq_topic, kind) = resolve_target(&args.target, &args.msg_type, &identity, &resolver)?;
+    let (msg_type, message) = split_positionals(&args)?;
+    let (fq_topic, kind) = resolve_target(&args.target, &msg_type, &identity, &resolver)?;
     if let Some(rate) = args.rate {
         if !(rate.is_finite() && rate > 0.0) {
             bail!("--rate must be a positive number of messages per second, got {rate}");
@@ -433,16 +605,18 @@ pub fn run_pub(args: PubArgs) -> anyhow::Result<()> {
     if !non_negative(args.timeout) || !non_negative(args.keep_alive) {
         bail!("--timeout and --keep-alive must be non-negative seconds");
     }
-    let inputs = read_inputs(&args)?;
+    let inputs = read_inputs(message.as_deref(), &args)?;
     if inputs.is_empty() {
         bail!("no messages to publish");
     }
-    with_type!(kind, T => publish_all::<T>(kind, &args, &fq_topic, &inputs))
+    let qos = args.qos.apply(kind.qos())?;
+    with_type!(kind, T => publish_all::<T>(kind, &args, &qos, &fq_topic, &inputs))
 }
 
 fn publish_all<T: RosMessage>(
     kind: Kind,
     args: &PubArgs,
+    qos: &ros2_client::QosProfile,
     fq_topic: &str,
     inputs: &[(String, Value)],
 ) -> anyhow::Result<()> {
@@ -453,7 +627,7 @@ fn publish_all<T: RosMessage>(
         let v = complete(kind, &template, value, i as u64 + 1, &zero);
         T::from_json(&v, "").map_err(|e| anyhow!("{origin}: {e}"))?;
     }
-    let total = match (args.count, args.rate, inputs.len()) {
+    let total = match (args.once.then_some(1).or(args.count), args.rate, inputs.len()) {
         (Some(n), _, _) => Some(n),
         (None, Some(_), 1) => None, // one message repeated at a rate: until interrupted
         (None, _, n) => Some(n as u64),
@@ -461,24 +635,30 @@ fn publish_all<T: RosMessage>(
 
     let config = DdsConfig::from_env()?;
     let ctx = ros::context(&config)?;
-    let writer = writer::<T>(&ctx, fq_topic, &kind.qos())?;
+    let writer = writer::<T>(&ctx, fq_topic, qos)?;
 
     let interrupted = interrupt_flag();
     let timeout = Duration::from_secs_f64(args.timeout);
-    if args.wait_subscribers > 0 {
+    let latched = qos.durability == ros2_client::qos::Durability::TransientLocal;
+    let wait_for = args.wait_subscribers.unwrap_or(default_wait(latched, total.is_none()));
+    if wait_for > 0 {
         let start = Instant::now();
         let mut n: usize = 0;
         loop {
             n = matched_subscriptions(&writer, n);
-            if n >= args.wait_subscribers {
+            if n >= wait_for {
                 break;
             }
             if start.elapsed() >= timeout {
-                bail!(
-                    "only {n} of {} subscriptions on {fq_topic} appeared within {:.1} s",
-                    args.wait_subscribers,
-                    args.timeout
+                eprintln!(
+                    "warning: {n} of {wait_for} matching subscription(s) on {fq_topic} ({}) within {:.1} s, so \
+                     nothing was published: is the node running in this ROS_DOMAIN_ID ({}) and namespace? \
+                     (-w 0 publishes without waiting, --timeout waits longer)",
+                    T::TYPE_NAME,
+                    args.timeout,
+                    config.domain_id
                 );
+                bail!("no matching subscription on {fq_topic}");
             }
             if interrupted.load(std::sync::atomic::Ordering::Relaxed) {
                 bail!("interrupted while waiting for subscribers");
@@ -537,8 +717,64 @@ fn publish_all<T: RosMessage>(
     Ok(())
 }
 
+/// Matching subscriptions to wait for when `-w` is not given: one, as `ros2 topic pub --once/--times`, except
+/// on a latched topic (a late joiner still gets the message) and when one message repeats forever.
+fn default_wait(latched: bool, forever: bool) -> usize {
+    if latched || forever {
+        0
+    } else {
+        1
+    }
+}
+
 /// Samples `echo` can queue between DDS and the terminal.
 const ECHO_DEPTH: usize = 100_000;
+
+/// How long echo listens before saying that nothing publishes on its topic.
+const NO_PUBLISHER_WARNING: Duration = Duration::from_secs(3);
+
+/// The ROS topics on which discovery has seen a writer of `T` (sorted, each once).
+fn writers_of<T: RosMessage>(participant: &rustdds::DomainParticipant) -> Vec<String> {
+    let dds_type = ros::message_type_name::<T>().dds_msg_type();
+    let mut topics: Vec<String> = participant
+        .discovered_writers()
+        .into_iter()
+        .filter(|w| w.publication_topic_data.type_name == dds_type)
+        .filter_map(|w| w.publication_topic_data.topic_name.strip_prefix("rt").map(str::to_string))
+        .collect();
+    topics.sort();
+    topics.dedup();
+    topics
+}
+
+/// The warning when nothing publishes on `fq_topic`, naming the namespaces where its type is published.
+fn no_publisher_warning(fq_topic: &str, kind: Kind, published_on: &[String]) -> String {
+    let seconds = NO_PUBLISHER_WARNING.as_secs();
+    let type_name = kind.type_name();
+    let relative = format!("/{}", kind.default_topic().trim_start_matches('/'));
+    if published_on.is_empty() {
+        return format!(
+            "warning: nothing publishes {fq_topic} ({type_name}) after {seconds} s, and no publisher of that \
+             type was discovered in this ROS_DOMAIN_ID; still listening"
+        );
+    }
+    let elsewhere: Vec<String> = published_on
+        .iter()
+        .map(|topic| {
+            // The node's topics sit under its namespace; other names say only where they are.
+            let namespace = match topic.strip_suffix(&relative).or_else(|| topic.rsplit_once('/').map(|(ns, _)| ns)) {
+                Some("") | None => "/",
+                Some(ns) => ns,
+            };
+            format!("{topic} (namespace {namespace}: --ns {namespace})")
+        })
+        .collect();
+    format!(
+        "warning: nothing publishes {fq_topic} ({type_name}) after {seconds} s, but that type is published on {}; \
+         still listening",
+        elsewhere.join(", ")
+    )
+}
 
 /// Pause between seeing a subscription match and publishing to it (see its use).
 const MATCH_SETTLE: Duration = Duration::from_millis(300);
@@ -546,7 +782,13 @@ const MATCH_SETTLE: Duration = Duration::from_millis(300);
 /// Prints what arrives on a topic.
 pub fn run_echo(args: EchoArgs) -> anyhow::Result<()> {
     let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_echo")?;
-    let (fq_topic, kind) = resolve_target(&args.topic, &args.msg_type, &identity, &resolver)?;
+    let msg_type = match (&args.msg_type, &args.positional_type) {
+        (Some(flag), Some(pos)) if Kind::from_word(flag) != Kind::from_word(pos) => {
+            bail!("the TYPE argument {pos:?} and --type {flag:?} disagree")
+        }
+        (flag, pos) => flag.clone().or_else(|| pos.clone()),
+    };
+    let (fq_topic, kind) = resolve_target(&args.topic, &msg_type, &identity, &resolver)?;
     if let Some(t) = args.timeout {
         if !(t.is_finite() && t >= 0.0) {
             bail!("--timeout must be non-negative seconds, got {t}");
@@ -565,6 +807,8 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
     if args.no_latched {
         qos = qos.durability(ros2_client::qos::Durability::Volatile);
     }
+    let qos = args.qos.apply(qos)?;
+    let count = if args.once { Some(1) } else { args.count };
     let reader = reader::<T>(&ctx, fq_topic, &qos)?;
     if !args.json {
         eprintln!(
@@ -602,8 +846,11 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         let interrupted = shutdown_signal();
         tokio::pin!(interrupted);
         let mut received: u64 = 0;
+        let quiet_check = tokio::time::sleep(NO_PUBLISHER_WARNING);
+        tokio::pin!(quiet_check);
+        let mut checked = false;
         loop {
-            if args.count.is_some_and(|c| received >= c) {
+            if count.is_some_and(|c| received >= c) {
                 return Ok(());
             }
             let sleep = async {
@@ -614,8 +861,17 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
             };
             tokio::select! {
                 _ = &mut interrupted => return Ok(()),
+                _ = &mut quiet_check, if !checked => {
+                    checked = true;
+                    if received == 0 {
+                        let published_on = writers_of::<T>(&ctx.domain_participant());
+                        if !published_on.iter().any(|t| t == fq_topic) {
+                            eprintln!("{}", no_publisher_warning(fq_topic, kind, &published_on));
+                        }
+                    }
+                }
                 _ = sleep => {
-                    return match args.count {
+                    return match count {
                         Some(c) => Err(anyhow!("timed out on {fq_topic} after {received} of {c} messages")),
                         None => Ok(()),
                     };
@@ -691,5 +947,86 @@ mod tests {
         let s2 = Swing::from_json(&complete(Kind::Swing, &template, &rows[1].1, 2, &Time::default()), "").unwrap();
         assert!(s2.ball_speed.is_nan());
         assert_eq!(s2.measured_exit_speed, 44.0);
+    }
+
+    fn parse_pub(line: &[&str]) -> PubArgs {
+        use clap::Parser;
+        let argv = std::iter::once("sweetspot").chain(std::iter::once("pub")).chain(line.iter().copied());
+        match crate::cli::Cli::try_parse_from(argv).unwrap().command {
+            crate::cli::Command::Pub(args) => args,
+            other => panic!("parsed as {other:?}"),
+        }
+    }
+
+    #[test]
+    fn yaml_flow_and_block_values_read_like_json() {
+        let want =
+            serde_json::json!({"swing_id": 1, "bat_id": "r161", "ball_speed": 40.5, "header": {"frame_id": "cage"}});
+        let flow = parse_values("{swing_id: 1, bat_id: r161, ball_speed: 40.5, header: {frame_id: cage}}").unwrap();
+        let block = parse_values("swing_id: 1\nbat_id: r161\nball_speed: 40.5\nheader:\n  frame_id: cage\n").unwrap();
+        let json =
+            parse_values(r#"{"swing_id": 1, "bat_id": "r161", "ball_speed": 40.5, "header": {"frame_id": "cage"}}"#)
+                .unwrap();
+        assert_eq!((&flow, &block, &json), (&want, &want, &want));
+        let s = Swing::from_json(&parse_values("{measured_exit_speed: .nan, ball_speed: .inf}").unwrap(), "").unwrap();
+        assert!(s.measured_exit_speed.is_nan() && s.ball_speed == f64::INFINITY);
+        assert_eq!(parse_values("[{a: 1}, {a: 2}]").unwrap(), serde_json::json!([{"a": 1}, {"a": 2}]));
+        assert_eq!(parse_values(r#"{"swing_id": 18446744073709551615}"#).unwrap()["swing_id"], u64::MAX);
+        let e = parse_values("{not json").unwrap_err().to_string();
+        assert!(e.contains("not valid JSON or YAML"), "{e}");
+    }
+
+    #[test]
+    fn the_ros2_topic_pub_forms_parse() {
+        let a = parse_pub(&[
+            "/swing",
+            "sweetspot_msgs/msg/Swing",
+            "{bat_id: r161}",
+            "-1",
+            "-w",
+            "2",
+            "--namespace",
+            "/lab",
+        ]);
+        assert_eq!(
+            split_positionals(&a).unwrap(),
+            (Some("sweetspot_msgs/msg/Swing".into()), Some("{bat_id: r161}".into()))
+        );
+        assert!(a.once);
+        assert_eq!((a.wait_subscribers, a.ns.as_deref()), (Some(2), Some("/lab")));
+        let a = parse_pub(&["swing", "bat_id: r161", "-r", "5", "-t", "3"]);
+        assert_eq!(split_positionals(&a).unwrap(), (None, Some("bat_id: r161".into())));
+        assert_eq!((a.rate, a.count), (Some(5.0), Some(3)));
+        let a = parse_pub(&["/lab/thing", "Swing", "--count", "2", "--wait-subscribers", "0", "--ns", "/x"]);
+        assert_eq!(split_positionals(&a).unwrap(), (Some("Swing".into()), None));
+        assert_eq!((a.count, a.wait_subscribers), (Some(2), Some(0)));
+        let a = parse_pub(&["/lab/thing", "Swing", "{}", "--type", "ExitVelocity"]);
+        assert!(split_positionals(&a).is_err(), "TYPE and --type disagree");
+        let a = parse_pub(&[
+            "swing",
+            "--qos-reliability",
+            "best_effort",
+            "--qos-durability",
+            "transient_local",
+            "--qos-depth",
+            "7",
+        ]);
+        let q = a.qos.apply(Kind::Swing.qos()).unwrap();
+        assert_eq!(q.reliability, ros2_client::qos::Reliability::BestEffort);
+        assert_eq!(q.durability, ros2_client::qos::Durability::TransientLocal);
+        assert_eq!(q.history, ros2_client::qos::History::KeepLast { depth: 7 });
+        assert_eq!(default_wait(false, false), 1, "ros2 topic pub --once waits for one subscription");
+        assert_eq!(default_wait(true, false), 0);
+        assert_eq!(default_wait(false, true), 0);
+    }
+
+    #[test]
+    fn the_quiet_topic_warning_names_the_namespaces_in_use() {
+        let w = no_publisher_warning("/exit_velocity", Kind::ExitVelocity, &["/lab/exit_velocity".into()]);
+        assert!(w.contains("/lab/exit_velocity (namespace /lab: --ns /lab)"), "{w}");
+        let w = no_publisher_warning("/bat/params", Kind::BatParams, &["/rig3/bat/params".into(), "/bat2".into()]);
+        assert!(w.contains("namespace /rig3:") && w.contains("/bat2 (namespace /:"), "{w}");
+        let w = no_publisher_warning("/exit_velocity", Kind::ExitVelocity, &[]);
+        assert!(w.contains("no publisher of that type"), "{w}");
     }
 }

@@ -98,7 +98,7 @@ pub struct RigArgs {
     #[arg(long, value_name = "N")]
     pub count: Option<u64>,
     /// Namespace of the node this rig feeds (one node per rig namespace, e.g. /rig3).
-    #[arg(long, alias = "ns", default_value = "/", value_name = "NS")]
+    #[arg(long, visible_alias = "ns", default_value = "/", value_name = "NS")]
     pub namespace: String,
     /// Seconds to wait for a node to subscribe before giving up (0 = publish without waiting).
     #[arg(long, default_value_t = 30.0, value_name = "S")]

@@ -127,7 +127,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     outputs.refresh_energies_listeners(&node);
 
     // Recording: every input as received and every output as published.
-    let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names, &log));
+    // A node told to record that cannot record stops here rather than pretend to.
+    let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names)?);
     tape.note_settings(&settings);
     let stats = Arc::new(NodeStats::new());
     let sink = outputs.sink(&tape, &stats);
@@ -266,10 +267,9 @@ fn start_tape(
     identity: &NodeIdentity,
     started: chrono::DateTime<chrono::Utc>,
     topic_names: &TopicNames,
-    log: &Log,
-) -> Tape {
+) -> anyhow::Result<Tape> {
     if !settings.record {
-        return Tape::off();
+        return Ok(Tape::off());
     }
     let dir: PathBuf = settings.bag_dir(&identity.name, started);
     let config = RecorderConfig {
@@ -290,21 +290,19 @@ fn start_tape(
     ];
     // record_storage_preset, then record_compression over it (rosbag2's order). apply() refused any
     // combination that does not go together, so the error arm is for settings built some other way.
-    let storage = match settings.storage_options() {
-        Ok(storage) => storage,
-        Err(e) => {
-            log.error(&format!(
-                "record_storage_preset = {:?} with record_compression = {:?}: {e}; not recording",
-                settings.record_storage_preset, settings.record_compression
-            ));
-            return Tape::failed(dir, e.to_string());
-        }
-    };
+    let storage = settings.storage_options().map_err(|e| {
+        anyhow::anyhow!(
+            "record_storage_preset = '{}' with record_compression = '{}': {e}",
+            settings.record_storage_preset,
+            settings.record_compression
+        )
+    })?;
     match super::recording::start_backend(config, storage) {
-        Ok(backend) => Tape::start(dir, backend, topics),
-        Err(e) => {
-            log.error(&format!("recording to {} failed: {e}; the node keeps computing and publishing", dir.display()));
-            Tape::failed(dir, e.to_string())
-        }
+        Ok(backend) => Ok(Tape::start(dir, backend, topics)),
+        // The error names the directory (the default one when record_path is empty).
+        Err(e) => Err(anyhow::anyhow!(
+            "record_path = '{}': cannot record: {e} (pass another record_path, or record:=false)",
+            settings.record_path
+        )),
     }
 }

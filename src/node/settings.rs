@@ -12,6 +12,7 @@ use std::path::PathBuf;
 use ros2_client::ParameterValue;
 
 use crate::model::settings::ModelSettings;
+use crate::physics::Bat;
 
 /// The node's parameters, typed. Defaults are what `sweetspot node` uses without `-p`.
 #[derive(Debug, Clone, PartialEq)]
@@ -111,7 +112,12 @@ pub static PARAMETERS: &[Parameter] = &[
         rule: Rule::Text {
             default: "r161",
             set: |s, v| {
-                within(!v.trim().is_empty(), "a non-empty bat_id or preset name")?;
+                if !Bat::preset_names().contains(&v) {
+                    return Err(Refusal::Refused(format!(
+                        "default_bat = '{v}' is not a bat preset (presets: {})",
+                        Bat::preset_names().join(", ")
+                    )));
+                }
                 s.model.default_bat = v.to_string();
                 STORED
             },
@@ -573,6 +579,22 @@ fn show(value: &ParameterValue) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn default_bat_must_name_a_preset() {
+        let mut s = NodeSettings::default();
+        for preset in ["r161", "r161-corked", "aluminum", "torpedo"] {
+            assert!(s.apply("default_bat", &ParameterValue::String(preset.into())).is_ok(), "{preset}");
+            assert_eq!(s.model.default_bat, preset);
+        }
+        for bad in ["alumnium", "", " r161", "R161"] {
+            let err = s.apply("default_bat", &ParameterValue::String(bad.into())).unwrap_err();
+            assert!(err.starts_with("default_bat") && err.contains("aluminum"), "{bad}: {err}");
+        }
+        assert_eq!(s.model.default_bat, "torpedo", "a refused value leaves the last good one");
+        let overrides = BTreeMap::from([("default_bat".to_string(), ParameterValue::String("alumnium".into()))]);
+        assert!(NodeSettings::with_overrides(&overrides).unwrap_err().contains("not a bat preset"));
+    }
 
     #[test]
     fn record_compression_takes_the_rosbag2_style_names_and_refuses_others() {
