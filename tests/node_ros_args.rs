@@ -386,7 +386,7 @@ fn sigterm_ends_the_node_with_a_finished_bag_of_every_input_and_output() {
 /// record_path and the reason.
 #[test]
 fn an_unwritable_record_path_stops_the_node_at_start_up_naming_it() {
-    node_support::shared::require_isolated_network();
+    support::require_isolated_network();
     let dir = tempfile::tempdir().unwrap();
     // Not even root can create a directory under /proc.
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
