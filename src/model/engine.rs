@@ -9,6 +9,7 @@ use crate::physics::{
     SweetSpotSet,
 };
 
+use super::limits::{self, quote, MAX_STRING_BYTES};
 use super::lru::LruMap;
 use super::settings::ModelSettings;
 
@@ -76,6 +77,37 @@ impl BatEntry {
         });
         stats.count_mode_lookup(!computed);
         modes.clone()
+    }
+
+    /// As [`BatEntry::new`], and refuses a bat whose kept modes the node's `time_step` cannot resolve (the
+    /// RK4 criterion of [`CollisionOptions::validate`]), naming max_modes and the most modes it resolves; every
+    /// swing on such a bat would be REJECTED. Solves the bat's modes (cached in the entry for its swings).
+    /// The error starts with `BatParams 'id':`.
+    pub fn new_checked(
+        bat_id: impl Into<String>,
+        bat: Bat,
+        max_modes: Option<usize>,
+        settings: &ModelSettings,
+    ) -> Result<BatEntry, String> {
+        let entry = BatEntry::new(bat_id, bat, max_modes, settings);
+        let context = |e: String| format!("BatParams '{}': {e}", entry.bat_id);
+        let modes = entry.modes(&()).map_err(|e| context(e.to_string()))?;
+        let options = |modes: usize| CollisionOptions { modes, time_step: settings.time_step };
+        let Err(e) = options(entry.max_modes).validate(&modes) else { return Ok(entry) };
+        // Frequencies rise with the mode number: the most modes resolved is the largest count that passes (0
+        // modes always passes: the rigid bat needs no step criterion).
+        let resolved = (0..entry.max_modes).rev().find(|&k| options(k).validate(&modes).is_ok()).unwrap_or(0);
+        let time_step = limits::number(settings.time_step);
+        let fix = match (resolved, entry.uses_default_modes) {
+            (0, _) => "not even its first mode".to_string(),
+            (k, false) => format!("at most {k} modes: expected 1 ≤ max_modes ≤ {k}"),
+            (k, true) => format!("at most {k} modes: send max_modes ≤ {k} or lower default_modes"),
+        };
+        let asked = if entry.uses_default_modes { "default_modes" } else { "max_modes" };
+        Err(context(format!(
+            "{asked} = {} is out of range: the node's time_step = {time_step} s resolves {fix} of this bat ({e})",
+            entry.max_modes
+        )))
     }
 
     /// Whether the modes have been computed (successfully or not).
@@ -181,8 +213,9 @@ impl Registry {
         if self.bats.was_forgotten(&bat_id) {
             // Even when the id names a preset: its BatParams may have said something else.
             return Err(format!(
-                "unknown bat_id '{bat_id}': its BatParams were forgotten (evicted) to keep at most max_bats = {} \
+                "unknown bat_id '{}': its BatParams were forgotten (evicted) to keep at most max_bats = {} \
                  bats, least recently used first; publish its BatParams again (or raise max_bats)",
+                quote(&bat_id),
                 self.bats.capacity()
             ));
         }
@@ -195,10 +228,11 @@ impl Registry {
                 Ok((entry, true))
             }
             Err(_) => Err(format!(
-                "unknown bat_id '{bat_id}': no BatParams received for it{} and it is not a preset (known bats: \
+                "unknown bat_id '{}': no BatParams received for it{} and it is not a preset (known bats: \
                  [{}]; presets: [{}])",
+                quote(&bat_id),
                 long_forgotten(self.bats.evictions(), "BatParams", "max_bats", self.bats.capacity()),
-                known_ids(self.bats.iter().map(|(id, _)| id)),
+                limits::list_ids(self.bats.iter().map(|(id, _)| id)),
                 Bat::preset_names().join(", ")
             )),
         }
@@ -222,8 +256,9 @@ impl Registry {
         }
         if self.balls.was_forgotten(&ball_id) {
             return Err(format!(
-                "unknown ball_id '{ball_id}': its BallParams were forgotten (evicted) to keep at most max_balls = {} \
+                "unknown ball_id '{}': its BallParams were forgotten (evicted) to keep at most max_balls = {} \
                  balls, least recently used first; publish its BallParams again (or raise max_balls)",
+                quote(&ball_id),
                 self.balls.capacity()
             ));
         }
@@ -234,9 +269,10 @@ impl Registry {
             self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
         let known = self.balls.iter().map(|(id, _)| id).chain(built_in_available.then_some(DEFAULT_BALL_ID));
         Err(format!(
-            "unknown ball_id '{ball_id}': no BallParams received for it{} (known balls: [{}])",
+            "unknown ball_id '{}': no BallParams received for it{} (known balls: [{}])",
+            quote(&ball_id),
             long_forgotten(self.balls.evictions(), "BallParams", "max_balls", self.balls.capacity()),
-            known_ids(known)
+            limits::list_ids(known)
         ))
     }
 
@@ -300,19 +336,6 @@ fn long_forgotten(evictions: u64, message: &str, limit: &str, capacity: usize) -
     }
 }
 
-/// Ids for an error message, sorted; a long list is cut short (there may be thousands).
-fn known_ids<'a>(ids: impl Iterator<Item = &'a str>) -> String {
-    const SHOWN: usize = 20;
-    let mut ids: Vec<&str> = ids.collect();
-    ids.sort_unstable();
-    let total = ids.len();
-    let mut shown = ids.into_iter().take(SHOWN).collect::<Vec<_>>().join(", ");
-    if total > SHOWN {
-        shown.push_str(&format!(", … {} more", total - SHOWN));
-    }
-    shown
-}
-
 /// What a swing became after resolving its bat and ball.
 #[derive(Debug, Clone)]
 pub enum Plan {
@@ -365,6 +388,12 @@ pub fn plan_swing(
     ball_id: &str,
     impact: Impact,
 ) -> (Plan, Option<Arc<BatEntry>>) {
+    // Over-long ids are refused before any lookup, and the answer carries them cut short.
+    if let Err(reason) = limits::check_string("bat_id", bat_id).and_then(|_| limits::check_string("ball_id", ball_id)) {
+        let bat_id = limits::shorten(bat_id, MAX_STRING_BYTES).into_owned();
+        let ball_id = limits::shorten(ball_id, MAX_STRING_BYTES).into_owned();
+        return (Plan::Reject { bat_id, ball_id, reason }, None);
+    }
     let (bat, created) = match registry.resolve_bat(bat_id, settings) {
         Ok((bat, created)) => (bat, created.then_some(())),
         Err(reason) => {
@@ -396,9 +425,10 @@ pub struct Computed {
 pub fn compute(plan: &Plan, stats: &impl ModeCacheStats) -> Result<Computed, String> {
     match plan {
         Plan::Reject { reason, .. } => Err(reason.clone()),
-        Plan::Collide { bat, ball, impact, options, .. } => {
+        Plan::Collide { bat, ball_id, ball, impact, options } => {
             let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
             let collision = collide(&modes, ball, impact, options).map_err(|e| e.to_string())?;
+            limits::check_compression(ball_id, ball, collision.max_compression)?;
             let collision_energy = centre_of_mass_energy(&collision, &modes.mass_properties(), ball, impact);
             Ok(Computed { collision, collision_energy })
         }
