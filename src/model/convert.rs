@@ -303,6 +303,7 @@ pub fn sweet_spot(summary: &BatSummary, header: Header) -> SweetSpot {
 mod tests {
     use super::*;
     use crate::msgs::builtin_interfaces::msg::Time;
+    use crate::physics::Ball;
     use crate::physics::{CollisionResult, EnergyBudget, ModeEnergy};
 
     fn swing(measured: f64) -> Swing {
@@ -449,5 +450,94 @@ mod tests {
         assert!(e.contains("slice_length") && e.contains("4000"), "{e}");
         // Presets are far below any allowed cap.
         assert!(bat_from_params_capped(&params_of_preset("p", "torpedo", Header::default()), 100).is_ok());
+    }
+
+    #[test]
+    fn a_megabyte_bat_id_is_refused_with_a_short_message_and_other_strings_are_bounded() {
+        let huge = "é".repeat(1 << 19);
+        let e = bat_from_params(&BatParams { bat_id: huge.clone(), ..params_of_preset("", "r161", Header::default()) })
+            .unwrap_err();
+        assert!(e.starts_with("BatParams: bat_id is 1048576 bytes long, over the limit of 256 bytes"), "{e}");
+        assert!(e.len() < 200, "{} bytes", e.len());
+        let e = bat_from_params(&params_of_preset("p", &huge, Header::default())).unwrap_err();
+        assert!(e.starts_with("BatParams 'p': preset is 1048576 bytes") && e.len() < 200, "{e}");
+        let header = Header { frame_id: huge.clone(), ..Header::default() };
+        assert!(bat_from_params(&params_of_preset("p", "r161", header.clone())).unwrap_err().contains("frame_id"));
+        let e =
+            ball_from_params(&BallParams { ball_id: huge.clone(), ..params_from_ball("", &Ball::default(), header) })
+                .unwrap_err();
+        assert!(e.starts_with("BallParams: ball_id is 1048576 bytes") && e.len() < 200, "{e}");
+        let at_limit = "x".repeat(crate::model::limits::MAX_STRING_BYTES);
+        assert!(bat_from_params(&params_of_preset(&at_limit, "r161", Header::default())).is_ok());
+        // A profile of more stations than the limit is refused before anything is copied.
+        let many = 5000;
+        let p = BatParams {
+            bat_id: "many".into(),
+            station_z: (0..many).map(|i| i as f64 * 1e-4).collect(),
+            outer_radius: vec![0.03; many],
+            inner_radius: vec![0.0; many],
+            ..BatParams::default()
+        };
+        assert!(bat_from_params(&p).unwrap_err().contains("over the limit of 4096"));
+        // The answer to a swing echoes its strings cut short, and the message is bounded.
+        let swing = Swing {
+            bat_id: huge.clone(),
+            header: Header { frame_id: huge.clone(), ..Header::default() },
+            ..swing(1.0)
+        };
+        let ev = exit_velocity(&swing, &huge, &huge, &Err(huge.clone()));
+        assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED);
+        assert!(ev.bat_id.len() < 300 && ev.ball_id.len() < 300 && ev.header.frame_id.len() < 300);
+        assert!(ev.message.len() < 300, "the swing's own check comes first: {}", ev.message);
+    }
+
+    #[test]
+    fn infinite_or_absurd_measured_speeds_are_refused_and_never_echoed() {
+        for bad in [f64::INFINITY, f64::NEG_INFINITY, 1e300] {
+            let ev = exit_velocity(&swing(bad), "r161", "baseball", &Ok(computed()));
+            assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED, "{bad}");
+            assert!(ev.message.starts_with("measured_exit_speed = "), "{}", ev.message);
+            assert!(ev.measured_exit_speed.is_nan() && ev.residual.is_nan() && ev.exit_speed.is_nan());
+        }
+        let ev = exit_velocity(&swing(1e300), "r161", "baseball", &Ok(computed()));
+        assert!(ev.message.starts_with("measured_exit_speed = 1e300 m/s is out of range"), "{}", ev.message);
+    }
+
+    #[test]
+    fn every_bad_slice_length_gets_the_same_rule_and_range() {
+        let with = |slice_length: f64| BatParams {
+            slice_length,
+            ..params_from_bat("s", &Bat::preset("r161").unwrap(), 0, Header::default())
+        };
+        let range = |e: &str| e.split("i.e. ").nth(1).map(str::to_string).unwrap_or_else(|| panic!("{e}"));
+        let messages: Vec<String> = [1e-4, 2.1e-4, f64::NAN, -0.01, 0.5]
+            .into_iter()
+            .map(|v| bat_from_params_capped(&with(v), DEFAULT_MAX_BAT_SLICES).unwrap_err())
+            .collect();
+        for e in &messages {
+            assert!(e.starts_with("BatParams 's': slice_length = ") && e.contains("max_bat_slices = 1200"), "{e}");
+            assert_eq!(range(e), range(&messages[0]), "{e} vs {}", messages[0]);
+        }
+        assert!(messages[0].contains("= 0.0001 m") && messages[0].contains("8400 slices"), "{}", messages[0]);
+        assert!(messages[1].contains("4000 slices"), "{}", messages[1]);
+        assert!(messages[2].starts_with("BatParams 's': slice_length = NaN m"), "{}", messages[2]);
+        // The range quoted holds: its lower end is accepted by the physics' own slice count (0.84 m / 1200).
+        assert!(bat_from_params_capped(&with(0.84 / 1200.0), DEFAULT_MAX_BAT_SLICES).is_ok());
+    }
+
+    #[test]
+    fn huge_and_tiny_numbers_in_rejections_are_printed_short() {
+        let e = ball_from_params(&BallParams {
+            stiffness: 1e300,
+            ..params_from_ball("b", &Ball::default(), Header::default())
+        })
+        .unwrap_err();
+        assert!(e.contains("stiffness = 1e300 is out of range") && e.len() < 120, "{e}");
+        let e = ball_from_params(&BallParams {
+            mass: 5e-324,
+            ..params_from_ball("b", &Ball::default(), Header::default())
+        })
+        .unwrap_err();
+        assert!(e.contains("mass = 5e-324 is out of range") && e.len() < 120, "{e}");
     }
 }

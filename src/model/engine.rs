@@ -603,4 +603,86 @@ mod tests {
         assert_eq!(refreshed.len(), 1);
         assert_eq!(refreshed[0].max_modes, 10);
     }
+
+    #[test]
+    fn over_long_ids_are_refused_before_any_lookup_with_a_short_message() {
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let huge = "x".repeat(1 << 20);
+        let (plan, created) = plan_swing(&mut registry, &settings, &huge, "", swing(0.7));
+        assert!(created.is_none());
+        let Plan::Reject { bat_id, reason, .. } = &plan else { panic!("{plan:?}") };
+        assert!(reason.starts_with("bat_id is 1048576 bytes long, over the limit of 256 bytes"), "{reason}");
+        assert!(reason.len() < 200 && bat_id.len() < 300, "{} / {}", reason.len(), bat_id.len());
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", &huge, swing(0.7));
+        assert!(compute(&plan, &()).unwrap_err().starts_with("ball_id is 1048576 bytes"));
+        assert_eq!(registry.usage().bats, 0, "nothing was stored for the refused swings");
+    }
+
+    #[test]
+    fn an_unknown_id_among_many_long_ones_gets_a_bounded_message() {
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let bat = Bat::preset("r161").unwrap();
+        for i in 0..20 {
+            let id = format!("{i:02}{}", "b".repeat(254));
+            registry.set_bat(BatEntry::new(id, bat.clone(), Some(4), &settings));
+        }
+        for i in 0..40 {
+            registry.set_ball(&format!("{i:02}{}", "c".repeat(254)), Ball::default());
+        }
+        let unknown = "u".repeat(256);
+        let e = registry.resolve_bat(&unknown, &settings).unwrap_err();
+        // 20 ids of 256 bytes would be 5 KB; each is cut to 32 bytes, the list to 1 KB.
+        assert!(e.len() < 1600, "{} bytes: {e}", e.len());
+        assert!(e.contains("unknown bat_id 'uuuu") && e.contains("00bbb"), "{e}");
+        let e = registry.resolve_ball(&unknown).unwrap_err();
+        assert!(e.len() < 1600 && e.contains("more"), "{} bytes: {e}", e.len());
+    }
+
+    #[test]
+    fn a_ball_compressed_beyond_half_its_radius_is_refused_naming_its_force_law() {
+        let (settings, stats) = (ModelSettings::default(), ModeCacheCount::default());
+        let mut registry = Registry::new();
+        let soft = Ball { stiffness: 1e4, exponent: 1.0, ..Ball::default() };
+        registry.set_ball("soft", soft);
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", "soft", swing(0.7));
+        let e = compute(&plan, &stats).unwrap_err();
+        assert!(e.starts_with("ball 'soft' (stiffness = 10000 N/m^α, exponent α = 1, radius = 0.0366 m)"), "{e}");
+        assert!(e.contains("≤ 0.5 × radius = 0.0183 m"), "{e}");
+        // Independent scale: a linear spring stopping the ball alone from the approach speed v compresses by
+        // v·√(m/k); the bat's recoil only lowers it, so the compression reported lies between half that and it.
+        let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
+        let v = 40.0 + crate::physics::rigid::bat_speed_at(&modes.mass_properties(), &swing(0.7));
+        let bound = v * (soft.mass / soft.stiffness).sqrt();
+        let reported: f64 = e.split("compressed by ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+        assert!(reported > 0.5 * bound && reported <= bound, "{reported} vs {bound}");
+        // The regulation ball on the same swing stays well inside the limit and answers.
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", DEFAULT_BALL_ID, swing(0.7));
+        assert!(compute(&plan, &stats).unwrap().collision.max_compression < 0.5 * 0.0366);
+    }
+
+    #[test]
+    fn modes_the_time_step_cannot_resolve_are_refused_at_params_time() {
+        let settings = ModelSettings::default();
+        let bat = Bat { slice_length: 7e-4, ..Bat::preset("r161").unwrap() };
+        let e = BatEntry::new_checked("fine", bat.clone(), Some(200), &settings).unwrap_err();
+        assert!(
+            e.starts_with("BatParams 'fine': max_modes = 200 is out of range: the node's time_step = 5e-6 s"),
+            "{e}"
+        );
+        let resolved: usize = e.split("resolves at most ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+        assert!(e.contains(&format!("1 ≤ max_modes ≤ {resolved}")), "{e}");
+        // The count quoted is the one the collision itself accepts: one mode more is refused by it.
+        let modes = ModeSet::compute(&bat, 200).unwrap();
+        let options = |modes| CollisionOptions { modes, time_step: settings.time_step };
+        assert!(collide(&modes, &Ball::default(), &swing(0.7), &options(resolved)).is_ok());
+        assert!(collide(&modes, &Ball::default(), &swing(0.7), &options(resolved + 1)).is_err());
+        let entry = BatEntry::new_checked("fine", bat.clone(), Some(resolved), &settings).unwrap();
+        assert!(entry.modes_cached(), "the modes solved for the check serve the swings");
+        // Presets with the default modes pass.
+        for name in Bat::preset_names() {
+            assert!(BatEntry::new_checked(*name, Bat::preset(name).unwrap(), None, &settings).is_ok(), "{name}");
+        }
+    }
 }
