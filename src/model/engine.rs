@@ -98,14 +98,14 @@ impl BatEntry {
         // modes always passes: the rigid bat needs no step criterion).
         let resolved = (0..entry.max_modes).rev().find(|&k| options(k).validate(&modes).is_ok()).unwrap_or(0);
         let time_step = limits::number(settings.time_step);
-        let fix = match (resolved, entry.uses_default_modes) {
-            (0, _) => "not even its first mode".to_string(),
-            (k, false) => format!("at most {k} modes: expected 1 ≤ max_modes ≤ {k}"),
-            (k, true) => format!("at most {k} modes: send max_modes ≤ {k} or lower default_modes"),
+        let (asked, fix) = match (resolved, entry.uses_default_modes) {
+            (0, false) => ("max_modes", "not even its first mode".to_string()),
+            (0, true) => ("default_modes", "not even its first mode".to_string()),
+            (k, false) => ("max_modes", format!("at most {k} modes: expected 1 ≤ max_modes ≤ {k}")),
+            (k, true) => ("default_modes", format!("at most {k} modes: send max_modes ≤ {k}")),
         };
-        let asked = if entry.uses_default_modes { "default_modes" } else { "max_modes" };
         Err(context(format!(
-            "{asked} = {} is out of range: the node's time_step = {time_step} s resolves {fix} of this bat ({e})",
+            "{asked} = {} is out of range: for this bat the node's time_step = {time_step} s resolves {fix} ({e})",
             entry.max_modes
         )))
     }
