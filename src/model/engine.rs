@@ -82,16 +82,17 @@ impl BatEntry {
     /// As [`BatEntry::new`], and refuses a bat whose kept modes the node's `time_step` cannot resolve (the
     /// RK4 criterion of [`CollisionOptions::validate`]), naming max_modes and the most modes it resolves; every
     /// swing on such a bat would be REJECTED. Solves the bat's modes (cached in the entry for its swings).
-    /// The error starts with `BatParams 'id':`.
+    /// The solve is counted on `stats`. The error starts with `BatParams 'id':`.
     pub fn new_checked(
         bat_id: impl Into<String>,
         bat: Bat,
         max_modes: Option<usize>,
         settings: &ModelSettings,
+        stats: &impl ModeCacheStats,
     ) -> Result<BatEntry, String> {
         let entry = BatEntry::new(bat_id, bat, max_modes, settings);
         let context = |e: String| format!("BatParams '{}': {e}", entry.bat_id);
-        let modes = entry.modes(&()).map_err(|e| context(e.to_string()))?;
+        let modes = entry.modes(stats).map_err(|e| context(e.to_string()))?;
         let options = |modes: usize| CollisionOptions { modes, time_step: settings.time_step };
         let Err(e) = options(entry.max_modes).validate(&modes) else { return Ok(entry) };
         // Frequencies rise with the mode number: the most modes resolved is the largest count that passes (0
@@ -666,7 +667,7 @@ mod tests {
     fn modes_the_time_step_cannot_resolve_are_refused_at_params_time() {
         let settings = ModelSettings::default();
         let bat = Bat { slice_length: 7e-4, ..Bat::preset("r161").unwrap() };
-        let e = BatEntry::new_checked("fine", bat.clone(), Some(200), &settings).unwrap_err();
+        let e = BatEntry::new_checked("fine", bat.clone(), Some(200), &settings, &()).unwrap_err();
         assert!(
             e.starts_with("BatParams 'fine': max_modes = 200 is out of range: the node's time_step = 5e-6 s"),
             "{e}"
@@ -678,11 +679,11 @@ mod tests {
         let options = |modes| CollisionOptions { modes, time_step: settings.time_step };
         assert!(collide(&modes, &Ball::default(), &swing(0.7), &options(resolved)).is_ok());
         assert!(collide(&modes, &Ball::default(), &swing(0.7), &options(resolved + 1)).is_err());
-        let entry = BatEntry::new_checked("fine", bat.clone(), Some(resolved), &settings).unwrap();
+        let entry = BatEntry::new_checked("fine", bat.clone(), Some(resolved), &settings, &()).unwrap();
         assert!(entry.modes_cached(), "the modes solved for the check serve the swings");
         // Presets with the default modes pass.
         for name in Bat::preset_names() {
-            assert!(BatEntry::new_checked(*name, Bat::preset(name).unwrap(), None, &settings).is_ok(), "{name}");
+            assert!(BatEntry::new_checked(*name, Bat::preset(name).unwrap(), None, &settings, &()).is_ok(), "{name}");
         }
     }
 }

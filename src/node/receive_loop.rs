@@ -182,8 +182,10 @@ impl NodeLoop {
         self.tape.record(Recorded::BatParams, &params, log_time, params.header.stamp.unix_ns());
         let current = self.settings.snapshot();
         // The slice cap is checked here, before any modes are solved; then the modes against the time step.
-        let checked = crate::model::convert::bat_from_params_capped(&params, current.model.max_bat_slices)
-            .and_then(|built| BatEntry::new_checked(&params.bat_id, built.bat, built.max_modes, &current.model));
+        let checked =
+            crate::model::convert::bat_from_params_capped(&params, current.model.max_bat_slices).and_then(|built| {
+                BatEntry::new_checked(&params.bat_id, built.bat, built.max_modes, &current.model, &*self.stats)
+            });
         match checked {
             Ok(entry) => {
                 NodeStats::bump(&self.stats.params_accepted);
