@@ -20,11 +20,12 @@ pub const MAX_IDS_LISTED: usize = 20;
 pub const MAX_ID_LIST_BYTES: usize = 1024;
 /// Longest ExitVelocity.message the node sends, bytes.
 pub const MAX_MESSAGE_BYTES: usize = 4096;
-/// Largest ball compression accepted, as a fraction of the ball's radius. A sphere pressed flat by u has a
-/// contact circle of radius √(2Ru − u²): at u = R/2 it is 0.87 R wide, so the deformation is no longer local
-/// to a small contact and the point-contact force law F = k·u^α (Hertz-like, a ≪ R) no longer describes the
-/// ball; a real baseball at 50 m/s on a wall compresses by about R/3.
-pub const MAX_COMPRESSION_FRACTION: f64 = 0.5;
+/// Largest ball compression accepted, as a fraction of the ball's radius. The compression u is that of the
+/// radius: at u = R the ball is pressed flat through its own centre, so no ball can take more, whatever its
+/// force law says. (The point-contact law F = k·u^α is already strained past u ≈ R/2, where a sphere pressed
+/// flat has a contact circle √(2Ru − u²) = 0.87 R wide; only the impossible is refused. A baseball at game
+/// speeds compresses by about R/3.)
+pub const MAX_COMPRESSION_FRACTION: f64 = 1.0;
 /// Largest |measured_exit_speed| accepted, m/s: above any ball speed the node accepts (300 m/s) by far.
 pub const MAX_MEASURED_SPEED: f64 = 1000.0;
 
