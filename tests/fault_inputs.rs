@@ -281,3 +281,75 @@ fn params_with_nan_negative_or_huge_values_are_rejected_with_the_reason() {
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");
 }
+
+/// Answers that would be absurd are refusals: a ball compressed far beyond its radius, a bat whose kept modes
+/// the node's time step cannot resolve (refused when its params arrive, not on every swing), and a measured
+/// exit speed of ±inf or 1e300.
+#[test]
+fn absurd_balls_unresolvable_bats_and_infinite_measurements_are_refused() {
+    let domain = domain(78);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "fault_absurd_peer");
+    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
+    let ball_pub = peer.publisher::<BallParams>("/ball/params", dds::params());
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
+    peer.wait_for_reader(&bat_pub);
+    peer.wait_for_reader(&ball_pub);
+    peer.wait_for_reader(&swing_pub);
+    std::thread::sleep(Duration::from_millis(300));
+
+    let r161 = sweetspot::physics::Bat::preset("r161").unwrap();
+    let fine = BatParams {
+        slice_length: 7e-4,
+        ..sweetspot::model::convert::params_from_bat("fine", &r161, 200, Header::default())
+    };
+    bat_pub.publish(fine).unwrap();
+    let refused = peer.collect(&answers, 1, WAIT);
+    assert_eq!(refused[0].status, ExitVelocity::STATUS_REJECTED, "{}", refused[0].message);
+    assert_eq!(refused[0].bat_id, "fine");
+    assert!(
+        refused[0].message.starts_with("BatParams 'fine': max_modes = 200 is out of range")
+            && refused[0].message.contains("resolves at most"),
+        "{}",
+        refused[0].message
+    );
+
+    let soft = BallParams {
+        header: Header::default(),
+        ball_id: "soft".into(),
+        mass: 0.145,
+        radius: 0.0366,
+        cor: 0.5,
+        stiffness: 1e4,
+        exponent: 1.0,
+    };
+    ball_pub.publish(soft).unwrap();
+    node.wait_for_log("ball 'soft' set", WAIT);
+    swing_pub.publish(Swing { ball_id: "soft".into(), ..valid_swing(1) }).unwrap();
+    for (id, measured) in [(2, f64::INFINITY), (3, f64::NEG_INFINITY), (4, 1e300)] {
+        swing_pub
+            .publish(Swing { ball_id: "baseball".into(), measured_exit_speed: measured, ..valid_swing(id) })
+            .unwrap();
+    }
+    swing_pub.publish(Swing { ball_id: "baseball".into(), measured_exit_speed: 44.0, ..valid_swing(5) }).unwrap();
+    let got = peer.collect(&answers, 5, WAIT);
+    assert_eq!(got[0].status, ExitVelocity::STATUS_REJECTED);
+    assert!(
+        got[0].message.starts_with("ball 'soft' (stiffness = 10000 N/m^α, exponent α = 1")
+            && got[0].message.contains("compressed by"),
+        "{}",
+        got[0].message
+    );
+    for ev in &got[1..4] {
+        assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED, "swing {}", ev.swing_id);
+        assert!(ev.message.starts_with("measured_exit_speed = "), "{}", ev.message);
+        assert!(ev.measured_exit_speed.is_nan() && ev.residual.is_nan(), "never echoed: {ev:?}");
+    }
+    assert!(got[3].message.starts_with("measured_exit_speed = 1e300 m/s"), "{}", got[3].message);
+    assert_eq!(got[4].status, ExitVelocity::STATUS_OK, "{}", got[4].message);
+    assert!(got[4].residual.is_finite());
+    let (status, _, log) = node.stop_with(15);
+    assert!(status.success(), "{log}");
+}

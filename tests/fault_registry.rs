@@ -226,6 +226,51 @@ fn a_bat_cut_into_more_slices_than_max_bat_slices_is_rejected_before_its_modes_a
     assert!(status.success(), "{log}");
 }
 
+/// Strings a publisher controls are bounded: a 1 MB bat_id is refused with a short answer (that id cut short,
+/// the message a few hundred bytes), and with 20 bats of 256-byte ids an unknown id is answered with a
+/// bounded list, not 20 ids in full.
+#[test]
+fn megabyte_ids_and_many_long_ids_give_short_answers() {
+    let domain = domain(83);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "strings_peer");
+    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
+    peer.wait_for_reader(&bat_pub);
+    peer.wait_for_reader(&swing_pub);
+    std::thread::sleep(Duration::from_millis(300));
+
+    let long_id = |i: usize| format!("{i:02}{}", "b".repeat(sweetspot::model::limits::MAX_STRING_BYTES - 2));
+    for i in 0..20 {
+        bat_pub.publish(convert::params_of_preset(&long_id(i), "r161", Header::default())).unwrap();
+    }
+    let huge = "h".repeat(1 << 20);
+    bat_pub.publish(convert::params_of_preset(&huge, "r161", Header::default())).unwrap();
+    let refused = peer.collect(&answers, 1, WAIT);
+    assert_eq!(refused[0].status, ExitVelocity::STATUS_REJECTED, "{}", refused[0].message);
+    assert!(refused[0].message.starts_with("BatParams: bat_id is 1048576 bytes long, over the limit of 256 bytes"));
+    assert!(refused[0].message.len() < 400, "{} bytes: {}", refused[0].message.len(), refused[0].message);
+    assert!(refused[0].bat_id.len() < 300, "the id echoed is cut short: {} bytes", refused[0].bat_id.len());
+
+    swing_pub.publish(swing(1, "unknown", "")).unwrap();
+    swing_pub.publish(swing(2, &huge, "")).unwrap();
+    swing_pub.publish(swing(3, &long_id(7), "")).unwrap();
+    let got = peer.collect(&answers, 3, WAIT);
+    assert_eq!(got[0].status, ExitVelocity::STATUS_REJECTED);
+    assert!(got[0].message.starts_with("unknown bat_id 'unknown'") && got[0].message.contains("00bbb"));
+    // 20 ids of 256 bytes would be 5 KB: the list is cut to 1 KiB.
+    assert!(got[0].message.len() < 1600, "{} bytes: {}", got[0].message.len(), got[0].message);
+    assert_eq!(got[1].status, ExitVelocity::STATUS_REJECTED);
+    assert!(got[1].message.starts_with("bat_id is 1048576 bytes long") && got[1].message.len() < 200);
+    assert!(got[1].bat_id.len() < 300);
+    assert_eq!(got[2].status, ExitVelocity::STATUS_OK, "a 256-byte id is within the limit: {}", got[2].message);
+    let (status, _, log) = node.stop_with(15);
+    assert!(status.success(), "{log}");
+    assert!(log.len() < 200_000, "the node's log does not repeat the megabyte id: {} bytes", log.len());
+}
+
 /// (resident memory kB, threads) of a process (Linux /proc).
 fn rss_kb_and_threads(pid: u32) -> (u64, u64) {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();

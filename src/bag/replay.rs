@@ -250,7 +250,9 @@ pub fn replay(
                 if override_bat.is_none() {
                     if let Ok(built) = convert::bat_from_params_capped(params, settings.max_bat_slices) {
                         let modes = what_if.modes.or(built.max_modes);
-                        registry.set_bat(BatEntry::new(&params.bat_id, built.bat, modes, &settings));
+                        if let Ok(entry) = BatEntry::new_checked(&params.bat_id, built.bat, modes, &settings, &()) {
+                            registry.set_bat(entry);
+                        }
                     }
                 }
                 registries.insert(ns.clone(), registry);

@@ -5,9 +5,10 @@
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::physics::bat::SLICE_COUNT_RANGE;
-use crate::physics::{Ball, Bat, CoreFill, Impact, Material, Station};
+use crate::physics::{Ball, Bat, CoreFill, Impact, Material, PhysicsError, Station};
 
 use super::engine::{BatSummary, Computed};
+use super::limits::{self, check_string, MAX_MESSAGE_BYTES, MAX_STATIONS, MAX_STRING_BYTES};
 #[cfg(test)]
 use super::settings::DEFAULT_MAX_BAT_SLICES;
 
@@ -31,18 +32,25 @@ pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
 
 /// As [`bat_from_params`], and refuses a bat cut into more than `max_slices` slices before anything costly
 /// (the modes solve grows faster than N²) is done. The error names `slice_length` and the range it may take
-/// for this bat.
+/// for this bat. Strings longer than [`MAX_STRING_BYTES`] and profiles of more than [`MAX_STATIONS`] stations
+/// are refused before anything is copied.
 pub fn bat_from_params_capped(p: &BatParams, max_slices: usize) -> Result<BatFromParams, String> {
+    check_string("bat_id", &p.bat_id).map_err(|e| format!("BatParams: {e}"))?;
     let context = |e: String| format!("BatParams '{}': {e}", p.bat_id);
     if p.bat_id.trim().is_empty() {
         return Err("BatParams: bat_id must be a non-empty name".to_string());
     }
+    check_string("preset", &p.preset).map_err(context)?;
+    check_string("header.frame_id", &p.header.frame_id).map_err(context)?;
     if !p.preset.is_empty() {
         let bat = Bat::preset(&p.preset).map_err(|e| context(format!("preset: {e}")))?;
         check_slice_count(&bat, max_slices).map_err(context)?;
         return Ok(BatFromParams { bat, max_modes: None });
     }
     let n = p.station_z.len();
+    if n > MAX_STATIONS {
+        return Err(context(format!("station_z has {n} stations, over the limit of {MAX_STATIONS}")));
+    }
     if p.outer_radius.len() != n || p.inner_radius.len() != n {
         return Err(context(format!(
             "station_z, outer_radius and inner_radius must have the same length (got {n}, {}, {})",
@@ -64,7 +72,13 @@ pub fn bat_from_params_capped(p: &BatParams, max_slices: usize) -> Result<BatFro
         z_end: p.core_z_end,
     });
     let slice_length = if p.slice_length == 0.0 { DEFAULT_SLICE_LENGTH } else { p.slice_length };
-    let bat = Bat::new(p.bat_id.clone(), stations, shell, core, slice_length).map_err(|e| context(e.to_string()))?;
+    let bat = Bat::new(p.bat_id.clone(), stations, shell, core, slice_length).map_err(|e| match e {
+        // The physics checks slice_length only once the profile is valid, so its length is known here.
+        PhysicsError::OutOfRange { field, value, .. } if field == "slice_length" => {
+            context(slice_length_error(value, p.station_z.last().copied().unwrap_or(f64::NAN), None, max_slices))
+        }
+        e => context(e.to_string()),
+    })?;
     check_slice_count(&bat, max_slices).map_err(context)?;
     // A bat of N slices has 2N − 2 vibrational modes; accepting more would reject every later swing.
     let available = vibrational_mode_count(&bat);
@@ -82,21 +96,33 @@ pub fn bat_from_params_capped(p: &BatParams, max_slices: usize) -> Result<BatFro
 
 /// Refuses a bat of more than `max_slices` slices, naming slice_length and its allowed range for this bat.
 pub fn check_slice_count(bat: &Bat, max_slices: usize) -> Result<(), String> {
-    let (min_slices, physics_max) = SLICE_COUNT_RANGE;
-    let max_slices = max_slices.clamp(min_slices, physics_max);
     let n = bat.slice_count();
-    if n <= max_slices {
+    if n <= max_slices.clamp(SLICE_COUNT_RANGE.0, SLICE_COUNT_RANGE.1) {
         return Ok(());
     }
-    let length = bat.length();
+    Err(slice_length_error(bat.slice_length, bat.length(), Some(n), max_slices))
+}
+
+/// The one message for a slice_length this node refuses (NaN, ≤ 0, too fine or too coarse for a bat of
+/// `length` m): the value, what it does (`slices`, when it cuts the bat at all), and the range it may take.
+fn slice_length_error(value: f64, length: f64, slices: Option<usize>, max_slices: usize) -> String {
+    let (min_slices, physics_max) = SLICE_COUNT_RANGE;
+    let max_slices = max_slices.clamp(min_slices, physics_max);
+    let cut = match slices {
+        Some(n) => format!("it cuts the {length:.3} m bat into {n} slices"),
+        None if value.is_finite() && value > 0.0 => {
+            format!("it cuts the {length:.3} m bat into {} slices", limits::number((length / value).round()))
+        }
+        None => "a slice length must be a positive number".to_string(),
+    };
     // The bat has round(length / slice_length) slices: the bounds are where the rounding changes count.
-    Err(format!(
-        "slice_length = {} m is out of range: it cuts the {length:.3} m bat into {n} slices and this node accepts \
-         at most max_bat_slices = {max_slices}, i.e. {:.3e} ≤ slice_length ≤ {:.3e} m for this bat",
-        bat.slice_length,
+    format!(
+        "slice_length = {} m is out of range: {cut} and this node accepts {min_slices} to max_bat_slices = \
+         {max_slices} slices, i.e. {:.3e} ≤ slice_length ≤ {:.3e} m for this bat",
+        limits::number(value),
         length / (max_slices as f64 + 0.49),
         length / (min_slices as f64 - 0.49),
-    ))
+    )
 }
 
 /// A BatParams spelling out every field of `bat` (no preset) under `bat_id`, so that [`bat_from_params`]
@@ -142,9 +168,11 @@ pub fn vibrational_mode_count(bat: &Bat) -> usize {
 
 /// Builds and validates the ball a BallParams describes. The error starts with `BallParams 'id':`.
 pub fn ball_from_params(p: &BallParams) -> Result<Ball, String> {
+    check_string("ball_id", &p.ball_id).map_err(|e| format!("BallParams: {e}"))?;
     if p.ball_id.trim().is_empty() {
         return Err("BallParams: ball_id must be a non-empty name".to_string());
     }
+    check_string("header.frame_id", &p.header.frame_id).map_err(|e| format!("BallParams '{}': {e}", p.ball_id))?;
     let ball = Ball { mass: p.mass, radius: p.radius, stiffness: p.stiffness, exponent: p.exponent, cor: p.cor };
     ball.validate().map_err(|e| format!("BallParams '{}': {e}", p.ball_id))?;
     Ok(ball)
@@ -173,15 +201,25 @@ pub fn impact_from_swing(s: &Swing) -> Impact {
     }
 }
 
-/// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers.
+/// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers. A
+/// swing whose strings or measured speed [`limits::check_swing`] refuses is REJECTED whatever `result` says;
+/// the strings echoed are cut to [`MAX_STRING_BYTES`] and the message to [`MAX_MESSAGE_BYTES`].
 pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result<Computed, String>) -> ExitVelocity {
+    let refused = limits::check_swing(swing).err().map(Err);
+    let result = refused.as_ref().unwrap_or(result);
+    let frame_id = limits::shorten(&swing.header.frame_id, MAX_STRING_BYTES).into_owned();
+    // ±inf or an absurd measured speed is not echoed: it would make an infinite residual of a valid answer.
+    let measured_exit_speed = match limits::check_measured_speed("measured_exit_speed", swing.measured_exit_speed) {
+        Ok(()) => swing.measured_exit_speed,
+        Err(_) => f64::NAN,
+    };
     let mut ev = ExitVelocity {
-        header: swing.header.clone(),
+        header: Header { stamp: swing.header.stamp.clone(), frame_id },
         swing_id: swing.swing_id,
-        bat_id: bat_id.to_string(),
-        ball_id: ball_id.to_string(),
+        bat_id: limits::shorten(bat_id, MAX_STRING_BYTES).into_owned(),
+        ball_id: limits::shorten(ball_id, MAX_STRING_BYTES).into_owned(),
         impact_z: swing.impact_z,
-        measured_exit_speed: swing.measured_exit_speed,
+        measured_exit_speed,
         ..ExitVelocity::default()
     };
     match result {
@@ -200,7 +238,7 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
         }
         Err(reason) => {
             ev.status = ExitVelocity::STATUS_REJECTED;
-            ev.message = reason.clone();
+            ev.message = limits::shorten(reason, MAX_MESSAGE_BYTES).into_owned();
             // NaN, not 0: a rejected swing has no numbers, and 0 m/s would read as a result.
             for x in [
                 &mut ev.exit_speed,
@@ -265,6 +303,7 @@ pub fn sweet_spot(summary: &BatSummary, header: Header) -> SweetSpot {
 mod tests {
     use super::*;
     use crate::msgs::builtin_interfaces::msg::Time;
+    use crate::physics::Ball;
     use crate::physics::{CollisionResult, EnergyBudget, ModeEnergy};
 
     fn swing(measured: f64) -> Swing {
@@ -415,5 +454,94 @@ mod tests {
         assert!(e.contains("slice_length") && e.contains("4000"), "{e}");
         // Presets are far below any allowed cap.
         assert!(bat_from_params_capped(&params_of_preset("p", "torpedo", Header::default()), 100).is_ok());
+    }
+
+    #[test]
+    fn a_megabyte_bat_id_is_refused_with_a_short_message_and_other_strings_are_bounded() {
+        let huge = "é".repeat(1 << 19);
+        let e = bat_from_params(&BatParams { bat_id: huge.clone(), ..params_of_preset("", "r161", Header::default()) })
+            .unwrap_err();
+        assert!(e.starts_with("BatParams: bat_id is 1048576 bytes long, over the limit of 256 bytes"), "{e}");
+        assert!(e.len() < 200, "{} bytes", e.len());
+        let e = bat_from_params(&params_of_preset("p", &huge, Header::default())).unwrap_err();
+        assert!(e.starts_with("BatParams 'p': preset is 1048576 bytes") && e.len() < 200, "{e}");
+        let header = Header { frame_id: huge.clone(), ..Header::default() };
+        assert!(bat_from_params(&params_of_preset("p", "r161", header.clone())).unwrap_err().contains("frame_id"));
+        let e =
+            ball_from_params(&BallParams { ball_id: huge.clone(), ..params_from_ball("", &Ball::default(), header) })
+                .unwrap_err();
+        assert!(e.starts_with("BallParams: ball_id is 1048576 bytes") && e.len() < 200, "{e}");
+        let at_limit = "x".repeat(crate::model::limits::MAX_STRING_BYTES);
+        assert!(bat_from_params(&params_of_preset(&at_limit, "r161", Header::default())).is_ok());
+        // A profile of more stations than the limit is refused before anything is copied.
+        let many = 5000;
+        let p = BatParams {
+            bat_id: "many".into(),
+            station_z: (0..many).map(|i| i as f64 * 1e-4).collect(),
+            outer_radius: vec![0.03; many],
+            inner_radius: vec![0.0; many],
+            ..BatParams::default()
+        };
+        assert!(bat_from_params(&p).unwrap_err().contains("over the limit of 4096"));
+        // The answer to a swing echoes its strings cut short, and the message is bounded.
+        let swing = Swing {
+            bat_id: huge.clone(),
+            header: Header { frame_id: huge.clone(), ..Header::default() },
+            ..swing(1.0)
+        };
+        let ev = exit_velocity(&swing, &huge, &huge, &Err(huge.clone()));
+        assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED);
+        assert!(ev.bat_id.len() < 300 && ev.ball_id.len() < 300 && ev.header.frame_id.len() < 300);
+        assert!(ev.message.len() < 300, "the swing's own check comes first: {}", ev.message);
+    }
+
+    #[test]
+    fn infinite_or_absurd_measured_speeds_are_refused_and_never_echoed() {
+        for bad in [f64::INFINITY, f64::NEG_INFINITY, 1e300] {
+            let ev = exit_velocity(&swing(bad), "r161", "baseball", &Ok(computed()));
+            assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED, "{bad}");
+            assert!(ev.message.starts_with("measured_exit_speed = "), "{}", ev.message);
+            assert!(ev.measured_exit_speed.is_nan() && ev.residual.is_nan() && ev.exit_speed.is_nan());
+        }
+        let ev = exit_velocity(&swing(1e300), "r161", "baseball", &Ok(computed()));
+        assert!(ev.message.starts_with("measured_exit_speed = 1e300 m/s is out of range"), "{}", ev.message);
+    }
+
+    #[test]
+    fn every_bad_slice_length_gets_the_same_rule_and_range() {
+        let with = |slice_length: f64| BatParams {
+            slice_length,
+            ..params_from_bat("s", &Bat::preset("r161").unwrap(), 0, Header::default())
+        };
+        let range = |e: &str| e.split("i.e. ").nth(1).map(str::to_string).unwrap_or_else(|| panic!("{e}"));
+        let messages: Vec<String> = [1e-4, 2.1e-4, f64::NAN, -0.01, 0.5]
+            .into_iter()
+            .map(|v| bat_from_params_capped(&with(v), DEFAULT_MAX_BAT_SLICES).unwrap_err())
+            .collect();
+        for e in &messages {
+            assert!(e.starts_with("BatParams 's': slice_length = ") && e.contains("max_bat_slices = 1200"), "{e}");
+            assert_eq!(range(e), range(&messages[0]), "{e} vs {}", messages[0]);
+        }
+        assert!(messages[0].contains("= 0.0001 m") && messages[0].contains("8400 slices"), "{}", messages[0]);
+        assert!(messages[1].contains("4000 slices"), "{}", messages[1]);
+        assert!(messages[2].starts_with("BatParams 's': slice_length = NaN m"), "{}", messages[2]);
+        // The range quoted holds: its lower end is accepted by the physics' own slice count (0.84 m / 1200).
+        assert!(bat_from_params_capped(&with(0.84 / 1200.0), DEFAULT_MAX_BAT_SLICES).is_ok());
+    }
+
+    #[test]
+    fn huge_and_tiny_numbers_in_rejections_are_printed_short() {
+        let e = ball_from_params(&BallParams {
+            stiffness: 1e300,
+            ..params_from_ball("b", &Ball::default(), Header::default())
+        })
+        .unwrap_err();
+        assert!(e.contains("stiffness = 1e300 is out of range") && e.len() < 120, "{e}");
+        let e = ball_from_params(&BallParams {
+            mass: 5e-324,
+            ..params_from_ball("b", &Ball::default(), Header::default())
+        })
+        .unwrap_err();
+        assert!(e.contains("mass = 5e-324 is out of range") && e.len() < 120, "{e}");
     }
 }

@@ -9,6 +9,7 @@ use crate::physics::{
     SweetSpotSet,
 };
 
+use super::limits::{self, quote, MAX_STRING_BYTES};
 use super::lru::LruMap;
 use super::settings::ModelSettings;
 
@@ -76,6 +77,38 @@ impl BatEntry {
         });
         stats.count_mode_lookup(!computed);
         modes.clone()
+    }
+
+    /// As [`BatEntry::new`], and refuses a bat whose kept modes the node's `time_step` cannot resolve (the
+    /// RK4 criterion of [`CollisionOptions::validate`]), naming max_modes and the most modes it resolves; every
+    /// swing on such a bat would be REJECTED. Solves the bat's modes (cached in the entry for its swings).
+    /// The solve is counted on `stats`. The error starts with `BatParams 'id':`.
+    pub fn new_checked(
+        bat_id: impl Into<String>,
+        bat: Bat,
+        max_modes: Option<usize>,
+        settings: &ModelSettings,
+        stats: &impl ModeCacheStats,
+    ) -> Result<BatEntry, String> {
+        let entry = BatEntry::new(bat_id, bat, max_modes, settings);
+        let context = |e: String| format!("BatParams '{}': {e}", entry.bat_id);
+        let modes = entry.modes(stats).map_err(|e| context(e.to_string()))?;
+        let options = |modes: usize| CollisionOptions { modes, time_step: settings.time_step };
+        let Err(e) = options(entry.max_modes).validate(&modes) else { return Ok(entry) };
+        // Frequencies rise with the mode number: the most modes resolved is the largest count that passes (0
+        // modes always passes: the rigid bat needs no step criterion).
+        let resolved = (0..entry.max_modes).rev().find(|&k| options(k).validate(&modes).is_ok()).unwrap_or(0);
+        let time_step = limits::number(settings.time_step);
+        let (asked, fix) = match (resolved, entry.uses_default_modes) {
+            (0, false) => ("max_modes", "not even its first mode".to_string()),
+            (0, true) => ("default_modes", "not even its first mode".to_string()),
+            (k, false) => ("max_modes", format!("at most {k} modes: expected 1 ≤ max_modes ≤ {k}")),
+            (k, true) => ("default_modes", format!("at most {k} modes: send max_modes ≤ {k}")),
+        };
+        Err(context(format!(
+            "{asked} = {} is out of range: for this bat the node's time_step = {time_step} s resolves {fix} ({e})",
+            entry.max_modes
+        )))
     }
 
     /// Whether the modes have been computed (successfully or not).
@@ -181,8 +214,9 @@ impl Registry {
         if self.bats.was_forgotten(&bat_id) {
             // Even when the id names a preset: its BatParams may have said something else.
             return Err(format!(
-                "unknown bat_id '{bat_id}': its BatParams were forgotten (evicted) to keep at most max_bats = {} \
+                "unknown bat_id '{}': its BatParams were forgotten (evicted) to keep at most max_bats = {} \
                  bats, least recently used first; publish its BatParams again (or raise max_bats)",
+                quote(&bat_id),
                 self.bats.capacity()
             ));
         }
@@ -195,10 +229,11 @@ impl Registry {
                 Ok((entry, true))
             }
             Err(_) => Err(format!(
-                "unknown bat_id '{bat_id}': no BatParams received for it{} and it is not a preset (known bats: \
+                "unknown bat_id '{}': no BatParams received for it{} and it is not a preset (known bats: \
                  [{}]; presets: [{}])",
+                quote(&bat_id),
                 long_forgotten(self.bats.evictions(), "BatParams", "max_bats", self.bats.capacity()),
-                known_ids(self.bats.iter().map(|(id, _)| id)),
+                limits::list_ids(self.bats.iter().map(|(id, _)| id)),
                 Bat::preset_names().join(", ")
             )),
         }
@@ -222,8 +257,9 @@ impl Registry {
         }
         if self.balls.was_forgotten(&ball_id) {
             return Err(format!(
-                "unknown ball_id '{ball_id}': its BallParams were forgotten (evicted) to keep at most max_balls = {} \
+                "unknown ball_id '{}': its BallParams were forgotten (evicted) to keep at most max_balls = {} \
                  balls, least recently used first; publish its BallParams again (or raise max_balls)",
+                quote(&ball_id),
                 self.balls.capacity()
             ));
         }
@@ -234,9 +270,10 @@ impl Registry {
             self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
         let known = self.balls.iter().map(|(id, _)| id).chain(built_in_available.then_some(DEFAULT_BALL_ID));
         Err(format!(
-            "unknown ball_id '{ball_id}': no BallParams received for it{} (known balls: [{}])",
+            "unknown ball_id '{}': no BallParams received for it{} (known balls: [{}])",
+            quote(&ball_id),
             long_forgotten(self.balls.evictions(), "BallParams", "max_balls", self.balls.capacity()),
-            known_ids(known)
+            limits::list_ids(known)
         ))
     }
 
@@ -300,19 +337,6 @@ fn long_forgotten(evictions: u64, message: &str, limit: &str, capacity: usize) -
     }
 }
 
-/// Ids for an error message, sorted; a long list is cut short (there may be thousands).
-fn known_ids<'a>(ids: impl Iterator<Item = &'a str>) -> String {
-    const SHOWN: usize = 20;
-    let mut ids: Vec<&str> = ids.collect();
-    ids.sort_unstable();
-    let total = ids.len();
-    let mut shown = ids.into_iter().take(SHOWN).collect::<Vec<_>>().join(", ");
-    if total > SHOWN {
-        shown.push_str(&format!(", … {} more", total - SHOWN));
-    }
-    shown
-}
-
 /// What a swing became after resolving its bat and ball.
 #[derive(Debug, Clone)]
 pub enum Plan {
@@ -365,6 +389,12 @@ pub fn plan_swing(
     ball_id: &str,
     impact: Impact,
 ) -> (Plan, Option<Arc<BatEntry>>) {
+    // Over-long ids are refused before any lookup, and the answer carries them cut short.
+    if let Err(reason) = limits::check_string("bat_id", bat_id).and_then(|_| limits::check_string("ball_id", ball_id)) {
+        let bat_id = limits::shorten(bat_id, MAX_STRING_BYTES).into_owned();
+        let ball_id = limits::shorten(ball_id, MAX_STRING_BYTES).into_owned();
+        return (Plan::Reject { bat_id, ball_id, reason }, None);
+    }
     let (bat, created) = match registry.resolve_bat(bat_id, settings) {
         Ok((bat, created)) => (bat, created.then_some(())),
         Err(reason) => {
@@ -396,9 +426,10 @@ pub struct Computed {
 pub fn compute(plan: &Plan, stats: &impl ModeCacheStats) -> Result<Computed, String> {
     match plan {
         Plan::Reject { reason, .. } => Err(reason.clone()),
-        Plan::Collide { bat, ball, impact, options, .. } => {
+        Plan::Collide { bat, ball_id, ball, impact, options } => {
             let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
             let collision = collide(&modes, ball, impact, options).map_err(|e| e.to_string())?;
+            limits::check_compression(ball_id, ball, collision.max_compression)?;
             let collision_energy = centre_of_mass_energy(&collision, &modes.mass_properties(), ball, impact);
             Ok(Computed { collision, collision_energy })
         }
@@ -572,5 +603,89 @@ mod tests {
         let refreshed = registry.refresh_default_modes(&changed);
         assert_eq!(refreshed.len(), 1);
         assert_eq!(refreshed[0].max_modes, 10);
+    }
+
+    #[test]
+    fn over_long_ids_are_refused_before_any_lookup_with_a_short_message() {
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let huge = "x".repeat(1 << 20);
+        let (plan, created) = plan_swing(&mut registry, &settings, &huge, "", swing(0.7));
+        assert!(created.is_none());
+        let Plan::Reject { bat_id, reason, .. } = &plan else { panic!("{plan:?}") };
+        assert!(reason.starts_with("bat_id is 1048576 bytes long, over the limit of 256 bytes"), "{reason}");
+        assert!(reason.len() < 200 && bat_id.len() < 300, "{} / {}", reason.len(), bat_id.len());
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", &huge, swing(0.7));
+        assert!(compute(&plan, &()).unwrap_err().starts_with("ball_id is 1048576 bytes"));
+        assert_eq!(registry.usage().bats, 0, "nothing was stored for the refused swings");
+    }
+
+    #[test]
+    fn an_unknown_id_among_many_long_ones_gets_a_bounded_message() {
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let bat = Bat::preset("r161").unwrap();
+        for i in 0..20 {
+            let id = format!("{i:02}{}", "b".repeat(254));
+            registry.set_bat(BatEntry::new(id, bat.clone(), Some(4), &settings));
+        }
+        for i in 0..40 {
+            registry.set_ball(&format!("{i:02}{}", "c".repeat(254)), Ball::default());
+        }
+        let unknown = "u".repeat(256);
+        let e = registry.resolve_bat(&unknown, &settings).unwrap_err();
+        // 20 ids of 256 bytes would be 5 KB; each is cut to 32 bytes, the list to 1 KB.
+        assert!(e.len() < 1600, "{} bytes: {e}", e.len());
+        assert!(e.contains("unknown bat_id 'uuuu") && e.contains("00bbb"), "{e}");
+        let e = registry.resolve_ball(&unknown).unwrap_err();
+        assert!(e.len() < 1600 && e.contains("more"), "{} bytes: {e}", e.len());
+    }
+
+    #[test]
+    fn a_ball_compressed_beyond_its_radius_is_refused_naming_its_force_law() {
+        let (settings, stats) = (ModelSettings::default(), ModeCacheCount::default());
+        let mut registry = Registry::new();
+        let soft = Ball { stiffness: 1e4, exponent: 1.0, ..Ball::default() };
+        registry.set_ball("soft", soft);
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", "soft", swing(0.7));
+        let e = compute(&plan, &stats).unwrap_err();
+        assert!(e.starts_with("ball 'soft' (stiffness = 10000 N/m^α, exponent α = 1, radius = 0.0366 m)"), "{e}");
+        assert!(e.contains("≤ 1 × radius = 0.0366 m"), "{e}");
+        // Independent scale: a linear spring stopping the ball alone from the approach speed v compresses by
+        // v·√(m/k); the bat's recoil only lowers it, so the compression reported lies between half that and it.
+        let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
+        let v = 40.0 + crate::physics::rigid::bat_speed_at(&modes.mass_properties(), &swing(0.7));
+        let bound = v * (soft.mass / soft.stiffness).sqrt();
+        let reported: f64 = e.split("compressed by ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+        assert!(reported > 0.5 * bound && reported <= bound, "{reported} vs {bound}");
+        // The regulation ball on the same swing stays well inside the limit and answers.
+        let (plan, _) = plan_swing(&mut registry, &settings, "r161", DEFAULT_BALL_ID, swing(0.7));
+        assert!(compute(&plan, &stats).unwrap().collision.max_compression < 0.5 * 0.0366, "about R/3");
+    }
+
+    #[test]
+    fn modes_the_time_step_cannot_resolve_are_refused_at_params_time() {
+        let settings = ModelSettings::default();
+        let bat = Bat { slice_length: 7e-4, ..Bat::preset("r161").unwrap() };
+        let e = BatEntry::new_checked("fine", bat.clone(), Some(200), &settings, &()).unwrap_err();
+        assert!(
+            e.starts_with(
+                "BatParams 'fine': max_modes = 200 is out of range: for this bat the node's time_step = 5e-6 s"
+            ),
+            "{e}"
+        );
+        let resolved: usize = e.split("resolves at most ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+        assert!(e.contains(&format!("1 ≤ max_modes ≤ {resolved}")), "{e}");
+        // The count quoted is the one the collision itself accepts: one mode more is refused by it.
+        let modes = ModeSet::compute(&bat, 200).unwrap();
+        let options = |modes| CollisionOptions { modes, time_step: settings.time_step };
+        assert!(collide(&modes, &Ball::default(), &swing(0.7), &options(resolved)).is_ok());
+        assert!(collide(&modes, &Ball::default(), &swing(0.7), &options(resolved + 1)).is_err());
+        let entry = BatEntry::new_checked("fine", bat.clone(), Some(resolved), &settings, &()).unwrap();
+        assert!(entry.modes_cached(), "the modes solved for the check serve the swings");
+        // Presets with the default modes pass.
+        for name in Bat::preset_names() {
+            assert!(BatEntry::new_checked(*name, Bat::preset(name).unwrap(), None, &settings, &()).is_ok(), "{name}");
+        }
     }
 }

@@ -8,6 +8,8 @@
 //!   ([`engine::plan_swing`]), computing ([`engine::compute`]) and bat summaries ([`engine::summarize_bat`]);
 //! - [`settings`]: [`settings::ModelSettings`] (time step, default bat and modes, limits) and the rosbag2
 //!   `custom_data` keys it is recorded under;
+//! - [`limits`]: the longest strings and profiles a peer may send, what rejection texts quote of them, the
+//!   physical limits of a ball's compression and a measured speed, and how numbers are printed;
 //! - [`time`]: ROS `Time` ↔ Unix nanoseconds; [`topics`]: the node's topic names.
 //!
 //! Used by the node (live), `bag replay` and `bag export` (recorded), `calibrate` (fitting recorded swings),
@@ -16,6 +18,7 @@
 
 pub mod convert;
 pub mod engine;
+pub mod limits;
 pub mod lru;
 pub mod settings;
 pub mod time;

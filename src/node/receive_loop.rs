@@ -181,12 +181,15 @@ impl NodeLoop {
         };
         self.tape.record(Recorded::BatParams, &params, log_time, params.header.stamp.unix_ns());
         let current = self.settings.snapshot();
-        // The slice cap is checked here, before any modes are solved.
-        match crate::model::convert::bat_from_params_capped(&params, current.model.max_bat_slices) {
-            Ok(built) => {
+        // The slice cap is checked here, before any modes are solved; then the modes against the time step.
+        let checked =
+            crate::model::convert::bat_from_params_capped(&params, current.model.max_bat_slices).and_then(|built| {
+                BatEntry::new_checked(&params.bat_id, built.bat, built.max_modes, &current.model, &*self.stats)
+            });
+        match checked {
+            Ok(entry) => {
                 NodeStats::bump(&self.stats.params_accepted);
-                let entry =
-                    self.registry.set_bat(BatEntry::new(&params.bat_id, built.bat, built.max_modes, &current.model));
+                let entry = self.registry.set_bat(entry);
                 self.report_evictions();
                 self.log
                     .info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
@@ -194,7 +197,10 @@ impl NodeLoop {
             }
             Err(reason) => {
                 NodeStats::bump(&self.stats.params_rejected);
-                let reason = format!("{reason}; the previous params of '{}' stay in force", params.bat_id);
+                let reason = format!(
+                    "{reason}; the previous params of '{}' stay in force",
+                    crate::model::limits::quote(&params.bat_id)
+                );
                 self.reject_params(&reason, &params.header, &params.bat_id, "");
             }
         }
@@ -216,7 +222,10 @@ impl NodeLoop {
             }
             Err(reason) => {
                 NodeStats::bump(&self.stats.params_rejected);
-                let reason = format!("{reason}; the previous params of '{}' stay in force", params.ball_id);
+                let reason = format!(
+                    "{reason}; the previous params of '{}' stay in force",
+                    crate::model::limits::quote(&params.ball_id)
+                );
                 self.reject_params(&reason, &params.header, "", &params.ball_id);
             }
         }

@@ -233,19 +233,10 @@ impl Bat {
         check_range("length", length, 0.05, 3.0, "0.05 ≤ length (last station z) ≤ 3 m")?;
         self.shell.validate("shell")?;
         let (min_n, max_n) = SLICE_COUNT_RANGE;
-        if !(self.slice_length.is_finite() && self.slice_length > 0.0) {
-            return Err(PhysicsError::out_of_range(
-                "slice_length",
-                self.slice_length,
-                format!(
-                    "{} ≤ slice_length ≤ {} m (length/{max_n} … length/{min_n})",
-                    length / max_n as f64,
-                    length / min_n as f64
-                ),
-            ));
-        }
+        // One rule and one message for every bad slice_length (NaN, ≤ 0, too fine, too coarse): the bat must have
+        // min_n…max_n slices, and N = round(length / slice_length) changes count halfway between integers.
         let n = (length / self.slice_length).round();
-        if !(n >= min_n as f64 && n <= max_n as f64) {
+        if !(self.slice_length.is_finite() && self.slice_length > 0.0 && n >= min_n as f64 && n <= max_n as f64) {
             return Err(PhysicsError::out_of_range(
                 "slice_length",
                 self.slice_length,
