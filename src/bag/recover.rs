@@ -4,8 +4,9 @@
 //! Every message the streaming reader can vouch for is kept (every intact chunk; in an unchunked file every
 //! complete message), in file order, in a file of the same layout (chunked or unchunked) with a fresh summary.
 //! What could not be kept is reported per file: the damaged places (file, chunk, offset) and the messages
-//! lost. Files that are finished and undamaged are linked (or copied) into the copy unchanged. A bag with
-//! nothing to repair gets no copy at all. Anything that is not a regular MCAP file is refused before anything
+//! lost. Files that are finished and undamaged are linked (or copied) into the copy unchanged. A bag
+//! directory's copy always gets a metadata.yaml rebuilt from the MCAP files alone (a directory that lacks one
+//! is repaired for that reason alone). A bag with nothing to repair gets no copy at all. Anything that is not a regular MCAP file is refused before anything
 //! is written.
 
 use std::collections::BTreeMap;
@@ -102,7 +103,10 @@ pub fn recover(
         lost_messages_unknown: s.lost_messages().1,
         damage: s.damage.clone(),
     };
-    if !scans.iter().any(needs_repair) {
+    // A directory without metadata.yaml (the disk filled up before it was written) gets a copy with one
+    // rebuilt from the MCAP files alone, even when every file is intact.
+    let metadata_missing = is_dir && std::fs::symlink_metadata(path.join("metadata.yaml")).is_err();
+    if !metadata_missing && !scans.iter().any(needs_repair) {
         let report: Vec<RecoveredFile> = scans.iter().map(|s| entry(s, None, false)).collect();
         report.iter().for_each(&mut on_file);
         return Ok(Recovery { output: None, files: report });

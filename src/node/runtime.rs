@@ -23,7 +23,7 @@ use crate::ros::{diagnostics_qos, params_qos, results_qos, sweet_spot_qos as lat
 use super::live_settings::LiveSettings;
 use super::outputs::{EnergiesListeners, Log, Outputs};
 use super::pipeline::{InlinePacing, Pipeline};
-use super::receive_loop::{Event, Inputs, NodeLoop, Summaries, Warnings};
+use super::receive_loop::{Event, Inputs, NodeLoop, ParticipantLiveness, Summaries, Warnings};
 use super::recording::{recorded_qos, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::NodeSettings;
@@ -153,18 +153,23 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         transport_gaps: GapCounter::new(),
         warnings: Warnings::default(),
         last_report: StatsSnapshot::default(),
+        liveness: Box::new(ParticipantLiveness(context.clone())),
+        own_participant: context.participant_entities_info().gid(),
+        namesakes: Default::default(),
     };
     node_loop.start_default_bat();
-    node_loop.run(&inputs, &node).await;
+    let outcome = node_loop.run(&inputs, &node).await;
+    // The normal shutdown either way: the bag is closed with its summary before a DDS failure is returned.
     node_loop.finish().await?;
 
     // Entities before the participant: dropping the node stops the spinner, which must drop its parameter
-    // services while `context` still holds the participant (else RustDDS logs every removal as an error).
+    // services while `context` still holds the participant. `finish` already dropped the log handle (a
+    // rosout writer clone) and the liveness probe (a context clone), so `context` is the last holder.
     drop(inputs);
     drop(node);
     let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;
     drop(context);
-    Ok(())
+    outcome.map_err(anyhow::Error::from)
 }
 
 /// Starts the node's spinner (parameter services, discovery) and returns it with the node's discovery events.
@@ -300,8 +305,15 @@ fn start_tape(
             return Tape::failed(dir, e.to_string());
         }
     };
-    match super::recording::start_backend(config, storage) {
-        Ok(backend) => Tape::start(dir, backend, topics),
+    // The default directory is named by the second the node started: a suffix when it is taken. An explicit
+    // `record_path` is used as given (and refused if it exists).
+    let started = if settings.record_path.is_empty() {
+        super::recording::start_backend_unique(config, storage)
+    } else {
+        super::recording::start_backend(config, storage).map(|backend| (backend, dir.clone()))
+    };
+    match started {
+        Ok((backend, dir)) => Tape::start(dir, backend, topics),
         Err(e) => {
             log.error(&format!("recording to {} failed: {e}; the node keeps computing and publishing", dir.display()));
             Tape::failed(dir, e.to_string())
