@@ -225,6 +225,41 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_complete_bag_without_metadata_yaml_gets_a_copy_with_one_rebuilt() {
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path().join("bag");
+        let recorder = crate::bag::Recorder::start(crate::bag::RecorderConfig::new(&dir)).unwrap();
+        let topic = crate::bag::TopicInfo {
+            name: "/swing".to_string(),
+            type_name: "sweetspot_msgs/msg/Swing".to_string(),
+            schema_text: "uint64 swing_id\n".to_string(),
+            qos: crate::bag::RecordedQos { reliable: true, transient_local: false, depth: 1000 },
+        };
+        let id = recorder.register_topic(topic).unwrap();
+        for i in 0..25u64 {
+            assert!(recorder.record(id, vec![0, 1, 0, 0, i as u8], 1_000 + i, 1_000 + i));
+        }
+        recorder.finish().unwrap();
+        let original = std::fs::read_to_string(dir.join("metadata.yaml")).unwrap();
+        assert!(recover(&dir, None, |_| {}).unwrap().output.is_none(), "a complete bag needs no copy");
+
+        std::fs::remove_file(dir.join("metadata.yaml")).unwrap();
+        let recovery = recover(&dir, None, |_| {}).unwrap();
+        let out = recovery.output.expect("a copy for the missing metadata.yaml");
+        assert!(recovery.files.iter().all(|f| !f.rebuilt && f.complete), "intact files are linked, not rebuilt");
+        let rebuilt = std::fs::read_to_string(out.join("metadata.yaml")).unwrap();
+        // The same counts, times and topics as the recorder's own, from the MCAP alone.
+        let body = |yaml: &str| -> Vec<String> {
+            yaml.lines()
+                .filter(|l| !l.contains("custom_data") && !l.contains(CUSTOM_DATA_RECOVERED))
+                .map(String::from)
+                .collect()
+        };
+        assert_eq!(body(&rebuilt), body(&original));
+        assert!(!dir.join("metadata.yaml").exists(), "the original is left as it is");
+    }
+
+    #[test]
     fn the_copy_goes_beside_the_original() {
         assert_eq!(default_output(Path::new("/x/run_0.mcap")), PathBuf::from("/x/run_0.recovered.mcap"));
         assert_eq!(default_output(Path::new("/x/notes")), PathBuf::from("/x/notes.recovered.mcap"));
