@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context as _;
 use futures::stream::BoxStream;
 use futures::StreamExt;
+use ros2_client::entities_info::ParticipantEntitiesInfo;
 use ros2_client::{MessageInfo, NodeEvent, ReadResult, Subscription};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender};
 
@@ -84,6 +85,10 @@ pub struct Inputs {
     pub ball_params: Subscription<BallParams>,
     /// Swings in.
     pub swings: Subscription<Swing>,
+    /// Every participant's announcement of its ROS nodes (`ros_discovery_info`), to notice a namesake. A
+    /// reader of its own rather than the spinner's discovery events: those go through a channel of 8 that
+    /// drops what does not fit, and a burst of matches at start-up can drop the one announcement that counts.
+    pub participants: Subscription<ParticipantEntitiesInfo>,
 }
 
 /// Rate-limited warnings, so a flood of the same problem does not flood /rosout.
@@ -164,6 +169,7 @@ impl NodeLoop {
         let mut bats = pin!(inputs.bat_params.async_stream());
         let mut balls = pin!(inputs.ball_params.async_stream());
         let mut swings = pin!(inputs.swings.async_stream());
+        let mut participants = pin!(inputs.participants.async_stream());
         let mut shutdown = pin!(shutdown_signal());
         loop {
             tokio::select! {
@@ -175,7 +181,8 @@ impl NodeLoop {
                 Some(event) = self.events.recv() => self.on_event(event),
                 Some(received) = bats.next() => self.on_bat_params(received),
                 Some(received) = balls.next() => self.on_ball_params(received),
-                Some(event) = self.graph_events.next() => self.on_discovery(node, event),
+                Some(_event) = self.graph_events.next() => self.on_discovery(node),
+                Some(received) = participants.next() => self.on_participant_info(received),
                 _ = diagnostics.tick() => self.on_diagnostics_tick()?,
                 Some(received) = swings.next() => self.on_swing_sample(received),
             }
@@ -274,10 +281,16 @@ impl NodeLoop {
         }
     }
 
-    fn on_discovery(&mut self, node: &ros2_client::Node, event: NodeEvent) {
+    fn on_discovery(&self, node: &ros2_client::Node) {
         self.outputs.refresh_energies_listeners(node);
-        if let NodeEvent::ParticipantEntities(info) = event {
-            self.on_participant_nodes(info.gid(), info.nodes().iter().map(|n| n.fully_qualified_name()));
+    }
+
+    fn on_participant_info(&mut self, received: ReadResult<(ParticipantEntitiesInfo, MessageInfo)>) {
+        match received {
+            Ok((info, _)) => {
+                self.on_participant_nodes(info.gid(), info.nodes().iter().map(|n| n.fully_qualified_name()))
+            }
+            Err(e) => tracing::debug!("unreadable ros_discovery_info sample: {e:?}"),
         }
     }
 
@@ -556,9 +569,6 @@ mod tests {
         let text = stopped.to_string();
         assert!(text.starts_with("/rig3/sweetspot: the DDS event loop stopped"), "{text}");
         assert!(text.contains("can no longer send or receive"), "{text}");
-        // What `sweetspot node` exits with: an error, so a non-zero status.
-        let exit: anyhow::Result<()> = Err(stopped).map_err(anyhow::Error::from);
-        assert!(exit.is_err());
     }
 
     #[test]

@@ -122,7 +122,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
     let log = Log::new(node.logging_handle(), rosout);
     let topic_names = TopicNames::resolve(&names);
-    let (inputs, outputs) = endpoints(&mut node, &topic_names, &settings)?;
+    let (inputs, outputs) = endpoints(&context, &mut node, &topic_names, &settings)?;
     let (spinning, graph_events) = spin(&mut node)?;
     outputs.refresh_energies_listeners(&node);
 
@@ -233,6 +233,7 @@ fn node_options(
 
 /// The node's subscriptions and publishers, with the project's QoS.
 fn endpoints(
+    context: &ros2_client::Context,
     node: &mut ros2_client::Node,
     topic_names: &TopicNames,
     settings: &NodeSettings,
@@ -244,6 +245,7 @@ fn endpoints(
         bat_params: subscription(node, topic_names.get(topics::BAT_PARAMS), &params_qos(), None)?,
         ball_params: subscription(node, topic_names.get(topics::BALL_PARAMS), &params_qos(), None)?,
         swings: subscription(node, topic_names.get(topics::SWING), &swing_qos(), Some(swing_reader_qos))?,
+        participants: participants_reader(context, node)?,
     };
     // The topics' own QoS (ros::results_qos: deep window, bounded wait) is the writers' QoS.
     let outputs = Outputs {
@@ -264,6 +266,30 @@ fn endpoints(
         energies_listeners: EnergiesListeners::default(),
     };
     Ok((inputs, outputs))
+}
+
+/// A reader of ROS 2's `ros_discovery_info` (rmw_dds_common/ParticipantEntitiesInfo: which nodes each
+/// participant hosts), with the writers' QoS (reliable, transient-local: a late joiner gets every
+/// participant's latest) and room for many participants' announcements between two takes.
+fn participants_reader(
+    context: &ros2_client::Context,
+    node: &mut ros2_client::Node,
+) -> anyhow::Result<ros2_client::Subscription<ros2_client::entities_info::ParticipantEntitiesInfo>> {
+    use ros2_client::builtin_topics::ros_discovery;
+    let participant = context.domain_participant();
+    let topic = participant.create_topic(
+        ros_discovery::TOPIC_NAME.to_string(),
+        ros_discovery::TYPE_NAME.to_string(),
+        &ros_discovery::QOS_PUB,
+        rustdds::TopicKind::NoKey,
+    );
+    drop(participant);
+    let topic = topic.map_err(|e| anyhow::anyhow!("topic {}: {e:?}", ros_discovery::TOPIC_NAME))?;
+    let qos = ros2_client::QosProfile::publisher_default()
+        .durability(ros2_client::qos::Durability::TransientLocal)
+        .history(History::KeepLast { depth: 64 });
+    node.create_subscription(&topic, Some(qos))
+        .map_err(|e| anyhow::anyhow!("reader of {}: {e:?}", ros_discovery::TOPIC_NAME))
 }
 
 fn start_tape(
