@@ -74,6 +74,12 @@ impl NodeConfig {
 /// Runs the node until SIGINT or SIGTERM, then finishes the bag and returns.
 pub fn run(config: NodeConfig) -> anyhow::Result<()> {
     let resolved = config.resolve()?;
+    // A file-size limit (RLIMIT_FSIZE) then fails the recorder's write with EFBIG, reported like a full disk
+    // while the node keeps computing, instead of killing the node with SIGXFSZ.
+    // SAFETY: sets this process's disposition of one signal to "ignore"; no handler code is involved.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .thread_name("sweetspot-dds")
