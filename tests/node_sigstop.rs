@@ -179,3 +179,46 @@ fn a_clean_shutdown_logs_no_error() {
     let errors: Vec<&str> = log.lines().filter(|l| l.contains("ERROR")).collect();
     assert!(errors.is_empty(), "ERROR lines on a clean shutdown:\n{}", errors.join("\n"));
 }
+
+/// A node whose disk fills up (here: its file-size limit drops to 0 while it runs, so every further write fails
+/// with EFBIG, as ENOSPC would) keeps answering, reports the recorder ERROR, and leaves a bag that still has the
+/// metadata.yaml written before the disk filled.
+#[test]
+fn a_full_disk_stops_the_recording_not_the_node() {
+    let domain = domain(15);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "full_disk_peer");
+    let swing_pub = peer.publisher::<Swing>("/swing", dds::swing());
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let node = NodeProcess::spawn(domain, dir.path(), &[]);
+    peer.wait_for_reader(&swing_pub);
+    swing_pub.publish(swing(1)).unwrap();
+    assert_eq!(peer.collect(&answers, 1, WAIT)[0].swing_id, 1);
+    // The recorder lists the node's topics in metadata.yaml at its first flush (within a second of start).
+    let listed = || -> Option<std::path::PathBuf> {
+        let bag = std::fs::read_dir(dir.path().join("bags")).ok()?.next()?.ok()?.path();
+        let text = std::fs::read_to_string(bag.join("metadata.yaml")).ok()?;
+        text.contains("/exit_velocity").then_some(bag)
+    };
+    let start = Instant::now();
+    while listed().is_none() {
+        assert!(start.elapsed() < WAIT, "metadata.yaml never listed the topics");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+
+    let status =
+        Command::new("prlimit").args(["--pid", &node.pid().to_string(), "--fsize=0"]).status().expect("prlimit");
+    assert!(status.success(), "prlimit failed");
+    for id in 2..=400 {
+        swing_pub.publish(swing(id)).unwrap();
+    }
+    let got = peer.collect(&answers, 399, WAIT);
+    assert!(got.iter().all(|ev| ev.status == ExitVelocity::STATUS_OK));
+    let (status, _, log) = node.stop_with(2);
+    assert!(status.success(), "the node exits cleanly after its recording failed:\n{log}");
+    assert!(log.contains("File too large"), "the recorder's failure is reported:\n{log}");
+    let bags: Vec<_> = std::fs::read_dir(dir.path().join("bags")).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(bags.len(), 1, "{bags:?}");
+    let metadata = std::fs::read_to_string(bags[0].join("metadata.yaml")).expect("metadata.yaml after a full disk");
+    assert!(metadata.contains("/swing") && metadata.contains("/exit_velocity"), "{metadata}");
+}

@@ -152,12 +152,16 @@ impl Recorder {
         let thread = std::thread::Builder::new()
             .name("bag-writer".to_string())
             .spawn(move || {
-                let writer = match BagWriter::create_with(
+                // metadata.yaml is written first, while there is room, and kept up to date: a bag whose disk
+                // fills up keeps the last one written (see `run_writer`).
+                let created = BagWriter::create_with(
                     &thread_config.dir,
                     thread_config.max_file_size,
                     thread_config.max_file_duration,
                     storage,
-                ) {
+                )
+                .and_then(|writer| writer.metadata().write_to_dir(&thread_config.dir).map(|()| writer));
+                let writer = match created {
                     Ok(writer) => {
                         let _ = ready_tx.send(Ok(()));
                         writer
@@ -369,6 +373,12 @@ fn run_writer(
             for batch in take_in_order(shared, &receiver) {
                 write_batch(&mut writer, batch, shared, &mut healthy);
             }
+            // Topics registered or custom data set with no message since: into the file and metadata.yaml now.
+            if healthy {
+                if let Err(err) = sync_topics(&mut writer, shared) {
+                    fail(shared, &err, &mut healthy);
+                }
+            }
             if healthy && writer.is_dirty() {
                 if let Err(err) = writer.flush() {
                     fail(shared, &err, &mut healthy);
@@ -442,18 +452,120 @@ fn writer_dir_display(err: &BagError) -> String {
     }
 }
 
-/// Declares in the file every topic registered since the last call, and picks up new custom data.
+/// Declares in the file every topic registered since the last call, and picks up new custom data; when either
+/// changed, rewrites metadata.yaml, so the bag always has one listing every topic, even if the disk fills
+/// up before the first split or the end.
 fn sync_topics(writer: &mut BagWriter, shared: &Shared) -> Result<(), BagError> {
-    if shared.custom_data_changed.swap(false, Ordering::AcqRel) {
+    let custom_data_changed = shared.custom_data_changed.swap(false, Ordering::AcqRel);
+    if custom_data_changed {
         writer.set_custom_data(shared.custom_data.lock().unwrap_or_else(|p| p.into_inner()).clone());
     }
     let known = writer.topics().len();
-    if shared.topic_count.load(Ordering::Acquire) == known {
+    if shared.topic_count.load(Ordering::Acquire) != known {
+        let new: Vec<TopicInfo> = shared.topics()[known..].to_vec();
+        for topic in new {
+            writer.add_topic(topic)?;
+        }
+    } else if !custom_data_changed {
         return Ok(());
     }
-    let new: Vec<TopicInfo> = shared.topics()[known..].to_vec();
-    for topic in new {
-        writer.add_topic(topic)?;
+    writer.metadata().write_to_dir(writer.dir())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bag::RecordedQos;
+    use std::path::Path;
+    use std::process::Command;
+
+    /// Set in the child process of [`a_full_disk_leaves_a_bag_with_metadata_that_recover_rebuilds`]: its bag dir.
+    const CHILD_DIR: &str = "SWEETSPOT_TEST_FULL_DISK_BAG";
+    const TOPIC: &str = "/swing";
+    const BEFORE_FULL: usize = 100;
+
+    fn topic() -> TopicInfo {
+        TopicInfo {
+            name: TOPIC.to_string(),
+            type_name: "sweetspot_msgs/msg/Swing".to_string(),
+            schema_text: "uint64 swing_id\n".to_string(),
+            qos: RecordedQos { reliable: true, transient_local: false, depth: 1000 },
+        }
     }
-    Ok(())
+
+    fn wait_for(what: &str, mut done: impl FnMut() -> bool) {
+        // Generous: only turns a hang into a failure.
+        let start = Instant::now();
+        while !done() {
+            assert!(start.elapsed() < Duration::from_secs(30), "{what} never happened");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    /// The child: records, waits until the first messages are on disk, then makes every further write fail
+    /// as on a full disk (RLIMIT_FSIZE 0 with SIGXFSZ ignored: `write` fails with EFBIG) and finishes the bag.
+    fn record_until_the_disk_is_full(dir: &Path) {
+        // SAFETY: plain libc calls on this process's own signal disposition and limits.
+        unsafe {
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+        }
+        let mut config = RecorderConfig::new(dir);
+        config.flush_interval = Duration::from_millis(20);
+        let recorder = Recorder::start(config).unwrap();
+        let id = recorder.register_topic(topic()).unwrap();
+        let message = |i: usize| [&[0u8, 1, 0, 0][..], &(i as u64).to_le_bytes(), &[7u8; 1000]].concat();
+        for i in 0..BEFORE_FULL {
+            assert!(recorder.record(id, message(i), 1_000 + i as u64, 1_000 + i as u64));
+        }
+        // On disk means in the file as the OS has it: complete chunks an MCAP reader can read back.
+        let file = dir.join(crate::bag::rosbag2::file_name(dir, 0));
+        wait_for("the first messages on disk", || {
+            let bytes = std::fs::read(&file).unwrap_or_default();
+            mcap::MessageStream::new(&bytes).is_ok_and(|s| s.take_while(|m| m.is_ok()).count() == BEFORE_FULL)
+        });
+        let limit = libc::rlimit { rlim_cur: 0, rlim_max: libc::RLIM_INFINITY };
+        // SAFETY: as above.
+        assert_eq!(unsafe { libc::setrlimit(libc::RLIMIT_FSIZE, &limit) }, 0);
+        for i in BEFORE_FULL..BEFORE_FULL + 2_000 {
+            recorder.record(id, message(i), 1_000 + i as u64, 1_000 + i as u64);
+        }
+        let finished = recorder.finish();
+        let error = finished.expect_err("writing past a full disk fails").to_string();
+        assert!(error.contains("File too large"), "{error}");
+    }
+
+    #[test]
+    fn a_full_disk_leaves_a_bag_with_metadata_that_recover_rebuilds() {
+        if let Some(dir) = std::env::var_os(CHILD_DIR) {
+            return record_until_the_disk_is_full(Path::new(&dir));
+        }
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path().join("full");
+        let child = Command::new(std::env::current_exe().unwrap())
+            .args(["bag::recorder::tests::a_full_disk_leaves_a_bag_with_metadata_that_recover_rebuilds", "--exact"])
+            .args(["--nocapture", "--test-threads=1"])
+            .env(CHILD_DIR, &dir)
+            .output()
+            .unwrap();
+        let child_log = format!("{}{}", String::from_utf8_lossy(&child.stdout), String::from_utf8_lossy(&child.stderr));
+        assert!(child.status.success(), "child failed:\n{child_log}");
+        assert!(child_log.contains("1 passed"), "the child ran no test:\n{child_log}");
+
+        // The bag has the metadata.yaml written before the disk filled: every topic, no half-written temp file.
+        let metadata = std::fs::read_to_string(dir.join("metadata.yaml")).expect("metadata.yaml after a full disk");
+        assert!(metadata.contains(&format!("name: \"{TOPIC}\"")), "{metadata}");
+        assert!(!dir.join(".metadata.yaml.tmp").exists());
+
+        // `bag recover` rebuilds metadata.yaml from the MCAP alone, counting what reached the disk.
+        std::fs::remove_file(dir.join("metadata.yaml")).unwrap();
+        let recovery = crate::bag::recover::recover(&dir, None, |_| {}).unwrap();
+        let out = recovery.output.expect("a repaired copy");
+        let rebuilt = std::fs::read_to_string(out.join("metadata.yaml")).unwrap();
+        assert!(rebuilt.contains(&format!("message_count: {BEFORE_FULL}")), "{rebuilt}");
+        assert!(rebuilt.contains(&format!("name: \"{TOPIC}\"")), "{rebuilt}");
+        // The mcap crate, reading the repaired file on its own, finds the same messages.
+        let bytes = std::fs::read(out.join(crate::bag::rosbag2::file_name(&dir, 0))).unwrap();
+        let read: Vec<u64> = mcap::MessageStream::new(&bytes).unwrap().map(|m| m.unwrap().sequence as u64).collect();
+        assert_eq!(read, (1..=BEFORE_FULL as u64).collect::<Vec<_>>());
+    }
 }

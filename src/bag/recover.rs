@@ -4,8 +4,9 @@
 //! Every message the streaming reader can vouch for is kept (every intact chunk; in an unchunked file every
 //! complete message), in file order, in a file of the same layout (chunked or unchunked) with a fresh summary.
 //! What could not be kept is reported per file: the damaged places (file, chunk, offset) and the messages
-//! lost. Files that are finished and undamaged are linked (or copied) into the copy unchanged. A bag with
-//! nothing to repair gets no copy at all. Anything that is not a regular MCAP file is refused before anything
+//! lost. Files that are finished and undamaged are linked (or copied) into the copy unchanged. A bag
+//! directory's copy always gets a metadata.yaml rebuilt from the MCAP files alone (a directory that lacks one
+//! is repaired for that reason alone). A bag with nothing to repair gets no copy at all. Anything that is not a regular MCAP file is refused before anything
 //! is written.
 
 use std::collections::BTreeMap;
@@ -102,7 +103,10 @@ pub fn recover(
         lost_messages_unknown: s.lost_messages().1,
         damage: s.damage.clone(),
     };
-    if !scans.iter().any(needs_repair) {
+    // A directory without metadata.yaml (the disk filled up before it was written) gets a copy with one
+    // rebuilt from the MCAP files alone, even when every file is intact.
+    let metadata_missing = is_dir && std::fs::symlink_metadata(path.join("metadata.yaml")).is_err();
+    if !metadata_missing && !scans.iter().any(needs_repair) {
         let report: Vec<RecoveredFile> = scans.iter().map(|s| entry(s, None, false)).collect();
         report.iter().for_each(&mut on_file);
         return Ok(Recovery { output: None, files: report });
@@ -219,6 +223,41 @@ fn rewrite(original: &Path, target: &Path, scan: &FileScan, rosbag2_yaml: &str) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_complete_bag_without_metadata_yaml_gets_a_copy_with_one_rebuilt() {
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path().join("bag");
+        let recorder = crate::bag::Recorder::start(crate::bag::RecorderConfig::new(&dir)).unwrap();
+        let topic = crate::bag::TopicInfo {
+            name: "/swing".to_string(),
+            type_name: "sweetspot_msgs/msg/Swing".to_string(),
+            schema_text: "uint64 swing_id\n".to_string(),
+            qos: crate::bag::RecordedQos { reliable: true, transient_local: false, depth: 1000 },
+        };
+        let id = recorder.register_topic(topic).unwrap();
+        for i in 0..25u64 {
+            assert!(recorder.record(id, vec![0, 1, 0, 0, i as u8], 1_000 + i, 1_000 + i));
+        }
+        recorder.finish().unwrap();
+        let original = std::fs::read_to_string(dir.join("metadata.yaml")).unwrap();
+        assert!(recover(&dir, None, |_| {}).unwrap().output.is_none(), "a complete bag needs no copy");
+
+        std::fs::remove_file(dir.join("metadata.yaml")).unwrap();
+        let recovery = recover(&dir, None, |_| {}).unwrap();
+        let out = recovery.output.expect("a copy for the missing metadata.yaml");
+        assert!(recovery.files.iter().all(|f| !f.rebuilt && f.complete), "intact files are linked, not rebuilt");
+        let rebuilt = std::fs::read_to_string(out.join("metadata.yaml")).unwrap();
+        // The same counts, times and topics as the recorder's own, from the MCAP alone.
+        let body = |yaml: &str| -> Vec<String> {
+            yaml.lines()
+                .filter(|l| !l.contains("custom_data") && !l.contains(CUSTOM_DATA_RECOVERED))
+                .map(String::from)
+                .collect()
+        };
+        assert_eq!(body(&rebuilt), body(&original));
+        assert!(!dir.join("metadata.yaml").exists(), "the original is left as it is");
+    }
 
     #[test]
     fn the_copy_goes_beside_the_original() {

@@ -131,9 +131,14 @@ impl BagMetadata {
     pub fn write_to_dir(&self, dir: &Path) -> Result<(), super::BagError> {
         let path = dir.join("metadata.yaml");
         let tmp = dir.join(".metadata.yaml.tmp");
-        std::fs::write(&tmp, self.to_metadata_yaml())
-            .map_err(|source| super::BagError::Io { path: tmp.clone(), source })?;
-        std::fs::rename(&tmp, &path).map_err(|source| super::BagError::Io { path, source })
+        let written = std::fs::write(&tmp, self.to_metadata_yaml())
+            .map_err(|source| super::BagError::Io { path: tmp.clone(), source })
+            .and_then(|()| std::fs::rename(&tmp, &path).map_err(|source| super::BagError::Io { path, source }));
+        if written.is_err() {
+            // On a full disk the previous metadata.yaml stays as it was; no half-written temp file beside it.
+            let _ = std::fs::remove_file(&tmp);
+        }
+        written
     }
 }
 
@@ -218,8 +223,34 @@ pub fn default_bag_dir(root: &Path, node_name: &str, now: std::time::SystemTime)
     root.join(format!("{}_{}", if safe.is_empty() { "sweetspot" } else { &safe }, utc.format("%Y_%m_%d-%H_%M_%S")))
 }
 
+/// Candidate `attempt` (1, 2, …) for a bag directory named `base`: `base` itself first, then `base_2`,
+/// `base_3`, … — so bags started within the same second (two nodes of one name) never share a directory.
+pub fn numbered_bag_dir(base: &Path, attempt: u32) -> PathBuf {
+    if attempt <= 1 {
+        return base.to_path_buf();
+    }
+    let mut name = base.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(format!("_{attempt}"));
+    base.with_file_name(name)
+}
+
 /// The name of split file `index` of the bag in `dir`: `<dirname>_<index>.mcap`.
 pub fn file_name(dir: &Path, index: usize) -> String {
     let base = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "bag".to_string());
     format!("{base}_{index}.mcap")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbered_bag_dirs_keep_the_base_first_then_add_a_suffix() {
+        let base = Path::new("bags/sweetspot_2026_11_24-08_00_00");
+        assert_eq!(numbered_bag_dir(base, 1), base);
+        assert_eq!(numbered_bag_dir(base, 2), Path::new("bags/sweetspot_2026_11_24-08_00_00_2"));
+        assert_eq!(numbered_bag_dir(base, 13), Path::new("bags/sweetspot_2026_11_24-08_00_00_13"));
+        // The split files of a suffixed bag still end in their own index.
+        assert_eq!(file_name(&numbered_bag_dir(base, 2), 0), "sweetspot_2026_11_24-08_00_00_2_0.mcap");
+    }
 }

@@ -49,8 +49,16 @@
 //!   params stay in force. Bad swings get REJECTED with the physics' error text; numbers are NaN.
 //! - Every input (as received) and output (as published) is recorded in-process to a rosbag2 MCAP directory,
 //!   `bags/<node>_<UTC time>/` unless `record_path` is set, off with `--no-record` or `-p record:=false`.
+//!   The default directory gets a suffix (`_2`, `_3`, …) when it already exists, so two nodes started
+//!   within one second never share one ([`recording::start_backend_unique`]).
 //! - SIGINT/SIGTERM: stop taking swings, let queued ones finish for up to 0.6 s, close the bag, print a
 //!   summary (counts, latency p50/p99/max, mode-cache hits/misses) and exit 0.
+//! - Liveness: every diagnostics tick asks whether the DDS participant's background threads still run
+//!   (RustDDS `is_alive`, through the `receive_loop::Liveness` seam a test can make report dead). When they
+//!   stopped, the node can no longer send or receive: it logs an ERROR saying so, publishes a /diagnostics
+//!   ERROR (best effort), shuts down as on SIGINT (bag closed with its summary) and exits non-zero.
+//! - Another participant announcing a node with our fully-qualified name (read from `ros_discovery_info`)
+//!   is warned about on /rosout, and /diagnostics is at least WARN (`duplicate_node_name`) while it stays.
 //!
 //! # Parameters
 //!

@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context as _;
 use futures::stream::BoxStream;
 use futures::StreamExt;
+use ros2_client::entities_info::ParticipantEntitiesInfo;
 use ros2_client::{MessageInfo, NodeEvent, ReadResult, Subscription};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender};
 
@@ -23,8 +24,50 @@ use super::outputs::{Log, Outputs};
 use super::pipeline::{InlinePacing, Pipeline};
 use super::recording::{Recorded, Tape};
 use super::settings::SettingEffect;
-use super::stats::{health_report, GapCounter, NodeStats, RateLimiter, StatsSnapshot};
+use super::stats::{
+    flag_dds_stopped, flag_namesakes, health_report, GapCounter, NodeStats, RateLimiter, StatsSnapshot,
+};
 use crate::model::engine::{self, BatEntry, BatSummary, Registry, RegistryUsage};
+
+/// Whether the DDS machinery under the node still runs: asked on every diagnostics tick. The node's own is
+/// [`ParticipantLiveness`]; tests give the loop one that reports a dead stack.
+pub trait Liveness: Send {
+    /// False once the participant's background threads (RTPS event loop, Discovery) have stopped.
+    fn dds_alive(&self) -> bool;
+}
+
+/// The liveness of a ros2-client context's DDS participant (RustDDS's `is_alive`, see patches/README.md).
+pub struct ParticipantLiveness(pub ros2_client::Context);
+
+impl Liveness for ParticipantLiveness {
+    fn dds_alive(&self) -> bool {
+        // The participant handle is a clone sharing the context's participant: dropped at once, so it never
+        // outlives the context.
+        let participant = self.0.domain_participant();
+        let alive = participant.is_alive();
+        drop(participant);
+        alive
+    }
+}
+
+/// Why the node stopped on its own: its DDS event loop is gone, so it can no longer send or receive.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{fqn}: the DDS event loop stopped: the node can no longer send or receive anything; shutting down (restart it)"
+)]
+pub struct DdsStopped {
+    /// The node's fully-qualified name.
+    pub fqn: String,
+}
+
+/// Asks `liveness` once: `Err` (the error to log and exit with) when the DDS machinery has stopped.
+pub fn check_liveness(liveness: &dyn Liveness, fqn: &str) -> Result<(), DdsStopped> {
+    if liveness.dds_alive() {
+        Ok(())
+    } else {
+        Err(DdsStopped { fqn: fqn.to_string() })
+    }
+}
 
 /// Messages from helper tasks back to the receive loop.
 pub enum Event {
@@ -42,6 +85,10 @@ pub struct Inputs {
     pub ball_params: Subscription<BallParams>,
     /// Swings in.
     pub swings: Subscription<Swing>,
+    /// Every participant's announcement of its ROS nodes (`ros_discovery_info`), to notice a namesake. A
+    /// reader of its own rather than the spinner's discovery events: those go through a channel of 8 that
+    /// drops what does not fit, and a burst of matches at start-up can drop the one announcement that counts.
+    pub participants: Subscription<ParticipantEntitiesInfo>,
 }
 
 /// Rate-limited warnings, so a flood of the same problem does not flood /rosout.
@@ -95,6 +142,12 @@ pub struct NodeLoop {
     pub warnings: Warnings,
     /// The counters at the previous diagnostics tick.
     pub last_report: StatsSnapshot,
+    /// Whether DDS still runs (checked on every diagnostics tick).
+    pub liveness: Box<dyn Liveness>,
+    /// Our participant's gid, to tell other participants' nodes from our own.
+    pub own_participant: ros2_client::Gid,
+    /// Other participants that announce a node with our fully-qualified name.
+    pub namesakes: std::collections::BTreeSet<ros2_client::Gid>,
 }
 
 impl NodeLoop {
@@ -107,24 +160,30 @@ impl NodeLoop {
         }
     }
 
-    /// Handles inputs until SIGINT or SIGTERM.
-    pub async fn run(&mut self, inputs: &Inputs, node: &ros2_client::Node) {
+    /// Handles inputs until SIGINT or SIGTERM (`Ok`), or until a diagnostics tick finds the DDS machinery
+    /// stopped (`Err`, after an ERROR log line and a best-effort /diagnostics ERROR).
+    pub async fn run(&mut self, inputs: &Inputs, node: &ros2_client::Node) -> Result<(), DdsStopped> {
         let diagnostics_period = self.settings.read(|s| s.diagnostics_period);
         let mut diagnostics = tokio::time::interval(Duration::from_secs_f64(diagnostics_period));
         diagnostics.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
         let mut bats = pin!(inputs.bat_params.async_stream());
         let mut balls = pin!(inputs.ball_params.async_stream());
         let mut swings = pin!(inputs.swings.async_stream());
+        let mut participants = pin!(inputs.participants.async_stream());
         let mut shutdown = pin!(shutdown_signal());
         loop {
             tokio::select! {
                 biased;
-                signal = &mut shutdown => return self.on_shutdown(signal),
+                signal = &mut shutdown => {
+                    self.on_shutdown(signal);
+                    return Ok(());
+                }
                 Some(event) = self.events.recv() => self.on_event(event),
                 Some(received) = bats.next() => self.on_bat_params(received),
                 Some(received) = balls.next() => self.on_ball_params(received),
                 Some(_event) = self.graph_events.next() => self.on_discovery(node),
-                _ = diagnostics.tick() => self.on_diagnostics_tick(),
+                Some(received) = participants.next() => self.on_participant_info(received),
+                _ = diagnostics.tick() => self.on_diagnostics_tick()?,
                 Some(received) = swings.next() => self.on_swing_sample(received),
             }
         }
@@ -235,19 +294,54 @@ impl NodeLoop {
         self.outputs.refresh_energies_listeners(node);
     }
 
-    fn on_diagnostics_tick(&mut self) {
+    fn on_participant_info(&mut self, received: ReadResult<(ParticipantEntitiesInfo, MessageInfo)>) {
+        match received {
+            Ok((info, _)) => {
+                self.on_participant_nodes(info.gid(), info.nodes().iter().map(|n| n.fully_qualified_name()))
+            }
+            Err(e) => tracing::debug!("unreadable ros_discovery_info sample: {e:?}"),
+        }
+    }
+
+    /// A participant announced its nodes (each announcement replaces its previous one): warns when one of
+    /// another participant's is named like us — two nodes of one name answer every swing twice.
+    fn on_participant_nodes(&mut self, participant: ros2_client::Gid, mut names: impl Iterator<Item = String>) {
+        if participant == self.own_participant {
+            return;
+        }
+        if names.any(|name| name == self.fqn) {
+            if self.namesakes.insert(participant) {
+                self.log.warn(&namesake_warning(&self.fqn, self.namesakes.len()));
+            }
+        } else {
+            self.namesakes.remove(&participant);
+        }
+    }
+
+    /// Publishes /diagnostics, then checks that DDS still runs: when it does not, logs the ERROR and
+    /// publishes an ERROR status (best effort: it can only go out if the writer still works) and ends the loop.
+    fn on_diagnostics_tick(&mut self) -> Result<(), DdsStopped> {
+        let liveness = check_liveness(self.liveness.as_ref(), &self.fqn);
         let mut now = self.stats.snapshot(self.pipeline.in_flight());
         let usage = self.registry.usage();
         now.bats_cached = usage.bats as u64;
         now.bats_evicted = usage.bats_evicted;
         now.balls_cached = usage.balls as u64;
         now.balls_evicted = usage.balls_evicted;
-        let report = health_report(&now, &self.last_report, &self.tape.state());
+        let mut report = health_report(&now, &self.last_report, &self.tape.state());
+        if !self.namesakes.is_empty() {
+            flag_namesakes(&mut report, &namesake_warning(&self.fqn, self.namesakes.len()));
+        }
+        if let Err(stopped) = &liveness {
+            self.log.error(&stopped.to_string());
+            flag_dds_stopped(&mut report, &stopped.to_string());
+        }
         let msg = convert::diagnostic_array(&report, &self.fqn, Time::now());
         if let Err(e) = self.outputs.diagnostics.publish(msg) {
             tracing::debug!("publishing diagnostics: {e:?}");
         }
         self.last_report = now;
+        liveness
     }
 
     fn on_swing_sample(&mut self, received: ReadResult<(Swing, MessageInfo)>) {
@@ -365,7 +459,9 @@ impl NodeLoop {
     /// Stops taking swings, lets queued ones finish briefly, closes the bag and reports; then drops the
     /// discovery events and the publishers (before the caller drops the subscriptions and the node).
     pub async fn finish(self) -> anyhow::Result<()> {
-        let NodeLoop { fqn, registry, pipeline, outputs, graph_events, tape, stats, log, .. } = self;
+        let NodeLoop { fqn, registry, pipeline, outputs, graph_events, tape, stats, log, liveness, .. } = self;
+        // Holds a clone of the context: gone before the caller drops the context.
+        drop(liveness);
         let (pipeline_stats, tape_for_finish) = (Arc::clone(&stats), Arc::clone(&tape));
         let (bag_result, final_stats) = tokio::task::spawn_blocking(move || {
             let in_flight = pipeline.in_flight();
@@ -395,10 +491,21 @@ impl NodeLoop {
             Some(Err(e)) => eprintln!("{fqn}: closing the bag failed: {e}"),
             None => {}
         }
+        // Every writer of the node (the log handle holds a rosout writer clone) goes before the caller drops
+        // the node and then the context.
         drop(graph_events);
         drop(outputs);
+        drop(log);
         Ok(())
     }
+}
+
+/// The warning when other participants announce a node with our fully-qualified name.
+pub fn namesake_warning(fqn: &str, participants: usize) -> String {
+    format!(
+        "another node named {fqn} is on the graph ({participants} other participant(s)): every swing is answered \
+         once per node; rename one (--ros-args -r __node:=NAME or -r __ns:=/NS)"
+    )
 }
 
 /// Computes SweetSpots off the DDS thread, one at a time: a burst of BatParams (each a sweep of collisions,
@@ -443,5 +550,40 @@ impl Summaries {
             });
             let _ = job.await;
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    /// A DDS stack a test can stop.
+    struct Switch(Arc<AtomicBool>);
+
+    impl Liveness for Switch {
+        fn dds_alive(&self) -> bool {
+            self.0.load(Ordering::SeqCst)
+        }
+    }
+
+    #[test]
+    fn a_stopped_dds_ends_the_loop_with_an_error_naming_the_node() {
+        let alive = Arc::new(AtomicBool::new(true));
+        let liveness: Box<dyn Liveness> = Box::new(Switch(Arc::clone(&alive)));
+        assert_eq!(check_liveness(liveness.as_ref(), "/rig3/sweetspot"), Ok(()));
+        alive.store(false, Ordering::SeqCst);
+        let stopped = check_liveness(liveness.as_ref(), "/rig3/sweetspot").unwrap_err();
+        assert_eq!(stopped, DdsStopped { fqn: "/rig3/sweetspot".into() });
+        let text = stopped.to_string();
+        assert!(text.starts_with("/rig3/sweetspot: the DDS event loop stopped"), "{text}");
+        assert!(text.contains("can no longer send or receive"), "{text}");
+    }
+
+    #[test]
+    fn the_namesake_warning_says_what_goes_wrong_and_how_to_fix_it() {
+        let w = namesake_warning("/sweetspot", 1);
+        assert!(w.contains("another node named /sweetspot"), "{w}");
+        assert!(w.contains("__node:="), "{w}");
     }
 }

@@ -171,6 +171,36 @@ pub fn start_backend(
     Ok(Box::new(crate::bag::Recorder::start_with(config, storage)?))
 }
 
+/// Bag directories tried by [`start_backend_unique`] before giving up.
+pub const MAX_BAG_DIR_ATTEMPTS: u32 = 1000;
+
+/// Starts the recorder in `config.dir`, or, if that directory already exists (another recorder started in
+/// the same second, e.g. a second node of the same name), in the first free `<dir>_2`, `<dir>_3`, …
+/// ([`crate::bag::rosbag2::numbered_bag_dir`]). Creating the directory is the claim, so two recorders racing
+/// for one name never both get it. Returns the recorder and the directory it writes.
+pub fn start_backend_unique(
+    config: crate::bag::RecorderConfig,
+    storage: crate::bag::StorageOptions,
+) -> Result<(Box<dyn RecordBackend>, PathBuf), BagError> {
+    let base = config.dir.clone();
+    let mut attempt = 1;
+    loop {
+        let dir = crate::bag::rosbag2::numbered_bag_dir(&base, attempt);
+        let config = crate::bag::RecorderConfig { dir: dir.clone(), ..config.clone() };
+        match start_backend(config, storage) {
+            Ok(backend) => return Ok((backend, dir)),
+            Err(BagError::Io { path, source })
+                if path == dir
+                    && source.kind() == std::io::ErrorKind::AlreadyExists
+                    && attempt < MAX_BAG_DIR_ATTEMPTS =>
+            {
+                attempt += 1;
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
+
 impl RecordBackend for crate::bag::Recorder {
     fn register_topic(&mut self, topic: TopicInfo) -> Result<TopicId, BagError> {
         crate::bag::Recorder::register_topic(self, topic)
@@ -202,5 +232,27 @@ mod tests {
         assert!(recorded_qos(&sweet_spot_qos()).transient_local);
         let keep_all = swing_qos().history(History::KeepAll);
         assert_eq!(recorded_qos(&keep_all).depth, 0);
+    }
+
+    #[test]
+    fn a_taken_bag_directory_gets_the_next_free_suffix() {
+        let root = tempfile::tempdir().unwrap();
+        let base = root.path().join("sweetspot_2026_11_24-08_00_00");
+        std::fs::create_dir(&base).unwrap();
+        std::fs::create_dir(root.path().join("sweetspot_2026_11_24-08_00_00_2")).unwrap();
+        let config = crate::bag::RecorderConfig::new(&base);
+        let (first, dir) = start_backend_unique(config.clone(), crate::bag::StorageOptions::default()).unwrap();
+        assert_eq!(dir, root.path().join("sweetspot_2026_11_24-08_00_00_3"));
+        let (second, next) = start_backend_unique(config, crate::bag::StorageOptions::default()).unwrap();
+        assert_eq!(next, root.path().join("sweetspot_2026_11_24-08_00_00_4"));
+        first.finish().unwrap();
+        second.finish().unwrap();
+        assert!(dir.join("metadata.yaml").is_file() && next.join("metadata.yaml").is_file());
+        assert!(dir.join("sweetspot_2026_11_24-08_00_00_3_0.mcap").is_file());
+        // Anything other than "the directory exists" is not retried under another name.
+        let blocked = root.path().join("file");
+        std::fs::write(&blocked, b"").unwrap();
+        let config = crate::bag::RecorderConfig::new(blocked.join("bag"));
+        assert!(start_backend_unique(config, crate::bag::StorageOptions::default()).is_err());
     }
 }

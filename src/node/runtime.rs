@@ -23,7 +23,7 @@ use crate::ros::{diagnostics_qos, params_qos, results_qos, sweet_spot_qos as lat
 use super::live_settings::LiveSettings;
 use super::outputs::{EnergiesListeners, Log, Outputs};
 use super::pipeline::{InlinePacing, Pipeline};
-use super::receive_loop::{Event, Inputs, NodeLoop, Summaries, Warnings};
+use super::receive_loop::{Event, Inputs, NodeLoop, ParticipantLiveness, Summaries, Warnings};
 use super::recording::{recorded_qos, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::NodeSettings;
@@ -74,6 +74,12 @@ impl NodeConfig {
 /// Runs the node until SIGINT or SIGTERM, then finishes the bag and returns.
 pub fn run(config: NodeConfig) -> anyhow::Result<()> {
     let resolved = config.resolve()?;
+    // A file-size limit (RLIMIT_FSIZE) then fails the recorder's write with EFBIG, reported like a full disk
+    // while the node keeps computing, instead of killing the node with SIGXFSZ.
+    // SAFETY: sets this process's disposition of one signal to "ignore"; no handler code is involved.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .thread_name("sweetspot-dds")
@@ -122,7 +128,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
     let log = Log::new(node.logging_handle(), rosout);
     let topic_names = TopicNames::resolve(&names);
-    let (inputs, outputs) = endpoints(&mut node, &topic_names, &settings)?;
+    let (inputs, outputs) = endpoints(&context, &mut node, &topic_names, &settings)?;
     let (spinning, graph_events) = spin(&mut node)?;
     outputs.refresh_energies_listeners(&node);
 
@@ -154,18 +160,23 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         transport_gaps: GapCounter::new(),
         warnings: Warnings::default(),
         last_report: StatsSnapshot::default(),
+        liveness: Box::new(ParticipantLiveness(context.clone())),
+        own_participant: context.participant_entities_info().gid(),
+        namesakes: Default::default(),
     };
     node_loop.start_default_bat();
-    node_loop.run(&inputs, &node).await;
+    let outcome = node_loop.run(&inputs, &node).await;
+    // The normal shutdown either way: the bag is closed with its summary before a DDS failure is returned.
     node_loop.finish().await?;
 
     // Entities before the participant: dropping the node stops the spinner, which must drop its parameter
-    // services while `context` still holds the participant (else RustDDS logs every removal as an error).
+    // services while `context` still holds the participant. `finish` already dropped the log handle (a
+    // rosout writer clone) and the liveness probe (a context clone), so `context` is the last holder.
     drop(inputs);
     drop(node);
     let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;
     drop(context);
-    Ok(())
+    outcome.map_err(anyhow::Error::from)
 }
 
 /// Starts the node's spinner (parameter services, discovery) and returns it with the node's discovery events.
@@ -229,6 +240,7 @@ fn node_options(
 
 /// The node's subscriptions and publishers, with the project's QoS.
 fn endpoints(
+    context: &ros2_client::Context,
     node: &mut ros2_client::Node,
     topic_names: &TopicNames,
     settings: &NodeSettings,
@@ -240,6 +252,7 @@ fn endpoints(
         bat_params: subscription(node, topic_names.get(topics::BAT_PARAMS), &params_qos(), None)?,
         ball_params: subscription(node, topic_names.get(topics::BALL_PARAMS), &params_qos(), None)?,
         swings: subscription(node, topic_names.get(topics::SWING), &swing_qos(), Some(swing_reader_qos))?,
+        participants: participants_reader(context, node)?,
     };
     // The topics' own QoS (ros::results_qos: deep window, bounded wait) is the writers' QoS.
     let outputs = Outputs {
@@ -260,6 +273,30 @@ fn endpoints(
         energies_listeners: EnergiesListeners::default(),
     };
     Ok((inputs, outputs))
+}
+
+/// A reader of ROS 2's `ros_discovery_info` (rmw_dds_common/ParticipantEntitiesInfo: which nodes each
+/// participant hosts), with the writers' QoS (reliable, transient-local: a late joiner gets every
+/// participant's latest) and room for many participants' announcements between two takes.
+fn participants_reader(
+    context: &ros2_client::Context,
+    node: &mut ros2_client::Node,
+) -> anyhow::Result<ros2_client::Subscription<ros2_client::entities_info::ParticipantEntitiesInfo>> {
+    use ros2_client::builtin_topics::ros_discovery;
+    let participant = context.domain_participant();
+    let topic = participant.create_topic(
+        ros_discovery::TOPIC_NAME.to_string(),
+        ros_discovery::TYPE_NAME.to_string(),
+        &ros_discovery::QOS_PUB,
+        rustdds::TopicKind::NoKey,
+    );
+    drop(participant);
+    let topic = topic.map_err(|e| anyhow::anyhow!("topic {}: {e:?}", ros_discovery::TOPIC_NAME))?;
+    let qos = ros2_client::QosProfile::publisher_default()
+        .durability(ros2_client::qos::Durability::TransientLocal)
+        .history(History::KeepLast { depth: 64 });
+    node.create_subscription(&topic, Some(qos))
+        .map_err(|e| anyhow::anyhow!("reader of {}: {e:?}", ros_discovery::TOPIC_NAME))
 }
 
 fn start_tape(
@@ -297,8 +334,15 @@ fn start_tape(
             settings.record_compression
         )
     })?;
-    match super::recording::start_backend(config, storage) {
-        Ok(backend) => Ok(Tape::start(dir, backend, topics)),
+    // The default directory is named by the second the node started: a suffix when it is taken. An explicit
+    // `record_path` is used as given (and refused if it exists).
+    let started = if settings.record_path.is_empty() {
+        super::recording::start_backend_unique(config, storage)
+    } else {
+        super::recording::start_backend(config, storage).map(|backend| (backend, dir.clone()))
+    };
+    match started {
+        Ok((backend, dir)) => Ok(Tape::start(dir, backend, topics)),
         // The error names the directory (the default one when record_path is empty).
         Err(e) => Err(anyhow::anyhow!(
             "record_path = '{}': cannot record: {e} (pass another record_path, or record:=false)",

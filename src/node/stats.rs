@@ -292,6 +292,22 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
     HealthReport { level, message, values }
 }
 
+/// Raises `report` to at least WARN for another node with our name on the graph, `warning` first in its message.
+pub fn flag_namesakes(report: &mut HealthReport, warning: &str) {
+    if report.level == Health::Ok {
+        report.level = Health::Warn;
+    }
+    report.message = format!("{warning}; {}", report.message);
+    report.values.push(("duplicate_node_name".into(), "true".into()));
+}
+
+/// Makes `report` an ERROR saying why: the DDS machinery stopped and the node is shutting down.
+pub fn flag_dds_stopped(report: &mut HealthReport, error: &str) {
+    report.level = Health::Error;
+    report.message = format!("{error}; {}", report.message);
+    report.values.push(("dds_alive".into(), "false".into()));
+}
+
 /// Counts gaps in each publisher's DDS sequence numbers: samples it wrote that never reached this reader.
 /// Remembers at most `capacity` publishers (the least recently heard forgotten first), so publishers that come
 /// and go cannot grow it for ever; a forgotten publisher that comes back starts afresh (its first sample
@@ -427,6 +443,25 @@ mod tests {
         let r = health_report(&now, &now, &failed);
         assert_eq!(r.level, Health::Error);
         assert!(r.message.contains("disk full"));
+    }
+
+    #[test]
+    fn a_namesake_warns_and_a_stopped_dds_is_an_error() {
+        let quiet = StatsSnapshot::default();
+        let mut r = health_report(&quiet, &quiet, &RecorderState::Off);
+        assert_eq!(r.level, Health::Ok);
+        flag_namesakes(&mut r, "another node named /sweetspot");
+        assert_eq!(r.level, Health::Warn);
+        assert!(r.message.starts_with("another node named /sweetspot"), "{}", r.message);
+        assert!(r.values.contains(&("duplicate_node_name".into(), "true".into())));
+        flag_dds_stopped(&mut r, "the DDS event loop stopped");
+        assert_eq!((r.level, r.level as u8), (Health::Error, 2), "diagnostic_msgs ERROR = 2");
+        assert!(r.message.starts_with("the DDS event loop stopped"), "{}", r.message);
+        // A recorder failure is an ERROR already; a namesake does not lower it.
+        let failed = RecorderState::Failed { dir: "/x".into(), error: "disk full".into(), written: 0, dropped: 0 };
+        let mut r = health_report(&quiet, &quiet, &failed);
+        flag_namesakes(&mut r, "another node");
+        assert_eq!(r.level, Health::Error);
     }
 
     #[test]
