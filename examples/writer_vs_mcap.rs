@@ -136,7 +136,8 @@ fn run_ours(
         }
     }
     let stats = recorder.finish()?;
-    ensure!(stats.dropped == 0 && stats.written == messages, "recorder: {stats:?}");
+    // A refused record counts as dropped in the stats; here it was retried, so every message is written.
+    ensure!(stats.written == messages, "recorder: {stats:?}");
     let files = sweetspot::bag::reader::bag_files(dir)?;
     Ok((retries, files))
 }
