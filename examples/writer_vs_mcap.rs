@@ -108,7 +108,7 @@ fn cpu_times() -> (f64, f64) {
 }
 
 /// The `i`-th message of the mix: (stream, payload).
-fn message<'a>(streams: &'a [(TopicInfo, Vec<Vec<u8>>)], i: u64) -> (usize, &'a [u8]) {
+fn message(streams: &[(TopicInfo, Vec<Vec<u8>>)], i: u64) -> (usize, &[u8]) {
     let stream = (i % 3) as usize;
     let payloads = &streams[stream].1;
     (stream, &payloads[((i / 3) % payloads.len() as u64) as usize])

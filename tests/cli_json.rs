@@ -331,8 +331,7 @@ fn simulate_json_field_names_are_exactly_the_documented_ones_in_order() {
 
     // docs/file-formats.md lists the same: the top-level keys, the bat table and the collision-result table
     // (in output order), and the mode_energies entry's fields.
-    let docs =
-        std::fs::read_to_string(support::repo().join("docs/file-formats.md")).expect("docs/file-formats.md");
+    let docs = std::fs::read_to_string(support::repo().join("docs/file-formats.md")).expect("docs/file-formats.md");
     assert!(
         docs.contains(r#"`{"bat", "ball", "swing", "options", "results": [collision result, …]}`"#),
         "simulate's top level"
