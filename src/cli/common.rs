@@ -145,6 +145,15 @@ pub struct SwingArgs {
 }
 
 impl SwingArgs {
+    /// The default swing (ball 40 m/s, bat CM 25 m/s, 45 rad/s).
+    pub fn defaults() -> SwingArgs {
+        SwingArgs {
+            ball_speed: DEFAULT_BALL_SPEED,
+            bat_cm_speed: DEFAULT_BAT_CM_SPEED,
+            bat_angular_speed: DEFAULT_BAT_ANGULAR_SPEED,
+        }
+    }
+
     /// An impact template at `impact_z`.
     pub fn impact(&self, impact_z: f64) -> Impact {
         Impact {
