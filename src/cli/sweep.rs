@@ -44,11 +44,11 @@ pub struct SweepArgs {
     #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
     pub impact_z: Option<f64>,
     /// First impact point, m from the knob [default: 0.35 m before the barrel end]; with --over undercut the
-    /// first undercut, m [default: −0.9 (ball + barrel radius)].
+    /// first undercut, m [default: −0.75 (ball + barrel radius)].
     #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
     pub from: Option<f64>,
     /// Last impact point, m from the knob [default: 0.01 m before the barrel end]; with --over undercut the
-    /// last undercut, m [default: +0.9 (ball + barrel radius)].
+    /// last undercut, m [default: +0.75 (ball + barrel radius)].
     #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
     pub to: Option<f64>,
     /// Step between impact points (or undercuts), m [default 0.005; undercut: 37 points].

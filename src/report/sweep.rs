@@ -162,7 +162,7 @@ pub struct SweepRange {
 
 /// Default undercut range: ± this fraction of the reach R + R_k (ball plus barrel radius), past the onset of
 /// sliding so that the spin's maximum shows.
-pub const DEFAULT_UNDERCUT_REACH: f64 = 0.9;
+pub const DEFAULT_UNDERCUT_REACH: f64 = 0.75;
 /// Default number of undercut points (odd, so that the head-on D = 0 is one of them).
 pub const DEFAULT_UNDERCUT_POINTS: usize = 37;
 
