@@ -36,6 +36,21 @@ const RESULT_FIELDS: &[&str] = &[
     "mode_energies",
 ];
 const ENERGY_FIELDS: &[&str] = &["initial", "ball", "bat_rigid", "vibration", "hysteresis_loss", "residual"];
+/// A hollow section's energy budget adds the wall's hoop energies.
+const HOLLOW_ENERGY_FIELDS: &[&str] = &[
+    "initial",
+    "ball",
+    "bat_rigid",
+    "vibration",
+    "hysteresis_loss",
+    "hoop",
+    "hoop_stored",
+    "hoop_returned",
+    "residual",
+];
+/// A hollow section's result adds the wall's hoop mode.
+const HOOP_FIELDS: &[&str] =
+    &["frequency_hz", "stiffness", "effective_mass", "decay_length", "radius", "wall_thickness"];
 const MODE_ENERGY_FIELDS: &[&str] = &["mode", "frequency_hz", "energy"];
 const SWEET_FIELDS: &[&str] =
     &["max_exit_speed_z", "max_exit_speed", "rigid_optimum_z", "node1_z", "node2_z", "center_of_percussion_z"];
@@ -51,8 +66,15 @@ fn has_exactly(doc: &Value, pointer: &str, fields: &[&str]) {
 }
 
 fn check_result(doc: &Value, pointer: &str, modes: usize) {
-    has_exactly(doc, pointer, RESULT_FIELDS);
-    has_exactly(doc, &format!("{pointer}/energy"), ENERGY_FIELDS);
+    let hollow = doc.pointer(&format!("{pointer}/hoop")).is_some();
+    if hollow {
+        has_exactly(doc, pointer, &[RESULT_FIELDS, &["hoop"]].concat());
+        has_exactly(doc, &format!("{pointer}/energy"), HOLLOW_ENERGY_FIELDS);
+        has_exactly(doc, &format!("{pointer}/hoop"), HOOP_FIELDS);
+    } else {
+        has_exactly(doc, pointer, RESULT_FIELDS);
+        has_exactly(doc, &format!("{pointer}/energy"), ENERGY_FIELDS);
+    }
     let energies = doc.pointer(&format!("{pointer}/mode_energies")).and_then(Value::as_array).expect("mode_energies");
     assert_eq!(energies.len(), modes);
     has_exactly(doc, &format!("{pointer}/mode_energies/0"), MODE_ENERGY_FIELDS);
@@ -75,6 +97,17 @@ fn same_result(doc: &Value, pointer: &str, r: &sweetspot::physics::CollisionResu
     assert_eq!(at("energy/vibration"), r.energy.vibration);
     assert_eq!(at("energy/hysteresis_loss"), r.energy.hysteresis_loss);
     assert_eq!(at("energy/residual"), r.energy.residual);
+    match &r.hoop {
+        Some(hoop) => {
+            assert_eq!(at("energy/hoop"), r.energy.hoop);
+            assert_eq!(at("energy/hoop_stored"), r.energy.hoop_stored);
+            assert_eq!(at("energy/hoop_returned"), r.energy.hoop_returned);
+            assert_eq!(at("hoop/frequency_hz"), hoop.frequency_hz());
+            assert_eq!(at("hoop/stiffness"), hoop.stiffness);
+            assert_eq!(at("hoop/effective_mass"), hoop.effective_mass);
+        }
+        None => assert!(doc.pointer(&format!("{pointer}/hoop")).is_none(), "a solid section has no hoop"),
+    }
     for (i, m) in r.mode_energies.iter().enumerate() {
         assert_eq!(at(&format!("mode_energies/{i}/frequency_hz")), m.frequency);
         assert_eq!(at(&format!("mode_energies/{i}/energy")), m.energy);
@@ -185,6 +218,7 @@ fn sweep_json_matches_the_library() {
     assert_eq!(num(&doc, "/sweet_spots/node1_z"), spots.node1_z);
     assert_eq!(num(&doc, "/sweet_spots/node2_z"), spots.node2_z);
     assert_eq!(num(&doc, "/sweet_spots/center_of_percussion_z"), spots.center_of_percussion_z);
+    assert!(doc.pointer("/points/3/hoop").is_some(), "the aluminum barrel is hollow: its wall is in the JSON");
     let node1: Vec<f64> = doc["nodes"]["mode1"].as_array().unwrap().iter().filter_map(Value::as_f64).collect();
     assert_eq!(node1, modes.nodes(1));
 }

@@ -14,6 +14,11 @@
 //! }
 //! ```
 //!
+//! The oblique inputs are optional (absent or zero: a head-on swing), in the units their names carry:
+//! `undercut` (m, ball centre above the bat's path positive), `attack_angle_deg` (bat path above the
+//! horizontal, degrees), `pitch_angle_deg` (pitch descent below the horizontal, degrees), `pitch_spin_rpm`
+//! (rpm, backspin positive), and the tangential contact overrides `tangential_cor` (e_T) and `friction` (μ).
+//!
 //! `bat` is a preset name, a path to a bat file (relative to the case file), or a bat object with the
 //! fields of the bat file format (`name`, `slice_length`, `shell`, optional `core`, and `station` as a list
 //! of `{z, outer_radius, inner_radius}`, or `profile` naming a CSV relative to the case file).
@@ -24,7 +29,9 @@ use anyhow::{anyhow, bail, Context, Result};
 use serde::Deserialize;
 
 use super::bat_file::BatSpec;
-use super::common::{check_options, resolve_bat, DEFAULT_BALL_SPEED, DEFAULT_BAT_ANGULAR_SPEED, DEFAULT_BAT_CM_SPEED};
+use super::common::{
+    check_options, resolve_bat, ObliqueInputs, DEFAULT_BALL_SPEED, DEFAULT_BAT_ANGULAR_SPEED, DEFAULT_BAT_CM_SPEED,
+};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
 
 /// The raw JSON document.
@@ -55,6 +62,24 @@ pub struct CaseSpec {
     /// RK4 step, s.
     #[serde(default)]
     pub time_step: Option<f64>,
+    /// Undercut, m (ball centre above the bat's path positive).
+    #[serde(default)]
+    pub undercut: Option<f64>,
+    /// Attack angle of the bat's path above the horizontal, degrees.
+    #[serde(default)]
+    pub attack_angle_deg: Option<f64>,
+    /// Descent angle of the pitch below the horizontal, degrees.
+    #[serde(default)]
+    pub pitch_angle_deg: Option<f64>,
+    /// Pitch spin about the bat's axis, rpm, backspin positive.
+    #[serde(default)]
+    pub pitch_spin_rpm: Option<f64>,
+    /// Tangential coefficient of restitution e_T.
+    #[serde(default)]
+    pub tangential_cor: Option<f64>,
+    /// Coulomb friction coefficient μ.
+    #[serde(default)]
+    pub friction: Option<f64>,
 }
 
 /// Ball fields, each optional.
@@ -82,6 +107,8 @@ pub struct Case {
     pub ball: Ball,
     /// The swing; `impact_z` is taken from `impact_zs`.
     pub swing: Impact,
+    /// The oblique inputs, SI units (inactive for a head-on case).
+    pub oblique: ObliqueInputs,
     /// Impact points, m from the knob; empty means "use the command's default".
     pub impact_zs: Vec<f64>,
     /// Numerical options.
@@ -138,7 +165,16 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
         modes: spec.modes.unwrap_or(defaults.modes),
         time_step: spec.time_step.unwrap_or(defaults.time_step),
     })?;
-    Ok(Case { bat, ball, swing, impact_zs, options })
+    let oblique = ObliqueInputs::from_cli_units(
+        spec.undercut,
+        spec.attack_angle_deg,
+        spec.pitch_angle_deg,
+        spec.pitch_spin_rpm,
+        spec.tangential_cor,
+        spec.friction,
+    )
+    .context("fields `undercut`/`attack_angle_deg`/`pitch_angle_deg`/`pitch_spin_rpm`/`tangential_cor`/`friction`")?;
+    Ok(Case { bat, ball, swing, oblique, impact_zs, options })
 }
 
 /// `impact_z` as a list: one number or a non-empty list of numbers, m.
@@ -192,5 +228,19 @@ mod tests {
         assert_eq!(case.bat.name, "stick");
         assert_eq!(case.impact_zs, vec![0.7]);
         assert_eq!(case.options.modes, 4);
+        assert!(!case.oblique.active);
+    }
+
+    #[test]
+    fn oblique_fields_are_read_in_their_named_units() {
+        let text = r#"{"undercut": 0.01, "attack_angle_deg": 90, "pitch_spin_rpm": 60, "friction": 0.3}"#;
+        let case = parse_case(text, Path::new(".")).unwrap_or_else(|err| panic!("{err:#}"));
+        assert!(case.oblique.active);
+        assert_eq!(case.oblique.undercut, 0.01);
+        assert!((case.oblique.attack_angle - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!((case.oblique.pitch_spin - std::f64::consts::TAU).abs() < 1e-12, "60 rpm is one turn a second");
+        assert_eq!(case.oblique.contact.friction, 0.3);
+        let err = parse_case(r#"{"tangential_cor": 2}"#, Path::new(".")).unwrap_err();
+        assert!(format!("{err:#}").contains("tangential_cor"), "{err:#}");
     }
 }

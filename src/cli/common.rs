@@ -8,6 +8,7 @@ use clap::Args;
 
 use super::bat_file::load_bat_file;
 use crate::physics::collision::TIME_STEP_RANGE;
+use crate::physics::oblique::{rpm_to_rad_per_s, TangentialContact};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
@@ -144,6 +145,15 @@ pub struct SwingArgs {
 }
 
 impl SwingArgs {
+    /// The default swing (ball 40 m/s, bat CM 25 m/s, 45 rad/s).
+    pub fn defaults() -> SwingArgs {
+        SwingArgs {
+            ball_speed: DEFAULT_BALL_SPEED,
+            bat_cm_speed: DEFAULT_BAT_CM_SPEED,
+            bat_angular_speed: DEFAULT_BAT_ANGULAR_SPEED,
+        }
+    }
+
     /// An impact template at `impact_z`.
     pub fn impact(&self, impact_z: f64) -> Impact {
         Impact {
@@ -152,6 +162,111 @@ impl SwingArgs {
             bat_angular_speed: self.bat_angular_speed,
             impact_z,
         }
+    }
+}
+
+/// The oblique inputs: undercut, attack and pitch angles, pitch spin, and the tangential contact overrides.
+#[derive(Debug, Clone, Default, Args)]
+pub struct ObliqueArgs {
+    /// Undercut D, m: the ball's centre above (+, backspin, higher launch) or below (−) the bat's path at
+    /// contact [default 0].
+    #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub undercut: Option<f64>,
+    /// Attack angle of the bat's path above the horizontal, degrees (positive for an upward swing) [default 0].
+    #[arg(long, value_name = "DEG", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub attack_angle: Option<f64>,
+    /// Descent angle of the pitch below the horizontal, degrees (positive for a descending pitch) [default 0].
+    #[arg(long, value_name = "DEG", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub pitch_angle: Option<f64>,
+    /// Pitch spin about the bat's axis, rpm, backspin (relative to the pitch's travel) positive [default 0].
+    #[arg(long, value_name = "RPM", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub pitch_spin: Option<f64>,
+    /// Tangential coefficient of restitution e_T, 0..=1 (0 = rolling contact) [default 0.405].
+    #[arg(long, value_name = "E_T", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub tangential_cor: Option<f64>,
+    /// Coulomb friction coefficient μ between ball and bat, 0..=2 [default 0.20].
+    #[arg(long, value_name = "MU", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub friction: Option<f64>,
+}
+
+impl ObliqueArgs {
+    /// The inputs in SI units (degrees → rad, rpm → rad/s), the contact checked.
+    pub fn inputs(&self) -> Result<ObliqueInputs> {
+        ObliqueInputs::from_cli_units(
+            self.undercut,
+            self.attack_angle,
+            self.pitch_angle,
+            self.pitch_spin,
+            self.tangential_cor,
+            self.friction,
+        )
+        .context("--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction")
+    }
+}
+
+/// The oblique inputs of a run, SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObliqueInputs {
+    /// Undercut D, m.
+    pub undercut: f64,
+    /// Attack angle, rad.
+    pub attack_angle: f64,
+    /// Pitch descent angle, rad.
+    pub pitch_angle: f64,
+    /// Pitch spin, rad/s, backspin positive.
+    pub pitch_spin: f64,
+    /// The tangential contact law.
+    pub contact: TangentialContact,
+    /// Whether the run is oblique: a geometry input is non-zero or a contact parameter was given. When
+    /// false the run is the head-on collision and its output is exactly the head-on one.
+    pub active: bool,
+}
+
+impl Default for ObliqueInputs {
+    /// Head-on, default contact, inactive.
+    fn default() -> Self {
+        ObliqueInputs {
+            undercut: 0.0,
+            attack_angle: 0.0,
+            pitch_angle: 0.0,
+            pitch_spin: 0.0,
+            contact: TangentialContact::default(),
+            active: false,
+        }
+    }
+}
+
+impl ObliqueInputs {
+    /// From the user's units: undercut m, angles degrees, spin rpm; absent means 0 (geometry) or the
+    /// published default (contact).
+    pub fn from_cli_units(
+        undercut: Option<f64>,
+        attack_angle_deg: Option<f64>,
+        pitch_angle_deg: Option<f64>,
+        pitch_spin_rpm: Option<f64>,
+        tangential_cor: Option<f64>,
+        friction: Option<f64>,
+    ) -> Result<ObliqueInputs> {
+        let defaults = TangentialContact::default();
+        let contact = TangentialContact {
+            tangential_cor: tangential_cor.unwrap_or(defaults.tangential_cor),
+            friction: friction.unwrap_or(defaults.friction),
+            ..defaults
+        };
+        contact.validate()?;
+        let geometry = [undercut, attack_angle_deg, pitch_angle_deg, pitch_spin_rpm].map(|v| v.unwrap_or(0.0));
+        if let Some(bad) = geometry.iter().find(|v| !v.is_finite()) {
+            bail!("{bad} is not allowed: expected a finite number");
+        }
+        let active = geometry.iter().any(|v| *v != 0.0) || tangential_cor.is_some() || friction.is_some();
+        Ok(ObliqueInputs {
+            undercut: geometry[0],
+            attack_angle: geometry[1].to_radians(),
+            pitch_angle: geometry[2].to_radians(),
+            pitch_spin: rpm_to_rad_per_s(geometry[3]),
+            contact,
+            active,
+        })
     }
 }
 

@@ -1,11 +1,13 @@
-//! `sweetspot modes`: mass properties and the vibrational modes of a bat.
+//! `sweetspot modes`: mass properties and the vibrational modes of a bat, and for hollow bats the hoop
+//! (n = 2 shell) frequency of the barrel wall along the barrel and at the sweet spot.
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use serde::Serialize;
 
-use super::common::{emit, print_json, BatArgs, OutputArgs, MAX_MODES};
-use crate::physics::ModeSet;
+use super::common::{emit, print_json, BatArgs, OutputArgs, SwingArgs, MAX_MODES};
+use crate::physics::metrics::sweet_spots;
+use crate::physics::{Ball, CollisionOptions, ModeSet};
 use crate::report::json::BatJson;
 use crate::report::table::{num, Table};
 
@@ -34,6 +36,31 @@ pub struct ModeJson {
     pub modal_mass: f64,
 }
 
+/// The barrel wall's hoop (n = 2) mode at one point.
+#[derive(Debug, Clone, Serialize)]
+pub struct HoopPointJson {
+    /// m from the knob.
+    pub z: f64,
+    /// Hoop frequency f_h, Hz.
+    pub frequency_hz: f64,
+    /// Wall thickness, m.
+    pub wall_thickness: f64,
+    /// Hoop stiffness k_h, N/m.
+    pub stiffness: f64,
+    /// Effective mass m_h, kg.
+    pub effective_mass: f64,
+}
+
+/// The hoop mode along a hollow barrel.
+#[derive(Debug, Clone, Serialize)]
+pub struct HoopAlongJson {
+    /// At a few points along the barrel (0.35 m to 0.05 m before the barrel end, every 0.05 m), where the
+    /// section has a hoop mode.
+    pub along: Vec<HoopPointJson>,
+    /// At the sweet spot (maximum exit speed for the default swing), if the section there has one.
+    pub sweet_spot: Option<HoopPointJson>,
+}
+
 /// The JSON document of `sweetspot modes --json`.
 #[derive(Debug, Serialize)]
 pub struct ModesJson {
@@ -41,6 +68,35 @@ pub struct ModesJson {
     pub bat: BatJson,
     /// Vibrational modes, ascending frequency (the two rigid-body modes are not listed).
     pub modes: Vec<ModeJson>,
+    /// The barrel wall's hoop mode (hollow bats only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hoop: Option<HoopAlongJson>,
+}
+
+/// The hoop mode at `z`, if the section there has one.
+fn hoop_point(set: &ModeSet, z: f64) -> Option<HoopPointJson> {
+    set.hoop_at(z).map(|h| HoopPointJson {
+        z,
+        frequency_hz: h.frequency_hz(),
+        wall_thickness: h.wall_thickness,
+        stiffness: h.stiffness,
+        effective_mass: h.effective_mass,
+    })
+}
+
+/// The hoop mode along the barrel and at the sweet spot (maximum exit speed for the default swing and ball,
+/// with the listed modes, at most the default number), or `None` for a bat without one.
+fn hoop_along(set: &ModeSet, count: usize) -> Result<Option<HoopAlongJson>> {
+    let length = set.length();
+    let along: Vec<HoopPointJson> = (0..7).filter_map(|k| hoop_point(set, length - 0.35 + 0.05 * k as f64)).collect();
+    if along.is_empty() {
+        return Ok(None);
+    }
+    let defaults = CollisionOptions::default();
+    let options = CollisionOptions { modes: count.min(defaults.modes), ..defaults };
+    let swing = SwingArgs::defaults().impact(f64::NAN);
+    let spots = sweet_spots(set, &Ball::default(), &swing, &options).context("sweet spot for the hoop frequency")?;
+    Ok(Some(HoopAlongJson { along, sweet_spot: hoop_point(set, spots.max_exit_speed_z) }))
 }
 
 /// Computes the document for `sweetspot modes`.
@@ -63,7 +119,8 @@ pub fn modes_document(bat: &crate::physics::Bat, count: usize) -> Result<ModesJs
             modal_mass: set.modal_mass(i + 2),
         })
         .collect();
-    Ok(ModesJson { bat: BatJson::new(&bat.name, &props), modes })
+    let hoop = hoop_along(&set, count)?;
+    Ok(ModesJson { bat: BatJson::new(&bat.name, &props), modes, hoop })
 }
 
 /// Runs `sweetspot modes`.
@@ -81,5 +138,25 @@ pub fn run(args: ModesArgs) -> Result<()> {
         t.row([m.mode.to_string(), num(m.frequency_hz, 5), num(m.modal_mass, 4), nodes]);
     }
     out.push_str(&t.render());
+    if let Some(hoop) = &doc.hoop {
+        out.push_str("\nhoop (n = 2) mode of the barrel wall\n");
+        let mut t = Table::new(["z (m from knob)", "f_h (Hz)", "wall (mm)", "k_h (N/m)", "m_h (g)"]);
+        let cells = |label: String, p: &HoopPointJson| {
+            [
+                label,
+                num(p.frequency_hz, 5),
+                num(p.wall_thickness * 1e3, 3),
+                num(p.stiffness, 4),
+                num(p.effective_mass * 1e3, 4),
+            ]
+        };
+        for p in &hoop.along {
+            t.row(cells(num(p.z, 4), p));
+        }
+        if let Some(p) = &hoop.sweet_spot {
+            t.row(cells(format!("{} (sweet spot)", num(p.z, 4)), p));
+        }
+        out.push_str(&t.render());
+    }
     emit(&out)
 }

@@ -7,9 +7,11 @@ use clap::Args;
 use serde::Serialize;
 
 use super::case_file::load_case;
-use super::common::{emit, finite_f64, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs, SwingArgs};
-use crate::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
-use crate::report::json::{BallJson, BatJson, CollisionJson, OptionsJson, SwingJson};
+use super::common::{
+    emit, finite_f64, print_json, BallArgs, BatArgs, NumericArgs, ObliqueArgs, ObliqueInputs, OutputArgs, SwingArgs,
+};
+use crate::physics::{collide, collide_oblique, Ball, Bat, CollisionOptions, Impact, ModeSet, ObliqueImpact};
+use crate::report::json::{BallJson, BatJson, CollisionJson, ObliqueInputsJson, OptionsJson, SwingJson};
 use crate::report::table::{num, Table};
 
 /// Distance of the default impact point from the barrel end, m (6 in).
@@ -20,7 +22,8 @@ pub const DEFAULT_IMPACT_FROM_TIP: f64 = 0.15;
 pub struct SimulateArgs {
     /// A case file (JSON, see docs/file-formats.md) instead of the bat, ball and swing flags.
     #[arg(long, value_name = "FILE.json", conflicts_with_all = ["bat", "ball_mass", "ball_radius", "ball_cor",
-        "ball_stiffness", "ball_exponent", "ball_speed", "bat_cm_speed", "bat_angular_speed", "impact_z", "modes", "dt"])]
+        "ball_stiffness", "ball_exponent", "ball_speed", "bat_cm_speed", "bat_angular_speed", "impact_z", "modes", "dt",
+        "undercut", "attack_angle", "pitch_angle", "pitch_spin", "tangential_cor", "friction"])]
     pub case: Option<PathBuf>,
     #[command(flatten)]
     pub bat: BatArgs,
@@ -28,6 +31,8 @@ pub struct SimulateArgs {
     pub ball: BallArgs,
     #[command(flatten)]
     pub swing: SwingArgs,
+    #[command(flatten)]
+    pub oblique: ObliqueArgs,
     /// Impact point(s), m from the knob; repeat the flag or give a comma list [default: 0.15 m from the barrel end].
     #[arg(long, value_name = "M", value_delimiter = ',', value_parser = finite_f64, allow_negative_numbers = true)]
     pub impact_z: Vec<f64>,
@@ -48,6 +53,9 @@ pub struct SimulateJson {
     pub swing: SwingJson,
     /// Numerical options.
     pub options: OptionsJson,
+    /// The oblique inputs (absent for a head-on run).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub oblique: Option<ObliqueInputsJson>,
     /// One result per impact point, in the order given.
     pub results: Vec<CollisionJson>,
 }
@@ -57,6 +65,7 @@ struct Run {
     bat: Bat,
     ball: Ball,
     swing: Impact,
+    oblique: ObliqueInputs,
     impact_zs: Vec<f64>,
     options: CollisionOptions,
 }
@@ -66,17 +75,25 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let run = match &args.case {
         Some(path) => {
             let case = load_case(path)?;
-            Run { bat: case.bat, ball: case.ball, swing: case.swing, impact_zs: case.impact_zs, options: case.options }
+            Run {
+                bat: case.bat,
+                ball: case.ball,
+                swing: case.swing,
+                oblique: case.oblique,
+                impact_zs: case.impact_zs,
+                options: case.options,
+            }
         }
         None => Run {
             bat: args.bat.load()?,
             ball: args.ball.apply(Ball::default())?,
             swing: args.swing.impact(f64::NAN),
+            oblique: args.oblique.inputs()?,
             impact_zs: args.impact_z.clone(),
             options: args.numeric.options()?,
         },
     };
-    let document = simulate(&run.bat, &run.ball, &run.swing, &run.impact_zs, &run.options)?;
+    let document = simulate(&run.bat, &run.ball, &run.swing, &run.oblique, &run.impact_zs, &run.options)?;
     if args.output.json {
         print_json(&document)
     } else {
@@ -84,11 +101,13 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     }
 }
 
-/// Simulates every impact point (the default point when `impact_zs` is empty).
+/// Simulates every impact point (the default point when `impact_zs` is empty); head-on unless `oblique` is
+/// active.
 pub fn simulate(
     bat: &Bat,
     ball: &Ball,
     swing: &Impact,
+    oblique: &ObliqueInputs,
     impact_zs: &[f64],
     options: &CollisionOptions,
 ) -> Result<SimulateJson> {
@@ -99,17 +118,68 @@ pub fn simulate(
     let mut results = Vec::with_capacity(zs.len());
     for &impact_z in zs {
         let impact = Impact { impact_z, ..*swing };
-        let result =
-            collide(&modes, ball, &impact, options).with_context(|| format!("collision at impact_z = {impact_z} m"))?;
-        results.push(CollisionJson::new(impact_z, &result));
+        let context = || format!("collision at impact_z = {impact_z} m");
+        if oblique.active {
+            let barrel_radius = bat.radii_at(impact_z).0;
+            let result = collide_oblique(
+                &modes,
+                ball,
+                &oblique_impact(impact, barrel_radius, oblique),
+                &oblique.contact,
+                options,
+            )
+            .with_context(context)?;
+            results.push(CollisionJson::oblique(impact_z, &result, barrel_radius));
+        } else {
+            let result = collide(&modes, ball, &impact, options).with_context(context)?;
+            results.push(CollisionJson::new(impact_z, &result));
+        }
     }
     Ok(SimulateJson {
         bat: BatJson::new(&bat.name, &props),
         ball: ball.into(),
         swing: swing.into(),
         options: options.into(),
+        oblique: oblique.active.then(|| oblique_inputs_json(oblique)),
         results,
     })
+}
+
+/// The oblique swing at `impact`'s point on a barrel of radius `barrel_radius` (m).
+pub fn oblique_impact(impact: Impact, barrel_radius: f64, oblique: &ObliqueInputs) -> ObliqueImpact {
+    ObliqueImpact {
+        impact,
+        barrel_radius,
+        undercut: oblique.undercut,
+        attack_angle: oblique.attack_angle,
+        pitch_angle: oblique.pitch_angle,
+        pitch_spin: oblique.pitch_spin,
+    }
+}
+
+/// The oblique inputs as documented (degrees, rpm).
+pub fn oblique_inputs_json(oblique: &ObliqueInputs) -> ObliqueInputsJson {
+    ObliqueInputsJson::new(
+        oblique.undercut,
+        oblique.attack_angle,
+        oblique.pitch_angle,
+        oblique.pitch_spin,
+        &oblique.contact,
+    )
+}
+
+/// The header line of the oblique inputs.
+pub fn describe_oblique(o: &ObliqueInputsJson) -> String {
+    format!(
+        "oblique undercut {} m, attack angle {}°, pitch descent {}°, pitch spin {} rpm; e_T {}, μ {}, I/(mR²) {}\n",
+        num(o.undercut, 4),
+        num(o.attack_angle_deg, 4),
+        num(o.pitch_angle_deg, 4),
+        num(o.pitch_spin_rpm, 4),
+        num(o.tangential_cor, 4),
+        num(o.friction, 4),
+        num(o.ball_inertia_ratio, 4),
+    )
 }
 
 /// Header lines describing the bat, ball, swing and options.
@@ -140,10 +210,34 @@ pub fn describe_inputs(bat: &BatJson, ball: &BallJson, swing: &SwingJson, option
 /// The human-readable report: inputs, then one column per impact point.
 pub fn render(doc: &SimulateJson) -> String {
     let mut out = describe_inputs(&doc.bat, &doc.ball, &doc.swing, &doc.options);
+    if let Some(oblique) = &doc.oblique {
+        out.push_str(&describe_oblique(oblique));
+    }
     out.push('\n');
-    let header = std::iter::once("quantity".to_string())
-        .chain(doc.results.iter().map(|r| format!("z = {} m", num(r.impact_z, 4))));
-    let mut t = Table::new(header);
+    let header = || {
+        std::iter::once("quantity".to_string())
+            .chain(doc.results.iter().map(|r| format!("z = {} m", num(r.impact_z, 4))))
+    };
+    if doc.oblique.is_some() {
+        let mut t = Table::new(header());
+        let mut row = |name: &str, f: &dyn Fn(&crate::report::json::ObliqueJson) -> String| {
+            t.row(
+                std::iter::once(name.to_string())
+                    .chain(doc.results.iter().map(|r| r.oblique.as_ref().map(f).unwrap_or_default())),
+            );
+        };
+        row("exit speed (m/s)", &|o| num(o.exit_speed, 5));
+        row("launch angle (deg)", &|o| num(o.launch_angle_deg, 4));
+        row("spin (rpm, backspin +)", &|o| num(o.spin_rpm, 5));
+        row("normal exit speed (m/s)", &|o| num(o.normal_exit_speed, 5));
+        row("tangential exit speed (m/s)", &|o| num(o.tangential_exit_speed, 4));
+        row("sliding", &|o| if o.sliding { "yes" } else { "no" }.to_string());
+        row("line of centres (deg)", &|o| num(o.line_of_centres_angle_deg, 4));
+        row("barrel radius (m)", &|o| num(o.barrel_radius, 4));
+        out.push_str(&t.render());
+        out.push_str("\nthe collision along the line of centres\n");
+    }
+    let mut t = Table::new(header());
     let mut row = |name: &str, f: &dyn Fn(&CollisionJson) -> String| {
         t.row(std::iter::once(name.to_string()).chain(doc.results.iter().map(f)));
     };
@@ -160,6 +254,13 @@ pub fn render(doc: &SimulateJson) -> String {
     row("  bat rigid motion after (J)", &|r| num(r.energy.bat_rigid, 5));
     row("  bat vibration after (J)", &|r| num(r.energy.vibration, 5));
     row("  ball hysteresis loss (J)", &|r| num(r.energy.hysteresis_loss, 5));
+    if doc.results.iter().any(|r| r.hoop.is_some()) {
+        let wall = |v: Option<f64>| v.map(|v| num(v, 5)).unwrap_or_default();
+        row("  wall hoop mode after (J)", &|r| wall(r.energy.hoop));
+        row("  wall stored during contact (J)", &|r| wall(r.energy.hoop_stored));
+        row("  wall returned during contact (J)", &|r| wall(r.energy.hoop_returned));
+        row("hoop frequency at z (Hz)", &|r| r.hoop.map(|h| num(h.frequency_hz, 5)).unwrap_or_default());
+    }
     row("  residual (J)", &|r| num(r.energy.residual, 3));
     out.push_str(&t.render());
 

@@ -4,7 +4,9 @@
 use serde::Serialize;
 
 use super::table::{num, Table};
-use crate::physics::{Ball, CollisionOptions, CollisionResult, Impact, MassProperties, SweetSpotSet};
+use crate::physics::hoop::HoopMode;
+use crate::physics::oblique::{rad_per_s_to_rpm, ObliqueResult, TangentialContact};
+use crate::physics::{Ball, CollisionOptions, CollisionResult, EnergyBudget, Impact, MassProperties, SweetSpotSet};
 
 /// Pivot used for the moment of inertia and the centre of percussion: 6 in (0.1524 m) from the knob.
 pub const PIVOT_Z: f64 = 0.1524;
@@ -126,8 +128,175 @@ pub struct ModeEnergyJson {
     pub energy: f64,
 }
 
-/// The energy budget, J: the library's own type, whose serde field names are the documented JSON ones.
-pub type EnergyJson = crate::physics::EnergyBudget;
+/// The energy budget, J: the library's [`EnergyBudget`] with the same field names, the wall's hoop energies
+/// present only for a collision with a hoop mode (a hollow section), so a solid bat's document is unchanged.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EnergyJson {
+    /// Total kinetic energy before contact, J.
+    pub initial: f64,
+    /// Ball kinetic energy after separation, J.
+    pub ball: f64,
+    /// Bat rigid-body kinetic energy after separation, J.
+    pub bat_rigid: f64,
+    /// Vibrational energy of the bat after separation, J.
+    pub vibration: f64,
+    /// Energy dissipated by the ball's hysteresis, J.
+    pub hysteresis_loss: f64,
+    /// Energy left in the wall's hoop mode after separation, J (hollow sections only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hoop: Option<f64>,
+    /// Energy the ball put into the wall during contact, J (hollow sections only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hoop_stored: Option<f64>,
+    /// Energy the wall gave back during contact, J (hollow sections only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hoop_returned: Option<f64>,
+    /// initial − (ball + bat_rigid + vibration + hoop + hysteresis_loss), J.
+    pub residual: f64,
+}
+
+impl EnergyJson {
+    /// From the library's budget; `hollow` when the collision had a hoop mode.
+    pub fn new(e: &EnergyBudget, hollow: bool) -> EnergyJson {
+        let wall = |v: f64| hollow.then_some(v);
+        EnergyJson {
+            initial: e.initial,
+            ball: e.ball,
+            bat_rigid: e.bat_rigid,
+            vibration: e.vibration,
+            hysteresis_loss: e.hysteresis_loss,
+            hoop: wall(e.hoop),
+            hoop_stored: wall(e.hoop_stored),
+            hoop_returned: wall(e.hoop_returned),
+            residual: e.residual,
+        }
+    }
+}
+
+/// The wall's hoop (n = 2) mode at the impact point of a hollow section, SI units.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct HoopJson {
+    /// Hoop frequency f_h, Hz.
+    pub frequency_hz: f64,
+    /// Hoop stiffness k_h, N/m.
+    pub stiffness: f64,
+    /// Effective mass m_h, kg.
+    pub effective_mass: f64,
+    /// Axial decay length 1/β of the wall's response, m.
+    pub decay_length: f64,
+    /// Mid-surface radius of the wall, m.
+    pub radius: f64,
+    /// Wall thickness, m.
+    pub wall_thickness: f64,
+}
+
+impl From<&HoopMode> for HoopJson {
+    fn from(h: &HoopMode) -> HoopJson {
+        HoopJson {
+            frequency_hz: h.frequency_hz(),
+            stiffness: h.stiffness,
+            effective_mass: h.effective_mass,
+            decay_length: h.decay_length,
+            radius: h.radius,
+            wall_thickness: h.wall_thickness,
+        }
+    }
+}
+
+/// The oblique inputs of a run: undercut in m, angles in degrees, spin in rpm, and the tangential contact.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ObliqueInputsJson {
+    /// Undercut D, m (ball centre above the bat's path positive).
+    pub undercut: f64,
+    /// Attack angle of the bat's path above the horizontal, degrees.
+    pub attack_angle_deg: f64,
+    /// Descent angle of the pitch below the horizontal, degrees.
+    pub pitch_angle_deg: f64,
+    /// Pitch spin about the bat's axis, rpm, backspin positive.
+    pub pitch_spin_rpm: f64,
+    /// Tangential coefficient of restitution e_T.
+    pub tangential_cor: f64,
+    /// Coulomb friction coefficient μ.
+    pub friction: f64,
+    /// The ball's moment of inertia as a fraction of m R².
+    pub ball_inertia_ratio: f64,
+}
+
+impl ObliqueInputsJson {
+    /// From SI inputs: undercut m, angles rad, spin rad/s.
+    pub fn new(
+        undercut: f64,
+        attack_angle: f64,
+        pitch_angle: f64,
+        pitch_spin: f64,
+        contact: &TangentialContact,
+    ) -> ObliqueInputsJson {
+        ObliqueInputsJson {
+            undercut,
+            attack_angle_deg: attack_angle.to_degrees(),
+            pitch_angle_deg: pitch_angle.to_degrees(),
+            pitch_spin_rpm: rad_per_s_to_rpm(pitch_spin),
+            tangential_cor: contact.tangential_cor,
+            friction: contact.friction,
+            ball_inertia_ratio: contact.ball_inertia_ratio,
+        }
+    }
+}
+
+/// The batted ball of an oblique collision: speed, launch angle and spin, and their parts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ObliqueJson {
+    /// Barrel radius at the impact point, m.
+    pub barrel_radius: f64,
+    /// Ball exit speed (magnitude of the outgoing velocity), m/s.
+    pub exit_speed: f64,
+    /// Launch angle above the horizontal, degrees.
+    pub launch_angle_deg: f64,
+    /// Outgoing spin about the bat's axis, rpm, backspin positive.
+    pub spin_rpm: f64,
+    /// Outgoing velocity along the line of centres (away from the bat), m/s.
+    pub normal_exit_speed: f64,
+    /// Outgoing velocity along the tangent, m/s.
+    pub tangential_exit_speed: f64,
+    /// True when the ball slid throughout the contact (the friction cap bound).
+    pub sliding: bool,
+    /// Angle of the line of centres above the horizontal, degrees.
+    pub line_of_centres_angle_deg: f64,
+    /// Tangential impulse on the ball, N·s.
+    pub tangential_impulse: f64,
+    /// Slip of the contact points before contact, m/s.
+    pub slip_before: f64,
+    /// Slip after contact, m/s.
+    pub slip_after: f64,
+    /// Bat CM velocity along the tangent after separation, m/s.
+    pub bat_cm_tangential_speed_after: f64,
+    /// Bat angular speed in the plane of its axis and the tangent after separation, rad/s.
+    pub bat_tangential_angular_speed_after: f64,
+    /// Bat roll rate about its own axis after separation, rad/s.
+    pub bat_roll_rate_after: f64,
+}
+
+impl ObliqueJson {
+    /// From the library's oblique result on a barrel of radius `barrel_radius` (m).
+    pub fn new(r: &ObliqueResult, barrel_radius: f64) -> ObliqueJson {
+        ObliqueJson {
+            barrel_radius,
+            exit_speed: r.exit_speed,
+            launch_angle_deg: r.launch_angle_deg(),
+            spin_rpm: r.spin_rpm(),
+            normal_exit_speed: r.normal_exit_speed,
+            tangential_exit_speed: r.tangential_exit_speed,
+            sliding: r.sliding,
+            line_of_centres_angle_deg: r.line_of_centres_angle.to_degrees(),
+            tangential_impulse: r.tangential_impulse,
+            slip_before: r.slip_before,
+            slip_after: r.slip_after,
+            bat_cm_tangential_speed_after: r.bat_cm_tangential_speed_after,
+            bat_tangential_angular_speed_after: r.bat_tangential_angular_speed_after,
+            bat_roll_rate_after: r.bat_roll_rate_after,
+        }
+    }
+}
 
 /// One collision, SI units.
 ///
@@ -158,6 +327,13 @@ pub struct CollisionJson {
     pub energy: EnergyJson,
     /// Per-mode energies.
     pub mode_energies: Vec<ModeEnergyJson>,
+    /// The wall's hoop mode at the impact point (hollow sections only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hoop: Option<HoopJson>,
+    /// The batted ball of an oblique run (absent for a head-on run, whose fields above are the whole
+    /// answer). In an oblique run the fields above are the collision along the line of centres.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub oblique: Option<ObliqueJson>,
 }
 
 impl CollisionJson {
@@ -173,14 +349,22 @@ impl CollisionJson {
             peak_force: r.peak_force,
             impulse: r.impulse,
             max_compression: r.max_compression,
-            energy: r.energy,
+            energy: EnergyJson::new(&r.energy, r.hoop.is_some()),
             mode_energies: r
                 .mode_energies
                 .iter()
                 .enumerate()
                 .map(|(i, m)| ModeEnergyJson { mode: i + 1, frequency_hz: m.frequency, energy: m.energy })
                 .collect(),
+            hoop: r.hoop.as_ref().map(HoopJson::from),
+            oblique: None,
         }
+    }
+
+    /// From a library oblique result at `impact_z` on a barrel of radius `barrel_radius` (m): the normal
+    /// collision's fields and the batted ball.
+    pub fn oblique(impact_z: f64, r: &ObliqueResult, barrel_radius: f64) -> CollisionJson {
+        CollisionJson { oblique: Some(ObliqueJson::new(r, barrel_radius)), ..CollisionJson::new(impact_z, &r.normal) }
     }
 }
 

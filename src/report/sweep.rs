@@ -1,5 +1,7 @@
 //! The exit-speed sweep as a document: flexible and rigid exit speed over impact points, the sweet-spot set
-//! and the nodes of modes 1 and 2 (what `sweetspot sweep` prints and the figures draw).
+//! and the nodes of modes 1 and 2 (what `sweetspot sweep` prints and the figures draw); and the undercut
+//! sweep: exit speed, launch angle and spin against the undercut at one impact point (the speed–spin
+//! trade-off of an oblique impact).
 
 // Negated comparisons (`!(a < b)`) are deliberate: they also reject NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -10,9 +12,15 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
-use super::json::{BallJson, BatJson, CollisionJson, OptionsJson, SweetSpotsJson, SwingJson};
+use rayon::prelude::*;
+
+use super::json::{BallJson, BatJson, CollisionJson, ObliqueInputsJson, OptionsJson, SweetSpotsJson, SwingJson};
+use super::plot::{LineChart, Series};
+use super::table::num;
 use crate::physics::metrics::{sweep, sweet_spots};
-use crate::physics::{Ball, Bat, CollisionOptions, Impact, ModeSet, SweepPoint};
+use crate::physics::{
+    collide_oblique, Ball, Bat, CollisionOptions, Impact, ModeSet, ObliqueImpact, SweepPoint, TangentialContact,
+};
 
 /// Length of the default sweep range, ending 1 cm short of the barrel end, m.
 pub const DEFAULT_BARREL_LENGTH: f64 = 0.35;
@@ -150,6 +158,169 @@ pub struct SweepRange {
     pub step: Option<f64>,
     /// Point count.
     pub points: Option<usize>,
+}
+
+/// Default undercut range: ± this fraction of the reach R + R_k (ball plus barrel radius), past the onset of
+/// sliding so that the spin's maximum shows.
+pub const DEFAULT_UNDERCUT_REACH: f64 = 0.75;
+/// Default number of undercut points (odd, so that the head-on D = 0 is one of them).
+pub const DEFAULT_UNDERCUT_POINTS: usize = 37;
+
+/// The oblique swing of an undercut sweep, everything but the undercut, SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObliqueSwing {
+    /// Attack angle, rad.
+    pub attack_angle: f64,
+    /// Pitch descent angle, rad.
+    pub pitch_angle: f64,
+    /// Pitch spin, rad/s, backspin positive.
+    pub pitch_spin: f64,
+    /// The tangential contact law.
+    pub contact: TangentialContact,
+}
+
+/// One point of an undercut sweep.
+#[derive(Debug, Clone, Serialize)]
+pub struct UndercutPointJson {
+    /// Undercut D, m (ball centre above the bat's path positive).
+    pub undercut: f64,
+    /// Ball exit speed, m/s.
+    pub exit_speed: f64,
+    /// Launch angle above the horizontal, degrees.
+    pub launch_angle_deg: f64,
+    /// Outgoing spin, rpm, backspin positive.
+    pub spin_rpm: f64,
+    /// Outgoing velocity along the line of centres, m/s.
+    pub normal_exit_speed: f64,
+    /// Outgoing velocity along the tangent, m/s.
+    pub tangential_exit_speed: f64,
+    /// True when the ball slid throughout the contact.
+    pub sliding: bool,
+}
+
+/// The JSON document of `sweetspot sweep --over undercut --json`.
+#[derive(Debug, Serialize)]
+pub struct UndercutSweepJson {
+    /// Always "undercut".
+    pub over: &'static str,
+    /// The bat's mass properties.
+    pub bat: BatJson,
+    /// The ball.
+    pub ball: BallJson,
+    /// The swing along the bat's path.
+    pub swing: SwingJson,
+    /// Numerical options.
+    pub options: OptionsJson,
+    /// The oblique inputs held fixed (its `undercut` is 0: the swept undercut is in `points`).
+    pub oblique: ObliqueInputsJson,
+    /// Impact point, m from the knob.
+    pub impact_z: f64,
+    /// Barrel radius at the impact point, m.
+    pub barrel_radius: f64,
+    /// One oblique collision per undercut, ascending.
+    pub points: Vec<UndercutPointJson>,
+    /// The plot written, if any.
+    pub plot: Option<PathBuf>,
+}
+
+/// Exit speed, launch angle and spin against the undercut at `impact_z` (m from the knob). The undercut
+/// range (m) defaults to ± [`DEFAULT_UNDERCUT_REACH`] (R + R_k) in [`DEFAULT_UNDERCUT_POINTS`] points.
+pub fn run_undercut_sweep(
+    bat: &Bat,
+    ball: &Ball,
+    swing: &Impact,
+    oblique: &ObliqueSwing,
+    impact_z: f64,
+    range: SweepRange,
+    options: &CollisionOptions,
+) -> Result<UndercutSweepJson> {
+    let modes = ModeSet::compute(bat, options.modes).with_context(|| format!("normal modes of bat '{}'", bat.name))?;
+    let props = modes.mass_properties();
+    if !(impact_z > 0.0 && impact_z < props.length) {
+        bail!("--impact-z = {impact_z} m is out of range: expected 0 < impact_z < {} m", props.length);
+    }
+    let barrel_radius = bat.radii_at(impact_z).0;
+    let reach = DEFAULT_UNDERCUT_REACH * (ball.radius + barrel_radius);
+    let points = match (range.step, range.points) {
+        (None, None) => Some(DEFAULT_UNDERCUT_POINTS),
+        (_, points) => points,
+    };
+    let undercuts = impact_points(range.from.unwrap_or(-reach), range.to.unwrap_or(reach), range.step, points)?;
+    let impact = Impact { impact_z, ..*swing };
+    let points = undercuts
+        .par_iter()
+        .map(|&undercut| {
+            let oblique_impact = ObliqueImpact {
+                impact,
+                barrel_radius,
+                undercut,
+                attack_angle: oblique.attack_angle,
+                pitch_angle: oblique.pitch_angle,
+                pitch_spin: oblique.pitch_spin,
+            };
+            let r = collide_oblique(&modes, ball, &oblique_impact, &oblique.contact, options)
+                .with_context(|| format!("oblique collision at undercut = {undercut} m"))?;
+            Ok(UndercutPointJson {
+                undercut,
+                exit_speed: r.exit_speed,
+                launch_angle_deg: r.launch_angle_deg(),
+                spin_rpm: r.spin_rpm(),
+                normal_exit_speed: r.normal_exit_speed,
+                tangential_exit_speed: r.tangential_exit_speed,
+                sliding: r.sliding,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(UndercutSweepJson {
+        over: "undercut",
+        bat: BatJson::new(&bat.name, &props),
+        ball: ball.into(),
+        swing: swing.into(),
+        options: options.into(),
+        oblique: ObliqueInputsJson::new(
+            0.0,
+            oblique.attack_angle,
+            oblique.pitch_angle,
+            oblique.pitch_spin,
+            &oblique.contact,
+        ),
+        impact_z,
+        barrel_radius,
+        points,
+        plot: None,
+    })
+}
+
+/// The three panels of the speed–spin trade-off: exit speed, launch angle and spin against the undercut (mm).
+pub fn undercut_charts(doc: &UndercutSweepJson) -> Vec<LineChart> {
+    let series = |f: fn(&UndercutPointJson) -> f64| doc.points.iter().map(|p| (p.undercut * 1e3, f(p))).collect();
+    let chart = |title: &str, y_label: &str, label: &str, color: usize, points: Vec<(f64, f64)>| LineChart {
+        title: title.into(),
+        x_label: "undercut D (mm, ball centre above the bat's path +)".into(),
+        y_label: y_label.into(),
+        series: vec![Series::solid(label, color, points)],
+        zero_line: true,
+        ..Default::default()
+    };
+    vec![
+        chart("exit speed vs undercut", "ball exit speed (m/s)", "exit speed", 0, series(|p| p.exit_speed)),
+        chart("launch angle vs undercut", "launch angle (deg)", "launch angle", 1, series(|p| p.launch_angle_deg)),
+        chart("spin vs undercut", "spin (rpm, backspin +)", "spin", 2, series(|p| p.spin_rpm)),
+    ]
+}
+
+/// The figure's overall title.
+pub fn undercut_title(doc: &UndercutSweepJson) -> String {
+    format!(
+        "{} at z = {} m: the speed–spin trade-off (ball {} m/s, bat CM {} m/s, ω {} rad/s, e_T {}, μ {})",
+        doc.bat.name,
+        num(doc.impact_z, 3),
+        num(doc.swing.ball_speed, 3),
+        num(doc.swing.bat_cm_speed, 3),
+        num(doc.swing.bat_angular_speed, 3),
+        num(doc.oblique.tangential_cor, 3),
+        num(doc.oblique.friction, 3),
+    )
 }
 
 #[cfg(test)]
