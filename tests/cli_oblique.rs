@@ -1,10 +1,10 @@
 //! Oblique impacts and hollow bats from the command line: `simulate` with undercut, angles and spin,
 //! `sweep --over undercut`, and `modes`' hoop frequency.
 
-mod cli_support;
+mod support;
 
-use cli_support::{json, num, ok};
 use serde_json::Value;
+use support::cli::{json, num, ok};
 use sweetspot::physics::TangentialContact;
 use sweetspot::physics::{collide_oblique, Ball, Bat, CollisionOptions, Impact, ModeSet, ObliqueImpact};
 
