@@ -808,3 +808,33 @@ pub fn index_markdown(entries: &[FigureEntry], s: &FigureSettings) -> String {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Physics of a thin alloy barrel: the hoop frequency rises with the wall (∝ h for a thin ring), the bat
+    /// gets heavier, and the trampoline — and with it BBCOR — fades as the wall thickens from thin-walled
+    /// toward the thick walls no certified bat uses.
+    #[test]
+    fn wall_thickness_data_is_monotone_where_the_physics_says_so() {
+        let options = CollisionOptions { modes: 4, ..CollisionOptions::default() };
+        let swing = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: f64::NAN };
+        let walls = [0.002, 0.003, 0.004, 0.005];
+        let data = wall_thickness_sweep(&walls, &Ball::default(), &swing, WALL_FIGURE_IMPACT_FROM_END, &options)
+            .expect("sweep");
+        for pair in data.windows(2) {
+            let (thin, thick) = (&pair[0], &pair[1]);
+            assert!(thick.mass > thin.mass, "{pair:?}");
+            let (f_thin, f_thick) = (thin.hoop_frequency.expect("hoop"), thick.hoop_frequency.expect("hoop"));
+            assert!(f_thick > f_thin, "{pair:?}");
+            assert!(thick.bbcor < thin.bbcor, "BBCOR should fall toward a thick wall: {pair:?}");
+        }
+        // Thin-ring scaling f ∝ h/a² (a the mid-surface radius, outer radius 2⅝ in / 2 fixed).
+        let outer = 2.625 / 2.0 * 0.0254;
+        let ring = |h: f64| h / (outer - 0.5 * h).powi(2);
+        let ratio = data[3].hoop_frequency.unwrap() / data[0].hoop_frequency.unwrap();
+        let expected = ring(0.005) / ring(0.002);
+        assert!((ratio / expected - 1.0).abs() < 1e-6, "f(5 mm)/f(2 mm) = {ratio}, thin ring {expected}");
+    }
+}
