@@ -228,9 +228,8 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
         ..Default::default()
     };
     let (wood6, _) = physical_curve(&preset("r161")?, s, &fig6_swing, from)?;
-    let (alu6, _) = physical_curve(&preset("aluminum")?, s, &fig6_swing, from)?;
-    let alu_modes6 = ModeSet::compute(&preset("aluminum")?, s.options.modes).context("normal modes of 'aluminum'")?;
-    let hoop_text = hoop_text(&alu_modes6);
+    let (alu6, alu_modes6) = physical_curve(&preset("aluminum")?, s, &fig6_swing, from)?;
+    let alu_hoop = hoop_text(&alu_modes6);
     let model_panel = physical_panel(
         "Physical model: R161 wood vs hollow aluminum (with its hoop mode)",
         &[("R161 wood", &wood6, 0), ("aluminum + trampoline", &alu6, 1)],
@@ -250,7 +249,7 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
              point (no rotation, so the rigid optimum is the centre of mass). Left: the seed's Table 2 bats as \
              printed (rigid; e_eff {} and {}). Right: the R161 and the hollow aluminum preset (mass, length, CM and \
              I matched to Table 2), flexible with the barrel wall's hoop (trampoline) mode in the collision (solid; \
-             {hoop_text}) and rigid with e0 (dashed; no trampoline). The wood bat has no hoop mode.",
+             {alu_hoop}) and rigid with e0 (dashed; no trampoline). The wood bat has no hoop mode.",
             wood.effective_cor, alu.effective_cor
         ),
     });
