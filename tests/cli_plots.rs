@@ -68,6 +68,60 @@ fn figures_are_written_with_an_index() {
 }
 
 #[test]
+fn figures_at_equal_effort_and_against_wall_thickness_are_written_beside_the_seed_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(&["figures", s(dir.path()), "--points", "12", "--modes", "4"]);
+    let index = std::fs::read_to_string(dir.path().join("README.md")).unwrap();
+    let expected: [(&str, &[&str]); 4] = [
+        (
+            "fig5-normal-vs-corked-equal-effort.svg",
+            &["normal bat (reference swing)", "corked bat (×", "R161 corked (×", "equal effort"],
+        ),
+        (
+            "fig6-wood-vs-aluminum-equal-effort.svg",
+            &["wood (e_eff 0.4", "aluminum (e_eff 0.58", "aluminum + trampoline"],
+        ),
+        (
+            "fig-compare-equal-effort.svg",
+            &["r161 (swing weight", "r161-corked (swing weight", "aluminum (swing", "torpedo (swing"],
+        ),
+        (
+            "fig-wall-thickness.svg",
+            &["barrel wall thickness (mm)", "exit speed", "BBCOR", "hoop frequency", "NCAA limit 0.50"],
+        ),
+    ];
+    for (file, labels) in expected {
+        let path = dir.path().join(file);
+        assert_svg(&path);
+        assert!(out.contains(file), "{file} not listed on stdout");
+        assert!(index.contains(&format!("]({file})")), "{file} not linked from README.md");
+        let text = std::fs::read_to_string(&path).unwrap();
+        for label in labels {
+            assert!(text.contains(label), "'{label}' missing from {file}");
+        }
+    }
+    // Figure 6's physical panel is wood against aluminum with the trampoline.
+    let fig6 = std::fs::read_to_string(dir.path().join("fig6-wood-vs-aluminum.svg")).unwrap();
+    assert!(fig6.contains("aluminum + trampoline flexible"), "Figure 6 lacks the trampoline series");
+}
+
+#[test]
+fn compare_writes_its_equal_effort_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("compare.svg");
+    let out = ok(&["compare", "--bats", "r161,r161-corked", "--modes", "4", "--figure", s(&svg)]);
+    assert!(out.contains("figure written to"), "{out}");
+    assert_svg(&svg);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for label in ["r161 (swing weight", "r161-corked (swing weight", "usual impact point", "equal batter effort"] {
+        assert!(text.contains(label), "'{label}' missing from the compare figure");
+    }
+    let png = dir.path().join("compare.png");
+    ok(&["compare", "--bats", "r161,torpedo", "--modes", "4", "--figure", s(&png)]);
+    assert_png(&png);
+}
+
+#[test]
 fn figures_as_png() {
     let dir = tempfile::tempdir().unwrap();
     ok(&["figures", s(dir.path()), "--format", "png", "--points", "12", "--modes", "4"]);

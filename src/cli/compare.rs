@@ -35,7 +35,9 @@ use crate::physics::batter::{
 };
 use crate::physics::metrics::{bbcor, sweet_spots};
 use crate::physics::{collide, Ball, Bat, CollisionOptions, ModeSet};
+use crate::report::figures::{equal_effort_chart, equal_effort_curves};
 use crate::report::json::{BallJson, OptionsJson};
+use crate::report::plot::{draw_line_chart, ImageFormat};
 use crate::report::table::{num, Table};
 
 /// The bats compared when `--bats` is not given.
@@ -44,6 +46,8 @@ pub const DEFAULT_BATS: &str = "r161,r161-corked,aluminum,torpedo";
 pub const DEFAULT_REFERENCE_BAT: &str = "r161";
 /// Most bats one comparison accepts.
 pub const MAX_BATS: usize = 32;
+/// Impact points per bat in the `--figure` chart.
+pub const FIGURE_POINTS: usize = 100;
 
 /// Arguments of `sweetspot compare`.
 #[derive(Debug, Args)]
@@ -58,6 +62,9 @@ pub struct CompareArgs {
     /// Overrides the batter's exponent n of v ∝ I^(−n) (0 ≤ n ≤ 0.5; 0 = every bat at the same speed).
     #[arg(long, value_name = "N", value_parser = finite_f64, allow_negative_numbers = true)]
     pub exponent: Option<f64>,
+    /// Writes a figure of exit speed along the barrel per bat at equal effort (SVG or PNG by extension).
+    #[arg(long, value_name = "PATH")]
+    pub figure: Option<PathBuf>,
     /// Pitch speed toward the bat, m/s.
     #[arg(long, value_name = "M/S", default_value_t = DEFAULT_BALL_SPEED, value_parser = finite_f64, allow_negative_numbers = true)]
     pub pitch_speed: f64,
@@ -186,12 +193,41 @@ pub fn run(args: CompareArgs) -> Result<()> {
     if !(args.pitch_speed > 0.0) {
         bail!("--pitch-speed = {} m/s is out of range: expected > 0", args.pitch_speed);
     }
+    if let Some(path) = &args.figure {
+        ImageFormat::from_path(path).context("--figure")?;
+    }
     let doc = compare(&batter, &reference_name, &bats, &ball, args.pitch_speed, &options)?;
+    if let Some(path) = &args.figure {
+        write_figure(path, &batter, &bats, &ball, args.pitch_speed, &options)?;
+    }
     if args.output.json {
         print_json(&doc)
     } else {
-        emit(&render(&doc))
+        let mut text = render(&doc);
+        if let Some(path) = &args.figure {
+            text.push_str(&format!("figure written to {}\n", path.display()));
+        }
+        emit(&text)
     }
+}
+
+/// Draws exit speed along the barrel of each of `bats` at `batter`'s equal effort into `path`.
+pub fn write_figure(
+    path: &Path,
+    batter: &Batter,
+    bats: &[Bat],
+    ball: &Ball,
+    pitch_speed: f64,
+    options: &CollisionOptions,
+) -> Result<()> {
+    let curves = equal_effort_curves(batter, bats, ball, pitch_speed, options, FIGURE_POINTS)?;
+    let title = format!(
+        "Exit speed along the barrel at equal batter effort (pitch {} m/s, n = {})",
+        num(pitch_speed, 3),
+        batter.exponent
+    );
+    draw_line_chart(path, &equal_effort_chart(&title, &curves))
+        .with_context(|| format!("--figure '{}'", path.display()))
 }
 
 /// Splits `--bats` and loads each bat.

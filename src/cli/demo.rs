@@ -14,7 +14,8 @@ use crate::demo::DemoSettings;
 #[command(after_help = "Examples:
   cargo run --release -- demo
   sweetspot demo --swings 400 --true-cor 0.50     # then: sweetspot calibrate <the bag it prints>
-  sweetspot demo --bats r161,aluminum --format svg --out /tmp/bags")]
+  sweetspot demo --bats r161,aluminum --format svg --out /tmp/bags
+  sweetspot demo --batter my-batter.toml          # each bat at this batter's equal-effort speed")]
 pub struct DemoArgs {
     #[command(flatten)]
     pub rig: RigOptions,
@@ -40,6 +41,13 @@ pub struct DemoArgs {
     /// from Foxglove or `ros2 topic echo` on another machine).
     #[arg(long)]
     pub env_discovery: bool,
+    /// Batter file (TOML, the format of `sweetspot compare --batter`) of the batter who swings every bat at
+    /// equal effort [default: the Statcast-average batter with the r161, v ∝ I^(−0.25)].
+    #[arg(long, value_name = "FILE")]
+    pub batter: Option<PathBuf>,
+    /// Swing every bat at the same bat speed (the `--bat-mph` range at the barrel) instead of at equal effort.
+    #[arg(long, conflicts_with = "batter")]
+    pub equal_bat_speed: bool,
     /// Seconds to wait for the node to start, and for any answer before giving up.
     #[arg(long, default_value_t = 60.0, value_name = "S")]
     pub timeout: f64,
@@ -58,8 +66,16 @@ pub fn run(args: DemoArgs) -> Result<()> {
     if !(args.timeout.is_finite() && args.timeout > 0.0) {
         bail!("--timeout must be positive seconds, got {}", args.timeout);
     }
+    let mut rig = args.rig.config()?;
+    if !args.equal_bat_speed {
+        let (batter, _) = match &args.batter {
+            Some(path) => super::compare::load_batter_file(path)?,
+            None => super::compare::batter_from_spec(&super::compare::BatterSpec::default(), None)?,
+        };
+        rig.batter = Some(batter);
+    }
     crate::demo::run(DemoSettings {
-        rig: args.rig.config()?,
+        rig,
         swings_per_bat: args.rig.swings_per_bat,
         swings: args.swings,
         rate: args.rate,

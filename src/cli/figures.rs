@@ -1,4 +1,5 @@
-//! `sweetspot figures DIR`: the seed paper's figures and the mode shapes, drawn by [`crate::report::figures`].
+//! `sweetspot figures DIR`: the seed paper's figures (Figures 5 and 6 also at equal batter effort), the bats at
+//! equal effort, the alloy wall-thickness figure and the mode shapes, drawn by [`crate::report::figures`].
 
 use std::path::PathBuf;
 

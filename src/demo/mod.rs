@@ -340,14 +340,66 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
         config.barrel_speed.1 / MPH,
         config.seed
     );
+    if let Some(batter) = &config.batter {
+        println!(
+            "batter: {:.1} mph at {:.0} in from the barrel end with a bat of swing weight {:.4} kg·m², n = {}; each bat \
+             is swung at equal effort (v ∝ I^(−n)), the spread above scaled around that speed",
+            batter.reference_speed() / MPH,
+            batter.impact_from_barrel_end / crate::rig::INCH,
+            batter.reference_swing_weight(),
+            batter.exponent
+        );
+    }
     println!();
     print!("{}", table(&summarize(rig, answers)));
     println!();
     println!(
         "exit speeds are the node's model; \"measured − model\" compares them with the rig's radar (σ {} m/s). Sweet spot\n\
          and BBCOR come from the node's SweetSpot messages (its reference swing); vibration is the mean share of the\n\
-         collision energy left ringing in the bat (ModalEnergies).",
+         collision energy left ringing in the bat (ModalEnergies). Bat speed is the batter's at its usual impact point\n\
+         for the bat's swing weight; time gained is how much later than with the first bat the swing can start.",
         config.noise.exit_speed
     );
     println!();
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::physics::batter::Batter;
+    use crate::physics::Bat;
+    use crate::rig::{RigConfig, SensorNoise, SessionGenerator};
+
+    /// With no spread in effort and perfect sensors, every simulated swing of every bat is the batter
+    /// model's prediction for that bat, bit for bit (no DDS involved).
+    #[test]
+    fn the_rig_batter_swings_each_bat_at_its_predicted_equal_effort_speed() {
+        let batter = Batter::typical(Bat::r161().unwrap().mass_properties()).unwrap();
+        let v = batter.reference_speed();
+        let config = RigConfig {
+            batter: Some(batter),
+            barrel_speed: (v, v),
+            noise: SensorNoise::none(),
+            options: crate::physics::CollisionOptions { modes: 4, ..Default::default() },
+            ..RigConfig::default()
+        };
+        let mut rig = SessionGenerator::new(config).unwrap().with_block(1);
+        let mut speeds = Vec::new();
+        for _ in 0..rig.bats().len() {
+            let swing = rig.next_swing().unwrap();
+            let bat = rig.bats().iter().find(|b| b.bat_id == swing.bat_id).unwrap();
+            let predicted = batter.predict(&bat.modes.mass_properties()).unwrap();
+            assert_eq!(swing.truth.bat_cm_speed, predicted.bat_cm_speed, "{}", swing.bat_id);
+            assert_eq!(swing.truth.bat_angular_speed, predicted.bat_angular_speed, "{}", swing.bat_id);
+            // The speed the rig's knob sensor and gyro report reproduces the prediction at the usual point.
+            let mp = bat.modes.mass_properties();
+            let at_usual = swing.reading.knob_speed + swing.reading.angular_rate * predicted.impact_z;
+            assert!((at_usual - predicted.bat_speed).abs() < 1e-9 * predicted.bat_speed, "{}", swing.bat_id);
+            assert!(mp.length > predicted.impact_z);
+            speeds.push((swing.bat_id.clone(), predicted.bat_speed));
+        }
+        // The reference bat (r161) is swung at the batter's reference speed; the lighter-swinging corked bat
+        // faster (its swing weight is lower), so the bats are not all at one speed.
+        assert_eq!(speeds[0], ("r161".to_string(), v));
+        assert!(speeds[1].0 == "r161-corked" && speeds[1].1 > v, "{speeds:?}");
+    }
 }

@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot};
+use crate::physics::batter::{reaction_time_gained, swing_weight};
 use crate::report::table::{num, Table};
 use crate::rig::dds::Answer;
 use crate::rig::{SessionGenerator, INCH, MPH, RIG_BALL_ID};
@@ -63,6 +64,14 @@ pub struct BatRow {
     pub sweet_spot_z: f64,
     /// Bat length, m.
     pub length: f64,
+    /// Swing weight (moment of inertia about the 6-in pivot), kg·m².
+    pub swing_weight: f64,
+    /// The rig batter's bat speed at its usual impact point for this bat at the reference effort, m/s
+    /// (NaN without a batter).
+    pub predicted_bat_speed: f64,
+    /// How much later than with the session's first bat the batter can start the swing, s (NaN without a
+    /// batter).
+    pub reaction_time_gained: f64,
     /// BBCOR.
     pub bbcor: f64,
     /// Mean share of the collision energy left in bat vibration.
@@ -75,6 +84,7 @@ pub struct BatRow {
 
 /// The per-bat summary of a session: answers joined with the rig's bats.
 pub fn summarize(rig: &SessionGenerator, answers: &Answers) -> Vec<BatRow> {
+    let first_swing = rig.bats().first().and_then(|b| b.swing);
     rig.bats()
         .iter()
         .map(|b| {
@@ -101,6 +111,12 @@ pub fn summarize(rig: &SessionGenerator, answers: &Answers) -> Vec<BatRow> {
                 best_exit_speed: speeds.fold(f64::NAN, f64::max),
                 sweet_spot_z: spot.map(|s| s.max_exit_speed_z).unwrap_or(f64::NAN),
                 length: b.modes.length(),
+                swing_weight: swing_weight(&b.modes.mass_properties()),
+                predicted_bat_speed: b.swing.map(|s| s.bat_speed).unwrap_or(f64::NAN),
+                reaction_time_gained: match (first_swing, b.swing) {
+                    (Some(first), Some(this)) => reaction_time_gained(&first, &this),
+                    _ => f64::NAN,
+                },
                 bbcor: spot.map(|s| s.bbcor).unwrap_or(f64::NAN),
                 vibration_share: shares.iter().sum::<f64>() / shares.len().max(1) as f64,
                 mean_error: errors.iter().sum::<f64>() / ne,
@@ -112,13 +128,39 @@ pub fn summarize(rig: &SessionGenerator, answers: &Answers) -> Vec<BatRow> {
 
 /// The table of [`summarize`] as text.
 pub fn table(rows: &[BatRow]) -> String {
-    let mut t =
-        Table::new(["bat", "swings", "mean exit", "best exit", "sweet spot", "BBCOR", "vibration", "measured − model"]);
-    t.row(["", "", "m/s (mph)", "m/s (mph)", "m from knob (in from end)", "", "energy share", "mean ± RMS m/s"]);
+    let mut t = Table::new([
+        "bat",
+        "swings",
+        "swing weight",
+        "bat speed",
+        "time gained",
+        "mean exit",
+        "best exit",
+        "sweet spot",
+        "BBCOR",
+        "vibration",
+        "measured − model",
+    ]);
+    t.row([
+        "",
+        "",
+        "kg·m² (6-in pivot)",
+        "m/s (mph), equal effort",
+        "ms vs first bat",
+        "m/s (mph)",
+        "m/s (mph)",
+        "m from knob (in from end)",
+        "",
+        "energy share",
+        "mean ± RMS m/s",
+    ]);
     for r in rows {
         t.row([
             if r.rejected > 0 { format!("{} ({} rejected)", r.bat_id, r.rejected) } else { r.bat_id.clone() },
             r.swings.to_string(),
+            format!("{:.4}", r.swing_weight),
+            format!("{:.1} ({:.1})", r.predicted_bat_speed, r.predicted_bat_speed / MPH),
+            format!("{:+.2}", 1e3 * r.reaction_time_gained),
             format!("{:.1} ({:.1})", r.mean_exit_speed, r.mean_exit_speed / MPH),
             format!("{:.1} ({:.1})", r.best_exit_speed, r.best_exit_speed / MPH),
             format!("{:.3} ({:.1})", r.sweet_spot_z, (r.length - r.sweet_spot_z) / INCH),

@@ -18,7 +18,11 @@
 //! **The simulated swing.** Bat speeds are drawn at the barrel (the point 6 in from the barrel end, as in
 //! the BESR protocol), uniformly between the configured limits (60–80 mph by default); the bat rotates about
 //! an instantaneous pivot [`PIVOT_Z`] (6 in from the knob, near the hands), so ω = v_barrel/(z_barrel −
-//! z_pivot) and the knob moves slightly backwards (−ω·z_pivot). Pitches are uniform in 80–100 mph. Impact
+//! z_pivot) and the knob moves slightly backwards (−ω·z_pivot). With a batter ([`RigConfig::batter`], the
+//! demo's default) each bat is instead swung at the effort of the batter's reference swing: the bat's centre-
+//! of-mass and angular speeds are those [`Batter::predict`] gives for its swing weight, scaled swing by swing
+//! by the drawn speed over the midpoint of the configured limits (so the session's mean swing with each bat
+//! is the batter's prediction, and its spread is that of the limits). Pitches are uniform in 80–100 mph. Impact
 //! points are normally distributed around 6 in from the barrel end (σ 2 in), clipped to 1.5–13 in from the
 //! end. The true exit speed is the physics ([`crate::physics::collide`]) with the rig's true ball; each
 //! reading then gets independent Gaussian noise of the standard deviations in [`SensorNoise`].
@@ -33,6 +37,7 @@ use crate::model::convert::{params_from_ball, params_of_preset};
 use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+use crate::physics::batter::{Batter, SwingPrediction};
 use crate::physics::{
     collide, Ball, Bat, CollisionOptions, CollisionResult, Impact, MassProperties, ModeSet, PhysicsError,
 };
@@ -134,6 +139,9 @@ pub struct RigConfig {
     /// name, for which the node integrates its `default_modes` (BatParams.msg ignores max_modes with a
     /// preset): keep the two equal (18 by default) for the node's answers to match the rig's truth.
     pub options: CollisionOptions,
+    /// The batter swinging every bat at equal effort (see the module docs); `None`: every bat at the same
+    /// bat speed at the barrel.
+    pub batter: Option<Batter>,
 }
 
 impl Default for RigConfig {
@@ -147,6 +155,7 @@ impl Default for RigConfig {
             noise: SensorNoise::default(),
             seed: 2000,
             options: CollisionOptions::default(),
+            batter: None,
         }
     }
 }
@@ -171,6 +180,9 @@ impl RigConfig {
             if !(cor.is_finite() && cor > 0.0 && cor <= 1.0) {
                 return Err(out_of_range("true_cor", cor, "0 < true_cor ≤ 1"));
             }
+        }
+        if let Some(batter) = &self.batter {
+            batter.validate()?;
         }
         if !(1..=60).contains(&self.options.modes) {
             return Err(out_of_range("modes", self.options.modes, "1 ≤ modes ≤ 60"));
@@ -254,6 +266,8 @@ pub struct RigBat {
     pub bat: Bat,
     /// Its modes.
     pub modes: ModeSet,
+    /// The rig batter's swing of this bat at the reference effort (`None` without a batter).
+    pub swing: Option<SwingPrediction>,
 }
 
 /// Generates a session swing by swing: bats in blocks of `swings_per_bat` (a hitter takes a round with each
@@ -277,7 +291,8 @@ impl SessionGenerator {
             .map(|name| -> Result<RigBat, RigError> {
                 let bat = Bat::preset(name)?;
                 let modes = ModeSet::compute(&bat, config.options.modes)?;
-                Ok(RigBat { bat_id: name.clone(), bat, modes })
+                let swing = config.batter.map(|b| b.predict(&modes.mass_properties())).transpose()?;
+                Ok(RigBat { bat_id: name.clone(), bat, modes, swing })
             })
             .collect::<Result<Vec<_>, _>>()?;
         let rng = StdRng::seed_from_u64(config.seed);
@@ -328,13 +343,28 @@ impl SessionGenerator {
 
         let ball_speed = uniform(rng, cfg.pitch_speed);
         let barrel_speed = uniform(rng, cfg.barrel_speed);
-        let omega = barrel_speed / (mp.length - BARREL_SPEED_POINT_FROM_END - PIVOT_Z);
-        let knob_speed = -omega * PIVOT_Z;
         let (lo, hi) = IMPACT_RANGE_FROM_END;
         let from_end = (IMPACT_MEAN_FROM_END + IMPACT_SIGMA * standard_normal(rng)).clamp(lo, hi);
-        let truth_reading =
-            SensorReading { ball_speed, angular_rate: omega, knob_speed, impact_from_end: from_end, exit_speed: 0.0 };
-        let truth = truth_reading.to_impact(&mp);
+        let (omega, knob_speed, truth) = match &bat.swing {
+            Some(swing) => {
+                let effort = barrel_speed / (0.5 * (cfg.barrel_speed.0 + cfg.barrel_speed.1));
+                let truth = equal_effort_impact(swing, effort, ball_speed, mp.length - from_end);
+                let knob_speed = truth.bat_cm_speed - truth.bat_angular_speed * mp.center_of_mass;
+                (truth.bat_angular_speed, knob_speed, truth)
+            }
+            None => {
+                let omega = barrel_speed / (mp.length - BARREL_SPEED_POINT_FROM_END - PIVOT_Z);
+                let knob_speed = -omega * PIVOT_Z;
+                let reading = SensorReading {
+                    ball_speed,
+                    angular_rate: omega,
+                    knob_speed,
+                    impact_from_end: from_end,
+                    exit_speed: 0.0,
+                };
+                (omega, knob_speed, reading.to_impact(&mp))
+            }
+        };
         let result = collide(&bat.modes, &cfg.true_ball(), &truth, &cfg.options)?;
 
         let n = cfg.noise;
@@ -366,6 +396,18 @@ impl SessionGenerator {
                 measured_exit_speed: swing.reading.exit_speed,
             },
         }
+    }
+}
+
+/// The true initial conditions of a swing `effort` times the batter's reference effort (`swing`, predicted
+/// for this bat), meeting a ball at `ball_speed` (m/s) at `impact_z` (m from the knob). Effort 1 is exactly
+/// the prediction.
+pub fn equal_effort_impact(swing: &SwingPrediction, effort: f64, ball_speed: f64, impact_z: f64) -> Impact {
+    Impact {
+        ball_speed,
+        bat_cm_speed: effort * swing.bat_cm_speed,
+        bat_angular_speed: effort * swing.bat_angular_speed,
+        impact_z,
     }
 }
 
