@@ -224,6 +224,7 @@ impl SensorReading {
             bat_angular_speed: impact.bat_angular_speed,
             impact_z: impact.impact_z,
             measured_exit_speed: self.exit_speed,
+            ..Swing::default()
         }
     }
 }
@@ -364,6 +365,7 @@ impl SessionGenerator {
                 bat_angular_speed: swing.measured.bat_angular_speed,
                 impact_z: swing.measured.impact_z,
                 measured_exit_speed: swing.reading.exit_speed,
+                ..Swing::default()
             },
         }
     }
