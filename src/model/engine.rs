@@ -368,7 +368,8 @@ impl SwingInput {
             Err(format!("{field} = {value} is out of range: expected {allowed}"))
         };
         let reach = ball_radius + barrel_radius;
-        if !(self.undercut.is_finite() && self.undercut.abs() < reach) {
+        // Without a barrel radius (impact_z not a number) the collision refuses impact_z itself.
+        if reach.is_finite() && !(self.undercut.is_finite() && self.undercut.abs() < reach) {
             return out(
                 "undercut",
                 self.undercut,
@@ -464,11 +465,13 @@ pub fn plan_swing(
     match registry.use_ball(ball_id) {
         Ok((ball_id, ball)) => {
             let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
-            let barrel_radius = bat.bat.radii_at(impact.impact_z).0;
+            // A non-finite impact_z is refused by the collision itself, naming impact_z.
+            let barrel_radius =
+                if impact.impact_z.is_finite() { bat.bat.radii_at(impact.impact_z).0 } else { f64::NAN };
             if let Err(reason) = swing.validate(ball.radius, barrel_radius) {
                 return (Plan::Reject { bat_id: bat.bat_id.clone(), ball_id, reason }, new_bat);
             }
-            let oblique = (!swing.is_head_on()).then(|| {
+            let oblique = (!swing.is_head_on() && barrel_radius.is_finite()).then(|| {
                 Box::new(ObliqueImpact {
                     impact,
                     barrel_radius,
@@ -740,5 +743,154 @@ mod tests {
         let refreshed = registry.refresh_default_modes(&changed);
         assert_eq!(refreshed.len(), 1);
         assert_eq!(refreshed[0].max_modes, 10);
+    }
+    fn swing_msg(undercut: f64, attack: f64, pitch: f64, spin: f64) -> crate::msgs::sweetspot_msgs::msg::Swing {
+        crate::msgs::sweetspot_msgs::msg::Swing {
+            swing_id: 7,
+            bat_id: "r161".into(),
+            ball_speed: 40.0,
+            bat_cm_speed: 20.0,
+            bat_angular_speed: 50.0,
+            impact_z: 0.7,
+            measured_exit_speed: f64::NAN,
+            undercut,
+            attack_angle: attack,
+            pitch_angle: pitch,
+            pitch_spin: spin,
+            measured_launch_angle: 0.3,
+            measured_spin: f64::NAN,
+            ..Default::default()
+        }
+    }
+
+    fn answer(s: &crate::msgs::sweetspot_msgs::msg::Swing) -> crate::msgs::sweetspot_msgs::msg::ExitVelocity {
+        use super::super::convert;
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let (plan, _) = plan_swing(&mut registry, &settings, &s.bat_id, "", convert::swing_input(s));
+        let result = compute(&plan, &());
+        convert::exit_velocity(s, plan.bat_id(), plan.ball_id(), &result)
+    }
+
+    #[test]
+    fn a_head_on_swing_answers_the_head_on_collision_bit_for_bit() {
+        let s = swing_msg(0.0, 0.0, 0.0, 0.0);
+        let ev = answer(&s);
+        let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
+        let direct = collide(&modes, &Ball::default(), &swing(0.7), &CollisionOptions::default()).unwrap();
+        let pairs = [
+            (ev.exit_speed, direct.exit_speed),
+            (ev.rigid_exit_speed, direct.rigid_exit_speed),
+            (ev.effective_cor, direct.effective_cor),
+            (ev.collision_efficiency, direct.collision_efficiency),
+            (ev.contact_time, direct.contact_time),
+            (ev.peak_force, direct.peak_force),
+            (ev.impulse, direct.impulse),
+            (ev.max_compression, direct.max_compression),
+            (ev.normal_exit_speed, direct.exit_speed),
+        ];
+        for (got, want) in pairs {
+            assert_eq!(got.to_bits(), want.to_bits(), "{got} vs {want}");
+        }
+        assert_eq!((ev.launch_angle, ev.spin, ev.tangential_exit_speed), (0.0, 0.0, 0.0));
+        assert_eq!(ev.launch_angle_residual, 0.3, "measured − model");
+        assert!(ev.spin_residual.is_nan(), "spin not measured");
+        assert_eq!((ev.hoop_frequency, ev.hoop_energy_stored, ev.hoop_energy_returned), (0.0, 0.0, 0.0), "wood");
+    }
+
+    #[test]
+    fn an_oblique_swing_answers_the_oblique_collision() {
+        use crate::physics::oblique::{collide_oblique, ObliqueImpact, TangentialContact};
+        let s = swing_msg(0.015, 0.14, 0.1, 200.0);
+        let ev = answer(&s);
+        assert_eq!(ev.status, crate::msgs::sweetspot_msgs::msg::ExitVelocity::STATUS_OK, "{}", ev.message);
+        let bat = Bat::preset("r161").unwrap();
+        let modes = ModeSet::compute(&bat, 18).unwrap();
+        let oblique = ObliqueImpact {
+            impact: swing(0.7),
+            barrel_radius: bat.radii_at(0.7).0,
+            undercut: 0.015,
+            attack_angle: 0.14,
+            pitch_angle: 0.1,
+            pitch_spin: 200.0,
+        };
+        let want = collide_oblique(
+            &modes,
+            &Ball::default(),
+            &oblique,
+            &TangentialContact::default(),
+            &CollisionOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(ev.launch_angle.to_bits(), want.launch_angle.to_bits());
+        assert_eq!(ev.spin.to_bits(), want.spin.to_bits());
+        assert_eq!(ev.exit_speed.to_bits(), want.exit_speed.to_bits());
+        assert_eq!(
+            (ev.normal_exit_speed, ev.tangential_exit_speed),
+            (want.normal_exit_speed, want.tangential_exit_speed)
+        );
+        assert_eq!(ev.impulse, want.normal.impulse);
+        // An undercut ball leaves upward with backspin.
+        assert!(ev.launch_angle > 0.2 && ev.spin > 100.0, "{} rad, {} rad/s", ev.launch_angle, ev.spin);
+        assert_eq!(ev.launch_angle_residual, 0.3 - want.launch_angle);
+    }
+
+    #[test]
+    fn a_hollow_bat_fills_the_hoop_fields() {
+        use super::super::convert;
+        let s = crate::msgs::sweetspot_msgs::msg::Swing { bat_id: "aluminum".into(), ..swing_msg(0.0, 0.0, 0.0, 0.0) };
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let (plan, _) = plan_swing(&mut registry, &settings, &s.bat_id, "", convert::swing_input(&s));
+        let computed = compute(&plan, &()).unwrap();
+        let ev = convert::exit_velocity(&s, plan.bat_id(), plan.ball_id(), &Ok(computed.clone()));
+        let me = convert::modal_energies(&s, plan.bat_id(), &computed);
+        assert!(ev.hoop_frequency > 500.0 && ev.hoop_frequency < 10_000.0, "{} Hz", ev.hoop_frequency);
+        assert!(ev.hoop_energy_stored > 0.0 && ev.hoop_energy_returned > 0.0, "{ev:?}");
+        assert!(ev.hoop_energy_returned <= ev.hoop_energy_stored);
+        let left = ev.hoop_energy_stored - ev.hoop_energy_returned;
+        assert!(me.hoop_energy >= 0.0 && (me.hoop_energy - left).abs() <= 1e-9 * ev.hoop_energy_stored, "{me:?}");
+    }
+
+    #[test]
+    fn oblique_inputs_out_of_range_are_rejected_naming_the_field_and_range() {
+        for (s, field) in [
+            (swing_msg(0.2, 0.0, 0.0, 0.0), "undercut"),
+            (swing_msg(f64::NAN, 0.0, 0.0, 0.0), "undercut"),
+            (swing_msg(0.0, 1.5, 0.0, 0.0), "attack_angle"),
+            (swing_msg(0.0, 0.0, f64::INFINITY, 0.0), "pitch_angle"),
+            (swing_msg(0.0, 0.0, 0.0, 1500.0), "pitch_spin"),
+            (
+                crate::msgs::sweetspot_msgs::msg::Swing {
+                    measured_spin: f64::INFINITY,
+                    ..swing_msg(0.0, 0.0, 0.0, 0.0)
+                },
+                "measured_spin",
+            ),
+        ] {
+            let ev = answer(&s);
+            assert_eq!(ev.status, crate::msgs::sweetspot_msgs::msg::ExitVelocity::STATUS_REJECTED, "{field}");
+            assert!(
+                ev.message.starts_with(&format!("{field} = ")) && ev.message.contains("expected"),
+                "{}",
+                ev.message
+            );
+            assert!(ev.launch_angle.is_nan() && ev.hoop_frequency.is_nan());
+        }
+    }
+
+    #[test]
+    fn the_sweet_spot_carries_the_swing_weight_about_six_inches_from_the_knob() {
+        let settings = ModelSettings::default();
+        let entry = BatEntry::new("r161", Bat::preset("r161").unwrap(), Some(6), &settings);
+        let summary = summarize_bat(&entry, DEFAULT_BALL_ID, &Ball::default(), swing(0.0), &settings, &()).unwrap();
+        let mp = Bat::preset("r161").unwrap().mass_properties();
+        // Parallel-axis theorem about 6 in = 0.1524 m (ASTM F2398's pivot).
+        let arm = mp.center_of_mass - 6.0 * 0.0254;
+        let expected = mp.moment_of_inertia + mp.mass * arm * arm;
+        assert!((summary.swing_weight - expected).abs() <= 1e-9 * expected, "{} vs {expected}", summary.swing_weight);
+        assert_eq!(summary.hoop_frequency, 0.0, "a solid bat");
+        let msg = super::super::convert::sweet_spot(&summary, Default::default());
+        assert_eq!((msg.swing_weight, msg.hoop_frequency), (summary.swing_weight, 0.0));
     }
 }
