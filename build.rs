@@ -5,6 +5,14 @@
 //! dependency, depth-first, each once, exactly as rosbag2's `LocalMessageDefinitionSource` concatenates them).
 //! Output is deterministic (sorted inputs, no hash maps, no timestamps). A malformed `.msg` fails the build with
 //! `file:line: reason`.
+//!
+//! **Appended fields.** A field whose comment block has a line `absent: VALUE` (`0`, `NaN`, any literal of its
+//! type) was appended to the message after data had been recorded without it. Such fields must be the
+//! message's last ones and numeric scalars (no bool, string, array or nested type, so that the only way to
+//! fail reading one is that the data has ended). The generated `Deserialize` then accepts data that ends at
+//! any field boundary inside that tail and gives every missing field its absent value; `Default` gives the
+//! absent value too (a field nobody set reads as "head-on" or "not measured", as the `.msg` says). rosidl
+//! ignores comments, so the `.msg` stays a plain ROS interface.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
@@ -67,6 +75,8 @@ struct Field {
     name: String,
     ty: FieldType,
     default: Option<String>,
+    /// Value of an appended field when the data ends before it (`absent:` line of its comment block).
+    absent: Option<String>,
     doc: Vec<String>,
     line: usize,
 }
@@ -261,6 +271,11 @@ fn split_comment(s: &str) -> (&str, Option<&str>) {
     (s, None)
 }
 
+/// The `absent: VALUE` line of a field's comment block, if any.
+fn absent_value(doc: &[String]) -> Option<String> {
+    doc.iter().find_map(|l| l.strip_prefix("absent:").map(|v| v.trim().to_string()))
+}
+
 fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, Vec<String>> {
     let mut errors = Vec::new();
     let mut fields: Vec<Field> = Vec::new();
@@ -372,7 +387,41 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
             errors.push(err(format!("duplicate name `{member}`")));
             continue;
         }
-        fields.push(Field { name: member.to_string(), ty, default, doc, line: line_no });
+        let absent = match absent_value(&doc) {
+            None => None,
+            Some(v) => {
+                let numeric = matches!(ty.base, Base::Prim(p) if p != "bool") && ty.array == Array::None;
+                if !numeric {
+                    errors.push(err(format!(
+                        "field `{member}`: only numeric scalar fields can be appended with an `absent:` value"
+                    )));
+                    continue;
+                }
+                if default.is_some() {
+                    errors.push(err(format!("field `{member}` has both a default and an `absent:` value")));
+                    continue;
+                }
+                let literal = if v.eq_ignore_ascii_case("nan") && matches!(ty.base, Base::Prim("float32" | "float64")) {
+                    format!("{}::NAN", rust_type(&ty))
+                } else {
+                    match rust_literal(&ty, &v) {
+                        Ok(l) => l,
+                        Err(m) => {
+                            errors.push(err(format!("`absent:` value of `{member}`: {m}")));
+                            continue;
+                        }
+                    }
+                };
+                Some(literal)
+            }
+        };
+        if absent.is_none() && fields.last().is_some_and(|f: &Field| f.absent.is_some()) {
+            errors.push(err(format!(
+                "field `{member}` follows appended fields: it needs an `absent:` value too (appended fields come last)"
+            )));
+            continue;
+        }
+        fields.push(Field { name: member.to_string(), ty, default, absent, doc, line: line_no });
     }
     if !errors.is_empty() {
         return Err(errors);
@@ -719,11 +768,13 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         doc.extend(spec.doc.iter().cloned());
     }
     doc_attrs(out, i2, &doc);
-    let has_defaults = spec.fields.iter().any(|f| f.default.is_some());
+    let has_defaults = spec.fields.iter().any(|f| f.default.is_some() || f.absent.is_some());
+    let has_tail = spec.fields.iter().any(|f| f.absent.is_some());
     let derive_default = if has_defaults { "" } else { " Default," };
+    let derive_deserialize = if has_tail { "" } else { " ::serde::Deserialize" };
     let _ = writeln!(
         out,
-        "{i2}#[derive(Debug, Clone, PartialEq,{derive_default} ::serde::Serialize, ::serde::Deserialize)]"
+        "{i2}#[derive(Debug, Clone, PartialEq,{derive_default} ::serde::Serialize,{derive_deserialize})]"
     );
     let _ = writeln!(out, "{i2}pub struct {name} {{");
     if spec.fields.is_empty() {
@@ -744,8 +795,9 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         let _ = writeln!(out, "{i3}fn default() -> Self {{");
         let _ = writeln!(out, "{i3}    Self {{");
         for f in &spec.fields {
-            let v = match &f.default {
-                Some(d) => {
+            let v = match (&f.default, &f.absent) {
+                (_, Some(absent)) => absent.clone(),
+                (Some(d), None) => {
                     let lit = rust_literal(&f.ty, d).unwrap_or_default();
                     if matches!(f.ty.base, Base::String { .. }) && f.ty.array == Array::None {
                         format!("{lit}.to_string()")
@@ -753,11 +805,15 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
                         lit
                     }
                 }
-                None => "::core::default::Default::default()".into(),
+                (None, None) => "::core::default::Default::default()".into(),
             };
             let _ = writeln!(out, "{i3}        {}: {v},", ident(&f.name));
         }
         let _ = writeln!(out, "{i3}    }}\n{i3}}}\n{i2}}}\n");
+    }
+
+    if has_tail {
+        gen_tolerant_deserialize(out, spec);
     }
 
     if !spec.constants.is_empty() {
@@ -843,4 +899,65 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         );
     }
     let _ = writeln!(out, "{i3}    ::serde_json::Value::Object(object)\n{i3}}}\n{i2}}}\n");
+}
+
+/// `Deserialize` of a message with appended fields: a sequence (CDR) may end before any appended field, the
+/// rest keeping their absent values (see the module docs); a map (self-describing formats) may leave any
+/// field out.
+fn gen_tolerant_deserialize(out: &mut String, spec: &MsgSpec) {
+    let i2 = "        ";
+    let i3 = "            ";
+    let name = &spec.name;
+    let names: Vec<String> = spec.fields.iter().map(|f| format!("{:?}", f.name)).collect();
+    let _ = writeln!(out, "{i2}impl<'de> ::serde::Deserialize<'de> for {name} {{");
+    let _ = writeln!(out, "{i3}#[allow(clippy::field_reassign_with_default)]");
+    let _ = writeln!(
+        out,
+        "{i3}fn deserialize<D: ::serde::Deserializer<'de>>(deserializer: D) -> ::core::result::Result<Self, D::Error> {{"
+    );
+    let _ = writeln!(out, "{i3}    const FIELDS: &[&str] = &[{}];", names.join(", "));
+    let _ = writeln!(out, "{i3}    struct Visitor;");
+    let _ = writeln!(out, "{i3}    impl<'de> ::serde::de::Visitor<'de> for Visitor {{");
+    let _ = writeln!(out, "{i3}        type Value = {name};");
+    let _ = writeln!(
+        out,
+        "{i3}        fn expecting(&self, f: &mut ::core::fmt::Formatter) -> ::core::fmt::Result {{ f.write_str({:?}) }}",
+        format!("{}/msg/{name}", spec.pkg)
+    );
+    let _ = writeln!(
+        out,
+        "{i3}        fn visit_seq<A: ::serde::de::SeqAccess<'de>>(self, mut seq: A) -> ::core::result::Result<{name}, A::Error> {{"
+    );
+    let _ = writeln!(out, "{i3}            let mut msg = <{name} as ::core::default::Default>::default();");
+    for (k, f) in spec.fields.iter().enumerate() {
+        let field = ident(&f.name);
+        if f.absent.is_none() {
+            let _ = writeln!(
+                out,
+                "{i3}            msg.{field} = seq.next_element()?.ok_or_else(|| ::serde::de::Error::invalid_length({k}, &self))?;"
+            );
+        } else {
+            // Reading a numeric scalar fails only when the data has ended: the data predates this field.
+            let _ = writeln!(
+                out,
+                "{i3}            match seq.next_element() {{ Ok(Some(v)) => msg.{field} = v, Ok(None) | Err(_) => return Ok(msg) }}"
+            );
+        }
+    }
+    let _ = writeln!(out, "{i3}            Ok(msg)\n{i3}        }}");
+    let _ = writeln!(
+        out,
+        "{i3}        fn visit_map<A: ::serde::de::MapAccess<'de>>(self, mut map: A) -> ::core::result::Result<{name}, A::Error> {{"
+    );
+    let _ = writeln!(out, "{i3}            let mut msg = <{name} as ::core::default::Default>::default();");
+    let _ = writeln!(out, "{i3}            while let Some(key) = map.next_key::<::std::string::String>()? {{");
+    let _ = writeln!(out, "{i3}                match key.as_str() {{");
+    for f in &spec.fields {
+        let _ = writeln!(out, "{i3}                    {:?} => msg.{} = map.next_value()?,", f.name, ident(&f.name));
+    }
+    let _ = writeln!(out, "{i3}                    _ => {{ let _: ::serde::de::IgnoredAny = map.next_value()?; }}");
+    let _ = writeln!(out, "{i3}                }}\n{i3}            }}\n{i3}            Ok(msg)\n{i3}        }}");
+    let _ = writeln!(out, "{i3}    }}");
+    let _ = writeln!(out, "{i3}    deserializer.deserialize_struct({name:?}, FIELDS, Visitor)");
+    let _ = writeln!(out, "{i3}}}\n{i2}}}\n");
 }

@@ -81,6 +81,7 @@ fn streams(count: usize) -> anyhow::Result<Vec<(TopicInfo, Vec<Vec<u8>>)>> {
             vibration_energy: total,
             hysteresis_loss: rng.gen_range(20.0..40.0),
             energy_residual: rng.gen_range(-1e-5..1e-5),
+            hoop_energy: 0.0,
         };
         swings.push(encode_cdr(&swing)?);
         exits.push(encode_cdr(&exit)?);

@@ -32,6 +32,7 @@ fn swing(i: u64) -> Swing {
         bat_angular_speed: 50.0 + i as f64,
         impact_z: 0.70 - 0.001 * i as f64,
         measured_exit_speed: if i.is_multiple_of(2) { f64::NAN } else { 45.5 },
+        ..Swing::default()
     }
 }
 
@@ -104,6 +105,7 @@ fn record_run(dir: &std::path::Path) {
             measured_exit_speed: s.measured_exit_speed,
             residual: if i.is_multiple_of(2) { f64::NAN } else { 0.5 },
             message: String::new(),
+            ..ExitVelocity::default()
         };
         assert!(r.record(ev, encode_cdr(&out).unwrap(), t + 500_000, t - 1_000_000));
         let energies = ModalEnergies {
@@ -116,6 +118,7 @@ fn record_run(dir: &std::path::Path) {
             vibration_energy: 1.875 + i as f64,
             hysteresis_loss: 40.0,
             energy_residual: 1e-9,
+            ..ModalEnergies::default()
         };
         assert!(r.record(me, encode_cdr(&energies).unwrap(), t + 500_000, t - 1_000_000));
     }

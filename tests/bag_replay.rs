@@ -37,6 +37,7 @@ fn swing(i: u64, bat_id: &str) -> Swing {
         bat_angular_speed: 45.0 + 2.0 * i as f64,
         impact_z: 0.66 + 0.005 * i as f64,
         measured_exit_speed: f64::NAN,
+        ..Swing::default()
     }
 }
 

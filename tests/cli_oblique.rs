@@ -27,8 +27,8 @@ fn zero_oblique_inputs_give_the_head_on_output_byte_for_byte() {
 
 #[test]
 fn undercut_sign_flips_launch_angle_and_spin() {
-    let up = json(&with(&["--undercut", "0.02", "--json"]));
-    let down = json(&with(&["--undercut", "-0.02", "--json"]));
+    let up = json(&with(&["--undercut", "0.02"]));
+    let down = json(&with(&["--undercut", "-0.02"]));
     let at = |doc: &Value, f: &str| num(doc, &format!("/results/0/oblique/{f}"));
     assert!(at(&up, "launch_angle_deg") > 5.0, "{}", at(&up, "launch_angle_deg"));
     assert!(at(&up, "spin_rpm") > 500.0, "{}", at(&up, "spin_rpm"));
@@ -55,7 +55,6 @@ fn simulate_matches_collide_oblique_called_directly() {
         "0.3",
         "--friction",
         "0.4",
-        "--json",
     ]));
     let bat = Bat::preset("r161").unwrap();
     let modes = ModeSet::compute(&bat, 6).unwrap();
@@ -98,7 +97,7 @@ fn oblique_case_file_equals_the_same_flags() {
             "pitch_angle_deg": 5, "pitch_spin_rpm": 1500, "tangential_cor": 0.35}"#,
     )
     .unwrap();
-    let from_case = json(&["simulate", "--case", case.to_str().unwrap(), "--json"]);
+    let from_case = json(&["simulate", "--case", case.to_str().unwrap()]);
     let from_flags = json(&with(&[
         "--undercut",
         "-0.01",
@@ -110,14 +109,13 @@ fn oblique_case_file_equals_the_same_flags() {
         "1500",
         "--tangential-cor",
         "0.35",
-        "--json",
     ]));
     assert_eq!(from_case, from_flags);
 }
 
 #[test]
 fn undercut_sweep_shows_the_speed_spin_trade_off() {
-    let doc = json(&["sweep", "--over", "undercut", "--modes", "6", "--points", "41", "--json"]);
+    let doc = json(&["sweep", "--over", "undercut", "--modes", "6", "--points", "41"]);
     assert_eq!(doc["over"].as_str(), Some("undercut"));
     let points = doc["points"].as_array().unwrap();
     assert_eq!(points.len(), 41);
@@ -154,21 +152,21 @@ fn undercut_sweep_plot_has_three_panels() {
 
 #[test]
 fn modes_lists_the_hoop_frequency_for_hollow_bats_only() {
-    let doc = json(&["modes", "--bat", "aluminum", "--json"]);
+    let doc = json(&["modes", "--bat", "aluminum"]);
     let f = num(&doc, "/hoop/sweet_spot/frequency_hz");
     assert!((1000.0..3000.0).contains(&f), "aluminum hoop frequency at the sweet spot {f} Hz");
     let along = doc["hoop"]["along"].as_array().unwrap();
     assert!(along.len() >= 3, "{along:?}");
     let text = ok(&["modes", "--bat", "aluminum"]);
     assert!(text.contains("hoop (n = 2) mode") && text.contains("(sweet spot)"), "{text}");
-    let solid = json(&["modes", "--bat", "r161", "--json"]);
+    let solid = json(&["modes", "--bat", "r161"]);
     assert!(solid.get("hoop").is_none(), "a wood bat has no hoop mode");
     assert!(!ok(&["modes", "--bat", "r161"]).contains("hoop"));
 }
 
 #[test]
 fn simulate_json_carries_the_wall_for_hollow_bats() {
-    let doc = json(&["simulate", "--bat", "aluminum", "--modes", "6", "--impact-z", "0.65", "--json"]);
+    let doc = json(&["simulate", "--bat", "aluminum", "--modes", "6", "--impact-z", "0.65"]);
     let r = &doc["results"][0];
     let f = r["hoop"]["frequency_hz"].as_f64().unwrap();
     assert!((1000.0..3000.0).contains(&f), "{f}");

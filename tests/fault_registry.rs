@@ -31,6 +31,7 @@ fn swing(id: u64, bat_id: &str, ball_id: &str) -> Swing {
         bat_angular_speed: 50.0,
         impact_z: 0.6,
         measured_exit_speed: f64::NAN,
+        ..Swing::default()
     }
 }
 

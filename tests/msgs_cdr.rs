@@ -31,6 +31,12 @@ fn swing() -> Swing {
         bat_angular_speed: 51.0,
         impact_z: 0.71,
         measured_exit_speed: f64::NAN,
+        undercut: 0.0125,
+        attack_angle: 0.14,
+        pitch_angle: -0.1,
+        pitch_spin: 220.0,
+        measured_launch_angle: 0.45,
+        measured_spin: f64::NAN,
     }
 }
 
@@ -86,6 +92,15 @@ fn exit_velocity() -> ExitVelocity {
         max_compression: 0.012,
         measured_exit_speed: 40.0,
         residual: -1.5,
+        launch_angle: 0.5,
+        spin: -310.25,
+        normal_exit_speed: 36.5,
+        tangential_exit_speed: 19.75,
+        launch_angle_residual: f64::NAN,
+        spin_residual: 12.5,
+        hoop_frequency: 1650.0,
+        hoop_energy_stored: 3.25,
+        hoop_energy_returned: 3.0,
     }
 }
 
@@ -100,6 +115,7 @@ fn modal() -> ModalEnergies {
         vibration_energy: 1.875,
         hysteresis_loss: 30.0,
         energy_residual: -1e-9,
+        hoop_energy: 0.25,
     }
 }
 
@@ -122,6 +138,8 @@ fn sweet_spot() -> SweetSpot {
         mass: 0.885,
         center_of_mass: 0.564,
         moment_of_inertia: 0.0455,
+        hoop_frequency: 0.0,
+        swing_weight: 0.21,
     }
 }
 
@@ -227,11 +245,15 @@ fn msgs_cdr_rejects_bad_input_without_panicking() {
     pl[1] = 3; // PL_CDR_LE
     assert!(matches!(decode_cdr::<Swing>(&pl), Err(MsgError::UnsupportedEncapsulation(3))));
 
-    // Every strict prefix of every sample is an error, not a panic and not a success.
-    fn prefixes<T: RosMessage>(m: T) {
+    // Every strict prefix of every sample is an error, not a panic and not a success — except data that ends
+    // where an appended (`absent:`) field begins (plus at most 3 padding bytes): `tail` 8-byte float64 fields.
+    fn prefixes<T: RosMessage>(m: T, tail: usize) {
         let full = encode_cdr(&m).unwrap();
+        let boundaries: Vec<usize> = (0..=tail).map(|k| full.len() - 8 * k).collect();
         for len in 0..full.len() {
-            assert!(decode_cdr::<T>(&full[..len]).is_err(), "{} prefix of {len} bytes decoded", T::TYPE_NAME);
+            let at_boundary = boundaries.iter().any(|b| len >= *b && len <= b + 3);
+            let decoded = decode_cdr::<T>(&full[..len]);
+            assert_eq!(decoded.is_ok(), at_boundary, "{} prefix of {len} bytes", T::TYPE_NAME);
         }
         // Trailing padding (≤ 3 bytes) is fine; more is not.
         let mut padded = full.clone();
@@ -240,10 +262,12 @@ fn msgs_cdr_rejects_bad_input_without_panicking() {
         padded.extend([0; 5]);
         assert!(matches!(decode_cdr::<T>(&padded), Err(MsgError::TrailingBytes { .. })));
     }
-    prefixes(swing());
-    prefixes(bat());
-    prefixes(diagnostics());
-    prefixes(modal());
+    prefixes(swing(), 6);
+    prefixes(bat(), 0);
+    prefixes(diagnostics(), 0);
+    prefixes(modal(), 1);
+    prefixes(exit_velocity(), 9);
+    prefixes(sweet_spot(), 2);
 
     // A huge sequence length must fail cleanly (no allocation blow-up, no panic).
     let mut huge = encode_cdr(&ModalEnergies::default()).unwrap();
@@ -353,4 +377,78 @@ fn msgs_cdr_matches_independent_python_encoders() {
         assert_eq!(result["mcap"].as_str().unwrap(), hex, "{type_name}: mcap-ros2-support bytes differ");
         assert_eq!(&result["decoded"], json, "{type_name}: mcap-ros2-support decoded our bytes differently");
     }
+}
+
+/// Messages recorded before the appended fields existed: the first Swing and ExitVelocity of bags/golden
+/// (recorded with the old schema) decode with the absent values — 0 for the oblique inputs (head-on), NaN for
+/// the measured and the unrecorded outputs — and their old fields as the bag's own schema says.
+#[test]
+fn msgs_cdr_old_format_messages_decode_with_absent_values() {
+    use sweetspot::bag::reader::read_bag;
+    let golden = repo().join("bags/golden/sweetspot_golden");
+    let (mut swing_msg, mut answer) = (None, None);
+    let mut schemas = Vec::new();
+    read_bag(&golden, |m| {
+        let t = m.channel.topic.type_name.as_str();
+        if t == Swing::TYPE_NAME && swing_msg.is_none() {
+            swing_msg = Some(m.data.to_vec());
+            schemas.push(m.channel.topic.schema_text.clone());
+        }
+        let first_answer = || decode_cdr::<ExitVelocity>(m.data).is_ok_and(|e| e.swing_id == 1);
+        if t == ExitVelocity::TYPE_NAME && answer.is_none() && first_answer() {
+            answer = Some(m.data.to_vec());
+            schemas.push(m.channel.topic.schema_text.clone());
+        }
+    })
+    .unwrap();
+    // The bag really is old-format: its schemas lack the appended fields, and its bytes are shorter.
+    for schema in &schemas {
+        assert!(!schema.contains("undercut") && !schema.contains("launch_angle"), "{schema}");
+    }
+    let (swing_bytes, answer_bytes) = (swing_msg.unwrap(), answer.unwrap());
+    let s: Swing = decode_cdr(&swing_bytes).unwrap();
+    assert_eq!(s.swing_id, 1);
+    assert_eq!((s.ball_speed, s.bat_cm_speed, s.bat_angular_speed, s.impact_z), (40.0, 20.0, 50.0, 0.60));
+    assert_eq!(s.header.frame_id, "golden");
+    assert!(s.measured_exit_speed.is_nan());
+    assert_eq!((s.undercut, s.attack_angle, s.pitch_angle, s.pitch_spin), (0.0, 0.0, 0.0, 0.0));
+    assert!(s.measured_launch_angle.is_nan() && s.measured_spin.is_nan());
+    assert_eq!(encode_cdr(&s).unwrap().len(), swing_bytes.len() + 6 * 8, "six float64 appended");
+
+    let ev: ExitVelocity = decode_cdr(&answer_bytes).unwrap();
+    assert_eq!(ev.status, ExitVelocity::STATUS_OK, "{}", ev.message);
+    assert!(ev.exit_speed > 20.0 && ev.exit_speed < 60.0, "{}", ev.exit_speed);
+    for v in [
+        ev.launch_angle,
+        ev.spin,
+        ev.normal_exit_speed,
+        ev.tangential_exit_speed,
+        ev.launch_angle_residual,
+        ev.spin_residual,
+        ev.hoop_frequency,
+        ev.hoop_energy_stored,
+        ev.hoop_energy_returned,
+    ] {
+        assert!(v.is_nan(), "an appended output reads as not recorded: {ev:?}");
+    }
+    // The old bytes are a prefix of the new encoding of the same message.
+    assert_eq!(&encode_cdr(&ev).unwrap()[..answer_bytes.len()], &answer_bytes[..]);
+}
+
+/// A message with the appended fields cut off mid-way through the tail keeps the ones present.
+#[test]
+fn msgs_cdr_a_partial_tail_keeps_the_fields_present() {
+    let full = encode_cdr(&swing()).unwrap();
+    let s: Swing = decode_cdr(&full[..full.len() - 8 * 4]).unwrap();
+    assert_eq!((s.undercut, s.attack_angle), (0.0125, 0.14));
+    assert_eq!((s.pitch_angle, s.pitch_spin), (0.0, 0.0));
+    assert!(s.measured_launch_angle.is_nan());
+    // JSON input leaves them out the same way.
+    let j: Swing = sweetspot::msgs::json::from_json(&serde_json::json!({"ball_speed": 40})).unwrap();
+    assert_eq!((j.undercut, j.pitch_spin), (0.0, 0.0));
+    assert!(j.measured_launch_angle.is_nan() && j.measured_spin.is_nan());
+    // And the JSON written carries them.
+    let v = sweetspot::msgs::json::ToJson::to_json(&swing());
+    assert_eq!((v["undercut"].as_f64(), v["pitch_spin"].as_f64()), (Some(0.0125), Some(220.0)));
+    assert!(v["measured_spin"].is_null());
 }

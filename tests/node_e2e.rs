@@ -49,6 +49,7 @@ fn swing(id: u64, bat_id: &str, ball_id: &str, impact_z: f64) -> Swing {
         bat_angular_speed: 45.0,
         impact_z,
         measured_exit_speed: if id.is_multiple_of(2) { f64::NAN } else { 44.0 },
+        ..Swing::default()
     }
 }
 

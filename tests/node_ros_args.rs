@@ -33,6 +33,7 @@ fn swing(id: u64, bat_id: &str, impact_z: f64) -> Swing {
         bat_angular_speed: 47.0,
         impact_z,
         measured_exit_speed: f64::NAN,
+        ..Swing::default()
     }
 }
 

@@ -35,6 +35,7 @@ fn swing(id: u64) -> Swing {
         bat_angular_speed: 45.0,
         impact_z: 0.45 + 0.3 * (id % 97) as f64 / 96.0,
         measured_exit_speed: f64::NAN,
+        ..Swing::default()
     }
 }
 

@@ -165,9 +165,11 @@ fn opt(v: Option<f64>) -> String {
     v.map(|x| x.to_string()).unwrap_or_default()
 }
 
-/// Writes the CSV: swing inputs, then ExitVelocity, then ModalEnergies totals and per-mode columns
-/// (`mode<k>_frequency`, `mode<k>_energy`, `mode<k>_fraction` up to the most modes of any row). Units are SI
-/// as in the messages. Missing outputs leave their cells empty.
+/// Writes the CSV: swing inputs, then ExitVelocity, then ModalEnergies totals, then the fields appended to
+/// the messages later (Swing's oblique inputs and launch measurements, ExitVelocity's launch and hoop fields,
+/// ModalEnergies.hoop_energy; NaN for a bag recorded before them), then per-mode columns (`mode<k>_frequency`,
+/// `mode<k>_energy`, `mode<k>_fraction` up to the most modes of any row). Units are SI as in the messages.
+/// Missing outputs leave their cells empty.
 pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
     let modes = rows.iter().filter_map(|r| r.modal_energies.as_ref()).map(|m| m.energy.len()).max().unwrap_or(0);
     let mut w = csv::Writer::from_writer(out);
@@ -197,6 +199,22 @@ pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
         "vibration_energy",
         "hysteresis_loss",
         "energy_residual",
+        "undercut",
+        "attack_angle",
+        "pitch_angle",
+        "pitch_spin",
+        "measured_launch_angle",
+        "measured_spin",
+        "launch_angle",
+        "spin",
+        "normal_exit_speed",
+        "tangential_exit_speed",
+        "launch_angle_residual",
+        "spin_residual",
+        "hoop_frequency",
+        "hoop_energy_stored",
+        "hoop_energy_returned",
+        "hoop_energy",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -238,6 +256,22 @@ pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
             opt(me.map(|m| m.vibration_energy)),
             opt(me.map(|m| m.hysteresis_loss)),
             opt(me.map(|m| m.energy_residual)),
+            s.undercut.to_string(),
+            s.attack_angle.to_string(),
+            s.pitch_angle.to_string(),
+            s.pitch_spin.to_string(),
+            s.measured_launch_angle.to_string(),
+            s.measured_spin.to_string(),
+            opt(ev.map(|e| e.launch_angle)),
+            opt(ev.map(|e| e.spin)),
+            opt(ev.map(|e| e.normal_exit_speed)),
+            opt(ev.map(|e| e.tangential_exit_speed)),
+            opt(ev.map(|e| e.launch_angle_residual)),
+            opt(ev.map(|e| e.spin_residual)),
+            opt(ev.map(|e| e.hoop_frequency)),
+            opt(ev.map(|e| e.hoop_energy_stored)),
+            opt(ev.map(|e| e.hoop_energy_returned)),
+            opt(me.map(|m| m.hoop_energy)),
         ];
         for k in 0..modes {
             rec.push(opt(me.and_then(|m| m.frequency.get(k).copied())));

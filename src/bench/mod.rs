@@ -87,6 +87,7 @@ pub fn bench_swing(id: u64) -> Swing {
         bat_angular_speed: 50.0,
         impact_z: 0.55 + (id % 16) as f64 * 0.005,
         measured_exit_speed: f64::NAN,
+        ..Swing::default()
     }
 }
 

@@ -162,6 +162,7 @@ fn bench_streams(message: BenchMessage) -> Vec<(TopicInfo, Vec<Vec<u8>>)> {
             vibration_energy: total,
             hysteresis_loss: rng.gen_range(20.0..40.0),
             energy_residual: rng.gen_range(-1e-5..1e-5),
+            ..ModalEnergies::default()
         };
         match message {
             BenchMessage::Swing => swings.push(crate::msgs::encode_cdr(&swing).unwrap_or_default()),

@@ -7,7 +7,7 @@ use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Moda
 use crate::physics::bat::SLICE_COUNT_RANGE;
 use crate::physics::{Ball, Bat, CoreFill, Impact, Material, PhysicsError, Station};
 
-use super::engine::{BatSummary, Computed};
+use super::engine::{BatSummary, Computed, SwingInput};
 use super::limits::{self, check_string, MAX_MESSAGE_BYTES, MAX_STATIONS, MAX_STRING_BYTES};
 #[cfg(test)]
 use super::settings::DEFAULT_MAX_BAT_SLICES;
@@ -201,6 +201,20 @@ pub fn impact_from_swing(s: &Swing) -> Impact {
     }
 }
 
+/// Everything the model takes from a swing: the impact along the bat's path ([`impact_from_swing`]), the
+/// oblique geometry and the rig's launch measurements (checked by [`super::engine::plan_swing`]).
+pub fn swing_input(s: &Swing) -> SwingInput {
+    SwingInput {
+        impact: impact_from_swing(s),
+        undercut: s.undercut,
+        attack_angle: s.attack_angle,
+        pitch_angle: s.pitch_angle,
+        pitch_spin: s.pitch_spin,
+        measured_launch_angle: s.measured_launch_angle,
+        measured_spin: s.measured_spin,
+    }
+}
+
 /// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers. A
 /// swing whose strings or measured speed [`limits::check_swing`] refuses is REJECTED whatever `result` says;
 /// the strings echoed are cut to [`MAX_STRING_BYTES`] and the message to [`MAX_MESSAGE_BYTES`].
@@ -222,11 +236,13 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
         measured_exit_speed,
         ..ExitVelocity::default()
     };
+    // Residuals are measured − model, as `residual` (NaN when not measured).
     match result {
         Ok(computed) => {
             let c = &computed.collision;
             ev.status = ExitVelocity::STATUS_OK;
-            ev.exit_speed = c.exit_speed;
+            let launch = &computed.launch;
+            ev.exit_speed = launch.exit_speed;
             ev.rigid_exit_speed = c.rigid_exit_speed;
             ev.effective_cor = c.effective_cor;
             ev.collision_efficiency = c.collision_efficiency;
@@ -234,7 +250,16 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
             ev.peak_force = c.peak_force;
             ev.impulse = c.impulse;
             ev.max_compression = c.max_compression;
-            ev.residual = swing.measured_exit_speed - c.exit_speed; // NaN when not measured
+            ev.residual = swing.measured_exit_speed - launch.exit_speed; // NaN when not measured
+            ev.launch_angle = launch.launch_angle;
+            ev.spin = launch.spin;
+            ev.normal_exit_speed = launch.normal_exit_speed;
+            ev.tangential_exit_speed = launch.tangential_exit_speed;
+            ev.launch_angle_residual = swing.measured_launch_angle - launch.launch_angle;
+            ev.spin_residual = swing.measured_spin - launch.spin;
+            ev.hoop_frequency = c.hoop.map_or(0.0, |h| h.frequency_hz());
+            ev.hoop_energy_stored = c.energy.hoop_stored;
+            ev.hoop_energy_returned = c.energy.hoop_returned;
         }
         Err(reason) => {
             ev.status = ExitVelocity::STATUS_REJECTED;
@@ -250,6 +275,15 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
                 &mut ev.impulse,
                 &mut ev.max_compression,
                 &mut ev.residual,
+                &mut ev.launch_angle,
+                &mut ev.spin,
+                &mut ev.normal_exit_speed,
+                &mut ev.tangential_exit_speed,
+                &mut ev.launch_angle_residual,
+                &mut ev.spin_residual,
+                &mut ev.hoop_frequency,
+                &mut ev.hoop_energy_stored,
+                &mut ev.hoop_energy_returned,
             ] {
                 *x = f64::NAN;
             }
@@ -272,6 +306,7 @@ pub fn modal_energies(swing: &Swing, bat_id: &str, computed: &Computed) -> Modal
         vibration_energy: c.energy.vibration,
         hysteresis_loss: c.energy.hysteresis_loss,
         energy_residual: c.energy.residual,
+        hoop_energy: c.energy.hoop,
     }
 }
 
@@ -296,12 +331,15 @@ pub fn sweet_spot(summary: &BatSummary, header: Header) -> SweetSpot {
         mass: summary.mass.mass,
         center_of_mass: summary.mass.center_of_mass,
         moment_of_inertia: summary.mass.moment_of_inertia,
+        hoop_frequency: summary.hoop_frequency,
+        swing_weight: summary.swing_weight,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::engine::Launch;
     use crate::msgs::builtin_interfaces::msg::Time;
     use crate::physics::Ball;
     use crate::physics::{CollisionResult, EnergyBudget, ModeEnergy};
@@ -348,6 +386,13 @@ mod tests {
                     residual: 0.0,
                 },
                 hoop: None,
+            },
+            launch: Launch {
+                exit_speed: 45.5,
+                launch_angle: 0.0,
+                spin: 0.0,
+                normal_exit_speed: 45.5,
+                tangential_exit_speed: 0.0,
             },
             collision_energy: 200.0,
         }

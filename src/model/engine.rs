@@ -4,6 +4,8 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 
+use crate::physics::batter::swing_weight;
+use crate::physics::oblique::{collide_oblique, ObliqueImpact, TangentialContact};
 use crate::physics::{
     collide, metrics, Ball, Bat, CollisionOptions, CollisionResult, Impact, MassProperties, ModeSet, PhysicsError,
     SweetSpotSet,
@@ -337,6 +339,88 @@ fn long_forgotten(evictions: u64, message: &str, limit: &str, capacity: usize) -
     }
 }
 
+/// Largest |attack_angle| and |pitch_angle| a swing may have, rad (80°, the oblique model's limit).
+pub const MAX_SWING_ANGLE: f64 = 80.0 * std::f64::consts::PI / 180.0;
+/// Largest |pitch_spin| a swing may have, rad/s (~9,500 rpm, well above any pitch).
+pub const MAX_PITCH_SPIN: f64 = 1000.0;
+
+/// What the model takes from a Swing besides its bat and ball (units and signs as in Swing.msg): the impact
+/// along the bat's path, the oblique geometry (all 0 = head-on) and the rig's launch measurements (NaN = not
+/// measured). An [`Impact`] converts into a head-on swing with nothing measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SwingInput {
+    /// Ball and bat speeds along the bat's path and the impact point.
+    pub impact: Impact,
+    /// Undercut D, m, positive when the ball's centre is above the bat's path.
+    pub undercut: f64,
+    /// Attack angle of the bat's path above the horizontal, rad.
+    pub attack_angle: f64,
+    /// Descent angle of the pitch, rad, positive descending.
+    pub pitch_angle: f64,
+    /// Pitch spin about the bat's axis, rad/s, backspin positive.
+    pub pitch_spin: f64,
+    /// Launch angle measured by the rig, rad; NaN when not measured.
+    pub measured_launch_angle: f64,
+    /// Spin measured by the rig, rad/s, backspin positive; NaN when not measured.
+    pub measured_spin: f64,
+}
+
+impl From<Impact> for SwingInput {
+    fn from(impact: Impact) -> SwingInput {
+        SwingInput {
+            impact,
+            undercut: 0.0,
+            attack_angle: 0.0,
+            pitch_angle: 0.0,
+            pitch_spin: 0.0,
+            measured_launch_angle: f64::NAN,
+            measured_spin: f64::NAN,
+        }
+    }
+}
+
+impl SwingInput {
+    /// True when undercut, both angles and the pitch spin are all 0: the swing is today's head-on collision.
+    pub fn is_head_on(&self) -> bool {
+        [self.undercut, self.attack_angle, self.pitch_angle, self.pitch_spin].iter().all(|v| *v == 0.0)
+    }
+
+    /// Checks the oblique inputs for a ball of radius `ball_radius` on a barrel of radius `barrel_radius` (m)
+    /// and the measured values; the error names the field and its allowed range.
+    pub fn validate(&self, ball_radius: f64, barrel_radius: f64) -> Result<(), String> {
+        let out = |field: &str, value: f64, allowed: String| {
+            Err(format!("{field} = {value} is out of range: expected {allowed}"))
+        };
+        let reach = ball_radius + barrel_radius;
+        // Without a barrel radius (impact_z not a number) the collision refuses impact_z itself.
+        if reach.is_finite() && !(self.undercut.is_finite() && self.undercut.abs() < reach) {
+            return out(
+                "undercut",
+                self.undercut,
+                format!(
+                    "|undercut| < ball radius + barrel radius at impact_z = {reach:.4} m (a finite value; beyond it \
+                     the bat misses the ball)"
+                ),
+            );
+        }
+        for (field, v) in [("attack_angle", self.attack_angle), ("pitch_angle", self.pitch_angle)] {
+            if !(v.is_finite() && v.abs() <= MAX_SWING_ANGLE) {
+                return out(field, v, format!("|{field}| ≤ {MAX_SWING_ANGLE:.4} rad (80°)"));
+            }
+        }
+        if !(self.pitch_spin.is_finite() && self.pitch_spin.abs() <= MAX_PITCH_SPIN) {
+            return out("pitch_spin", self.pitch_spin, format!("|pitch_spin| ≤ {MAX_PITCH_SPIN} rad/s"));
+        }
+        for (field, v) in [("measured_launch_angle", self.measured_launch_angle), ("measured_spin", self.measured_spin)]
+        {
+            if v.is_infinite() {
+                return out(field, v, "a finite value, or NaN when not measured".to_string());
+            }
+        }
+        Ok(())
+    }
+}
+
 /// What a swing became after resolving its bat and ball.
 #[derive(Debug, Clone)]
 pub enum Plan {
@@ -348,8 +432,10 @@ pub enum Plan {
         ball_id: String,
         /// The ball.
         ball: Ball,
-        /// Initial conditions.
+        /// Initial conditions along the bat's path.
         impact: Impact,
+        /// The oblique geometry, `None` for a head-on swing (today's collision, bit for bit).
+        oblique: Option<Box<ObliqueImpact>>,
         /// Mode count and time step.
         options: CollisionOptions,
     },
@@ -381,13 +467,14 @@ impl Plan {
     }
 }
 
-/// Resolves a swing's bat and ball. The second value is a bat created from a preset on first use.
+/// Resolves a swing's bat and ball and checks its oblique inputs against them (an [`Impact`] is a head-on
+/// swing). The second value is a bat created from a preset on first use.
 pub fn plan_swing(
     registry: &mut Registry,
     settings: &ModelSettings,
     bat_id: &str,
     ball_id: &str,
-    impact: Impact,
+    swing: impl Into<SwingInput>,
 ) -> (Plan, Option<Arc<BatEntry>>) {
     // Over-long ids are refused before any lookup, and the answer carries them cut short.
     if let Err(reason) = limits::check_string("bat_id", bat_id).and_then(|_| limits::check_string("ball_id", ball_id)) {
@@ -395,6 +482,8 @@ pub fn plan_swing(
         let ball_id = limits::shorten(ball_id, MAX_STRING_BYTES).into_owned();
         return (Plan::Reject { bat_id, ball_id, reason }, None);
     }
+    let swing: SwingInput = swing.into();
+    let impact = swing.impact;
     let (bat, created) = match registry.resolve_bat(bat_id, settings) {
         Ok((bat, created)) => (bat, created.then_some(())),
         Err(reason) => {
@@ -406,17 +495,63 @@ pub fn plan_swing(
     match registry.use_ball(ball_id) {
         Ok((ball_id, ball)) => {
             let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
-            (Plan::Collide { bat, ball_id, ball, impact, options }, new_bat)
+            // A non-finite impact_z is refused by the collision itself, naming impact_z.
+            let barrel_radius =
+                if impact.impact_z.is_finite() { bat.bat.radii_at(impact.impact_z).0 } else { f64::NAN };
+            if let Err(reason) = swing.validate(ball.radius, barrel_radius) {
+                return (Plan::Reject { bat_id: bat.bat_id.clone(), ball_id, reason }, new_bat);
+            }
+            let oblique = (!swing.is_head_on() && barrel_radius.is_finite()).then(|| {
+                Box::new(ObliqueImpact {
+                    impact,
+                    barrel_radius,
+                    undercut: swing.undercut,
+                    attack_angle: swing.attack_angle,
+                    pitch_angle: swing.pitch_angle,
+                    pitch_spin: swing.pitch_spin,
+                })
+            });
+            (Plan::Collide { bat, ball_id, ball, impact, oblique, options }, new_bat)
         }
         Err(reason) => (Plan::Reject { bat_id: bat.bat_id.clone(), ball_id: ball_id.to_string(), reason }, new_bat),
+    }
+}
+
+/// How the ball leaves the bat (units and signs as in ExitVelocity.msg).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Launch {
+    /// Speed of the outgoing ball, m/s.
+    pub exit_speed: f64,
+    /// Launch angle above the horizontal, rad.
+    pub launch_angle: f64,
+    /// Spin about the bat's axis, rad/s, backspin positive.
+    pub spin: f64,
+    /// Outgoing velocity along the line of centres, m/s.
+    pub normal_exit_speed: f64,
+    /// Outgoing velocity across the line of centres, m/s.
+    pub tangential_exit_speed: f64,
+}
+
+impl Launch {
+    /// A head-on collision's launch: along the bat's path, horizontal, without spin.
+    pub fn head_on(collision: &CollisionResult) -> Launch {
+        Launch {
+            exit_speed: collision.exit_speed,
+            launch_angle: 0.0,
+            spin: 0.0,
+            normal_exit_speed: collision.exit_speed,
+            tangential_exit_speed: 0.0,
+        }
     }
 }
 
 /// A computed collision with what the answer messages need besides it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Computed {
-    /// The collision.
+    /// The collision along the line of centres (the whole collision for a head-on swing).
     pub collision: CollisionResult,
+    /// How the ball leaves the bat.
+    pub launch: Launch,
     /// Kinetic energy in the centre-of-mass frame of ball and bat before impact, J (the denominator of
     /// ModalEnergies.fraction).
     pub collision_energy: f64,
@@ -426,13 +561,43 @@ pub struct Computed {
 pub fn compute(plan: &Plan, stats: &impl ModeCacheStats) -> Result<Computed, String> {
     match plan {
         Plan::Reject { reason, .. } => Err(reason.clone()),
-        Plan::Collide { bat, ball_id, ball, impact, options } => {
+        Plan::Collide { bat, ball_id, ball, impact, oblique: None, options } => {
             let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
             let collision = collide(&modes, ball, impact, options).map_err(|e| e.to_string())?;
             limits::check_compression(ball_id, ball, collision.max_compression)?;
             let collision_energy = centre_of_mass_energy(&collision, &modes.mass_properties(), ball, impact);
-            Ok(Computed { collision, collision_energy })
+            Ok(Computed { launch: Launch::head_on(&collision), collision, collision_energy })
         }
+        Plan::Collide { bat, ball_id, ball, oblique: Some(oblique), options, .. } => {
+            let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
+            let result = collide_oblique(&modes, ball, oblique, &TangentialContact::default(), options)
+                .map_err(|e| e.to_string())?;
+            limits::check_compression(ball_id, ball, result.normal.max_compression)?;
+            let launch = Launch {
+                exit_speed: result.exit_speed,
+                launch_angle: result.launch_angle,
+                spin: result.spin,
+                normal_exit_speed: result.normal_exit_speed,
+                tangential_exit_speed: result.tangential_exit_speed,
+            };
+            let normal = normal_impact(oblique, result.line_of_centres_angle);
+            let collision_energy = centre_of_mass_energy(&result.normal, &modes.mass_properties(), ball, &normal);
+            Ok(Computed { collision: result.normal, launch, collision_energy })
+        }
+    }
+}
+
+/// The approach along the line of centres (at `beta` above the horizontal) that
+/// [`crate::physics::oblique`]'s normal collision is driven by: the ball's speed times cos(β − θ), the bat's
+/// motion times cos φ with φ = β − α.
+fn normal_impact(oblique: &ObliqueImpact, beta: f64) -> Impact {
+    let cos_phi = (beta - oblique.attack_angle).cos();
+    let i = &oblique.impact;
+    Impact {
+        ball_speed: i.ball_speed * (beta - oblique.pitch_angle).cos(),
+        bat_cm_speed: i.bat_cm_speed * cos_phi,
+        bat_angular_speed: i.bat_angular_speed * cos_phi,
+        impact_z: i.impact_z,
     }
 }
 
@@ -462,6 +627,10 @@ pub struct BatSummary {
     pub frequencies_hz: Vec<f64>,
     /// Mass properties.
     pub mass: MassProperties,
+    /// Hoop frequency of the barrel wall at the flexible bat's sweet spot, Hz; 0 for a solid section.
+    pub hoop_frequency: f64,
+    /// Swing weight: moment of inertia about the pivot 6 in from the knob, kg·m².
+    pub swing_weight: f64,
 }
 
 /// Computes a bat's SweetSpot for the `reference` swing (its impact point is filled in by the sweet-spot
@@ -479,6 +648,7 @@ pub fn summarize_bat(
     let sweet_spots = metrics::sweet_spots(&modes, ball, &reference, &options)
         .map_err(|e| format!("bat '{}': sweet spots: {e}", bat.bat_id))?;
     let bbcor = metrics::bbcor(&modes, &options).map_err(|e| format!("bat '{}': BBCOR: {e}", bat.bat_id))?;
+    let hoop_frequency = modes.hoop_frequency_at(sweet_spots.max_exit_speed_z).unwrap_or(0.0);
     Ok(BatSummary {
         bat_id: bat.bat_id.clone(),
         ball_id: ball_id.to_string(),
@@ -487,6 +657,8 @@ pub fn summarize_bat(
         bbcor,
         frequencies_hz: modes.frequencies_hz(),
         mass: modes.mass_properties(),
+        hoop_frequency,
+        swing_weight: swing_weight(&modes.mass_properties()),
     })
 }
 
@@ -687,5 +859,155 @@ mod tests {
         for name in Bat::preset_names() {
             assert!(BatEntry::new_checked(*name, Bat::preset(name).unwrap(), None, &settings, &()).is_ok(), "{name}");
         }
+    }
+
+    fn swing_msg(undercut: f64, attack: f64, pitch: f64, spin: f64) -> crate::msgs::sweetspot_msgs::msg::Swing {
+        crate::msgs::sweetspot_msgs::msg::Swing {
+            swing_id: 7,
+            bat_id: "r161".into(),
+            ball_speed: 40.0,
+            bat_cm_speed: 20.0,
+            bat_angular_speed: 50.0,
+            impact_z: 0.7,
+            measured_exit_speed: f64::NAN,
+            undercut,
+            attack_angle: attack,
+            pitch_angle: pitch,
+            pitch_spin: spin,
+            measured_launch_angle: 0.3,
+            measured_spin: f64::NAN,
+            ..Default::default()
+        }
+    }
+
+    fn answer(s: &crate::msgs::sweetspot_msgs::msg::Swing) -> crate::msgs::sweetspot_msgs::msg::ExitVelocity {
+        use super::super::convert;
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let (plan, _) = plan_swing(&mut registry, &settings, &s.bat_id, "", convert::swing_input(s));
+        let result = compute(&plan, &());
+        convert::exit_velocity(s, plan.bat_id(), plan.ball_id(), &result)
+    }
+
+    #[test]
+    fn a_head_on_swing_answers_the_head_on_collision_bit_for_bit() {
+        let s = swing_msg(0.0, 0.0, 0.0, 0.0);
+        let ev = answer(&s);
+        let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
+        let direct = collide(&modes, &Ball::default(), &swing(0.7), &CollisionOptions::default()).unwrap();
+        let pairs = [
+            (ev.exit_speed, direct.exit_speed),
+            (ev.rigid_exit_speed, direct.rigid_exit_speed),
+            (ev.effective_cor, direct.effective_cor),
+            (ev.collision_efficiency, direct.collision_efficiency),
+            (ev.contact_time, direct.contact_time),
+            (ev.peak_force, direct.peak_force),
+            (ev.impulse, direct.impulse),
+            (ev.max_compression, direct.max_compression),
+            (ev.normal_exit_speed, direct.exit_speed),
+        ];
+        for (got, want) in pairs {
+            assert_eq!(got.to_bits(), want.to_bits(), "{got} vs {want}");
+        }
+        assert_eq!((ev.launch_angle, ev.spin, ev.tangential_exit_speed), (0.0, 0.0, 0.0));
+        assert_eq!(ev.launch_angle_residual, 0.3, "measured − model");
+        assert!(ev.spin_residual.is_nan(), "spin not measured");
+        assert_eq!((ev.hoop_frequency, ev.hoop_energy_stored, ev.hoop_energy_returned), (0.0, 0.0, 0.0), "wood");
+    }
+
+    #[test]
+    fn an_oblique_swing_answers_the_oblique_collision() {
+        use crate::physics::oblique::{collide_oblique, ObliqueImpact, TangentialContact};
+        let s = swing_msg(0.015, 0.14, 0.1, 200.0);
+        let ev = answer(&s);
+        assert_eq!(ev.status, crate::msgs::sweetspot_msgs::msg::ExitVelocity::STATUS_OK, "{}", ev.message);
+        let bat = Bat::preset("r161").unwrap();
+        let modes = ModeSet::compute(&bat, 18).unwrap();
+        let oblique = ObliqueImpact {
+            impact: swing(0.7),
+            barrel_radius: bat.radii_at(0.7).0,
+            undercut: 0.015,
+            attack_angle: 0.14,
+            pitch_angle: 0.1,
+            pitch_spin: 200.0,
+        };
+        let want = collide_oblique(
+            &modes,
+            &Ball::default(),
+            &oblique,
+            &TangentialContact::default(),
+            &CollisionOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(ev.launch_angle.to_bits(), want.launch_angle.to_bits());
+        assert_eq!(ev.spin.to_bits(), want.spin.to_bits());
+        assert_eq!(ev.exit_speed.to_bits(), want.exit_speed.to_bits());
+        assert_eq!(
+            (ev.normal_exit_speed, ev.tangential_exit_speed),
+            (want.normal_exit_speed, want.tangential_exit_speed)
+        );
+        assert_eq!(ev.impulse, want.normal.impulse);
+        // An undercut ball leaves upward with backspin.
+        assert!(ev.launch_angle > 0.2 && ev.spin > 100.0, "{} rad, {} rad/s", ev.launch_angle, ev.spin);
+        assert_eq!(ev.launch_angle_residual, 0.3 - want.launch_angle);
+    }
+
+    #[test]
+    fn a_hollow_bat_fills_the_hoop_fields() {
+        use super::super::convert;
+        let s = crate::msgs::sweetspot_msgs::msg::Swing { bat_id: "aluminum".into(), ..swing_msg(0.0, 0.0, 0.0, 0.0) };
+        let settings = ModelSettings::default();
+        let mut registry = Registry::new();
+        let (plan, _) = plan_swing(&mut registry, &settings, &s.bat_id, "", convert::swing_input(&s));
+        let computed = compute(&plan, &()).unwrap();
+        let ev = convert::exit_velocity(&s, plan.bat_id(), plan.ball_id(), &Ok(computed.clone()));
+        let me = convert::modal_energies(&s, plan.bat_id(), &computed);
+        assert!(ev.hoop_frequency > 500.0 && ev.hoop_frequency < 10_000.0, "{} Hz", ev.hoop_frequency);
+        assert!(ev.hoop_energy_stored > 0.0 && ev.hoop_energy_returned > 0.0, "{ev:?}");
+        assert!(ev.hoop_energy_returned <= ev.hoop_energy_stored);
+        let left = ev.hoop_energy_stored - ev.hoop_energy_returned;
+        assert!(me.hoop_energy >= 0.0 && (me.hoop_energy - left).abs() <= 1e-9 * ev.hoop_energy_stored, "{me:?}");
+    }
+
+    #[test]
+    fn oblique_inputs_out_of_range_are_rejected_naming_the_field_and_range() {
+        for (s, field) in [
+            (swing_msg(0.2, 0.0, 0.0, 0.0), "undercut"),
+            (swing_msg(f64::NAN, 0.0, 0.0, 0.0), "undercut"),
+            (swing_msg(0.0, 1.5, 0.0, 0.0), "attack_angle"),
+            (swing_msg(0.0, 0.0, f64::INFINITY, 0.0), "pitch_angle"),
+            (swing_msg(0.0, 0.0, 0.0, 1500.0), "pitch_spin"),
+            (
+                crate::msgs::sweetspot_msgs::msg::Swing {
+                    measured_spin: f64::INFINITY,
+                    ..swing_msg(0.0, 0.0, 0.0, 0.0)
+                },
+                "measured_spin",
+            ),
+        ] {
+            let ev = answer(&s);
+            assert_eq!(ev.status, crate::msgs::sweetspot_msgs::msg::ExitVelocity::STATUS_REJECTED, "{field}");
+            assert!(
+                ev.message.starts_with(&format!("{field} = ")) && ev.message.contains("expected"),
+                "{}",
+                ev.message
+            );
+            assert!(ev.launch_angle.is_nan() && ev.hoop_frequency.is_nan());
+        }
+    }
+
+    #[test]
+    fn the_sweet_spot_carries_the_swing_weight_about_six_inches_from_the_knob() {
+        let settings = ModelSettings::default();
+        let entry = BatEntry::new("r161", Bat::preset("r161").unwrap(), Some(6), &settings);
+        let summary = summarize_bat(&entry, DEFAULT_BALL_ID, &Ball::default(), swing(0.0), &settings, &()).unwrap();
+        let mp = Bat::preset("r161").unwrap().mass_properties();
+        // Parallel-axis theorem about 6 in = 0.1524 m (ASTM F2398's pivot).
+        let arm = mp.center_of_mass - 6.0 * 0.0254;
+        let expected = mp.moment_of_inertia + mp.mass * arm * arm;
+        assert!((summary.swing_weight - expected).abs() <= 1e-9 * expected, "{} vs {expected}", summary.swing_weight);
+        assert_eq!(summary.hoop_frequency, 0.0, "a solid bat");
+        let msg = super::super::convert::sweet_spot(&summary, Default::default());
+        assert_eq!((msg.swing_weight, msg.hoop_frequency), (summary.swing_weight, 0.0));
     }
 }

@@ -128,6 +128,7 @@ impl<T: Send + 'static> Pipeline<T> {
     /// Counters, the latency histogram and sequence numbers are kept exactly as for a queued swing.
     ///
     /// [`submit`]: Pipeline::submit
+    #[allow(clippy::result_large_err)] // `Err` hands the swing back by value, once; no error travels far
     pub fn answer_inline(&self, received: Instant, plan: Plan, payload: T) -> Result<u64, (Plan, T)> {
         let cheap = match &plan {
             Plan::Reject { .. } => true,
@@ -151,6 +152,7 @@ impl<T: Send + 'static> Pipeline<T> {
     }
 
     /// Queues a swing. `Err` gives it back when `capacity` swings are already in flight (a drop).
+    #[allow(clippy::result_large_err)] // `Err` hands the swing back by value, once; no error travels far
     pub fn submit(&self, received: Instant, plan: Plan, payload: T) -> Result<u64, (Plan, T)> {
         let Some(jobs) = &self.jobs else { return Err((plan, payload)) };
         // Only the node's receive task submits, so check-then-increment cannot overshoot.
@@ -480,6 +482,7 @@ mod tests {
             ball_id: "baseball".into(),
             ball: Ball::default(),
             impact: Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.6 },
+            oblique: None,
             options: CollisionOptions { modes: 6, ..CollisionOptions::default() },
         };
         // Modes not solved yet: a solve takes milliseconds, so it goes to a worker.

@@ -378,7 +378,7 @@ impl NodeLoop {
                 &settings.model,
                 &swing.bat_id,
                 &swing.ball_id,
-                crate::model::convert::impact_from_swing(&swing),
+                crate::model::convert::swing_input(&swing),
             )
         });
         if let Some(entry) = new_bat {

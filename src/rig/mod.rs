@@ -236,6 +236,7 @@ impl SensorReading {
             bat_angular_speed: impact.bat_angular_speed,
             impact_z: impact.impact_z,
             measured_exit_speed: self.exit_speed,
+            ..Swing::default()
         }
     }
 }
@@ -394,6 +395,7 @@ impl SessionGenerator {
                 bat_angular_speed: swing.measured.bat_angular_speed,
                 impact_z: swing.measured.impact_z,
                 measured_exit_speed: swing.reading.exit_speed,
+                ..Swing::default()
             },
         }
     }
@@ -451,8 +453,8 @@ mod tests {
                 &Impact { impact_z: mp.length - BARREL_SPEED_POINT_FROM_END, ..x.truth },
             );
             assert!((60.0 * MPH - 1e-9..80.0 * MPH + 1e-9).contains(&barrel), "barrel speed {barrel}");
-            // Exit speeds of a real session: roughly 60–115 mph.
-            assert!((25.0..52.0).contains(&x.result.exit_speed), "exit {}", x.result.exit_speed);
+            // Exit speeds of a real session: roughly 60–120 mph (a hollow bat's trampoline at the fast end).
+            assert!((25.0..54.0).contains(&x.result.exit_speed), "exit {}", x.result.exit_speed);
             assert!((x.reading.exit_speed - x.result.exit_speed).abs() < 5.0 * 0.45);
         }
         assert_eq!(seen.len(), 4);
