@@ -1,5 +1,5 @@
 //! The bag writer against `mcap::Writer`, alone (no DDS, so no network namespace needed), on the node's
-//! per-swing mix: a Swing (84 B), its ExitVelocity (~156 B) and its ModalEnergies (~516 B), varied payloads.
+//! per-swing mix: a Swing (132 B), its ExitVelocity (~228 B) and its ModalEnergies (~524 B), varied payloads.
 //! `cargo run --release --example writer_vs_mcap -- [SWINGS] [WORK_DIR] [WRITERS]`
 //! (defaults 200,000 swings, `bench-work`, all writers). WRITERS is a comma list of
 //! - `ours-zstd`: `bag::Recorder` with the node's default storage (zstd level 1, 1 MiB chunks, compression pool);
@@ -24,76 +24,16 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, ensure, Context as _};
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
-use rand::{Rng, SeedableRng};
 use sweetspot::bag::{Recorder, RecorderConfig, StorageOptions, StoragePreset, TopicInfo};
-use sweetspot::bench::bench_swing;
-use sweetspot::msgs::encode_cdr;
-use sweetspot::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, Swing};
-use sweetspot::node::recording::recorded_qos;
+use sweetspot::bench::{bench_streams, BenchMessage, BENCH_PAYLOADS};
 
-/// Distinct payloads per topic: more than a zstd level-1 window, so the compressor sees no exact repeats.
-const PAYLOADS: usize = 65_536;
-const T0: u64 = 1_763_700_000_000_000_000;
-
-/// The three topics of the node's per-swing mix, each with its payloads (built as `sweetspot bench` does).
+/// The three topics of the node's per-swing mix with `count` payloads each, built as `sweetspot bench` builds
+/// them.
 fn streams(count: usize) -> anyhow::Result<Vec<(TopicInfo, Vec<Vec<u8>>)>> {
-    let mut rng = rand::rngs::StdRng::seed_from_u64(7);
-    let (mut swings, mut exits, mut energies) = (Vec::new(), Vec::new(), Vec::new());
-    for i in 0..count as u64 {
-        let swing = Swing {
-            ball_speed: rng.gen_range(30.0..45.0),
-            bat_cm_speed: rng.gen_range(15.0..25.0),
-            bat_angular_speed: rng.gen_range(30.0..60.0),
-            impact_z: rng.gen_range(0.4..0.8),
-            measured_exit_speed: rng.gen_range(30.0..50.0),
-            ..bench_swing(i)
-        };
-        let exit_speed = rng.gen_range(35.0..50.0);
-        let exit = ExitVelocity {
-            header: swing.header.clone(),
-            swing_id: swing.swing_id,
-            bat_id: "r161".into(),
-            ball_id: "baseball".into(),
-            status: ExitVelocity::STATUS_OK,
-            impact_z: swing.impact_z,
-            exit_speed,
-            rigid_exit_speed: exit_speed * rng.gen_range(1.0..1.1),
-            effective_cor: rng.gen_range(0.3..0.5),
-            collision_efficiency: rng.gen_range(0.1..0.3),
-            contact_time: rng.gen_range(0.0006..0.0012),
-            peak_force: rng.gen_range(1.0e4..3.0e4),
-            impulse: rng.gen_range(10.0..15.0),
-            max_compression: rng.gen_range(0.005..0.02),
-            measured_exit_speed: swing.measured_exit_speed,
-            residual: swing.measured_exit_speed - exit_speed,
-            ..ExitVelocity::default()
-        };
-        let modes = 18;
-        let energy: Vec<f64> = (0..modes).map(|_| rng.gen_range(0.0..2.0)).collect();
-        let total: f64 = energy.iter().sum();
-        let modal = ModalEnergies {
-            header: swing.header.clone(),
-            swing_id: swing.swing_id,
-            bat_id: "r161".into(),
-            frequency: (0..modes).map(|m| 170.0 * (m + 1) as f64 * rng.gen_range(0.99..1.01)).collect(),
-            fraction: energy.iter().map(|e| e / total.max(1e-12)).collect(),
-            energy,
-            vibration_energy: total,
-            hysteresis_loss: rng.gen_range(20.0..40.0),
-            energy_residual: rng.gen_range(-1e-5..1e-5),
-            hoop_energy: 0.0,
-        };
-        swings.push(encode_cdr(&swing)?);
-        exits.push(encode_cdr(&exit)?);
-        energies.push(encode_cdr(&modal)?);
-    }
-    let results_qos = recorded_qos(&sweetspot::ros::results_qos());
-    Ok(vec![
-        (TopicInfo::of::<Swing>("/swing", recorded_qos(&sweetspot::ros::swing_qos())), swings),
-        (TopicInfo::of::<ExitVelocity>("/exit_velocity", results_qos), exits),
-        (TopicInfo::of::<ModalEnergies>("/modal_energies", results_qos), energies),
-    ])
+    Ok(bench_streams(BenchMessage::PerSwing, count as u64))
 }
+
+const T0: u64 = 1_763_700_000_000_000_000;
 
 /// Process CPU time (all threads, user + sys) and the calling thread's CPU time, s.
 fn cpu_times() -> (f64, f64) {
@@ -240,7 +180,7 @@ fn main() -> anyhow::Result<()> {
     let writers =
         args.next().unwrap_or_else(|| "ours-zstd,ours-fastwrite,mcap-zstd,mcap-zstd-mt,mcap-unchunked".into());
     let messages = swings * 3;
-    let streams = streams((swings as usize).clamp(1, PAYLOADS))?;
+    let streams = streams((swings as usize).clamp(1, BENCH_PAYLOADS as usize))?;
     let payload_bytes: u64 = (0..messages).map(|i| message(&streams, i).1.len() as u64).sum();
     println!(
         "{swings} swings = {messages} messages, {:.1} MB of CDR ({:.0} B per swing); load average {}",

@@ -39,7 +39,9 @@ pub use client::{Client, RunResult};
 pub use full::{run, BenchReport};
 pub use latency::{run_latency_interleaved, InterleavedReport, InterleavedTarget};
 pub use machine::{loadavg, machine};
-pub use recorder::{disk_bench, disk_bench_one, disk_bench_with, storage_spec, BenchMessage, DiskResult};
+pub use recorder::{
+    bench_streams, disk_bench, disk_bench_one, disk_bench_with, storage_spec, BenchMessage, DiskResult, BENCH_PAYLOADS,
+};
 pub use servers::run_echo_server;
 pub use soak::{proc_status_kb, MemoryResult};
 pub use sustained::StepResult;

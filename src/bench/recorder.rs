@@ -113,14 +113,14 @@ pub fn disk_bench_with(
 
 /// Distinct CDR payloads of `message` with random measured values. 65,536 of them (5–10 MB), more than
 /// any zstd window of the levels used, so the compressor sees no exact repeats, as with real swings.
-const BENCH_PAYLOADS: u64 = 65_536;
+pub const BENCH_PAYLOADS: u64 = 65_536;
 
-/// The topics a recorder bench records, each with [`BENCH_PAYLOADS`] CDR payloads: one topic, or for
-/// [`BenchMessage::PerSwing`] three, recorded in turn.
-fn bench_streams(message: BenchMessage) -> Vec<(TopicInfo, Vec<Vec<u8>>)> {
+/// The topics a recorder bench records, each with `payloads` distinct CDR payloads (the benches use
+/// [`BENCH_PAYLOADS`]): one topic, or for [`BenchMessage::PerSwing`] three, recorded in turn.
+pub fn bench_streams(message: BenchMessage, payloads: u64) -> Vec<(TopicInfo, Vec<Vec<u8>>)> {
     let mut rng = rand::rngs::StdRng::seed_from_u64(7);
     let (mut swings, mut exits, mut energies) = (Vec::new(), Vec::new(), Vec::new());
-    for i in 0..BENCH_PAYLOADS {
+    for i in 0..payloads {
         let swing = Swing {
             ball_speed: rng.gen_range(30.0..45.0),
             bat_cm_speed: rng.gen_range(15.0..25.0),
@@ -197,7 +197,7 @@ pub fn disk_bench_one(
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let bag = dir.join(format!("recorder_bench_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&bag);
-    let (topic_infos, payloads): (Vec<_>, Vec<_>) = bench_streams(message).into_iter().unzip();
+    let (topic_infos, payloads): (Vec<_>, Vec<_>) = bench_streams(message, BENCH_PAYLOADS).into_iter().unzip();
     let streams = payloads.len().max(1) as u64;
     let payload_bytes: u64 = (0..messages)
         .map(|i| payloads[(i % streams) as usize][((i / streams) % BENCH_PAYLOADS) as usize].len() as u64)
@@ -283,7 +283,7 @@ mod tests {
 
     #[test]
     fn the_per_swing_mix_records_swing_exit_velocity_and_modal_energies_in_turn() {
-        let streams = bench_streams(BenchMessage::PerSwing);
+        let streams = bench_streams(BenchMessage::PerSwing, BENCH_PAYLOADS);
         let names: Vec<&str> = streams.iter().map(|(t, _)| t.name.as_str()).collect();
         assert_eq!(names, ["/swing", "/exit_velocity", "/modal_energies"]);
         let sizes: Vec<usize> = streams.iter().map(|(_, p)| p[0].len()).collect();
