@@ -64,9 +64,15 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
             .unwrap_or_else(|| panic!("no row for {bat} in:\n{stdout}"));
         let cells: Vec<&str> = row.split_whitespace().collect();
         assert_eq!(cells[1], (SWINGS / 2).to_string(), "{row}");
-        let mean: f64 = cells[2].parse().unwrap();
+        // bat, swings, swing weight, bat speed (mph), time gained, mean exit (mph), best exit (mph), sweet
+        // spot (in), BBCOR, …
+        let swing_weight: f64 = cells[2].parse().unwrap();
+        assert!((0.05..0.4).contains(&swing_weight), "swing weight {swing_weight} kg·m² in {row}");
+        let bat_speed: f64 = cells[3].parse().unwrap();
+        assert!((20.0..45.0).contains(&bat_speed), "bat speed {bat_speed} m/s in {row}");
+        let mean: f64 = cells[6].parse().unwrap();
         assert!((25.0..55.0).contains(&mean), "mean exit speed {mean} m/s in {row}");
-        let bbcor: f64 = cells[8].parse().unwrap();
+        let bbcor: f64 = cells[12].parse().unwrap();
         assert!((0.3..0.7).contains(&bbcor), "BBCOR {bbcor} in {row}");
         assert!(row.contains('%'), "{row}");
     }
