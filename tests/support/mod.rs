@@ -97,3 +97,22 @@ pub fn json_lines(out: &Output, what: &str) -> Vec<Value> {
         .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{what}: bad JSON line {l:?}: {e}")))
         .collect()
 }
+
+/// Panics unless every field of `expected` (a JSON object, or an array of them) is in `got` with the same value:
+/// messages grow fields at their end, and a peer that sent the older form gets the newer one back.
+pub fn assert_json_fields(got: &Value, expected: &Value, what: &str) {
+    match (got, expected) {
+        (Value::Array(g), Value::Array(e)) => {
+            assert_eq!(g.len(), e.len(), "{what}: {got} vs {expected}");
+            for (g, e) in g.iter().zip(e) {
+                assert_json_fields(g, e, what);
+            }
+        }
+        (Value::Object(g), Value::Object(e)) => {
+            for (key, value) in e {
+                assert_eq!(g.get(key), Some(value), "{what}: field {key} in {got}");
+            }
+        }
+        _ => assert_eq!(got, expected, "{what}"),
+    }
+}
