@@ -1,7 +1,7 @@
 //! MCAP record / replay in the rosbag2 layout (`<dir>/metadata.yaml` + `<dir>/<name>_N.mcap`).
 //!
 //! The recorder is the contract between the node and the bag: the node encodes each message to CDR once; the
-//! recorder frames it as an MCAP record into a shared batch, and full batches go to a writer thread, so
+//! recorder copies it into a shared batch, and full batches go to a writer thread (`mcap::Writer` under it), so
 //! recording never waits for the disk on the DDS receive path.
 
 use std::path::PathBuf;
@@ -178,8 +178,8 @@ pub struct StorageOptions {
     /// Target uncompressed chunk size, bytes (default 1 MiB). When splitting by size, chunks are at most a
     /// quarter of `max_file_size` (at least 1 KiB), so a file is seen growing before it closes.
     pub chunk_size: Option<u64>,
-    /// Threads compressing chunks while the writer fills the next ones (default: one per core, at most 4;
-    /// 0 = compress on the writer thread). Not used without compression or when splitting by size.
+    /// zstd worker threads compressing each chunk beside the writer thread (`mcap::WriteOptions::
+    /// compression_threads`; default 0: the writer thread compresses). Used with zstd chunks only.
     pub compression_threads: Option<usize>,
     /// Chunked (default) or unchunked.
     pub layout: McapLayout,

@@ -1,4 +1,4 @@
-//! The recorder: callers frame messages into a shared batch; full batches go over a channel to a writer
+//! The recorder: callers copy messages into a shared batch; full batches go over a channel to a writer
 //! thread that owns the [`BagWriter`].
 //!
 //! Why batches: a channel hop per message (send, wake-up, receive, a `Vec` per message) cost more than the
@@ -16,8 +16,8 @@ use std::time::{Duration, Instant};
 use super::writer::{BagWriter, Batch};
 use super::{BagError, RecorderConfig, RecorderStats, StorageOptions, TopicId, TopicInfo};
 
-/// A batch is handed to the writer once it holds this many framed bytes (or `batch_messages` messages).
-const BATCH_BYTES: usize = 64 * 1024;
+/// A batch is handed to the writer once it holds this many message bytes (or `batch_messages` messages).
+const BATCH_BYTES: u64 = 64 * 1024;
 /// Emptied batches kept for reuse, so steady recording allocates nothing.
 const SPARE_BATCHES: usize = 8;
 
@@ -274,7 +274,7 @@ impl Recorder {
         let sequence = pending.sequences[topic].wrapping_add(1);
         pending.sequences[topic] = sequence;
         pending.batch.push(id, sequence, log_time_ns, publish_time_ns, cdr);
-        if pending.batch.framed_bytes() < BATCH_BYTES && pending.batch.len() < self.batch_messages {
+        if pending.batch.payload_bytes() < BATCH_BYTES && pending.batch.len() < self.batch_messages {
             return true;
         }
         let fresh = self.shared.empty_batch();

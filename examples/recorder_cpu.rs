@@ -1,31 +1,29 @@
-//! The bag writer against `mcap::Writer`, alone (no DDS, so no network namespace needed), on the node's
+//! The recorder's CPU cost per message, alone (no DDS, so no network namespace needed), on the node's
 //! per-swing mix: a Swing (132 B), its ExitVelocity (~228 B) and its ModalEnergies (~524 B), varied payloads.
-//! `cargo run --release --example writer_vs_mcap -- [SWINGS] [WORK_DIR] [WRITERS]`
-//! (defaults 200,000 swings, `bench-work`, all writers). WRITERS is a comma list of
-//! - `ours-zstd`: `bag::Recorder` with the node's default storage (zstd level 1, 1 MiB chunks, compression pool);
-//! - `ours-fastwrite`: `bag::Recorder` with rosbag2's `fastwrite` preset (unchunked);
-//! - `mcap-zstd`: `mcap::Writer`, zstd level 1, 1 MiB chunks, compressing on the calling thread;
-//! - `mcap-zstd-mt`: the same with the crate's default `compression_threads` (zstd's own workers);
-//! - `mcap-unchunked`: `mcap::Writer` with `use_chunks(false)`, no compression;
-//! - `baseline`: the same loop over the payloads, writing nothing (subtract it from instruction counts).
+//! `cargo run --release --example recorder_cpu -- [SWINGS] [WORK_DIR] [STORAGES]`
+//! (defaults 200,000 swings, `bench-work`, `zstd,fastwrite`). STORAGES is a comma list of what
+//! `recorder_vs_dd` takes (a rosbag2 preset such as `fastwrite` or `zstd_fast`, or a chunk compression such
+//! as `zstd`, `zstd:3`, `lz4`, `none`), plus `baseline`: the same loop over the payloads, recording nothing
+//! (subtract it from instruction counts).
 //!
-//! Every writer is fed from this one thread; the figures are the whole process's CPU time (getrusage user +
-//! sys: the recorder compresses and writes on its own threads) and the calling thread's CPU time, per
-//! message. Each file is read back with the `mcap` crate, chunk, data-section and summary CRCs checked, and
-//! every message compared with what was written. Wall time is printed too but is only meaningful on an
+//! Messages go through `bag::Recorder::record_bytes` from this one thread, as the node records them (queue of
+//! 65,536; a full queue is retried after a short sleep and counted). The figures are the whole process's CPU
+//! time (getrusage user + sys: the writer thread frames, compresses and writes) and the calling thread's CPU
+//! time, per message, and the cores that costs at the node's highest sustained rate with recording (120,000
+//! messages/s). Each file is read back with the `mcap` crate, chunk, data-section and summary CRCs checked,
+//! and every message compared with what was written. Wall time is printed too but is only meaningful on an
 //! idle machine. Instructions, repeatable under load, come from cachegrind on a smaller run:
-//! `valgrind --tool=cachegrind --cache-sim=no target/release/examples/writer_vs_mcap 20000 DIR WRITER`,
+//! `valgrind --tool=cachegrind --cache-sim=no target/release/examples/recorder_cpu 20000 DIR STORAGE`,
 //! minus the same for `baseline`, divided by the messages.
 
 use std::collections::BTreeMap;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, ensure, Context as _};
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
-use sweetspot::bag::{Recorder, RecorderConfig, StorageOptions, StoragePreset, TopicInfo};
-use sweetspot::bench::{bench_streams, BenchMessage, BENCH_PAYLOADS};
+use sweetspot::bag::{Recorder, RecorderConfig, StorageOptions, TopicInfo};
+use sweetspot::bench::{bench_streams, storage_spec, BenchMessage, BENCH_PAYLOADS};
 
 /// The three topics of the node's per-swing mix with `count` payloads each, built as `sweetspot bench` builds
 /// them.
@@ -57,7 +55,7 @@ fn message(streams: &[(TopicInfo, Vec<Vec<u8>>)], i: u64) -> (usize, &[u8]) {
 
 /// Records `messages` messages through `bag::Recorder` as the node does (queue of 65,536); a full queue is
 /// retried after a short sleep and counted. Returns (retries, files written).
-fn run_ours(
+fn run_recorder(
     dir: &Path,
     storage: StorageOptions,
     streams: &[(TopicInfo, Vec<Vec<u8>>)],
@@ -81,39 +79,6 @@ fn run_ours(
     ensure!(stats.written == messages, "recorder: {stats:?}");
     let files = sweetspot::bag::reader::bag_files(dir)?;
     Ok((retries, files))
-}
-
-/// Records `messages` messages through one `mcap::Writer` into `file`.
-fn run_mcap(
-    file: &Path,
-    options: mcap::WriteOptions,
-    streams: &[(TopicInfo, Vec<Vec<u8>>)],
-    messages: u64,
-) -> anyhow::Result<()> {
-    let out = BufWriter::new(std::fs::File::create(file).with_context(|| format!("creating {}", file.display()))?);
-    let mut writer = options.profile("ros2").create(out)?;
-    let mut channels = Vec::new();
-    for (topic, _) in streams {
-        let schema = writer.add_schema(&topic.type_name, "ros2msg", topic.schema_text.as_bytes())?;
-        channels.push(writer.add_channel(schema, &topic.name, "cdr", &BTreeMap::new())?);
-    }
-    let mut sequences = [0u32; 3];
-    for i in 0..messages {
-        let (stream, cdr) = message(streams, i);
-        let stamp = T0 + i * 1000;
-        sequences[stream] += 1;
-        let header = mcap::records::MessageHeader {
-            channel_id: channels[stream],
-            sequence: sequences[stream],
-            log_time: stamp,
-            publish_time: stamp,
-        };
-        writer.write_to_known_channel(&header, cdr)?;
-    }
-    writer.finish()?;
-    let out = writer.into_inner();
-    out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-    Ok(())
 }
 
 /// Reads `file` back with every CRC checked; returns its messages by topic name, in file order.
@@ -177,8 +142,7 @@ fn main() -> anyhow::Result<()> {
     let mut args = std::env::args().skip(1);
     let swings: u64 = args.next().map(|a| a.parse()).transpose()?.unwrap_or(200_000);
     let work = PathBuf::from(args.next().unwrap_or_else(|| "bench-work".into()));
-    let writers =
-        args.next().unwrap_or_else(|| "ours-zstd,ours-fastwrite,mcap-zstd,mcap-zstd-mt,mcap-unchunked".into());
+    let storages = args.next().unwrap_or_else(|| "zstd,fastwrite".into());
     let messages = swings * 3;
     let streams = streams((swings as usize).clamp(1, BENCH_PAYLOADS as usize))?;
     let payload_bytes: u64 = (0..messages).map(|i| message(&streams, i).1.len() as u64).sum();
@@ -190,35 +154,19 @@ fn main() -> anyhow::Result<()> {
     );
     std::fs::create_dir_all(&work)?;
     println!(
-        "| writer | process CPU ns/msg | caller CPU ns/msg | wall ns/msg | cores at 120k msg/s | file MB | retries |"
+        "| storage | process CPU ns/msg | caller CPU ns/msg | wall ns/msg | cores at 120k msg/s | file MB | retries |"
     );
     println!("|---|---|---|---|---|---|---|");
-    for writer in writers.split(',') {
-        let target = work.join(format!("writer_vs_mcap_{}_{writer}", std::process::id()));
+    for name in storages.split(',') {
+        let target = work.join(format!("recorder_cpu_{}_{}", std::process::id(), name.replace(':', "_")));
         let _ = std::fs::remove_dir_all(&target);
-        let mcap_zstd = || {
-            mcap::WriteOptions::new()
-                .compression(Some(mcap::Compression::Zstd))
-                .compression_level(1)
-                .chunk_size(Some(1024 * 1024))
-        };
+        let storage: Option<StorageOptions> =
+            if name == "baseline" { None } else { Some(storage_spec(name).with_context(|| name.to_string())?.1) };
         let (process0, thread0) = cpu_times();
         let start = Instant::now();
-        let (retries, files) = match writer {
-            "ours-zstd" => run_ours(&target, StorageOptions::default(), &streams, messages)?,
-            "ours-fastwrite" => run_ours(&target, StoragePreset::Fastwrite.storage_options(), &streams, messages)?,
-            "mcap-zstd" | "mcap-zstd-mt" | "mcap-unchunked" => {
-                std::fs::create_dir_all(&target)?;
-                let options = match writer {
-                    "mcap-zstd" => mcap_zstd().compression_threads(0),
-                    "mcap-zstd-mt" => mcap_zstd(),
-                    _ => mcap::WriteOptions::new().compression(None).use_chunks(false),
-                };
-                let file = target.join("bag.mcap");
-                run_mcap(&file, options, &streams, messages)?;
-                (0, vec![file])
-            }
-            "baseline" => {
+        let (retries, files) = match storage {
+            Some(storage) => run_recorder(&target, storage, &streams, messages)?,
+            None => {
                 let mut sum = 0u64;
                 for i in 0..messages {
                     let (stream, cdr) = message(&streams, i);
@@ -227,7 +175,6 @@ fn main() -> anyhow::Result<()> {
                 std::hint::black_box(sum);
                 (0, Vec::new())
             }
-            other => bail!("unknown writer {other:?}"),
         };
         let wall = start.elapsed().as_secs_f64();
         let (process1, thread1) = cpu_times();
@@ -235,7 +182,7 @@ fn main() -> anyhow::Result<()> {
         let _ = std::fs::remove_dir_all(&target);
         let per = |s: f64| s * 1e9 / messages.max(1) as f64;
         println!(
-            "| {writer} | {:.0} | {:.0} | {:.0} | {:.3} | {:.1} | {retries} |",
+            "| {name} | {:.0} | {:.0} | {:.0} | {:.3} | {:.1} | {retries} |",
             per(process1 - process0),
             per(thread1 - thread0),
             per(wall),
