@@ -548,3 +548,62 @@ fn start_writeback(file: &File, offset: u64, len: u64) {
 
 #[cfg(not(target_os = "linux"))]
 fn start_writeback(_file: &File, _offset: u64, _len: u64) {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bag::RecordedQos;
+
+    fn topic(name: &str) -> TopicInfo {
+        TopicInfo {
+            name: name.to_string(),
+            type_name: "std_msgs/msg/String".to_string(),
+            schema_text: "string data\n".to_string(),
+            qos: RecordedQos { reliable: true, transient_local: false, depth: 10 },
+        }
+    }
+
+    /// Messages of the file as it is on disk now, read by the `mcap` crate: (channel, sequence, payload). An
+    /// open file has no footer, so the stream ends with an error there.
+    fn on_disk(path: &Path) -> Vec<(u16, u32, Vec<u8>)> {
+        let bytes = std::fs::read(path).unwrap();
+        mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .map_while(Result::ok)
+            .map(|m| (m.channel.id, m.sequence, m.data.to_vec()))
+            .collect()
+    }
+
+    #[test]
+    fn each_flush_leaves_every_message_so_far_readable_in_the_open_file() {
+        for storage in [StorageOptions::default(), StorageOptions::preset("fastwrite").unwrap()] {
+            let root = tempfile::tempdir().unwrap();
+            let dir = root.path().join("flushed");
+            let mut writer = BagWriter::create_with(&dir, None, None, storage).unwrap();
+            let a = writer.add_topic(topic("/a")).unwrap();
+            let b = writer.add_topic(topic("/b")).unwrap();
+            let path = dir.join(rosbag2::file_name(&dir, 0));
+            let mut expected = Vec::new();
+            for round in 0..3u8 {
+                for i in 0..50u8 {
+                    let (id, channel) = if i % 2 == 0 { (a, 1) } else { (b, 2) };
+                    let payload = vec![0, 1, 0, 0, round, i];
+                    writer.write(id, &payload, 1_000 + u64::from(i), 1_000).unwrap();
+                    let sequence = expected.iter().filter(|(c, _, _)| *c == channel).count() as u32 + 1;
+                    expected.push((channel, sequence, payload));
+                }
+                assert!(writer.is_dirty());
+                writer.flush().unwrap();
+                assert!(!writer.is_dirty());
+                assert_eq!(on_disk(&path), expected, "{storage:?}, after flush {round}");
+            }
+            let metadata = writer.finish().unwrap();
+            assert_eq!(metadata.message_count(), 150);
+            let summary = mcap::Summary::read(&std::fs::read(&path).unwrap()).unwrap().expect("a finished file");
+            let keys: Vec<&str> = summary.channels[&1].metadata.keys().map(String::as_str).collect();
+            // rosbag2's MCAP storage plugin writes exactly these channel metadata keys.
+            assert_eq!(keys, ["offered_qos_profiles", "topic_type_hash"]);
+            assert_eq!(summary.metadata_indexes.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(), ["rosbag2"]);
+        }
+    }
+}
