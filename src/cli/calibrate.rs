@@ -51,8 +51,9 @@ pub struct CalibrateArgs {
     /// v = v_ref·(I/I_ref)^(−n) (needs a session with bats of two or more swing weights).
     #[arg(long, conflicts_with_all = ["fit_youngs", "write"])]
     pub fit_batter: bool,
-    /// The bat_id whose swing is the fitted batter's reference [default: the bat of the first swing].
-    #[arg(long, value_name = "BAT_ID")]
+    /// The bat_id whose swing is the fitted batter's reference [default: the bat of the first swing]; implies
+    /// --fit-batter.
+    #[arg(long, value_name = "BAT_ID", conflicts_with_all = ["fit_youngs", "write"])]
     pub reference_bat: Option<String>,
     /// Write the fitted batter to FILE in the format `sweetspot compare --batter` and `sweetspot demo --batter`
     /// read (implies --fit-batter; a reference bat that is no preset is written beside it as a bat file).
