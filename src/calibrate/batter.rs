@@ -42,7 +42,7 @@ use super::{problem_bat, read_inputs, CalibrateError, RecordedInputs};
 use crate::physics::batter::{
     swing_weight, Batter, ReferenceSwing, SwingShape, DEFAULT_IMPACT_FROM_BARREL_END, DEFAULT_SWING_LENGTH,
 };
-use crate::physics::Bat;
+use crate::physics::{Bat, MassProperties};
 use crate::report::table::{num, Table};
 
 /// Two swing weights closer than this relative amount count as the same.
@@ -302,12 +302,13 @@ pub fn fit_batter(data: &BatterData, options: &BatterFitOptions) -> Result<Batte
     // Bats in order of their first usable swing; samples refer to them by index.
     let mut order: Vec<&str> = Vec::new();
     let mut samples: Vec<Sample> = Vec::new();
+    let mass_properties: BTreeMap<&str, MassProperties> =
+        data.bats.iter().map(|(id, b)| (id.as_str(), b.bat.mass_properties())).collect();
     for (bat_id, swing) in &data.swings {
-        let Some(session_bat) = data.bats.get(bat_id) else {
+        let Some(&props) = mass_properties.get(bat_id.as_str()) else {
             skipped.push(format!("swing {}: unknown bat '{bat_id}'", swing.swing_id));
             continue;
         };
-        let props = session_bat.bat.mass_properties();
         let usual_z = props.length - d;
         let (v_cm, omega) = (swing.bat_cm_speed, swing.bat_angular_speed);
         let speed = v_cm + omega * (usual_z - props.center_of_mass);
@@ -357,8 +358,8 @@ pub fn fit_batter(data: &BatterData, options: &BatterFitOptions) -> Result<Batte
         None => order[0].to_string(),
     };
     let reference = &data.bats[&reference_id];
-    let reference_weight = swing_weight(&reference.bat.mass_properties());
-    let weights: Vec<f64> = order.iter().map(|id| swing_weight(&data.bats[*id].bat.mass_properties())).collect();
+    let reference_weight = swing_weight(&mass_properties[reference_id.as_str()]);
+    let weights: Vec<f64> = order.iter().map(|id| swing_weight(&mass_properties[*id])).collect();
 
     let n_total = samples.len();
     let distinct = {
