@@ -115,8 +115,8 @@ fn the_batter_is_recovered_from_a_noisy_rig_session_with_the_uncertainty_the_spr
     assert_within("pivot_z", fit.pivot_z, TRUE_PIVOT, 3.0);
 
     // Closed form of the scatter of ln v: the effort e uniform on [1 − h, 1 + h] (h = 10/70) has
-    // var(ln e) ≈ h²/3; the sensors add (σ_ω/ω)² (the speed at 6 in is ≈ ω·(z − z_p), ≈ 1.08 ω z here) and
-    // (σ_knob/v)².
+    // var(ln e) ≈ h²/3; the sensors add (1.08 σ_ω/ω)² (the speed at 6 in is ω·(z − z_p) with z − z_p ≈
+    // 0.64 m, while the gyro's error multiplies ω·z, z ≈ 0.69 m) and (σ_knob/v)².
     let h: f64 = 10.0 / 70.0;
     let noise = SensorNoise::default();
     let sigma =
