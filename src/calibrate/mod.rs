@@ -16,6 +16,10 @@
 //! `custom_data`) — so the fit simulates exactly the bats the node simulated.
 //!
 //! The sans-IO part ([`Problem`], [`fit`]) is pure; [`problem_from_bag`] reads a recorded session.
+//!
+//! [`batter`] fits a batter's reference swing and exponent to the bat speeds of the same sessions.
+
+pub mod batter;
 
 use std::collections::BTreeMap;
 use std::path::Path;

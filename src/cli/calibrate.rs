@@ -1,14 +1,16 @@
 //! `sweetspot calibrate BAG`: fit the ball's COR (and, with `--fit-youngs`, each bat's Young's modulus) to
-//! the measured exit speeds of a recorded session, and optionally write the fitted params for `sweetspot pub`.
+//! the measured exit speeds of a recorded session, and optionally write the fitted params for `sweetspot pub`;
+//! with `--fit-batter`, fit the batter (bat speed against swing weight) and write it for `sweetspot compare`.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::{anyhow, Context, Result};
 use clap::Args;
 use serde_json::json;
 
-use crate::calibrate::{fit, problem_from_bag, Fit, FitOptions, Problem};
+use crate::calibrate::batter::{batter_fit_from_bag, render_batter_fit, BatterFit, BatterFitOptions};
+use crate::calibrate::{fit, problem_from_bag, CalibrateError, Fit, FitOptions, Problem};
 use crate::model::convert::{params_from_ball, params_from_bat};
 use crate::msgs::json::ToJson;
 use crate::msgs::std_msgs::msg::Header;
@@ -19,7 +21,9 @@ use crate::report::table::{num, Table};
 #[command(after_help = "Examples:
   sweetspot calibrate bags/demo_20261121T050000Z
   sweetspot calibrate bags/demo_20261121T050000Z --fit-youngs --write fitted.jsonl
-  sweetspot pub ball --file fitted.jsonl        # send the fitted ball to a running node")]
+  sweetspot pub ball --file fitted.jsonl        # send the fitted ball to a running node
+  sweetspot calibrate bags/demo_20261121T050000Z --batter-out batter.toml
+  sweetspot compare --batter batter.toml        # the bats as the fitted batter swings them")]
 pub struct CalibrateArgs {
     /// The recorded session: a rosbag2 directory (or one .mcap file) with Swing messages whose
     /// measured_exit_speed is set, and the BatParams/BallParams they refer to.
@@ -43,15 +47,36 @@ pub struct CalibrateArgs {
     /// Print one JSON document instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// Fit the batter instead: bat speed at the usual impact point against the bats' swing weights,
+    /// v = v_ref·(I/I_ref)^(−n) (needs a session with bats of two or more swing weights).
+    #[arg(long, conflicts_with_all = ["fit_youngs", "write"])]
+    pub fit_batter: bool,
+    /// The bat_id whose swing is the fitted batter's reference [default: the bat of the first swing]; implies
+    /// --fit-batter.
+    #[arg(long, value_name = "BAT_ID", conflicts_with_all = ["fit_youngs", "write"])]
+    pub reference_bat: Option<String>,
+    /// Write the fitted batter to FILE in the format `sweetspot compare --batter` and `sweetspot demo --batter`
+    /// read (implies --fit-batter; a reference bat that is no preset is written beside it as a bat file).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["fit_youngs", "write"])]
+    pub batter_out: Option<PathBuf>,
+}
+
+/// A calibration error as one message: its text already holds every cause, which anyhow would repeat.
+fn flat(err: CalibrateError) -> anyhow::Error {
+    anyhow!("{err}")
 }
 
 /// Runs `sweetspot calibrate`.
 pub fn run(args: CalibrateArgs) -> Result<()> {
+    if args.fit_batter || args.batter_out.is_some() || args.reference_bat.is_some() {
+        return run_batter(&args);
+    }
     let problem = problem_from_bag(&args.bag, args.ball.as_deref())
+        .map_err(flat)
         .with_context(|| format!("calibrating from '{}'", args.bag.display()))?;
     let options =
         FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations.max(1), ..FitOptions::default() };
-    let result = fit(&problem, &options).context("fitting")?;
+    let result = fit(&problem, &options).map_err(flat).context("fitting")?;
     let written = match &args.write {
         Some(path) => write_params(path, &problem, &result)?,
         None => Vec::new(),
@@ -86,6 +111,59 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
         println!("                            sweetspot pub bat --file {}", path.display());
     }
     Ok(())
+}
+
+/// `sweetspot calibrate --fit-batter`: fits, prints and (with `--batter-out`) writes the batter.
+fn run_batter(args: &CalibrateArgs) -> Result<()> {
+    let options = BatterFitOptions { reference_bat: args.reference_bat.clone(), ..BatterFitOptions::default() };
+    let result = batter_fit_from_bag(&args.bag, &options)
+        .map_err(flat)
+        .with_context(|| format!("fitting a batter to '{}'", args.bag.display()))?;
+    let written = match &args.batter_out {
+        Some(path) => write_batter_file(path, &result, &args.bag)?,
+        None => Vec::new(),
+    };
+    if args.json {
+        let mut doc = serde_json::to_value(&result).context("serialising the result")?;
+        doc["bag"] = json!(args.bag);
+        doc["written"] = json!(written);
+        println!("{}", serde_json::to_string_pretty(&doc).context("serialising the result")?);
+        return Ok(());
+    }
+    print!("{}", render_batter_fit(&result));
+    for path in &written {
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = written.last() {
+        println!("compare bats as this batter swings them:  sweetspot compare --batter {}", path.display());
+    }
+    Ok(())
+}
+
+/// Writes the batter file of `result` to `path` (and, for a reference bat that is no preset, its bat file
+/// `STEM.BAT_ID.toml` + `.csv` beside it); returns the files written, the batter file last.
+pub fn write_batter_file(path: &Path, result: &BatterFit, bag: &Path) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let reference = match &result.reference_preset {
+        Some(preset) => preset.clone(),
+        None => {
+            let dir = path.parent().unwrap_or(Path::new(""));
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("batter");
+            let id: String = result
+                .reference_bat
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+                .collect();
+            let bat_file = super::bat_file::write_bat_files(&result.reference, dir, &format!("{stem}.{id}"))?;
+            let name = bat_file.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
+            written.push(bat_file);
+            name
+        }
+    };
+    let text = result.batter_toml(&reference, &bag.display().to_string()).map_err(flat).context("--batter-out")?;
+    std::fs::write(path, text).with_context(|| format!("cannot write '{}'", path.display()))?;
+    written.push(path.to_path_buf());
+    Ok(written)
 }
 
 /// The human-readable report of a fit: parameters with uncertainty, residual summary per bat, worst residuals.
