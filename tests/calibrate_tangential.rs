@@ -109,7 +109,8 @@ fn the_tangential_fit_recovers_the_true_e_t_from_a_noisy_bag() {
     assert!((e.value - e.initial).abs() > 3.0 * e.std_error, "e_T {} ± {}", e.value, e.std_error);
     // Starting from the default, the fit removes a bias in the spins: the RMS spin residual falls.
     assert!(result.rms_spin.1 < result.rms_spin.0, "{:?}", result.rms_spin);
-    assert_eq!(result.parameters.len(), 1, "every undercut was measured");
+    // Every reported undercut is refined within its σ (2 mm), which keeps its noise from biasing e_T.
+    assert_eq!(result.parameters.len(), 49, "e_T and one undercut per swing");
 }
 
 #[test]

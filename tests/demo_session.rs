@@ -85,10 +85,13 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
         let (launch, launch_measured): (f64, f64) = (cells[18].parse().unwrap(), cells[20].parse().unwrap());
         assert_eq!(cells[19], "/", "{row}");
         assert!((0.0..45.0).contains(&launch), "mean launch angle {launch}° in {row}");
-        assert!((launch - launch_measured).abs() < 5.0, "model {launch}° vs tracker {launch_measured}° in {row}");
+        // Model and tracker differ by the tracker's noise (1°, 100 rpm) and by what the noise in the reported
+        // inputs does to the model (a 2 mm undercut error moves the launch ≈ 3° and the spin ≈ 500 rpm): about
+        // 1.7° and 250 rpm on a mean of 4 swings; the bounds are 5σ of that.
+        assert!((launch - launch_measured).abs() < 8.0, "model {launch}° vs tracker {launch_measured}° in {row}");
         let (spin, spin_measured): (f64, f64) = (cells[21].parse().unwrap(), cells[23].parse().unwrap());
         assert!((0.0..6000.0).contains(&spin), "mean spin {spin} rpm in {row}");
-        assert!((spin - spin_measured).abs() < 300.0, "model {spin} rpm vs tracker {spin_measured} rpm in {row}");
+        assert!((spin - spin_measured).abs() < 1200.0, "model {spin} rpm vs tracker {spin_measured} rpm in {row}");
     }
 
     // The bag: complete, with every input and answer, readable by `sweetspot bag info`.
@@ -153,10 +156,10 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
         assert!((r.launch_angle - exit.launch_angle).abs() < 1e-9 && (r.spin - exit.spin).abs() < 1e-6);
         assert!(swing.measured_exit_speed.is_finite() && (swing.measured_exit_speed - r.exit_speed).abs() < 5.0);
         assert_eq!(exit.measured_exit_speed, swing.measured_exit_speed);
-        // The tracker's readings: within 5σ (1°, 100 rpm) of the model the node computed from the readings
-        // of the same swing (both sides carry sensor noise, so the bound is loose).
-        assert!((swing.measured_launch_angle - r.launch_angle).abs() < 5f64.to_radians(), "{swing:?}");
-        assert!((swing.measured_spin - r.spin).abs() < rpm_to_rad_per_s(800.0), "{swing:?}");
+        // The tracker's readings: within 5σ of the model the node computed from the reported inputs of the same
+        // swing (σ ≈ 3.4° and 500 rpm per swing, as above); a missing reading or a flipped sign falls outside.
+        assert!((swing.measured_launch_angle - r.launch_angle).abs() < 17f64.to_radians(), "{swing:?}");
+        assert!((swing.measured_spin - r.spin).abs() < rpm_to_rad_per_s(2500.0), "{swing:?}");
         assert_eq!(exit.launch_angle_residual, swing.measured_launch_angle - exit.launch_angle);
         // A line drive or fly ball is hit with backspin, of the order trackers report (0–6000 rpm; the model's
         // defaults run high at large launch angles, see physics::oblique).

@@ -3,13 +3,18 @@
 //!
 //! The model is [`collide_oblique`] with the swing's measured inputs, the bat's modes and the ball (its COR
 //! as given, e.g. the one the exit-speed fit found), and [`TangentialContact`] with e_T free (μ and the
-//! ball's inertia ratio kept at the start contact's). For parameters θ = (e_T, D_1 … D_k), where D_j is the
-//! undercut of the j-th swing whose `Swing.undercut` is NaN, the residuals are
+//! ball's inertia ratio kept at the start contact's). For parameters θ = (e_T, D_1 … D_k), the undercuts of
+//! the swings, the residuals are
 //!
-//!   (measured − predicted launch angle)/σ_θ   and   (measured − predicted spin)/σ_ω
+//!   (measured − predicted launch angle)/σ_θ,   (measured − predicted spin)/σ_ω,   (reported − D_j)/σ_D
 //!
-//! for every measured value (NaN = not measured), with σ_θ, σ_ω the tracker's accuracies
-//! ([`TangentialOptions`], default 1° and 100 rpm). Σ r² is minimised by Levenberg–Marquardt with
+//! for every measured value (NaN = not measured), with σ_θ, σ_ω the tracker's accuracies and σ_D the
+//! undercut camera's ([`TangentialOptions`], default 1°, 100 rpm and 2 mm). A swing whose `Swing.undercut`
+//! is NaN has no third residual: its D_j is found from its launch angle and spin alone. The undercuts are
+//! fitted even where reported because the spin is steep in D (≈ 250 rpm/mm for a wood bat): taking a noisy
+//! reported undercut as exact biases e_T low, by the ratio of the undercut's noise variance to its spread
+//! (errors in variables; ≈ −0.05 for 2 mm noise on a 1 cm spread). With σ_D = 0 the reported undercuts are
+//! taken as exact. Σ r² is minimised by Levenberg–Marquardt with
 //! forward-difference Jacobians, as the exit-speed fit of [`super`] does; a D_j moves only its own swing's
 //! residuals, so its Jacobian column costs one collision.
 //!
@@ -69,6 +74,9 @@ pub struct TangentialOptions {
     pub launch_angle_sigma: f64,
     /// The tracker's spin accuracy σ_ω, rad/s (weights the spin residuals; default 100 rpm).
     pub spin_sigma: f64,
+    /// Accuracy σ_D of the reported undercuts, m (default 2 mm): each reported undercut is then fitted too,
+    /// held to its reported value by the residual (reported − D)/σ_D; 0 takes them as exact.
+    pub undercut_sigma: f64,
     /// Start contact: e_T is the start value, μ and the ball's inertia ratio are kept.
     pub contact: TangentialContact,
     /// Iteration limit.
@@ -82,6 +90,7 @@ impl Default for TangentialOptions {
         TangentialOptions {
             launch_angle_sigma: 1f64.to_radians(),
             spin_sigma: rpm_to_rad_per_s(100.0),
+            undercut_sigma: 0.002,
             contact: TangentialContact::default(),
             max_iterations: 40,
             tolerance: 1e-6,
@@ -98,7 +107,7 @@ pub struct LaunchResidual {
     pub bat_id: String,
     /// Undercut used, m (measured, or fitted when the rig did not measure it).
     pub undercut: f64,
-    /// Whether the undercut was fitted.
+    /// Whether the undercut was fitted without a reported value (the rig did not measure it).
     pub undercut_fitted: bool,
     /// Measured − predicted launch angle, rad (NaN when not measured).
     pub launch_angle: f64,
@@ -109,7 +118,8 @@ pub struct LaunchResidual {
 /// The result of an e_T fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TangentialFit {
-    /// `tangential_cor`, then `undercut[swing_id]` (m) for each swing whose undercut was fitted.
+    /// `tangential_cor`, then `undercut[swing_id]` (m) for each swing whose undercut was fitted (every swing
+    /// with [`TangentialOptions::undercut_sigma`] > 0; `initial` is the reported value, NaN when unreported).
     pub parameters: Vec<FittedParameter>,
     /// One row per swing used.
     pub residuals: Vec<LaunchResidual>,
@@ -180,9 +190,12 @@ pub fn fit_tangential(
     options: &TangentialOptions,
 ) -> Result<TangentialFit, CalibrateError> {
     options.contact.validate().map_err(|source| CalibrateError::Physics { context: "start contact".into(), source })?;
-    if !(options.launch_angle_sigma > 0.0 && options.spin_sigma > 0.0) {
-        return Err(CalibrateError::NoData("the tracker's σ for launch angle and spin must be positive".into()));
+    if !(options.launch_angle_sigma > 0.0 && options.spin_sigma > 0.0 && options.undercut_sigma >= 0.0) {
+        return Err(CalibrateError::NoData(
+            "the tracker's σ for launch angle and spin must be positive, the undercut's σ ≥ 0".into(),
+        ));
     }
+    let undercut_prior = options.undercut_sigma > 0.0;
     let mut skipped = Vec::new();
     let mut swings = Vec::new();
     let mut p = 1;
@@ -201,18 +214,22 @@ pub fn fit_tangential(
             }
             p += 1;
             Some(p - 1)
+        } else if undercut_prior {
+            p += 1;
+            Some(p - 1)
         } else {
             None
         };
         swings.push(LaunchSwing { observation: o, undercut_index });
     }
-    let n: usize = swings
-        .iter()
-        .map(|s| {
-            usize::from(s.observation.input.measured_launch_angle.is_finite())
-                + usize::from(s.observation.input.measured_spin.is_finite())
-        })
-        .sum();
+    // Residual rows of a swing: its measured launch angle and spin, and its reported undercut when fitted.
+    let rows_of = |s: &LaunchSwing| {
+        let input = &s.observation.input;
+        usize::from(input.measured_launch_angle.is_finite())
+            + usize::from(input.measured_spin.is_finite())
+            + usize::from(undercut_prior && input.undercut.is_finite())
+    };
+    let n: usize = swings.iter().map(rows_of).sum();
     if n <= p {
         return Err(CalibrateError::NoData(format!(
             "{n} measured launch angles and spins cannot determine {p} parameter(s) (e_T and the unmeasured \
@@ -233,8 +250,14 @@ pub fn fit_tangential(
 
     // Parameters are scaled to order 1: e_T as is, undercuts in cm.
     const UNDERCUT_UNIT: f64 = 0.01;
-    let start: Vec<f64> =
-        std::iter::once(options.contact.tangential_cor).chain(std::iter::repeat_n(0.0, p - 1)).collect();
+    let mut start = vec![0.0; p];
+    start[0] = options.contact.tangential_cor;
+    for s in &swings {
+        if let Some(k) = s.undercut_index {
+            let reported = s.observation.input.undercut;
+            start[k] = if reported.is_finite() { reported / UNDERCUT_UNIT } else { 0.0 };
+        }
+    }
     let undercut_of = |s: &LaunchSwing, x: &DVector<f64>| match s.undercut_index {
         Some(k) => x[k] * UNDERCUT_UNIT,
         None => s.observation.input.undercut,
@@ -256,8 +279,8 @@ pub fn fit_tangential(
         }
         swings.par_iter().map(|s| predict_one(s, x)).collect()
     };
-    // Weighted residuals, in swing order, launch angle before spin, measured values only.
-    let residuals = |predicted: &[Option<(f64, f64)>]| -> DVector<f64> {
+    // Weighted residuals, in swing order: launch angle, spin (measured values only), reported undercut.
+    let residuals = |predicted: &[Option<(f64, f64)>], x: &DVector<f64>| -> DVector<f64> {
         let mut r = Vec::with_capacity(n);
         for (s, p) in swings.iter().zip(predicted) {
             let input = &s.observation.input;
@@ -268,6 +291,9 @@ pub fn fit_tangential(
             if input.measured_spin.is_finite() {
                 r.push((input.measured_spin - spin) / options.spin_sigma);
             }
+            if undercut_prior && input.undercut.is_finite() {
+                r.push((input.undercut - undercut_of(s, x)) / options.undercut_sigma);
+            }
         }
         DVector::from_vec(r)
     };
@@ -276,8 +302,7 @@ pub fn fit_tangential(
     let mut rows = Vec::with_capacity(swings.len());
     let mut row = 0;
     for s in &swings {
-        let k = usize::from(s.observation.input.measured_launch_angle.is_finite())
-            + usize::from(s.observation.input.measured_spin.is_finite());
+        let k = rows_of(s);
         rows.push(row..row + k);
         row += k;
     }
@@ -287,7 +312,7 @@ pub fn fit_tangential(
         let mut xe = x.clone();
         xe[0] += if x[0] + step <= 1.0 { step } else { -step };
         let h0 = xe[0] - x[0];
-        let shifted = residuals(&predict_all(&xe));
+        let shifted = residuals(&predict_all(&xe), &xe);
         for i in 0..n {
             // r = (measured − predicted)/σ, so ∂predicted/∂θ·(1/σ) = −∂r/∂θ.
             j[(i, 0)] = -(shifted[i] - r[i]) / h0;
@@ -305,7 +330,9 @@ pub fn fit_tangential(
         for (i, k, predicted) in columns {
             let mut alone = vec![None; swings.len()];
             alone[i] = predicted;
-            let moved = residuals(&alone);
+            let mut xk = x.clone();
+            xk[k] += step;
+            let moved = residuals(&alone, &xk);
             for row in rows[i].clone() {
                 j[(row, k)] = if moved[row].is_finite() { -(moved[row] - r[row]) / step } else { 0.0 };
             }
@@ -313,10 +340,9 @@ pub fn fit_tangential(
         j
     };
 
-    let mut x =
-        DVector::from_vec(start.iter().enumerate().map(|(k, v)| if k == 0 { *v } else { v / UNDERCUT_UNIT }).collect());
+    let mut x = DVector::from_vec(start);
     let before = predict_all(&x);
-    let mut r = residuals(&before);
+    let mut r = residuals(&before, &x);
     if !cost(&r).is_finite() {
         return Err(CalibrateError::NoData("the start parameters give no prediction for some swings".into()));
     }
@@ -342,7 +368,7 @@ pub fn fit_tangential(
             };
             let trial = &x + &delta;
             let predicted = predict_all(&trial);
-            let r_trial = residuals(&predicted);
+            let r_trial = residuals(&predicted, &trial);
             if cost(&r_trial) <= cost(&r) {
                 converged = delta.iter().all(|d| d.abs() < options.tolerance);
                 x = trial;
@@ -386,7 +412,7 @@ pub fn fit_tangential(
             parameters.push(FittedParameter {
                 name: format!("undercut[{}]", s.observation.swing_id),
                 unit: "m",
-                initial: 0.0,
+                initial: s.observation.input.undercut,
                 value: x[k] * UNDERCUT_UNIT,
                 std_error: sigma(k) * UNDERCUT_UNIT,
             });
@@ -419,7 +445,7 @@ pub fn fit_tangential(
                 swing_id: s.observation.swing_id,
                 bat_id: s.observation.bat_id.clone(),
                 undercut: undercut_of(s, &x),
-                undercut_fitted: s.undercut_index.is_some(),
+                undercut_fitted: s.observation.input.undercut.is_nan(),
                 launch_angle: input.measured_launch_angle - la,
                 spin: input.measured_spin - spin,
             }

@@ -318,7 +318,7 @@ pub fn run(settings: DemoSettings) -> Result<()> {
     println!();
     println!("next:     sweetspot bag info {}", bag.display());
     println!("          sweetspot bag replay {}", bag.display());
-    println!("          sweetspot calibrate {}", bag.display());
+    println!("          sweetspot calibrate {} --fit-tangential", bag.display());
     println!("(demo took {:.1} s)", started.elapsed().as_secs_f64());
     if bag_swings != total || bag_exits != total {
         bail!("the bag holds {bag_swings} swings and {bag_exits} exit velocities, expected {total} of each");
@@ -364,8 +364,8 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
     );
     if let Some(launch) = &config.launch {
         println!(
-            "launch angle and spin (backspin positive) are session means, the node's model / the rig's ball tracker
-             (σ {:.1}° and {:.0} rpm); the rig draws undercut {:.1} ± {:.1} cm, attack angle {:.0}° ± {:.0}°, pitch
+            "launch angle and spin (backspin positive) are session means, the node's model / the rig's ball tracker\n\
+             (σ {:.1}° and {:.0} rpm); the rig draws undercut {:.1} ± {:.1} cm, attack angle {:.0}° ± {:.0}°, pitch\n\
              descent {:.0}° ± {:.0}° and pitch backspin {:.0} ± {:.0} rpm.",
             launch.noise.launch_angle.to_degrees(),
             rad_per_s_to_rpm(launch.noise.spin),
