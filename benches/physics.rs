@@ -1,5 +1,5 @@
-//! Criterion benches of the physics core: R161 modes (both eigen-solver strategies), one collision, a
-//! parallel sweep. Run: `cargo bench --bench physics -- --warm-up-time 1 --measurement-time 3`.
+//! Criterion benches of the physics core: R161 modes (both eigen-solver strategies), one collision, an
+//! oblique collision paired with its normal part (the tangential step's cost), a parallel sweep. Run: `cargo bench --bench physics -- --warm-up-time 1 --measurement-time 3`.
 //!
 //! On a shared machine wall-clock medians include time the thread spent descheduled; with
 //! `SWEETSPOT_BENCH_CPU=1` the bench instead prints the mean per-thread CPU time of each operation
@@ -7,7 +7,8 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use sweetspot::physics::metrics::{linspace, sweep};
 use sweetspot::physics::{
-    collide, collide_with_hoop, Ball, Bat, CollisionOptions, EigenSolver, Impact, LinkRule, ModeSet,
+    collide, collide_oblique, collide_with_hoop, Ball, Bat, CollisionOptions, EigenSolver, Impact, LinkRule, ModeSet,
+    ObliqueImpact, TangentialContact,
 };
 
 fn swing(impact_z: f64) -> Impact {
@@ -61,6 +62,31 @@ fn benches(c: &mut Criterion) {
     });
     c.bench_function("collision_r161_18_modes_5us", |b| {
         b.iter(|| collide(black_box(&modes), &ball, black_box(&impact), &options).expect("collide"))
+    });
+    // An oblique swing (1 cm undercut, bat path +10°, pitch descending 6° with 2000 rpm backspin) against the
+    // head-on collision it drives along the line of centres: the pair's difference is the tangential step's cost.
+    let oblique = ObliqueImpact {
+        impact,
+        barrel_radius: bat.radii_at(impact.impact_z).0,
+        undercut: 0.01,
+        attack_angle: 10f64.to_radians(),
+        pitch_angle: 6f64.to_radians(),
+        pitch_spin: 2000.0 * std::f64::consts::TAU / 60.0,
+    };
+    let contact = TangentialContact::default();
+    let beta = oblique.attack_angle + (oblique.undercut / (ball.radius + oblique.barrel_radius)).asin();
+    let cos_phi = (beta - oblique.attack_angle).cos();
+    let normal_part = Impact {
+        ball_speed: impact.ball_speed * (beta - oblique.pitch_angle).cos(),
+        bat_cm_speed: impact.bat_cm_speed * cos_phi,
+        bat_angular_speed: impact.bat_angular_speed * cos_phi,
+        impact_z: impact.impact_z,
+    };
+    c.bench_function("collision_r161_oblique_18_modes_5us", |b| {
+        b.iter(|| collide_oblique(black_box(&modes), &ball, black_box(&oblique), &contact, &options).expect("oblique"))
+    });
+    c.bench_function("collision_r161_oblique_normal_part_18_modes_5us", |b| {
+        b.iter(|| collide(black_box(&modes), &ball, black_box(&normal_part), &options).expect("collide"))
     });
     // A hollow barrel: the same collision with the wall's hoop mode as one more integrated mode (compare with
     // collision_r161_18_modes_5us for the hoop's cost; the solid bat's path is unchanged).

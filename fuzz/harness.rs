@@ -233,9 +233,9 @@ pub fn node_messages(data: &[u8]) {
             }
             _ => {
                 let Ok(swing) = decode_cdr::<Swing>(bytes) else { continue };
-                let impact = convert::impact_from_swing(&swing);
+                let input = convert::swing_input(&swing);
                 let (plan, _new_bat) =
-                    engine::plan_swing(&mut registry, &settings, &swing.bat_id, &swing.ball_id, impact);
+                    engine::plan_swing(&mut registry, &settings, &swing.bat_id, &swing.ball_id, input);
                 let result = engine::compute(&plan, &stats);
                 let ev = convert::exit_velocity(&swing, plan.bat_id(), plan.ball_id(), &result);
                 encode_cdr(&ev).unwrap_or_else(|e| panic!("cannot encode ExitVelocity: {e}"));
@@ -254,6 +254,8 @@ pub fn node_messages(data: &[u8]) {
                                 ("peak_force", ev.peak_force),
                                 ("impulse", ev.impulse),
                                 ("max_compression", ev.max_compression),
+                                ("launch_angle", ev.launch_angle),
+                                ("spin", ev.spin),
                             ],
                         );
                         let me = convert::modal_energies(&swing, plan.bat_id(), computed);

@@ -13,7 +13,8 @@ use sweetspot::model::settings::ModelSettings;
 use sweetspot::msgs::decode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Swing};
 use sweetspot::msgs::RosMessage;
-use sweetspot::physics::{collide, CollisionOptions, Impact, ModeSet};
+use sweetspot::physics::oblique::{collide_oblique, rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
+use sweetspot::physics::{CollisionOptions, Impact, ModeSet};
 
 const SWINGS: usize = 8;
 
@@ -77,6 +78,20 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
         let bbcor: f64 = cells[12].parse().unwrap();
         assert!((0.3..0.7).contains(&bbcor), "BBCOR {bbcor} in {row}");
         assert!(row.contains('%'), "{row}");
+        // …, vibration (%), measured − model (mean ± RMS), launch angle (deg, model / measured), spin (rpm,
+        // model / measured). The demo's rig swings upward (attack angle +10° on average) at pitches descending
+        // 6°, with undercuts centred on 0: the session's mean launch angle is positive, and at these launch
+        // angles trackers report backspin of some hundreds to a few thousand rpm.
+        let (launch, launch_measured): (f64, f64) = (cells[18].parse().unwrap(), cells[20].parse().unwrap());
+        assert_eq!(cells[19], "/", "{row}");
+        assert!((0.0..45.0).contains(&launch), "mean launch angle {launch}° in {row}");
+        // Model and tracker differ by the tracker's noise (1°, 100 rpm) and by what the noise in the reported
+        // inputs does to the model (a 2 mm undercut error moves the launch ≈ 3° and the spin ≈ 500 rpm): about
+        // 1.7° and 250 rpm on a mean of 4 swings; the bounds are 5σ of that.
+        assert!((launch - launch_measured).abs() < 8.0, "model {launch}° vs tracker {launch_measured}° in {row}");
+        let (spin, spin_measured): (f64, f64) = (cells[21].parse().unwrap(), cells[23].parse().unwrap());
+        assert!((0.0..6000.0).contains(&spin), "mean spin {spin} rpm in {row}");
+        assert!((spin - spin_measured).abs() < 1200.0, "model {spin} rpm vs tracker {spin_measured} rpm in {row}");
     }
 
     // The bag: complete, with every input and answer, readable by `sweetspot bag info`.
@@ -118,7 +133,19 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
             bat_angular_speed: swing.bat_angular_speed,
             impact_z: swing.impact_z,
         };
-        let r = collide(&set, &ball, &impact, &CollisionOptions { modes, time_step: 5e-6 }).unwrap();
+        let options = CollisionOptions { modes, time_step: 5e-6 };
+        // The demo's rig swings obliquely: every swing carries its geometry and the tracker's launch readings.
+        assert!(swing.undercut != 0.0 && swing.attack_angle != 0.0 && swing.pitch_angle != 0.0, "{swing:?}");
+        assert!(swing.pitch_spin > 0.0, "a fastball's backspin: {}", swing.pitch_spin);
+        let oblique = ObliqueImpact {
+            impact,
+            barrel_radius: bat.radii_at(swing.impact_z).0,
+            undercut: swing.undercut,
+            attack_angle: swing.attack_angle,
+            pitch_angle: swing.pitch_angle,
+            pitch_spin: swing.pitch_spin,
+        };
+        let r = collide_oblique(&set, &ball, &oblique, &TangentialContact::default(), &options).unwrap();
         assert!(
             (r.exit_speed - exit.exit_speed).abs() < 1e-9,
             "swing {}: {} vs {}",
@@ -126,8 +153,19 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
             r.exit_speed,
             exit.exit_speed
         );
+        assert!((r.launch_angle - exit.launch_angle).abs() < 1e-9 && (r.spin - exit.spin).abs() < 1e-6);
         assert!(swing.measured_exit_speed.is_finite() && (swing.measured_exit_speed - r.exit_speed).abs() < 5.0);
         assert_eq!(exit.measured_exit_speed, swing.measured_exit_speed);
+        // The tracker's readings: within 5σ of the model the node computed from the reported inputs of the same
+        // swing (σ ≈ 3.4° and 500 rpm per swing, as above); a missing reading or a flipped sign falls outside.
+        assert!((swing.measured_launch_angle - r.launch_angle).abs() < 17f64.to_radians(), "{swing:?}");
+        assert!((swing.measured_spin - r.spin).abs() < rpm_to_rad_per_s(2500.0), "{swing:?}");
+        assert_eq!(exit.launch_angle_residual, swing.measured_launch_angle - exit.launch_angle);
+        // A line drive or fly ball is hit with backspin, of the order trackers report (0–6000 rpm; the model's
+        // defaults run high at large launch angles, see physics::oblique).
+        if (10f64.to_radians()..40f64.to_radians()).contains(&r.launch_angle) {
+            assert!((0.0..6000.0).contains(&r.spin_rpm()), "swing {}: {} rpm", swing.swing_id, r.spin_rpm());
+        }
     }
 
     // The figures, next to the bag.

@@ -15,11 +15,13 @@
 //! and settings the node ran with (mode counts, time step, `max_bat_slices`, default bat, all from the bag's
 //! `custom_data`) — so the fit simulates exactly the bats the node simulated.
 //!
-//! The sans-IO part ([`Problem`], [`fit`]) is pure; [`problem_from_bag`] reads a recorded session.
+//! The sans-IO part ([`Problem`], [`fit`]) is pure; [`problem_from_bag`] reads a recorded session. Oblique
+//! swings are predicted as the node answers them; [`tangential`] fits e_T to measured launch angles and spins.
 //!
 //! [`batter`] fits a batter's reference swing and exponent to the bat speeds of the same sessions.
 
 pub mod batter;
+pub mod tangential;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -29,12 +31,12 @@ use rayon::prelude::*;
 
 use crate::bag::reader::read_bag;
 use crate::bag::BagError;
-use crate::model::convert::{ball_from_params, bat_from_params_capped, impact_from_swing};
-use crate::model::engine::DEFAULT_BALL_ID;
+use crate::model::convert::{ball_from_params, bat_from_params_capped, swing_input};
+use crate::model::engine::{SwingInput, DEFAULT_BALL_ID};
 use crate::model::settings::ModelSettings;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
-use crate::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet, PhysicsError};
+use crate::physics::{Ball, Bat, CollisionOptions, Impact, ModeSet, PhysicsError};
 
 /// Errors of calibration.
 #[derive(Debug, thiserror::Error)]
@@ -64,8 +66,10 @@ pub struct Observation {
     pub swing_id: u64,
     /// The bat it was hit with (a key of [`Problem::bats`]).
     pub bat_id: String,
-    /// The inputs.
+    /// The inputs along the bat's path (`input.impact`).
     pub impact: Impact,
+    /// Everything the swing carried: the oblique geometry and the tracker's launch readings too.
+    pub input: SwingInput,
     /// Measured exit speed, m/s.
     pub measured_exit_speed: f64,
 }
@@ -209,8 +213,8 @@ fn predict(
             None => Ok(None),
             Some(set) => {
                 let options = CollisionOptions { modes: problem.bats[&o.bat_id].modes, time_step: problem.time_step };
-                collide(set, &ball, &o.impact, &options)
-                    .map(|r| Some(r.exit_speed))
+                tangential::exit_speed(set, &problem.bats[&o.bat_id].bat, &ball, &o.input, &options)
+                    .map(Some)
                     .map_err(|source| CalibrateError::Physics { context: format!("swing {}", o.swing_id), source })
             }
         })
@@ -516,6 +520,10 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         } else {
             s.ball_id.clone()
         };
+        if s.undercut.is_nan() {
+            skipped.push(format!("swing {}: undercut not measured (only the e_T fit uses it)", s.swing_id));
+            continue;
+        }
         if !bats.contains_key(&bat_id) {
             if let Ok(bat) = Bat::preset(&bat_id) {
                 // A swing naming a preset bat that was never announced: the node resolves it the same way.
@@ -530,7 +538,8 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         by_ball.entry(ball).or_default().push(Observation {
             swing_id: s.swing_id,
             bat_id,
-            impact: impact_from_swing(s),
+            impact: swing_input(s).impact,
+            input: swing_input(s),
             measured_exit_speed: s.measured_exit_speed,
         });
     }

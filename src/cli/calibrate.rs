@@ -59,6 +59,9 @@ pub struct CalibrateArgs {
     /// read (implies --fit-batter; a reference bat that is no preset is written beside it as a bat file).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["fit_youngs", "write"])]
     pub batter_out: Option<PathBuf>,
+    /// Also fit the tangential COR e_T (and unmeasured undercuts) to the measured launch angles and spins.
+    #[arg(long)]
+    pub fit_tangential: bool,
 }
 
 /// A calibration error as one message: its text already holds every cause, which anyhow would repeat.
@@ -77,6 +80,10 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     let options =
         FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations.max(1), ..FitOptions::default() };
     let result = fit(&problem, &options).map_err(flat).context("fitting")?;
+    let tangential = match args.fit_tangential {
+        true => Some(fit_tangential_of(&args, &result)?),
+        false => None,
+    };
     let written = match &args.write {
         Some(path) => write_params(path, &problem, &result)?,
         None => Vec::new(),
@@ -96,11 +103,18 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
             "converged": result.converged,
             "residuals": result.residuals,
             "written": written,
+            "tangential": tangential.as_ref().map(|t| json!({
+                "parameters": t.parameters, "residual_sigma": t.residual_sigma, "dof": t.dof,
+                "converged": t.converged, "residuals": t.residuals, "skipped": t.skipped,
+            })),
         });
         println!("{}", serde_json::to_string_pretty(&doc).context("serialising the result")?);
         return Ok(());
     }
     print!("{}", report(&problem, &result, args.show));
+    if let Some(t) = &tangential {
+        print!("\n{}", crate::calibrate::tangential::report(t));
+    }
     for path in &written {
         println!("wrote {}", path.display());
     }
@@ -164,6 +178,14 @@ pub fn write_batter_file(path: &Path, result: &BatterFit, bag: &Path) -> Result<
     std::fs::write(path, text).with_context(|| format!("cannot write '{}'", path.display()))?;
     written.push(path.to_path_buf());
     Ok(written)
+}
+
+/// The e_T fit of the bag, with the ball of the exit-speed fit (`--fit-tangential`).
+fn fit_tangential_of(args: &CalibrateArgs, result: &Fit) -> Result<crate::calibrate::tangential::TangentialFit> {
+    use crate::calibrate::tangential::{fit_tangential, problem_from_bag, TangentialOptions};
+    let problem =
+        problem_from_bag(&args.bag, args.ball.as_deref()).map_err(flat).context("reading the launch measurements")?;
+    fit_tangential(&problem, &result.ball, &TangentialOptions::default()).map_err(flat).context("fitting e_T")
 }
 
 /// The human-readable report of a fit: parameters with uncertainty, residual summary per bat, worst residuals.

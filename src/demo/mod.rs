@@ -26,9 +26,10 @@ use crate::model::time::{now_ns, RosTime};
 use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
 use crate::msgs::RosMessage;
+use crate::physics::oblique::rad_per_s_to_rpm;
 use crate::report::plot::ImageFormat;
 use crate::rig::dds::{context, AnswerListener, RigPublisher};
-use crate::rig::{RigConfig, RigSwing, SessionGenerator, MPH};
+use crate::rig::{LaunchConditions, RigConfig, RigSwing, SessionGenerator, MPH};
 use crate::ros::{DdsConfig, DiscoveryRange};
 
 /// Node name of the demo's node.
@@ -243,9 +244,10 @@ impl Session<'_> {
 /// Runs a demo session: node, rig and recorder over real DDS, then the table, the bag and the figures.
 pub fn run(settings: DemoSettings) -> Result<()> {
     let started = Instant::now();
-    let rig = SessionGenerator::new(settings.rig.clone())
-        .context("building the rig's bats")?
-        .with_block(settings.swings_per_bat);
+    // The demo's rig swings obliquely and tracks launch angle and spin unless its config says how already.
+    let mut rig_config = settings.rig.clone();
+    rig_config.launch = rig_config.launch.or(Some(LaunchConditions::default()));
+    let rig = SessionGenerator::new(rig_config).context("building the rig's bats")?.with_block(settings.swings_per_bat);
 
     let mut dds = DdsConfig::from_env()?;
     let forced_range = (!settings.env_discovery).then_some(DiscoveryRange::Localhost);
@@ -316,7 +318,7 @@ pub fn run(settings: DemoSettings) -> Result<()> {
     println!();
     println!("next:     sweetspot bag info {}", bag.display());
     println!("          sweetspot bag replay {}", bag.display());
-    println!("          sweetspot calibrate {}", bag.display());
+    println!("          sweetspot calibrate {} --fit-tangential", bag.display());
     println!("(demo took {:.1} s)", started.elapsed().as_secs_f64());
     if bag_swings != total || bag_exits != total {
         bail!("the bag holds {bag_swings} swings and {bag_exits} exit velocities, expected {total} of each");
@@ -360,6 +362,23 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
          for the bat's swing weight; time gained is how much later than with the first bat the swing can start.",
         config.noise.exit_speed
     );
+    if let Some(launch) = &config.launch {
+        println!(
+            "launch angle and spin (backspin positive) are session means, the node's model / the rig's ball tracker\n\
+             (σ {:.1}° and {:.0} rpm); the rig draws undercut {:.1} ± {:.1} cm, attack angle {:.0}° ± {:.0}°, pitch\n\
+             descent {:.0}° ± {:.0}° and pitch backspin {:.0} ± {:.0} rpm.",
+            launch.noise.launch_angle.to_degrees(),
+            rad_per_s_to_rpm(launch.noise.spin),
+            100.0 * launch.undercut.mean,
+            100.0 * launch.undercut.sigma,
+            launch.attack_angle.mean.to_degrees(),
+            launch.attack_angle.sigma.to_degrees(),
+            launch.pitch_angle.mean.to_degrees(),
+            launch.pitch_angle.sigma.to_degrees(),
+            rad_per_s_to_rpm(launch.pitch_spin.mean),
+            rad_per_s_to_rpm(launch.pitch_spin.sigma),
+        );
+    }
     println!();
 }
 

@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot};
 use crate::physics::batter::{reaction_time_gained, swing_weight};
+use crate::physics::oblique::rad_per_s_to_rpm;
 use crate::report::table::{num, Table};
 use crate::rig::dds::Answer;
 use crate::rig::{SessionGenerator, INCH, MPH, RIG_BALL_ID};
@@ -80,6 +81,24 @@ pub struct BatRow {
     pub mean_error: f64,
     /// RMS of measured − predicted, m/s.
     pub rms_error: f64,
+    /// Mean predicted launch angle, rad.
+    pub mean_launch_angle: f64,
+    /// Mean launch angle the rig's tracker measured, rad (NaN when it measured none).
+    pub mean_measured_launch_angle: f64,
+    /// Mean predicted spin, rad/s, backspin positive.
+    pub mean_spin: f64,
+    /// Mean spin the rig's tracker measured, rad/s (NaN when it measured none).
+    pub mean_measured_spin: f64,
+}
+
+/// Mean of the finite values (NaN when there are none).
+fn finite_mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values.filter(|v| v.is_finite()).fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 {
+        f64::NAN
+    } else {
+        sum / n as f64
+    }
 }
 
 /// The per-bat summary of a session: answers joined with the rig's bats.
@@ -121,6 +140,11 @@ pub fn summarize(rig: &SessionGenerator, answers: &Answers) -> Vec<BatRow> {
                 vibration_share: shares.iter().sum::<f64>() / shares.len().max(1) as f64,
                 mean_error: errors.iter().sum::<f64>() / ne,
                 rms_error: (errors.iter().map(|r| r * r).sum::<f64>() / ne).sqrt(),
+                mean_launch_angle: finite_mean(ok.iter().map(|e| e.launch_angle)),
+                // The answers carry measured − model, so measured = model + residual (NaN when not measured).
+                mean_measured_launch_angle: finite_mean(ok.iter().map(|e| e.launch_angle + e.launch_angle_residual)),
+                mean_spin: finite_mean(ok.iter().map(|e| e.spin)),
+                mean_measured_spin: finite_mean(ok.iter().map(|e| e.spin + e.spin_residual)),
             }
         })
         .collect()
@@ -140,6 +164,8 @@ pub fn table(rows: &[BatRow]) -> String {
         "BBCOR",
         "vibration",
         "measured − model",
+        "launch angle",
+        "spin",
     ]);
     t.row([
         "",
@@ -153,6 +179,8 @@ pub fn table(rows: &[BatRow]) -> String {
         "",
         "energy share",
         "mean ± RMS m/s",
+        "deg, model / measured",
+        "rpm, model / measured",
     ]);
     for r in rows {
         t.row([
@@ -167,6 +195,8 @@ pub fn table(rows: &[BatRow]) -> String {
             num(r.bbcor, 3),
             format!("{:.1} %", 100.0 * r.vibration_share),
             format!("{:+.2} ± {:.2}", r.mean_error, r.rms_error),
+            format!("{:.1} / {:.1}", r.mean_launch_angle.to_degrees(), r.mean_measured_launch_angle.to_degrees()),
+            format!("{:.0} / {:.0}", rad_per_s_to_rpm(r.mean_spin), rad_per_s_to_rpm(r.mean_measured_spin)),
         ]);
     }
     t.render()

@@ -26,6 +26,22 @@
 //! points are normally distributed around 6 in from the barrel end (σ 2 in), clipped to 1.5–13 in from the
 //! end. The true exit speed is the physics ([`crate::physics::collide`]) with the rig's true ball; each
 //! reading then gets independent Gaussian noise of the standard deviations in [`SensorNoise`].
+//!
+//! **Oblique swings** ([`RigConfig::launch`], the demo's default; `None` keeps every swing head-on). Each
+//! swing also draws an undercut, an attack angle, the pitch's descent angle and its backspin from the normal
+//! distributions of [`LaunchConditions`] (conventions of [`crate::physics::oblique`]); the truth is then
+//! [`collide_oblique`] with the rig's true tangential contact, and the rig adds a ball tracker:
+//!
+//! | sensor | reading | Swing field |
+//! |---|---|---|
+//! | high-speed camera at the plate | undercut, m | `undercut` |
+//! | bat sensor (knob) | attack angle, rad | `attack_angle` |
+//! | pitch tracker | descent angle, rad; backspin about the bat's axis, rad/s | `pitch_angle`, `pitch_spin` |
+//! | ball tracker (exit) | launch angle, rad; spin, rad/s, backspin positive | `measured_launch_angle`, `measured_spin` |
+//!
+//! each with independent Gaussian noise ([`LaunchNoise`]). The rig can also leave the undercut unreported
+//! (NaN, [`LaunchConditions::report_undercut`]), as a rig without the plate camera would; `calibrate` then
+//! fits it swing by swing.
 
 pub mod dds;
 
@@ -38,6 +54,7 @@ use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::physics::batter::{Batter, SwingPrediction};
+use crate::physics::oblique::{collide_oblique, rpm_to_rad_per_s, ObliqueImpact, ObliqueResult, TangentialContact};
 use crate::physics::{
     collide, Ball, Bat, CollisionOptions, CollisionResult, Impact, MassProperties, ModeSet, PhysicsError,
 };
@@ -118,6 +135,169 @@ impl SensorNoise {
     }
 }
 
+/// A normal distribution: mean and standard deviation, in the unit of the quantity drawn.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Spread {
+    /// Mean.
+    pub mean: f64,
+    /// Standard deviation (≥ 0).
+    pub sigma: f64,
+}
+
+impl Spread {
+    /// A normal distribution of mean `mean` and standard deviation `sigma`.
+    pub const fn new(mean: f64, sigma: f64) -> Spread {
+        Spread { mean, sigma }
+    }
+
+    fn draw(&self, rng: &mut StdRng) -> f64 {
+        self.mean + self.sigma * standard_normal(rng)
+    }
+}
+
+/// Standard deviations of the oblique sensors and the ball tracker (Gaussian, independent, zero mean).
+///
+/// No tracker's published accuracy for launch angle and spin could be found for this project: the defaults
+/// (1° and 100 rpm) are a stated assumption, of the order of the tolerances trackers are discussed with.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LaunchNoise {
+    /// Undercut camera, m (default 2 mm).
+    pub undercut: f64,
+    /// Attack angle from the bat sensor, rad (default 1°).
+    pub attack_angle: f64,
+    /// Pitch descent angle from the pitch tracker, rad (default 0.5°).
+    pub pitch_angle: f64,
+    /// Pitch spin from the pitch tracker, rad/s (default 50 rpm).
+    pub pitch_spin: f64,
+    /// Ball tracker's launch angle, rad (default 1°).
+    pub launch_angle: f64,
+    /// Ball tracker's spin, rad/s (default 100 rpm).
+    pub spin: f64,
+}
+
+impl Default for LaunchNoise {
+    fn default() -> Self {
+        LaunchNoise {
+            undercut: 0.002,
+            attack_angle: 1f64.to_radians(),
+            pitch_angle: 0.5f64.to_radians(),
+            pitch_spin: rpm_to_rad_per_s(50.0),
+            launch_angle: 1f64.to_radians(),
+            spin: rpm_to_rad_per_s(100.0),
+        }
+    }
+}
+
+impl LaunchNoise {
+    /// No noise at all (the readings are the truth).
+    pub fn none() -> LaunchNoise {
+        LaunchNoise {
+            undercut: 0.0,
+            attack_angle: 0.0,
+            pitch_angle: 0.0,
+            pitch_spin: 0.0,
+            launch_angle: 0.0,
+            spin: 0.0,
+        }
+    }
+}
+
+/// How the rig's oblique swings are drawn and measured (units of [`crate::physics::oblique`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LaunchConditions {
+    /// Undercut, m (default 0 ± 1 cm), clipped to ±[`LaunchConditions::max_undercut_fraction`] of the
+    /// ball's plus the barrel's radius.
+    pub undercut: Spread,
+    /// Attack angle of the bat's path, rad (default +10° ± 4°: an upward swing).
+    pub attack_angle: Spread,
+    /// Pitch descent angle, rad (default 6° ± 1°: a fastball's descent at the plate).
+    pub pitch_angle: Spread,
+    /// Pitch backspin about the bat's axis as the pitch arrives, rad/s (default 2000 ± 200 rpm: a fastball).
+    pub pitch_spin: Spread,
+    /// Largest |undercut| drawn as a fraction of ball radius + barrel radius (default 0.5: line-of-centres
+    /// angles up to 30°, short of the sliding and grazing contacts the model extrapolates to).
+    pub max_undercut_fraction: f64,
+    /// Sensor noise.
+    pub noise: LaunchNoise,
+    /// Whether the rig reports the undercut (otherwise `Swing.undercut` is NaN: not measured).
+    pub report_undercut: bool,
+    /// The true tangential contact of the rig's balls on its bats.
+    pub contact: TangentialContact,
+}
+
+impl Default for LaunchConditions {
+    fn default() -> Self {
+        LaunchConditions {
+            undercut: Spread::new(0.0, 0.01),
+            attack_angle: Spread::new(10f64.to_radians(), 4f64.to_radians()),
+            pitch_angle: Spread::new(6f64.to_radians(), 1f64.to_radians()),
+            pitch_spin: Spread::new(rpm_to_rad_per_s(2000.0), rpm_to_rad_per_s(200.0)),
+            max_undercut_fraction: 0.5,
+            noise: LaunchNoise::default(),
+            report_undercut: true,
+            contact: TangentialContact::default(),
+        }
+    }
+}
+
+impl LaunchConditions {
+    /// Checks ranges (finite spreads, noise ≥ 0, the clip fraction in (0, 1), the contact law).
+    pub fn validate(&self) -> Result<(), RigError> {
+        let spreads = [
+            ("launch.undercut", self.undercut),
+            ("launch.attack_angle", self.attack_angle),
+            ("launch.pitch_angle", self.pitch_angle),
+            ("launch.pitch_spin", self.pitch_spin),
+        ];
+        for (field, s) in spreads {
+            if !(s.mean.is_finite() && s.sigma.is_finite() && s.sigma >= 0.0) {
+                return Err(out_of_range(field, format!("{} ± {}", s.mean, s.sigma), "a finite mean and σ ≥ 0"));
+            }
+        }
+        let n = self.noise;
+        let noises = [
+            ("launch.noise.undercut", n.undercut),
+            ("launch.noise.attack_angle", n.attack_angle),
+            ("launch.noise.pitch_angle", n.pitch_angle),
+            ("launch.noise.pitch_spin", n.pitch_spin),
+            ("launch.noise.launch_angle", n.launch_angle),
+            ("launch.noise.spin", n.spin),
+        ];
+        for (field, v) in noises {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(out_of_range(field, v, "a finite σ ≥ 0"));
+            }
+        }
+        let f = self.max_undercut_fraction;
+        if !(f.is_finite() && f > 0.0 && f < 1.0) {
+            return Err(out_of_range("launch.max_undercut_fraction", f, "0 < fraction < 1"));
+        }
+        self.contact.validate()?;
+        Ok(())
+    }
+}
+
+/// The oblique part of one simulated swing: the drawn geometry, the tracker's readings and the true launch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigLaunch {
+    /// The true oblique impact (its `impact` is [`RigSwing::truth`]).
+    pub truth: ObliqueImpact,
+    /// The true oblique collision.
+    pub result: ObliqueResult,
+    /// Undercut as reported, m (NaN when the rig does not report it).
+    pub undercut: f64,
+    /// Attack angle as measured, rad.
+    pub attack_angle: f64,
+    /// Pitch descent angle as measured, rad.
+    pub pitch_angle: f64,
+    /// Pitch spin as measured, rad/s.
+    pub pitch_spin: f64,
+    /// Launch angle as the tracker measured it, rad.
+    pub launch_angle: f64,
+    /// Spin as the tracker measured it, rad/s, backspin positive.
+    pub spin: f64,
+}
+
 /// What the rig simulates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RigConfig {
@@ -142,6 +322,9 @@ pub struct RigConfig {
     /// The batter swinging every bat at equal effort (see the module docs); `None`: every bat at the same
     /// bat speed at the barrel.
     pub batter: Option<Batter>,
+    /// Oblique swings: undercut, angles, pitch spin and a ball tracker (see the module docs); `None`: every
+    /// swing head-on, nothing but the exit speed tracked.
+    pub launch: Option<LaunchConditions>,
 }
 
 impl Default for RigConfig {
@@ -156,6 +339,7 @@ impl Default for RigConfig {
             seed: 2000,
             options: CollisionOptions::default(),
             batter: None,
+            launch: None,
         }
     }
 }
@@ -183,6 +367,9 @@ impl RigConfig {
         }
         if let Some(batter) = &self.batter {
             batter.validate()?;
+        }
+        if let Some(launch) = &self.launch {
+            launch.validate()?;
         }
         if !(1..=60).contains(&self.options.modes) {
             return Err(out_of_range("modes", self.options.modes, "1 ≤ modes ≤ 60"));
@@ -254,8 +441,10 @@ pub struct RigSwing {
     pub reading: SensorReading,
     /// The readings as the physics' initial conditions (what the node will compute with).
     pub measured: Impact,
-    /// The true collision (with the true ball).
+    /// The true collision (with the true ball); for an oblique swing, its normal part.
     pub result: CollisionResult,
+    /// The oblique part, when the rig simulates oblique swings ([`RigConfig::launch`]).
+    pub launch: Option<RigLaunch>,
 }
 
 /// One bat of the session with its modes.
@@ -366,7 +555,32 @@ impl SessionGenerator {
                 (omega, knob_speed, reading.to_impact(&mp))
             }
         };
-        let result = collide(&bat.modes, &cfg.true_ball(), &truth, &cfg.options)?;
+        // Head-on sessions draw nothing more here, so their random stream is unchanged by the oblique option.
+        let oblique = match &cfg.launch {
+            Some(launch) => {
+                let barrel_radius = bat.bat.radii_at(truth.impact_z).0;
+                let reach = launch.max_undercut_fraction * (cfg.ball.radius + barrel_radius);
+                let oblique = ObliqueImpact {
+                    impact: truth,
+                    barrel_radius,
+                    undercut: launch.undercut.draw(rng).clamp(-reach, reach),
+                    attack_angle: launch.attack_angle.draw(rng),
+                    pitch_angle: launch.pitch_angle.draw(rng),
+                    pitch_spin: launch.pitch_spin.draw(rng),
+                };
+                let result = collide_oblique(&bat.modes, &cfg.true_ball(), &oblique, &launch.contact, &cfg.options)?;
+                Some((launch, oblique, result))
+            }
+            None => None,
+        };
+        let (result, true_exit_speed) = match &oblique {
+            Some((_, _, r)) => (r.normal.clone(), r.exit_speed),
+            None => {
+                let r = collide(&bat.modes, &cfg.true_ball(), &truth, &cfg.options)?;
+                let exit = r.exit_speed;
+                (r, exit)
+            }
+        };
 
         let n = cfg.noise;
         let reading = SensorReading {
@@ -374,16 +588,30 @@ impl SessionGenerator {
             angular_rate: omega * (1.0 + n.angular_rate_relative * standard_normal(rng)),
             knob_speed: knob_speed + n.knob_speed * standard_normal(rng),
             impact_from_end: (from_end + n.impact * standard_normal(rng)).clamp(0.0, mp.length),
-            exit_speed: result.exit_speed + n.exit_speed * standard_normal(rng),
+            exit_speed: true_exit_speed + n.exit_speed * standard_normal(rng),
         };
+        let launch = oblique.map(|(launch, truth, result)| {
+            let n = launch.noise;
+            let undercut = truth.undercut + n.undercut * standard_normal(rng);
+            RigLaunch {
+                undercut: if launch.report_undercut { undercut } else { f64::NAN },
+                attack_angle: truth.attack_angle + n.attack_angle * standard_normal(rng),
+                pitch_angle: truth.pitch_angle + n.pitch_angle * standard_normal(rng),
+                pitch_spin: truth.pitch_spin + n.pitch_spin * standard_normal(rng),
+                launch_angle: result.launch_angle + n.launch_angle * standard_normal(rng),
+                spin: result.spin + n.spin * standard_normal(rng),
+                truth,
+                result,
+            }
+        });
         let measured = reading.to_impact(&mp);
-        Ok(RigSwing { swing_id, bat_id: bat.bat_id.clone(), truth, reading, measured, result })
+        Ok(RigSwing { swing_id, bat_id: bat.bat_id.clone(), truth, reading, measured, result, launch })
     }
 
     /// The `Swing` message of a simulated swing (its sensor readings, under the rig's ball).
     pub fn swing_message(&self, swing: &RigSwing, stamp: Time) -> Swing {
         let mp = self.bats.iter().find(|b| b.bat_id == swing.bat_id).map(|b| b.modes.mass_properties());
-        match mp {
+        let message = match mp {
             Some(mp) => swing.reading.to_swing(&mp, swing.swing_id, &swing.bat_id, RIG_BALL_ID, stamp),
             None => Swing {
                 header: Header { stamp, frame_id: String::new() },
@@ -397,6 +625,18 @@ impl SessionGenerator {
                 measured_exit_speed: swing.reading.exit_speed,
                 ..Swing::default()
             },
+        };
+        match &swing.launch {
+            Some(l) => Swing {
+                undercut: l.undercut,
+                attack_angle: l.attack_angle,
+                pitch_angle: l.pitch_angle,
+                pitch_spin: l.pitch_spin,
+                measured_launch_angle: l.launch_angle,
+                measured_spin: l.spin,
+                ..message
+            },
+            None => message,
         }
     }
 }
@@ -478,6 +718,49 @@ mod tests {
         assert!((knob - r.knob_speed).abs() < 1e-12);
         let s = r.to_swing(&mp, 3, "r161", RIG_BALL_ID, Time::default());
         assert_eq!((s.swing_id, s.measured_exit_speed), (3, 45.0));
+    }
+
+    #[test]
+    fn oblique_sessions_draw_the_geometry_and_track_the_launch() {
+        let cfg = RigConfig {
+            seed: 9,
+            bats: vec!["r161".into()],
+            options: CollisionOptions { modes: 8, ..CollisionOptions::default() },
+            launch: Some(LaunchConditions::default()),
+            ..RigConfig::default()
+        };
+        let (mut a, mut b) = (SessionGenerator::new(cfg.clone()).unwrap(), SessionGenerator::new(cfg).unwrap());
+        let n = 30;
+        let mut launch_sum = 0.0;
+        for _ in 0..n {
+            let x = a.next_swing().unwrap();
+            assert_eq!(x, b.next_swing().unwrap(), "deterministic for its seed");
+            let l = x.launch.as_ref().expect("oblique");
+            assert!(l.truth.undercut.abs() <= 0.5 * (a.config().ball.radius + l.truth.barrel_radius) + 1e-15);
+            assert_eq!(l.truth.impact, x.truth);
+            assert_eq!(x.result, l.result.normal);
+            // The radar sees the oblique exit speed, the tracker the launch, each within 5σ of its noise.
+            assert!((x.reading.exit_speed - l.result.exit_speed).abs() < 5.0 * 0.45);
+            assert!((l.launch_angle - l.result.launch_angle).abs() < 5f64.to_radians());
+            assert!((l.spin - l.result.spin).abs() < rpm_to_rad_per_s(500.0));
+            let msg = a.swing_message(&x, Time::default());
+            assert_eq!((msg.undercut, msg.pitch_spin, msg.measured_spin), (l.undercut, l.pitch_spin, l.spin));
+            launch_sum += l.result.launch_angle;
+        }
+        // Bat path +10° on average, undercuts centred on 0: balls leave upward on average.
+        let mean = (launch_sum / n as f64).to_degrees();
+        assert!((2.0..30.0).contains(&mean), "mean launch angle {mean}°");
+    }
+
+    #[test]
+    fn head_on_sessions_publish_no_oblique_fields() {
+        let cfg = RigConfig { seed: 9, bats: vec!["r161".into()], ..RigConfig::default() };
+        let mut rig = SessionGenerator::new(cfg).unwrap();
+        let x = rig.next_swing().unwrap();
+        assert!(x.launch.is_none());
+        let msg = rig.swing_message(&x, Time::default());
+        assert_eq!((msg.undercut, msg.attack_angle, msg.pitch_angle, msg.pitch_spin), (0.0, 0.0, 0.0, 0.0));
+        assert!(msg.measured_launch_angle.is_nan() && msg.measured_spin.is_nan());
     }
 
     #[test]
