@@ -305,3 +305,39 @@ pub fn record(
         dropped: finished.dropped,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dds_names_map_to_ros_names() {
+        // The DDS forms rmw implementations use (ROS 2 design: "Topic and Service name mapping to DDS").
+        assert_eq!(ros_type_name("std_msgs::msg::dds_::String_").as_deref(), Some("std_msgs/msg/String"));
+        assert_eq!(
+            ros_type_name("rcl_interfaces::msg::dds_::ParameterEvent_").as_deref(),
+            Some("rcl_interfaces/msg/ParameterEvent")
+        );
+        assert_eq!(ros_type_name("DCPSParticipant"), None);
+        assert_eq!(ros_type_name("std_msgs::msg::String"), None);
+        assert_eq!(ros_topic_name("rt/lab/swing").as_deref(), Ok("/lab/swing"));
+        assert!(ros_topic_name("rq/lab/sweetspot/get_parametersRequest").unwrap_err().contains("service"));
+        assert!(ros_topic_name("ros_discovery_info").is_err());
+        // 1.5 s in RTPS ticks: seconds in the high word, 2^31 / 2^32 of a second in the low one.
+        let ticks = (1u64 << 32) | (1u64 << 31);
+        assert_eq!(unix_ns(rustdds::Timestamp::from_ticks(ticks)), 1_500_000_000);
+    }
+
+    #[test]
+    fn selection_admits_listed_matching_and_visible_topics() {
+        let all = Selection { all: true, ..Selection::default() };
+        assert!(all.admits("/lab/swing").is_ok());
+        assert!(all.admits("/lab/_hidden/x").unwrap_err().contains("hidden"));
+        let listed = Selection { topics: vec!["/lab/_hidden/x".into()], ..Selection::default() };
+        assert!(listed.admits("/lab/_hidden/x").is_ok());
+        assert!(listed.admits("/lab/swing").is_err());
+        let regex = Selection { regex: Some(regex::Regex::new("^/rig[0-9]+/").unwrap()), ..Selection::default() };
+        assert!(regex.admits("/rig3/swing").is_ok());
+        assert!(regex.admits("/lab/swing").is_err());
+    }
+}
