@@ -139,3 +139,21 @@ fn clock_publishes_the_bag_time() {
     assert!(ns.windows(2).all(|w| w[0] <= w[1]), "{ns:?}");
     assert!(ns[ns.len() - 1] - ns[0] > (last - first) / 4, "the clock advanced: {ns:?}");
 }
+
+#[test]
+fn start_offset_keeps_the_params_in_force_and_skips_earlier_swings() {
+    let log = golden_log();
+    let start = log[0].1;
+    let swing_times: Vec<u64> = log.iter().filter(|(t, _)| t == "/golden/swing").map(|(_, t)| *t).collect();
+    let offset = Duration::from_nanos((swing_times[2] + swing_times[3]) / 2 - start);
+    let schedule = sweetspot::play::schedule_from(&golden(), &[], 1.0, offset).unwrap();
+    let params = log.iter().filter(|(t, _)| t.ends_with("/params")).count();
+    let types: Vec<&str> = schedule.items.iter().map(|i| i.type_name.as_str()).collect();
+    // Every param (all recorded before the swings) first, at once; then the 7 swings from the 4th on.
+    assert!(types[..params].iter().all(|t| t.ends_with("Params")), "{types:?}");
+    assert!(schedule.items[..params].iter().all(|i| i.at == Duration::ZERO));
+    let swings: Vec<u64> = schedule.items[params..].iter().map(|i| i.log_time_ns).collect();
+    assert_eq!(swings, swing_times[3..]);
+    assert_eq!(schedule.origin_ns, swing_times[3]);
+    assert_eq!(schedule.items[params].at, Duration::ZERO);
+}
