@@ -9,6 +9,7 @@
 //! - [`bag`]: MCAP record, read, export and replay in the rosbag2 layout;
 //!   [`ros`]: the DDS edge (names, `--ros-args`, QoS, the participant);
 //! - [`node`]: the ROS 2 node (topics, parameters, diagnostics, recording); [`play`]: `bag play` over DDS;
+//!   [`record`]: `bag record` over DDS;
 //! - [`report`]: tables, JSON documents, plots and the seed's figures, for the tools below; [`child`]: the
 //!   node (or any tool) as a child process;
 //! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
@@ -25,6 +26,7 @@ pub mod msgs;
 pub mod node;
 pub mod physics;
 pub mod play;
+pub mod record;
 pub mod report;
 pub mod rig;
 pub mod ros;

@@ -1,4 +1,4 @@
-//! `sweetspot bag …`: inspect, recover, export, replay and play recorded bags.
+//! `sweetspot bag …`: record, inspect, recover, export, replay and play bags.
 
 use std::io::IsTerminal;
 use std::io::Write as _;
@@ -84,20 +84,102 @@ pub enum BagCommand {
         #[arg(long)]
         skip_damaged: bool,
     },
+    /// Record ROS topics from DDS into a rosbag2 MCAP bag, like `ros2 bag record`, with the node's own writer.
+    #[command(after_help = "\
+Examples:
+  sweetspot bag record -a                                  every topic, into rosbag2_YYYY_MM_DD-HH_MM_SS
+  sweetspot bag record -a -o lab_session                   into ./lab_session
+  sweetspot bag record /lab/swing /lab/exit_velocity       only these topics
+  sweetspot bag record swing exit_velocity --ns /lab       relative names resolved in /lab
+  sweetspot bag record -e '^/rig[0-9]+/' -b 100000000      topics matching a regex, a new file every 100 MB
+  sweetspot bag record -a -s mcap --storage-preset-profile zstd_fast -d 600
+  sweetspot bag record -a --qos-profile-overrides-path qos.yaml
+
+Stops on Ctrl-C or SIGTERM and finishes the bag. Topics are picked up as their publishers are discovered;
+every message is recorded as it travelled. Types generated from msgs/ get their ros2msg schema; other types
+are recorded without one (said once per topic). Services and hidden topics (a name part starting with _) are
+not recorded with -a/-e. Only the mcap storage exists: -s sqlite3 is refused.")]
+    Record {
+        /// Topics to record (relative names are resolved in the namespace).
+        #[arg(value_name = "TOPIC")]
+        topics: Vec<String>,
+        /// Record every topic.
+        #[arg(short = 'a', long)]
+        all: bool,
+        /// Record the topics whose fully-qualified name matches this regular expression.
+        #[arg(short = 'e', long, value_name = "REGEX")]
+        regex: Option<String>,
+        /// Also record hidden topics (a name part starting with `_`) with -a or -e.
+        #[arg(long)]
+        include_hidden_topics: bool,
+        /// The bag directory to create (default: rosbag2_YYYY_MM_DD-HH_MM_SS, local time).
+        #[arg(short = 'o', long, value_name = "DIR")]
+        output: Option<PathBuf>,
+        /// Storage plugin: only mcap.
+        #[arg(short = 's', long, value_name = "ID", default_value = "mcap")]
+        storage: String,
+        /// rosbag2's MCAP preset: none, fastwrite, zstd_fast or zstd_small.
+        #[arg(long, value_name = "PROFILE", default_value = "none")]
+        storage_preset_profile: String,
+        /// Start a new file once the current one reaches this many bytes (0: never).
+        #[arg(short = 'b', long, value_name = "BYTES", default_value_t = 0)]
+        max_bag_size: u64,
+        /// Start a new file after this many seconds of recording (0: never).
+        #[arg(short = 'd', long, value_name = "SECONDS", default_value_t = 0.0)]
+        max_bag_duration: f64,
+        /// A rosbag2 YAML file of per-topic subscription QoS (history, depth, reliability, durability).
+        #[arg(long, value_name = "FILE")]
+        qos_profile_overrides_path: Option<PathBuf>,
+        /// How often to look for new topics, milliseconds.
+        #[arg(short = 'p', long, value_name = "MS", default_value_t = 100)]
+        polling_interval: u64,
+        /// Namespace for relative topic names (same as `--ros-args -r __ns:=NS`).
+        #[arg(long, visible_alias = "namespace", value_name = "NS")]
+        ns: Option<String>,
+        /// ROS arguments (`-r __ns:=/rig3`), as for any ROS 2 node; must come last.
+        #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
+        ros_args: Option<Vec<String>>,
+    },
     /// Republish the recorded inputs (BatParams, BallParams, Swing) over DDS with their original timing;
     /// params recorded before the first swing go out first, latched (transient-local).
+    #[command(after_help = "\
+Examples:
+  sweetspot bag play BAG                                  play once, at the recorded pace
+  sweetspot bag play BAG -r 2 -l                          twice as fast, over and over until Ctrl-C
+  sweetspot bag play BAG --topics /lab/swing              only the swings
+  sweetspot bag play BAG --remap /lab/swing:=/test/swing  publish /lab/swing's messages on /test/swing
+  sweetspot bag play BAG --ros-args -r /lab/swing:=/test/swing   the same, as ROS arguments
+  sweetspot bag play BAG --start-offset 30                start 30 s (recorded time) into the bag
+  sweetspot bag play BAG --clock                          also publish the bag's time on /clock at 40 Hz
+  sweetspot bag play BAG --clock 100 --delay 2            /clock at 100 Hz, after waiting 2 s
+
+On a terminal, the space bar pauses and resumes playback (and /clock stands still meanwhile).
+--start-offset skips the swings recorded before that point; params recorded before it still go out first,
+so every swing meets the bat and ball in force when it was recorded.")]
     Play {
         /// Bag directory or .mcap file.
         path: PathBuf,
-        /// Time scale: 2 plays twice as fast.
-        #[arg(long, default_value_t = 1.0)]
+        /// Time scale: 2 plays twice as fast, 0.5 at half speed.
+        #[arg(short = 'r', long, default_value_t = 1.0)]
         rate: f64,
         /// Start over when done, until interrupted.
-        #[arg(long = "loop")]
+        #[arg(short = 'l', long = "loop")]
         repeat: bool,
-        /// Only these topics (default: every input topic in the bag).
+        /// Only these topics, as recorded (default: every input topic in the bag).
         #[arg(long, value_delimiter = ',', num_args = 1..)]
         topics: Vec<String>,
+        /// Publish what was recorded on FROM on TO instead (repeatable), e.g. `--remap /lab/swing:=/swing`.
+        #[arg(short = 'm', long = "remap", value_name = "FROM:=TO")]
+        remap: Vec<String>,
+        /// Start this many seconds (recorded time) after the bag's first message.
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        start_offset: f64,
+        /// Wait this many seconds before playing (before each pass with --loop).
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        delay: f64,
+        /// Publish rosgraph_msgs/Clock with the bag's time on /clock at HZ (40 without a value, as rosbag2).
+        #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40")]
+        clock: Option<f64>,
         /// Wait until every topic has this many subscriptions before starting.
         #[arg(long, default_value_t = 0)]
         wait_subscribers: usize,
@@ -110,6 +192,9 @@ pub enum BagCommand {
         /// Go on past damaged chunks with everything intact around them (the damage is still listed).
         #[arg(long)]
         skip_damaged: bool,
+        /// ROS arguments: `-r FROM:=TO` remaps topics as --remap does; must come last.
+        #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
+        ros_args: Option<Vec<String>>,
     },
 }
 
@@ -122,17 +207,97 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             let skipped = check_damage(&path, skip_damaged)?;
             export(path, output, skipped)
         }
-        BagCommand::Play { path, rate, repeat, topics, wait_subscribers, timeout, quiet, skip_damaged } => {
-            check_damage(&path, skip_damaged)?;
-            if !(timeout > 0.0 && timeout.is_finite()) {
-                anyhow::bail!("--timeout {timeout} is out of range: expected a finite value > 0 s");
+        BagCommand::Record {
+            topics,
+            all,
+            regex,
+            include_hidden_topics,
+            output,
+            storage,
+            storage_preset_profile,
+            max_bag_size,
+            max_bag_duration,
+            qos_profile_overrides_path,
+            polling_interval,
+            ns,
+            ros_args,
+        } => {
+            if storage != "mcap" {
+                anyhow::bail!("-s/--storage {storage:?} is not available: sweetspot records MCAP only (-s mcap)");
             }
+            if !all && regex.is_none() && topics.is_empty() {
+                anyhow::bail!("nothing to record: pass -a/--all, topic names, or -e/--regex");
+            }
+            if !(max_bag_duration.is_finite() && max_bag_duration >= 0.0) {
+                anyhow::bail!("-d/--max-bag-duration {max_bag_duration} is out of range: expected seconds >= 0");
+            }
+            if polling_interval == 0 {
+                anyhow::bail!("-p/--polling-interval must be at least 1 ms");
+            }
+            let regex = match regex {
+                Some(r) => Some(regex::Regex::new(&r).map_err(|e| anyhow::anyhow!("-e/--regex {r:?}: {e}"))?),
+                None => None,
+            };
+            let storage = bag::StorageOptions::preset(&storage_preset_profile)
+                .map_err(|e| anyhow::anyhow!("--storage-preset-profile: {e}"))?;
+            let qos_overrides = match &qos_profile_overrides_path {
+                Some(path) => crate::record::QosOverrides::load(path)?,
+                None => crate::record::QosOverrides::default(),
+            };
+            let options = crate::record::RecordOptions {
+                output: output.unwrap_or_else(|| {
+                    PathBuf::from(chrono::Local::now().format("rosbag2_%Y_%m_%d-%H_%M_%S").to_string())
+                }),
+                selection: crate::record::Selection {
+                    all,
+                    topics: record_topics(&topics, &ns, ros_args.as_deref().unwrap_or_default())?,
+                    regex,
+                    include_hidden: include_hidden_topics,
+                },
+                storage,
+                max_bag_size: (max_bag_size > 0).then_some(max_bag_size),
+                max_bag_duration: (max_bag_duration > 0.0)
+                    .then(|| std::time::Duration::from_secs_f64(max_bag_duration)),
+                qos_overrides,
+                polling_interval: std::time::Duration::from_millis(polling_interval),
+            };
+            record(options)
+        }
+        BagCommand::Play {
+            path,
+            rate,
+            repeat,
+            topics,
+            remap,
+            start_offset,
+            delay,
+            clock,
+            wait_subscribers,
+            timeout,
+            quiet,
+            skip_damaged,
+            ros_args,
+        } => {
+            check_damage(&path, skip_damaged)?;
+            let seconds = |flag: &str, value: f64, positive: bool| -> anyhow::Result<std::time::Duration> {
+                let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
+                if !ok {
+                    let bound = if positive { "> 0" } else { ">= 0" };
+                    anyhow::bail!("{flag} {value} is out of range: expected a finite value {bound} s");
+                }
+                Ok(std::time::Duration::from_secs_f64(value))
+            };
             let options = crate::play::PlayOptions {
                 rate,
                 repeat,
                 topics,
                 wait_subscribers,
-                timeout: std::time::Duration::from_secs_f64(timeout),
+                timeout: seconds("--timeout", timeout, true)?,
+                remaps: play_remaps(&remap, ros_args.as_deref().unwrap_or_default())?,
+                start_offset: seconds("--start-offset", start_offset, false)?,
+                delay: seconds("--delay", delay, false)?,
+                clock_hz: clock,
+                paused: None,
             };
             play(path, options, quiet)
         }
@@ -434,9 +599,85 @@ fn replay(
     Ok(())
 }
 
-fn play(path: PathBuf, options: crate::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
+/// The topics named on the command line, fully qualified: `__ns` over `--ns` over `/`, as `pub`/`echo` do.
+fn record_topics(topics: &[String], ns: &Option<String>, ros_args: &[String]) -> anyhow::Result<Vec<String>> {
+    let parsed = crate::ros::args::RosArgs::parse(ros_args)?;
+    let namespace = match (&parsed.namespace, ns) {
+        (Some(n), _) => n.clone(),
+        (None, Some(n)) => crate::ros::names::normalize_namespace(n)?,
+        (None, None) => "/".to_string(),
+    };
+    let identity = parsed.identity("sweetspot_record", &namespace);
+    let resolver = parsed.resolver(&identity);
+    topics
+        .iter()
+        .map(|t| Ok(resolver.resolve(&crate::ros::resolve_topic(t, &identity.namespace, &identity.name)?)))
+        .collect()
+}
+
+fn record(options: crate::record::RecordOptions) -> anyhow::Result<()> {
     let stop = crate::ros::interrupt_flag();
-    let total = crate::play::schedule(&path, &options.topics, options.rate).map_err(flat)?.len() as u64;
+    for (topic, key) in options.qos_overrides.ignored() {
+        eprintln!("--qos-profile-overrides-path: {topic}: {key} is accepted but not applied");
+    }
+    eprintln!("recording to {} (Ctrl-C to stop)", options.output.display());
+    let stats = crate::record::record(&options, &stop, |event| match event {
+        crate::record::RecordEvent::Subscribed { topic, type_name, schema: true } => {
+            eprintln!("subscribed to {topic} ({type_name})")
+        }
+        crate::record::RecordEvent::Subscribed { topic, type_name, schema: false } => eprintln!(
+            "subscribed to {topic} ({type_name}): type not generated from msgs/, recorded as raw CDR without a \
+             schema (readers can list it but not decode it)"
+        ),
+        crate::record::RecordEvent::Skipped { topic, reason } => eprintln!("skipped {topic}: {reason}"),
+    })
+    .with_context(|| format!("recording {}", options.output.display()))?;
+    let total: u64 = stats.per_topic.values().sum();
+    for (topic, count) in &stats.per_topic {
+        eprintln!("  {topic}: {count} messages");
+    }
+    for topic in &options.selection.topics {
+        if !stats.per_topic.contains_key(topic) {
+            eprintln!("  {topic}: no publisher seen, nothing recorded");
+        }
+    }
+    eprintln!(
+        "recorded {total} messages on {} topics to {}{}",
+        stats.per_topic.len(),
+        options.output.display(),
+        if stats.dropped > 0 {
+            format!(" ({} dropped: the disk did not keep up)", stats.dropped)
+        } else {
+            String::new()
+        }
+    );
+    Ok(())
+}
+
+/// `--remap FROM:=TO` and `--ros-args -r FROM:=TO` as (from, to) pairs of fully qualified names (relative
+/// names are taken from the root, as the bag's own names are absolute); --remap rules come first.
+fn play_remaps(remap: &[String], ros_args: &[String]) -> anyhow::Result<Vec<(String, String)>> {
+    let mut tokens: Vec<String> = Vec::new();
+    for rule in remap {
+        tokens.push("-r".to_string());
+        tokens.push(rule.clone());
+    }
+    tokens.extend(ros_args.iter().cloned());
+    let parsed = crate::ros::args::RosArgs::parse(&tokens).map_err(|e| anyhow::anyhow!("--remap/--ros-args: {e}"))?;
+    let identity = parsed.identity("sweetspot_play", "/");
+    Ok(parsed
+        .remaps
+        .iter()
+        .filter(|r| r.node.as_deref().is_none_or(|n| n == identity.name))
+        .map(|r| (crate::ros::args::resolve_name(&r.from, &identity), crate::ros::args::resolve_name(&r.to, &identity)))
+        .collect())
+}
+
+fn play(path: PathBuf, mut options: crate::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
+    let stop = crate::ros::interrupt_flag();
+    let total = options.schedule(&path).map_err(flat)?.items.len() as u64;
+    let keys = crate::play::keys::SpaceBarPause::on_terminal();
+    options.paused = keys.as_ref().map(|k| k.paused.clone());
     let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
     let mut listing = super::common::Stdout::default();
     let stats = crate::play::play(&path, &options, &stop, |item| {
@@ -447,7 +688,9 @@ fn play(path: PathBuf, options: crate::play::PlayOptions, quiet: bool) -> anyhow
         }
     })
     .map_err(flat)
-    .with_context(|| format!("playing {}", path.display()))?;
+    .with_context(|| format!("playing {}", path.display()));
+    drop(keys);
+    let stats = stats?;
     bar.finish_and_clear();
     eprintln!("published {} messages in {} pass(es)", stats.published, stats.passes);
     Ok(())

@@ -40,7 +40,7 @@ pub enum Command {
     Pub(pubsub::PubArgs),
     /// Print what arrives on a topic.
     Echo(pubsub::EchoArgs),
-    /// Inspect, replay, play, recover and export recorded bags.
+    /// Record, inspect, replay, play, recover and export bags.
     #[command(subcommand)]
     Bag(bag::BagCommand),
     /// Mass properties and vibrational modes (frequency, nodes, modal mass) of a bat.

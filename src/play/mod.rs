@@ -5,11 +5,21 @@
 //! Params recorded before the first swing go out first, at once, on transient-local (latched) writers, so a
 //! node started later still gets them; params recorded later go out at their own time, so every swing meets
 //! the bat and ball that were in force when it was recorded.
+//!
+//! Beyond that it follows `ros2 bag play`: a time scale, looping, a topic filter, topic remaps, a start offset
+//! into the bag, a delay before each pass, `/clock` with the bag's time, and pause/resume from the terminal
+//! ([`keys`]).
+
+pub mod keys;
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use std::sync::Arc;
+
+use crate::msgs::builtin_interfaces::msg::Time;
+use crate::msgs::rosgraph_msgs::msg::Clock;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
 
@@ -21,6 +31,8 @@ use crate::bag::BagError;
 pub struct PlayItem {
     /// When, after the start of a pass.
     pub at: Duration,
+    /// When it was recorded (the MCAP log time), ns since the Unix epoch.
+    pub log_time_ns: u64,
     /// Recorded topic name.
     pub topic: String,
     /// ROS type (one of the three inputs).
@@ -32,16 +44,36 @@ pub struct PlayItem {
 /// The input types `play` republishes.
 pub const INPUT_TYPES: [&str; 3] = [BatParams::TYPE_NAME, BallParams::TYPE_NAME, Swing::TYPE_NAME];
 
+/// The publication schedule of a bag and the recorded time its pass starts from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Schedule {
+    /// The messages, in publication order.
+    pub items: Vec<PlayItem>,
+    /// The log time (ns since the Unix epoch) that a pass's time 0 stands for: `/clock` reads
+    /// `origin_ns + elapsed × rate`.
+    pub origin_ns: u64,
+}
+
 /// Builds the publication schedule of a bag: inputs only (or only `topics` if non-empty), in log-time order,
 /// leading params at 0, the rest at (log_time − first non-leading log_time) / rate.
 pub fn schedule(path: &Path, topics: &[String], rate: f64) -> Result<Vec<PlayItem>, BagError> {
+    schedule_from(path, topics, rate, Duration::ZERO).map(|s| s.items)
+}
+
+/// [`schedule`] starting `start_offset` (recorded time) after the bag's first message, as `ros2 bag play
+/// --start-offset` does: swings recorded before that point are skipped; params recorded before it are still
+/// published first (latched), so the swings that remain meet the bat and ball in force when they were
+/// recorded.
+pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Duration) -> Result<Schedule, BagError> {
     if !(rate > 0.0 && rate.is_finite()) {
         return Err(BagError::Format(format!("rate = {rate} is out of range: expected a finite value > 0")));
     }
-    let mut recorded: Vec<(u64, PlayItem)> = Vec::new();
+    let mut recorded: Vec<PlayItem> = Vec::new();
     let mut seen_topics: Vec<String> = Vec::new();
+    let mut bag_start_ns = u64::MAX;
     read_bag(path, |m| {
         let topic = &m.channel.topic;
+        bag_start_ns = bag_start_ns.min(m.log_time_ns);
         if !seen_topics.contains(&topic.name) {
             seen_topics.push(topic.name.clone());
         }
@@ -51,15 +83,13 @@ pub fn schedule(path: &Path, topics: &[String], rate: f64) -> Result<Vec<PlayIte
             topics.contains(&topic.name)
         };
         if wanted {
-            recorded.push((
-                m.log_time_ns,
-                PlayItem {
-                    at: Duration::ZERO,
-                    topic: topic.name.clone(),
-                    type_name: topic.type_name.clone(),
-                    cdr: m.data.to_vec(),
-                },
-            ));
+            recorded.push(PlayItem {
+                at: Duration::ZERO,
+                log_time_ns: m.log_time_ns,
+                topic: topic.name.clone(),
+                type_name: topic.type_name.clone(),
+                cdr: m.data.to_vec(),
+            });
         }
     })?;
     for t in topics {
@@ -70,7 +100,7 @@ pub fn schedule(path: &Path, topics: &[String], rate: f64) -> Result<Vec<PlayIte
             )));
         }
     }
-    for (_, item) in &recorded {
+    for item in &recorded {
         if !INPUT_TYPES.contains(&item.type_name.as_str()) {
             return Err(BagError::Format(format!(
                 "{} has type {}; play republishes only inputs ({})",
@@ -80,19 +110,26 @@ pub fn schedule(path: &Path, topics: &[String], rate: f64) -> Result<Vec<PlayIte
             )));
         }
     }
-    recorded.sort_by_key(|(t, _)| *t);
+    recorded.sort_by_key(|i| i.log_time_ns);
+    let offset_ns = u64::try_from(start_offset.as_nanos()).unwrap_or(u64::MAX);
+    let start_ns = bag_start_ns.saturating_add(offset_ns);
     let is_param = |i: &PlayItem| i.type_name != Swing::TYPE_NAME;
-    let leading = recorded.iter().take_while(|(_, i)| is_param(i)).count();
-    let origin = recorded.get(leading).map(|(t, _)| *t).unwrap_or(0);
-    Ok(recorded
+    recorded.retain(|i| i.log_time_ns >= start_ns || is_param(i));
+    let leading = recorded.iter().take_while(|i| is_param(i)).count();
+    let origin_ns = recorded.get(leading).map(|i| i.log_time_ns).unwrap_or(start_ns);
+    let items = recorded
         .into_iter()
         .enumerate()
-        .map(|(k, (t, mut item))| {
-            item.at =
-                if k < leading { Duration::ZERO } else { Duration::from_nanos(t.saturating_sub(origin)).div_f64(rate) };
+        .map(|(k, mut item)| {
+            item.at = if k < leading {
+                Duration::ZERO
+            } else {
+                Duration::from_nanos(item.log_time_ns.saturating_sub(origin_ns)).div_f64(rate)
+            };
             item
         })
-        .collect())
+        .collect();
+    Ok(Schedule { items, origin_ns })
 }
 
 /// How to play.
@@ -108,6 +145,115 @@ pub struct PlayOptions {
     pub wait_subscribers: usize,
     /// Limit for waiting for subscribers and for acknowledgments at the end.
     pub timeout: Duration,
+    /// Publish on the second topic what was recorded on the first (fully qualified names).
+    pub remaps: Vec<(String, String)>,
+    /// Start this far (recorded time) into the bag (see [`schedule_from`]).
+    pub start_offset: Duration,
+    /// Wait this long before each pass.
+    pub delay: Duration,
+    /// Publish rosgraph_msgs/Clock with the bag's time on `/clock` at this rate, Hz.
+    pub clock_hz: Option<f64>,
+    /// While set, playback time stands still (the space bar toggles it, see [`keys`]).
+    pub paused: Option<Arc<AtomicBool>>,
+}
+
+impl PlayOptions {
+    /// `rate` scale, every other option at `ros2 bag play`'s default.
+    pub fn new(rate: f64) -> PlayOptions {
+        PlayOptions {
+            rate,
+            repeat: false,
+            topics: Vec::new(),
+            wait_subscribers: 0,
+            timeout: Duration::from_secs(10),
+            remaps: Vec::new(),
+            start_offset: Duration::ZERO,
+            delay: Duration::ZERO,
+            clock_hz: None,
+            paused: None,
+        }
+    }
+
+    /// The topic a message recorded on `topic` is published on.
+    pub fn remapped<'a>(&'a self, topic: &'a str) -> &'a str {
+        self.remaps.iter().find(|(from, _)| from == topic).map(|(_, to)| to.as_str()).unwrap_or(topic)
+    }
+
+    /// The schedule these options play from `path`, remaps applied.
+    pub fn schedule(&self, path: &Path) -> Result<Schedule, BagError> {
+        let mut schedule = schedule_from(path, &self.topics, self.rate, self.start_offset)?;
+        for item in &mut schedule.items {
+            item.topic = self.remapped(&item.topic).to_string();
+        }
+        Ok(schedule)
+    }
+}
+
+/// `/clock`'s QoS as rosbag2's player publishes it (rclcpp's `ClockQoS`): best effort, volatile, keep last 1.
+pub fn clock_qos() -> ros2_client::QosProfile {
+    use ros2_client::qos::{Durability, History, Reliability};
+    ros2_client::QosProfile::publisher_default()
+        .reliability(Reliability::BestEffort)
+        .durability(Durability::Volatile)
+        .history(History::KeepLast { depth: 1 })
+}
+
+/// A recorded time (ns since the Unix epoch) as builtin_interfaces/Time.
+pub fn time_of(ns: u64) -> Time {
+    Time { sec: i32::try_from(ns / 1_000_000_000).unwrap_or(i32::MAX), nanosec: (ns % 1_000_000_000) as u32 }
+}
+
+/// Playback time of one pass: wall time since its start, less the time spent paused.
+struct PassClock {
+    start: Instant,
+    paused_at: Option<Instant>,
+    paused_for: Duration,
+}
+
+impl PassClock {
+    fn start() -> PassClock {
+        PassClock { start: Instant::now(), paused_at: None, paused_for: Duration::ZERO }
+    }
+
+    fn elapsed(&mut self, paused: bool) -> Duration {
+        let now = Instant::now();
+        match (paused, self.paused_at) {
+            (true, None) => self.paused_at = Some(now),
+            (false, Some(since)) => {
+                self.paused_for += now - since;
+                self.paused_at = None;
+            }
+            _ => {}
+        }
+        self.paused_at.unwrap_or(now).saturating_duration_since(self.start).saturating_sub(self.paused_for)
+    }
+}
+
+/// The `/clock` publisher: the bag's time at the playback position, every `period` of wall time.
+struct ClockOut {
+    writer: rustdds::no_key::DataWriterCdr<Clock>,
+    period: Duration,
+    next: Instant,
+}
+
+impl ClockOut {
+    fn tick(&mut self, origin_ns: u64, position: Duration, rate: f64) {
+        let now = Instant::now();
+        if now < self.next {
+            return;
+        }
+        self.next = (self.next + self.period).max(now);
+        let bag_ns = origin_ns.saturating_add(u64::try_from(position.mul_f64(rate).as_nanos()).unwrap_or(u64::MAX));
+        let message = Clock { clock: time_of(bag_ns) };
+        // Best effort, like rosbag2's: a lost tick is replaced by the next one.
+        if let Err(e) = self.writer.write(message, Some(rustdds::Timestamp::now())) {
+            tracing::debug!("/clock: {e}");
+        }
+    }
+
+    fn until_next(&self) -> Duration {
+        self.next.saturating_duration_since(Instant::now())
+    }
 }
 
 /// Counts of a play.
@@ -163,14 +309,19 @@ fn matched<T: RosMessage>(writer: &rustdds::no_key::DataWriterCdr<T>, current: &
 }
 
 /// Publishes the schedule over DDS (participant from `crate::ros`, QoS of `crate::ros::qos`). Stops early when
-/// `stop` is set. `on_item` is called after each publication (progress).
+/// `stop` is set. `on_item` is called after each publication (progress), with the topic it went out on.
 pub fn play(
     path: &Path,
     options: &PlayOptions,
     stop: &AtomicBool,
     mut on_item: impl FnMut(&PlayItem),
 ) -> Result<PlayStats, BagError> {
-    let items = schedule(path, &options.topics, options.rate)?;
+    if let Some(hz) = options.clock_hz {
+        if !(hz > 0.0 && hz.is_finite()) {
+            return Err(BagError::Options(format!("--clock {hz} is out of range: expected a finite rate > 0 Hz")));
+        }
+    }
+    let Schedule { items, origin_ns } = options.schedule(path)?;
     if items.is_empty() {
         return Err(BagError::Format(format!("{}: no input messages to play", path.display())));
     }
@@ -190,6 +341,14 @@ pub fn play(
         };
         writers.push((topic, writer, 0));
     }
+    let mut clock = match options.clock_hz {
+        Some(hz) => Some(ClockOut {
+            writer: make_writer::<Clock>(&ctx, "/clock", &clock_qos())?,
+            period: Duration::from_secs_f64(1.0 / hz),
+            next: Instant::now(),
+        }),
+        None => None,
+    };
     if options.wait_subscribers > 0 {
         let start = Instant::now();
         loop {
@@ -224,19 +383,34 @@ pub fn play(
         // Our side saw the match first; give the subscribers' side of the handshake a moment (see `pub`).
         std::thread::sleep(Duration::from_millis(300));
     }
+    let is_paused = || options.paused.as_ref().is_some_and(|p| p.load(Ordering::Relaxed));
     let mut stats = PlayStats::default();
     'passes: loop {
-        let start = Instant::now();
+        let delay_end = Instant::now() + options.delay;
+        while Instant::now() < delay_end {
+            if stop.load(Ordering::Relaxed) {
+                break 'passes;
+            }
+            std::thread::sleep((delay_end - Instant::now()).min(Duration::from_millis(20)));
+        }
+        let mut pass = PassClock::start();
         for item in &items {
-            let due = start + item.at;
-            while Instant::now() < due {
+            loop {
                 if stop.load(Ordering::Relaxed) {
                     break 'passes;
                 }
-                std::thread::sleep((due - Instant::now()).min(Duration::from_millis(20)));
-            }
-            if stop.load(Ordering::Relaxed) {
-                break 'passes;
+                let position = pass.elapsed(is_paused());
+                if let Some(clock) = clock.as_mut() {
+                    clock.tick(origin_ns, position, options.rate);
+                }
+                if position >= item.at && !is_paused() {
+                    break;
+                }
+                let mut nap = item.at.saturating_sub(position).min(Duration::from_millis(20));
+                if let Some(clock) = &clock {
+                    nap = nap.min(clock.until_next());
+                }
+                std::thread::sleep(nap.max(Duration::from_micros(200)));
             }
             let Some((_, writer, _)) = writers.iter().find(|(t, _, _)| *t == item.topic) else { continue };
             match writer {

@@ -182,3 +182,84 @@ pub fn interrupt_flag() -> Arc<AtomicBool> {
     })
     .clone()
 }
+
+/// A sample as it travelled: the 4-byte encapsulation header (representation identifier, options `00 00`)
+/// followed by the serialized body, undecoded. This is what rosbag2 stores, so a recorder can keep messages
+/// of types it has no definition for.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RawCdr(pub Vec<u8>);
+
+/// The [`RawCdr`] "decoder": keeps the bytes of any plain or XCDR2 encapsulation as they are.
+pub struct RawCdrAdapter;
+
+/// The decoder object of [`RawCdrAdapter`].
+#[derive(Clone, Copy)]
+pub struct RawCdrDecoder;
+
+/// [`RawCdrAdapter`] never fails; RustDDS's adapter traits still want an error type.
+#[derive(Debug, thiserror::Error)]
+#[error("raw CDR cannot fail")]
+pub struct RawCdrError;
+
+const RAW_ENCODINGS: [rustdds::RepresentationIdentifier; 6] = [
+    rustdds::RepresentationIdentifier::CDR_LE,
+    rustdds::RepresentationIdentifier::CDR_BE,
+    rustdds::RepresentationIdentifier::CDR2_LE,
+    rustdds::RepresentationIdentifier::CDR2_BE,
+    rustdds::RepresentationIdentifier::D_CDR2_LE,
+    rustdds::RepresentationIdentifier::D_CDR2_BE,
+];
+
+impl rustdds::no_key::DeserializerAdapter<RawCdr> for RawCdrAdapter {
+    type Error = RawCdrError;
+    type Decoded = RawCdr;
+
+    fn supported_encodings() -> &'static [rustdds::RepresentationIdentifier] {
+        &RAW_ENCODINGS
+    }
+
+    fn transform_decoded(decoded: RawCdr) -> RawCdr {
+        decoded
+    }
+}
+
+impl rustdds::no_key::DefaultDecoder<RawCdr> for RawCdrAdapter {
+    type Decoder = RawCdrDecoder;
+    const DECODER: RawCdrDecoder = RawCdrDecoder;
+}
+
+impl<'de> rustdds::no_key::Decode<'de, RawCdr> for RawCdrDecoder {
+    type Error = RawCdrError;
+
+    fn decode_bytes(
+        self,
+        input_bytes: &'de [u8],
+        encoding: rustdds::RepresentationIdentifier,
+    ) -> Result<RawCdr, RawCdrError> {
+        let mut bytes = Vec::with_capacity(input_bytes.len() + 4);
+        bytes.extend_from_slice(&encoding.to_bytes());
+        bytes.extend_from_slice(&[0, 0]);
+        bytes.extend_from_slice(input_bytes);
+        Ok(RawCdr(bytes))
+    }
+}
+
+/// A raw DDS reader of whatever is published on the fully-qualified ROS topic `fq_topic` with the DDS type
+/// name `dds_type_name` (as discovery reports it, e.g. `std_msgs::msg::dds_::String_`), on a subscriber of
+/// its own: samples come as [`RawCdr`], never decoded.
+pub fn raw_reader(
+    ctx: &ros2_client::Context,
+    fq_topic: &str,
+    dds_type_name: &str,
+    qos: &QosProfile,
+) -> Result<rustdds::no_key::SimpleDataReader<RawCdr, RawCdrAdapter>, RosError> {
+    let dds_qos = rustdds::QosPolicies::from(qos);
+    let topic = ctx
+        .domain_participant()
+        .create_topic(dds_topic_name(fq_topic), dds_type_name.to_string(), &dds_qos, rustdds::TopicKind::NoKey)
+        .map_err(|e| RosError::CreateTopic { topic: fq_topic.to_string(), reason: e.to_string() })?;
+    ctx.domain_participant()
+        .create_subscriber(&dds_qos)
+        .and_then(|s| s.create_simple_datareader_no_key::<RawCdr, RawCdrAdapter>(&topic, Some(dds_qos.clone())))
+        .map_err(|e| RosError::CreateReader { topic: fq_topic.to_string(), reason: e.to_string() })
+}

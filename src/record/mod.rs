@@ -1,0 +1,343 @@
+//! `bag record`: a recorder for the whole rig, like `ros2 bag record`. It watches DDS discovery for
+//! publications, subscribes to the ROS topics it is asked for (all, a list, a regular expression) and writes
+//! every sample into a rosbag2 MCAP bag through the node's own [`Recorder`], so the bag is exactly what the
+//! node would have written.
+//!
+//! Samples are kept as they travelled ([`RawCdr`]), never decoded: a type sweetspot generates from `msgs/`
+//! gets its `ros2msg` schema; any other type is recorded all the same, with an empty schema (Jazzy publishes
+//! type descriptions only through a service, which RustDDS does not query), and the user is told so. It sits
+//! beside [`crate::play`], above both [`crate::bag`] and [`crate::ros`].
+
+pub mod qos_overrides;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use ros2_client::qos::{Durability, History, Reliability, WhenFull};
+use ros2_client::QosProfile;
+use rustdds::no_key::SimpleDataReader;
+
+use crate::bag::{BagError, RecordedQos, Recorder, RecorderConfig, StorageOptions, TopicId, TopicInfo};
+use crate::ros::edge::{raw_reader, RawCdr, RawCdrAdapter};
+use crate::ros::RosError;
+pub use qos_overrides::{QosOverride, QosOverrides};
+
+/// What went wrong while recording.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// The bag could not be created or written.
+    #[error(transparent)]
+    Bag(#[from] BagError),
+    /// DDS could not be set up.
+    #[error(transparent)]
+    Ros(#[from] RosError),
+}
+
+/// Which topics to record: any that `all` admits, is listed in `topics`, or matches `regex`.
+#[derive(Debug, Clone, Default)]
+pub struct Selection {
+    /// Every ROS topic (hidden ones only with `include_hidden`).
+    pub all: bool,
+    /// These fully-qualified topics.
+    pub topics: Vec<String>,
+    /// Topics whose fully-qualified name matches this (hidden ones only with `include_hidden`).
+    pub regex: Option<regex::Regex>,
+    /// Also record hidden topics (a name token starting with `_`) with `all` or `regex`.
+    pub include_hidden: bool,
+}
+
+impl Selection {
+    /// Whether `topic` is to be recorded, or why not.
+    fn admits(&self, topic: &str) -> Result<(), String> {
+        if self.topics.iter().any(|t| t == topic) {
+            return Ok(());
+        }
+        let by_pattern = self.all || self.regex.as_ref().is_some_and(|r| r.is_match(topic));
+        if !by_pattern {
+            return Err("not selected".to_string());
+        }
+        if !self.include_hidden && topic.split('/').any(|token| token.starts_with('_')) {
+            return Err("a hidden topic (pass --include-hidden-topics to record it)".to_string());
+        }
+        Ok(())
+    }
+}
+
+/// How and where to record.
+#[derive(Debug, Clone)]
+pub struct RecordOptions {
+    /// The bag directory to create (must not exist).
+    pub output: PathBuf,
+    /// Which topics.
+    pub selection: Selection,
+    /// Chunking and compression (a rosbag2 MCAP storage preset).
+    pub storage: StorageOptions,
+    /// Start a new file after this many bytes.
+    pub max_bag_size: Option<u64>,
+    /// Start a new file after this much recorded time.
+    pub max_bag_duration: Option<Duration>,
+    /// Subscription QoS per topic, over the one adapted to the publishers.
+    pub qos_overrides: QosOverrides,
+    /// How often discovery is looked at for new topics.
+    pub polling_interval: Duration,
+}
+
+impl RecordOptions {
+    /// All topics into `output`, rosbag2's defaults otherwise (no splitting, the `none` storage preset,
+    /// discovery every 100 ms).
+    pub fn new(output: impl Into<PathBuf>) -> RecordOptions {
+        RecordOptions {
+            output: output.into(),
+            selection: Selection { all: true, ..Selection::default() },
+            storage: crate::bag::StoragePreset::None.storage_options(),
+            max_bag_size: None,
+            max_bag_duration: None,
+            qos_overrides: QosOverrides::default(),
+            polling_interval: Duration::from_millis(100),
+        }
+    }
+}
+
+/// Something the recorder wants the user to know.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RecordEvent {
+    /// Recording `topic` from now on; `schema` is false for a type sweetspot has no definition of.
+    Subscribed { topic: String, type_name: String, schema: bool },
+    /// Not recording `topic` (a DDS topic name for what is not a ROS topic), and why.
+    Skipped { topic: String, reason: String },
+}
+
+/// What a recording wrote.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RecordStats {
+    /// Messages recorded per topic (every subscribed topic, zero included).
+    pub per_topic: BTreeMap<String, u64>,
+    /// Messages the bag writer could not keep up with.
+    pub dropped: u64,
+}
+
+/// The ROS type name of a DDS type name: `pkg::msg::dds_::Type_` → `pkg/msg/Type`.
+pub fn ros_type_name(dds_type_name: &str) -> Option<String> {
+    let parts: Vec<&str> = dds_type_name.split("::").collect();
+    match parts.as_slice() {
+        [pkg, kind, "dds_", name] if !pkg.is_empty() && !kind.is_empty() => {
+            let name = name.strip_suffix('_').filter(|n| !n.is_empty())?;
+            Some(format!("{pkg}/{kind}/{name}"))
+        }
+        _ => None,
+    }
+}
+
+/// The ROS topic of a DDS topic name, or why it is not one to record: `rt/lab/swing` → `/lab/swing`.
+pub fn ros_topic_name(dds_topic: &str) -> Result<String, String> {
+    if let Some(rest) = dds_topic.strip_prefix("rt/") {
+        return Ok(format!("/{rest}"));
+    }
+    if dds_topic.starts_with("rq/") || dds_topic.starts_with("rr/") {
+        return Err("a service's request or reply topic (services are not recorded)".to_string());
+    }
+    Err("not a ROS topic (no rt/ prefix)".to_string())
+}
+
+/// Nanoseconds since the Unix epoch of an RTPS timestamp.
+fn unix_ns(t: rustdds::Timestamp) -> u64 {
+    let ticks = t.to_ticks();
+    let (seconds, fraction) = (ticks >> 32, ticks & 0xFFFF_FFFF);
+    seconds * 1_000_000_000 + ((fraction * 1_000_000_000) >> 32)
+}
+
+/// The publishers of one topic as discovery reports them.
+#[derive(Debug, Default)]
+struct Publications {
+    type_names: Vec<String>,
+    all_reliable: bool,
+    all_transient_local: bool,
+    count: usize,
+}
+
+fn discovered_publications(ctx: &ros2_client::Context) -> BTreeMap<String, Publications> {
+    use rustdds::policy;
+    let mut out: BTreeMap<String, Publications> = BTreeMap::new();
+    for writer in ctx.domain_participant().discovered_writers() {
+        let data = &writer.publication_topic_data;
+        let entry = out.entry(data.topic_name.clone()).or_insert_with(|| Publications {
+            all_reliable: true,
+            all_transient_local: true,
+            ..Default::default()
+        });
+        if !entry.type_names.contains(&data.type_name) {
+            entry.type_names.push(data.type_name.clone());
+        }
+        // DDS defaults when not announced: writers are reliable, volatile.
+        entry.all_reliable &= !matches!(data.reliability, Some(policy::Reliability::BestEffort));
+        entry.all_transient_local &= matches!(data.durability, Some(policy::Durability::TransientLocal));
+        entry.count += 1;
+    }
+    out
+}
+
+/// The subscription QoS rosbag2 would use for these publishers: reliable if every publisher is, transient
+/// local if every publisher is (so latched messages are recorded), a deep queue so bursts are not lost.
+fn adapted_qos(publications: &Publications) -> QosProfile {
+    let reliability = if publications.all_reliable {
+        Reliability::Reliable { when_full: WhenFull::DEFAULT }
+    } else {
+        Reliability::BestEffort
+    };
+    let durability = if publications.all_transient_local { Durability::TransientLocal } else { Durability::Volatile };
+    QosProfile::subscription_default()
+        .reliability(reliability)
+        .durability(durability)
+        .history(History::KeepLast { depth: 1000 })
+}
+
+struct Subscribed {
+    topic: String,
+    id: TopicId,
+    reader: SimpleDataReader<RawCdr, RawCdrAdapter>,
+    count: u64,
+}
+
+/// Records until `stop` is set, then finishes the bag. `on_event` hears of every topic subscribed or skipped
+/// (once per topic).
+pub fn record(
+    options: &RecordOptions,
+    stop: &AtomicBool,
+    mut on_event: impl FnMut(&RecordEvent),
+) -> Result<RecordStats, RecordError> {
+    let (ctx, _config) = crate::ros::context_from_env()?;
+    let config = RecorderConfig {
+        max_file_size: options.max_bag_size,
+        max_file_duration: options.max_bag_duration,
+        ..RecorderConfig::new(&options.output)
+    };
+    let recorder = Recorder::start_with(config, options.storage)?;
+    let mut subscribed: Vec<Subscribed> = Vec::new();
+    let mut decided: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
+    let mut next_discovery = Instant::now();
+    while !stop.load(Ordering::Relaxed) {
+        if Instant::now() >= next_discovery {
+            next_discovery = Instant::now() + options.polling_interval;
+            for (dds_topic, publications) in discovered_publications(&ctx) {
+                if decided.contains(&dds_topic) {
+                    continue;
+                }
+                let topic = match ros_topic_name(&dds_topic) {
+                    Ok(topic) => topic,
+                    Err(reason) => {
+                        // Only worth a word when the user asked for everything.
+                        if options.selection.all {
+                            on_event(&RecordEvent::Skipped { topic: dds_topic.clone(), reason });
+                        }
+                        decided.insert(dds_topic);
+                        continue;
+                    }
+                };
+                if let Err(reason) = options.selection.admits(&topic) {
+                    if reason != "not selected" {
+                        on_event(&RecordEvent::Skipped { topic, reason });
+                    }
+                    decided.insert(dds_topic);
+                    continue;
+                }
+                decided.insert(dds_topic.clone());
+                let dds_type = match publications.type_names.as_slice() {
+                    [one] => one.clone(),
+                    several => {
+                        let reason = format!("published with several types ({})", several.join(", "));
+                        on_event(&RecordEvent::Skipped { topic, reason });
+                        continue;
+                    }
+                };
+                let Some(type_name) = ros_type_name(&dds_type) else {
+                    let reason = format!("DDS type {dds_type} is not a ROS message type (pkg::msg::dds_::Type_)");
+                    on_event(&RecordEvent::Skipped { topic, reason });
+                    continue;
+                };
+                let known = crate::msgs::ALL_TYPES.iter().find(|t| t.dds_type_name == dds_type);
+                let qos = options.qos_overrides.apply(&topic, adapted_qos(&publications));
+                let reader = raw_reader(&ctx, &topic, &dds_type, &qos)?;
+                let info = TopicInfo {
+                    name: topic.clone(),
+                    type_name: type_name.clone(),
+                    schema_text: known.map(|t| t.schema_text.to_string()).unwrap_or_default(),
+                    // What the publishers offered, as far as discovery tells (it does not carry the depth).
+                    qos: RecordedQos {
+                        reliable: publications.all_reliable,
+                        transient_local: publications.all_transient_local,
+                        depth: 0,
+                    },
+                };
+                let id = recorder.register_topic(info)?;
+                on_event(&RecordEvent::Subscribed { topic: topic.clone(), type_name, schema: known.is_some() });
+                subscribed.push(Subscribed { topic, id, reader, count: 0 });
+            }
+        }
+        let mut took = false;
+        for sub in &mut subscribed {
+            loop {
+                match sub.reader.try_take_one() {
+                    Ok(Some(sample)) => {
+                        let log_time = unix_ns(sample.receive_instant);
+                        let publish_time = sample.source_timestamp().map(unix_ns).unwrap_or(log_time);
+                        let RawCdr(bytes) = sample.into_value();
+                        recorder.record(sub.id, bytes, log_time, publish_time);
+                        sub.count += 1;
+                        took = true;
+                    }
+                    Ok(None) => break,
+                    Err(e) => {
+                        tracing::warn!("{}: {e}", sub.topic);
+                        break;
+                    }
+                }
+            }
+        }
+        if !took {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+    let finished = recorder.finish()?;
+    Ok(RecordStats {
+        per_topic: subscribed.into_iter().map(|s| (s.topic, s.count)).collect(),
+        dropped: finished.dropped,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dds_names_map_to_ros_names() {
+        // The DDS forms rmw implementations use (ROS 2 design: "Topic and Service name mapping to DDS").
+        assert_eq!(ros_type_name("std_msgs::msg::dds_::String_").as_deref(), Some("std_msgs/msg/String"));
+        assert_eq!(
+            ros_type_name("rcl_interfaces::msg::dds_::ParameterEvent_").as_deref(),
+            Some("rcl_interfaces/msg/ParameterEvent")
+        );
+        assert_eq!(ros_type_name("DCPSParticipant"), None);
+        assert_eq!(ros_type_name("std_msgs::msg::String"), None);
+        assert_eq!(ros_topic_name("rt/lab/swing").as_deref(), Ok("/lab/swing"));
+        assert!(ros_topic_name("rq/lab/sweetspot/get_parametersRequest").unwrap_err().contains("service"));
+        assert!(ros_topic_name("ros_discovery_info").is_err());
+        // 1.5 s in RTPS ticks: seconds in the high word, 2^31 / 2^32 of a second in the low one.
+        let ticks = (1u64 << 32) | (1u64 << 31);
+        assert_eq!(unix_ns(rustdds::Timestamp::from_ticks(ticks)), 1_500_000_000);
+    }
+
+    #[test]
+    fn selection_admits_listed_matching_and_visible_topics() {
+        let all = Selection { all: true, ..Selection::default() };
+        assert!(all.admits("/lab/swing").is_ok());
+        assert!(all.admits("/lab/_hidden/x").unwrap_err().contains("hidden"));
+        let listed = Selection { topics: vec!["/lab/_hidden/x".into()], ..Selection::default() };
+        assert!(listed.admits("/lab/_hidden/x").is_ok());
+        assert!(listed.admits("/lab/swing").is_err());
+        let regex = Selection { regex: Some(regex::Regex::new("^/rig[0-9]+/").unwrap()), ..Selection::default() };
+        assert!(regex.admits("/rig3/swing").is_ok());
+        assert!(regex.admits("/lab/swing").is_err());
+    }
+}
