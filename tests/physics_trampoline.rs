@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use sweetspot::physics::bat::{ALUMINUM_BARREL_WALL, BBCOR_ALLOY_BARREL_WALL};
-use sweetspot::physics::collision::collide_with_hoop;
+use sweetspot::physics::collision::{collide_with_hoop, hoop_under_ball};
 use sweetspot::physics::hoop::{poisson_ratio, ring_frequency_hz};
 use sweetspot::physics::{
     collide, metrics, Ball, Bat, CollisionOptions, CollisionResult, HoopMode, Impact, Material, ModeSet, PhysicsError,
@@ -180,13 +180,17 @@ fn the_alloy_barrel_has_a_hoop_mode_and_the_budget_closes() {
         let z = impact.impact_z;
         let r = collide(&m, &Ball::default(), &impact, &CollisionOptions::default()).expect("collide");
         let hoop = r.hoop.expect("hollow barrel");
-        assert_eq!(Some(hoop), bat.hoop_at(z));
+        assert_eq!(Some(hoop), hoop_under_ball(&m, &Ball::default(), &impact));
+        // The section's mode, loaded through the ball's patch: a share of the point load's coupling.
+        let section = bat.hoop_at(z).expect("hollow barrel");
+        assert_eq!((hoop.stiffness, hoop.effective_mass), (section.stiffness, section.effective_mass));
+        assert!(hoop.coupling < 0.9 * section.coupling && hoop.coupling > 0.3, "{label} at {z}: ψ = {}", hoop.coupling);
         assert_eq!(m.hoop_frequency_at(z), Some(hoop.frequency_hz()));
         let e = &r.energy;
         let relative = (e.residual / e.initial).abs();
         assert!(relative < 1e-6, "{label} at {z}: residual {relative:e}");
         assert!(e.hoop_stored > 0.5, "{label} at {z}: the wall took {} J", e.hoop_stored);
-        assert!(e.hoop_returned > 0.5 * e.hoop_stored, "{label} at {z}: it gave back {} J", e.hoop_returned);
+        assert!(e.hoop_returned > 0.1 * e.hoop_stored, "{label} at {z}: it gave back {} J", e.hoop_returned);
         assert!((e.hoop_stored - e.hoop_returned - e.hoop).abs() < 1e-9 * e.hoop_stored);
         // The sum of the parts, written out.
         let sum = e.ball + e.bat_rigid + e.vibration + e.hoop + e.hysteresis_loss + e.residual;
@@ -247,13 +251,17 @@ fn a_stiffer_wall_tends_continuously_to_the_rigid_wall() {
         previous = gap;
     }
     assert!(previous < 1e-4, "k_h × 1e5 is within {previous} m/s of the rigid wall");
-    // The wall thickened toward solid: the hoop's effect shrinks monotonically (each bat against itself
-    // without the hoop, since a thicker wall changes the beam too).
+    // The wall thickened toward solid, from the wall of the largest trampoline (about 3 mm, see the README)
+    // up: the hoop's effect shrinks monotonically (each bat against itself without the hoop, since a thicker
+    // wall changes the beam too) and vanishes as the bore closes (the bore share χ → 0, see `hoop`).
+    let outer = 2.625 / 2.0 * 0.0254;
     let mut previous = f64::INFINITY;
     let mut first = None;
-    for wall in [0.002, ALUMINUM_BARREL_WALL, 0.004, 0.008, 0.016, 0.030] {
+    for wall in [0.003, 0.004, 0.008, 0.016, 0.030, outer - 1e-5] {
         let b = Bat::alloy_profile("wall", wall).expect("bat");
         let m = modes(&b);
+        // A closing bore's hoop mode rings near 90 kHz: resolved by a finer step (the default one is refused).
+        let options = if wall > 0.03 { with_dt(1e-6) } else { options };
         let with = collide(&m, &ball, &impact, &options).expect("collide").exit_speed;
         let without = collide_with_hoop(&m, &ball, &impact, &options, None).expect("collide").exit_speed;
         let gain = with - without;
@@ -262,10 +270,27 @@ fn a_stiffer_wall_tends_continuously_to_the_rigid_wall() {
         first.get_or_insert(gain);
         previous = gain;
     }
-    // Thin-shell theory keeps a small compliance even as the bore closes (see `hoop`'s docs): the gain of a
-    // 30-mm wall is a small fraction of the 2-mm wall's, not zero.
     let first = first.expect("walls");
-    assert!(previous < first / 50.0, "a 30-mm wall: gain {previous} m/s against {first} m/s for 2 mm");
+    assert!(previous < 1e-4 * first, "a closing bore: gain {previous} m/s against {first} m/s for 3 mm");
+}
+
+/// A wall too thin for the contact: its hoop period is longer than the contact, so the wall is still
+/// deflected when the ball leaves and keeps much of what it stored — the trampoline turns into a loss.
+#[test]
+fn a_wall_too_thin_keeps_its_energy_past_separation() {
+    let ball = Ball::default();
+    let impact = swing(0.68);
+    let options = CollisionOptions::default();
+    let kept_share = |wall: f64| {
+        let m = modes(&Bat::alloy_profile("wall", wall).expect("bat"));
+        let r = collide(&m, &ball, &impact, &options).expect("collide");
+        let period = 1.0 / r.hoop.expect("hollow").frequency_hz();
+        (r.energy.hoop / r.energy.hoop_stored, period / r.contact_time)
+    };
+    let (thin, thin_ratio) = kept_share(0.0015);
+    let (thick, thick_ratio) = kept_share(0.004);
+    assert!(thin_ratio > 0.6 && thick_ratio < 0.4, "hoop period / contact time {thin_ratio}, {thick_ratio}");
+    assert!(thin > 0.5 && thick < 0.2, "share of the stored energy kept: {thin} (1.5 mm), {thick} (4 mm)");
 }
 
 #[test]
@@ -293,7 +318,7 @@ fn best_grid_bbcor(m: &ModeSet, hoop_on: bool) -> f64 {
     (0..13)
         .map(|i| m.length() - (9.0 - 0.5 * i as f64) * 0.0254)
         .map(|z| {
-            let hoop = if hoop_on { m.hoop_at(z) } else { None };
+            let hoop = if hoop_on { hoop_under_ball(m, &ball, &bbcor_shot(z)) } else { None };
             collide_with_hoop(m, &ball, &bbcor_shot(z), &CollisionOptions::default(), hoop.as_ref())
                 .expect("collide")
                 .effective_cor
@@ -308,14 +333,29 @@ fn the_trampoline_raises_the_alloy_bats_bbcor_and_exit_speed() {
     let without = best_grid_bbcor(&m, false);
     assert!(with > without + 0.005, "BBCOR {with} with the hoop vs {without} without");
     assert!(metrics::bbcor(&m, &CollisionOptions::default()).expect("bbcor") >= with - 1e-12);
+    // The best exit speed along the barrel (the sweet spot) rises; the hoop gains most toward the handle
+    // side of the barrel and can lose a little toward its end, where the wall keeps more of its energy.
     let ball = Ball::default();
-    for z in [0.60, 0.65, 0.70, 0.75] {
-        let on = collide(&m, &ball, &swing(z), &CollisionOptions::default()).expect("collide");
-        let off = collide_with_hoop(&m, &ball, &swing(z), &CollisionOptions::default(), None).expect("collide");
-        assert!(on.exit_speed > off.exit_speed, "z = {z}: {} vs {}", on.exit_speed, off.exit_speed);
-        // Less is lost in the ball: it compresses less.
-        assert!(on.energy.hysteresis_loss < off.energy.hysteresis_loss && on.max_compression < off.max_compression);
-    }
+    let grid: Vec<f64> = (0..12).map(|i| 0.55 + 0.02 * i as f64).collect();
+    let best = |hoop_on: bool| {
+        grid.iter()
+            .map(|&z| {
+                let options = CollisionOptions::default();
+                let r = if hoop_on {
+                    collide(&m, &ball, &swing(z), &options)
+                } else {
+                    collide_with_hoop(&m, &ball, &swing(z), &options, None)
+                };
+                r.expect("collide").exit_speed
+            })
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let (on, off) = (best(true), best(false));
+    assert!(on > off + 1.0, "best exit speed {on} with the hoop vs {off} m/s without");
+    // Less is lost in the ball at the sweet spot: it compresses less.
+    let on = collide(&m, &ball, &swing(0.61), &CollisionOptions::default()).expect("collide");
+    let off = collide_with_hoop(&m, &ball, &swing(0.61), &CollisionOptions::default(), None).expect("collide");
+    assert!(on.energy.hysteresis_loss < off.energy.hysteresis_loss && on.max_compression < off.max_compression);
 }
 
 #[test]
@@ -335,7 +375,7 @@ fn bbcor_alloy_wall_solve() {
         let bat = Bat::alloy_profile("solve", wall).expect("bat");
         metrics::bbcor(&modes(&bat), &CollisionOptions::default()).expect("bbcor") - 0.50
     };
-    let (mut a, mut b) = (ALUMINUM_BARREL_WALL, 0.004);
+    let (mut a, mut b) = (0.008, 0.011);
     let (mut fa, mut fb) = (bbcor_of(a), bbcor_of(b));
     eprintln!("wall {a} → {fa:+e}; wall {b} → {fb:+e}");
     for _ in 0..30 {

@@ -25,8 +25,10 @@
 //! # The hoop mode of a hollow barrel
 //! Where the bat's wall has a hoop (n = 2 shell) mode at the impact point ([`super::hoop`]: stiffness k_h,
 //! effective mass m_h), the wall's ovalling is one more mode of the bat, integrated with the others: its
-//! amplitude q_h obeys q̈_h + ω_h² q_h = −F·Y_h with ω_h² = k_h/m_h and Y_h = 1/√m_h (unit modal mass, unit
-//! radial deflection per √m_h), and the contact displacement becomes u = Σ Y_n q_n + Y_h q_h − s. The ball
+//! amplitude q_h obeys q̈_h + ω_h² q_h = −F·Y_h with ω_h² = k_h/m_h and Y_h = ψ/√m_h (unit modal mass; ψ
+//! the share of the ball's force that drives the mode and of its deflection the ball feels, set by the
+//! ball's contact patch, see [`super::hoop`]), and the contact displacement becomes
+//! u = Σ Y_n q_n + Y_h q_h − s. The ball
 //! thus pushes on the wall (inertia m_h), the wall deflects against the hoop spring k_h, and the hoop spring
 //! rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia acts in
 //! the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of the
@@ -47,7 +49,7 @@
 use super::lanes::Avx;
 use super::lanes::{Lane4, Lanes, Portable, LANES};
 use super::rigid;
-use super::{Ball, HoopMode, ModeSet, PhysicsError};
+use super::{hoop, Ball, HoopMode, ModeSet, PhysicsError};
 
 /// Allowed time steps, s.
 pub const TIME_STEP_RANGE: (f64, f64) = (1e-8, 1e-4);
@@ -1006,14 +1008,14 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
 
 /// The step loop's buffers for `impact` on `modes` (validated) with `options`: mode shapes at the impact
 /// point, and the bat's rigid motion as the initial modal velocities; with `hoop`, the wall's hoop mode is
-/// one more mode after the beam's (shape 1/√m_h, ω_h² = k_h/m_h, at rest).
+/// one more mode after the beam's (shape ψ/√m_h, ω_h² = k_h/m_h, at rest).
 fn work_for(modes: &ModeSet, impact: &Impact, options: &CollisionOptions, hoop: Option<&HoopMode>) -> Work {
     let mp = modes.mass_properties();
     let nm = 2 + options.modes;
     let mut phi: Vec<f64> = (0..nm).map(|k| modes.shape_at(k, impact.impact_z)).collect();
     let mut w2: Vec<f64> = modes.all_modes()[..nm].iter().map(|m| m.angular_frequency * m.angular_frequency).collect();
     if let Some(hoop) = hoop {
-        phi.push(1.0 / hoop.effective_mass.sqrt());
+        phi.push(hoop.coupling / hoop.effective_mass.sqrt());
         w2.push(hoop.stiffness / hoop.effective_mass);
     }
     // Rigid initial velocities: ẏ = V + ω (z − z_cm) = p_0/√M + p_1 (z − z_cm)/√I.
@@ -1022,7 +1024,8 @@ fn work_for(modes: &ModeSet, impact: &Impact, options: &CollisionOptions, hoop: 
 }
 
 /// Runs one collision of `ball` with the bat described by `modes`, with the wall's hoop mode at the impact
-/// point when the section there has one ([`ModeSet::hoop_at`]).
+/// point when the section there has one ([`ModeSet::hoop_at`]), loaded through the ball's contact patch
+/// ([`hoop_under_ball`]).
 pub fn collide(
     modes: &ModeSet,
     ball: &Ball,
@@ -1030,12 +1033,27 @@ pub fn collide(
     options: &CollisionOptions,
 ) -> Result<CollisionResult, PhysicsError> {
     impact.validate(modes)?;
-    let hoop = modes.hoop_at(impact.impact_z);
+    let hoop = hoop_under_ball(modes, ball, impact);
     collide_with_hoop(modes, ball, impact, options, hoop.as_ref())
 }
 
+/// The wall's hoop mode at `impact`'s point as `ball` loads it: the section's mode ([`ModeSet::hoop_at`])
+/// through the contact patch at the peak compression of the same impact without the wall
+/// ([`hoop::reference_compression`] with the bat's rigid-body effective mass at the impact point); `None`
+/// where the section has no hoop mode.
+pub fn hoop_under_ball(modes: &ModeSet, ball: &Ball, impact: &Impact) -> Option<HoopMode> {
+    let section = modes.hoop_at(impact.impact_z)?;
+    let mp = modes.mass_properties();
+    let approach = impact.ball_speed + rigid::bat_speed_at(&mp, impact);
+    let arm = impact.impact_z - mp.center_of_mass;
+    let bat_effective_mass = 1.0 / (1.0 / mp.mass + arm * arm / mp.moment_of_inertia);
+    let compression = hoop::reference_compression(ball, approach, bat_effective_mass);
+    Some(section.under_patch(ball.radius, compression))
+}
+
 /// Runs one collision of `ball` with the bat described by `modes` and the given hoop mode at the impact
-/// point (`None`: a rigid wall there, as for a solid section), whatever the bat's own wall has.
+/// point (`None`: a rigid wall there, as for a solid section), whatever the bat's own wall has; the mode's
+/// [`HoopMode::coupling`] is used as given.
 pub fn collide_with_hoop(
     modes: &ModeSet,
     ball: &Ball,

@@ -72,17 +72,41 @@
 //! - The barrel is taken as locally uniform and long: the section at the impact point is used, so the
 //!   taper must change the radius little over 1/β (|da/dz|/β ≪ a), and an end cap or the barrel's end
 //!   within ~1/β of the impact stiffens (cap) or softens (free end) the wall in reality; neither is modelled.
-//! - The ball is a point load. This is the model's weakest assumption: at BBCOR speeds the ball's contact
-//!   patch (radius √(2 R u) ≈ 35 mm at u ≈ 17 mm) wraps some ±60° of a 33-mm barrel, and the n = 2 share
-//!   of a load spread uniformly over ±θ_c is sin 2θ_c/(2θ_c) ≈ 0.4; the force and the displacement the ball
-//!   sees both carry that share, so the point load overstates the wall's compliance several times at peak
-//!   force. With the point load the `aluminum` barrel's BBCOR comes out 0.66 (0.49 without the hoop) and
-//!   the exit speed rises by ~8 m/s, more than the measured metal-over-wood gain; carrying the patch (a
-//!   compression-dependent share) into the coupling is the next step.
+//! - The bore is what the model adds: a section whose bore closes (r_i → 0) tends to a solid one, which the
+//!   model treats as rigid (its local deformation under the ball belongs to the ball's measured contact
+//!   law). The thin-shell formulas, taken to a solid section (h = r_o, a = r_o/2), still give a finite
+//!   stiffness k_h(r_o, 0), so the wall is given only the compliance it has beyond that of a solid section of
+//!   the same outer radius by the same formulas: 1/k_h(r_o, r_i) − 1/k_h(r_o, 0) = χ/k_h with the bore share
+//!   χ = 1 − k_h(r_o, r_i)/k_h(r_o, 0). With k_h ∝ h^{5/2} a^{−3/2}, χ ≈ 4 r_i/r_o as the bore closes, so the
+//!   results tend continuously to the solid bat's; for a real alloy barrel (h/r_o ≈ 0.07) χ = 0.9995.
+//!
+//! # The ball's contact patch
+//! The ball does not load the wall at a point: at BBCOR speeds its contact patch wraps tens of degrees of
+//! a 33-mm barrel. A load spread over the patch drives the n = 2 mode with the patch's average of the mode
+//! shape, and the wall deflection the ball feels is the same average of the mode's deflection (force and
+//! displacement stay power-conjugate), so with that share ψ the ball sees the mode as stiffness k_h/ψ² and
+//! mass m_h/ψ² (same frequency). The patch is taken as the ball's surface flattened against the undeformed
+//! barrel at a compression u_p, pressure uniform over it:
+//!
+//! - around the barrel, half-angle θ_p where the undeformed ball (radius R, centre at R + r_o − u_p from the
+//!   bat's axis) crosses the barrel's circle: cos θ_p = (r_o² + d² − R²)/(2 r_o d), d = R + r_o − u_p; the
+//!   n = 2 share of a load spread evenly over ±θ_p is S = sin 2θ_p/(2θ_p);
+//! - along the barrel, half-length L_p = √(2R u_p − u_p²); the average of the static deflection shape
+//!   e^{−βζ}(cos βζ + sin βζ) over |ζ| ≤ L_p is A = (1 − e^{−x} cos x)/x with x = β L_p;
+//! - ψ = S·A·√χ (the bore share above enters the same way: the ball sees k_h/(S²A²χ)).
+//!
+//! The patch is fixed for the whole contact at its largest extent, the peak compression of the collision
+//! without the wall: ½ μ v² = k₁ u_p^{α+1}/(α+1), with v the normal approach speed at the impact point
+//! and μ the reduced mass of the ball and the bat's rigid-body effective mass there
+//! ([`reference_compression`]). This is the patch the wall sees while the force — and the energy it
+//! stores — is largest; early and late in the contact the real patch is smaller and the coupling higher,
+//! when the force is small. Treating S and A as separable (a rectangle in θ and z, rather than the patch's
+//! rounded outline) and the pressure as uniform (it is higher at the centre, which raises ψ a little) are
+//! the remaining approximations; a point load (ψ = 1) is the upper bound of the coupling.
 //!
 //! No constant in this module is tuned: k_h, m_h and f_h follow from a, h, E, G and ρ.
 
-use super::{Bat, CoreFill, Material, PhysicsError, Station};
+use super::{Ball, Bat, CoreFill, Material, PhysicsError, Station};
 
 /// Circumferential wave number of the hoop (ovalling) mode.
 const WAVE_NUMBER: f64 = 2.0;
@@ -100,6 +124,11 @@ pub struct HoopMode {
     pub radius: f64,
     /// Wall thickness h, m.
     pub wall_thickness: f64,
+    /// Share ψ of the ball's force that drives the mode, and of the mode's deflection the ball feels
+    /// (dimensionless, in (0, 1]): the bore share √χ for a point load ([`HoopMode::of_section`]), times the
+    /// contact patch's share once the ball is known ([`HoopMode::under_patch`]). The ball sees the mode as
+    /// stiffness k_h/ψ² and mass m_h/ψ².
+    pub coupling: f64,
 }
 
 impl HoopMode {
@@ -112,24 +141,36 @@ impl HoopMode {
         if filled || !hollow || !(0.0..0.5).contains(&nu) {
             return None;
         }
-        let n2 = WAVE_NUMBER * WAVE_NUMBER;
-        let h = outer_radius - inner_radius;
-        let a = 0.5 * (outer_radius + inner_radius);
-        let e = shell.youngs_modulus;
-        let d = e * h * h * h / (12.0 * (1.0 - nu * nu));
-        let pi = std::f64::consts::PI;
-        let foundation = pi * d * (n2 - 1.0) * (n2 - 1.0) / (a * a * a);
-        let axial = pi * e * h * a * a * a / (n2 * n2);
-        let line_mass = pi * a * shell.density * h * (n2 + 1.0) / n2;
-        let beta = (foundation / (4.0 * axial)).sqrt().sqrt();
+        let (stiffness, effective_mass, decay_length) = thin_shell(outer_radius, inner_radius, shell, nu);
+        let (solid_stiffness, _, _) = thin_shell(outer_radius, 0.0, shell, nu);
+        let bore_share = 1.0 - stiffness / solid_stiffness;
         let mode = HoopMode {
-            stiffness: 2.0 * foundation / beta,
-            effective_mass: 1.5 * line_mass / beta,
-            decay_length: 1.0 / beta,
-            radius: a,
-            wall_thickness: h,
+            stiffness,
+            effective_mass,
+            decay_length,
+            radius: 0.5 * (outer_radius + inner_radius),
+            wall_thickness: outer_radius - inner_radius,
+            coupling: bore_share.max(0.0).sqrt(),
         };
-        (mode.stiffness.is_finite() && mode.stiffness > 0.0 && mode.effective_mass > 0.0).then_some(mode)
+        (mode.stiffness.is_finite() && mode.stiffness > 0.0 && mode.effective_mass > 0.0 && mode.coupling > 0.0)
+            .then_some(mode)
+    }
+
+    /// Outer radius of the wall, m.
+    pub fn outer_radius(&self) -> f64 {
+        self.radius + 0.5 * self.wall_thickness
+    }
+
+    /// This mode as a ball of radius `ball_radius` (m) loads it through its contact patch at compression
+    /// `compression` (m): the coupling multiplied by the patch's share S·A (see the module docs).
+    pub fn under_patch(&self, ball_radius: f64, compression: f64) -> HoopMode {
+        let patch = ContactPatch::new(ball_radius, self.outer_radius(), compression);
+        HoopMode { coupling: self.coupling * patch.share(self.decay_length), ..*self }
+    }
+
+    /// Stiffness the ball sees, k_h/ψ², N/m.
+    pub fn stiffness_seen(&self) -> f64 {
+        self.stiffness / (self.coupling * self.coupling)
     }
 
     /// Angular frequency ω_h = √(k_h/m_h), rad/s.
@@ -154,8 +195,88 @@ impl HoopMode {
                 "0 < effective_mass < ∞ kg",
             ));
         }
+        if !(self.coupling.is_finite() && self.coupling > 0.0 && self.coupling <= 1.0) {
+            return Err(PhysicsError::out_of_range("hoop.coupling", self.coupling, "0 < coupling ≤ 1"));
+        }
         Ok(())
     }
+}
+
+/// Point stiffness k_h (N/m), effective mass m_h (kg) and decay length 1/β (m) of the n = 2 mode of a wall
+/// between `inner_radius` and `outer_radius` (m) by the semi-membrane formulas of the module docs, for any
+/// wall (also a solid one, where the formulas are only a reference for the bore share).
+fn thin_shell(outer_radius: f64, inner_radius: f64, shell: &Material, nu: f64) -> (f64, f64, f64) {
+    let n2 = WAVE_NUMBER * WAVE_NUMBER;
+    let h = outer_radius - inner_radius;
+    let a = 0.5 * (outer_radius + inner_radius);
+    let e = shell.youngs_modulus;
+    let d = e * h * h * h / (12.0 * (1.0 - nu * nu));
+    let pi = std::f64::consts::PI;
+    let foundation = pi * d * (n2 - 1.0) * (n2 - 1.0) / (a * a * a);
+    let axial = pi * e * h * a * a * a / (n2 * n2);
+    let line_mass = pi * a * shell.density * h * (n2 + 1.0) / n2;
+    let beta = (foundation / (4.0 * axial)).sqrt().sqrt();
+    (2.0 * foundation / beta, 1.5 * line_mass / beta, 1.0 / beta)
+}
+
+/// The ball's contact patch on a barrel: the ball's surface flattened against the undeformed barrel, SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactPatch {
+    /// Half-angle θ_p of the patch around the barrel's axis, rad.
+    pub half_angle: f64,
+    /// Half-length L_p of the patch along the barrel, m.
+    pub half_length: f64,
+}
+
+impl ContactPatch {
+    /// The patch of a ball of radius `ball_radius` compressed by `compression` against a barrel of outer
+    /// radius `barrel_radius` (m): where the undeformed ball crosses the barrel's surface.
+    pub fn new(ball_radius: f64, barrel_radius: f64, compression: f64) -> ContactPatch {
+        let (r, b) = (ball_radius, barrel_radius);
+        let u = compression.clamp(0.0, r);
+        let d = r + b - u;
+        let cos = ((b * b + d * d - r * r) / (2.0 * b * d)).clamp(-1.0, 1.0);
+        ContactPatch { half_angle: cos.acos(), half_length: (2.0 * r * u - u * u).max(0.0).sqrt() }
+    }
+
+    /// Share S of the n = 2 mode in a load spread evenly over ±θ_p: sin 2θ_p/(2θ_p) (1 for a point).
+    pub fn circumferential_share(&self) -> f64 {
+        let x = 2.0 * self.half_angle;
+        if x < 1e-6 {
+            1.0 - x * x / 6.0
+        } else {
+            x.sin() / x
+        }
+    }
+
+    /// Average A of the static deflection shape e^{−βζ}(cos βζ + sin βζ) over |ζ| ≤ L_p, for the decay
+    /// length `decay_length` = 1/β (m): (1 − e^{−x} cos x)/x with x = β L_p (1 for a point).
+    pub fn axial_share(&self, decay_length: f64) -> f64 {
+        let x = self.half_length / decay_length;
+        if x < 1e-6 {
+            1.0 - x * x / 3.0
+        } else {
+            (1.0 - (-x).exp() * x.cos()) / x
+        }
+    }
+
+    /// The patch's share S·A of the n = 2 mode for the decay length `decay_length` (m).
+    pub fn share(&self, decay_length: f64) -> f64 {
+        self.circumferential_share() * self.axial_share(decay_length)
+    }
+}
+
+/// Peak compression of a ball against a wall that does not give, m: ½ μ v² = k₁ u^{α+1}/(α+1) for the
+/// ball `ball`, the normal approach speed `approach_speed` (m/s) and the bat's effective mass at the impact
+/// point `bat_effective_mass` (kg; infinite for a fixed wall), μ their reduced mass.
+pub fn reference_compression(ball: &Ball, approach_speed: f64, bat_effective_mass: f64) -> f64 {
+    let mu = if bat_effective_mass.is_finite() {
+        ball.mass * bat_effective_mass / (ball.mass + bat_effective_mass)
+    } else {
+        ball.mass
+    };
+    let a1 = ball.exponent + 1.0;
+    (0.5 * mu * approach_speed * approach_speed * a1 / ball.stiffness).powf(1.0 / a1)
 }
 
 /// Poisson's ratio ν = E/(2G) − 1 of an isotropic material from its Young's and shear moduli.
@@ -258,5 +379,81 @@ mod tests {
             // The wall length taking part, 1/β = a √(a/h) ((1 − ν²)/3)^{1/4}, is a few radii for h/a ≈ 0.07.
             assert!(hoop.decay_length > 2.0 * hoop.radius && hoop.decay_length < 4.0 * hoop.radius);
         }
+    }
+
+    /// The patch's extent by brute force: points of the barrel's surface inside the undeformed ball.
+    fn patch_by_sampling(ball_radius: f64, barrel_radius: f64, compression: f64) -> (f64, f64) {
+        let d = ball_radius + barrel_radius - compression;
+        let inside = |theta: f64, z: f64| {
+            let (y, x) = (barrel_radius * theta.cos(), barrel_radius * theta.sin());
+            x * x + (y - d) * (y - d) + z * z < ball_radius * ball_radius
+        };
+        let n = 200_000;
+        let angle = (0..n).map(|i| std::f64::consts::PI * i as f64 / n as f64).take_while(|&t| inside(t, 0.0)).last();
+        let length = (0..n).map(|i| ball_radius * i as f64 / n as f64).take_while(|&z| inside(0.0, z)).last();
+        (angle.unwrap_or(0.0), length.unwrap_or(0.0))
+    }
+
+    #[test]
+    fn the_contact_patch_is_where_the_ball_crosses_the_barrel() {
+        for (r, b, u) in [(0.0366, 0.0333, 0.005), (0.0366, 0.0333, 0.017), (0.0366, 0.02, 0.01), (0.05, 0.04, 0.002)] {
+            let patch = ContactPatch::new(r, b, u);
+            let (angle, length) = patch_by_sampling(r, b, u);
+            assert!((patch.half_angle - angle).abs() < 2e-5, "{r} {b} {u}: θ {} vs {angle}", patch.half_angle);
+            assert!((patch.half_length - length).abs() < 1e-6, "{r} {b} {u}: L {} vs {length}", patch.half_length);
+        }
+        // On a flat wall (barrel radius → ∞) the patch is a circle: arc half-width = half-length.
+        let flat = ContactPatch::new(0.0366, 1.0e4, 0.01);
+        assert!((flat.half_angle * 1.0e4 - flat.half_length).abs() < 1e-4 * flat.half_length);
+    }
+
+    /// Trapezoidal average of `f` over [0, x].
+    fn average(f: impl Fn(f64) -> f64, x: f64) -> f64 {
+        let n = 100_000;
+        let h = x / n as f64;
+        let sum: f64 = (0..=n).map(|i| if i == 0 || i == n { 0.5 } else { 1.0 } * f(i as f64 * h)).sum();
+        sum * h / x
+    }
+
+    #[test]
+    fn the_patch_shares_are_averages_of_the_mode_shape() {
+        for (r, b, u) in [(0.0366, 0.0333, 0.003), (0.0366, 0.0333, 0.017), (0.0366, 0.025, 0.03)] {
+            let patch = ContactPatch::new(r, b, u);
+            let around = average(|t| (2.0 * t).cos(), patch.half_angle);
+            assert!((patch.circumferential_share() - around).abs() < 1e-9, "S at u = {u}");
+            let decay = 0.087;
+            let along = average(|z| (-z / decay).exp() * ((z / decay).cos() + (z / decay).sin()), patch.half_length);
+            assert!((patch.axial_share(decay) - along).abs() < 1e-9, "A at u = {u}");
+        }
+        // A point (no compression) takes the whole of the mode.
+        let point = ContactPatch::new(0.0366, 0.0333, 0.0);
+        assert_eq!(point.share(0.087), 1.0);
+    }
+
+    #[test]
+    fn the_bore_share_closes_with_the_bore() {
+        let al = Material::ALUMINUM;
+        let outer = 0.0333375;
+        // Thin walls: the bore carries (nearly) all of the compliance.
+        let thin = HoopMode::of_section(outer, outer - 0.0024, &al, false).expect("hollow");
+        assert!(thin.coupling > 0.999 && thin.coupling < 1.0, "{}", thin.coupling);
+        // A closing bore: χ = ψ² → 4 r_i/r_o (k_h ∝ h^{5/2} a^{−3/2} expanded to first order in r_i/r_o).
+        for ratio in [1e-3, 1e-4, 1e-5] {
+            let mode = HoopMode::of_section(outer, ratio * outer, &al, false).expect("hollow");
+            let chi = mode.coupling * mode.coupling;
+            assert!(((chi - 4.0 * ratio) / (4.0 * ratio)).abs() < 5.0 * ratio, "r_i/r_o = {ratio}: χ = {chi}");
+        }
+    }
+
+    #[test]
+    fn the_reference_compression_of_a_linear_ball_is_the_oscillators_amplitude() {
+        // α = 1: ½ μ v² = ½ k u², u = v √(μ/k).
+        let ball = Ball { stiffness: 2.0e6, exponent: 1.0, ..Ball::default() };
+        let v = 40.0;
+        let fixed = reference_compression(&ball, v, f64::INFINITY);
+        assert!((fixed - v * (ball.mass / ball.stiffness).sqrt()).abs() < 1e-15);
+        let mu = ball.mass * 0.6 / (ball.mass + 0.6);
+        let free = reference_compression(&ball, v, 0.6);
+        assert!((free - v * (mu / ball.stiffness).sqrt()).abs() < 1e-15);
     }
 }

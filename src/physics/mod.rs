@@ -114,7 +114,9 @@ pub mod rigid;
 
 pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
-pub use collision::{collide, collide_with_hoop, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy};
+pub use collision::{
+    collide, collide_with_hoop, hoop_under_ball, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy,
+};
 pub use error::PhysicsError;
 pub use hoop::HoopMode;
 pub use metrics::{BbcorReport, BesrReport, SweepPoint, SweetSpotSet};

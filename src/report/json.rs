@@ -188,6 +188,8 @@ pub struct HoopJson {
     pub radius: f64,
     /// Wall thickness, m.
     pub wall_thickness: f64,
+    /// Share of the ball's force that drives the mode (1 for a point load on a thin wall).
+    pub coupling: f64,
 }
 
 impl From<&HoopMode> for HoopJson {
@@ -199,6 +201,7 @@ impl From<&HoopMode> for HoopJson {
             decay_length: h.decay_length,
             radius: h.radius,
             wall_thickness: h.wall_thickness,
+            coupling: h.coupling,
         }
     }
 }
