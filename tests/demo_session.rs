@@ -72,9 +72,8 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
         let bat_speed: f64 = cells[3].parse().unwrap();
         assert!((20.0..45.0).contains(&bat_speed), "bat speed {bat_speed} m/s in {row}");
         let mean: f64 = cells[6].parse().unwrap();
-        // Up to 70 m/s while the hollow bat's hoop mode couples to the ball as a point load (issue 12's open
-        // part: it overstates the trampoline) and the aluminum bat is swung at its equal-effort speed.
-        assert!((25.0..70.0).contains(&mean), "mean exit speed {mean} m/s in {row}");
+        // A real session's exit speeds, roughly 60–120 mph, the aluminum bat swung at its equal-effort speed.
+        assert!((25.0..55.0).contains(&mean), "mean exit speed {mean} m/s in {row}");
         let bbcor: f64 = cells[12].parse().unwrap();
         assert!((0.3..0.7).contains(&bbcor), "BBCOR {bbcor} in {row}");
         assert!(row.contains('%'), "{row}");

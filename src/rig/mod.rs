@@ -693,9 +693,8 @@ mod tests {
                 &Impact { impact_z: mp.length - BARREL_SPEED_POINT_FROM_END, ..x.truth },
             );
             assert!((60.0 * MPH - 1e-9..80.0 * MPH + 1e-9).contains(&barrel), "barrel speed {barrel}");
-            // Exit speeds of a real session: roughly 60–120 mph; up to 60 m/s while the hollow bat's hoop mode
-            // couples to the ball as a point load, which overstates its trampoline (physics::hoop).
-            assert!((25.0..60.0).contains(&x.result.exit_speed), "exit {} ({})", x.result.exit_speed, x.bat_id);
+            // Exit speeds of a real session: roughly 60–120 mph (27–54 m/s).
+            assert!((25.0..55.0).contains(&x.result.exit_speed), "exit {} ({})", x.result.exit_speed, x.bat_id);
             assert!((x.reading.exit_speed - x.result.exit_speed).abs() < 5.0 * 0.45);
         }
         assert_eq!(seen.len(), 4);
