@@ -372,7 +372,7 @@ impl BagWriter {
             closed_files: Vec::new(),
             current: None,
             next_index: 0,
-            ros_distro: std::env::var("ROS_DISTRO").unwrap_or_default(),
+            ros_distro: rosbag2::ros_distro(),
             custom_data: BTreeMap::new(),
             single: Batch::default(),
             compressor,
@@ -898,7 +898,7 @@ fn channel_body(id: u16, schema_id: u16, topic: &TopicInfo) -> Vec<u8> {
     let metadata = BTreeMap::from([
         ("offered_qos_profiles".to_string(), rosbag2::offered_qos_profiles_yaml(&topic.qos)),
         // Jazzy writes the key even when the publisher announced no type hash (empty); so do we.
-        ("topic_type_hash".to_string(), String::new()),
+        ("topic_type_hash".to_string(), topic.type_hash.clone()),
     ]);
     let mut body = Vec::new();
     put_u16(&mut body, id);
