@@ -269,6 +269,15 @@ mod tests {
     use super::*;
 
     #[test]
+    fn ros_distro_reads_back_from_the_metadata_text() {
+        let mut metadata = BagMetadata { ros_distro: "humble".to_string(), ..Default::default() };
+        assert_eq!(parse_ros_distro(&metadata.to_yaml_body(0)).as_deref(), Some("humble"));
+        assert_eq!(parse_ros_distro(&metadata.to_metadata_yaml()).as_deref(), Some("humble"));
+        metadata.ros_distro.clear();
+        assert_eq!(parse_ros_distro(&metadata.to_yaml_body(0)), None, "rosbag2 writes an empty one without ROS");
+    }
+
+    #[test]
     fn numbered_bag_dirs_keep_the_base_first_then_add_a_suffix() {
         let base = Path::new("bags/sweetspot_2026_11_24-08_00_00");
         assert_eq!(numbered_bag_dir(base, 1), base);

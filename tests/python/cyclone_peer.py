@@ -286,11 +286,12 @@ def make_qos(name, keep_alive_writer=False):
 
 def endpoints(domain, dds_topic, count, timeout):
     """Prints the remote writers and readers of `dds_topic` as discovery announces them (see the module doc)."""
-    from cyclonedds.builtin import BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
+    from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 
     dp = DomainParticipant(domain)
-    readers = [("writer", DataReader(dp, BuiltinTopicDcpsPublication)),
-               ("reader", DataReader(dp, BuiltinTopicDcpsSubscription))]
+    # BuiltinDataReader: a plain DataReader on a built-in topic crashes cyclonedds 11's take().
+    readers = [("writer", BuiltinDataReader(dp, BuiltinTopicDcpsPublication)),
+               ("reader", BuiltinDataReader(dp, BuiltinTopicDcpsSubscription))]
     seen = set()
     deadline = time.monotonic() + timeout
     while len(seen) < count:
