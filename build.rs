@@ -2,7 +2,11 @@
 //!
 //! Every `msgs/<pkg>/msg/*.msg` and `msgs/ros_interfaces/<pkg>/msg/*.msg` becomes a struct in
 //! `sweetspot::msgs::<pkg>::msg`, with its full `ros2msg` schema text (the message's own text followed by every
-//! dependency, depth-first, each once, exactly as rosbag2's `LocalMessageDefinitionSource` concatenates them).
+//! dependency, depth-first, each once, exactly as rosbag2's `LocalMessageDefinitionSource` concatenates them)
+//! and its RIHS01 type hash (REP-2011; see `type_hash`). The hand-written hash follows
+//! rosidl_generator_type_description line by line: the crates that compute RIHS01 need their own type-description
+//! structs filled from a parsed `.msg` anyway, and checking it against rosidl's published hashes
+//! (tests/type_hashes.rs) is what makes it trustworthy either way.
 //! Output is deterministic (sorted inputs, no hash maps, no timestamps). A malformed `.msg` fails the build with
 //! `file:line: reason`.
 //!
@@ -667,6 +671,159 @@ fn full_text(root: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
     rec(root, specs, &mut seen, 50)
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// Type hashes (REP-2011, RIHS01)
+
+/// rosidl's `type_description_interfaces/msg/FieldType` id of a field type: the value type's id plus 48 for a
+/// fixed array, 96 for a bounded sequence, 144 for an unbounded one (rosidl_generator_type_description's
+/// `FIELD_TYPE_NAME_TO_ID`). A `.msg` `char` is an IDL `uint8` and `byte` an `octet`, as rosidl_adapter maps them.
+fn field_type_id(ty: &FieldType) -> u32 {
+    let value = match &ty.base {
+        Base::Nested { .. } => 1,
+        Base::Prim(p) => match *p {
+            "int8" => 2,
+            "uint8" | "char" => 3,
+            "int16" => 4,
+            "uint16" => 5,
+            "int32" => 6,
+            "uint32" => 7,
+            "int64" => 8,
+            "uint64" => 9,
+            "float32" => 10,
+            "float64" => 11,
+            "bool" => 15,
+            "byte" => 16,
+            _ => unreachable!("not a primitive: {p}"),
+        },
+        Base::String { bound: None } => 17,
+        Base::String { bound: Some(_) } => 21,
+    };
+    value
+        + match ty.array {
+            Array::None => 0,
+            Array::Fixed(_) => 48,
+            Array::Bounded(_) => 96,
+            Array::Unbounded => 144,
+        }
+}
+
+/// A JSON string as Python's `json.dumps(ensure_ascii=True)` writes it.
+fn json_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c.is_ascii() && !c.is_ascii_control() => out.push(c),
+            c => {
+                let mut units = [0u16; 2];
+                for unit in c.encode_utf16(&mut units) {
+                    let _ = write!(out, "\\u{unit:04x}");
+                }
+            }
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// One `IndividualTypeDescription` without default values, in rosidl's key order and with Python's
+/// `separators=(', ', ': ')`. An empty message has the one `uint8` member rosidl_adapter gives it in the IDL.
+fn individual_type_description_json(spec: &MsgSpec) -> String {
+    let placeholder = Field {
+        name: "structure_needs_at_least_one_member".into(),
+        ty: FieldType { base: Base::Prim("uint8"), array: Array::None },
+        default: None,
+        absent: None,
+        doc: Vec::new(),
+        line: 0,
+    };
+    let fields: Vec<&Field> = if spec.fields.is_empty() { vec![&placeholder] } else { spec.fields.iter().collect() };
+    let fields: Vec<String> = fields
+        .iter()
+        .map(|f| {
+            let capacity = match f.ty.array {
+                Array::Fixed(n) | Array::Bounded(n) => n,
+                Array::None | Array::Unbounded => 0,
+            };
+            let string_capacity = match f.ty.base {
+                Base::String { bound: Some(n) } => n,
+                _ => 0,
+            };
+            let nested = match &f.ty.base {
+                Base::Nested { pkg, name } => format!("{pkg}/msg/{name}"),
+                _ => String::new(),
+            };
+            format!(
+                "{{\"name\": {}, \"type\": {{\"type_id\": {}, \"capacity\": {capacity}, \"string_capacity\": \
+                 {string_capacity}, \"nested_type_name\": {}}}}}",
+                json_string(&f.name),
+                field_type_id(&f.ty),
+                json_string(&nested)
+            )
+        })
+        .collect();
+    format!(
+        "{{\"type_name\": {}, \"fields\": [{}]}}",
+        json_string(&format!("{}/msg/{}", spec.pkg, spec.name)),
+        fields.join(", ")
+    )
+}
+
+/// The RIHS01 hash of a message (REP-2011): SHA-256 of the JSON of its `TypeDescription` — its own description
+/// then every type it references directly or indirectly, sorted by name — as
+/// `rosidl_generator_type_description.calculate_type_hash` writes it (default values and constants left out,
+/// comments never part of it), as `RIHS01_` and 64 lower-case hex digits.
+fn type_hash(key: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
+    use sha2::Digest as _;
+    let mut referenced = BTreeSet::new();
+    let mut queue: Vec<String> = deps_of(&specs[key]).into_iter().collect();
+    while let Some(dep) = queue.pop() {
+        if referenced.insert(dep.clone()) {
+            queue.extend(deps_of(&specs[&dep]));
+        }
+    }
+    // Sorted by full type name (`pkg/msg/Type`), as rosidl sorts them.
+    let mut referenced: Vec<(String, &MsgSpec)> =
+        referenced.iter().map(|k| (format!("{}/msg/{}", specs[k].pkg, specs[k].name), &specs[k])).collect();
+    referenced.sort_by(|a, b| a.0.cmp(&b.0));
+    let referenced: Vec<String> = referenced.iter().map(|(_, spec)| individual_type_description_json(spec)).collect();
+    let json = format!(
+        "{{\"type_description\": {}, \"referenced_type_descriptions\": [{}]}}",
+        individual_type_description_json(&specs[key]),
+        referenced.join(", ")
+    );
+    let digest = sha2::Sha256::digest(json.as_bytes());
+    let mut out = String::from("RIHS01_");
+    for byte in digest.iter() {
+        let _ = write!(out, "{byte:02x}");
+    }
+    out
+}
+
+/// The RIHS01 hashes of a set of `.msg` texts given as `(package, type name, text)`, keyed `pkg/msg/Type`; every
+/// referenced type must be in the set. For checking the algorithm against published hashes of messages that
+/// are not under `msgs/`.
+#[allow(dead_code)]
+pub fn type_hashes_of(messages: &[(&str, &str, &str)]) -> Result<BTreeMap<String, String>, Vec<String>> {
+    let mut specs = BTreeMap::new();
+    for (pkg, name, text) in messages {
+        let spec = parse_msg(pkg, name, Path::new(&format!("{pkg}/msg/{name}.msg")), text)?;
+        specs.insert(spec.key(), spec);
+    }
+    for spec in specs.values() {
+        for dep in deps_of(spec) {
+            if !specs.contains_key(&dep) {
+                return Err(vec![format!("{}: unknown type `{dep}`", spec.key())]);
+            }
+        }
+    }
+    Ok(specs.keys().map(|k| (format!("{}/msg/{}", specs[k].pkg, specs[k].name), type_hash(k, &specs))).collect())
+}
+
 pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     let files = discover(msgs_dir)?;
     let mut errors = Vec::new();
@@ -839,6 +996,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let _ = writeln!(out, "{i3}const DDS_TYPE_NAME: &'static str = {:?};", format!("{pkg}::msg::dds_::{name}_"));
     let _ = writeln!(out, "{i3}const SCHEMA_TEXT: &'static str = {schema:?};");
     let _ = writeln!(out, "{i3}const MSG_TEXT: &'static str = {:?};", spec.text);
+    let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", type_hash(&key, specs));
     let _ = writeln!(out, "{i2}}}\n");
     let _ = writeln!(out, "{i2}impl ::ros2_client::Message for {name} {{}}\n");
 

@@ -35,6 +35,7 @@ fn main() -> anyhow::Result<()> {
                 name: name.to_string(),
                 type_name: "std_msgs/msg/String".to_string(),
                 schema_text: "string data\n".to_string(),
+                type_hash: String::new(),
                 qos,
             })
         })

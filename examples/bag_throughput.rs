@@ -21,6 +21,7 @@ fn main() -> anyhow::Result<()> {
         name: "/bench/swing".into(),
         type_name: "std_msgs/msg/String".into(),
         schema_text: "string data\n".into(),
+        type_hash: String::new(),
         qos,
     })?;
     let mut retries = 0u64;

@@ -51,6 +51,7 @@ fn int32_topic(name: &str) -> TopicInfo {
         name: name.to_string(),
         type_name: "std_msgs/msg/Int32".to_string(),
         schema_text: "int32 data\n".to_string(),
+        type_hash: String::new(),
         qos: RELIABLE,
     }
 }

@@ -15,6 +15,8 @@ pub struct TopicSummary {
     pub name: String,
     /// ROS type.
     pub type_name: String,
+    /// RIHS01 type description hash from the channel metadata (empty if the bag has none).
+    pub type_hash: String,
     /// Messages.
     pub count: u64,
     /// Serialization format (`cdr`).
@@ -127,9 +129,20 @@ pub fn metadata_of(scans: &[FileScan]) -> BagMetadata {
             })
             .collect(),
         compression_format: String::new(),
-        ros_distro: std::env::var("ROS_DISTRO").unwrap_or_default(),
+        ros_distro: ros_distro_of(scans),
         custom_data: custom_data_of(scans),
     }
+}
+
+/// The `ros_distro` of the last `rosbag2` record found in the files, else this machine's (see
+/// [`super::rosbag2::ros_distro`]).
+pub fn ros_distro_of(scans: &[FileScan]) -> String {
+    scans
+        .iter()
+        .rev()
+        .find_map(|s| s.rosbag2_metadata.as_deref())
+        .and_then(super::rosbag2::parse_ros_distro)
+        .unwrap_or_else(super::rosbag2::ros_distro)
 }
 
 /// The `custom_data` of the last `rosbag2` record found in the files (the most complete one).
@@ -201,6 +214,7 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
             .map(|(t, count)| TopicSummary {
                 name: t.name,
                 type_name: t.type_name,
+                type_hash: t.type_hash,
                 count,
                 serialization_format: "cdr".to_string(),
                 reliable: t.qos.reliable,
@@ -267,9 +281,11 @@ impl std::fmt::Display for BagInfo {
         let width = self.topics.iter().map(|t| t.name.len()).max().unwrap_or(0);
         for (i, t) in self.topics.iter().enumerate() {
             let label = if i == 0 { "Topic information: " } else { "                   " };
+            let hash = if t.type_hash.is_empty() { String::new() } else { format!(" | Type Hash: {}", t.type_hash) };
             writeln!(
                 f,
-                "{label}Topic: {:width$} | Type: {} | Count: {} | Serialization Format: {} | QoS: {}, {}, depth {}",
+                "{label}Topic: {:width$} | Type: {} | Count: {} | Serialization Format: {} | QoS: {}, {}, depth \
+                 {}{hash}",
                 t.name,
                 t.type_name,
                 t.count,

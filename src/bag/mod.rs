@@ -66,6 +66,9 @@ pub struct TopicInfo {
     pub type_name: String,
     /// Full `ros2msg` schema text with dependencies concatenated the way rosbag2 stores them.
     pub schema_text: String,
+    /// RIHS01 type description hash (REP-2011) of the type, or empty if unknown; stored as rosbag2 Jazzy does, as
+    /// `type_description_hash` in the metadata and `topic_type_hash` in the MCAP channel metadata.
+    pub type_hash: String,
     /// The QoS it was offered with.
     pub qos: RecordedQos,
 }
@@ -304,12 +307,14 @@ pub struct RecorderStats {
 }
 
 impl TopicInfo {
-    /// The topic description of a generated message type: its ROS type name and full `ros2msg` schema.
+    /// The topic description of a generated message type: its ROS type name, full `ros2msg` schema and RIHS01
+    /// type hash.
     pub fn of<M: crate::msgs::RosMessage>(name: impl Into<String>, qos: RecordedQos) -> TopicInfo {
         TopicInfo {
             name: name.into(),
             type_name: M::TYPE_NAME.to_string(),
             schema_text: M::SCHEMA_TEXT.to_string(),
+            type_hash: M::TYPE_HASH.to_string(),
             qos,
         }
     }

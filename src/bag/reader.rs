@@ -1171,8 +1171,9 @@ fn take_definition(record: Record<'_>, scan: &mut FileScan, schemas: &mut BTreeM
                 .get("offered_qos_profiles")
                 .and_then(|q| parse_offered_qos(q))
                 .unwrap_or(RecordedQos { reliable: true, transient_local: false, depth: 10 });
+            let type_hash = channel.metadata.get("topic_type_hash").cloned().unwrap_or_default();
             scan.channels.entry(channel.id).or_insert(ChannelInfo {
-                topic: TopicInfo { name: channel.topic, type_name, schema_text, qos },
+                topic: TopicInfo { name: channel.topic, type_name, schema_text, type_hash, qos },
                 schema_encoding,
                 message_encoding: channel.message_encoding,
                 metadata: channel.metadata,

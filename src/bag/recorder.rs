@@ -489,6 +489,7 @@ mod tests {
             name: TOPIC.to_string(),
             type_name: "sweetspot_msgs/msg/Swing".to_string(),
             schema_text: "uint64 swing_id\n".to_string(),
+            type_hash: String::new(),
             qos: RecordedQos { reliable: true, transient_local: false, depth: 1000 },
         }
     }

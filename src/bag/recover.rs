@@ -233,6 +233,7 @@ mod tests {
             name: "/swing".to_string(),
             type_name: "sweetspot_msgs/msg/Swing".to_string(),
             schema_text: "uint64 swing_id\n".to_string(),
+            type_hash: String::new(),
             qos: crate::bag::RecordedQos { reliable: true, transient_local: false, depth: 1000 },
         };
         let id = recorder.register_topic(topic).unwrap();

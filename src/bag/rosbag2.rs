@@ -4,7 +4,9 @@
 //! Why metadata version 8: rosbag2 decodes QoS enums as integers for version <= 8 and as strings from 9
 //! on, while Humble only ever decodes integers. Version 8 with integer enums is therefore the one form
 //! both Humble and Jazzy (and `rosbags`, which accepts up to 9) read. Version 8 requires the
-//! `type_description_hash`, `custom_data` and `ros_distro` keys, which we write.
+//! `type_description_hash`, `custom_data` and `ros_distro` keys, which we write: each topic's RIHS01 type hash
+//! (also the `topic_type_hash` of its MCAP channel, as rosbag2_storage_mcap writes it) and [`ros_distro`], which
+//! rosbag2 also keeps in the `rosbag2` MCAP metadata record (the same text).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -13,6 +15,20 @@ use super::{RecordedQos, TopicInfo};
 
 /// The rosbag2 metadata version written (see the module docs for why 8).
 pub const METADATA_VERSION: u32 = 8;
+
+/// The ROS distribution written when `$ROS_DISTRO` is not set: the type hashes in the bags are RIHS01, which
+/// ROS 2 uses from Iron on, computed from the Jazzy interface definitions.
+pub const DEFAULT_ROS_DISTRO: &str = "jazzy";
+
+/// The `ros_distro` of new bags: `$ROS_DISTRO` as rosbag2 takes it (a sourced ROS 2 sets it), else
+/// [`DEFAULT_ROS_DISTRO`] — sweetspot needs no ROS installation, and rosbag2 would leave it empty, which tools
+/// show as "unknown" although the bag's type hashes are Jazzy's.
+pub fn ros_distro() -> String {
+    match std::env::var("ROS_DISTRO") {
+        Ok(distro) if !distro.trim().is_empty() => distro.trim().to_string(),
+        _ => DEFAULT_ROS_DISTRO.to_string(),
+    }
+}
 
 /// rosbag2's "infinite" duration (RMW_DURATION_INFINITE) as `sec`/`nsec`.
 const INFINITE_SEC: u64 = 9_223_372_036;
@@ -40,7 +56,7 @@ pub struct BagMetadata {
     pub files: Vec<FileEntry>,
     /// `compression_format` (empty: MCAP chunk compression is internal to the file, as rosbag2 writes it).
     pub compression_format: String,
-    /// ROS distribution name, from `$ROS_DISTRO` if set.
+    /// ROS distribution name: [`ros_distro`] when recording.
     pub ros_distro: String,
     /// rosbag2's free-form `custom_data` (string → string), e.g. the node settings a replay needs.
     pub custom_data: std::collections::BTreeMap<String, String>,
@@ -89,7 +105,7 @@ impl BagMetadata {
                     "{pad}      offered_qos_profiles: {}",
                     yaml_string(&offered_qos_profiles_yaml(&topic.qos))
                 );
-                let _ = writeln!(out, "{pad}      type_description_hash: \"\"");
+                let _ = writeln!(out, "{pad}      type_description_hash: {}", yaml_string(&topic.type_hash));
                 let _ = writeln!(out, "{pad}    message_count: {count}");
             }
         }
@@ -168,6 +184,14 @@ pub fn parse_custom_data(yaml: &str) -> std::collections::BTreeMap<String, Strin
     out
 }
 
+/// Reads `ros_distro` back from metadata text written by [`BagMetadata::to_yaml_body`] (`None` if absent or
+/// empty).
+pub fn parse_ros_distro(yaml: &str) -> Option<String> {
+    let value = yaml.lines().find_map(|l| l.trim_start().strip_prefix("ros_distro:"))?.trim();
+    let distro = serde_json::from_str::<String>(value).unwrap_or_else(|_| value.to_string());
+    (!distro.is_empty()).then_some(distro)
+}
+
 /// The `offered_qos_profiles` text of a topic: a YAML list with one profile, integer enums (rmw values:
 /// history KEEP_LAST=1, reliability RELIABLE=1/BEST_EFFORT=2, durability TRANSIENT_LOCAL=1/VOLATILE=2,
 /// liveliness AUTOMATIC=1) and infinite durations, exactly the keys rosbag2 writes.
@@ -243,6 +267,15 @@ pub fn file_name(dir: &Path, index: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ros_distro_reads_back_from_the_metadata_text() {
+        let mut metadata = BagMetadata { ros_distro: "humble".to_string(), ..Default::default() };
+        assert_eq!(parse_ros_distro(&metadata.to_yaml_body(0)).as_deref(), Some("humble"));
+        assert_eq!(parse_ros_distro(&metadata.to_metadata_yaml()).as_deref(), Some("humble"));
+        metadata.ros_distro.clear();
+        assert_eq!(parse_ros_distro(&metadata.to_yaml_body(0)), None, "rosbag2 writes an empty one without ROS");
+    }
 
     #[test]
     fn numbered_bag_dirs_keep_the_base_first_then_add_a_suffix() {

@@ -47,7 +47,7 @@ fn channel_metadata(topic: &TopicInfo) -> BTreeMap<String, String> {
     BTreeMap::from([
         ("offered_qos_profiles".to_string(), rosbag2::offered_qos_profiles_yaml(&topic.qos)),
         // Jazzy writes the key even when the publisher announced no type hash (empty); so do we.
-        ("topic_type_hash".to_string(), String::new()),
+        ("topic_type_hash".to_string(), topic.type_hash.clone()),
     ])
 }
 
@@ -290,7 +290,7 @@ impl BagWriter {
             closed_files: Vec::new(),
             current: None,
             next_index: 0,
-            ros_distro: std::env::var("ROS_DISTRO").unwrap_or_default(),
+            ros_distro: rosbag2::ros_distro(),
             custom_data: BTreeMap::new(),
             single: Batch::default(),
         };
@@ -560,6 +560,7 @@ mod tests {
             type_name: "std_msgs/msg/String".to_string(),
             schema_text: "string data\n".to_string(),
             qos: RecordedQos { reliable: true, transient_local: false, depth: 10 },
+            type_hash: String::new(),
         }
     }
 

@@ -6,9 +6,9 @@
 //! [`diagnostic_msgs::msg::DiagnosticArray`], [`rcl_interfaces::msg::Log`]. Fields are public and in `.msg`
 //! order (serde serialises them in that order, which is the CDR layout); constants are associated consts.
 //!
-//! Every type implements [`RosMessage`] (type names and the `ros2msg` schema text rosbag2 stores),
-//! `ros2_client::Message` (so it can be published with ros2-client), and the tolerant JSON conversions of
-//! [`json`] used by `sweetspot pub` / `echo`. [`encode_cdr`] / [`decode_cdr`] produce and read the bytes
+//! Every type implements [`RosMessage`] (type names, the `ros2msg` schema text and the RIHS01 type hash rosbag2
+//! stores), `ros2_client::Message` (so it can be published with ros2-client), and the tolerant JSON conversions
+//! of [`json`] used by `sweetspot pub` / `echo`. [`encode_cdr`] / [`decode_cdr`] produce and read the bytes
 //! ROS 2 puts on the wire and rosbag2 stores in bags: a 4-byte encapsulation header and a CDR body.
 
 pub mod json;
@@ -60,6 +60,8 @@ pub struct TypeInfo {
     pub schema_text: &'static str,
     /// The message's own `.msg` text.
     pub msg_text: &'static str,
+    /// RIHS01 type description hash (REP-2011), e.g. `RIHS01_5a8a…`, as rosidl computes it.
+    pub type_hash: &'static str,
 }
 
 impl TypeInfo {
@@ -97,12 +99,18 @@ pub trait RosMessage:
     const SCHEMA_TEXT: &'static str;
     /// The message's own `.msg` text.
     const MSG_TEXT: &'static str;
+    /// RIHS01 type description hash (REP-2011) of the type and every type it references, computed by build.rs
+    /// from the `.msg` files the way rosidl_generator_type_description does (field names, types, bounds and
+    /// order; comments, constants and default values do not count): what ROS 2 Jazzy advertises in discovery
+    /// and rosbag2 stores as `type_description_hash` / `topic_type_hash`.
+    const TYPE_HASH: &'static str;
     /// All of the above in one value.
     const INFO: TypeInfo = TypeInfo {
         type_name: Self::TYPE_NAME,
         dds_type_name: Self::DDS_TYPE_NAME,
         schema_text: Self::SCHEMA_TEXT,
         msg_text: Self::MSG_TEXT,
+        type_hash: Self::TYPE_HASH,
     };
 }
 
@@ -115,6 +123,11 @@ pub fn type_info(type_name: &str) -> Option<&'static TypeInfo> {
 /// The full `ros2msg` schema text of a generated type (`pkg/msg/Type` or `pkg/Type`), as rosbag2 stores it.
 pub fn schema_for(type_name: &str) -> Option<&'static str> {
     type_info(type_name).map(|t| t.schema_text)
+}
+
+/// The RIHS01 type hash of a generated type (`pkg/msg/Type` or `pkg/Type`).
+pub fn type_hash_for(type_name: &str) -> Option<&'static str> {
+    type_info(type_name).map(|t| t.type_hash)
 }
 
 /// `pkg/Type` or `pkg/msg/Type` → `pkg/msg/Type`.

@@ -269,6 +269,9 @@ pub fn record(
                         transient_local: publications.all_transient_local,
                         depth: 0,
                     },
+                    // Known types carry the hash build.rs computed; for others it stays empty, as rosbag2
+                    // writes it when the publisher announced none.
+                    type_hash: known.map(|t| t.type_hash.to_string()).unwrap_or_default(),
                 };
                 let id = recorder.register_topic(info)?;
                 on_event(&RecordEvent::Subscribed { topic: topic.clone(), type_name, schema: known.is_some() });

@@ -36,7 +36,13 @@ fn dds_topic<T: RosMessage>(
     fq_topic: &str,
     qos: &QosProfile,
 ) -> Result<rustdds::Topic, RosError> {
-    ctx.create_topic(dds_topic_name(fq_topic), message_type_name::<T>(), qos)
+    ctx.domain_participant()
+        .create_topic(
+            dds_topic_name(fq_topic),
+            message_type_name::<T>().dds_msg_type(),
+            &super::topic_qos::<T>(qos),
+            rustdds::TopicKind::NoKey,
+        )
         .map_err(|e| RosError::CreateTopic { topic: fq_topic.to_string(), reason: e.to_string() })
 }
 

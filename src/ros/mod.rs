@@ -261,15 +261,40 @@ pub fn message_type_name<T: crate::msgs::RosMessage>() -> ros2_client::MessageTy
     ros2_client::MessageTypeName::new(info.package(), info.name())
 }
 
-/// Creates a DDS topic for `T` under the fully-qualified ROS name `fq_topic` (e.g. `/rig3/swing`).
+/// The DDS USER_DATA ROS 2 Jazzy gives every DataWriter and DataReader of `T`: `typehash=RIHS01_…;`
+/// (rmw_dds_common's `encode_type_hash_for_user_data_qos`), from which peers learn the type's hash.
+pub fn type_hash_user_data<T: crate::msgs::RosMessage>() -> Vec<u8> {
+    format!("typehash={};", T::TYPE_HASH).into_bytes()
+}
+
+/// `qos` as DDS policies with `T`'s [`type_hash_user_data`]. Every writer and reader created on a topic made
+/// with these announces it (RustDDS merges the topic's policies into the endpoint's, and ros2-client's own
+/// QoS profile has no USER_DATA to override it).
+pub fn topic_qos<T: crate::msgs::RosMessage>(qos: &ros2_client::QosProfile) -> rustdds::QosPolicies {
+    rustdds::QosPolicies::from(qos).with_user_data(type_hash_user_data::<T>())
+}
+
+/// Creates a DDS topic for `T` under the fully-qualified ROS name `fq_topic` (e.g. `/rig3/swing`), with `T`'s
+/// type hash in the USER_DATA of the endpoints created on it ([`topic_qos`]).
 pub fn create_topic<T: crate::msgs::RosMessage>(
     node: &ros2_client::Node,
     fq_topic: &str,
     qos: &ros2_client::QosProfile,
 ) -> Result<rustdds::Topic, RosError> {
+    use rustdds::TopicDescription as _;
     let name = names::to_client_name(fq_topic)?;
-    node.create_topic(&name, message_type_name::<T>(), qos)
-        .map_err(|e| RosError::Dds(format!("cannot create topic {fq_topic}: {e}")))
+    let err = |e: String| RosError::Dds(format!("cannot create topic {fq_topic}: {e}"));
+    // ros2-client names the topic; the node exposes no participant, the topic does.
+    let plain = node.create_topic(&name, message_type_name::<T>(), qos).map_err(|e| err(e.to_string()))?;
+    let participant = plain.participant().ok_or_else(|| err("the DDS participant is gone".to_string()))?;
+    participant
+        .create_topic(
+            plain.name(),
+            plain.get_type().name().to_string(),
+            &topic_qos::<T>(qos),
+            rustdds::TopicKind::NoKey,
+        )
+        .map_err(|e| err(e.to_string()))
 }
 
 #[cfg(test)]

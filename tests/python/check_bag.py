@@ -7,6 +7,8 @@ Reads the bag twice, with two readers that share no code with sweetspot:
      offered_qos_profiles, the `rosbag2` metadata record, summary present).
   2. `rosbags` (rosbags.rosbag2.Reader): opens the directory through metadata.yaml, registers the types from
      the stored message definitions and deserializes every message.
+  3. metadata.yaml read as plain YAML: `ros_distro` and each topic's `type_description_hash` (the MCAP channels'
+     `topic_type_hash` is reported by reader 1).
 Prints one JSON object: per reader, per topic: type, count, and the first and last message as plain data.
 Exits non-zero with a message on the first violation.
 """
@@ -94,7 +96,8 @@ def check_with_mcap(bag: Path):
                         fail(f"{path.name}: rosbag2 record has no storage_identifier mcap")
             for schema, channel, message, decoded in reader.iter_decoded_messages():
                 t = topics.setdefault(channel.topic, {"type": schema.name, "count": 0, "first": None, "last": None,
-                                                      "files": []})
+                                                      "files": [],
+                                                      "topic_type_hash": channel.metadata.get("topic_type_hash")})
                 t["count"] += 1
                 data = plain(decoded)
                 if t["first"] is None:
@@ -144,11 +147,20 @@ def check_with_rosbags(bag: Path):
     return {"topics": topics, "metadata": meta}
 
 
+def check_metadata_yaml(bag: Path):
+    """metadata.yaml as plain YAML: ros_distro and each topic's type_description_hash."""
+    info = load_yaml((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    hashes = {t["topic_metadata"]["name"]: t["topic_metadata"].get("type_description_hash")
+              for t in info.get("topics_with_message_count") or []}
+    return {"ros_distro": info.get("ros_distro"), "type_description_hash": hashes}
+
+
 def main():
     if len(sys.argv) != 2:
         fail("usage: check_bag.py BAG_DIR")
     bag = Path(sys.argv[1])
-    result = {"mcap": check_with_mcap(bag), "rosbags": check_with_rosbags(bag)}
+    result = {"mcap": check_with_mcap(bag), "rosbags": check_with_rosbags(bag),
+              "metadata_yaml": check_metadata_yaml(bag)}
     a, b = result["mcap"]["topics"], result["rosbags"]["topics"]
     for topic in set(a) | set(b):
         if topic not in a or topic not in b or a[topic]["count"] != b[topic]["count"]:

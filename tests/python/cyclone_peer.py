@@ -10,10 +10,14 @@ plain XCDR1 encoding, as rmw_cyclonedds_cpp does. Topics get the ROS 2 'rt' pref
   cyclone_peer.py sub --type sweetspot_msgs/msg/ExitVelocity --topic /exit_velocity --count N [--timeout S] \
       [--qos results]
 
+  cyclone_peer.py endpoints --topic /swing --count N [--timeout S]
+
 `--loopback` (before the command) keeps Cyclone on 127.0.0.1 (sets CYCLONEDDS_URI unless already set).
 
 `pub` prints "published N" once everything is written (then waits for acknowledgments and --keep-alive); `sub` prints one JSON object per received message (NaN as null) and exits
-non-zero if fewer than --count arrive before --timeout. `--dds-type-name` overrides the DDS type name (a
+non-zero if fewer than --count arrive before --timeout. `endpoints` reads Cyclone's built-in discovery topics
+(DCPSPublication / DCPSSubscription) and prints one JSON object per remote writer or reader of the topic
+({"kind", "topic", "type", "user_data"}), exiting non-zero if fewer than --count are seen before --timeout. `--dds-type-name` overrides the DDS type name (a
 control: Cyclone matches readers and writers by exact type name, so a wrong one must receive nothing). The domain comes from ROS_DOMAIN_ID; restrict Cyclone to
 loopback with CYCLONEDDS_URI (see loopback_config()). Fields left out of a JSON message take the .msg default
 (0, '', [], or the declared default value).
@@ -280,6 +284,32 @@ def make_qos(name, keep_alive_writer=False):
     return Qos(*policies)
 
 
+def endpoints(domain, dds_topic, count, timeout):
+    """Prints the remote writers and readers of `dds_topic` as discovery announces them (see the module doc)."""
+    from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
+
+    dp = DomainParticipant(domain)
+    # BuiltinDataReader: a plain DataReader on a built-in topic crashes cyclonedds 11's take().
+    readers = [("writer", BuiltinDataReader(dp, BuiltinTopicDcpsPublication)),
+               ("reader", BuiltinDataReader(dp, BuiltinTopicDcpsSubscription))]
+    seen = set()
+    deadline = time.monotonic() + timeout
+    while len(seen) < count:
+        if time.monotonic() > deadline:
+            print(f"saw {len(seen)} of {count} endpoints on {dds_topic}", file=sys.stderr)
+            return 1
+        for kind, reader in readers:
+            for sample in reader.take(N=64):
+                if not getattr(sample, "topic_name", None) or sample.topic_name != dds_topic or sample.key in seen:
+                    continue
+                seen.add(sample.key)
+                user_data = next((p.data for p in sample.qos if type(p).__name__ == "Userdata"), b"")
+                print(json.dumps({"kind": kind, "topic": sample.topic_name, "type": sample.type_name,
+                                  "user_data": user_data.decode("utf-8", "replace")}), flush=True)
+        time.sleep(0.02)
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--msgs", default=str(Path(__file__).resolve().parents[2] / "msgs"))
@@ -301,10 +331,16 @@ def main():
     s.add_argument("--qos", default="results", choices=sorted(QOS))
     s.add_argument("--ready-file", help="touch this file once the reader exists")
     s.add_argument("--dds-type-name", help="use this DDS type name instead of the ROS 2 one")
+    e = sub.add_parser("endpoints")
+    e.add_argument("--topic", required=True)
+    e.add_argument("--count", type=int, default=1)
+    e.add_argument("--timeout", type=float, default=30.0)
     args = ap.parse_args()
     if args.loopback:
         os.environ.setdefault("CYCLONEDDS_URI", loopback_config())
     domain = int(os.environ.get("ROS_DOMAIN_ID", "0") or 0)
+    if args.cmd == "endpoints":
+        return endpoints(domain, "rt" + args.topic, args.count, args.timeout)
 
     ts = TypeSystem(args.msgs)
     cls = ts.cls(args.type)

@@ -8,12 +8,17 @@ use sweetspot::bag::{RecordedQos, TopicInfo};
 /// `std_msgs/msg/String` as rosbag2 stores its definition.
 pub const STRING_SCHEMA: &str = "string data\n";
 
+/// The RIHS01 type hash of `std_msgs/msg/String` that rosidl generates (tests/type_hashes.rs says where it is
+/// published).
+pub const STRING_TYPE_HASH: &str = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18";
+
 /// A topic of type std_msgs/msg/String.
 pub fn string_topic(name: &str, qos: RecordedQos) -> TopicInfo {
     TopicInfo {
         name: name.to_string(),
         type_name: "std_msgs/msg/String".to_string(),
         schema_text: STRING_SCHEMA.to_string(),
+        type_hash: STRING_TYPE_HASH.to_string(),
         qos,
     }
 }

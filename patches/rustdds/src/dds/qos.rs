@@ -210,6 +210,8 @@ impl QosPolicyBuilder {
       // (drop glue) which is incompatible with `const fn`, and the built-in QoS
       // policies never need it. Set it via `QosPolicies::with_data_representation`.
       data_representation: None,
+      // USER_DATA likewise (a `Vec`): set it via `QosPolicies::with_user_data`.
+      user_data: None,
       #[cfg(feature = "security")]
       property: None,
     }
@@ -235,6 +237,10 @@ pub struct QosPolicies {
   pub(crate) resource_limits: Option<policy::ResourceLimits>,
   pub(crate) lifespan: Option<policy::Lifespan>,
   pub(crate) data_representation: Option<policy::DataRepresentation>,
+  /// USER_DATA of a local DataWriter/DataReader, announced in its SEDP
+  /// publication/subscription data (remote endpoints' user data is in
+  /// `DiscoveredWriterData::user_data` / `DiscoveredReaderData::user_data`).
+  pub(crate) user_data: Option<Vec<u8>>,
   #[cfg(feature = "security")]
   pub(crate) property: Option<policy::Property>,
 }
@@ -333,6 +339,21 @@ impl QosPolicies {
     self
   }
 
+  /// USER_DATA (DDS 2.2.3.1) announced with a DataWriter or DataReader
+  /// created with these policies, e.g. ROS 2's `typehash=RIHS01_…;`.
+  pub fn user_data(&self) -> Option<&[u8]> {
+    self.user_data.as_deref()
+  }
+
+  /// These policies with USER_DATA `user_data`, announced in discovery by a
+  /// DataWriter or DataReader created with them (or on a Topic created with
+  /// them). Not part of [`QosPolicyBuilder`] because it holds a `Vec`.
+  #[must_use]
+  pub fn with_user_data(mut self, user_data: Vec<u8>) -> Self {
+    self.user_data = Some(user_data);
+    self
+  }
+
   #[cfg(feature = "security")]
   pub fn property(&self) -> Option<policy::Property> {
     self.property.clone()
@@ -362,6 +383,7 @@ impl QosPolicies {
         .data_representation
         .clone()
         .or(self.data_representation.clone()),
+      user_data: other.user_data.clone().or(self.user_data.clone()),
       #[cfg(feature = "security")]
       property: other.property.clone().or(self.property.clone()),
     }
@@ -566,6 +588,7 @@ impl QosPolicies {
       resource_limits,
       lifespan,
       data_representation,
+      user_data: _, // emitted with the endpoint's discovery data, not as a QoS policy here
       #[cfg(feature = "security")]
         property: _, // TODO: properties to parameter list?
     } = self;
@@ -738,6 +761,7 @@ impl QosPolicies {
       resource_limits,
       lifespan,
       data_representation,
+      user_data: None, // read into DiscoveredWriterData / DiscoveredReaderData::user_data
       #[cfg(feature = "security")]
       property,
     })

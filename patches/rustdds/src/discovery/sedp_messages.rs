@@ -287,6 +287,7 @@ impl SubscriptionBuiltinTopicData {
       resource_limits: None, // nor Resource Limits, see Figure 8.30 in RTPS spec 2.5
       lifespan: self.lifespan,
       data_representation: self.data_representation.clone(),
+      user_data: None,
 
       #[cfg(feature = "security")]
       property: None, // TODO: no property QoS?
@@ -307,6 +308,23 @@ impl SubscriptionBuiltinTopicData {
 // =======================================================================
 // =======================================================================
 // =======================================================================
+
+/// The USER_DATA octets of a PID_USER_DATA parameter value, which holds them as
+/// a CDR `sequence<octet>` (length, octets, padding). A value too short for
+/// its length is taken whole, as before this was decoded.
+fn user_data_from_parameter(ctx: speedy::Endianness, value: &[u8]) -> Vec<u8> {
+  let declared = match value.get(..4) {
+    Some(&[a, b, c, d]) => match ctx {
+      speedy::Endianness::LittleEndian => u32::from_le_bytes([a, b, c, d]),
+      speedy::Endianness::BigEndian => u32::from_be_bytes([a, b, c, d]),
+    },
+    _ => return value.to_vec(),
+  };
+  match value.get(4..4 + declared as usize) {
+    Some(octets) => octets.to_vec(),
+    None => value.to_vec(),
+  }
+}
 
 /// Type specified in RTPS v2.3 spec Figure 8.30
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -421,7 +439,7 @@ impl PlCdrDeserialize for DiscoveredReaderData {
     let user_data = pl_map
       .get(&ParameterId::PID_USER_DATA)
       .and_then(|v| v.first())
-      .map(|p| p.value.clone())
+      .map(|p| user_data_from_parameter(ctx, &p.value))
       .unwrap_or_default();
 
     Ok(DiscoveredReaderData {
@@ -498,7 +516,7 @@ impl ParameterListable for DiscoveredReaderData {
           security_info,
         },
       content_filter,
-      user_data: _,
+      user_data,
     } = self;
 
     let mut pl = ParameterList::new();
@@ -572,6 +590,9 @@ impl ParameterListable for DiscoveredReaderData {
       content_filter,
       ContentFilterProperty
     );
+    if !user_data.is_empty() {
+      emit!(PID_USER_DATA, user_data, Vec<u8>);
+    }
 
     #[cfg(feature = "security")]
     emit_option!(
@@ -736,6 +757,7 @@ impl PublicationBuiltinTopicData {
       resource_limits: None, // nor Resource Limits, see Figure 8.30 in RTPS spec 2.5
       lifespan: self.lifespan,
       data_representation: self.data_representation.clone(),
+      user_data: None,
       #[cfg(feature = "security")]
       property: None, // TODO: no property Qos?
     }
@@ -810,7 +832,7 @@ impl DiscoveredWriterData {
       last_updated: Instant::now(),
       writer_proxy,
       publication_topic_data,
-      user_data: Vec::new(),
+      user_data: writer.qos().user_data().map(<[u8]>::to_vec).unwrap_or_default(),
     }
   }
 }
@@ -880,7 +902,7 @@ impl PlCdrDeserialize for DiscoveredWriterData {
     let user_data = pl_map
       .get(&ParameterId::PID_USER_DATA)
       .and_then(|v| v.first())
-      .map(|p| p.value.clone())
+      .map(|p| user_data_from_parameter(ctx, &p.value))
       .unwrap_or_default();
 
     Ok(DiscoveredWriterData {
@@ -956,7 +978,7 @@ impl ParameterListable for DiscoveredWriterData {
           #[cfg(feature = "security")]
           security_info,
         },
-      user_data: _,
+      user_data,
     } = self;
 
     let mut pl = ParameterList::new();
@@ -1024,6 +1046,9 @@ impl ParameterListable for DiscoveredWriterData {
         &topic_alias.clone().into(),
         StringWithNul
       );
+    }
+    if !user_data.is_empty() {
+      emit!(PID_USER_DATA, user_data, Vec<u8>);
     }
 
     #[cfg(feature = "security")]
@@ -1097,6 +1122,7 @@ impl HasQoSPolicy for TopicBuiltinTopicData {
       resource_limits: self.resource_limits,
       lifespan: self.lifespan,
       data_representation: None, // Topic-level DATA_REPRESENTATION not tracked
+      user_data: None,
       #[cfg(feature = "security")]
       property: None, // TODO: no property Qos?
     }
