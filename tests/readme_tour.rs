@@ -212,8 +212,8 @@ fn readme_tour_runs_as_written() {
         section2.len(),
         section3.len()
     );
-    let dir = tempfile::tempdir().expect("temp dir");
-    let dir: PathBuf = dir.path().to_path_buf();
+    let temp = tempfile::tempdir().expect("temp dir");
+    let dir: PathBuf = temp.path().to_path_buf();
 
     // `pub swing --file swings.csv` reads a file the user already has: one written in the CSV form `pub --help`
     // documents (one column per Swing field, a row per swing).
