@@ -28,7 +28,7 @@ Examples:
   sweetspot pub swing '{swing_id: 1, bat_id: r161, ball_speed: 40, bat_cm_speed: 20, impact_z: 0.7}'
   sweetspot pub /swing sweetspot_msgs/msg/Swing '{bat_id: r161, ball_speed: 40, bat_cm_speed: 25, impact_z: 0.62}' -1
   sweetspot pub bat '{\"bat_id\": \"mine\", \"preset\": \"aluminum\"}' --keep-alive 5
-  sweetspot pub swing '{impact_z: 0.7}' -r 10 -t 30
+  sweetspot pub swing '{ball_speed: 40, bat_cm_speed: 25, impact_z: 0.7}' -r 10 -t 30
   sweetspot pub swing --file swings.csv --rate 100 -w 1
   sweetspot pub /lab/swing --type Swing --file swings.jsonl --ros-args -r __ns:=/rig3
 
