@@ -9,6 +9,11 @@
 //! summary: the data-section and summary CRCs, and the message count of its statistics. Records that do not
 //! frame are skipped to the next chunk the summary knows, or end the read where there is none.
 //!
+//! Channels are defined by the Schema and Channel records of the data section, which a file cut off by a crash
+//! has alone. When those are damaged in a finished file, the intact summary's copies define the channels
+//! instead, so the messages of intact chunks are still read; the damage report says so
+//! ([`DamageKind::DefinitionsFromSummary`]).
+//!
 //! Inputs that are not MCAP files are refused before anything is read: anything that is not a regular file
 //! (after following symlinks: a FIFO, a device such as /dev/zero, a directory) and anything that does not start
 //! with the MCAP magic. Limits on what a file may make the reader hold are the constants below
@@ -16,8 +21,9 @@
 //!
 //! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
 //! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4), one top-level record (at most
-//! [`MAX_RECORD_SIZE`]), the channels, and 24 bytes per chunk of the summary's chunk index. For the bags
-//! sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever the bag's size.
+//! [`MAX_RECORD_SIZE`]), the channels (twice: the data section's and the summary's), and 24 bytes per chunk
+//! of the summary's chunk index. For the bags sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever
+//! the bag's size.
 //!
 //! Order: messages come in file order, files in split order (`_0`, `_1`, …). File order is the order in which
 //! the recorder received them (inputs) or published them (outputs); log times, taken on several threads, can
