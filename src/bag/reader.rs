@@ -1177,8 +1177,9 @@ fn read_summary(
     let mut crc = crc32fast::Hasher::new();
     let mut chunks = Vec::new();
     let mut statistics = None;
+    // The summary's Schema and Channel records, taken in as the data section's are.
+    let mut definitions = FileScan::default();
     let mut schemas = BTreeMap::new();
-    let mut channels = BTreeMap::new();
     let mut pos = start;
     let mut body = Vec::new();
     let mut problem = None;
@@ -1212,11 +1213,8 @@ fn read_summary(
                 chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
             }
             Ok(Record::Statistics(stats)) => statistics = Some(stats.message_count),
-            Ok(Record::Schema { header, data }) => {
-                schemas.insert(header.id, (header.name, header.encoding, String::from_utf8_lossy(&data).into_owned()));
-            }
-            Ok(Record::Channel(channel)) => {
-                channels.entry(channel.id).or_insert_with(|| channel_info(channel, &schemas));
+            Ok(record @ (Record::Schema { .. } | Record::Channel(_))) => {
+                take_definition(record, &mut definitions, &mut schemas);
             }
             Ok(_) => {}
             Err(e) => {
@@ -1236,23 +1234,7 @@ fn read_summary(
         return Ok(Err(reason));
     }
     chunks.sort_by_key(|c| c.offset);
-    Ok(Ok(SummaryContents { chunks, statistics, channels }))
-}
-
-/// A channel with its topic description, its schema looked up in `schemas` (by id: name, encoding, text).
-fn channel_info(channel: mcap::records::Channel, schemas: &BTreeMap<u16, (String, String, String)>) -> ChannelInfo {
-    let (type_name, schema_encoding, schema_text) = schemas.get(&channel.schema_id).cloned().unwrap_or_default();
-    let qos = channel.metadata.get("offered_qos_profiles").and_then(|q| parse_offered_qos(q)).unwrap_or(RecordedQos {
-        reliable: true,
-        transient_local: false,
-        depth: 10,
-    });
-    ChannelInfo {
-        topic: TopicInfo { name: channel.topic, type_name, schema_text, qos },
-        schema_encoding,
-        message_encoding: channel.message_encoding,
-        metadata: channel.metadata,
-    }
+    Ok(Ok(SummaryContents { chunks, statistics, channels: definitions.channels }))
 }
 
 /// Takes in a schema, channel or metadata record.
@@ -1263,7 +1245,19 @@ fn take_definition(record: Record<'_>, scan: &mut FileScan, schemas: &mut BTreeM
             schemas.insert(header.id, (header.name, header.encoding, text));
         }
         Record::Channel(channel) => {
-            scan.channels.entry(channel.id).or_insert_with(|| channel_info(channel, schemas));
+            let (type_name, schema_encoding, schema_text) =
+                schemas.get(&channel.schema_id).cloned().unwrap_or_default();
+            let qos = channel
+                .metadata
+                .get("offered_qos_profiles")
+                .and_then(|q| parse_offered_qos(q))
+                .unwrap_or(RecordedQos { reliable: true, transient_local: false, depth: 10 });
+            scan.channels.entry(channel.id).or_insert(ChannelInfo {
+                topic: TopicInfo { name: channel.topic, type_name, schema_text, qos },
+                schema_encoding,
+                message_encoding: channel.message_encoding,
+                metadata: channel.metadata,
+            });
         }
         Record::Metadata(m) if m.name == "rosbag2" => {
             if let Some(text) = m.metadata.get("serialized_metadata") {
