@@ -123,7 +123,13 @@ fn true_chunks(bytes: &[u8]) -> Vec<TrueChunk> {
         .map(|index| TrueChunk {
             offset: index.chunk_start_offset,
             length: index.chunk_length,
-            messages: summary.read_message_indexes(bytes, index).unwrap().values().map(|v| v.len() as u64).sum(),
+            // A chunk without message indexes (the Schema and Channel records' own chunk) holds no message; the
+            // crate refuses to read an empty index.
+            messages: if index.message_index_offsets.is_empty() {
+                0
+            } else {
+                summary.read_message_indexes(bytes, index).unwrap().values().map(|v| v.len() as u64).sum()
+            },
         })
         .collect()
 }
@@ -264,6 +270,85 @@ fn one_flipped_bit_in_a_chunk_is_named_by_every_tool_and_recover_drops_exactly_t
     every_tool_reports(&dir, &needles, SWINGS - victim.messages);
     assert!(python_mcap_reads(&file).is_err(), "the independent reader finds the damage too");
     recover_reports(&dir, &needles, SWINGS - victim.messages);
+}
+
+/// The first chunk holding messages, by the `mcap` crate's reading of the intact file; every chunk before it
+/// holds none (the writer's definitions chunk).
+fn first_message_chunk(chunks: &[TrueChunk]) -> usize {
+    let first = chunks.iter().position(|c| c.messages > 0).unwrap();
+    assert!(first > 0, "the Schema and Channel records have a chunk of their own before the messages: {chunks:?}");
+    first
+}
+
+#[test]
+fn one_flipped_bit_in_the_first_message_chunk_loses_only_that_chunks_messages_even_without_a_summary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (good, chunks) = intact_bag(tmp.path());
+    let first = first_message_chunk(&chunks);
+    let victim = chunks[first];
+    let flip = |b: &mut Vec<u8>| b[(victim.offset + victim.length / 2) as usize] ^= 0x04;
+
+    // A finished file.
+    let dir = damaged_copy(&good, "first", flip);
+    let needles = vec![
+        "first_0.mcap".to_string(),
+        format!("chunk {first} at offset {}", victim.offset),
+        format!("{} messages lost", victim.messages),
+    ];
+    every_tool_reports(&dir, &needles, SWINGS - victim.messages);
+    assert!(python_mcap_reads(&dir.join("first_0.mcap")).is_err(), "the independent reader finds the damage too");
+
+    // The same file cut off by a crash inside its last chunk: no summary to fall back on, so only the data
+    // section's definitions chunk can name the channel of every later chunk.
+    let last = chunks.len() - 1;
+    let dir = damaged_copy(&good, "crashed", |b| {
+        flip(b);
+        b.truncate((chunks[last].offset + chunks[last].length / 2) as usize);
+    });
+    let kept = chunks[..last].iter().map(|c| c.messages).sum::<u64>() - victim.messages;
+    let json = info_json(&dir);
+    assert_eq!(json["messages"], kept, "{json}");
+    let file = &json["files"][0];
+    assert_eq!(file["complete"], false, "{json}");
+    assert_eq!(file["lost_messages"], victim.messages, "the damaged chunk, by its message indexes: {json}");
+    let kinds: Vec<&str> = file["damage"].as_array().unwrap().iter().map(|d| d["kind"].as_str().unwrap()).collect();
+    assert!(kinds.iter().all(|k| *k != "unknown_channel"), "every intact chunk's channel is known: {json}");
+    let damage = file["damage"].as_array().unwrap();
+    assert_eq!((damage[0]["chunk"].as_u64(), damage[0]["offset"].as_u64()), (Some(first as u64), Some(victim.offset)));
+    assert_eq!(damage[0]["lost_messages"], victim.messages, "{json}");
+    recover_reports(&dir, &needles[1..], kept);
+}
+
+#[test]
+fn one_flipped_bit_in_the_definitions_chunk_of_a_finished_file_loses_no_message() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (good, chunks) = intact_bag(tmp.path());
+    assert_eq!(first_message_chunk(&chunks), 1);
+    let definitions = chunks[0];
+    let dir = damaged_copy(&good, "defs", |b| b[(definitions.offset + definitions.length / 2) as usize] ^= 0x04);
+    assert!(python_mcap_reads(&dir.join("defs_0.mcap")).is_err(), "the independent reader finds the damage");
+    let needles = vec![
+        "defs_0.mcap".to_string(),
+        format!("chunk 0 at offset {}", definitions.offset),
+        "channel(s) 1 (/swing); their definitions came from the summary".to_string(),
+    ];
+    // Damage all the same (info, export and replay refuse the bag unless told to skip it), but every message
+    // is read, with the definitions of the file's intact summary.
+    every_tool_reports(&dir, &needles, SWINGS);
+    let json = info_json(&dir);
+    let file = &json["files"][0];
+    assert_eq!((json["messages"].as_u64(), file["lost_messages"].as_u64()), (Some(SWINGS), Some(0)), "{json}");
+    assert_eq!(file["lost_messages_unknown"], false, "the statistics account for every message: {json}");
+    let damage = file["damage"].as_array().unwrap();
+    assert!(damage.iter().all(|d| d["lost_messages"] == 0), "{json}");
+    // The chunk, the data section's CRC (it covers the chunk's bytes too), and where the definitions came from.
+    assert_eq!(damage.len(), 3, "{json}");
+    assert_eq!((damage[0]["chunk"].as_u64(), damage[0]["offset"].as_u64()), (Some(0), Some(definitions.offset)));
+    assert_eq!(damage[1]["kind"], "data_section_crc", "{json}");
+    assert_eq!(damage[2]["kind"], "definitions_from_summary", "{json}");
+    assert_eq!(damage[2]["topics"], serde_json::json!(["/swing"]), "{json}");
+    assert!(json.to_string().contains("sweetspot_msgs/msg/Swing"), "the type, from the summary: {json}");
+    recover_reports(&dir, &needles, SWINGS);
 }
 
 #[test]

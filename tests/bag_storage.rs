@@ -131,6 +131,12 @@ fn every_chunk_compression_reads_back_with_crcs_summary_and_indexes() {
             assert_eq!(chunk.compression, expected_name);
             let streamed: Vec<_> = summary.stream_chunk(&bytes, chunk).unwrap().map(|m| m.unwrap()).collect();
             assert!(streamed.iter().all(|m| (chunk.message_start_time..=chunk.message_end_time).contains(&m.log_time)));
+            if chunk.message_index_offsets.is_empty() {
+                // The chunk of Schema and Channel records holds no message, so it has no message index (which
+                // the crate refuses to read).
+                assert!(streamed.is_empty(), "{compression}");
+                continue;
+            }
             let indexes = summary.read_message_indexes(&bytes, chunk).unwrap();
             assert_eq!(indexes.values().map(Vec::len).sum::<usize>(), streamed.len());
             for (channel, entries) in indexes {

@@ -9,6 +9,11 @@
 //! summary: the data-section and summary CRCs, and the message count of its statistics. Records that do not
 //! frame are skipped to the next chunk the summary knows, or end the read where there is none.
 //!
+//! Channels are defined by the Schema and Channel records of the data section, which a file cut off by a crash
+//! has alone. When those are damaged in a finished file, the intact summary's copies define the channels
+//! instead, so the messages of intact chunks are still read; the damage report says so
+//! ([`DamageKind::DefinitionsFromSummary`]).
+//!
 //! Inputs that are not MCAP files are refused before anything is read: anything that is not a regular file
 //! (after following symlinks: a FIFO, a device such as /dev/zero, a directory) and anything that does not start
 //! with the MCAP magic. Limits on what a file may make the reader hold are the constants below
@@ -16,8 +21,9 @@
 //!
 //! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
 //! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4), one top-level record (at most
-//! [`MAX_RECORD_SIZE`]), the channels, and 24 bytes per chunk of the summary's chunk index. For the bags
-//! sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever the bag's size.
+//! [`MAX_RECORD_SIZE`]), the channels (twice: the data section's and the summary's), and 24 bytes per chunk
+//! of the summary's chunk index. For the bags sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever
+//! the bag's size.
 //!
 //! Order: messages come in file order, files in split order (`_0`, `_1`, …). File order is the order in which
 //! the recorder received them (inputs) or published them (outputs); log times, taken on several threads, can
@@ -131,6 +137,14 @@ pub enum DamageKind {
         /// The channel id.
         channel_id: u16,
     },
+    /// Channels whose Schema and Channel records could not be read in the data section (they were in damaged
+    /// bytes): their definitions came from the file's intact summary, and their messages were read with them.
+    DefinitionsFromSummary {
+        /// The channel ids.
+        channel_ids: Vec<u16>,
+        /// Their topics, in the same order.
+        topics: Vec<String>,
+    },
     /// Fewer (or more) messages were read than the file's own index or statistics say it holds.
     CountMismatch {
         /// What the file says.
@@ -198,6 +212,16 @@ impl std::fmt::Display for DamageKind {
             }
             DamageKind::UnknownChannel { channel_id } => {
                 write!(f, "messages on channel {channel_id}, which no Channel record declares")
+            }
+            DamageKind::DefinitionsFromSummary { channel_ids, topics } => {
+                let channels: Vec<String> =
+                    channel_ids.iter().zip(topics).map(|(id, topic)| format!("{id} ({topic})")).collect();
+                write!(
+                    f,
+                    "no readable Schema or Channel record in the data section for channel(s) {}; their definitions \
+                     came from the summary, and their messages were read with them",
+                    channels.join(", ")
+                )
             }
             DamageKind::CountMismatch { expected, read, source } => {
                 write!(f, "{read} messages read where the {source} says {expected}")
@@ -492,6 +516,12 @@ pub struct FileReader {
     /// Chunk index of an intact summary, by offset.
     indexed_chunks: Vec<IndexedChunk>,
     statistics: Option<u64>,
+    /// Channels of an intact summary not (yet) declared in the data section, and where the summary starts:
+    /// the definitions of last resort when the data section's are damaged.
+    summary_channels: BTreeMap<u16, ChannelInfo>,
+    summary_offset: u64,
+    /// Channels defined from the summary, in the order they were needed.
+    from_summary: Vec<u16>,
     next_chunk: u64,
     pending: Option<PendingChunk>,
     /// The current chunk's decompressed records, and (opcode, body start, body end) of each.
@@ -516,6 +546,8 @@ impl FileReader {
         let mut scan = FileScan { path: path.to_path_buf(), size, ..FileScan::default() };
         let mut indexed_chunks = Vec::new();
         let mut statistics = None;
+        let mut summary_channels = BTreeMap::new();
+        let mut summary_offset = 0;
         let mut data_end = size;
         if size >= 8 + FOOTER_AND_MAGIC {
             let footer_at = size - FOOTER_AND_MAGIC;
@@ -534,9 +566,11 @@ impl FileReader {
                     data_end = if summary_start == 0 { footer_at } else { summary_start };
                     if summary_start != 0 {
                         match read_summary(&mut file, summary_start, footer_at, &tail[..25], summary_crc) {
-                            Ok(Ok((chunks, stats))) => {
-                                indexed_chunks = chunks;
-                                statistics = stats;
+                            Ok(Ok(summary)) => {
+                                indexed_chunks = summary.chunks;
+                                statistics = summary.statistics;
+                                summary_channels = summary.channels;
+                                summary_offset = summary_start;
                             }
                             Ok(Err(reason)) => scan.damage.push(Damage {
                                 file: path.to_path_buf(),
@@ -570,6 +604,9 @@ impl FileReader {
             data_end,
             indexed_chunks,
             statistics,
+            summary_channels,
+            summary_offset,
+            from_summary: Vec::new(),
             next_chunk: 0,
             pending: None,
             chunk: Vec::new(),
@@ -650,9 +687,17 @@ impl FileReader {
         let log_time = u64::from_le_bytes(body[6..14].try_into().unwrap_or([0; 8]));
         let publish_time = u64::from_le_bytes(body[14..22].try_into().unwrap_or([0; 8]));
         if !self.scan.channels.contains_key(&channel_id) {
-            let offset = self.pending.as_ref().map_or(self.src.pos, |p| p.offset);
-            self.unknown_channels.entry(channel_id).or_insert((offset, 0)).1 += 1;
-            return false;
+            match self.summary_channels.remove(&channel_id) {
+                Some(channel) => {
+                    self.scan.channels.insert(channel_id, channel);
+                    self.from_summary.push(channel_id);
+                }
+                None => {
+                    let offset = self.pending.as_ref().map_or(self.src.pos, |p| p.offset);
+                    self.unknown_channels.entry(channel_id).or_insert((offset, 0)).1 += 1;
+                    return false;
+                }
+            }
         }
         *self.scan.counts.entry(channel_id).or_insert(0) += 1;
         self.scan.time_range = Some(match self.scan.time_range {
@@ -1011,6 +1056,24 @@ impl FileReader {
         for (channel_id, (offset, count)) in std::mem::take(&mut self.unknown_channels) {
             self.damage(offset, None, DamageKind::UnknownChannel { channel_id }, Some(count));
         }
+        // Damaged bytes may have held the definitions of channels whose messages were all lost too: the summary
+        // still lists them, so the file keeps every topic it was written with.
+        if self.scan.damaged() {
+            for (channel_id, channel) in std::mem::take(&mut self.summary_channels) {
+                if let std::collections::btree_map::Entry::Vacant(entry) = self.scan.channels.entry(channel_id) {
+                    entry.insert(channel);
+                    self.from_summary.push(channel_id);
+                }
+            }
+        }
+        if !self.from_summary.is_empty() {
+            let channel_ids = std::mem::take(&mut self.from_summary);
+            let topics = channel_ids
+                .iter()
+                .map(|id| self.scan.channels.get(id).map(|c| c.topic.name.clone()).unwrap_or_default())
+                .collect();
+            self.damage(self.summary_offset, None, DamageKind::DefinitionsFromSummary { channel_ids, topics }, Some(0));
+        }
         if !self.scan.complete {
             self.scan.truncated_bytes = self.scan.size.saturating_sub(self.consumed);
         }
@@ -1018,6 +1081,10 @@ impl FileReader {
         let read = self.scan.message_count();
         let (known, _) = self.scan.lost_messages();
         if read + known == expected {
+            // Every message the statistics count was read or is counted lost: damage of unknown cost lost none.
+            for damage in &mut self.scan.damage {
+                damage.lost_messages.get_or_insert(0);
+            }
             return;
         }
         let missing = expected.checked_sub(read + known);
@@ -1087,21 +1154,32 @@ fn fill_chunk(
     Ok(())
 }
 
-/// Reads and checks the summary section `[start, footer_at)`: the chunk index (by offset) and the statistics'
-/// message count. Ok(Err(reason)) when the summary is damaged.
-#[allow(clippy::type_complexity)]
+/// What an intact summary section tells the reader.
+struct SummaryContents {
+    /// The chunk index, by offset.
+    chunks: Vec<IndexedChunk>,
+    /// The statistics' message count.
+    statistics: Option<u64>,
+    /// Every channel of the file, from the summary's Schema and Channel records.
+    channels: BTreeMap<u16, ChannelInfo>,
+}
+
+/// Reads and checks the summary section `[start, footer_at)`. Ok(Err(reason)) when the summary is damaged.
 fn read_summary(
     file: &mut File,
     start: u64,
     footer_at: u64,
     footer_prefix: &[u8],
     stored_crc: u32,
-) -> std::io::Result<Result<(Vec<IndexedChunk>, Option<u64>), String>> {
+) -> std::io::Result<Result<SummaryContents, String>> {
     file.seek(SeekFrom::Start(start))?;
     let mut reader = BufReader::with_capacity(64 * 1024, Read::by_ref(file).take(footer_at - start));
     let mut crc = crc32fast::Hasher::new();
     let mut chunks = Vec::new();
     let mut statistics = None;
+    // The summary's Schema and Channel records, taken in as the data section's are.
+    let mut definitions = FileScan::default();
+    let mut schemas = BTreeMap::new();
     let mut pos = start;
     let mut body = Vec::new();
     let mut problem = None;
@@ -1135,6 +1213,9 @@ fn read_summary(
                 chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
             }
             Ok(Record::Statistics(stats)) => statistics = Some(stats.message_count),
+            Ok(record @ (Record::Schema { .. } | Record::Channel(_))) => {
+                take_definition(record, &mut definitions, &mut schemas);
+            }
             Ok(_) => {}
             Err(e) => {
                 problem.get_or_insert(format!("a record (opcode {opcode:#04x}) at offset {pos} does not parse: {e}"));
@@ -1153,7 +1234,7 @@ fn read_summary(
         return Ok(Err(reason));
     }
     chunks.sort_by_key(|c| c.offset);
-    Ok(Ok((chunks, statistics)))
+    Ok(Ok(SummaryContents { chunks, statistics, channels: definitions.channels }))
 }
 
 /// Takes in a schema, channel or metadata record.

@@ -15,9 +15,9 @@
 //! `examples/recorder_cpu` measures the whole recorder per message.
 //!
 //! Chunks are built in memory and reach the file whole (`disable_seeking`), so a crash leaves complete chunks
-//! and at most a cut-off tail. Schema and Channel records go into the chunk open when a topic is declared,
-//! ahead of the messages that use them; unchunked files ([`McapLayout::Unchunked`], rosbag2's `fastwrite`)
-//! get them and every message as top-level records, with no chunk, message index or compression.
+//! and at most a cut-off tail. Schema and Channel records get a small chunk of their own, written before any
+//! message of their topics (`declare_topics` says why); unchunked files ([`McapLayout::Unchunked`], rosbag2's
+//! `fastwrite`) get them and every message as top-level records, with no chunk, message index or compression.
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -187,6 +187,10 @@ struct OpenFile {
     size: Arc<AtomicU64>,
     /// Topics `0..declared` have their Schema and Channel records in this file.
     declared: usize,
+    /// Whether the file is chunked (definitions then get a chunk of their own).
+    chunked: bool,
+    /// The open chunk holds Schema and Channel records and no message: it is closed before the next message.
+    definitions_open: bool,
     /// Messages written since the last flush.
     dirty: bool,
 }
@@ -361,6 +365,10 @@ impl BagWriter {
         let Some(file) = self.current.as_mut() else {
             return Err(BagError::Format("no open file".to_string()));
         };
+        if file.definitions_open {
+            file.mcap.flush().map_err(mcap_err(&file.path))?;
+            file.definitions_open = false;
+        }
         let header = MessageHeader {
             channel_id: channel_id(message.topic),
             sequence: message.sequence,
@@ -414,6 +422,7 @@ impl BagWriter {
         if let Some(file) = self.current.as_mut() {
             file.mcap.flush().map_err(mcap_err(&file.path))?;
             file.dirty = false;
+            file.definitions_open = false;
         }
         Ok(())
     }
@@ -475,6 +484,8 @@ impl BagWriter {
             entry: FileEntry { path: name, ..FileEntry::default() },
             size,
             declared: 0,
+            chunked: self.layout == McapLayout::Chunked,
+            definitions_open: false,
             dirty: false,
         };
         // Kept open even on error, so that close_current lists the file and later writes report failure.
@@ -517,7 +528,22 @@ fn count_message(entry: &mut FileEntry, log_time: u64) {
 
 /// Declares in `file` the topics it lacks: a Schema record (encoding `ros2msg`, full dependency text) per
 /// distinct type and a Channel record (encoding `cdr`, rosbag2's channel metadata) per topic.
+///
+/// In a chunked file the records go into a chunk of their own: the chunk holding messages is closed first, and
+/// the definitions chunk before the next message ([`BagWriter::write_message`]). `mcap::Writer` would put them
+/// into whatever chunk is open, among messages; a reader of a file cut off by a crash (no summary) finds a
+/// channel's definition only there, so one damaged bit in that chunk would cost every message of the file
+/// instead of the chunk's own. A definitions chunk is a few KiB and damage to a message chunk leaves it whole.
 fn declare_topics(file: &mut OpenFile, topics: &[TopicInfo]) -> Result<(), BagError> {
+    if file.declared == topics.len() {
+        return Ok(());
+    }
+    if file.chunked && file.dirty && !file.definitions_open {
+        // Messages may be in the open chunk (flush closes it; one the crate closed on size leaves nothing open).
+        file.mcap.flush().map_err(mcap_err(&file.path))?;
+        file.dirty = false;
+    }
+    file.definitions_open = file.chunked;
     while file.declared < topics.len() {
         let index = file.declared;
         let topic = &topics[index];
@@ -573,6 +599,56 @@ mod tests {
             .map_while(Result::ok)
             .map(|m| (m.channel.id, m.sequence, m.data.to_vec()))
             .collect()
+    }
+
+    /// What each chunk of the file holds, read by the `mcap` crate: `D` + the topics of a chunk of Schema and
+    /// Channel records only, `M` + the channel ids of a chunk of messages only, `mixed` otherwise.
+    fn chunk_contents(path: &Path) -> Vec<String> {
+        let bytes = std::fs::read(path).unwrap();
+        let mut chunks = Vec::new();
+        for record in mcap::read::LinearReader::new(&bytes).unwrap() {
+            let mcap::records::Record::Chunk { header, data } = record.unwrap() else { continue };
+            let (mut topics, mut channels, mut schemas) = (Vec::new(), BTreeMap::<u16, u64>::new(), 0);
+            for inner in mcap::read::ChunkReader::new(header, &data).unwrap() {
+                match inner.unwrap() {
+                    mcap::records::Record::Schema { .. } => schemas += 1,
+                    mcap::records::Record::Channel(channel) => topics.push(channel.topic),
+                    mcap::records::Record::Message { header, .. } => {
+                        *channels.entry(header.channel_id).or_default() += 1
+                    }
+                    other => panic!("unexpected record in a chunk: {other:?}"),
+                }
+            }
+            chunks.push(match (schemas + topics.len(), channels.is_empty()) {
+                (0, false) => format!("M {:?}", channels.keys().collect::<Vec<_>>()),
+                (1.., true) => format!("D {}", topics.join(" ")),
+                _ => "mixed".to_string(),
+            });
+        }
+        chunks
+    }
+
+    #[test]
+    fn definitions_get_a_chunk_of_their_own_before_any_message_of_their_topics() {
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path().join("defs");
+        let mut writer = BagWriter::create(&dir, None, None).unwrap();
+        let a = writer.add_topic(topic("/a")).unwrap();
+        let b = writer.add_topic(topic("/b")).unwrap();
+        for i in 0..10 {
+            writer.write(if i % 2 == 0 { a } else { b }, &[0, 1, 0, 0, i], 1_000, 1_000).unwrap();
+        }
+        // A topic declared while a chunk of messages is open.
+        let c = writer.add_topic(topic("/c")).unwrap();
+        writer.write(c, &[0, 1, 0, 0, 7], 2_000, 2_000).unwrap();
+        writer.write(a, &[0, 1, 0, 0, 8], 2_000, 2_000).unwrap();
+        writer.split().unwrap();
+        writer.write(b, &[0, 1, 0, 0, 9], 3_000, 3_000).unwrap();
+        writer.finish().unwrap();
+        let file = |n| dir.join(rosbag2::file_name(&dir, n));
+        assert_eq!(chunk_contents(&file(0)), ["D /a /b", "M [1, 2]", "D /c", "M [1, 3]"]);
+        // Every split declares every topic again, in its first chunk.
+        assert_eq!(chunk_contents(&file(1)), ["D /a /b /c", "M [2]"]);
     }
 
     #[test]
