@@ -50,7 +50,7 @@ const HOLLOW_ENERGY_FIELDS: &[&str] = &[
 ];
 /// A hollow section's result adds the wall's hoop mode.
 const HOOP_FIELDS: &[&str] =
-    &["frequency_hz", "stiffness", "effective_mass", "decay_length", "radius", "wall_thickness"];
+    &["frequency_hz", "stiffness", "effective_mass", "decay_length", "radius", "wall_thickness", "coupling"];
 const MODE_ENERGY_FIELDS: &[&str] = &["mode", "frequency_hz", "energy"];
 const SWEET_FIELDS: &[&str] =
     &["max_exit_speed_z", "max_exit_speed", "rigid_optimum_z", "node1_z", "node2_z", "center_of_percussion_z"];
