@@ -221,10 +221,15 @@ pub fn node_messages(data: &[u8]) {
             1 => {
                 let Ok(params) = decode_cdr::<BallParams>(bytes) else { continue };
                 match convert::ball_from_params(&params) {
-                    Ok(ball) => {
+                    Ok(model) => {
+                        let ball = model.ball;
                         ball.validate().unwrap_or_else(|e| panic!("ball_from_params accepted an invalid ball: {e}"));
+                        model
+                            .contact
+                            .validate()
+                            .unwrap_or_else(|e| panic!("ball_from_params accepted a bad contact: {e}"));
                         assert!(ball.unloading_exponent().is_finite(), "accepted ball has a non-finite β: {ball:?}");
-                        registry.set_ball(&params.ball_id, ball);
+                        registry.set_ball(&params.ball_id, model);
                     }
                     Err(reason) => {
                         assert!(reason.starts_with("BallParams"), "rejection does not name the message: {reason}")

@@ -70,6 +70,9 @@ fn record_run(dir: &std::path::Path) {
         cor: 0.5,
         stiffness: 7.0e6,
         exponent: 1.5,
+        tangential_cor: 0.3,
+        friction: 0.5,
+        moment_of_inertia: 7.4e-5,
     };
     assert!(r.record(ball, encode_cdr(&ball_msg).unwrap(), T0, T0));
     let spot = SweetSpot {
@@ -158,6 +161,8 @@ fn every_sweetspot_message_decodes_in_independent_readers() {
         assert_eq!(bat["station_z"], serde_json::json!([0.0, 0.5, 0.84]), "{reader}");
         assert_eq!(bat["max_modes"], 10, "{reader}");
         assert_eq!(t["/rig/ball_params"]["first"]["stiffness"], 7.0e6, "{reader}");
+        // The appended contact fields, read through each reader's own schema handling.
+        assert_eq!(t["/rig/ball_params"]["first"]["moment_of_inertia"], 7.4e-5, "{reader}");
     }
     assert_eq!(verdict["rosbags"]["topics"]["/rig/bat_params"]["durability"], "transient_local");
 }

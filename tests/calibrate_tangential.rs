@@ -22,6 +22,16 @@ const TRUE_E_T: f64 = 0.30;
 
 /// Writes a session of `swings` swings to a bag under `dir`; returns the bag and the rig's swings (truth).
 fn write_session(dir: &std::path::Path, swings: usize, config: RigConfig) -> (std::path::PathBuf, Vec<RigSwing>) {
+    write_session_with(dir, swings, config, |_| {})
+}
+
+/// As [`write_session`], with the rig's BallParams changed by `edit_ball` before it is recorded.
+fn write_session_with(
+    dir: &std::path::Path,
+    swings: usize,
+    config: RigConfig,
+    edit_ball: impl Fn(&mut BallParams),
+) -> (std::path::PathBuf, Vec<RigSwing>) {
     let bag = dir.join("session");
     let recorder = Recorder::start(RecorderConfig::new(&bag)).expect("start recorder");
     let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
@@ -35,7 +45,9 @@ fn write_session(dir: &std::path::Path, swings: usize, config: RigConfig) -> (st
         assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
         t += 1000;
     }
-    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(Time::from_unix_ns(t))).unwrap(), t, t));
+    let mut ball = rig.ball_params(Time::from_unix_ns(t));
+    edit_ball(&mut ball);
+    assert!(recorder.record(ball_topic, encode_cdr(&ball).unwrap(), t, t));
     let mut truth = Vec::new();
     for _ in 0..swings {
         t += 100_000_000;
@@ -143,4 +155,53 @@ fn the_tangential_fit_finds_unreported_undercuts_too() {
         }
     }
     assert!(within >= truth.len() * 8 / 10, "{within} of {} undercuts within 3σ", truth.len());
+}
+
+/// The loop calibrate closes for a rig: `--fit-tangential --write` puts the fitted e_T into the BallParams it
+/// writes (which `sweetspot pub` sends to a node), and a session recorded with that BallParams starts the next
+/// fit from it, with μ and the moment of inertia the ball carried.
+#[test]
+fn the_fitted_e_t_is_written_into_ball_params_and_read_back_as_the_start() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bag, _) = write_session(tmp.path(), 40, config(23, true));
+    let out = tmp.path().join("fitted.jsonl");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .arg("calibrate")
+        .arg(&bag)
+        .args(["--fit-tangential", "--json", "--write"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let fitted = doc["tangential"]["parameters"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "tangential_cor")
+        .and_then(|p| p["value"].as_f64())
+        .expect("fitted e_T");
+    assert!((fitted - TRUE_E_T).abs() < 0.1, "e_T {fitted}");
+    let line = std::fs::read_to_string(&out).unwrap();
+    let written: BallParams = sweetspot::msgs::json::from_json(&serde_json::from_str(line.trim()).unwrap()).unwrap();
+    assert_eq!(written.tangential_cor, fitted);
+    let model = sweetspot::model::convert::ball_from_params(&written).expect("the node accepts it");
+    assert_eq!(model.contact.tangential_cor, fitted);
+    assert_eq!(model.contact.friction, TangentialContact::default().friction);
+
+    // A session whose BallParams carry a contact: the fit starts from its e_T and keeps its μ and I.
+    let next = tmp.path().join("next");
+    std::fs::create_dir(&next).unwrap();
+    let (bag2, _) = write_session_with(&next, 12, config(24, true), |b| {
+        b.tangential_cor = 0.25;
+        b.friction = 0.6;
+        b.moment_of_inertia = 0.38 * b.mass * b.radius * b.radius;
+    });
+    let problem = problem_from_bag(&bag2, None).expect("problem");
+    assert_eq!((problem.contact.tangential_cor, problem.contact.friction), (0.25, 0.6));
+    assert!((problem.contact.ball_inertia_ratio - 0.38).abs() < 1e-12);
+    let options = TangentialOptions { contact: problem.contact, ..TangentialOptions::default() };
+    let result = fit_tangential(&problem, &problem.ball, &options).expect("e_T fit");
+    assert_eq!(result.parameter("tangential_cor").unwrap().initial, 0.25);
+    assert_eq!((result.contact.friction, result.contact.ball_inertia_ratio), (0.6, problem.contact.ball_inertia_ratio));
 }

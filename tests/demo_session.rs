@@ -118,7 +118,7 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
     })
     .unwrap();
     assert_eq!((bats.len(), balls.len(), swings.len(), exits.len()), (2, 1, SWINGS, SWINGS));
-    let ball = ball_from_params(&balls[0]).unwrap();
+    let ball = ball_from_params(&balls[0]).unwrap().ball;
     for swing in &swings {
         let exit = exits.iter().find(|e| e.swing_id == swing.swing_id).expect("an answer per swing");
         assert_eq!(exit.status, ExitVelocity::STATUS_OK, "{}", exit.message);

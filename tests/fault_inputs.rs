@@ -324,6 +324,7 @@ fn absurd_balls_unresolvable_bats_and_infinite_measurements_are_refused() {
         cor: 0.5,
         stiffness: 1e4,
         exponent: 1.0,
+        ..BallParams::default()
     };
     ball_pub.publish(soft).unwrap();
     node.wait_for_log("ball 'soft' set", WAIT);

@@ -44,6 +44,7 @@ fn ball(ball_id: &str) -> BallParams {
         cor: 0.5,
         stiffness: 7.0e7,
         exponent: 1.5,
+        ..BallParams::default()
     }
 }
 

@@ -70,6 +70,9 @@ fn ball() -> BallParams {
         cor: 0.5,
         stiffness: 7.1e6,
         exponent: 1.25,
+        tangential_cor: 0.3,
+        friction: 0.5,
+        moment_of_inertia: 7.4e-5,
     }
 }
 

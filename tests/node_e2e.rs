@@ -35,6 +35,7 @@ fn ball_params(ball_id: &str, ball: &Ball) -> BallParams {
         cor: ball.cor,
         stiffness: ball.stiffness,
         exponent: ball.exponent,
+        ..BallParams::default()
     }
 }
 
@@ -364,5 +365,64 @@ fn a_full_queue_drops_counts_and_reports_instead_of_growing() {
         "{N} swings flooded into a 4-swing queue: {ok} answered, {dropped} dropped, {lost} lost in transport; rosout: {}",
         warning.msg
     );
+    drop(node);
+}
+
+/// A ball's tangential contact (BallParams' appended fields) reaches the node's oblique collisions: a ball
+/// that rolls (e_T = 0) with a measured-style moment of inertia and a ball left at the defaults (NaN) get
+/// exactly the library's launch for their own contact, and different launches from each other.
+#[test]
+fn oblique_swings_use_the_contact_their_ball_params_give() {
+    use sweetspot::physics::oblique::{collide_oblique, ObliqueImpact, TangentialContact};
+    let domain = domain(11);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "contact_peer");
+    let ball_pub = peer.publisher::<BallParams>("/ball/params", dds::params());
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record", "--ros-args", "-p", "default_modes:=6"]);
+    let ball = Ball::default();
+    let inertia = 0.37 * ball.mass * ball.radius * ball.radius;
+    let grippy =
+        BallParams { tangential_cor: 0.0, friction: 2.0, moment_of_inertia: inertia, ..ball_params("rolling", &ball) };
+    // The node's own conversion (I in kg·m² → I/(m R²)) gives the contact the library is called with.
+    let rolling = convert::ball_from_params(&grippy).unwrap().contact;
+    assert_eq!((rolling.tangential_cor, rolling.friction), (0.0, 2.0));
+    assert!((rolling.ball_inertia_ratio - 0.37).abs() < 1e-12);
+    ball_pub.publish(grippy).unwrap();
+    node.wait_for_log("ball 'rolling' set", WAIT);
+    ball_pub.publish(ball_params("plain", &ball)).unwrap();
+    node.wait_for_log("ball 'plain' set", WAIT);
+    peer.wait_for_reader(&swing_pub);
+    let oblique = |id: u64, ball_id: &str| Swing {
+        undercut: 0.012,
+        attack_angle: 8f64.to_radians(),
+        pitch_angle: 6f64.to_radians(),
+        pitch_spin: 200.0,
+        ..swing(id, "r161", ball_id, 0.7)
+    };
+    let sent = [oblique(1, "rolling"), oblique(2, "plain")];
+    for s in &sent {
+        swing_pub.publish(s.clone()).unwrap();
+    }
+    let got = peer.collect(&answers, 2, WAIT);
+    let bat = Bat::preset("r161").unwrap();
+    let set = ModeSet::compute(&bat, 6).unwrap();
+    for (s, contact) in sent.iter().zip([rolling, TangentialContact::default()]) {
+        let ev = got.iter().find(|e| e.swing_id == s.swing_id).expect("an answer per swing");
+        assert_eq!(ev.status, ExitVelocity::STATUS_OK, "{}", ev.message);
+        let o = ObliqueImpact {
+            impact: impact(s),
+            barrel_radius: bat.radii_at(s.impact_z).0,
+            undercut: s.undercut,
+            attack_angle: s.attack_angle,
+            pitch_angle: s.pitch_angle,
+            pitch_spin: s.pitch_spin,
+        };
+        let r = collide_oblique(&set, &ball, &o, &contact, &CollisionOptions { modes: 6, time_step: 5e-6 }).unwrap();
+        assert_eq!((ev.exit_speed, ev.launch_angle, ev.spin), (r.exit_speed, r.launch_angle, r.spin), "{}", s.ball_id);
+    }
+    let (a, b) = (&got[0], &got[1]);
+    assert!((a.spin - b.spin).abs() > 10.0, "the two contacts gave the same spin: {} vs {}", a.spin, b.spin);
     drop(node);
 }

@@ -31,11 +31,12 @@ use rayon::prelude::*;
 
 use crate::bag::reader::read_bag;
 use crate::bag::BagError;
-use crate::model::convert::{ball_from_params, bat_from_params_capped, swing_input};
+use crate::model::convert::{ball_from_params, bat_from_params_capped, swing_input, BallModel};
 use crate::model::engine::{SwingInput, DEFAULT_BALL_ID};
 use crate::model::settings::ModelSettings;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
+use crate::physics::oblique::TangentialContact;
 use crate::physics::{Ball, Bat, CollisionOptions, Impact, ModeSet, PhysicsError};
 
 /// Errors of calibration.
@@ -94,6 +95,9 @@ pub struct Problem {
     pub ball_id: String,
     /// The ball.
     pub ball: Ball,
+    /// The ball's tangential contact as its BallParams gave it to the node (oblique swings' exit speeds use
+    /// it; `--fit-tangential` starts from it).
+    pub contact: TangentialContact,
     /// The measured swings with that ball.
     pub observations: Vec<Observation>,
     /// RK4 time step, s.
@@ -213,7 +217,7 @@ fn predict(
             None => Ok(None),
             Some(set) => {
                 let options = CollisionOptions { modes: problem.bats[&o.bat_id].modes, time_step: problem.time_step };
-                tangential::exit_speed(set, &problem.bats[&o.bat_id].bat, &ball, &o.input, &options)
+                tangential::exit_speed(set, &problem.bats[&o.bat_id].bat, &ball, &problem.contact, &o.input, &options)
                     .map(Some)
                     .map_err(|source| CalibrateError::Physics { context: format!("swing {}", o.swing_id), source })
             }
@@ -491,8 +495,8 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             Err(reason) => skipped.push(reason),
         }
     }
-    let mut balls: BTreeMap<String, Ball> = BTreeMap::new();
-    balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default());
+    let mut balls: BTreeMap<String, BallModel> = BTreeMap::new();
+    balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default().into());
     let mut ball_times: Vec<(u64, String)> = Vec::new();
     for (t, params) in &inputs.balls {
         match ball_from_params(params) {
@@ -573,12 +577,12 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
     if observations.is_empty() {
         return Err(CalibrateError::NoData(format!("no measured swing used ball '{chosen}'")));
     }
-    let ball = *balls.get(&chosen).ok_or_else(|| {
+    let BallModel { ball, contact } = *balls.get(&chosen).ok_or_else(|| {
         CalibrateError::NoData(format!("ball '{chosen}' was never announced on ball/params in this bag"))
     })?;
     let used: std::collections::BTreeSet<&str> = observations.iter().map(|o| o.bat_id.as_str()).collect();
     bats.retain(|id, _| used.contains(id.as_str()));
-    Ok(Problem { bats, ball_id: chosen, ball, observations, time_step: settings.time_step, skipped })
+    Ok(Problem { bats, ball_id: chosen, ball, contact, observations, time_step: settings.time_step, skipped })
 }
 
 /// Reads a bag and builds its fitting problem (see [`problem_from_inputs`]).

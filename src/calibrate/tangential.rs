@@ -40,19 +40,19 @@ use crate::physics::oblique::{collide_oblique, rad_per_s_to_rpm, rpm_to_rad_per_
 use crate::physics::{collide, Ball, Bat, CollisionOptions, ModeSet, PhysicsError};
 
 /// The exit speed the node computes for a swing (m/s): the head-on collision for a head-on swing (bit for
-/// bit), else the oblique one with the node's default tangential contact. `bat` gives the barrel radius.
+/// bit), else the oblique one with the ball's tangential contact `contact`. `bat` gives the barrel radius.
 pub fn exit_speed(
     modes: &ModeSet,
     bat: &Bat,
     ball: &Ball,
+    contact: &TangentialContact,
     input: &SwingInput,
     options: &CollisionOptions,
 ) -> Result<f64, PhysicsError> {
     if input.is_head_on() {
         return collide(modes, ball, &input.impact, options).map(|r| r.exit_speed);
     }
-    collide_oblique(modes, ball, &oblique_impact(bat, input, input.undercut), &TangentialContact::default(), options)
-        .map(|r| r.exit_speed)
+    collide_oblique(modes, ball, &oblique_impact(bat, input, input.undercut), contact, options).map(|r| r.exit_speed)
 }
 
 /// The oblique impact of a swing on `bat` with undercut `undercut` (m).

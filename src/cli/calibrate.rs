@@ -14,6 +14,7 @@ use crate::calibrate::{fit, problem_from_bag, CalibrateError, Fit, FitOptions, P
 use crate::model::convert::{params_from_ball, params_from_bat};
 use crate::msgs::json::ToJson;
 use crate::msgs::std_msgs::msg::Header;
+use crate::physics::oblique::TangentialContact;
 use crate::report::table::{num, Table};
 
 /// Arguments of `sweetspot calibrate`.
@@ -22,6 +23,7 @@ use crate::report::table::{num, Table};
   sweetspot calibrate bags/demo_20261121T050000Z
   sweetspot calibrate bags/demo_20261121T050000Z --fit-youngs --write fitted.jsonl
   sweetspot pub ball --file fitted.jsonl        # send the fitted ball to a running node
+  sweetspot calibrate bags/demo_20261121T050000Z --fit-tangential --write fitted.jsonl   # e_T in tangential_cor
   sweetspot calibrate bags/demo_20261121T050000Z --batter-out batter.toml
   sweetspot compare --batter batter.toml        # the bats as the fitted batter swings them")]
 pub struct CalibrateArgs {
@@ -34,8 +36,9 @@ pub struct CalibrateArgs {
     /// Fit the swings made with this ball_id (default: the ball most measured swings used).
     #[arg(long, value_name = "BALL_ID")]
     pub ball: Option<String>,
-    /// Write the fitted BallParams as JSON lines to FILE (for `sweetspot pub ball --file FILE`); with
-    /// --fit-youngs the fitted BatParams go to FILE with `.bats` before the extension.
+    /// Write the fitted BallParams as JSON lines to FILE (for `sweetspot pub ball --file FILE`), with the
+    /// fitted e_T as tangential_cor under --fit-tangential (else the bag's); with --fit-youngs the fitted
+    /// BatParams go to FILE with `.bats` before the extension.
     #[arg(long, value_name = "FILE")]
     pub write: Option<PathBuf>,
     /// Iteration limit of Levenberg–Marquardt.
@@ -85,7 +88,11 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
         false => None,
     };
     let written = match &args.write {
-        Some(path) => write_params(path, &problem, &result)?,
+        Some(path) => {
+            // The fitted e_T when there is one, else the contact the bag's BallParams gave the node.
+            let contact = tangential.as_ref().map_or(problem.contact, |t| t.contact);
+            write_params(path, &problem, &result, &contact)?
+        }
         None => Vec::new(),
     };
     if args.json {
@@ -185,7 +192,9 @@ fn fit_tangential_of(args: &CalibrateArgs, result: &Fit) -> Result<crate::calibr
     use crate::calibrate::tangential::{fit_tangential, problem_from_bag, TangentialOptions};
     let problem =
         problem_from_bag(&args.bag, args.ball.as_deref()).map_err(flat).context("reading the launch measurements")?;
-    fit_tangential(&problem, &result.ball, &TangentialOptions::default()).map_err(flat).context("fitting e_T")
+    // Start from the contact the node was given (μ and the moment of inertia stay as they were).
+    let options = TangentialOptions { contact: problem.contact, ..TangentialOptions::default() };
+    fit_tangential(&problem, &result.ball, &options).map_err(flat).context("fitting e_T")
 }
 
 /// The human-readable report of a fit: parameters with uncertainty, residual summary per bat, worst residuals.
@@ -255,9 +264,10 @@ pub fn report(problem: &Problem, result: &Fit, show: usize) -> String {
 }
 
 /// Writes the fitted ball (and bats) as JSON lines `sweetspot pub` reads; returns the files written.
-pub fn write_params(path: &Path, problem: &Problem, result: &Fit) -> Result<Vec<PathBuf>> {
+/// The ball carries `contact` (its tangential contact fields).
+pub fn write_params(path: &Path, problem: &Problem, result: &Fit, contact: &TangentialContact) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    let ball = params_from_ball(&problem.ball_id, &result.ball, Header::default());
+    let ball = params_from_ball(&problem.ball_id, &result.ball, Some(contact), Header::default());
     write_lines(path, &[ball.to_json()])?;
     written.push(path.to_path_buf());
     if !result.bats.is_empty() {

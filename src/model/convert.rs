@@ -5,6 +5,7 @@
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::physics::bat::SLICE_COUNT_RANGE;
+use crate::physics::oblique::TangentialContact;
 use crate::physics::{Ball, Bat, CoreFill, Impact, Material, PhysicsError, Station};
 
 use super::engine::{BatSummary, Computed, SwingInput};
@@ -166,20 +167,61 @@ pub fn vibrational_mode_count(bat: &Bat) -> usize {
     (2 * bat.slice_count()).saturating_sub(2)
 }
 
+/// A ball as the model uses it: the force law of every collision and the tangential contact law that oblique
+/// swings add (BallParams' appended fields; NaN there = [`TangentialContact::default`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BallModel {
+    /// Mass, radius and the hysteretic force law.
+    pub ball: Ball,
+    /// Grip, friction and moment of inertia in an oblique swing.
+    pub contact: TangentialContact,
+}
+
+impl From<Ball> for BallModel {
+    /// `ball` with the default tangential contact (what a BallParams without the contact fields says).
+    fn from(ball: Ball) -> BallModel {
+        BallModel { ball, contact: TangentialContact::default() }
+    }
+}
+
 /// Builds and validates the ball a BallParams describes. The error starts with `BallParams 'id':`.
-pub fn ball_from_params(p: &BallParams) -> Result<Ball, String> {
+pub fn ball_from_params(p: &BallParams) -> Result<BallModel, String> {
     check_string("ball_id", &p.ball_id).map_err(|e| format!("BallParams: {e}"))?;
     if p.ball_id.trim().is_empty() {
         return Err("BallParams: ball_id must be a non-empty name".to_string());
     }
-    check_string("header.frame_id", &p.header.frame_id).map_err(|e| format!("BallParams '{}': {e}", p.ball_id))?;
+    let context = |e: &dyn std::fmt::Display| format!("BallParams '{}': {e}", p.ball_id);
+    check_string("header.frame_id", &p.header.frame_id).map_err(|e| context(&e))?;
     let ball = Ball { mass: p.mass, radius: p.radius, stiffness: p.stiffness, exponent: p.exponent, cor: p.cor };
-    ball.validate().map_err(|e| format!("BallParams '{}': {e}", p.ball_id))?;
-    Ok(ball)
+    ball.validate().map_err(|e| context(&e))?;
+    let defaults = TangentialContact::default();
+    let or_default = |v: f64, default: f64| if v.is_nan() { default } else { v };
+    // The message carries I in kg·m² (what a pendulum measures); the physics takes I/(m R²).
+    let sphere = ball.mass * ball.radius * ball.radius;
+    let inertia = or_default(p.moment_of_inertia, defaults.ball_inertia_ratio * sphere);
+    if !(inertia.is_finite() && inertia > 0.0 && inertia <= 2.0 / 3.0 * sphere) {
+        let e = PhysicsError::out_of_range(
+            "moment_of_inertia",
+            inertia,
+            format!(
+                "0 < I ≤ 2/3 · mass · radius² = {:.4e} kg·m² (a thin shell), or NaN for 0.4 · mass · radius²",
+                2.0 / 3.0 * sphere
+            ),
+        );
+        return Err(context(&e));
+    }
+    let contact = TangentialContact {
+        tangential_cor: or_default(p.tangential_cor, defaults.tangential_cor),
+        friction: or_default(p.friction, defaults.friction),
+        ball_inertia_ratio: inertia / sphere,
+    };
+    contact.validate().map_err(|e| context(&e))?;
+    Ok(BallModel { ball, contact })
 }
 
-/// A BallParams carrying every field of `ball` under `ball_id`, so that [`ball_from_params`] builds it back.
-pub fn params_from_ball(ball_id: &str, ball: &Ball, header: Header) -> BallParams {
+/// A BallParams carrying every field of `ball` under `ball_id`, so that [`ball_from_params`] builds it back;
+/// `contact` `None` leaves the contact fields NaN (the node's defaults: a rig that has not measured them).
+pub fn params_from_ball(ball_id: &str, ball: &Ball, contact: Option<&TangentialContact>, header: Header) -> BallParams {
     BallParams {
         header,
         ball_id: ball_id.to_string(),
@@ -188,6 +230,9 @@ pub fn params_from_ball(ball_id: &str, ball: &Ball, header: Header) -> BallParam
         cor: ball.cor,
         stiffness: ball.stiffness,
         exponent: ball.exponent,
+        tangential_cor: contact.map_or(f64::NAN, |c| c.tangential_cor),
+        friction: contact.map_or(f64::NAN, |c| c.friction),
+        moment_of_inertia: contact.map_or(f64::NAN, |c| c.ball_inertia_ratio * ball.mass * ball.radius * ball.radius),
     }
 }
 
@@ -512,9 +557,11 @@ mod tests {
         assert!(e.starts_with("BatParams 'p': preset is 1048576 bytes") && e.len() < 200, "{e}");
         let header = Header { frame_id: huge.clone(), ..Header::default() };
         assert!(bat_from_params(&params_of_preset("p", "r161", header.clone())).unwrap_err().contains("frame_id"));
-        let e =
-            ball_from_params(&BallParams { ball_id: huge.clone(), ..params_from_ball("", &Ball::default(), header) })
-                .unwrap_err();
+        let e = ball_from_params(&BallParams {
+            ball_id: huge.clone(),
+            ..params_from_ball("", &Ball::default(), None, header)
+        })
+        .unwrap_err();
         assert!(e.starts_with("BallParams: ball_id is 1048576 bytes") && e.len() < 200, "{e}");
         let at_limit = "x".repeat(crate::model::limits::MAX_STRING_BYTES);
         assert!(bat_from_params(&params_of_preset(&at_limit, "r161", Header::default())).is_ok());
@@ -578,15 +625,69 @@ mod tests {
     fn huge_and_tiny_numbers_in_rejections_are_printed_short() {
         let e = ball_from_params(&BallParams {
             stiffness: 1e300,
-            ..params_from_ball("b", &Ball::default(), Header::default())
+            ..params_from_ball("b", &Ball::default(), None, Header::default())
         })
         .unwrap_err();
         assert!(e.contains("stiffness = 1e300 is out of range") && e.len() < 120, "{e}");
         let e = ball_from_params(&BallParams {
             mass: 5e-324,
-            ..params_from_ball("b", &Ball::default(), Header::default())
+            ..params_from_ball("b", &Ball::default(), None, Header::default())
         })
         .unwrap_err();
         assert!(e.contains("mass = 5e-324 is out of range") && e.len() < 120, "{e}");
+    }
+
+    #[test]
+    fn ball_params_contact_fields_nan_means_the_defaults_and_values_round_trip() {
+        let ball = Ball::default();
+        let plain = ball_from_params(&params_from_ball("b", &ball, None, Header::default())).unwrap();
+        assert_eq!(plain, BallModel { ball, contact: TangentialContact::default() });
+        // A pendulum-measured I in kg·m² becomes the physics' I/(m R²): 7.4e-5 / (0.145 · 0.0366²) for a
+        // baseball of the default mass and radius.
+        assert_eq!((ball.mass, ball.radius), (0.145, 0.0366), "the closed form below assumes these");
+        let measured = BallParams {
+            tangential_cor: 0.3,
+            friction: 0.5,
+            moment_of_inertia: 7.4e-5,
+            ..params_from_ball("b", &ball, None, Header::default())
+        };
+        let model = ball_from_params(&measured).unwrap();
+        assert_eq!((model.contact.tangential_cor, model.contact.friction), (0.3, 0.5));
+        assert!((model.contact.ball_inertia_ratio - 0.380_979_4).abs() < 1e-7, "{}", model.contact.ball_inertia_ratio);
+        // And back: the params of a model build the same model.
+        let again = ball_from_params(&params_from_ball("b", &model.ball, Some(&model.contact), Header::default()));
+        let again = again.unwrap();
+        assert_eq!(again.ball, model.ball);
+        assert_eq!((again.contact.tangential_cor, again.contact.friction), (0.3, 0.5));
+        assert!((again.contact.ball_inertia_ratio - model.contact.ball_inertia_ratio).abs() < 1e-15);
+    }
+
+    #[test]
+    fn ball_params_recorded_before_the_contact_fields_decode_to_the_defaults() {
+        use crate::msgs::{decode_cdr, encode_cdr};
+        let full = BallParams {
+            tangential_cor: 0.1,
+            friction: 0.9,
+            moment_of_inertia: 7e-5,
+            ..params_from_ball("old", &Ball::default(), None, Header::default())
+        };
+        let bytes = encode_cdr(&full).unwrap();
+        // The old layout ends after `exponent`: the three appended float64 are the last 24 bytes.
+        let old = decode_cdr::<BallParams>(&bytes[..bytes.len() - 24]).expect("old BallParams decode");
+        assert!(old.tangential_cor.is_nan() && old.friction.is_nan() && old.moment_of_inertia.is_nan());
+        assert_eq!(ball_from_params(&old).unwrap().contact, TangentialContact::default());
+    }
+
+    #[test]
+    fn a_moment_of_inertia_beyond_a_thin_shell_is_refused_in_kg_m2() {
+        let ball = Ball::default();
+        let shell = 2.0 / 3.0 * ball.mass * ball.radius * ball.radius;
+        let with =
+            |i: f64| BallParams { moment_of_inertia: i, ..params_from_ball("b", &ball, None, Header::default()) };
+        assert!(ball_from_params(&with(shell)).is_ok());
+        for bad in [shell * 1.01, 0.0, -1e-5, f64::INFINITY] {
+            let e = ball_from_params(&with(bad)).unwrap_err();
+            assert!(e.starts_with("BallParams 'b': moment_of_inertia") && e.contains("kg·m²"), "{bad}: {e}");
+        }
     }
 }

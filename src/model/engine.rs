@@ -11,6 +11,7 @@ use crate::physics::{
     SweetSpotSet,
 };
 
+use super::convert::BallModel;
 use super::limits::{self, quote, MAX_STRING_BYTES};
 use super::lru::LruMap;
 use super::settings::ModelSettings;
@@ -124,7 +125,7 @@ impl BatEntry {
 #[derive(Debug)]
 pub struct Registry {
     bats: LruMap<Arc<BatEntry>>,
-    balls: LruMap<Ball>,
+    balls: LruMap<BallModel>,
     latest_bat: Option<String>,
     latest_ball: Option<String>,
 }
@@ -200,9 +201,9 @@ impl Registry {
 
     /// Stores (or replaces) a ball; it becomes the latest ball. When `max_balls` are held, the least recently
     /// used other ball is forgotten.
-    pub fn set_ball(&mut self, ball_id: &str, ball: Ball) {
+    pub fn set_ball(&mut self, ball_id: &str, ball: impl Into<BallModel>) {
         self.latest_ball = Some(ball_id.to_string());
-        self.balls.insert(ball_id.to_string(), ball, false, None);
+        self.balls.insert(ball_id.to_string(), ball.into(), false, None);
     }
 
     /// The bat a swing asks for: empty = the latest received (else `default_bat`); an unknown id that names a
@@ -252,7 +253,7 @@ impl Registry {
 
     /// The ball a swing asks for: empty = the latest received (else the default baseball). Does not count as
     /// a use (see [`Registry::use_ball`]).
-    pub fn resolve_ball(&self, requested: &str) -> Result<(String, Ball), String> {
+    pub fn resolve_ball(&self, requested: &str) -> Result<(String, BallModel), String> {
         let ball_id = self.effective_ball_id(requested);
         if let Some(ball) = self.balls.peek(&ball_id) {
             return Ok((ball_id, *ball));
@@ -266,7 +267,7 @@ impl Registry {
             ));
         }
         if ball_id == DEFAULT_BALL_ID {
-            return Ok((ball_id, Ball::default()));
+            return Ok((ball_id, Ball::default().into()));
         }
         let built_in_available =
             self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
@@ -281,7 +282,7 @@ impl Registry {
 
     /// As [`Registry::resolve_ball`], and marks the ball as just used (a swing's use keeps it from being
     /// forgotten first).
-    pub fn use_ball(&mut self, requested: &str) -> Result<(String, Ball), String> {
+    pub fn use_ball(&mut self, requested: &str) -> Result<(String, BallModel), String> {
         let resolved = self.resolve_ball(requested)?;
         let _ = self.balls.get(&resolved.0);
         Ok(resolved)
@@ -432,6 +433,8 @@ pub enum Plan {
         ball_id: String,
         /// The ball.
         ball: Ball,
+        /// The ball's tangential contact law (used by oblique swings only).
+        contact: TangentialContact,
         /// Initial conditions along the bat's path.
         impact: Impact,
         /// The oblique geometry, `None` for a head-on swing (today's collision, bit for bit).
@@ -493,7 +496,7 @@ pub fn plan_swing(
     };
     let new_bat = created.map(|_| Arc::clone(&bat));
     match registry.use_ball(ball_id) {
-        Ok((ball_id, ball)) => {
+        Ok((ball_id, BallModel { ball, contact })) => {
             let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
             // A non-finite impact_z is refused by the collision itself, naming impact_z.
             let barrel_radius =
@@ -511,7 +514,7 @@ pub fn plan_swing(
                     pitch_spin: swing.pitch_spin,
                 })
             });
-            (Plan::Collide { bat, ball_id, ball, impact, oblique, options }, new_bat)
+            (Plan::Collide { bat, ball_id, ball, contact, impact, oblique, options }, new_bat)
         }
         Err(reason) => (Plan::Reject { bat_id: bat.bat_id.clone(), ball_id: ball_id.to_string(), reason }, new_bat),
     }
@@ -561,17 +564,16 @@ pub struct Computed {
 pub fn compute(plan: &Plan, stats: &impl ModeCacheStats) -> Result<Computed, String> {
     match plan {
         Plan::Reject { reason, .. } => Err(reason.clone()),
-        Plan::Collide { bat, ball_id, ball, impact, oblique: None, options } => {
+        Plan::Collide { bat, ball_id, ball, impact, oblique: None, options, .. } => {
             let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
             let collision = collide(&modes, ball, impact, options).map_err(|e| e.to_string())?;
             limits::check_compression(ball_id, ball, collision.max_compression)?;
             let collision_energy = centre_of_mass_energy(&collision, &modes.mass_properties(), ball, impact);
             Ok(Computed { launch: Launch::head_on(&collision), collision, collision_energy })
         }
-        Plan::Collide { bat, ball_id, ball, oblique: Some(oblique), options, .. } => {
+        Plan::Collide { bat, ball_id, ball, contact, oblique: Some(oblique), options, .. } => {
             let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
-            let result = collide_oblique(&modes, ball, oblique, &TangentialContact::default(), options)
-                .map_err(|e| e.to_string())?;
+            let result = collide_oblique(&modes, ball, oblique, contact, options).map_err(|e| e.to_string())?;
             limits::check_compression(ball_id, ball, result.normal.max_compression)?;
             let launch = Launch {
                 exit_speed: result.exit_speed,
@@ -753,7 +755,7 @@ mod tests {
         let e = registry.use_ball("x").unwrap_err();
         assert!(e.contains("unknown ball_id 'x'") && e.contains("evicted") && e.contains("max_balls = 2"), "{e}");
         assert_eq!(registry.use_ball("").unwrap().0, "z");
-        assert_eq!(registry.use_ball(DEFAULT_BALL_ID).unwrap().1, Ball::default());
+        assert_eq!(registry.use_ball(DEFAULT_BALL_ID).unwrap().1, Ball::default().into());
         let e = registry.use_ball("never").unwrap_err();
         assert!(e.contains("no BallParams") && e.contains(DEFAULT_BALL_ID), "{e}");
         assert_eq!(registry.usage().balls_evicted, 1);

@@ -481,6 +481,7 @@ mod tests {
             bat: Arc::clone(&bat),
             ball_id: "baseball".into(),
             ball: Ball::default(),
+            contact: Default::default(),
             impact: Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: 0.6 },
             oblique: None,
             options: CollisionOptions { modes: 6, ..CollisionOptions::default() },

@@ -541,7 +541,7 @@ impl Summaries {
                 let result = engine::summarize_bat(
                     &entry,
                     &ball_id,
-                    &ball,
+                    &ball.ball,
                     convert::reference_swing(&settings),
                     &settings.model,
                     &*stats,

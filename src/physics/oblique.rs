@@ -80,7 +80,9 @@
 //!   launch, show no gross slip; quoted as μ ≥ 0.15–0.20). A larger μ only moves the onset of sliding out.
 //! - I_ball/(m R²) = 0.4: **the uniform-sphere value, used because a measured moment of inertia of a
 //!   baseball could not be found here.** A baseball's dense cork-and-rubber centre suggests a slightly smaller
-//!   ratio (more spin for the same tangential impulse); it is a parameter so a measured value can replace it.
+//!   ratio (more spin for the same tangential impulse); it is a parameter so a measured value can replace it:
+//!   `BallParams.moment_of_inertia` (kg·m²) sets it for the node, as `tangential_cor` and `friction` set the
+//!   other two (NaN = these defaults).
 //! - The ball's mass and radius are [`Ball`]'s; the normal COR and force law are the modal collision's.
 //!
 //! # Validity

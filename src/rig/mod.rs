@@ -653,9 +653,10 @@ pub fn equal_effort_impact(swing: &SwingPrediction, effort: f64, ball_speed: f64
     }
 }
 
-/// A BallParams message for `ball` under `ball_id`.
+/// A BallParams message for `ball` under `ball_id`. Its tangential contact fields are NaN (the node's
+/// defaults): a rig measures launch angles and spins, not the ball's grip; `calibrate --fit-tangential` fits it.
 pub fn ball_params(ball_id: &str, ball: &Ball, stamp: Time) -> BallParams {
-    params_from_ball(ball_id, ball, Header { stamp, frame_id: String::new() })
+    params_from_ball(ball_id, ball, None, Header { stamp, frame_id: String::new() })
 }
 
 fn uniform(rng: &mut StdRng, (lo, hi): (f64, f64)) -> f64 {
