@@ -369,7 +369,7 @@ fn a_full_queue_drops_counts_and_reports_instead_of_growing() {
 }
 
 /// A ball's tangential contact (BallParams' appended fields) reaches the node's oblique collisions: a ball
-/// that rolls (e_T = 0) with a measured-style moment of inertia and a ball left at the defaults (NaN) get
+/// that nearly rolls (e_T = 0.05), with a measured-style moment of inertia, and a ball left at the defaults (0) get
 /// exactly the library's launch for their own contact, and different launches from each other.
 #[test]
 fn oblique_swings_use_the_contact_their_ball_params_give() {
@@ -384,10 +384,10 @@ fn oblique_swings_use_the_contact_their_ball_params_give() {
     let ball = Ball::default();
     let inertia = 0.37 * ball.mass * ball.radius * ball.radius;
     let grippy =
-        BallParams { tangential_cor: 0.0, friction: 2.0, moment_of_inertia: inertia, ..ball_params("rolling", &ball) };
+        BallParams { tangential_cor: 0.05, friction: 2.0, moment_of_inertia: inertia, ..ball_params("rolling", &ball) };
     // The node's own conversion (I in kg·m² → I/(m R²)) gives the contact the library is called with.
     let rolling = convert::ball_from_params(&grippy).unwrap().contact;
-    assert_eq!((rolling.tangential_cor, rolling.friction), (0.0, 2.0));
+    assert_eq!((rolling.tangential_cor, rolling.friction), (0.05, 2.0));
     assert!((rolling.ball_inertia_ratio - 0.37).abs() < 1e-12);
     ball_pub.publish(grippy).unwrap();
     node.wait_for_log("ball 'rolling' set", WAIT);

@@ -168,7 +168,7 @@ pub fn vibrational_mode_count(bat: &Bat) -> usize {
 }
 
 /// A ball as the model uses it: the force law of every collision and the tangential contact law that oblique
-/// swings add (BallParams' appended fields; NaN there = [`TangentialContact::default`]).
+/// swings add (BallParams' appended fields; 0 there = [`TangentialContact::default`]'s value).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BallModel {
     /// Mass, radius and the hysteretic force law.
@@ -195,7 +195,8 @@ pub fn ball_from_params(p: &BallParams) -> Result<BallModel, String> {
     let ball = Ball { mass: p.mass, radius: p.radius, stiffness: p.stiffness, exponent: p.exponent, cor: p.cor };
     ball.validate().map_err(|e| context(&e))?;
     let defaults = TangentialContact::default();
-    let or_default = |v: f64, default: f64| if v.is_nan() { default } else { v };
+    // 0 is what a ROS publisher that never set the field sends (and what bags from before the fields read).
+    let or_default = |v: f64, default: f64| if v == 0.0 { default } else { v };
     // The message carries I in kg·m² (what a pendulum measures); the physics takes I/(m R²).
     let sphere = ball.mass * ball.radius * ball.radius;
     let inertia = or_default(p.moment_of_inertia, defaults.ball_inertia_ratio * sphere);
@@ -204,7 +205,7 @@ pub fn ball_from_params(p: &BallParams) -> Result<BallModel, String> {
             "moment_of_inertia",
             inertia,
             format!(
-                "0 < I ≤ 2/3 · mass · radius² = {:.4e} kg·m² (a thin shell), or NaN for 0.4 · mass · radius²",
+                "0 < I ≤ 2/3 · mass · radius² = {:.4e} kg·m² (a thin shell), or 0 for 0.4 · mass · radius²",
                 2.0 / 3.0 * sphere
             ),
         );
@@ -220,7 +221,7 @@ pub fn ball_from_params(p: &BallParams) -> Result<BallModel, String> {
 }
 
 /// A BallParams carrying every field of `ball` under `ball_id`, so that [`ball_from_params`] builds it back;
-/// `contact` `None` leaves the contact fields NaN (the node's defaults: a rig that has not measured them).
+/// `contact` `None` leaves the contact fields 0 (the node's defaults: a rig that has not measured them).
 pub fn params_from_ball(ball_id: &str, ball: &Ball, contact: Option<&TangentialContact>, header: Header) -> BallParams {
     BallParams {
         header,
@@ -230,9 +231,9 @@ pub fn params_from_ball(ball_id: &str, ball: &Ball, contact: Option<&TangentialC
         cor: ball.cor,
         stiffness: ball.stiffness,
         exponent: ball.exponent,
-        tangential_cor: contact.map_or(f64::NAN, |c| c.tangential_cor),
-        friction: contact.map_or(f64::NAN, |c| c.friction),
-        moment_of_inertia: contact.map_or(f64::NAN, |c| c.ball_inertia_ratio * ball.mass * ball.radius * ball.radius),
+        tangential_cor: contact.map_or(0.0, |c| c.tangential_cor),
+        friction: contact.map_or(0.0, |c| c.friction),
+        moment_of_inertia: contact.map_or(0.0, |c| c.ball_inertia_ratio * ball.mass * ball.radius * ball.radius),
     }
 }
 
@@ -638,7 +639,7 @@ mod tests {
     }
 
     #[test]
-    fn ball_params_contact_fields_nan_means_the_defaults_and_values_round_trip() {
+    fn ball_params_contact_fields_zero_means_the_defaults_and_values_round_trip() {
         let ball = Ball::default();
         let plain = ball_from_params(&params_from_ball("b", &ball, None, Header::default())).unwrap();
         assert_eq!(plain, BallModel { ball, contact: TangentialContact::default() });
@@ -674,7 +675,7 @@ mod tests {
         let bytes = encode_cdr(&full).unwrap();
         // The old layout ends after `exponent`: the three appended float64 are the last 24 bytes.
         let old = decode_cdr::<BallParams>(&bytes[..bytes.len() - 24]).expect("old BallParams decode");
-        assert!(old.tangential_cor.is_nan() && old.friction.is_nan() && old.moment_of_inertia.is_nan());
+        assert_eq!((old.tangential_cor, old.friction, old.moment_of_inertia), (0.0, 0.0, 0.0));
         assert_eq!(ball_from_params(&old).unwrap().contact, TangentialContact::default());
     }
 
@@ -685,7 +686,7 @@ mod tests {
         let with =
             |i: f64| BallParams { moment_of_inertia: i, ..params_from_ball("b", &ball, None, Header::default()) };
         assert!(ball_from_params(&with(shell)).is_ok());
-        for bad in [shell * 1.01, 0.0, -1e-5, f64::INFINITY] {
+        for bad in [shell * 1.01, f64::NAN, -1e-5, f64::INFINITY] {
             let e = ball_from_params(&with(bad)).unwrap_err();
             assert!(e.starts_with("BallParams 'b': moment_of_inertia") && e.contains("kg·m²"), "{bad}: {e}");
         }

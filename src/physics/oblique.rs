@@ -82,7 +82,7 @@
 //!   baseball could not be found here.** A baseball's dense cork-and-rubber centre suggests a slightly smaller
 //!   ratio (more spin for the same tangential impulse); it is a parameter so a measured value can replace it:
 //!   `BallParams.moment_of_inertia` (kg·m²) sets it for the node, as `tangential_cor` and `friction` set the
-//!   other two (NaN = these defaults).
+//!   other two (0 = these defaults).
 //! - The ball's mass and radius are [`Ball`]'s; the normal COR and force law are the modal collision's.
 //!
 //! # Validity

@@ -653,7 +653,7 @@ pub fn equal_effort_impact(swing: &SwingPrediction, effort: f64, ball_speed: f64
     }
 }
 
-/// A BallParams message for `ball` under `ball_id`. Its tangential contact fields are NaN (the node's
+/// A BallParams message for `ball` under `ball_id`. Its tangential contact fields are 0 (the node's
 /// defaults): a rig measures launch angles and spins, not the ball's grip; `calibrate --fit-tangential` fits it.
 pub fn ball_params(ball_id: &str, ball: &Ball, stamp: Time) -> BallParams {
     params_from_ball(ball_id, ball, None, Header { stamp, frame_id: String::new() })
