@@ -21,6 +21,7 @@
 //! [`batter`] fits a batter's reference swing and exponent to the bat speeds of the same sessions.
 
 pub mod batter;
+mod lm;
 pub mod tangential;
 
 use std::collections::BTreeMap;
@@ -287,27 +288,9 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
         }
         predict(problem, cor, &youngs, only)
     };
-    let cost = |r: &DVector<f64>| {
-        if r.iter().all(|v| v.is_finite()) {
-            r.norm_squared()
-        } else {
-            f64::INFINITY
-        }
-    };
-
-    let mut x = DVector::from_element(p, 1.0);
-    let before = eval(&x, None)?;
-    let mut r = residuals_of(problem, &before);
-    if !cost(&r).is_finite() {
-        return Err(CalibrateError::NoData("the start parameters give no prediction for some swings".into()));
-    }
-    let mut lambda = 1e-3;
-    let mut iterations = 0;
-    let mut converged = false;
-    let mut jacobian = DMatrix::zeros(n, p);
     let step = 1e-4;
     let build_jacobian =
-        |x: &DVector<f64>, r: &DVector<f64>, current: &[Option<f64>]| -> Result<DMatrix<f64>, CalibrateError> {
+        |x: &DVector<f64>, r: &DVector<f64>, current: &Vec<Option<f64>>| -> Result<DMatrix<f64>, CalibrateError> {
             let mut j = DMatrix::zeros(n, p);
             for k in 0..p {
                 let mut xk = x.clone();
@@ -323,62 +306,25 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
             }
             Ok(j)
         };
-    let mut current = before.clone();
-    while iterations < options.max_iterations {
-        iterations += 1;
-        jacobian = build_jacobian(&x, &r, &current)?;
-        let jtj = jacobian.transpose() * &jacobian;
-        let jtr = jacobian.transpose() * &r;
-        let mut accepted = false;
-        for _ in 0..12 {
-            let mut a = jtj.clone();
-            for k in 0..p {
-                a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
-            }
-            let Some(delta) = a.cholesky().map(|c| c.solve(&jtr)) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let trial = &x + &delta;
-            let predicted = eval(&trial, None)?;
-            let r_trial = residuals_of(problem, &predicted);
-            if cost(&r_trial) <= cost(&r) {
-                let small = delta.iter().all(|d| d.abs() < options.tolerance);
-                x = trial;
-                r = r_trial;
-                current = predicted;
-                lambda = (lambda / 10.0).max(1e-9);
-                accepted = true;
-                converged = small;
-                break;
-            }
-            lambda *= 10.0;
-        }
-        if !accepted {
-            // No downhill step at any damping: we are at the minimum to the precision of the model.
-            converged = true;
-        }
-        if converged {
-            break;
-        }
-    }
-    if converged {
-        jacobian = build_jacobian(&x, &r, &current)?;
-    }
-    let dof = n - p;
-    let ssr = r.norm_squared();
-    let s2 = ssr / dof as f64;
-    let jtj = jacobian.transpose() * &jacobian;
-    let inverse = jtj.clone().try_inverse().ok_or_else(|| {
+    let evaluate = |x: &DVector<f64>| {
+        let predicted = eval(x, None)?;
+        Ok((residuals_of(problem, &predicted), predicted))
+    };
+    let start = DVector::from_element(p, 1.0);
+    let minimum = lm::minimize(start, evaluate, build_jacobian, options.max_iterations, options.tolerance)?;
+    let errors = minimum.standard_errors().ok_or_else(|| {
         CalibrateError::Degenerate("JᵀJ is singular; the data do not constrain every parameter".into())
     })?;
+    let (x, r, dof) = (&minimum.x, &minimum.residuals, minimum.dof());
+    let (before, current) = (&minimum.predicted_at_start, &minimum.predicted);
+    let ssr = r.norm_squared();
     let parameters = (0..p)
         .map(|k| FittedParameter {
             name: layout.names[k].clone(),
             unit: layout.units[k],
             initial: layout.start[k],
             value: x[k] * layout.start[k],
-            std_error: (s2 * inverse[(k, k)]).max(0.0).sqrt() * layout.start[k],
+            std_error: errors[k] * layout.start[k],
         })
         .collect();
     let residuals = problem
@@ -395,8 +341,8 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
             residual: r[i],
         })
         .collect();
-    let rms_before = (residuals_of(problem, &before).norm_squared() / n as f64).sqrt();
-    let (cor, youngs) = layout.unpack(&x);
+    let rms_before = (residuals_of(problem, before).norm_squared() / n as f64).sqrt();
+    let (cor, youngs) = layout.unpack(x);
     let bats = youngs
         .iter()
         .filter_map(|(id, &e)| {
@@ -412,10 +358,10 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
         residuals,
         rms_before,
         rms: (ssr / n as f64).sqrt(),
-        residual_sigma: s2.sqrt(),
+        residual_sigma: minimum.residual_variance().sqrt(),
         dof,
-        iterations,
-        converged,
+        iterations: minimum.iterations,
+        converged: minimum.converged,
         ball: Ball { cor, ..problem.ball },
         bats,
     })

@@ -34,7 +34,7 @@ use std::path::Path;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
-use super::{read_inputs, CalibrateError, FittedParameter, Observation, Problem, RecordedInputs};
+use super::{lm, read_inputs, CalibrateError, FittedParameter, Observation, Problem, RecordedInputs};
 use crate::model::engine::SwingInput;
 use crate::physics::oblique::{collide_oblique, rad_per_s_to_rpm, rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
 use crate::physics::{collide, Ball, Bat, CollisionOptions, ModeSet, PhysicsError};
@@ -297,7 +297,6 @@ pub fn fit_tangential(
         }
         DVector::from_vec(r)
     };
-    let cost = |r: &DVector<f64>| if r.iter().all(|v| v.is_finite()) { r.norm_squared() } else { f64::INFINITY };
     // Rows of each swing's residuals.
     let mut rows = Vec::with_capacity(swings.len());
     let mut row = 0;
@@ -307,7 +306,7 @@ pub fn fit_tangential(
         row += k;
     }
     let step = 1e-4;
-    let jacobian_of = |x: &DVector<f64>, r: &DVector<f64>| -> DMatrix<f64> {
+    let jacobian_of = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| -> DMatrix<f64> {
         let mut j = DMatrix::zeros(n, p);
         let mut xe = x.clone();
         xe[0] += if x[0] + step <= 1.0 { step } else { -step };
@@ -340,66 +339,22 @@ pub fn fit_tangential(
         j
     };
 
-    let mut x = DVector::from_vec(start);
-    let before = predict_all(&x);
-    let mut r = residuals(&before, &x);
-    if !cost(&r).is_finite() {
-        return Err(CalibrateError::NoData("the start parameters give no prediction for some swings".into()));
-    }
-    let mut current = before.clone();
-    let mut lambda = 1e-3;
-    let (mut iterations, mut converged) = (0, false);
-    let mut jacobian = DMatrix::zeros(n, p);
-    while iterations < options.max_iterations {
-        iterations += 1;
-        jacobian = jacobian_of(&x, &r);
-        let jtj = jacobian.transpose() * &jacobian;
-        let jtr = jacobian.transpose() * &r;
-        let mut accepted = false;
-        for _ in 0..12 {
-            let mut a = jtj.clone();
-            for k in 0..p {
-                a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
-            }
-            // J is ∂predicted/∂θ (weighted), so the Gauss–Newton step is (JᵀJ)⁻¹ Jᵀ r.
-            let Some(delta) = a.cholesky().map(|c| c.solve(&jtr)) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let trial = &x + &delta;
-            let predicted = predict_all(&trial);
-            let r_trial = residuals(&predicted, &trial);
-            if cost(&r_trial) <= cost(&r) {
-                converged = delta.iter().all(|d| d.abs() < options.tolerance);
-                x = trial;
-                r = r_trial;
-                current = predicted;
-                lambda = (lambda / 10.0).max(1e-9);
-                accepted = true;
-                break;
-            }
-            lambda *= 10.0;
-        }
-        if !accepted {
-            converged = true;
-        }
-        if converged {
-            break;
-        }
-    }
-    if converged {
-        jacobian = jacobian_of(&x, &r);
-    }
-    let dof = n - p;
-    let s2 = r.norm_squared() / dof as f64;
-    let inverse = (jacobian.transpose() * &jacobian).try_inverse().ok_or_else(|| {
+    let evaluate = |x: &DVector<f64>| {
+        let predicted = predict_all(x);
+        Ok((residuals(&predicted, x), predicted))
+    };
+    let jacobian = |x: &DVector<f64>, r: &DVector<f64>, p: &Vec<Option<Launch>>| Ok(jacobian_of(x, r, p));
+    let minimum =
+        lm::minimize(DVector::from_vec(start), evaluate, jacobian, options.max_iterations, options.tolerance)?;
+    let sigmas = minimum.standard_errors().ok_or_else(|| {
         CalibrateError::Degenerate(
             "JᵀJ is singular: the launch angles and spins do not constrain e_T (every swing slides, or no spin is \
              measured) or an unmeasured undercut"
                 .into(),
         )
     })?;
-    let sigma = |k: usize| (s2 * inverse[(k, k)]).max(0.0).sqrt();
+    let (x, before, current) = (&minimum.x, &minimum.predicted_at_start, &minimum.predicted);
+    let sigma = |k: usize| sigmas[k];
     let mut parameters = vec![FittedParameter {
         name: "tangential_cor".into(),
         unit: "",
@@ -437,14 +392,14 @@ pub fn fit_tangential(
     };
     let residual_rows = swings
         .iter()
-        .zip(&current)
+        .zip(current)
         .map(|(s, p)| {
             let input = &s.observation.input;
             let (la, spin) = p.unwrap_or((f64::NAN, f64::NAN));
             LaunchResidual {
                 swing_id: s.observation.swing_id,
                 bat_id: s.observation.bat_id.clone(),
-                undercut: undercut_of(s, &x),
+                undercut: undercut_of(s, x),
                 undercut_fitted: s.observation.input.undercut.is_nan(),
                 launch_angle: input.measured_launch_angle - la,
                 spin: input.measured_spin - spin,
@@ -454,12 +409,12 @@ pub fn fit_tangential(
     Ok(TangentialFit {
         parameters,
         residuals: residual_rows,
-        rms_launch_angle: (rms(&before, false), rms(&current, false)),
-        rms_spin: (rms(&before, true), rms(&current, true)),
-        residual_sigma: s2.sqrt(),
-        dof,
-        iterations,
-        converged,
+        rms_launch_angle: (rms(before, false), rms(current, false)),
+        rms_spin: (rms(before, true), rms(current, true)),
+        residual_sigma: minimum.residual_variance().sqrt(),
+        dof: minimum.dof(),
+        iterations: minimum.iterations,
+        converged: minimum.converged,
         contact: TangentialContact { tangential_cor: x[0], ..options.contact },
         skipped,
     })
