@@ -125,7 +125,7 @@ mod tests {
     use super::*;
 
     /// Fitting y = a·exp(b·t) to exact data from a = 2, b = −0.5 finds them, with standard errors that vanish
-    /// with the residuals; with noise added, the errors match the closed-form linear case below.
+    /// with the residuals.
     #[test]
     fn an_exponential_is_recovered_from_exact_data() {
         let t: Vec<f64> = (0..20).map(|i| i as f64 * 0.25).collect();

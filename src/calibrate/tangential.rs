@@ -306,7 +306,7 @@ pub fn fit_tangential(
         row += k;
     }
     let step = 1e-4;
-    let jacobian_of = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| -> DMatrix<f64> {
+    let jacobian_of = |x: &DVector<f64>, r: &DVector<f64>| -> DMatrix<f64> {
         let mut j = DMatrix::zeros(n, p);
         let mut xe = x.clone();
         xe[0] += if x[0] + step <= 1.0 { step } else { -step };
@@ -343,7 +343,7 @@ pub fn fit_tangential(
         let predicted = predict_all(x);
         Ok((residuals(&predicted, x), predicted))
     };
-    let jacobian = |x: &DVector<f64>, r: &DVector<f64>, p: &Vec<Option<Launch>>| Ok(jacobian_of(x, r, p));
+    let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(jacobian_of(x, r));
     let minimum =
         lm::minimize(DVector::from_vec(start), evaluate, jacobian, options.max_iterations, options.tolerance)?;
     let sigmas = minimum.standard_errors().ok_or_else(|| {
@@ -354,13 +354,12 @@ pub fn fit_tangential(
         )
     })?;
     let (x, before, current) = (&minimum.x, &minimum.predicted_at_start, &minimum.predicted);
-    let sigma = |k: usize| sigmas[k];
     let mut parameters = vec![FittedParameter {
         name: "tangential_cor".into(),
         unit: "",
         initial: options.contact.tangential_cor,
         value: x[0],
-        std_error: sigma(0),
+        std_error: sigmas[0],
     }];
     for s in &swings {
         if let Some(k) = s.undercut_index {
@@ -369,7 +368,7 @@ pub fn fit_tangential(
                 unit: "m",
                 initial: s.observation.input.undercut,
                 value: x[k] * UNDERCUT_UNIT,
-                std_error: sigma(k) * UNDERCUT_UNIT,
+                std_error: sigmas[k] * UNDERCUT_UNIT,
             });
         }
     }
