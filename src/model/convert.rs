@@ -197,32 +197,54 @@ pub fn ball_from_params(p: &BallParams) -> Result<BallModel, String> {
     let defaults = TangentialContact::default();
     // 0 is what a ROS publisher that never set the field sends (and what bags from before the fields read).
     let or_default = |v: f64, default: f64| if v == 0.0 { default } else { v };
-    // The message carries I in kg·m² (what a pendulum measures); the physics takes I/(m R²).
+    // The message carries I in kg·m² (what a pendulum measures); the physics takes I/(m R²). A 0 takes the
+    // default ratio itself, not (0.4 · m R²) / (m R²), which need not round back to 0.4.
     let sphere = ball.mass * ball.radius * ball.radius;
-    let inertia = or_default(p.moment_of_inertia, defaults.ball_inertia_ratio * sphere);
-    if !(inertia.is_finite() && inertia > 0.0 && inertia <= 2.0 / 3.0 * sphere) {
-        let e = PhysicsError::out_of_range(
-            "moment_of_inertia",
-            inertia,
-            format!(
-                "0 < I ≤ 2/3 · mass · radius² = {:.4e} kg·m² (a thin shell), or 0 for 0.4 · mass · radius²",
-                2.0 / 3.0 * sphere
-            ),
-        );
-        return Err(context(&e));
-    }
+    let inertia_ratio = if p.moment_of_inertia == 0.0 {
+        defaults.ball_inertia_ratio
+    } else {
+        let inertia = p.moment_of_inertia;
+        if !(inertia.is_finite() && inertia > 0.0 && inertia <= 2.0 / 3.0 * sphere) {
+            let e = PhysicsError::out_of_range(
+                "moment_of_inertia",
+                inertia,
+                format!(
+                    "0 < I ≤ 2/3 · mass · radius² = {:.4e} kg·m² (a thin shell), or 0 for 0.4 · mass · radius²",
+                    2.0 / 3.0 * sphere
+                ),
+            );
+            return Err(context(&e));
+        }
+        inertia / sphere
+    };
     let contact = TangentialContact {
         tangential_cor: or_default(p.tangential_cor, defaults.tangential_cor),
         friction: or_default(p.friction, defaults.friction),
-        ball_inertia_ratio: inertia / sphere,
+        ball_inertia_ratio: inertia_ratio,
     };
     contact.validate().map_err(|e| context(&e))?;
     Ok(BallModel { ball, contact })
 }
 
 /// A BallParams carrying every field of `ball` under `ball_id`, so that [`ball_from_params`] builds it back;
-/// `contact` `None` leaves the contact fields 0 (the node's defaults: a rig that has not measured them).
+/// `contact` `None`, and any contact field at its default, is written 0 (the node's default: a rig that has
+/// not measured it).
 pub fn params_from_ball(ball_id: &str, ball: &Ball, contact: Option<&TangentialContact>, header: Header) -> BallParams {
+    let defaults = TangentialContact::default();
+    let contact = contact.copied().unwrap_or(defaults);
+    // 0 on the wire means "default", so a real 0 (rolling contact, no friction) goes out as the smallest
+    // positive value, which the physics cannot tell from 0; a default goes out as 0, which reads back exactly.
+    let field = |v: f64, default: f64| {
+        if v == default {
+            0.0
+        } else if v == 0.0 {
+            f64::MIN_POSITIVE
+        } else {
+            v
+        }
+    };
+    // Grouped as ball_from_params groups m R², so a ratio of exactly 2/3 stays within its I ≤ 2/3 m R² check.
+    let sphere = ball.mass * ball.radius * ball.radius;
     BallParams {
         header,
         ball_id: ball_id.to_string(),
@@ -231,9 +253,13 @@ pub fn params_from_ball(ball_id: &str, ball: &Ball, contact: Option<&TangentialC
         cor: ball.cor,
         stiffness: ball.stiffness,
         exponent: ball.exponent,
-        tangential_cor: contact.map_or(0.0, |c| c.tangential_cor),
-        friction: contact.map_or(0.0, |c| c.friction),
-        moment_of_inertia: contact.map_or(0.0, |c| c.ball_inertia_ratio * ball.mass * ball.radius * ball.radius),
+        tangential_cor: field(contact.tangential_cor, defaults.tangential_cor),
+        friction: field(contact.friction, defaults.friction),
+        moment_of_inertia: if contact.ball_inertia_ratio == defaults.ball_inertia_ratio {
+            0.0
+        } else {
+            contact.ball_inertia_ratio * sphere
+        },
     }
 }
 
@@ -677,6 +703,26 @@ mod tests {
         let old = decode_cdr::<BallParams>(&bytes[..bytes.len() - 24]).expect("old BallParams decode");
         assert_eq!((old.tangential_cor, old.friction, old.moment_of_inertia), (0.0, 0.0, 0.0));
         assert_eq!(ball_from_params(&old).unwrap().contact, TangentialContact::default());
+    }
+
+    #[test]
+    fn contacts_at_the_edges_of_their_ranges_survive_the_message() {
+        // The defaults go out as 0 and come back exactly (not as (0.4 m R²)/(m R²) ≠ 0.4 in the last bit), for
+        // a ball whose m R² does not round-trip through 0.4 (found by review: mass 0.149 kg, radius 37.3 mm).
+        let ball = Ball { mass: 0.149, radius: 0.0373, ..Ball::default() };
+        let defaults = TangentialContact::default();
+        let out = params_from_ball("b", &ball, Some(&defaults), Header::default());
+        assert_eq!((out.tangential_cor, out.friction, out.moment_of_inertia), (0.0, 0.0, 0.0));
+        assert_eq!(ball_from_params(&out).unwrap().contact, defaults);
+        // A thin shell (the largest I accepted) is accepted back, not refused by one rounding step.
+        let shell = TangentialContact { ball_inertia_ratio: 2.0 / 3.0, ..defaults };
+        let back = ball_from_params(&params_from_ball("b", &ball, Some(&shell), Header::default())).unwrap();
+        assert!((back.contact.ball_inertia_ratio - 2.0 / 3.0).abs() < 1e-15);
+        // Rolling contact without friction (e_T = μ = 0, which 0 on the wire cannot say) stays at 0, not the
+        // defaults 0.405 and 0.20.
+        let rolling = TangentialContact { tangential_cor: 0.0, friction: 0.0, ..defaults };
+        let back = ball_from_params(&params_from_ball("b", &ball, Some(&rolling), Header::default())).unwrap();
+        assert!(back.contact.tangential_cor < 1e-300 && back.contact.friction < 1e-300, "{:?}", back.contact);
     }
 
     #[test]
