@@ -602,10 +602,9 @@ fn replay(
 /// The topics named on the command line, fully qualified: `__ns` over `--ns` over `/`, as `pub`/`echo` do.
 fn record_topics(topics: &[String], ns: &Option<String>, ros_args: &[String]) -> anyhow::Result<Vec<String>> {
     let parsed = crate::ros::args::RosArgs::parse(ros_args)?;
-    let namespace = match (&parsed.namespace, ns) {
-        (Some(n), _) => n.clone(),
-        (None, Some(n)) => crate::ros::names::normalize_namespace(n)?,
-        (None, None) => "/".to_string(),
+    let namespace = match ns {
+        Some(n) => crate::ros::names::normalize_namespace(n)?,
+        None => "/".to_string(),
     };
     let identity = parsed.identity("sweetspot_record", &namespace);
     let resolver = parsed.resolver(&identity);

@@ -96,7 +96,7 @@ mod tests {
         let a = parse("node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12 --params-file p.yaml");
         assert!(a.no_record);
         let c = a.config().unwrap();
-        assert_eq!(c.ros_args.namespace.as_deref(), Some("/rig3"));
+        assert_eq!(c.ros_args.identity("sweetspot", "/").namespace, "/rig3");
         assert_eq!(c.ros_args.params.len(), 1);
         assert_eq!(c.ros_args.params_files.len(), 1);
         let a = parse("node");
@@ -108,7 +108,7 @@ mod tests {
     fn repeated_ros_args_sections_are_merged() {
         let a = parse("node --ros-args -r __node:=lab --ros-args -p record:=false");
         let c = a.config().unwrap();
-        assert_eq!(c.ros_args.node_name.as_deref(), Some("lab"));
+        assert_eq!(c.ros_args.identity("sweetspot", "/").name, "lab");
         assert_eq!(c.ros_args.params.len(), 1);
     }
 

@@ -328,10 +328,9 @@ fn ros_context(
     default_name: &str,
 ) -> anyhow::Result<(NodeIdentity, NameResolver)> {
     let parsed = RosArgs::parse(ros_args.as_deref().unwrap_or_default())?;
-    let namespace = match (&parsed.namespace, ns) {
-        (Some(n), _) => n.clone(),
-        (None, Some(n)) => ros::names::normalize_namespace(n)?,
-        (None, None) => "/".to_string(),
+    let namespace = match ns {
+        Some(n) => ros::names::normalize_namespace(n)?,
+        None => "/".to_string(),
     };
     let identity = parsed.identity(default_name, &namespace);
     let resolver = parsed.resolver(&identity);

@@ -46,13 +46,32 @@ pub struct Remap {
     pub to: String,
 }
 
+/// Which part of the node's identity an `__node`/`__ns` rule renames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IdentityPart {
+    /// `__node` (or `__name`): the node's base name.
+    Name,
+    /// `__ns`: the node's namespace.
+    Namespace,
+}
+
+/// One `-r [node:]__node:=…` or `-r [node:]__ns:=…` rule.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct IdentityRemap {
+    /// Only applies to the node whose name *before renaming* is this, if set (as rcl matches it).
+    pub node: Option<String>,
+    /// What the rule renames.
+    pub part: IdentityPart,
+    /// The new name, or the new namespace (absolute, normalised).
+    pub value: String,
+}
+
 /// Everything found in the `--ros-args` sections of a command line.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RosArgs {
-    /// `-r __node:=NAME` (also `__name`).
-    pub node_name: Option<String>,
-    /// `-r __ns:=/NAMESPACE`.
-    pub namespace: Option<String>,
+    /// `-r [node:]__node:=NAME` (also `__name`) and `-r [node:]__ns:=/NAMESPACE`, in command-line order;
+    /// [`RosArgs::identity`] applies the first rule of each kind that concerns the node.
+    pub identity_remaps: Vec<IdentityRemap>,
     /// Topic and service remaps, in command-line order.
     pub remaps: Vec<Remap>,
     /// `-p NAME:=VALUE`, in command-line order (values parsed as YAML).
@@ -144,16 +163,12 @@ impl RosArgs {
         };
         match from {
             "__ns" => {
-                let ns = normalize_namespace(to)?;
-                if node_matches_default(&node) {
-                    self.namespace = Some(ns);
-                }
+                let value = normalize_namespace(to)?;
+                self.identity_remaps.push(IdentityRemap { node, part: IdentityPart::Namespace, value });
             }
             "__node" | "__name" => {
                 validate_token(to)?;
-                if node_matches_default(&node) {
-                    self.node_name = Some(to.to_string());
-                }
+                self.identity_remaps.push(IdentityRemap { node, part: IdentityPart::Name, value: to.to_string() });
             }
             _ => {
                 validate_topic_name(from)?;
@@ -164,11 +179,19 @@ impl RosArgs {
         Ok(())
     }
 
-    /// The node's name and namespace: `__node`/`__ns` if given, else the defaults.
+    /// The name and namespace of the node called `default_name` in code: for each of the two, the first
+    /// `__node`/`__ns` rule that is unprefixed or prefixed with `default_name` (rcl matches a node-specific
+    /// rule against the name before renaming, and takes the first matching rule), else the defaults.
     pub fn identity(&self, default_name: &str, default_namespace: &str) -> NodeIdentity {
+        let first = |part: IdentityPart| {
+            self.identity_remaps
+                .iter()
+                .find(|r| r.part == part && r.node.as_deref().is_none_or(|n| n == default_name))
+                .map(|r| r.value.clone())
+        };
         NodeIdentity {
-            namespace: self.namespace.clone().unwrap_or_else(|| default_namespace.to_string()),
-            name: self.node_name.clone().unwrap_or_else(|| default_name.to_string()),
+            namespace: first(IdentityPart::Namespace).unwrap_or_else(|| default_namespace.to_string()),
+            name: first(IdentityPart::Name).unwrap_or_else(|| default_name.to_string()),
         }
     }
 
@@ -235,14 +258,6 @@ fn join_ros_names(namespace: &str, name: &str) -> String {
     } else {
         format!("{namespace}/{name}")
     }
-}
-
-fn node_matches_default(node: &Option<String>) -> bool {
-    // A node-specific `__ns`/`__node` rule names the node before renaming; this process runs one node, so
-    // the rule always concerns it unless it names a different node — which we cannot know before renaming,
-    // so accept it (rcl does the same for the single-node case).
-    let _ = node;
-    true
 }
 
 fn split_assignment<'a>(flag: &str, arg: &'a str) -> Result<(&'a str, &'a str), RosArgsError> {
@@ -451,8 +466,7 @@ mod tests {
              --log-level debug --",
         ))
         .unwrap();
-        assert_eq!(a.namespace.as_deref(), Some("/rig3"));
-        assert_eq!(a.node_name.as_deref(), Some("spot"));
+        assert_eq!(a.identity("sweetspot_echo", "/"), NodeIdentity { namespace: "/rig3".into(), name: "spot".into() });
         assert_eq!(a.params, [("modes".to_string(), ParameterValue::Integer(12))]);
         assert_eq!(a.params_files, [PathBuf::from("p.yaml")]);
         assert_eq!(a.log_level.as_deref(), Some("debug"));
@@ -477,6 +491,25 @@ mod tests {
         assert_eq!(r.resolve("~/status"), "/rig3/bat_lab/status");
     }
 
+    /// rcl: `node:__ns:=` and `node:__node:=` concern only the node whose name in code is `node`, and the
+    /// first matching rule of each kind wins (rcl_remap.c `_rcl_remap_first_match`).
+    #[test]
+    fn node_prefixed_identity_rules_apply_only_to_that_node() {
+        let a = RosArgs::parse(&args("--ros-args -r other_node:__ns:=/x -r other_node:__node:=y")).unwrap();
+        assert_eq!(a.identity("sweetspot", "/"), NodeIdentity { namespace: "/".into(), name: "sweetspot".into() });
+        assert_eq!(a.identity("other_node", "/"), NodeIdentity { namespace: "/x".into(), name: "y".into() });
+
+        let a = RosArgs::parse(&args("-r sweetspot:__ns:=/mine -r __ns:=/everyone -r sweetspot:__node:=spot")).unwrap();
+        assert_eq!(a.identity("sweetspot", "/"), NodeIdentity { namespace: "/mine".into(), name: "spot".into() });
+        assert_eq!(
+            a.identity("sweetspot_echo", "/"),
+            NodeIdentity { namespace: "/everyone".into(), name: "sweetspot_echo".into() }
+        );
+
+        let a = RosArgs::parse(&args("-r __ns:=/first -r __ns:=/second")).unwrap();
+        assert_eq!(a.identity("sweetspot", "/").namespace, "/first");
+    }
+
     #[test]
     fn root_namespace_resolution_has_single_slashes() {
         let id = RosArgs::default().identity("sweetspot", "/");
@@ -488,7 +521,7 @@ mod tests {
     #[test]
     fn namespace_without_leading_slash_is_made_absolute() {
         let a = RosArgs::parse(&args("-r __ns:=lab/rig3/")).unwrap();
-        assert_eq!(a.namespace.as_deref(), Some("/lab/rig3"));
+        assert_eq!(a.identity("sweetspot", "/").namespace, "/lab/rig3");
     }
 
     #[test]
