@@ -390,3 +390,124 @@ fn a_miss_and_a_receding_contact_are_refused() {
     let err = collide_oblique(&s.modes, &s.ball, &away, &TangentialContact::default(), &s.options).unwrap_err();
     assert!(matches!(err, PhysicsError::OutOfRange { ref field, .. } if field == "normal approach speed"), "{err}");
 }
+
+/// Kensrud, Nathan & Smith's tee test (Am. J. Phys. 85, 503 (2017)): a swung bat meets a ball at rest, the bat
+/// pivoting about its knob with `mph` at the impact point `z`.
+fn tee_swing(s: &Setup, mph: f64, z: f64) -> Impact {
+    let v = mph * 0.44704;
+    let w = v / z;
+    Impact {
+        ball_speed: 0.0,
+        bat_cm_speed: w * s.modes.mass_properties().center_of_mass,
+        bat_angular_speed: w,
+        impact_z: z,
+    }
+}
+
+#[test]
+fn a_tee_shot_leaves_below_its_line_of_centres_by_at_most_the_friction_angle() {
+    // A ball at rest takes every impulse at the contact point, so, whatever the bat and the contact law:
+    // its normal momentum is the normal impulse, its angular momentum about the contact point stays 0
+    // (I Ω = m R v_t: the spin is fixed by the tangential speed), and it leaves below the line of centres by
+    // the angle whose tangent is J_t/J_n, at most atan μ (Coulomb), exactly atan μ while it slides. KNS's
+    // "no gross slip up to 30° of launch, μ ≥ 0.15–0.20" is this bound read off their data.
+    let s = setup("r161");
+    let (m, r) = (s.ball.mass, s.ball.radius);
+    for contact in [TangentialContact::default(), TangentialContact { friction: 0.5, ..TangentialContact::default() }] {
+        let ib = contact.ball_inertia_ratio * m * r * r;
+        let friction_angle = contact.friction.atan();
+        let mut slid = false;
+        for mph in [63.0, 75.0, 88.0] {
+            let impact = tee_swing(&s, mph, 0.70);
+            let probe = oblique(&s, impact, 0.0, 0.0, 0.0, 0.0);
+            for i in 1..=18 {
+                let d = 0.05 * i as f64 * reach(&s, &probe);
+                let res = run(&s, &oblique(&s, impact, d, 0.0, 0.0, 0.0), &contact);
+                let ctx = format!("μ={} {mph} mph D={d:.4}", contact.friction);
+                let jn = res.normal.impulse;
+                assert!((jn - m * res.normal_exit_speed).abs() <= 1e-9 * jn, "{ctx}: J_n {jn} vs m v_n");
+                assert!((res.tangential_impulse - m * res.tangential_exit_speed).abs() <= 1e-12 * jn, "{ctx}");
+                let l_contact = ib * res.spin + m * r * res.tangential_exit_speed;
+                assert!(l_contact.abs() <= 1e-12 * m * r * res.exit_speed, "{ctx}: L about the contact {l_contact}");
+                let deficit = res.line_of_centres_angle - res.launch_angle;
+                let ratio = -res.tangential_impulse / jn;
+                assert!(
+                    (deficit.tan() - ratio).abs() <= 1e-9,
+                    "{ctx}: tan(β − θ) {} vs J_t/J_n {ratio}",
+                    deficit.tan()
+                );
+                if res.sliding {
+                    slid = true;
+                    assert!((deficit - friction_angle).abs() <= 1e-9, "{ctx}: sliding deficit {deficit}");
+                } else {
+                    assert!(deficit < friction_angle, "{ctx}: gripping deficit {deficit} ≥ atan μ");
+                    let want = -contact.tangential_cor * res.slip_before;
+                    assert!((res.slip_after - want).abs() <= 1e-9 * res.slip_before.abs(), "{ctx}: slip after");
+                }
+            }
+        }
+        assert!(slid, "μ={}: the scan reaches sliding", contact.friction);
+    }
+}
+
+#[test]
+fn the_grip_slip_boundary_of_a_tee_shot_on_a_rigid_bat_is_where_grip_needs_mu_j_n() {
+    // Rigid bat (no vibrational modes), ball at rest, line of centres β: the normal collision is the head-on
+    // one at bat speed V cos β; gripping needs the tangential impulse (1 + e_T) μ_t V sin β with
+    // 1/μ_t = 1/m + R²/I + 1/M_eff + R_k²/I_axial (slices as solid discs). The ball slides exactly where that
+    // exceeds μ J_n(β): solve for β* by bisection and check the model's flag on either side.
+    let bat = Bat::preset("r161").expect("r161");
+    let modes = ModeSet::compute(&bat, 0).expect("modes");
+    let s = Setup {
+        modes,
+        bat,
+        ball: Ball::default(),
+        options: CollisionOptions { modes: 0, ..CollisionOptions::default() },
+    };
+    let mp = s.modes.mass_properties();
+    let (m, r) = (s.ball.mass, s.ball.radius);
+    let z = 0.70;
+    let rk = s.bat.radii_at(z).0;
+    for contact in [
+        TangentialContact::default(),
+        TangentialContact { tangential_cor: 0.0, friction: 0.1, ..TangentialContact::default() },
+    ] {
+        let ib = contact.ball_inertia_ratio * m * r * r;
+        let inv_mu_t = 1.0 / m + r * r / ib + 1.0 / mp.effective_mass_at(z) + rk * rk / discs_axial_inertia(&s.bat);
+        let impact = tee_swing(&s, 75.0, z);
+        let v_bat = impact.bat_cm_speed + impact.bat_angular_speed * (z - mp.center_of_mass);
+        let excess = |beta: f64| {
+            let head_on = Impact {
+                bat_cm_speed: impact.bat_cm_speed * beta.cos(),
+                bat_angular_speed: impact.bat_angular_speed * beta.cos(),
+                ..impact
+            };
+            let jn = collide(&s.modes, &s.ball, &head_on, &s.options).expect("collision").impulse;
+            (1.0 + contact.tangential_cor) * v_bat * beta.sin() / inv_mu_t - contact.friction * jn
+        };
+        let (mut lo, mut hi) = (0.01_f64, 1.2_f64);
+        assert!(excess(lo) < 0.0 && excess(hi) > 0.0);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if excess(mid) > 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let beta_star = 0.5 * (lo + hi);
+        for (offset, slides) in [(-1e-4, false), (1e-4, true)] {
+            let beta: f64 = beta_star + offset;
+            let d = beta.sin() * (r + rk);
+            let res = run(&s, &oblique(&s, impact, d, 0.0, 0.0, 0.0), &contact);
+            assert_eq!(
+                res.sliding,
+                slides,
+                "e_T={} μ={}: β = β* {offset:+} rad (β* = {:.3}°)",
+                contact.tangential_cor,
+                contact.friction,
+                beta_star.to_degrees()
+            );
+        }
+    }
+}
