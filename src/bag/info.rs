@@ -193,8 +193,8 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
             .collect(),
         size: scans.iter().map(|s| s.size).sum(),
         storage_identifier: "mcap".to_string(),
-        profile: scans.first().map(|s| s.profile.clone()).unwrap_or_default(),
-        library: scans.first().map(|s| s.library.clone()).unwrap_or_default(),
+        profile: scans.iter().find(|s| s.size > 0).map(|s| s.profile.clone()).unwrap_or_default(),
+        library: scans.iter().find(|s| s.size > 0).map(|s| s.library.clone()).unwrap_or_default(),
         compression,
         layout: {
             let mut layouts = Vec::new();

@@ -33,7 +33,7 @@ pub enum BagCommand {
         output: Option<PathBuf>,
     },
     /// One row per recorded swing: its inputs joined with the ExitVelocity and ModalEnergies computed for
-    /// it (matched by namespace and swing_id).
+    /// it (matched by namespace, swing_id and header stamp, wherever they lie in the bag).
     Export {
         /// Bag directory or .mcap file.
         path: PathBuf,
@@ -343,12 +343,13 @@ fn flat(err: bag::BagError) -> anyhow::Error {
 /// Reads a bag once, streaming, to find damage before a tool uses it. Damage is an error naming every damaged
 /// place unless `skip_damaged`; then it is listed on stderr and its one-line summary returned, for the tool
 /// to repeat when it is done.
-fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Option<String>> {
-    let files =
-        bag::reader::bag_files(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    let bar = progress(files.len() as u64, "checking");
+pub(crate) fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Option<String>> {
+    let listing =
+        bag::reader::bag_listing(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let bar = progress(listing.files.len() as u64, "checking");
     let mut reader =
         bag::reader::BagReader::open(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    note_stray(reader.stray());
     let mut seen = 0;
     while reader.next_message().map_err(flat)?.is_some() {
         if reader.scans().len() != seen {
@@ -359,6 +360,13 @@ fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Op
     bar.finish_and_clear();
     let scans = reader.finish().map_err(flat)?;
     damage_verdict(&scans, skip_damaged)
+}
+
+/// Names the `.mcap` files of a bag directory that its metadata.yaml does not list (they are not read).
+fn note_stray(stray: &[PathBuf]) {
+    for file in stray {
+        eprintln!("{}: not listed in metadata.yaml: left out (not part of the bag)", file.display());
+    }
 }
 
 /// Ok(None) for an undamaged bag; for a damaged one, an error listing the damage, or with `skip_damaged` the
@@ -392,20 +400,21 @@ pub(crate) fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
 }
 
 fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
-    let files =
-        bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    let bar = progress(files.len() as u64, "scanning");
+    let listing =
+        bag::reader::bag_listing(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let bar = progress(listing.files.len() as u64, "scanning");
     // Every file is checked (regular file, MCAP magic) before any is read.
-    bag::reader::BagReader::open(&path).map_err(flat)?;
-    let mut scans = Vec::new();
-    for file in &files {
-        scans.push(
-            bag::reader::scan_file(file, |_| {})
-                .map_err(flat)
-                .with_context(|| format!("reading {}", file.display()))?,
-        );
-        bar.inc(1);
+    let mut reader =
+        bag::reader::BagReader::open(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    note_stray(reader.stray());
+    let mut seen = 0;
+    while reader.next_message().map_err(flat)?.is_some() {
+        if reader.scans().len() != seen {
+            seen = reader.scans().len();
+            bar.set_position(seen as u64);
+        }
     }
+    let scans = reader.finish().map_err(flat)?;
     bar.finish_and_clear();
     let info = bag::info::info_of(&scans);
     if json {
@@ -457,6 +466,9 @@ fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
                 crate::outln!("{name}: finished and undamaged ({} messages): nothing to recover", file.messages)?
             }
         }
+    }
+    for missing in &recovery.missing_files {
+        crate::outln!("{}: listed in metadata.yaml but missing: left out of the copy", missing.display())?;
     }
     match &recovery.output {
         Some(out) if path.is_dir() => crate::outln!(
@@ -548,6 +560,9 @@ fn replay(
             let verdict = match row.verdict {
                 Verdict::Match => "match".to_string(),
                 Verdict::NotRecorded => "no recorded output".to_string(),
+                Verdict::MissingInput => {
+                    format!("not checked: the bag lacks the {}", row.missing_input.as_deref().unwrap_or("params"))
+                }
                 Verdict::Differs => {
                     let first = &row.differences[0];
                     format!(
@@ -593,8 +608,20 @@ fn replay(
         crate::outln!("what-if replay (--bat/--ball/--modes): differences are the answer, not a failure")?;
         return Ok(());
     }
+    let (missing, what) = report.missing_inputs();
+    if missing > 0 {
+        eprintln!(
+            "{missing} swings were answered OK by the node with params the bag does not hold ({}): recorded without \
+             them (e.g. `bag record` not given /ball/params or /bat/params, or started after they were sent), so \
+             they cannot be checked",
+            what.join(", ")
+        );
+    }
     if differ > 0 {
         anyhow::bail!("{differ} of {} swings differ from the recording beyond the tolerance", report.rows.len());
+    }
+    if missing > 0 {
+        anyhow::bail!("{missing} of {} swings could not be checked: the bag lacks their params", report.rows.len());
     }
     Ok(())
 }
@@ -620,8 +647,9 @@ fn record(options: crate::record::RecordOptions) -> anyhow::Result<()> {
     for (topic, key) in options.qos_overrides.ignored() {
         eprintln!("--qos-profile-overrides-path: {topic}: {key} is accepted but not applied");
     }
-    eprintln!("recording to {} (Ctrl-C to stop)", options.output.display());
     let stats = crate::record::record(&options, &stop, |event| match event {
+        // Said once the bag directory exists, so a refused -o never reads as a recording.
+        crate::record::RecordEvent::Started { dir } => eprintln!("recording to {} (Ctrl-C to stop)", dir.display()),
         crate::record::RecordEvent::Subscribed { topic, type_name, schema: true } => {
             eprintln!("subscribed to {topic} ({type_name})")
         }
@@ -651,6 +679,14 @@ fn record(options: crate::record::RecordOptions) -> anyhow::Result<()> {
             String::new()
         }
     );
+    if stats.late > 0 {
+        eprintln!(
+            "{} messages were taken from DDS more than {} ms after they arrived (the recorder stalled): written \
+             with the log time of the message before them, so the bag stays in log-time order",
+            stats.late,
+            crate::record::REORDER_WINDOW.as_millis()
+        );
+    }
     Ok(())
 }
 
