@@ -180,9 +180,13 @@ so every swing meets the bat and ball in force when it was recorded.")]
         /// Publish rosgraph_msgs/Clock with the bag's time on /clock at HZ (40 without a value, as rosbag2).
         #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40")]
         clock: Option<f64>,
-        /// Wait until every topic has this many subscriptions before starting.
+        /// Wait until every topic has this many subscriptions before starting (default: wait until the
+        /// subscriptions discovery shows have matched, at most --timeout, and warn of topics with none).
         #[arg(long, default_value_t = 0)]
         wait_subscribers: usize,
+        /// Start publishing at once, without waiting for discovered subscribers to match (as `ros2 bag play`).
+        #[arg(long, conflicts_with = "wait_subscribers")]
+        no_wait: bool,
         /// Seconds to wait for subscribers, and for acknowledgments at the end.
         #[arg(long, default_value_t = 10.0)]
         timeout: f64,
@@ -273,6 +277,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             delay,
             clock,
             wait_subscribers,
+            no_wait,
             timeout,
             quiet,
             skip_damaged,
@@ -292,6 +297,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
                 repeat,
                 topics,
                 wait_subscribers,
+                wait_discovered: !no_wait,
                 timeout: seconds("--timeout", timeout, true)?,
                 remaps: play_remaps(&remap, ros_args.as_deref().unwrap_or_default())?,
                 start_offset: seconds("--start-offset", start_offset, false)?,
@@ -716,12 +722,17 @@ fn play(path: PathBuf, mut options: crate::play::PlayOptions, quiet: bool) -> an
     options.paused = keys.as_ref().map(|k| k.paused.clone());
     let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
     let mut listing = super::common::Stdout::default();
-    let stats = crate::play::play(&path, &options, &stop, |item| {
-        bar.inc(1);
-        if !quiet {
-            // The listing is a courtesy: a stdout that fails must not stop what is being published.
-            let _ = writeln!(listing, "{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
+    let stats = crate::play::play(&path, &options, &stop, |event| match event {
+        crate::play::PlayEvent::Published(item) => {
+            bar.inc(1);
+            if !quiet {
+                // The listing is a courtesy: a stdout that fails must not stop what is being published.
+                let _ =
+                    writeln!(listing, "{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
+            }
         }
+        crate::play::PlayEvent::Waiting(text) => bar.suspend(|| eprintln!("{text}")),
+        crate::play::PlayEvent::Warning(text) => bar.suspend(|| eprintln!("warning: {text}")),
     })
     .map_err(flat)
     .with_context(|| format!("playing {}", path.display()));
