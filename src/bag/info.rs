@@ -299,7 +299,8 @@ impl std::fmt::Display for BagInfo {
             for damage in &file.damage {
                 writeln!(f, "DAMAGED: {damage}")?;
             }
-            if file.damage.is_empty() && file.complete {
+            let missing = file.damage.iter().any(|d| d.kind == super::reader::DamageKind::MissingFile);
+            if file.damage.is_empty() && file.complete || missing {
                 continue;
             }
             let lost = match (file.lost_messages, file.lost_messages_unknown) {

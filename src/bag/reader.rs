@@ -388,11 +388,19 @@ pub fn bag_listing(path: &Path) -> Result<BagListing, BagError> {
         ))
     };
     let yaml_path = path.join("metadata.yaml");
-    let text = match read_small_regular_file(&yaml_path, MAX_METADATA_YAML_SIZE) {
-        Ok(text) => text,
-        Err(why) => return Err(unreadable(format!("metadata.yaml {why}"))),
+    let listed = read_small_regular_file(&yaml_path, MAX_METADATA_YAML_SIZE)
+        .map_err(|why| format!("metadata.yaml {why}"))
+        .and_then(|text| parse_file_list(&text).map_err(|why| format!("metadata.yaml is unreadable: {why}")));
+    let listed = match listed {
+        Ok(listed) => listed,
+        Err(why) => {
+            // A file in there that is no MCAP file at all (a FIFO, a device) is the first thing to say.
+            for file in mcap_files_in_dir(path)? {
+                open_mcap(&file)?;
+            }
+            return Err(unreadable(why));
+        }
     };
-    let listed = parse_file_list(&text).map_err(|why| unreadable(format!("metadata.yaml is unreadable: {why}")))?;
     let mut files = Vec::new();
     for (relative, message_count) in listed {
         let file = path.join(&relative);

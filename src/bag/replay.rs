@@ -25,7 +25,7 @@ use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
 use crate::physics::{Ball, Bat};
 
 use super::export::{read_run, RunEvent};
-use super::reader::bag_files;
+use super::reader::bag_listing;
 use super::BagError;
 
 /// "What if" changes; any of them turns the comparison into a report of differences.
@@ -141,15 +141,15 @@ impl ReplayReport {
 
 /// Model settings for a replay: bag `custom_data` if present, else the defaults.
 pub fn recorded_settings(path: &Path) -> Result<ModelSettings, BagError> {
-    let scans: Vec<_> =
-        bag_files(path)?.iter().map(|f| super::reader::scan_file(f, |_| {})).collect::<Result<_, _>>()?;
+    let files = bag_listing(path)?.present();
+    let scans: Vec<_> = files.iter().map(|f| super::reader::scan_file(f, |_| {})).collect::<Result<_, _>>()?;
     Ok(ModelSettings::from_custom_data(&super::info::custom_data_of(&scans)))
 }
 
 fn library_of(path: &Path) -> String {
-    bag_files(path)
+    bag_listing(path)
         .ok()
-        .and_then(|files| files.first().cloned())
+        .and_then(|listing| listing.present().first().cloned())
         .and_then(|f| super::reader::scan_file(&f, |_| {}).ok())
         .map(|s| s.library)
         .unwrap_or_default()

@@ -433,9 +433,13 @@ fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
 }
 
 fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
-    let files =
-        bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    let bar = progress(files.len() as u64, "recovering");
+    // Recovery reads a directory whatever its metadata.yaml says (rebuilding that is part of its job).
+    let files = match bag::reader::bag_listing(&path) {
+        Ok(listing) => listing.files.len(),
+        Err(_) if path.is_dir() => bag::reader::mcap_files_in_dir(&path).map_or(0, |f| f.len()),
+        Err(_) => 1,
+    };
+    let bar = progress(files as u64, "recovering");
     let recovery = bag::recover::recover(&path, output.as_deref(), |_| bar.inc(1))
         .map_err(flat)
         .with_context(|| format!("recovering {}", path.display()))?;
