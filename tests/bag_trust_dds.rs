@@ -183,8 +183,10 @@ fn golden() -> PathBuf {
 /// (swing_id, exit speed bits) of every answered swing of a bag.
 fn answers(bag: &Path) -> Vec<(u64, u64)> {
     let (rows, _) = sweetspot::bag::export::swing_rows(bag).unwrap();
-    let mut out: Vec<(u64, u64)> =
-        rows.iter().filter_map(|r| r.exit_velocity.as_ref().map(|e| (r.swing.swing_id, e.exit_speed.to_bits()))).collect();
+    let mut out: Vec<(u64, u64)> = rows
+        .iter()
+        .filter_map(|r| r.exit_velocity.as_ref().map(|e| (r.swing.swing_id, e.exit_speed.to_bits())))
+        .collect();
     out.sort();
     out
 }
@@ -214,7 +216,8 @@ fn play_into_a_running_node_loses_no_swing() {
     wait_for_count(&bag, "/golden/exit_velocity", 10);
 
     // A played topic nobody subscribes to is warned of, and playing goes on.
-    let mut play = sweetspot(PLAY_DOMAIN, &["bag", "play", "-q", "--rate", "8", "--remap", "/golden/swing:=/nobody/swing"]);
+    let mut play =
+        sweetspot(PLAY_DOMAIN, &["bag", "play", "-q", "--rate", "8", "--remap", "/golden/swing:=/nobody/swing"]);
     play.arg(golden());
     let out = run_ok(play, "bag play --remap");
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -243,7 +246,7 @@ fn play_and_record_refuse_before_doing_anything() {
     assert!(err.contains("one topic carries one type") && !err.contains("bad bag"), "{err}");
     let err = run(&["bag", "play", "-r", "0"], Some(&golden()));
     assert!(err.contains("-r/--rate 0 is out of range") && !err.contains("bad bag"), "{err}");
-    let err = run(&["bag", "play", "--topics", "/nope"], Some(&golden()));
+    let err = run(&["bag", "play", golden().to_str().unwrap(), "--topics", "/nope"], None);
     assert!(err.contains("--topics: /nope is not in the bag") && !err.contains("bad bag"), "{err}");
     // A topic whose subscribers take another type: refused before the first message.
     let mut echo = sweetspot(REFUSE_DOMAIN, &["echo", "exit_velocity", "--ns", "/golden"]);
