@@ -153,6 +153,9 @@ Examples:
   sweetspot bag play BAG --clock                          also publish the bag's time on /clock at 40 Hz
   sweetspot bag play BAG --clock 100 --delay 2            /clock at 100 Hz, after waiting 2 s
 
+Before the first message it waits (at most --timeout) until the subscriptions discovery shows on each played
+topic have matched, so a node already running misses nothing, and warns of topics nobody subscribes to
+(--wait-subscribers N: wait for N per topic instead; --no-wait: start at once, as ros2 bag play does).
 On a terminal, the space bar pauses and resumes playback (and /clock stands still meanwhile).
 --start-offset skips the swings recorded before that point; params recorded before it still go out first,
 so every swing meets the bat and ball in force when it was recorded.")]
