@@ -141,7 +141,9 @@ fn damaged_copy(good: &Path, name: &str, damage: impl FnOnce(&mut Vec<u8>)) -> P
     let mut bytes = std::fs::read(good.join("good_0.mcap")).unwrap();
     damage(&mut bytes);
     std::fs::write(dir.join(format!("{name}_0.mcap")), &bytes).unwrap();
-    std::fs::copy(good.join("metadata.yaml"), dir.join("metadata.yaml")).unwrap();
+    // The copy's metadata.yaml lists the copy's file: a bag is what its metadata.yaml lists.
+    let metadata = std::fs::read_to_string(good.join("metadata.yaml")).unwrap();
+    std::fs::write(dir.join("metadata.yaml"), metadata.replace("good_0.mcap", &format!("{name}_0.mcap"))).unwrap();
     dir
 }
 

@@ -189,7 +189,7 @@ fn export_csv_has_one_row_per_swing_joined_with_its_outputs() {
     assert_eq!(rows.len(), 40);
     for (i, row) in rows.iter().enumerate() {
         let s = swing(i as u64);
-        assert_eq!(row[col("namespace")].to_string(), "/", "one node in the bag");
+        assert_eq!(row[col("namespace")].to_string(), "/rig", "one node in the bag, its namespace that of /rig/swing");
         assert_eq!(row[col("swing_id")].parse::<u64>().unwrap(), i as u64);
         assert_eq!(row[col("ball_speed")].parse::<f64>().unwrap(), s.ball_speed);
         assert_eq!(row[col("impact_z")].parse::<f64>().unwrap(), s.impact_z);

@@ -67,12 +67,21 @@ pub fn namespace_of(topic: &str, type_name: &str) -> String {
 
 /// Reads every swing of a bag and joins its recorded outputs, in recorded order.
 ///
-/// An output matches the latest swing with its (namespace, swing_id) recorded before it that has no output
-/// of that type yet; anything else is an orphan. This keeps params rejections (ExitVelocity with swing_id 0,
-/// recorded when bad BatParams/BallParams arrive) and restarted swing counters from landing on the wrong row.
+/// An output belongs to the swing with its identity: the same namespace, `swing_id` and header stamp (the
+/// node copies both from the swing into its answers), wherever it lies in the bag — a recorder that drains
+/// its subscriptions one after another may well write an answer before its swing. When several swings share
+/// an identity (a swing sent twice), their outputs pair with them in recorded order. Anything else is an
+/// orphan, e.g. the params rejections (ExitVelocity with swing_id 0 and the params' stamp).
 pub fn swing_rows(path: &Path) -> Result<(Vec<SwingRow>, ExportCounts), BagError> {
     let run = read_run(path)?;
     Ok((run.rows, run.counts))
+}
+
+/// What identifies the swing an output answers: namespace, swing_id, header stamp (sec, nanosec).
+type SwingKey = (String, u64, i32, u32);
+
+fn key_of(ns: &str, swing_id: u64, header: &crate::msgs::std_msgs::msg::Header) -> SwingKey {
+    (ns.to_string(), swing_id, header.stamp.sec, header.stamp.nanosec)
 }
 
 /// An input in recorded order, as a node saw it.
@@ -101,18 +110,25 @@ pub struct Run {
 pub fn read_run(path: &Path) -> Result<Run, BagError> {
     let mut events: Vec<RunEvent> = Vec::new();
     let mut rows: Vec<SwingRow> = Vec::new();
-    let mut latest: HashMap<(String, u64), usize> = HashMap::new();
+    let mut by_key: HashMap<SwingKey, Vec<usize>> = HashMap::new();
+    let mut exit_velocities: Vec<(SwingKey, ExitVelocity)> = Vec::new();
+    let mut modal_energies: Vec<(SwingKey, ModalEnergies)> = Vec::new();
     let mut counts = ExportCounts::default();
-    // A node records its own bag: with one topic per message type there is one node, whatever the remaps.
+    // A node records its own bag: with one topic per message type there is one node, whatever the remaps; its
+    // namespace is the swing topic's (`/lab` for `/lab/swing`).
     let scans = super::reader::read_bag(path, |_| {})?;
     let mut per_type: HashMap<String, std::collections::BTreeSet<String>> = HashMap::new();
     for channel in scans.iter().flat_map(|s| s.channels.values()) {
         per_type.entry(channel.topic.type_name.clone()).or_default().insert(channel.topic.name.clone());
     }
     let single_node = per_type.values().all(|names| names.len() <= 1);
+    let node_ns = per_type
+        .get(Swing::TYPE_NAME)
+        .and_then(|names| names.iter().next())
+        .map_or_else(|| "/".to_string(), |topic| namespace_of(topic, Swing::TYPE_NAME));
     read_bag(path, |m| {
         let ns =
-            if single_node { "/".to_string() } else { namespace_of(&m.channel.topic.name, &m.channel.topic.type_name) };
+            if single_node { node_ns.clone() } else { namespace_of(&m.channel.topic.name, &m.channel.topic.type_name) };
         match m.channel.topic.type_name.as_str() {
             BatParams::TYPE_NAME => match decode_cdr::<BatParams>(m.data) {
                 Ok(p) => events.push(RunEvent::BatParams(ns, p)),
@@ -125,34 +141,43 @@ pub fn read_run(path: &Path) -> Result<Run, BagError> {
             Swing::TYPE_NAME => match decode_cdr::<Swing>(m.data) {
                 Ok(swing) => {
                     events.push(RunEvent::Swing(rows.len()));
-                    latest.insert((ns.clone(), swing.swing_id), rows.len());
+                    by_key.entry(key_of(&ns, swing.swing_id, &swing.header)).or_default().push(rows.len());
                     rows.push(SwingRow { namespace: ns, log_time_ns: m.log_time_ns, swing, ..SwingRow::default() });
                 }
                 Err(_) => counts.undecodable += 1,
             },
             ExitVelocity::TYPE_NAME => match decode_cdr::<ExitVelocity>(m.data) {
-                Ok(ev) => match latest.get(&(ns, ev.swing_id)).map(|&i| &mut rows[i]) {
-                    Some(row) if row.exit_velocity.is_none() => {
-                        row.exit_velocity = Some(ev);
-                        counts.matched_exit_velocities += 1;
-                    }
-                    _ => counts.orphan_outputs += 1,
-                },
+                Ok(ev) => exit_velocities.push((key_of(&ns, ev.swing_id, &ev.header), ev)),
                 Err(_) => counts.undecodable += 1,
             },
             ModalEnergies::TYPE_NAME => match decode_cdr::<ModalEnergies>(m.data) {
-                Ok(me) => match latest.get(&(ns, me.swing_id)).map(|&i| &mut rows[i]) {
-                    Some(row) if row.modal_energies.is_none() => {
-                        row.modal_energies = Some(me);
-                        counts.matched_modal_energies += 1;
-                    }
-                    _ => counts.orphan_outputs += 1,
-                },
+                Ok(me) => modal_energies.push((key_of(&ns, me.swing_id, &me.header), me)),
                 Err(_) => counts.undecodable += 1,
             },
             _ => {}
         }
     })?;
+    // Each output goes to the first swing of its identity that has none of its kind yet.
+    for (key, ev) in exit_velocities {
+        let slot = by_key.get(&key).and_then(|list| list.iter().find(|&&i| rows[i].exit_velocity.is_none()));
+        match slot {
+            Some(&i) => {
+                rows[i].exit_velocity = Some(ev);
+                counts.matched_exit_velocities += 1;
+            }
+            None => counts.orphan_outputs += 1,
+        }
+    }
+    for (key, me) in modal_energies {
+        let slot = by_key.get(&key).and_then(|list| list.iter().find(|&&i| rows[i].modal_energies.is_none()));
+        match slot {
+            Some(&i) => {
+                rows[i].modal_energies = Some(me);
+                counts.matched_modal_energies += 1;
+            }
+            None => counts.orphan_outputs += 1,
+        }
+    }
     counts.swings = rows.len() as u64;
     Ok(Run { events, rows, counts })
 }

@@ -193,8 +193,8 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
             .collect(),
         size: scans.iter().map(|s| s.size).sum(),
         storage_identifier: "mcap".to_string(),
-        profile: scans.first().map(|s| s.profile.clone()).unwrap_or_default(),
-        library: scans.first().map(|s| s.library.clone()).unwrap_or_default(),
+        profile: scans.iter().find(|s| s.size > 0).map(|s| s.profile.clone()).unwrap_or_default(),
+        library: scans.iter().find(|s| s.size > 0).map(|s| s.library.clone()).unwrap_or_default(),
         compression,
         layout: {
             let mut layouts = Vec::new();
@@ -299,7 +299,8 @@ impl std::fmt::Display for BagInfo {
             for damage in &file.damage {
                 writeln!(f, "DAMAGED: {damage}")?;
             }
-            if file.damage.is_empty() && file.complete {
+            let missing = file.damage.iter().any(|d| d.kind == super::reader::DamageKind::MissingFile);
+            if file.damage.is_empty() && file.complete || missing {
                 continue;
             }
             let lost = match (file.lost_messages, file.lost_messages_unknown) {

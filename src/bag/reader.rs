@@ -25,9 +25,10 @@
 //! of the summary's chunk index. For the bags sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever
 //! the bag's size.
 //!
-//! Order: messages come in file order, files in split order (`_0`, `_1`, …). File order is the order in which
-//! the recorder received them (inputs) or published them (outputs); log times, taken on several threads, can
-//! go backwards by microseconds within a file.
+//! Order: messages come in file order, files in the order `metadata.yaml` lists them (split order). File
+//! order is the order in which the recorder received them (inputs) or published them (outputs); in the node's
+//! bags log times, taken on several threads, can go backwards by microseconds within a file (`bag record`
+//! writes in log-time order).
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -166,6 +167,8 @@ pub enum DamageKind {
         /// What failed.
         reason: String,
     },
+    /// A file that the bag's `metadata.yaml` lists is not there.
+    MissingFile,
 }
 
 /// One damaged place in a file: what, where, and how many messages it cost.
@@ -234,6 +237,7 @@ impl std::fmt::Display for DamageKind {
             DamageKind::Summary { reason } => {
                 write!(f, "summary damaged ({reason}); its chunk index and statistics are not used")
             }
+            DamageKind::MissingFile => write!(f, "listed in metadata.yaml but missing"),
         }
     }
 }
@@ -335,12 +339,97 @@ pub fn damage_summary(scans: &[FileScan]) -> String {
     format!("{places} damaged place(s) in {files} file(s), {lost}")
 }
 
-/// The MCAP files of a bag: the `*.mcap` of a directory in split order (`_0`, `_1`, …), or the file itself.
-pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
+/// Largest `metadata.yaml` read, bytes (sweetspot's are a few KiB; one with thousands of topics and files
+/// stays well under a MiB).
+pub const MAX_METADATA_YAML_SIZE: u64 = 16 * 1024 * 1024;
+
+/// One file of a bag as its `metadata.yaml` lists it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ListedFile {
+    /// Its path (the bag directory joined with the listed relative path).
+    pub path: PathBuf,
+    /// Whether it exists.
+    pub present: bool,
+    /// Messages `metadata.yaml` says it holds (its `files:` entry), if it says.
+    pub message_count: Option<u64>,
+}
+
+/// The files of a bag: what `metadata.yaml`'s `relative_file_paths` lists, in its order (as `ros2 bag`
+/// reads a bag), and the `.mcap` files in the directory it does not list (named, never read).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct BagListing {
+    /// The listed files, present or not.
+    pub files: Vec<ListedFile>,
+    /// `.mcap` files in the directory that `metadata.yaml` does not list, sorted.
+    pub stray: Vec<PathBuf>,
+}
+
+impl BagListing {
+    /// The listed files that exist, in order.
+    pub fn present(&self) -> Vec<PathBuf> {
+        self.files.iter().filter(|f| f.present).map(|f| f.path.clone()).collect()
+    }
+}
+
+/// The files of a bag: a directory's as its `metadata.yaml` lists them (see [`BagListing`]), or a single
+/// file. A directory without a readable `metadata.yaml` is refused (`bag recover` rebuilds one).
+pub fn bag_listing(path: &Path) -> Result<BagListing, BagError> {
     let meta = std::fs::metadata(path).map_err(|source| BagError::Io { path: path.to_path_buf(), source })?;
     if !meta.is_dir() {
-        return Ok(vec![path.to_path_buf()]);
+        let file = ListedFile { path: path.to_path_buf(), present: true, message_count: None };
+        return Ok(BagListing { files: vec![file], stray: Vec::new() });
     }
+    let unreadable = |why: String| {
+        BagError::Format(format!(
+            "{}: {why}; the files of a bag are what its metadata.yaml lists (as `ros2 bag` reads it): \
+             `sweetspot bag recover {}` writes a copy with metadata.yaml rebuilt from the MCAP files",
+            path.display(),
+            path.display()
+        ))
+    };
+    let yaml_path = path.join("metadata.yaml");
+    let listed = read_small_regular_file(&yaml_path, MAX_METADATA_YAML_SIZE)
+        .map_err(|why| format!("metadata.yaml {why}"))
+        .and_then(|text| parse_file_list(&text).map_err(|why| format!("metadata.yaml is unreadable: {why}")));
+    let listed = match listed {
+        Ok(listed) => listed,
+        Err(why) => {
+            // A file in there that is no MCAP file at all (a FIFO, a device) is the first thing to say.
+            for file in mcap_files_in_dir(path)? {
+                open_mcap(&file)?;
+            }
+            return Err(unreadable(why));
+        }
+    };
+    let mut files = Vec::new();
+    for (relative, message_count) in listed {
+        let file = path.join(&relative);
+        let present = std::fs::symlink_metadata(&file).is_ok();
+        files.push(ListedFile { path: file, present, message_count });
+    }
+    let mut stray = Vec::new();
+    for file in mcap_files_in_dir(path)? {
+        if !files.iter().any(|f| f.path == file) {
+            stray.push(file);
+        }
+    }
+    Ok(BagListing { files, stray })
+}
+
+/// The MCAP files of a bag that exist, in order: a directory's as its `metadata.yaml` lists them, or the
+/// file itself (see [`bag_listing`]).
+pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
+    let listing = bag_listing(path)?;
+    let files = listing.present();
+    if files.is_empty() {
+        return Err(BagError::Format(format!("{}: none of the files metadata.yaml lists is there", path.display())));
+    }
+    Ok(files)
+}
+
+/// Every `*.mcap` of a directory in split order (`_0`, `_1`, …, then names without a split number),
+/// whatever `metadata.yaml` says: what `bag recover` rebuilds a bag from.
+pub fn mcap_files_in_dir(path: &Path) -> Result<Vec<PathBuf>, BagError> {
     let entries = std::fs::read_dir(path).map_err(|source| BagError::Io { path: path.to_path_buf(), source })?;
     let mut files: Vec<(u64, PathBuf)> = Vec::new();
     for entry in entries {
@@ -357,10 +446,55 @@ pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
         }
     }
     files.sort();
-    if files.is_empty() {
-        return Err(BagError::Format(format!("{}: no .mcap files in this directory", path.display())));
-    }
     Ok(files.into_iter().map(|(_, f)| f).collect())
+}
+
+/// A regular file of at most `limit` bytes as UTF-8 text, or why not ("is missing", "is a FIFO, …").
+fn read_small_regular_file(path: &Path, limit: u64) -> Result<String, String> {
+    let meta = match std::fs::metadata(path) {
+        Ok(meta) => meta,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err("is missing".to_string()),
+        Err(e) => return Err(format!("cannot be read ({e})")),
+    };
+    if let Some(what) = not_regular(meta.file_type()) {
+        return Err(format!("is {what}, not a regular file"));
+    }
+    if meta.len() > limit {
+        return Err(format!("is {} bytes, more than the {limit} read at most", meta.len()));
+    }
+    let mut text = String::new();
+    File::open(path)
+        .and_then(|f| f.take(limit + 1).read_to_string(&mut text))
+        .map_err(|e| format!("cannot be read ({e})"))?;
+    Ok(text)
+}
+
+/// `relative_file_paths` of a rosbag2 `metadata.yaml`, with each file's `message_count` from `files:` when
+/// given there.
+fn parse_file_list(text: &str) -> Result<Vec<(String, Option<u64>)>, String> {
+    use yaml_rust2::{Yaml, YamlLoader};
+    let docs = YamlLoader::load_from_str(text).map_err(|e| e.to_string())?;
+    let info = docs
+        .first()
+        .map(|d| &d["rosbag2_bagfile_information"])
+        .filter(|i| i.as_hash().is_some())
+        .ok_or("no rosbag2_bagfile_information mapping")?;
+    let paths = info["relative_file_paths"].as_vec().ok_or("no relative_file_paths list")?;
+    let mut out = Vec::new();
+    for entry in paths {
+        let relative = entry.as_str().ok_or("relative_file_paths holds something other than a path")?;
+        if relative.is_empty() || Path::new(relative).is_absolute() || relative.split('/').any(|p| p == "..") {
+            return Err(format!("relative_file_paths lists {relative:?}, not a file inside the bag directory"));
+        }
+        let count = info["files"].as_vec().and_then(|files| {
+            files.iter().find(|f| f["path"].as_str() == Some(relative)).and_then(|f| match &f["message_count"] {
+                Yaml::Integer(n) => u64::try_from(*n).ok(),
+                _ => None,
+            })
+        });
+        out.push((relative.to_string(), count));
+    }
+    Ok(out)
 }
 
 /// What a path is when it is not a regular file (following symlinks).
@@ -1271,20 +1405,31 @@ fn take_definition(record: Record<'_>, scan: &mut FileScan, schemas: &mut BTreeM
 
 /// A streaming reader of a whole bag (a directory of split files, or one file): every file is checked to be
 /// a regular MCAP file when the bag is opened, then read one after the other, one chunk in memory at a time.
+///
+/// A directory's files are those its `metadata.yaml` lists ([`bag_listing`]): a listed file that is missing
+/// is damage ([`DamageKind::MissingFile`], in a scan of its own, with the messages `metadata.yaml` counted in
+/// it as lost); an unlisted `.mcap` is left out ([`BagReader::stray`]).
 pub struct BagReader {
-    files: std::vec::IntoIter<PathBuf>,
+    files: std::vec::IntoIter<ListedFile>,
     current: Option<FileReader>,
     scans: Vec<FileScan>,
+    stray: Vec<PathBuf>,
 }
 
 impl BagReader {
-    /// Opens a bag; refuses it if any of its files is not a regular file starting with the MCAP magic.
+    /// Opens a bag; refuses it if any of its files is not a regular file starting with the MCAP magic, or a
+    /// directory without a readable `metadata.yaml`.
     pub fn open(path: &Path) -> Result<BagReader, BagError> {
-        let files = bag_files(path)?;
-        for file in &files {
-            open_mcap(file)?;
+        let listing = bag_listing(path)?;
+        for file in listing.files.iter().filter(|f| f.present) {
+            open_mcap(&file.path)?;
         }
-        Ok(BagReader { files: files.into_iter(), current: None, scans: Vec::new() })
+        Ok(BagReader { files: listing.files.into_iter(), current: None, scans: Vec::new(), stray: listing.stray })
+    }
+
+    /// The `.mcap` files of the directory that `metadata.yaml` does not list: left out.
+    pub fn stray(&self) -> &[PathBuf] {
+        &self.stray
     }
 
     /// The next message in file order (files in split order), or None at the end of the bag.
@@ -1300,7 +1445,8 @@ impl BagReader {
                     }
                 }
                 None => match self.files.next() {
-                    Some(file) => self.current = Some(FileReader::open(&file)?),
+                    Some(file) if file.present => self.current = Some(FileReader::open(&file.path)?),
+                    Some(file) => self.scans.push(missing_file_scan(&file)),
                     None => return Ok(None),
                 },
             }
@@ -1323,6 +1469,18 @@ impl BagReader {
         while self.next_message()?.is_some() {}
         Ok(self.scans)
     }
+}
+
+/// The scan of a listed file that is missing: no messages, one damage naming it.
+fn missing_file_scan(file: &ListedFile) -> FileScan {
+    let damage = Damage {
+        file: file.path.clone(),
+        offset: 0,
+        chunk: None,
+        kind: DamageKind::MissingFile,
+        lost_messages: file.message_count,
+    };
+    FileScan { path: file.path.clone(), damage: vec![damage], ..FileScan::default() }
 }
 
 /// Scans one MCAP file from start to end, calling `on_message` for every message of every intact chunk (or

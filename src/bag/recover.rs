@@ -16,7 +16,9 @@ use std::path::{Path, PathBuf};
 use mcap::records::MessageHeader;
 
 use super::info::metadata_of;
-use super::reader::{bag_files, damage_summary, open_mcap, scan_file, Damage, FileReader, FileScan};
+use super::reader::{
+    bag_listing, damage_summary, mcap_files_in_dir, open_mcap, scan_file, Damage, FileReader, FileScan,
+};
 use super::writer::LIBRARY;
 use super::{BagError, McapLayout};
 
@@ -60,6 +62,8 @@ pub struct Recovery {
     pub output: Option<PathBuf>,
     /// Per file of the original, in order.
     pub files: Vec<RecoveredFile>,
+    /// Files the original's metadata.yaml lists that are not there (the copy's metadata.yaml leaves them out).
+    pub missing_files: Vec<PathBuf>,
 }
 
 /// Where the copy goes by default: `NAME.recovered.mcap` beside `NAME.mcap`, `DIR.recovered/` beside `DIR/`.
@@ -83,7 +87,19 @@ pub fn recover(
     mut on_file: impl FnMut(&RecoveredFile),
 ) -> Result<Recovery, BagError> {
     let is_dir = path.is_dir();
-    let files = bag_files(path)?;
+    // The files metadata.yaml lists when it is readable, else every .mcap of the directory: a bag whose
+    // metadata.yaml is missing or broken is what recovery is for.
+    let (files, metadata_unreadable, missing_files) = match bag_listing(path) {
+        Ok(listing) => {
+            let missing = listing.files.iter().filter(|f| !f.present).map(|f| f.path.clone()).collect();
+            (listing.present(), false, missing)
+        }
+        Err(_) if is_dir => (mcap_files_in_dir(path)?, true, Vec::new()),
+        Err(e) => return Err(e),
+    };
+    if files.is_empty() {
+        return Err(BagError::Format(format!("{}: no .mcap files to recover", path.display())));
+    }
     for file in &files {
         open_mcap(file)?;
     }
@@ -105,11 +121,12 @@ pub fn recover(
     };
     // A directory without metadata.yaml (the disk filled up before it was written) gets a copy with one
     // rebuilt from the MCAP files alone, even when every file is intact.
-    let metadata_missing = is_dir && std::fs::symlink_metadata(path.join("metadata.yaml")).is_err();
+    // So does one whose metadata.yaml lists files that are gone: the copy lists what is there.
+    let metadata_missing = is_dir && (metadata_unreadable || !missing_files.is_empty());
     if !metadata_missing && !scans.iter().any(needs_repair) {
         let report: Vec<RecoveredFile> = scans.iter().map(|s| entry(s, None, false)).collect();
         report.iter().for_each(&mut on_file);
-        return Ok(Recovery { output: None, files: report });
+        return Ok(Recovery { output: None, files: report, missing_files });
     }
     let output = output.map(Path::to_path_buf).unwrap_or_else(|| default_output(path));
     if std::fs::symlink_metadata(&output).is_ok() {
@@ -148,7 +165,7 @@ pub fn recover(
     if is_dir {
         metadata.write_to_dir(&output)?;
     }
-    Ok(Recovery { output: Some(output), files: report })
+    Ok(Recovery { output: Some(output), files: report, missing_files })
 }
 
 /// Writes every message the reader vouches for from `original` into a new file `target`, streaming.

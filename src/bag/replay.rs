@@ -25,7 +25,7 @@ use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
 use crate::physics::{Ball, Bat};
 
 use super::export::{read_run, RunEvent};
-use super::reader::bag_files;
+use super::reader::bag_listing;
 use super::BagError;
 
 /// "What if" changes; any of them turns the comparison into a report of differences.
@@ -66,6 +66,10 @@ pub enum Verdict {
     Differs,
     /// No ExitVelocity was recorded for this swing (dropped by the node, or recording stopped): nothing to compare.
     NotRecorded,
+    /// The node answered OK with a bat or ball whose params the bag does not hold (recorded without
+    /// `bat/params` or `ball/params`, or started after they were sent): the replay cannot know what the node
+    /// used, so there is nothing to compare ([`ReplayRow::missing_input`] says what is missing).
+    MissingInput,
 }
 
 /// One replayed swing.
@@ -91,6 +95,8 @@ pub struct ReplayRow {
     pub worst_relative: f64,
     /// Verdict.
     pub verdict: Verdict,
+    /// For [`Verdict::MissingInput`]: what the bag lacks, e.g. `BallParams of ball 'rig_ball'`.
+    pub missing_input: Option<String>,
 }
 
 /// The whole replay.
@@ -115,19 +121,35 @@ impl ReplayReport {
         let count = |v| self.rows.iter().filter(|r| r.verdict == v).count();
         (count(Verdict::Match), count(Verdict::Differs), count(Verdict::NotRecorded))
     }
+
+    /// Swings that could not be checked because the bag lacks the params they were answered with
+    /// ([`Verdict::MissingInput`]), and what is missing (each once, in order of first need).
+    pub fn missing_inputs(&self) -> (usize, Vec<String>) {
+        let mut what: Vec<String> = Vec::new();
+        let mut n = 0;
+        for row in self.rows.iter().filter(|r| r.verdict == Verdict::MissingInput) {
+            n += 1;
+            if let Some(m) = &row.missing_input {
+                if !what.contains(m) {
+                    what.push(m.clone());
+                }
+            }
+        }
+        (n, what)
+    }
 }
 
 /// Model settings for a replay: bag `custom_data` if present, else the defaults.
 pub fn recorded_settings(path: &Path) -> Result<ModelSettings, BagError> {
-    let scans: Vec<_> =
-        bag_files(path)?.iter().map(|f| super::reader::scan_file(f, |_| {})).collect::<Result<_, _>>()?;
+    let files = bag_listing(path)?.present();
+    let scans: Vec<_> = files.iter().map(|f| super::reader::scan_file(f, |_| {})).collect::<Result<_, _>>()?;
     Ok(ModelSettings::from_custom_data(&super::info::custom_data_of(&scans)))
 }
 
 fn library_of(path: &Path) -> String {
-    bag_files(path)
+    bag_listing(path)
         .ok()
-        .and_then(|files| files.first().cloned())
+        .and_then(|listing| listing.present().first().cloned())
         .and_then(|f| super::reader::scan_file(&f, |_| {}).ok())
         .map(|s| s.library)
         .unwrap_or_default()
@@ -262,9 +284,14 @@ pub fn replay(
     };
     let total = run.rows.len();
     let mut rows = Vec::with_capacity(total);
+    // The bats and balls the bag announces (by namespace): a swing the node answered with anything else was
+    // answered with params the bag does not hold.
+    let mut announced_bats: std::collections::HashSet<(String, String)> = std::collections::HashSet::new();
+    let mut announced_balls: std::collections::HashSet<(String, String)> = std::collections::HashSet::new();
     for event in &run.events {
         match event {
             RunEvent::BatParams(ns, params) => {
+                announced_bats.insert((ns.clone(), params.bat_id.clone()));
                 let mut registry = registry_for(&mut registries, ns);
                 if override_bat.is_none() {
                     if let Ok(built) = convert::bat_from_params_capped(params, settings.max_bat_slices) {
@@ -277,6 +304,7 @@ pub fn replay(
                 registries.insert(ns.clone(), registry);
             }
             RunEvent::BallParams(ns, params) => {
+                announced_balls.insert((ns.clone(), params.ball_id.clone()));
                 let mut registry = registry_for(&mut registries, ns);
                 if override_ball.is_none() {
                     if let Ok(ball) = convert::ball_from_params(params) {
@@ -299,8 +327,32 @@ pub fn replay(
                 let me = result.as_ref().ok().map(|c| convert::modal_energies(swing, plan.bat_id(), c));
                 let mut differences = Vec::new();
                 let mut cmp = Comparer { tolerance, diffs: &mut differences, worst: 0.0 };
+                // Recorded OK, replayed "unknown bat_id/ball_id" for an id the bag never announced: the bag
+                // lacks what the node had, not a difference of the model.
+                let ns = row.namespace.clone();
+                let missing_input = match &row.exit_velocity {
+                    Some(recorded)
+                        if recorded.status == ExitVelocity::STATUS_OK && ev.status == ExitVelocity::STATUS_REJECTED =>
+                    {
+                        let (bat_id, ball_id) = (plan.bat_id(), plan.ball_id());
+                        let unknown_bat = ev.message.starts_with("unknown bat_id")
+                            && !announced_bats.contains(&(ns.clone(), bat_id.to_string()));
+                        let unknown_ball = ev.message.starts_with("unknown ball_id")
+                            && !announced_balls.contains(&(ns.clone(), ball_id.to_string()));
+                        let at = if ns == "/" { String::new() } else { format!(" in {ns}") };
+                        if unknown_bat {
+                            Some(format!("BatParams of bat '{bat_id}'{at}"))
+                        } else if unknown_ball {
+                            Some(format!("BallParams of ball '{ball_id}'{at}"))
+                        } else {
+                            None
+                        }
+                    }
+                    _ => None,
+                };
                 let verdict = match &row.exit_velocity {
                     None => Verdict::NotRecorded,
+                    Some(_) if missing_input.is_some() => Verdict::MissingInput,
                     Some(recorded) => {
                         cmp.exit_velocity(recorded, &ev);
                         match (&row.modal_energies, &me) {
@@ -331,6 +383,7 @@ pub fn replay(
                     differences,
                     worst_relative: worst,
                     verdict,
+                    missing_input,
                 });
                 on_swing(rows.len(), total);
             }

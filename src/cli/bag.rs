@@ -33,7 +33,7 @@ pub enum BagCommand {
         output: Option<PathBuf>,
     },
     /// One row per recorded swing: its inputs joined with the ExitVelocity and ModalEnergies computed for
-    /// it (matched by namespace and swing_id).
+    /// it (matched by namespace, swing_id and header stamp, wherever they lie in the bag).
     Export {
         /// Bag directory or .mcap file.
         path: PathBuf,
@@ -153,6 +153,9 @@ Examples:
   sweetspot bag play BAG --clock                          also publish the bag's time on /clock at 40 Hz
   sweetspot bag play BAG --clock 100 --delay 2            /clock at 100 Hz, after waiting 2 s
 
+Before the first message it waits (at most --timeout) until the subscriptions discovery shows on each played
+topic have matched, so a node already running misses nothing, and warns of topics nobody subscribes to
+(--wait-subscribers N: wait for N per topic instead; --no-wait: start at once, as ros2 bag play does).
 On a terminal, the space bar pauses and resumes playback (and /clock stands still meanwhile).
 --start-offset skips the swings recorded before that point; params recorded before it still go out first,
 so every swing meets the bat and ball in force when it was recorded.")]
@@ -180,9 +183,13 @@ so every swing meets the bat and ball in force when it was recorded.")]
         /// Publish rosgraph_msgs/Clock with the bag's time on /clock at HZ (40 without a value, as rosbag2).
         #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40")]
         clock: Option<f64>,
-        /// Wait until every topic has this many subscriptions before starting.
+        /// Wait until every topic has this many subscriptions before starting (default: wait until the
+        /// subscriptions discovery shows have matched, at most --timeout, and warn of topics with none).
         #[arg(long, default_value_t = 0)]
         wait_subscribers: usize,
+        /// Start publishing at once, without waiting for discovered subscribers to match (as `ros2 bag play`).
+        #[arg(long, conflicts_with = "wait_subscribers")]
+        no_wait: bool,
         /// Seconds to wait for subscribers, and for acknowledgments at the end.
         #[arg(long, default_value_t = 10.0)]
         timeout: f64,
@@ -273,6 +280,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             delay,
             clock,
             wait_subscribers,
+            no_wait,
             timeout,
             quiet,
             skip_damaged,
@@ -292,6 +300,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
                 repeat,
                 topics,
                 wait_subscribers,
+                wait_discovered: !no_wait,
                 timeout: seconds("--timeout", timeout, true)?,
                 remaps: play_remaps(&remap, ros_args.as_deref().unwrap_or_default())?,
                 start_offset: seconds("--start-offset", start_offset, false)?,
@@ -343,12 +352,13 @@ fn flat(err: bag::BagError) -> anyhow::Error {
 /// Reads a bag once, streaming, to find damage before a tool uses it. Damage is an error naming every damaged
 /// place unless `skip_damaged`; then it is listed on stderr and its one-line summary returned, for the tool
 /// to repeat when it is done.
-fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Option<String>> {
-    let files =
-        bag::reader::bag_files(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    let bar = progress(files.len() as u64, "checking");
+pub(crate) fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Option<String>> {
+    let listing =
+        bag::reader::bag_listing(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let bar = progress(listing.files.len() as u64, "checking");
     let mut reader =
         bag::reader::BagReader::open(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    note_stray(reader.stray());
     let mut seen = 0;
     while reader.next_message().map_err(flat)?.is_some() {
         if reader.scans().len() != seen {
@@ -359,6 +369,13 @@ fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow::Result<Op
     bar.finish_and_clear();
     let scans = reader.finish().map_err(flat)?;
     damage_verdict(&scans, skip_damaged)
+}
+
+/// Names the `.mcap` files of a bag directory that its metadata.yaml does not list (they are not read).
+fn note_stray(stray: &[PathBuf]) {
+    for file in stray {
+        eprintln!("{}: not listed in metadata.yaml: left out (not part of the bag)", file.display());
+    }
 }
 
 /// Ok(None) for an undamaged bag; for a damaged one, an error listing the damage, or with `skip_damaged` the
@@ -392,20 +409,21 @@ pub(crate) fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
 }
 
 fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
-    let files =
-        bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    let bar = progress(files.len() as u64, "scanning");
+    let listing =
+        bag::reader::bag_listing(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    let bar = progress(listing.files.len() as u64, "scanning");
     // Every file is checked (regular file, MCAP magic) before any is read.
-    bag::reader::BagReader::open(&path).map_err(flat)?;
-    let mut scans = Vec::new();
-    for file in &files {
-        scans.push(
-            bag::reader::scan_file(file, |_| {})
-                .map_err(flat)
-                .with_context(|| format!("reading {}", file.display()))?,
-        );
-        bar.inc(1);
+    let mut reader =
+        bag::reader::BagReader::open(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    note_stray(reader.stray());
+    let mut seen = 0;
+    while reader.next_message().map_err(flat)?.is_some() {
+        if reader.scans().len() != seen {
+            seen = reader.scans().len();
+            bar.set_position(seen as u64);
+        }
     }
+    let scans = reader.finish().map_err(flat)?;
     bar.finish_and_clear();
     let info = bag::info::info_of(&scans);
     if json {
@@ -418,9 +436,13 @@ fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
 }
 
 fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
-    let files =
-        bag::reader::bag_files(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    let bar = progress(files.len() as u64, "recovering");
+    // Recovery reads a directory whatever its metadata.yaml says (rebuilding that is part of its job).
+    let files = match bag::reader::bag_listing(&path) {
+        Ok(listing) => listing.files.len(),
+        Err(_) if path.is_dir() => bag::reader::mcap_files_in_dir(&path).map_or(0, |f| f.len()),
+        Err(_) => 1,
+    };
+    let bar = progress(files as u64, "recovering");
     let recovery = bag::recover::recover(&path, output.as_deref(), |_| bar.inc(1))
         .map_err(flat)
         .with_context(|| format!("recovering {}", path.display()))?;
@@ -457,6 +479,9 @@ fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
                 crate::outln!("{name}: finished and undamaged ({} messages): nothing to recover", file.messages)?
             }
         }
+    }
+    for missing in &recovery.missing_files {
+        crate::outln!("{}: listed in metadata.yaml but missing: left out of the copy", missing.display())?;
     }
     match &recovery.output {
         Some(out) if path.is_dir() => crate::outln!(
@@ -548,6 +573,9 @@ fn replay(
             let verdict = match row.verdict {
                 Verdict::Match => "match".to_string(),
                 Verdict::NotRecorded => "no recorded output".to_string(),
+                Verdict::MissingInput => {
+                    format!("not checked: the bag lacks the {}", row.missing_input.as_deref().unwrap_or("params"))
+                }
                 Verdict::Differs => {
                     let first = &row.differences[0];
                     format!(
@@ -593,8 +621,20 @@ fn replay(
         crate::outln!("what-if replay (--bat/--ball/--modes): differences are the answer, not a failure")?;
         return Ok(());
     }
+    let (missing, what) = report.missing_inputs();
+    if missing > 0 {
+        eprintln!(
+            "{missing} swings were answered OK by the node with params the bag does not hold ({}): recorded without \
+             them (e.g. `bag record` not given /ball/params or /bat/params, or started after they were sent), so \
+             they cannot be checked",
+            what.join(", ")
+        );
+    }
     if differ > 0 {
         anyhow::bail!("{differ} of {} swings differ from the recording beyond the tolerance", report.rows.len());
+    }
+    if missing > 0 {
+        anyhow::bail!("{missing} of {} swings could not be checked: the bag lacks their params", report.rows.len());
     }
     Ok(())
 }
@@ -619,8 +659,9 @@ fn record(options: crate::record::RecordOptions) -> anyhow::Result<()> {
     for (topic, key) in options.qos_overrides.ignored() {
         eprintln!("--qos-profile-overrides-path: {topic}: {key} is accepted but not applied");
     }
-    eprintln!("recording to {} (Ctrl-C to stop)", options.output.display());
     let stats = crate::record::record(&options, &stop, |event| match event {
+        // Said once the bag directory exists, so a refused -o never reads as a recording.
+        crate::record::RecordEvent::Started { dir } => eprintln!("recording to {} (Ctrl-C to stop)", dir.display()),
         crate::record::RecordEvent::Subscribed { topic, type_name, schema: true } => {
             eprintln!("subscribed to {topic} ({type_name})")
         }
@@ -650,6 +691,14 @@ fn record(options: crate::record::RecordOptions) -> anyhow::Result<()> {
             String::new()
         }
     );
+    if stats.late > 0 {
+        eprintln!(
+            "{} messages were taken from DDS more than {} ms after they arrived (the recorder stalled): written \
+             with the log time of the message before them, so the bag stays in log-time order",
+            stats.late,
+            crate::record::REORDER_WINDOW.as_millis()
+        );
+    }
     Ok(())
 }
 
@@ -679,12 +728,17 @@ fn play(path: PathBuf, mut options: crate::play::PlayOptions, quiet: bool) -> an
     options.paused = keys.as_ref().map(|k| k.paused.clone());
     let bar = if quiet { progress(total, "playing") } else { indicatif::ProgressBar::hidden() };
     let mut listing = super::common::Stdout::default();
-    let stats = crate::play::play(&path, &options, &stop, |item| {
-        bar.inc(1);
-        if !quiet {
-            // The listing is a courtesy: a stdout that fails must not stop what is being published.
-            let _ = writeln!(listing, "{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
+    let stats = crate::play::play(&path, &options, &stop, |event| match event {
+        crate::play::PlayEvent::Published(item) => {
+            bar.inc(1);
+            if !quiet {
+                // The listing is a courtesy: a stdout that fails must not stop what is being published.
+                let _ =
+                    writeln!(listing, "{:>10.3} s  {}  ({} bytes)", item.at.as_secs_f64(), item.topic, item.cdr.len());
+            }
         }
+        crate::play::PlayEvent::Waiting(text) => bar.suspend(|| eprintln!("{text}")),
+        crate::play::PlayEvent::Warning(text) => bar.suspend(|| eprintln!("warning: {text}")),
     })
     .map_err(flat)
     .with_context(|| format!("playing {}", path.display()));

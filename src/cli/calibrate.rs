@@ -65,6 +65,10 @@ pub struct CalibrateArgs {
     /// Also fit the tangential COR e_T (and unmeasured undercuts) to the measured launch angles and spins.
     #[arg(long)]
     pub fit_tangential: bool,
+    /// Fit a damaged bag with everything intact around the damage (the damage is still listed); without
+    /// it a damaged bag is refused and nothing is written.
+    #[arg(long)]
+    pub skip_damaged: bool,
 }
 
 /// A calibration error as one message: its text already holds every cause, which anyhow would repeat.
@@ -74,6 +78,16 @@ fn flat(err: CalibrateError) -> anyhow::Error {
 
 /// Runs `sweetspot calibrate`.
 pub fn run(args: CalibrateArgs) -> Result<()> {
+    // The bag tools' damage rule, before anything is fitted or written.
+    let skipped = crate::cli::bag::check_damage(&args.bag, args.skip_damaged)?;
+    run_checked(args)?;
+    if let Some(skipped) = skipped {
+        eprintln!("skipped (--skip-damaged): {skipped}");
+    }
+    Ok(())
+}
+
+fn run_checked(args: CalibrateArgs) -> Result<()> {
     if args.fit_batter || args.batter_out.is_some() || args.reference_bat.is_some() {
         return run_batter(&args);
     }

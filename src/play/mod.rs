@@ -66,7 +66,7 @@ pub fn schedule(path: &Path, topics: &[String], rate: f64) -> Result<Vec<PlayIte
 /// recorded.
 pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Duration) -> Result<Schedule, BagError> {
     if !(rate > 0.0 && rate.is_finite()) {
-        return Err(BagError::Format(format!("rate = {rate} is out of range: expected a finite value > 0")));
+        return Err(BagError::Options(format!("-r/--rate {rate} is out of range: expected a finite value > 0")));
     }
     let mut recorded: Vec<PlayItem> = Vec::new();
     let mut seen_topics: Vec<String> = Vec::new();
@@ -94,7 +94,7 @@ pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Du
     })?;
     for t in topics {
         if !seen_topics.contains(t) {
-            return Err(BagError::Format(format!(
+            return Err(BagError::Options(format!(
                 "--topics: {t} is not in the bag (topics: {})",
                 seen_topics.join(", ")
             )));
@@ -102,8 +102,8 @@ pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Du
     }
     for item in &recorded {
         if !INPUT_TYPES.contains(&item.type_name.as_str()) {
-            return Err(BagError::Format(format!(
-                "{} has type {}; play republishes only inputs ({})",
+            return Err(BagError::Options(format!(
+                "--topics: {} has type {}; play republishes only inputs ({})",
                 item.topic,
                 item.type_name,
                 INPUT_TYPES.join(", ")
@@ -141,8 +141,11 @@ pub struct PlayOptions {
     pub repeat: bool,
     /// Only these topics (empty: every input topic).
     pub topics: Vec<String>,
-    /// Wait until every writer matched this many subscriptions before starting.
+    /// Wait until every writer matched this many subscriptions before starting (0: see `wait_discovered`).
     pub wait_subscribers: usize,
+    /// With `wait_subscribers` 0: before playing, wait (at most `timeout`) until every subscription that
+    /// discovery shows on a played topic has matched, and warn of topics with none (see [`play`]).
+    pub wait_discovered: bool,
     /// Limit for waiting for subscribers and for acknowledgments at the end.
     pub timeout: Duration,
     /// Publish on the second topic what was recorded on the first (fully qualified names).
@@ -165,6 +168,7 @@ impl PlayOptions {
             repeat: false,
             topics: Vec::new(),
             wait_subscribers: 0,
+            wait_discovered: true,
             timeout: Duration::from_secs(10),
             remaps: Vec::new(),
             start_offset: Duration::ZERO,
@@ -179,11 +183,25 @@ impl PlayOptions {
         self.remaps.iter().find(|(from, _)| from == topic).map(|(_, to)| to.as_str()).unwrap_or(topic)
     }
 
-    /// The schedule these options play from `path`, remaps applied.
+    /// The schedule these options play from `path`, remaps applied. A remap that puts two types on one
+    /// topic (one recorded topic onto another's of a different type) is refused: a DDS topic has one type.
     pub fn schedule(&self, path: &Path) -> Result<Schedule, BagError> {
         let mut schedule = schedule_from(path, &self.topics, self.rate, self.start_offset)?;
+        let mut types: Vec<(String, String, String)> = Vec::new();
         for item in &mut schedule.items {
-            item.topic = self.remapped(&item.topic).to_string();
+            let recorded = std::mem::take(&mut item.topic);
+            item.topic = self.remapped(&recorded).to_string();
+            match types.iter().find(|(topic, _, _)| *topic == item.topic) {
+                Some((topic, type_name, from)) if *type_name != item.type_name => {
+                    return Err(BagError::Options(format!(
+                        "--remap: {recorded} ({}) would be published on {topic}, where {from} ({type_name}) goes: \
+                         one topic carries one type",
+                        item.type_name
+                    )));
+                }
+                Some(_) => {}
+                None => types.push((item.topic.clone(), item.type_name.clone(), recorded.clone())),
+            }
         }
         Ok(schedule)
     }
@@ -276,7 +294,7 @@ fn make_writer<T: RosMessage>(
     topic: &str,
     qos: &ros2_client::QosProfile,
 ) -> Result<rustdds::no_key::DataWriterCdr<T>, BagError> {
-    crate::ros::edge::writer::<T>(ctx, topic, qos).map_err(|e| BagError::Format(e.to_string()))
+    crate::ros::edge::writer::<T>(ctx, topic, qos).map_err(|e| BagError::Options(format!("DDS: {e}")))
 }
 
 fn write_one<T: RosMessage + serde::de::DeserializeOwned + serde::Serialize>(
@@ -292,14 +310,14 @@ fn write_one<T: RosMessage + serde::de::DeserializeOwned + serde::Serialize>(
             Ok(()) => return Ok(()),
             Err(rustdds::dds::WriteError::WouldBlock { data }) => {
                 if start.elapsed() >= timeout || stop.load(Ordering::Relaxed) {
-                    return Err(BagError::Format(format!(
+                    return Err(BagError::Options(format!(
                         "{}: subscribers did not keep up (send window full)",
                         item.topic
                     )));
                 }
                 message = data;
             }
-            Err(e) => return Err(BagError::Format(format!("{}: DDS write failed: {e}", item.topic))),
+            Err(e) => return Err(BagError::Options(format!("{}: DDS write failed: {e}", item.topic))),
         }
     }
 }
@@ -308,13 +326,150 @@ fn matched<T: RosMessage>(writer: &rustdds::no_key::DataWriterCdr<T>, current: &
     *current = crate::ros::edge::matched_subscriptions(writer, *current);
 }
 
+/// Something `play` wants the user to know, besides each message published.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlayEvent<'a> {
+    /// A message went out.
+    Published(&'a PlayItem),
+    /// Waiting for the subscriptions discovery shows to match (said once, when the wait starts).
+    Waiting(String),
+    /// A topic nobody subscribes to, a wait that ran out, a subscription of another type.
+    Warning(String),
+}
+
+/// How long `play` looks at discovery before taking what it shows as the subscribers there are: a new
+/// participant hears of the others within a few hundred ms on a LAN (SPDP then SEDP); a topic with no
+/// subscription after this is warned of.
+pub const DISCOVERY_WINDOW: Duration = Duration::from_millis(1500);
+/// Pause between seeing the last subscription match and the first publication: the subscriber's side of the
+/// handshake completes a moment after ours, and a volatile reader drops what comes before (as `pub` does).
+pub const MATCH_SETTLE: Duration = Duration::from_millis(300);
+
+/// Subscriptions discovery shows on a ROS topic: (how many of type `dds_type`, the other types seen).
+fn discovered_subscriptions(ctx: &ros2_client::Context, fq_topic: &str, dds_type: &str) -> (usize, Vec<String>) {
+    let dds_topic = crate::ros::names::dds_topic_name(fq_topic);
+    let mut count = 0;
+    let mut others = Vec::new();
+    for reader in ctx.domain_participant().discovered_readers() {
+        let data = &reader.subscription_topic_data;
+        if data.topic_name != dds_topic {
+            continue;
+        }
+        if data.type_name() == dds_type {
+            count += 1;
+        } else if !others.contains(data.type_name()) {
+            others.push(data.type_name().clone());
+        }
+    }
+    (count, others)
+}
+
+/// The DDS type name of one of the input types.
+fn dds_type_of(type_name: &str) -> &'static str {
+    match type_name {
+        BatParams::TYPE_NAME => BatParams::DDS_TYPE_NAME,
+        BallParams::TYPE_NAME => BallParams::DDS_TYPE_NAME,
+        _ => Swing::DDS_TYPE_NAME,
+    }
+}
+
+/// Waits (at most `timeout`) until every subscription discovery shows on each played topic has matched its
+/// writer: at once when every topic has matched subscriptions and none unmatched, else once discovery has
+/// had [`DISCOVERY_WINDOW`] and every subscription it shows has matched. Warns of topics nobody subscribes
+/// to and of a wait that ran out; refuses a topic whose subscriptions are of another type.
+fn wait_for_discovered(
+    ctx: &ros2_client::Context,
+    writers: &mut [(String, Writer, usize)],
+    types: &[(String, String)],
+    timeout: Duration,
+    stop: &AtomicBool,
+    on_event: &mut impl FnMut(PlayEvent<'_>),
+) -> Result<(), BagError> {
+    let start = Instant::now();
+    let mut said = false;
+    loop {
+        let mut status: Vec<(String, usize, usize)> = Vec::new();
+        for (topic, writer, count) in writers.iter_mut() {
+            match writer {
+                Writer::Bat(w) => matched(w, count),
+                Writer::Ball(w) => matched(w, count),
+                Writer::Swing(w) => matched(w, count),
+            }
+            let type_name = types.iter().find(|(t, _)| t == topic).map_or("", |(_, ty)| ty.as_str());
+            let dds_type = dds_type_of(type_name);
+            let (discovered, others) = discovered_subscriptions(ctx, topic, dds_type);
+            if !others.is_empty() {
+                return Err(BagError::Options(format!(
+                    "{topic}: its subscribers take {} and this bag's messages there are {type_name} ({dds_type}): \
+                     refused before publishing anything (--remap them to another topic)",
+                    others.join(", ")
+                )));
+            }
+            status.push((topic.clone(), *count, discovered));
+        }
+        let all_matched = status.iter().all(|(_, matched, discovered)| matched >= discovered);
+        let everyone_there = status.iter().all(|(_, matched, _)| *matched > 0);
+        let elapsed = start.elapsed();
+        if all_matched && (everyone_there || elapsed >= DISCOVERY_WINDOW) {
+            for (topic, matched, _) in &status {
+                if *matched == 0 {
+                    on_event(PlayEvent::Warning(format!(
+                        "no subscriber on {topic}: its messages go to nobody (start the node first, or wait for \
+                         it with --wait-subscribers 1)"
+                    )));
+                }
+            }
+            if status.iter().any(|(_, matched, _)| *matched > 0) {
+                std::thread::sleep(MATCH_SETTLE);
+            }
+            return Ok(());
+        }
+        if elapsed >= timeout {
+            let late: Vec<String> = status
+                .iter()
+                .filter(|(_, matched, discovered)| matched < discovered)
+                .map(|(topic, matched, discovered)| format!("{topic} {matched}/{discovered}"))
+                .collect();
+            on_event(PlayEvent::Warning(format!(
+                "not every subscriber discovery shows had matched within {:.1} s ({}): playing anyway, and those \
+                 may miss the first messages",
+                timeout.as_secs_f64(),
+                late.join(", ")
+            )));
+            return Ok(());
+        }
+        if !said && elapsed >= Duration::from_millis(500) {
+            said = true;
+            let shown: Vec<String> =
+                status.iter().map(|(topic, matched, discovered)| format!("{topic} {matched}/{discovered}")).collect();
+            on_event(PlayEvent::Waiting(format!(
+                "waiting (at most {:.0} s, --timeout) for the subscribers discovery shows to match (matched/seen: \
+                 {})",
+                timeout.as_secs_f64(),
+                shown.join(", ")
+            )));
+        }
+        if stop.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 /// Publishes the schedule over DDS (participant from `crate::ros`, QoS of `crate::ros::qos`). Stops early when
-/// `stop` is set. `on_item` is called after each publication (progress), with the topic it went out on.
+/// `stop` is set. `on_event` hears of each publication (progress, with the topic it went out on) and of the
+/// wait before it.
+///
+/// Before the first message, unless `wait_subscribers` asks for a number of subscriptions per topic or
+/// `wait_discovered` is off, it waits (at most `timeout`) until the subscriptions discovery shows on each
+/// played topic have matched: a node already running gets every swing, where `ros2 bag play` starts at once
+/// and loses what goes out before the match (its users learn `--delay`, which still works here, after the
+/// wait).
 pub fn play(
     path: &Path,
     options: &PlayOptions,
     stop: &AtomicBool,
-    mut on_item: impl FnMut(&PlayItem),
+    mut on_event: impl FnMut(PlayEvent<'_>),
 ) -> Result<PlayStats, BagError> {
     if let Some(hz) = options.clock_hz {
         if !(hz > 0.0 && hz.is_finite()) {
@@ -325,7 +480,7 @@ pub fn play(
     if items.is_empty() {
         return Err(BagError::Format(format!("{}: no input messages to play", path.display())));
     }
-    let (ctx, _config) = crate::ros::context_from_env().map_err(|e| BagError::Format(e.to_string()))?;
+    let (ctx, _config) = crate::ros::context_from_env().map_err(|e| BagError::Options(format!("DDS: {e}")))?;
     let mut names: Vec<(String, String)> = Vec::new();
     for item in &items {
         if !names.iter().any(|(n, _)| *n == item.topic) {
@@ -333,7 +488,7 @@ pub fn play(
         }
     }
     let mut writers: Vec<(String, Writer, usize)> = Vec::new();
-    for (topic, type_name) in names {
+    for (topic, type_name) in names.clone() {
         let writer = match type_name.as_str() {
             BatParams::TYPE_NAME => Writer::Bat(make_writer(&ctx, &topic, &crate::ros::qos::params_qos())?),
             BallParams::TYPE_NAME => Writer::Ball(make_writer(&ctx, &topic, &crate::ros::qos::params_qos())?),
@@ -371,7 +526,7 @@ pub fn play(
                     .filter(|(_, _, c)| *c < options.wait_subscribers)
                     .map(|(t, _, _)| t.as_str())
                     .collect();
-                return Err(BagError::Format(format!(
+                return Err(BagError::Options(format!(
                     "no {} subscription(s) on {} within {:.1} s",
                     options.wait_subscribers,
                     missing.join(", "),
@@ -381,7 +536,9 @@ pub fn play(
             std::thread::sleep(Duration::from_millis(20));
         }
         // Our side saw the match first; give the subscribers' side of the handshake a moment (see `pub`).
-        std::thread::sleep(Duration::from_millis(300));
+        std::thread::sleep(MATCH_SETTLE);
+    } else if options.wait_discovered {
+        wait_for_discovered(&ctx, &mut writers, &names, options.timeout, stop, &mut on_event)?;
     }
     let is_paused = || options.paused.as_ref().is_some_and(|p| p.load(Ordering::Relaxed));
     let mut stats = PlayStats::default();
@@ -419,7 +576,7 @@ pub fn play(
                 Writer::Swing(w) => write_one(w, item, options.timeout, stop)?,
             }
             stats.published += 1;
-            on_item(item);
+            on_event(PlayEvent::Published(item));
         }
         stats.passes += 1;
         if !options.repeat {

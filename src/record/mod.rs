@@ -103,6 +103,8 @@ impl RecordOptions {
 /// Something the recorder wants the user to know.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum RecordEvent {
+    /// The bag directory was created: recording has started.
+    Started { dir: PathBuf },
     /// Recording `topic` from now on; `schema` is false for a type sweetspot has no definition of.
     Subscribed { topic: String, type_name: String, schema: bool },
     /// Not recording `topic` (a DDS topic name for what is not a ROS topic), and why.
@@ -116,6 +118,99 @@ pub struct RecordStats {
     pub per_topic: BTreeMap<String, u64>,
     /// Messages the bag writer could not keep up with.
     pub dropped: u64,
+    /// Messages taken from DDS more than [`REORDER_WINDOW`] after they were received, later than a message
+    /// already written with a later receive time: written with that later log time, so that the bag stays in
+    /// log-time order (0 unless the recorder stalled).
+    pub late: u64,
+}
+
+/// How long a received message is held before it is written, so that the messages of all subscriptions go
+/// into the bag in receive-time order: the recorder takes each subscription's samples in turn, so without
+/// it an answer received after its swing could be written before it (and log times would go backwards in
+/// file order, which `rosbags` refuses in an unchunked bag).
+pub const REORDER_WINDOW: Duration = Duration::from_millis(100);
+/// Messages held for reordering at most: beyond it the oldest are written at once (a burst bigger than a
+/// window's worth then costs order only if one subscription lags by more than this many messages).
+pub const REORDER_CAPACITY: usize = 65_536;
+
+/// One received message waiting in the reorder window, ordered by (log time, arrival).
+struct Held {
+    log_time: u64,
+    arrival: u64,
+    publish_time: u64,
+    id: TopicId,
+    cdr: Vec<u8>,
+}
+
+impl PartialEq for Held {
+    fn eq(&self, other: &Self) -> bool {
+        (self.log_time, self.arrival) == (other.log_time, other.arrival)
+    }
+}
+impl Eq for Held {}
+impl PartialOrd for Held {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Held {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        (self.log_time, self.arrival).cmp(&(other.log_time, other.arrival))
+    }
+}
+
+/// The reorder window: messages go in in any order and come out in log-time order once they are older than
+/// the window (or the window is full, or at the end); a message that comes out earlier than one already out
+/// takes that one's log time, so what comes out never goes backwards.
+#[derive(Default)]
+pub struct Reorder {
+    heap: std::collections::BinaryHeap<std::cmp::Reverse<Held>>,
+    arrivals: u64,
+    last_out: u64,
+    late: u64,
+}
+
+impl Reorder {
+    /// Holds one message (log time = its receive time, ns since the Unix epoch).
+    pub fn push(&mut self, id: TopicId, cdr: Vec<u8>, log_time: u64, publish_time: u64) {
+        self.arrivals += 1;
+        let arrival = self.arrivals;
+        self.heap.push(std::cmp::Reverse(Held { log_time, arrival, publish_time, id, cdr }));
+    }
+
+    /// Hands out, in log-time order, every message received at or before `until_ns`, and the oldest ones
+    /// beyond [`REORDER_CAPACITY`]: `out(id, cdr, log_time, publish_time)`.
+    pub fn release(&mut self, until_ns: u64, mut out: impl FnMut(TopicId, Vec<u8>, u64, u64)) {
+        while let Some(std::cmp::Reverse(first)) = self.heap.peek() {
+            if first.log_time > until_ns && self.heap.len() <= REORDER_CAPACITY {
+                break;
+            }
+            let Some(std::cmp::Reverse(held)) = self.heap.pop() else { break };
+            let log_time = if held.log_time < self.last_out {
+                self.late += 1;
+                self.last_out
+            } else {
+                held.log_time
+            };
+            self.last_out = log_time;
+            out(held.id, held.cdr, log_time, held.publish_time);
+        }
+    }
+
+    /// Messages that came out with a raised log time so far.
+    pub fn late(&self) -> u64 {
+        self.late
+    }
+
+    /// Messages held.
+    pub fn len(&self) -> usize {
+        self.heap.len()
+    }
+
+    /// Whether nothing is held.
+    pub fn is_empty(&self) -> bool {
+        self.heap.is_empty()
+    }
 }
 
 /// The ROS type name of a DDS type name: `pkg::msg::dds_::Type_` → `pkg/msg/Type`.
@@ -214,7 +309,9 @@ pub fn record(
         ..RecorderConfig::new(&options.output)
     };
     let recorder = Recorder::start_with(config, options.storage)?;
+    on_event(&RecordEvent::Started { dir: options.output.clone() });
     let mut subscribed: Vec<Subscribed> = Vec::new();
+    let mut reorder = Reorder::default();
     let mut decided: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
     let mut next_discovery = Instant::now();
     while !stop.load(Ordering::Relaxed) {
@@ -286,7 +383,7 @@ pub fn record(
                         let log_time = unix_ns(sample.receive_instant);
                         let publish_time = sample.source_timestamp().map(unix_ns).unwrap_or(log_time);
                         let RawCdr(bytes) = sample.into_value();
-                        recorder.record(sub.id, bytes, log_time, publish_time);
+                        reorder.push(sub.id, bytes, log_time, publish_time);
                         sub.count += 1;
                         took = true;
                     }
@@ -298,20 +395,65 @@ pub fn record(
                 }
             }
         }
+        // Every sample received before now − window has been taken by now (each subscription was just
+        // drained), so what is released comes out in receive order across topics.
+        let window = u64::try_from(REORDER_WINDOW.as_nanos()).unwrap_or(u64::MAX);
+        let until = unix_ns(rustdds::Timestamp::now()).saturating_sub(window);
+        reorder.release(until, |id, cdr, log_time, publish_time| {
+            recorder.record(id, cdr, log_time, publish_time);
+        });
         if !took {
             std::thread::sleep(Duration::from_millis(2));
         }
     }
+    // One last look at every subscription, then everything held goes out in order.
+    for sub in &mut subscribed {
+        while let Ok(Some(sample)) = sub.reader.try_take_one() {
+            let log_time = unix_ns(sample.receive_instant);
+            let publish_time = sample.source_timestamp().map(unix_ns).unwrap_or(log_time);
+            let RawCdr(bytes) = sample.into_value();
+            reorder.push(sub.id, bytes, log_time, publish_time);
+            sub.count += 1;
+        }
+    }
+    reorder.release(u64::MAX, |id, cdr, log_time, publish_time| {
+        recorder.record(id, cdr, log_time, publish_time);
+    });
     let finished = recorder.finish()?;
     Ok(RecordStats {
         per_topic: subscribed.into_iter().map(|s| (s.topic, s.count)).collect(),
         dropped: finished.dropped,
+        late: reorder.late(),
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reorder_releases_in_log_time_order_and_never_goes_backwards() {
+        let mut r = Reorder::default();
+        // Two subscriptions drained one after the other: the answers (topic 1) first, then the swings.
+        for t in [20, 40, 60] {
+            r.push(TopicId(1), vec![t as u8], t + 5, t);
+        }
+        for t in [20, 40, 60] {
+            r.push(TopicId(0), vec![t as u8], t, t);
+        }
+        let mut out = Vec::new();
+        r.release(50, |id, _, log, _| out.push((id.0, log)));
+        assert_eq!(out, [(0, 20), (1, 25), (0, 40), (1, 45)]);
+        assert_eq!(r.len(), 2);
+        // A message received before what already went out (a stall longer than the window) is raised.
+        r.push(TopicId(0), vec![], 30, 30);
+        r.release(u64::MAX, |id, _, log, _| out.push((id.0, log)));
+        assert_eq!(&out[4..], [(0, 45), (0, 60), (1, 65)]);
+        assert_eq!(r.late(), 1);
+        assert!(r.is_empty());
+        let logs: Vec<u64> = out.iter().map(|o| o.1).collect();
+        assert!(logs.windows(2).all(|w| w[0] <= w[1]), "{logs:?}");
+    }
 
     #[test]
     fn dds_names_map_to_ros_names() {
