@@ -32,7 +32,10 @@ const AFTER_DEATH: u64 = 14_000;
 
 fn swing(id: u64) -> Swing {
     Swing {
-        header: Header { stamp: Time { sec: 1000 + (id / 1000) as i32, nanosec: (id % 1000) as u32 }, frame_id: "rig".into() },
+        header: Header {
+            stamp: Time { sec: 1000 + (id / 1000) as i32, nanosec: (id % 1000) as u32 },
+            frame_id: "rig".into(),
+        },
         swing_id: id,
         bat_id: "r161".into(),
         ball_id: String::new(),
@@ -162,7 +165,9 @@ fn a_killed_and_a_stopped_subscriber_cost_a_healthy_subscriber_no_answer() {
                         break;
                     }
                     match tokio::time::timeout(Duration::from_secs(20), stream.next()).await {
-                        Ok(Some(Ok((ev, _)))) => answered.lock().unwrap().entry(ev.swing_id).or_default().push(ev.status),
+                        Ok(Some(Ok((ev, _)))) => {
+                            answered.lock().unwrap().entry(ev.swing_id).or_default().push(ev.status)
+                        }
                         Ok(Some(Err(e))) => panic!("receive error: {e:?}"),
                         Ok(None) | Err(_) => break,
                     }

@@ -268,7 +268,10 @@ fn params_sent_after_swings_do_not_overtake_them() {
     swing_pub.publish(lab_swing(300)).unwrap();
     let after = peer.collect(&answers, 1, WAIT)[0].clone();
     assert_eq!(after.swing_id, 300);
-    assert_ne!(after.exit_speed, before.exit_speed, "the two presets must answer differently for this test to mean anything");
+    assert_ne!(
+        after.exit_speed, before.exit_speed,
+        "the two presets must answer differently for this test to mean anything"
+    );
 
     let old_bat: Vec<u64> =
         got.iter().filter(|ev| ev.swing_id < 200 && ev.exit_speed != before.exit_speed).map(|ev| ev.swing_id).collect();

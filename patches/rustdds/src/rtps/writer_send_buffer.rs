@@ -562,7 +562,10 @@ mod tests {
     let keep_last = make(true);
     keep_last.set_acked_frontier(Some(SequenceNumber::new(1)));
     for n in 1..=100 {
-      assert!(admit_now(&keep_last, WriteOptions::default()), "write {n} blocked");
+      assert!(
+        admit_now(&keep_last, WriteOptions::default()),
+        "write {n} blocked"
+      );
       // The event loop puts it on the wire (a dead reader's socket still takes it).
       keep_last.set_sent_frontier(SequenceNumber::new(n));
       assert!(keep_last.retained_len() <= window);
@@ -570,7 +573,10 @@ mod tests {
     // The newest `window` samples are kept (for repair of readers that ask), the
     // older ones are gone: a reader asking for them gets a GAP.
     assert_eq!(keep_last.retained_len(), window);
-    assert_eq!(keep_last.first_change_sequence_number(), SequenceNumber::new(97));
+    assert_eq!(
+      keep_last.first_change_sequence_number(),
+      SequenceNumber::new(97)
+    );
     assert!(keep_last.get_by_sn(SequenceNumber::new(100)).is_some());
     assert!(keep_last.get_by_sn(SequenceNumber::new(96)).is_none());
     // It still waits for acknowledgements when asked to: nothing was acknowledged.
@@ -612,7 +618,10 @@ mod tests {
       // The reader acknowledges all but the latest 3.
       buf.set_acked_frontier(Some(SequenceNumber::new((n - 2).max(1))));
       for unacked in (n - 2).max(1)..=n {
-        assert!(buf.get_by_sn(SequenceNumber::new(unacked)).is_some(), "sample {unacked} lost at write {n}");
+        assert!(
+          buf.get_by_sn(SequenceNumber::new(unacked)).is_some(),
+          "sample {unacked} lost at write {n}"
+        );
       }
     }
   }
