@@ -404,7 +404,7 @@ mod tests {
             while self.0.load(Ordering::Acquire) {
                 std::thread::sleep(Duration::from_millis(1));
             }
-            o.payload % 3 != 0
+            !o.payload.is_multiple_of(3)
         }
     }
 
