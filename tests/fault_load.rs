@@ -200,7 +200,10 @@ fn flood(domain: u16) -> (u64, u64, u64) {
     }
     // Answers stop once the backlog is gone; then diagnostics must show the drops.
     let got = drain(&peer, &answers, Duration::from_secs(3));
-    let answered: BTreeSet<u64> = got.iter().map(|ev| ev.swing_id).collect();
+    // OK answers; the swings dropped at the full queue are answered DROPPED instead.
+    let answered: BTreeSet<u64> =
+        got.iter().filter(|ev| ev.status == ExitVelocity::STATUS_OK).map(|ev| ev.swing_id).collect();
+    let dropped_answers = got.iter().filter(|ev| ev.status == ExitVelocity::STATUS_DROPPED).count() as u64;
     std::thread::sleep(Duration::from_millis(600));
     let arrays = peer.collect_until(&diagnostics, WAIT, |a: &[DiagnosticArray]| {
         latest(a, "swings_received").is_some_and(|(v, _, _)| v.parse::<u64>().unwrap_or(0) > answered.len() as u64)
@@ -214,6 +217,7 @@ fn flood(domain: u16) -> (u64, u64, u64) {
     assert!(dropped > 0, "a flood of {flood} at 8 in flight must drop swings:\n{log}");
     assert_eq!(ok + rejected + dropped, received, "every swing taken is answered or counted as dropped:\n{log}");
     assert_eq!(ok, 1 + answered.len() as u64, "the listener got every OK answer the node counted");
+    assert_eq!(dropped_answers, dropped, "every dropped swing is answered DROPPED:\n{log}");
     let (diag_dropped, _, _) = latest(&arrays, "swings_dropped").expect("swings_dropped on /diagnostics");
     assert!(diag_dropped.parse::<u64>().unwrap() > 0, "diagnostics report the drops");
     assert!(

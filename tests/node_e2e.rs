@@ -355,8 +355,17 @@ fn a_full_queue_drops_counts_and_reports_instead_of_growing() {
     assert_eq!(ok + rejected + dropped + lost, N, "every swing is answered or counted as dropped or lost");
     assert!(reports.iter().all(|d| value(d, "swings_in_flight") <= CAPACITY), "in flight never exceeds capacity");
     assert!(reports.iter().any(|d| d.status[0].level == 1 && d.status[0].message.contains("dropped")), "a WARN report");
-    let got = peer.collect(&answers, (ok + rejected) as usize, WAIT);
-    assert!(got.windows(2).all(|w| w[0].swing_id < w[1].swing_id), "the answers that exist are in swing order");
+    // One answer per swing taken: the dropped ones DROPPED (sent at once), the rest in swing order.
+    let got = peer.collect(&answers, (ok + rejected + dropped) as usize, WAIT);
+    let (dropped_answers, computed): (Vec<&ExitVelocity>, Vec<&ExitVelocity>) =
+        got.iter().partition(|ev| ev.status == ExitVelocity::STATUS_DROPPED);
+    assert_eq!(dropped_answers.len() as u64, dropped, "every dropped swing is answered DROPPED");
+    assert!(dropped_answers.iter().all(|ev| ev.message.contains("queue_capacity") && ev.exit_speed.is_nan()));
+    assert!(computed.windows(2).all(|w| w[0].swing_id < w[1].swing_id), "computed answers are in swing order");
+    let mut ids: Vec<u64> = got.iter().map(|ev| ev.swing_id).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    assert_eq!(ids.len(), got.len(), "no swing is answered twice");
     let warnings =
         peer.collect_until(&rosout, WAIT, |got| got.iter().any(|l| l.level == Log::WARN && l.msg.contains("dropped")));
     let warning = warnings.iter().find(|l| l.msg.contains("dropped")).unwrap();

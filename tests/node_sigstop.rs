@@ -223,3 +223,65 @@ fn a_full_disk_stops_the_recording_not_the_node() {
     let metadata = std::fs::read_to_string(bags[0].join("metadata.yaml")).expect("metadata.yaml after a full disk");
     assert!(metadata.contains("/swing") && metadata.contains("/exit_velocity"), "{metadata}");
 }
+
+/// Params do not overtake swings their publisher sent before them. The node is stopped while one publisher
+/// sends 100 swings for bat 'lab', then new params for 'lab' (another preset), then 100 more swings: on
+/// SIGCONT all of it is waiting at once, and the receive loop, which takes params ahead of swings, must still
+/// answer the first 100 with the old bat and the last 100 with the new one (order by source timestamp).
+#[test]
+fn params_sent_after_swings_do_not_overtake_them() {
+    let domain = domain(16);
+    let dir = tempfile::tempdir().unwrap();
+    let mut peer = Peer::new(domain, "params_order_peer");
+    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
+    let swing_pub = peer.publisher::<Swing>("/swing", dds::swing());
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
+    peer.wait_for_reader(&swing_pub);
+    peer.wait_for_reader(&bat_pub);
+    let params = |preset: &str, sec: i32| BatParams {
+        header: Header { stamp: Time { sec, nanosec: 0 }, frame_id: "rig".into() },
+        bat_id: "lab".into(),
+        preset: preset.into(),
+        ..BatParams::default()
+    };
+    let lab_swing = |id: u64| Swing { bat_id: "lab".into(), impact_z: 0.6, ..swing(id) };
+    bat_pub.publish(params("r161", 1)).unwrap();
+    node.wait_for_log("bat 'lab' set", WAIT);
+    swing_pub.publish(lab_swing(1)).unwrap();
+    let before = peer.collect(&answers, 1, WAIT)[0].clone();
+    assert_eq!((before.swing_id, before.status), (1, ExitVelocity::STATUS_OK), "{}", before.message);
+
+    signal(&node, "STOP");
+    for id in 100..200 {
+        swing_pub.publish(lab_swing(id)).unwrap();
+    }
+    std::thread::sleep(Duration::from_millis(20));
+    bat_pub.publish(params("aluminum", 2)).unwrap();
+    std::thread::sleep(Duration::from_millis(20));
+    for id in 200..300 {
+        swing_pub.publish(lab_swing(id)).unwrap();
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    signal(&node, "CONT");
+    let got = peer.collect(&answers, 200, WAIT);
+    swing_pub.publish(lab_swing(300)).unwrap();
+    let after = peer.collect(&answers, 1, WAIT)[0].clone();
+    assert_eq!(after.swing_id, 300);
+    assert_ne!(
+        after.exit_speed, before.exit_speed,
+        "the two presets must answer differently for this test to mean anything"
+    );
+
+    let old_bat: Vec<u64> =
+        got.iter().filter(|ev| ev.swing_id < 200 && ev.exit_speed != before.exit_speed).map(|ev| ev.swing_id).collect();
+    let new_bat: Vec<u64> =
+        got.iter().filter(|ev| ev.swing_id >= 200 && ev.exit_speed != after.exit_speed).map(|ev| ev.swing_id).collect();
+    assert!(
+        old_bat.is_empty() && new_bat.is_empty(),
+        "swings sent before the new params but answered otherwise than with the old bat: {old_bat:?}; sent after \
+         but answered otherwise than with the new bat: {new_bat:?}"
+    );
+    let (status, _, log) = node.stop_with(2);
+    assert!(status.success(), "SIGINT exits cleanly:\n{log}");
+}

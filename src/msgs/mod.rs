@@ -198,6 +198,7 @@ mod tests {
         use sweetspot_msgs::msg::ExitVelocity;
         assert_eq!(ExitVelocity::STATUS_OK, 0u8);
         assert_eq!(ExitVelocity::STATUS_REJECTED, 1u8);
+        assert_eq!(ExitVelocity::STATUS_DROPPED, 2u8);
         assert_eq!(diagnostic_msgs::msg::DiagnosticStatus::STALE, 3u8);
         assert_eq!(rcl_interfaces::msg::Log::FATAL, 50u8);
     }

@@ -17,7 +17,7 @@
 //! | `bat/params`     | sweetspot_msgs/BatParams           | in        | reliable, transient-local (late joiners get it) |
 //! | `ball/params`    | sweetspot_msgs/BallParams          | in        | reliable, transient-local                     |
 //! | `swing`          | sweetspot_msgs/Swing               | in        | reliable, keep-last 1000 (reader cache = `queue_capacity`) |
-//! | `exit_velocity`  | sweetspot_msgs/ExitVelocity        | out       | reliable; one per swing, in swing order; REJECTED + reason for bad input |
+//! | `exit_velocity`  | sweetspot_msgs/ExitVelocity        | out       | reliable; one per swing taken, in swing order; REJECTED + reason for bad input; DROPPED (at once) when the queue is full |
 //! | `modal_energies` | sweetspot_msgs/ModalEnergies       | out       | reliable; one per OK swing, published while a subscription is matched, always recorded |
 //! | `sweet_spot`     | sweetspot_msgs/SweetSpot           | out       | reliable, transient-local; on every bat change |
 //! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
@@ -28,7 +28,11 @@
 //! - A swing's bat/ball: its `bat_id`/`ball_id`, empty = the latest received, before any params the
 //!   `default_bat` (preset `r161`) and the regulation `baseball`; any preset name is a valid bat_id.
 //! - Modes are computed once per bat (on first use, off the DDS thread) and cached; new params for a bat_id
-//!   replace its entry (swings already queued keep the bat they were sent for) and publish a new SweetSpot.
+//!   replace its entry and publish a new SweetSpot. A swing's bat and ball are resolved when the node takes it
+//!   from DDS, so swings already taken keep the params they were taken with. Params are taken ahead of
+//!   swings, but first every swing already waiting whose DDS source timestamp is earlier than the params' is
+//!   taken (`take_swings_sent_before`): the swings one publisher sent before its params are answered with the
+//!   old ones, those sent after with the new (across publishers, their clocks decide).
 //! - At most `max_bats` bats and `max_balls` balls are kept ([`crate::model::lru::LruMap`]): the least recently used is
 //!   forgotten first, never the latest received; a swing naming a forgotten id is REJECTED saying so (a
 //!   preset is solved again instead); evictions are warned about and counted on /diagnostics. A BatParams of
@@ -37,14 +41,17 @@
 //!   results are published in swing order. A swing that finds the pipeline idle and its bat's modes solved
 //!   is answered on the receive task itself ([`pipeline::Pipeline::answer_inline`], paced by
 //!   [`pipeline::InlinePacing`] to half that task's time), which saves two thread wake-ups per answer. Its
-//!   ExitVelocity publish then runs on the receive task: a subscriber that stops acknowledging (reliable
-//!   QoS, full window) can hold that task for up to the writers' 500 ms wait, during which swings queue in
-//!   the reader's cache (`queue_capacity` deep; beyond it they count as `swings_lost_in_transport`).
+//!   ExitVelocity publish then runs on the receive task. A subscriber that stops acknowledging does not hold
+//!   it: the results writers are KEEP_LAST and replace their oldest result instead of waiting for a reader
+//!   (patches/README.md, fix 5); only a send socket that cannot drain makes a publish wait (up to 500 ms)
+//!   and fail.
 //! - ModalEnergies are published only while the topic has a matched subscription (re-checked on every
 //!   discovery event; `modal_energies_published` on /diagnostics) and recorded always: a DDS write costs
 //!   every answer latency even with no reader. A swing arriving when the pipeline is full is dropped, counted
-//!   (`swings_dropped`) and warned about on /rosout (rate-limited); gaps in a publisher's DDS sequence numbers
-//!   are counted as `swings_lost_in_transport`.
+//!   (`swings_dropped`), warned about on /rosout (rate-limited) and answered at once with status DROPPED (so
+//!   every swing taken gets exactly one answer); gaps in a publisher's DDS sequence numbers are counted as
+//!   `swings_lost_in_transport` (those swings never reached the node and get no answer). A failed publish
+//!   is counted (`publish_failures`) and logged, rate-limited, with DDS's reason.
 //! - Bad params are answered by an ExitVelocity REJECTED naming the message, id and field; the previous
 //!   params stay in force. Bad swings get REJECTED with the physics' error text; numbers are NaN.
 //! - Every input (as received) and output (as published) is recorded in-process to a rosbag2 MCAP directory,
@@ -52,7 +59,9 @@
 //!   The default directory gets a suffix (`_2`, `_3`, …) when it already exists, so two nodes started
 //!   within one second never share one ([`recording::start_backend_unique`]).
 //! - SIGINT/SIGTERM: stop taking swings, let queued ones finish for up to 0.6 s, close the bag, print a
-//!   summary (counts, latency p50/p99/max, mode-cache hits/misses) and exit 0.
+//!   summary (`summary_line`: swings received = answered OK + rejected + dropped + unsent
+//!   (publish failed) + still queued at shutdown; lost in transport, latency p50/p99/max, mode-cache
+//!   hits/misses) and exit 0.
 //! - Liveness: every diagnostics tick asks whether the DDS participant's background threads still run
 //!   (RustDDS `is_alive`, through the `receive_loop::Liveness` seam a test can make report dead). When they
 //!   stopped, the node can no longer send or receive: it logs an ERROR saying so, publishes a /diagnostics

@@ -4,6 +4,7 @@
 use crate::model::time::RosTime;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use futures::FutureExt as _;
 use ros2_client::ros2::LogLevel;
@@ -15,7 +16,7 @@ use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot, S
 
 use super::pipeline::{Outcome, ResultSink};
 use super::recording::{Recorded, Tape};
-use super::stats::NodeStats;
+use super::stats::{NodeStats, RateLimiter};
 
 /// The node's publishers.
 pub struct Outputs {
@@ -33,13 +34,14 @@ pub struct Outputs {
 
 impl Outputs {
     /// The sink that publishes answers (and records them on `tape`) for the pipeline.
-    pub fn sink(&self, tape: &Arc<Tape>, stats: &Arc<NodeStats>) -> DdsSink {
+    pub fn sink(&self, tape: &Arc<Tape>, stats: &Arc<NodeStats>, failures: &PublishFailures) -> DdsSink {
         DdsSink {
             exit_velocity: Arc::clone(&self.exit_velocity),
             modal_energies: Arc::clone(&self.modal_energies),
             energies_listened: Arc::clone(&self.energies_listeners.flag),
             tape: Arc::clone(tape),
             stats: Arc::clone(stats),
+            failures: failures.clone(),
         }
     }
 
@@ -99,6 +101,42 @@ impl Log {
     }
 }
 
+/// Logs failed publishes of answers (rate-limited: at most one line every 5 s, with the count of those
+/// suppressed), naming what could not be sent and why.
+#[derive(Clone)]
+pub struct PublishFailures {
+    log: Log,
+    limiter: Arc<RateLimiter>,
+}
+
+impl PublishFailures {
+    /// Reports through `log`.
+    pub fn new(log: Log) -> PublishFailures {
+        PublishFailures { log, limiter: Arc::new(RateLimiter::new(Duration::from_secs(5))) }
+    }
+
+    /// `what` (e.g. "the ExitVelocity of swing 12") could not be published because of `error`.
+    pub fn report<D>(&self, what: &str, error: &ros2_client::WriteError<D>) {
+        if let Some(suppressed) = self.limiter.allow(Instant::now()) {
+            self.log.warn(&publish_failure_text(what, error, suppressed));
+        }
+    }
+}
+
+/// The warning for a failed publish: what, DDS's reason, and what it usually means.
+pub fn publish_failure_text<D>(what: &str, error: &ros2_client::WriteError<D>, suppressed: u64) -> String {
+    use ros2_client::WriteError;
+    let meaning = match error {
+        WriteError::WouldBlock { .. } => {
+            ": the reliable send window stayed full (a subscriber that does not acknowledge, or a send socket \
+             that cannot drain)"
+        }
+        WriteError::Poisoned { .. } | WriteError::Internal { .. } => ": the DDS machinery is failing",
+        WriteError::Serialization { .. } | WriteError::Io(_) | WriteError::Middleware { .. } => "",
+    };
+    format!("{what} could not be published: {error}{meaning}; {suppressed} more publish failures since the last such report")
+}
+
 /// Publishes and records results in swing order (on the pipeline's sequencer thread, or inline on the
 /// receive task when the pipeline is idle).
 pub struct DdsSink {
@@ -112,6 +150,8 @@ pub struct DdsSink {
     tape: Arc<Tape>,
     /// The node's counters.
     stats: Arc<NodeStats>,
+    /// Where failed publishes are reported.
+    failures: PublishFailures,
 }
 
 impl ResultSink<Swing> for DdsSink {
@@ -126,16 +166,21 @@ impl ResultSink<Swing> for DdsSink {
             // loop thread even with no reader, which costs every answer latency for nothing.
             self.tape.record(Recorded::ModalEnergies, &me, crate::model::time::now_ns(), stamp_ns);
             if self.energies_listened.load(Ordering::Relaxed) {
-                let published = self.modal_energies.publish(me).is_ok();
-                if published {
-                    NodeStats::bump(&self.stats.modal_energies_published);
+                match self.modal_energies.publish(me) {
+                    Ok(()) => NodeStats::bump(&self.stats.modal_energies_published),
+                    Err(e) => {
+                        self.failures.report(&format!("the ModalEnergies of swing {}", swing.swing_id), &e);
+                        delivered = false;
+                    }
                 }
-                delivered &= published;
             }
         }
         // ExitVelocity last, so a listener that has the answer also has its energies.
         self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), stamp_ns);
-        delivered &= self.exit_velocity.publish(ev).is_ok();
+        if let Err(e) = self.exit_velocity.publish(ev) {
+            self.failures.report(&format!("the ExitVelocity of swing {}", swing.swing_id), &e);
+            delivered = false;
+        }
         delivered
     }
 }
@@ -167,5 +212,22 @@ impl EnergiesListeners {
         // error for a writer that never had a reader.
         let matched = publisher.wait_for_subscription(node).now_or_never().is_some();
         self.flag.store(matched, Ordering::Relaxed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_publish_failure_names_what_failed_and_why() {
+        let full = ros2_client::WriteError::WouldBlock { data: () };
+        let text = publish_failure_text("the ExitVelocity of swing 7", &full, 3);
+        assert!(text.starts_with("the ExitVelocity of swing 7 could not be published: "), "{text}");
+        assert!(text.contains("would block / timed out"), "the DDS layer's own reason: {text}");
+        assert!(text.contains("does not acknowledge"), "{text}");
+        assert!(text.contains("3 more publish failures"), "{text}");
+        let broken = ros2_client::WriteError::<()>::Internal { reason: "lost".into() };
+        assert!(publish_failure_text("x", &broken, 0).contains("lost"));
     }
 }

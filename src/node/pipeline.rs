@@ -184,8 +184,9 @@ impl<T: Send + 'static> Pipeline<T> {
     }
 
     /// Stops taking swings, lets the workers finish what is queued for at most `drain`, then abandons the
-    /// rest (they are in the bag as inputs) and returns once every thread has ended.
-    pub fn shutdown(mut self, drain: Duration) {
+    /// rest (they are in the bag as inputs) and returns, once every thread has ended, how many swings were
+    /// abandoned (never answered).
+    pub fn shutdown(mut self, drain: Duration) -> u64 {
         self.jobs = None; // closing the queue lets idle workers exit
         let deadline = Instant::now() + drain;
         while self.in_flight() > 0 && Instant::now() < deadline {
@@ -198,6 +199,8 @@ impl<T: Send + 'static> Pipeline<T> {
         if let Some(handle) = self.sequencer.take() {
             let _ = handle.join();
         }
+        // Every thread has ended: no slot is freed any more.
+        self.in_flight()
     }
 }
 
@@ -391,6 +394,58 @@ mod tests {
         release.store(true, Ordering::Release);
         p.shutdown(Duration::from_secs(30));
         assert_eq!(*out.lock().unwrap(), (0..8).collect::<Vec<u32>>());
+    }
+
+    /// Fails every third delivery, and holds deliveries while `hold` is set.
+    struct FlakySink(Arc<AtomicBool>);
+
+    impl ResultSink<u32> for FlakySink {
+        fn deliver(&mut self, o: &Outcome<u32>) -> bool {
+            while self.0.load(Ordering::Acquire) {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            !o.payload.is_multiple_of(3)
+        }
+    }
+
+    /// The node's summary line adds these up: every swing submitted is answered (OK or REJECTED), unsent
+    /// (publish failed), refused (dropped), or reported by `shutdown` as still queued.
+    #[test]
+    fn every_swing_is_accounted_for_once_failed_publishes_and_swings_abandoned_at_shutdown_included() {
+        let hold = Arc::new(AtomicBool::new(false));
+        let stats = Arc::new(NodeStats::new());
+        let p = Pipeline::start(2, 16, Arc::clone(&stats), FlakySink(Arc::clone(&hold))).unwrap();
+        let mut dropped = 0u64;
+        for i in 0..30u32 {
+            if p.submit(Instant::now(), reject(i), i).is_err() {
+                dropped += 1;
+            }
+            wait_until_idle(&p);
+        }
+        // Now the sink stalls: 16 swings fill the queue, 4 more are refused, and shutdown gives up on the 16.
+        hold.store(true, Ordering::Release);
+        for i in 30..50u32 {
+            if p.submit(Instant::now(), reject(i), i).is_err() {
+                dropped += 1;
+            }
+        }
+        let releaser = {
+            let hold = Arc::clone(&hold);
+            std::thread::spawn(move || {
+                std::thread::sleep(Duration::from_millis(300));
+                hold.store(false, Ordering::Release);
+            })
+        };
+        let abandoned = p.shutdown(Duration::from_millis(50));
+        releaser.join().unwrap();
+        let s = stats.snapshot(abandoned);
+        assert_eq!(dropped, 4);
+        // The stalled sink holds one swing when shutdown stops waiting; it may still finish it (swing 30, whose
+        // publish fails), the rest stay queued.
+        assert!((15..=16).contains(&abandoned), "{abandoned} abandoned");
+        // 0..30 delivered: the 10 multiples of 3 failed to publish.
+        assert_eq!((s.swings_ok, s.swings_rejected, s.publish_failures), (0, 20, 10 + (16 - abandoned)));
+        assert_eq!(s.swings_ok + s.swings_rejected + s.publish_failures + dropped + abandoned, 50);
     }
 
     fn wait_until_idle<T: Send + 'static>(p: &Pipeline<T>) {

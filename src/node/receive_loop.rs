@@ -20,7 +20,7 @@ use crate::ros::{shutdown_signal, topics};
 
 use super::convert;
 use super::live_settings::LiveSettings;
-use super::outputs::{Log, Outputs};
+use super::outputs::{Log, Outputs, PublishFailures};
 use super::pipeline::{InlinePacing, Pipeline};
 use super::recording::{Recorded, Tape};
 use super::settings::SettingEffect;
@@ -136,6 +136,8 @@ pub struct NodeLoop {
     pub stats: Arc<NodeStats>,
     /// rosout + tracing.
     pub log: Log,
+    /// Failed publishes of answers, reported rate-limited (shared with the pipeline's sink).
+    pub publish_failures: PublishFailures,
     /// Gaps in each publisher's swing sequence numbers.
     pub transport_gaps: GapCounter<ros2_client::Gid>,
     /// Rate-limited warnings.
@@ -171,7 +173,13 @@ impl NodeLoop {
         let mut swings = pin!(inputs.swings.async_stream());
         let mut participants = pin!(inputs.participants.async_stream());
         let mut shutdown = pin!(shutdown_signal());
+        // A swing taken while looking for swings sent before some params, but sent after them: handled next.
+        let mut held: Option<ReadResult<(Swing, MessageInfo)>> = None;
         loop {
+            if let Some(received) = held.take() {
+                self.on_swing_sample(received);
+                continue;
+            }
             tokio::select! {
                 biased;
                 signal = &mut shutdown => {
@@ -179,12 +187,42 @@ impl NodeLoop {
                     return Ok(());
                 }
                 Some(event) = self.events.recv() => self.on_event(event),
-                Some(received) = bats.next() => self.on_bat_params(received),
-                Some(received) = balls.next() => self.on_ball_params(received),
+                Some(received) = bats.next() => {
+                    held = self.take_swings_sent_before(&mut swings, sent_at(&received));
+                    self.on_bat_params(received)
+                }
+                Some(received) = balls.next() => {
+                    held = self.take_swings_sent_before(&mut swings, sent_at(&received));
+                    self.on_ball_params(received)
+                }
                 Some(_event) = self.graph_events.next() => self.on_discovery(node),
                 Some(received) = participants.next() => self.on_participant_info(received),
                 _ = diagnostics.tick() => self.on_diagnostics_tick()?,
                 Some(received) = swings.next() => self.on_swing_sample(received),
+            }
+        }
+    }
+
+    /// Params are taken ahead of swings (the loop favours them), but must not overtake swings their publisher
+    /// sent earlier: handles every swing already waiting whose source timestamp is before `params_sent`, in
+    /// arrival order, and stops at the first one that is not (returned, to be handled after the params).
+    /// Within one publisher (one clock) swings are thus answered with the params in force when they were sent;
+    /// across publishers the order follows their clocks.
+    fn take_swings_sent_before<S>(
+        &mut self,
+        swings: &mut std::pin::Pin<&mut S>,
+        params_sent: Option<ros2_client::ROSTime>,
+    ) -> Option<ReadResult<(Swing, MessageInfo)>>
+    where
+        S: futures::Stream<Item = ReadResult<(Swing, MessageInfo)>>,
+    {
+        let params_sent = params_sent?;
+        loop {
+            // Only what is already there: never waits.
+            let received = futures::FutureExt::now_or_never(swings.next())??;
+            match sent_at(&received) {
+                Some(swing_sent) if swing_sent < params_sent => self.on_swing_sample(received),
+                _ => return Some(received),
             }
         }
     }
@@ -406,6 +444,13 @@ impl NodeLoop {
                     self.pipeline.capacity()
                 ));
             }
+            // Still exactly one answer per swing taken: a cheap DROPPED, at once (ahead of earlier swings still
+            // in flight), recorded as published.
+            let ev = convert::dropped_answer(&swing, self.pipeline.capacity());
+            self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), swing.header.stamp.unix_ns());
+            if let Err(e) = self.outputs.exit_velocity.publish(ev) {
+                self.publish_failures.report(&format!("the DROPPED answer of swing {}", swing.swing_id), &e);
+            }
         }
     }
 
@@ -452,7 +497,7 @@ impl NodeLoop {
         let ev = crate::model::convert::exit_velocity(&probe, bat_id, ball_id, &Err(reason.to_string()));
         self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), header.stamp.unix_ns());
         if let Err(e) = self.outputs.exit_velocity.publish(ev) {
-            self.log.warn(&format!("publishing the params rejection: {e:?}"));
+            self.publish_failures.report("the ExitVelocity rejecting params", &e);
         }
     }
 
@@ -464,20 +509,13 @@ impl NodeLoop {
         drop(liveness);
         let (pipeline_stats, tape_for_finish) = (Arc::clone(&stats), Arc::clone(&tape));
         let (bag_result, final_stats) = tokio::task::spawn_blocking(move || {
-            let in_flight = pipeline.in_flight();
-            pipeline.shutdown(Duration::from_millis(600));
+            let abandoned = pipeline.shutdown(Duration::from_millis(600));
             let bag = tape_for_finish.finish();
-            (bag, pipeline_stats.snapshot(in_flight))
+            (bag, pipeline_stats.snapshot(abandoned))
         })
         .await
         .context("joining the shutdown task")?;
-        let s = final_stats;
-        let usage = registry.usage();
-        let summary = format!(
-            "{fqn}: {} swings received, {} answered OK, {} rejected, {} dropped, {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} hits / {} misses; {} bats and {} balls evicted",
-            s.swings_received, s.swings_ok, s.swings_rejected, s.swings_dropped, s.swings_lost_in_transport, s.latency_p50_us, s.latency_p99_us,
-            s.latency_max_us, s.mode_cache_hits, s.mode_cache_misses, usage.bats_evicted, usage.balls_evicted
-        );
+        let summary = summary_line(&fqn, &final_stats, &registry.usage());
         log.info(&summary);
         eprintln!("{summary}");
         match bag_result {
@@ -498,6 +536,36 @@ impl NodeLoop {
         drop(log);
         Ok(())
     }
+}
+
+/// The node's last words: where every swing it took went (the parts add up to `swings received`: answered
+/// OK, REJECTED, DROPPED, computed but not sent because publishing failed, still queued when it stopped),
+/// swings that never reached it, latency and caches. `s.in_flight` is what was left queued after the drain.
+pub fn summary_line(fqn: &str, s: &StatsSnapshot, usage: &RegistryUsage) -> String {
+    format!(
+        "{fqn}: {} swings received = {} answered OK + {} rejected + {} dropped + {} unsent (publish failed) + {} \
+         still queued at shutdown; {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} \
+         hits / {} misses; {} bats and {} balls evicted",
+        s.swings_received,
+        s.swings_ok,
+        s.swings_rejected,
+        s.swings_dropped,
+        s.publish_failures,
+        s.in_flight,
+        s.swings_lost_in_transport,
+        s.latency_p50_us,
+        s.latency_p99_us,
+        s.latency_max_us,
+        s.mode_cache_hits,
+        s.mode_cache_misses,
+        usage.bats_evicted,
+        usage.balls_evicted
+    )
+}
+
+/// When a received sample was sent (its DDS source timestamp), if it says.
+fn sent_at<M>(received: &ReadResult<(M, MessageInfo)>) -> Option<ros2_client::ROSTime> {
+    received.as_ref().ok().and_then(|(_, info)| info.source_timestamp())
 }
 
 /// The warning when other participants announce a node with our fully-qualified name.
@@ -578,6 +646,28 @@ mod tests {
         let text = stopped.to_string();
         assert!(text.starts_with("/rig3/sweetspot: the DDS event loop stopped"), "{text}");
         assert!(text.contains("can no longer send or receive"), "{text}");
+    }
+
+    #[test]
+    fn the_summary_line_adds_up_every_swing_received() {
+        let s = StatsSnapshot {
+            swings_received: 10,
+            swings_ok: 4,
+            swings_rejected: 1,
+            swings_dropped: 2,
+            publish_failures: 1,
+            in_flight: 2,
+            swings_lost_in_transport: 3,
+            ..StatsSnapshot::default()
+        };
+        let line = summary_line("/sweetspot", &s, &RegistryUsage::default());
+        assert!(
+            line.starts_with(
+                "/sweetspot: 10 swings received = 4 answered OK + 1 rejected + 2 dropped + 1 unsent (publish failed) \
+                 + 2 still queued at shutdown; 3 lost in transport;"
+            ),
+            "{line}"
+        );
     }
 
     #[test]

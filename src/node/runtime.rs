@@ -21,7 +21,7 @@ use crate::ros::edge::{publisher, subscription};
 use crate::ros::{diagnostics_qos, params_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos};
 
 use super::live_settings::LiveSettings;
-use super::outputs::{EnergiesListeners, Log, Outputs};
+use super::outputs::{EnergiesListeners, Log, Outputs, PublishFailures};
 use super::pipeline::{InlinePacing, Pipeline};
 use super::receive_loop::{Event, Inputs, NodeLoop, ParticipantLiveness, Summaries, Warnings};
 use super::recording::{recorded_qos, Tape};
@@ -137,7 +137,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names)?);
     tape.note_settings(&settings);
     let stats = Arc::new(NodeStats::new());
-    let sink = outputs.sink(&tape, &stats);
+    let publish_failures = PublishFailures::new(log.clone());
+    let sink = outputs.sink(&tape, &stats, &publish_failures);
     let pipeline = Pipeline::start(settings.worker_count(), settings.queue_capacity, Arc::clone(&stats), sink)
         .context("starting the worker threads")?;
     announce(&log, &fqn, &dds_config, &settings, &topic_names, &tape);
@@ -157,6 +158,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         tape,
         stats,
         log,
+        publish_failures,
         transport_gaps: GapCounter::new(),
         warnings: Warnings::default(),
         last_report: StatsSnapshot::default(),
