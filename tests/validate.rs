@@ -130,7 +130,8 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
         assert_eq!(verdicts.get(*id).map(String::as_str), Some("PASS"), "{id} no longer agrees with measurement");
     }
     for id in verdicts.keys() {
-        let joined = id.starts_with("ball-cor") || rows.iter().any(|r| r["id"] == id.as_str() && r["note"] == "from validation/ball_cor.toml");
+        let joined = id.starts_with("ball-cor")
+            || rows.iter().any(|r| r["id"] == id.as_str() && r["note"] == "from validation/ball_cor.toml");
         assert!(joined || GREEN.contains(&id.as_str()) || RED.contains(&id.as_str()), "row {id} is in neither list");
     }
     // The tolerances are the sources' (a loosened row fails here).
@@ -140,7 +141,8 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
         assert_eq!(opt(&r["high"]), *high, "{id}: high bound changed");
     }
     // The four figures were drawn.
-    for name in ["validate-cor-vs-speed", "validate-spin-vs-launch", "validate-bpf-vs-hoop", "validate-exit-vs-impact"] {
+    for name in ["validate-cor-vs-speed", "validate-spin-vs-launch", "validate-bpf-vs-hoop", "validate-exit-vs-impact"]
+    {
         let path = figures.path().join(format!("{name}.svg"));
         let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
         assert!(size > 1000, "{} missing or empty", path.display());
@@ -240,8 +242,69 @@ fn the_table_names_every_row_with_its_verdict() {
     let run = sweetspot(&["validate", "--modes", "4"]);
     assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
     for id in GREEN.iter().chain(RED) {
-        let line = run.stdout.lines().find(|l| l.split_whitespace().next() == Some(id)).unwrap_or_else(|| panic!("no line for {id}:\n{}", run.stdout));
+        let line = run
+            .stdout
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(id))
+            .unwrap_or_else(|| panic!("no line for {id}:\n{}", run.stdout));
         assert!(line.contains("PASS") || line.contains("FAIL") || line.contains("N/A"), "{line}");
     }
     assert!(run.stdout.contains("rows:"), "{}", run.stdout);
+}
+
+/// The `sh` lines of the README section "Validation against measurement", trailing `# comment` dropped.
+fn readme_lines() -> Vec<String> {
+    let readme = std::fs::read_to_string(support::repo().join("README.md")).unwrap();
+    let start = readme.find("## Validation against measurement").expect("README has the validation section");
+    let section = &readme[start..];
+    let end = section[3..].find("\n## ").map_or(section.len(), |i| i + 3);
+    let mut out = Vec::new();
+    let mut in_sh = false;
+    for line in section[..end].lines() {
+        let t = line.trim();
+        if t.starts_with("```") {
+            in_sh = !in_sh && t == "```sh";
+            continue;
+        }
+        if in_sh && !t.is_empty() {
+            let command = match t.find(" #") {
+                Some(i) => t[..i].trim_end(),
+                None => t,
+            };
+            out.push(command.to_string());
+        }
+    }
+    out
+}
+
+#[test]
+fn the_readme_commands_run_as_written() {
+    let lines = readme_lines();
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let bin_dir = Path::new(env!("CARGO_BIN_EXE_sweetspot")).parent().expect("binary directory").to_path_buf();
+    let mut dirs = vec![bin_dir];
+    dirs.extend(std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()));
+    for line in &lines {
+        // From a directory without validation/: the suite finds its data in the source tree.
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(line)
+            .current_dir(dir.path())
+            .env("PATH", std::env::join_paths(&dirs).unwrap())
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{line}: {stderr}");
+        // Exit 0, or the suite's own verdict (red rows), never an argument or data error.
+        assert!(out.status.success() || stderr.contains("outside their stated tolerance"), "{line}: {stderr}");
+        if line.contains("--json") {
+            let doc: Value = serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("{line}: not JSON ({e})"));
+            assert!(doc["rows"].as_array().is_some_and(|r| !r.is_empty()));
+            assert!(dir.path().join("validation-figures/validate-spin-vs-launch.svg").is_file());
+        } else {
+            assert!(stdout.contains("rows:"), "{line}: {stdout}");
+        }
+    }
 }

@@ -139,7 +139,11 @@ impl Lab {
     }
 
     /// The average MLB swing given to `modes`' bat at equal effort (the R161 is the reference bat).
-    fn typical_swing(&self, case: &str, modes: &ModeSet) -> Result<crate::physics::batter::SwingPrediction, ValidateError> {
+    fn typical_swing(
+        &self,
+        case: &str,
+        modes: &ModeSet,
+    ) -> Result<crate::physics::batter::SwingPrediction, ValidateError> {
         let (_, reference) = self.bat(case, "r161")?;
         let batter = Batter::typical(reference.mass_properties()).map_err(physics(case))?;
         batter.predict(&modes.mass_properties()).map_err(physics(case))
@@ -186,7 +190,10 @@ impl Lab {
         let r = bbcor_report(&modes, &b, &self.options).map_err(physics(case))?;
         Ok(CaseValue {
             value: Some(r.bbcor),
-            detail: format!("{bat}, `{ball}` ball, best spot {:.2} in from the end", (modes.length() - r.impact_z) / INCH),
+            detail: format!(
+                "{bat}, `{ball}` ball, best spot {:.2} in from the end",
+                (modes.length() - r.impact_z) / INCH
+            ),
         })
     }
 
@@ -221,10 +228,13 @@ impl Lab {
         let (b, modes) = self.bat(case, bat)?;
         let ball = self.ball(case, "baseball")?;
         let z = modes.length() - SIX_INCHES;
-        let swing =
-            ReferenceSwing::from_speed_at(modes.mass_properties(), bat_speed, z, 0.0).map_err(physics(case))?;
-        let impact =
-            Impact { ball_speed: 0.0, bat_cm_speed: swing.bat_cm_speed, bat_angular_speed: swing.bat_angular_speed, impact_z: z };
+        let swing = ReferenceSwing::from_speed_at(modes.mass_properties(), bat_speed, z, 0.0).map_err(physics(case))?;
+        let impact = Impact {
+            ball_speed: 0.0,
+            bat_cm_speed: swing.bat_cm_speed,
+            bat_angular_speed: swing.bat_angular_speed,
+            impact_z: z,
+        };
         let rk = b.radii_at(z).0;
         self.oblique_scan(case, &modes, &ball, impact, rk, 0.0, 0.0, 0.0)
     }
@@ -263,13 +273,13 @@ impl Lab {
     /// Largest spin (rpm) at launch angles 0…`max_launch` deg in a tee test at `bat_speed` m/s.
     pub fn tee_max_spin_rpm(&self, bat: &str, bat_speed: f64, max_launch: f64) -> Result<CaseValue, ValidateError> {
         let curve = self.tee_curve(bat, bat_speed)?;
-        let best = curve
-            .iter()
-            .filter(|(launch, _)| (0.0..=max_launch).contains(launch))
-            .fold(None, |acc: Option<(f64, f64)>, &(l, s)| match acc {
+        let best = curve.iter().filter(|(launch, _)| (0.0..=max_launch).contains(launch)).fold(
+            None,
+            |acc: Option<(f64, f64)>, &(l, s)| match acc {
                 Some((_, best)) if best >= s => acc,
                 _ => Some((l, s)),
-            });
+            },
+        );
         Ok(CaseValue {
             value: best.map(|(_, s)| s),
             detail: match best {
@@ -302,7 +312,12 @@ impl Lab {
 
     /// Spin (rpm) of the game swing launched at `launch` deg (interpolated along the undercut scan at the first
     /// crossing), or `None` if the swing never launches there.
-    pub fn game_spin_rpm(&self, pitch: &PitchMedians, attack_deg: f64, launch: f64) -> Result<CaseValue, ValidateError> {
+    pub fn game_spin_rpm(
+        &self,
+        pitch: &PitchMedians,
+        attack_deg: f64,
+        launch: f64,
+    ) -> Result<CaseValue, ValidateError> {
         let curve = self.game_curve(pitch, attack_deg)?;
         let value = curve.windows(2).find_map(|w| {
             let ((l0, s0), (l1, s1)) = (w[0], w[1]);
@@ -334,9 +349,15 @@ impl Lab {
         let undercut = (ball.radius + radius) * line_deg.to_radians().sin();
         let spin_out = |pitch_spin: f64| {
             let oblique = ObliqueImpact { undercut, pitch_spin, ..ObliqueImpact::head_on(impact, radius) };
-            collide_oblique(&cylinder, &ball, &oblique, &TangentialContact::default(), &rigid_options(self.options.time_step))
-                .map(|r| r.spin)
-                .map_err(physics(case))
+            collide_oblique(
+                &cylinder,
+                &ball,
+                &oblique,
+                &TangentialContact::default(),
+                &rigid_options(self.options.time_step),
+            )
+            .map(|r| r.spin)
+            .map_err(physics(case))
         };
         let w = rpm_to_rad_per_s(spin_rpm);
         let slope = (spin_out(w)? - spin_out(-w)?) / (2.0 * w);
@@ -377,7 +398,12 @@ impl Lab {
 
     /// The cage comparison at equal effort: best exit speed and where, and exit speed against the distance from
     /// the barrel end (in, mph), for `wood` and `metal` (computed once).
-    pub fn cage(&self, wood: &str, metal: &str, pitch_speed: f64) -> Result<&(CagePoint, CagePoint, Curve, Curve), ValidateError> {
+    pub fn cage(
+        &self,
+        wood: &str,
+        metal: &str,
+        pitch_speed: f64,
+    ) -> Result<&(CagePoint, CagePoint, Curve, Curve), ValidateError> {
         if let Some(c) = self.cage.get() {
             return Ok(c);
         }
@@ -403,7 +429,12 @@ impl Lab {
     }
 
     /// Best exit speed of `metal` minus `wood` at equal effort, mph.
-    pub fn cage_exit_difference_mph(&self, wood: &str, metal: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
+    pub fn cage_exit_difference_mph(
+        &self,
+        wood: &str,
+        metal: &str,
+        pitch_speed: f64,
+    ) -> Result<CaseValue, ValidateError> {
         let (w, m, _, _) = self.cage(wood, metal, pitch_speed)?;
         Ok(CaseValue {
             value: Some((m.best_exit_speed - w.best_exit_speed) / MPH),

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use crate::physics::metrics::linspace;
 use crate::physics::Ball;
-use crate::report::plot::{draw_line_chart, LineChart, LineKind, Series, VerticalMarker};
+use crate::report::plot::{draw_line_chart, draw_panels, LineChart, LineKind, Series, VerticalMarker};
 
 use super::cases::{wall_cor, Lab, MPH};
 use super::{trackman, Inputs, Report, ValidateError};
@@ -20,7 +20,8 @@ fn marker(x: f64, label: &str, color: usize) -> VerticalMarker {
 
 fn draw(dir: &Path, name: &str, ext: &str, chart: &LineChart) -> Result<PathBuf, ValidateError> {
     let path = dir.join(format!("{name}.{ext}"));
-    draw_line_chart(&path, chart).map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
+    draw_line_chart(&path, chart)
+        .map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
     Ok(path)
 }
 
@@ -39,7 +40,13 @@ fn param_or(inputs: &Inputs, case: &str, key: &str, default: f64) -> f64 {
 }
 
 /// Draws the four figures into `dir` (`ext`: `svg` or `png`) and returns their paths.
-pub fn write(dir: &Path, ext: &str, inputs: &Inputs, report: &Report, lab: &Lab) -> Result<Vec<PathBuf>, ValidateError> {
+pub fn write(
+    dir: &Path,
+    ext: &str,
+    inputs: &Inputs,
+    report: &Report,
+    lab: &Lab,
+) -> Result<Vec<PathBuf>, ValidateError> {
     let mut out = Vec::new();
     let phys = |case: &str| {
         let case = case.to_string();
@@ -65,11 +72,8 @@ pub fn write(dir: &Path, ext: &str, inputs: &Inputs, report: &Report, lab: &Lab)
     }
     let mlb = 85.0 * 0.3048;
     cor.series.push(points("MLB specification 0.514–0.578 at 85 ft/s", 6, vec![(mlb, 0.514), (mlb, 0.578)]));
-    let measured: Vec<(f64, f64)> = inputs
-        .ball_cor
-        .iter()
-        .filter_map(|c| super::speed_in_m_s(c).ok().map(|v| (v, c.value)))
-        .collect();
+    let measured: Vec<(f64, f64)> =
+        inputs.ball_cor.iter().filter_map(|c| super::speed_in_m_s(c).ok().map(|v| (v, c.value))).collect();
     if !measured.is_empty() {
         cor.series.push(points("measured (validation/ball_cor.toml)", 1, measured));
     }
@@ -110,12 +114,15 @@ pub fn write(dir: &Path, ext: &str, inputs: &Inputs, report: &Report, lab: &Lab)
         .unwrap_or_else(|| "bbcor".into());
     let speed = param_or(inputs, "bpf_hoop_trend", "ball_speed_mph", 60.0) * MPH;
     let curve = lab.bpf_curve(&ball, speed)?;
-    let mut sorted: Vec<(f64, f64)> = curve.iter().filter(|p| p.hoop_hz.is_finite()).map(|p| (p.hoop_hz, p.bpf)).collect();
+    let mut sorted: Vec<(f64, f64)> =
+        curve.iter().filter(|p| p.hoop_hz.is_finite()).map(|p| (p.hoop_hz, p.bpf)).collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let band =
+        vec![marker(1000.0, "measured hoop range 1–2.5 kHz", 2), marker(2500.0, "measured hoop range 1–2.5 kHz", 2)];
     let bpf = LineChart {
-        title: "BPF vs hoop frequency (alloy barrel, wall varied)".into(),
+        title: "BPF (bat at rest, 60 mph) vs hoop frequency".into(),
         x_label: "hoop frequency 6 in from the end (Hz)".into(),
-        y_label: "BPF = BBCOR / ball COR at 60 mph".into(),
+        y_label: "BPF = BBCOR / ball COR".into(),
         series: vec![
             Series::solid("model", 0, sorted.clone()),
             Series::dashed(
@@ -124,10 +131,24 @@ pub fn write(dir: &Path, ext: &str, inputs: &Inputs, report: &Report, lab: &Lab)
                 vec![(sorted.first().map_or(1000.0, |p| p.0), 1.15), (sorted.last().map_or(2500.0, |p| p.0), 1.15)],
             ),
         ],
-        markers: vec![marker(1000.0, "measured hoop range 1–2.5 kHz", 2), marker(2500.0, "measured hoop range 1–2.5 kHz", 2)],
+        markers: band.clone(),
         ..Default::default()
     };
-    out.push(draw(dir, "validate-bpf-vs-hoop", ext, &bpf)?);
+    let mut swing: Vec<(f64, f64)> =
+        curve.iter().filter(|p| p.hoop_hz.is_finite()).map(|p| (p.hoop_hz, p.swing_exit_speed / MPH)).collect();
+    swing.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let field = LineChart {
+        title: "Exit speed in a swing at equal effort vs hoop frequency".into(),
+        x_label: "hoop frequency 6 in from the end (Hz)".into(),
+        y_label: "exit speed 6 in from the end (mph)".into(),
+        series: vec![Series::solid("model", 1, swing)],
+        markers: band,
+        ..Default::default()
+    };
+    let path = dir.join(format!("validate-bpf-vs-hoop.{ext}"));
+    draw_panels(&path, &[bpf, field], 1, Some("Alloy barrel, wall varied: lab test and swing"))
+        .map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
+    out.push(path);
 
     // Exit speed against the impact point, at equal effort.
     let pitch = param_or(inputs, "cage_exit_difference_mph", "pitch_speed", 40.0);
@@ -137,7 +158,10 @@ pub fn write(dir: &Path, ext: &str, inputs: &Inputs, report: &Report, lab: &Lab)
         x_label: "distance from the barrel end (in)".into(),
         y_label: "exit speed (mph)".into(),
         series: vec![Series::solid("r161", 0, wood.clone()), Series::solid("aluminum", 1, metal.clone())],
-        markers: vec![marker(5.0, "first-mode node, measured 5–7 in", 2), marker(7.0, "first-mode node, measured 5–7 in", 2)],
+        markers: vec![
+            marker(5.0, "first-mode node, measured 5–7 in", 2),
+            marker(7.0, "first-mode node, measured 5–7 in", 2),
+        ],
         ..Default::default()
     };
     out.push(draw(dir, "validate-exit-vs-impact", ext, &exit)?);

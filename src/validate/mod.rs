@@ -265,8 +265,13 @@ pub struct Report {
 /// The unit each case computes in.
 pub fn case_unit(case: &str) -> Option<&'static str> {
     Some(match case {
-        "collision_efficiency_sweet_spot" | "ball_wall_cor" | "bbcor" | "spin_transfer_fixed_cylinder"
-        | "bpf_hoop_trend" | "bpf_max_in_band" | "swing_exit_hoop_trend" => "1",
+        "collision_efficiency_sweet_spot"
+        | "ball_wall_cor"
+        | "bbcor"
+        | "spin_transfer_fixed_cylinder"
+        | "bpf_hoop_trend"
+        | "bpf_max_in_band"
+        | "swing_exit_hoop_trend" => "1",
         "first_mode_hz" | "hoop_frequency_hz" => "Hz",
         "first_node_from_end_in" | "sweet_spot_shift_in" => "in",
         "tee_max_spin_rpm" | "game_spin_rpm" => "rpm",
@@ -283,7 +288,9 @@ pub fn read_measurements(path: &Path) -> Result<MeasurementFile, ValidateError> 
         toml::from_str(&text).map_err(|e| ValidateError::Parse { path: path.into(), message: e.to_string() })?;
     for row in &file.row {
         match case_unit(&row.case) {
-            None => return Err(ValidateError::Row { id: row.id.clone(), message: format!("unknown case '{}'", row.case) }),
+            None => {
+                return Err(ValidateError::Row { id: row.id.clone(), message: format!("unknown case '{}'", row.case) })
+            }
             Some(unit) if unit != row.unit => {
                 return Err(ValidateError::Row {
                     id: row.id.clone(),
@@ -436,7 +443,9 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
             };
             if row.case == "bpf_hoop_trend" {
                 let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.bpf)).collect();
-                Ok(CaseValue { value: cases::rank_correlation(&pairs), detail: format!("{walls}, {lo:.0}–{hi:.0} Hz") })
+                Ok(CaseValue {
+                    value: cases::rank_correlation(&pairs), detail: format!("{walls}, {lo:.0}–{hi:.0} Hz")
+                })
             } else if row.case == "swing_exit_hoop_trend" {
                 let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.swing_exit_speed)).collect();
                 let ends = match (band.first(), band.last()) {
