@@ -224,7 +224,7 @@ ball = "bbcor"
     );
     std::fs::write(
         red.path().join("ball_cor.toml"),
-        "[[cor]]\nquantity = \"COR\"\nspeed = 85.0\nspeed_unit = \"ft/s\"\nvalue = 0.55\nsource = \"test\"\nread_from = \"text\"\n",
+        "[[point]]\nid = \"x\"\nquantity = \"COR\"\nspeed = 85.0\nspeed_unit = \"ft/s\"\nvalue = 0.55\ntarget = \"ash\"\nsource = \"test\"\nread_from = \"text\"\n\n[[point]]\nid = \"no-value\"\nhigh = 0.5\nspeed = 60.0\n\n[[fact]]\nstatement = \"ignored\"\n",
     )
     .unwrap();
     let (ok, doc, stderr) = run_json(&["validate", "--json", "--modes", "4", "--data", s(red.path())]);
@@ -232,6 +232,8 @@ ball = "bbcor"
     assert!(stderr.contains("1 of 2 rows outside their stated tolerance"), "{stderr}");
     let rows = doc["rows"].as_array().unwrap();
     assert_eq!(rows[0]["verdict"], "FAIL");
+    assert_eq!(rows.len(), 2, "a point without a value is not a COR row");
+    assert_eq!(rows[1]["id"], "ball-cor/x");
     assert_eq!(rows[1]["verdict"], "N/A");
     // 85 ft/s = 25.908 m/s, converted by the loader.
     assert!(rows[1]["conditions"].as_str().unwrap().contains("25.91 m/s"), "{}", rows[1]);

@@ -73,6 +73,8 @@ pub struct CagePoint {
 pub struct Lab {
     /// Numerical options of every collision with a real bat.
     pub options: CollisionOptions,
+    /// The `Ball::preset` of the game ball (every game swing, tee test and the game ball's rows).
+    pub game_ball: String,
     bpf: OnceLock<Vec<BpfPoint>>,
     cage: OnceLock<(CagePoint, CagePoint, Curve, Curve)>,
 }
@@ -123,9 +125,9 @@ fn best_cor_at_rest(modes: &ModeSet, ball: &Ball, speed: f64, options: &Collisio
 }
 
 impl Lab {
-    /// A laboratory running collisions with `options`.
-    pub fn new(options: CollisionOptions) -> Lab {
-        Lab { options, bpf: OnceLock::new(), cage: OnceLock::new() }
+    /// A laboratory running collisions with `options`, the game ball being the `game_ball` preset.
+    pub fn new(options: CollisionOptions, game_ball: &str) -> Lab {
+        Lab { options, game_ball: game_ball.to_string(), bpf: OnceLock::new(), cage: OnceLock::new() }
     }
 
     fn bat(&self, case: &str, name: &str) -> Result<(Bat, ModeSet), ValidateError> {
@@ -154,7 +156,7 @@ impl Lab {
     pub fn collision_efficiency_sweet_spot(&self, bat: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
         let case = "collision_efficiency_sweet_spot";
         let (_, modes) = self.bat(case, bat)?;
-        let ball = self.ball(case, "baseball")?;
+        let ball = self.ball(case, &self.game_ball)?;
         let swing = self.typical_swing(case, &modes)?;
         let template = swing.impact(pitch_speed);
         let spots = sweet_spots(&modes, &ball, &template, &self.options).map_err(physics(case))?;
@@ -226,7 +228,7 @@ impl Lab {
     pub fn tee_curve(&self, bat: &str, bat_speed: f64) -> Result<Curve, ValidateError> {
         let case = "tee_max_spin_rpm";
         let (b, modes) = self.bat(case, bat)?;
-        let ball = self.ball(case, "baseball")?;
+        let ball = self.ball(case, &self.game_ball)?;
         let z = modes.length() - SIX_INCHES;
         let swing = ReferenceSwing::from_speed_at(modes.mass_properties(), bat_speed, z, 0.0).map_err(physics(case))?;
         let impact = Impact {
@@ -294,7 +296,7 @@ impl Lab {
     pub fn game_curve(&self, pitch: &PitchMedians, attack_deg: f64) -> Result<Curve, ValidateError> {
         let case = "game_spin_rpm";
         let (b, modes) = self.bat(case, "r161")?;
-        let ball = self.ball(case, "baseball")?;
+        let ball = self.ball(case, &self.game_ball)?;
         let swing = self.typical_swing(case, &modes)?;
         let impact = swing.impact(pitch.zone_speed_mph * MPH);
         let rk = b.radii_at(impact.impact_z).0;
@@ -342,7 +344,7 @@ impl Lab {
         spin_rpm: f64,
     ) -> Result<CaseValue, ValidateError> {
         let case = "spin_transfer_fixed_cylinder";
-        let ball = self.ball(case, "baseball")?;
+        let ball = self.ball(case, &self.game_ball)?;
         let cylinder = rigid_cylinder(radius, 1.0).map_err(physics(case))?;
         let cm = cylinder.mass_properties().center_of_mass;
         let impact = Impact { ball_speed, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: cm };
@@ -375,7 +377,7 @@ impl Lab {
         let case = "bpf_hoop_trend";
         let b = self.ball(case, ball)?;
         let ball_cor = wall_cor(&b, speed, self.options.time_step).map_err(physics(case))?;
-        let game_ball = self.ball(case, "baseball")?;
+        let game_ball = self.ball(case, &self.game_ball)?;
         let (_, reference) = self.bat(case, "r161")?;
         let batter = Batter::typical(reference.mass_properties()).map_err(physics(case))?;
         let walls = linspace(1.2e-3, 4.0e-3, 29);
@@ -408,7 +410,7 @@ impl Lab {
             return Ok(c);
         }
         let case = "cage";
-        let ball = self.ball(case, "baseball")?;
+        let ball = self.ball(case, &self.game_ball)?;
         let one = |name: &str| -> Result<(CagePoint, Curve), ValidateError> {
             let (_, modes) = self.bat(case, name)?;
             let swing = self.typical_swing(case, &modes)?;
@@ -464,7 +466,7 @@ impl Lab {
     pub fn contact_time_ms(&self, bat: &str, pitch_speed: f64, from_end: f64) -> Result<CaseValue, ValidateError> {
         let case = "contact_time_ms";
         let (_, modes) = self.bat(case, bat)?;
-        let ball = self.ball(case, "baseball")?;
+        let ball = self.ball(case, &self.game_ball)?;
         let swing = self.typical_swing(case, &modes)?;
         let impact = swing.impact_at(pitch_speed, modes.length() - from_end);
         let r = collide(&modes, &ball, &impact, &self.options).map_err(physics(case))?;

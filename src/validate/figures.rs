@@ -61,7 +61,7 @@ pub fn write(
         y_label: "COR".into(),
         ..Default::default()
     };
-    for (i, name) in ["baseball", "bbcor"].iter().enumerate() {
+    for (i, name) in [lab.game_ball.as_str(), "bbcor"].iter().enumerate() {
         let ball = Ball::preset(name).map_err(phys("figure cor"))?;
         let curve = speeds
             .iter()

@@ -133,10 +133,17 @@ pub struct NotFound {
     pub searched: String,
 }
 
+fn default_game_ball() -> String {
+    "baseball".into()
+}
+
 /// `measurements.toml`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeasurementFile {
+    /// The `Ball::preset` used as the game ball (default `baseball`).
+    #[serde(default = "default_game_ball")]
+    pub game_ball: String,
     /// The rows.
     pub row: Vec<Measurement>,
     /// What could not be found.
@@ -148,8 +155,10 @@ pub struct MeasurementFile {
 /// against a rigid surface at an impact speed, compared with the model's ball hitting a rigid wall.
 ///
 /// Fields: `quantity` (text), `speed` (impact speed; m/s unless `speed_unit` is `mph` or `ft/s`), `value`
-/// (the COR), `uncertainty` (± on the COR; the rule is |model − value| ≤ uncertainty, a row without one gets
-/// N/A), `source`, `read_from`, and optionally `ball` (a `Ball::preset` name; default `baseball`) and `id`.
+/// (the COR), `low` and `high` (a stated range: the rule is low ≤ model ≤ high) or else `uncertainty` (± on
+/// the COR: |model − value| ≤ uncertainty; a row with neither gets N/A), `source`, `read_from`, and
+/// optionally `ball` (a `Ball::preset` name; default: the suite's game ball) and `id`. Other fields are
+/// ignored.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 pub struct BallCorRow {
     /// Optional stable name.
@@ -168,6 +177,12 @@ pub struct BallCorRow {
     /// ± on the COR.
     #[serde(default)]
     pub uncertainty: Option<f64>,
+    /// Lower end of a stated range (with `high`, the row's bounds).
+    #[serde(default)]
+    pub low: Option<f64>,
+    /// Upper end of a stated range.
+    #[serde(default)]
+    pub high: Option<f64>,
     /// The ball preset.
     #[serde(default)]
     pub ball: Option<String>,
@@ -417,7 +432,7 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
     let s = |k: &str| param_str(row, k);
     match row.case.as_str() {
         "collision_efficiency_sweet_spot" => lab.collision_efficiency_sweet_spot(s("bat")?, p("pitch_speed")?),
-        "ball_wall_cor" => lab.ball_wall_cor(s("ball")?, p("speed")?),
+        "ball_wall_cor" => lab.ball_wall_cor(&lab.game_ball, p("speed")?),
         "bbcor" => lab.bbcor(s("bat")?, s("ball")?),
         "first_mode_hz" => lab.first_mode_hz(s("bat")?),
         "first_node_from_end_in" => lab.first_node_from_end_in(s("bat")?),
@@ -479,7 +494,7 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
 
 /// Runs every row with collisions under `options`.
 pub fn evaluate(inputs: &Inputs, options: CollisionOptions) -> Result<(Report, Lab), ValidateError> {
-    let lab = Lab::new(options);
+    let lab = Lab::new(options, &inputs.measurements.game_ball);
     let mut rows = Vec::new();
     let mut bins = Vec::new();
     for row in &inputs.measurements.row {
@@ -531,31 +546,31 @@ pub fn evaluate(inputs: &Inputs, options: CollisionOptions) -> Result<(Report, L
         });
     }
     for (i, c) in inputs.ball_cor.iter().enumerate() {
-        let id = c.id.clone().unwrap_or_else(|| format!("ball-cor-{}", i + 1));
+        let id = format!("ball-cor/{}", c.id.clone().unwrap_or_else(|| (i + 1).to_string()));
         let speed = speed_in_m_s(c).map_err(|message| ValidateError::Row { id: id.clone(), message })?;
-        let ball = c.ball.clone().unwrap_or_else(|| "baseball".into());
+        let ball = c.ball.clone().unwrap_or_else(|| lab.game_ball.clone());
         let case = lab.ball_wall_cor(&ball, speed)?;
-        let (low, high) = match c.uncertainty {
-            Some(u) => (Some(c.value - u), Some(c.value + u)),
-            None => (None, None),
+        let (rule, low, high, tolerance) = match (c.low, c.high, c.uncertainty) {
+            (Some(lo), Some(hi), _) => (Rule::Range, Some(lo), Some(hi), format!("inside the stated range {lo}–{hi}")),
+            (_, _, Some(u)) => {
+                (Rule::Within, Some(c.value - u), Some(c.value + u), format!("value ± {u} (the stated uncertainty)"))
+            }
+            _ => (Rule::Within, None, None, "no range or uncertainty given: not judged".to_string()),
         };
         rows.push(RowResult {
             id,
             quantity: c.quantity.clone().unwrap_or_else(|| "ball COR against a rigid surface".into()),
             unit: "1".into(),
             conditions: format!("`{ball}` ball at {speed:.2} m/s ({:.1} mph) on a rigid wall", speed / MPH),
-            rule: Rule::Within,
+            rule,
             low,
             high,
             reference: Some(c.value),
             model: case.value,
             ratio: ratio(case.value, Some(c.value)),
-            verdict: judge(Rule::Within, case.value, low, high),
+            verdict: judge(rule, case.value, low, high),
             model_detail: case.detail,
-            tolerance: match c.uncertainty {
-                Some(u) => format!("value ± {u} (the stated uncertainty)"),
-                None => "no uncertainty given: not judged".into(),
-            },
+            tolerance,
             source: c.source.clone().unwrap_or_default(),
             read_from: c.read_from.clone().unwrap_or_default(),
             note: Some("from validation/ball_cor.toml".into()),
@@ -585,6 +600,7 @@ pub fn render(report: &Report) -> String {
             Rule::AtMost => format!("≤ {}", fmt(r.high)),
             Rule::AtLeast => format!("≥ {}", fmt(r.low)),
             Rule::TrackmanIqr => format!("{} (IQR {}–{})", fmt(r.reference), fmt(r.low), fmt(r.high)),
+            _ if r.low.is_none() && r.high.is_none() => "—".to_string(),
             _ => format!("{}–{}", fmt(r.low), fmt(r.high)),
         };
         t.row([r.id.clone(), r.unit.clone(), fmt(r.model), measured, fmt(r.ratio), r.verdict.label().to_string()]);
