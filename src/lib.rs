@@ -14,6 +14,7 @@
 //!   node (or any tool) as a child process;
 //! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
 //!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
+//!   [`validate`]: the model against published measurements;
 //! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
 pub mod bag;
 pub mod bench;
@@ -30,3 +31,4 @@ pub mod record;
 pub mod report;
 pub mod rig;
 pub mod ros;
+pub mod validate;

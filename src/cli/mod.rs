@@ -20,6 +20,7 @@ pub mod pubsub;
 pub mod rig;
 pub mod simulate;
 pub mod sweep;
+pub mod validate;
 
 /// sweetspot: bat–ball collision physics as a ROS 2 node, with MCAP recording.
 #[derive(Debug, Parser)]
@@ -61,6 +62,8 @@ pub enum Command {
     Compare(compare::CompareArgs),
     /// Fit the ball's COR (and bat stiffness) to the measured exit speeds of a recorded session.
     Calibrate(calibrate::CalibrateArgs),
+    /// The model against published measurements: model vs measured, ratio and verdict per row, figures.
+    Validate(validate::ValidateArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand; errors are printed with context.
@@ -81,6 +84,7 @@ pub fn main() -> ExitCode {
         Command::Calibrate(args) => calibrate::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Validate(args) => validate::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,65 @@
+//! `sweetspot validate`: the model against published measurements (the work lives in [`crate::validate`]).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+
+use super::common::{emit, print_json, NumericArgs, OutputArgs};
+use crate::validate::{evaluate, figures, read_inputs, render};
+
+/// Arguments of `sweetspot validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// Directory of the suite's data (measurements.toml, trackman_spin.csv, ball_cor.toml if present)
+    /// [default: ./validation, else the source tree's validation/].
+    #[arg(long, value_name = "DIR")]
+    pub data: Option<PathBuf>,
+    /// Draw the figures (COR vs speed, spin vs launch angle, BPF vs hoop frequency, exit speed vs impact
+    /// point) into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub figures: Option<PathBuf>,
+    /// Figure format: svg or png.
+    #[arg(long, value_name = "FMT", default_value = "svg", value_parser = ["svg", "png"])]
+    pub format: String,
+    #[command(flatten)]
+    pub numeric: NumericArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
+}
+
+fn data_dir(arg: Option<PathBuf>) -> PathBuf {
+    arg.unwrap_or_else(|| {
+        let here = PathBuf::from("validation");
+        if here.join("measurements.toml").is_file() {
+            here
+        } else {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("validation")
+        }
+    })
+}
+
+/// Runs the suite; prints the table (or JSON) and fails when a row is outside its tolerance.
+pub fn run(args: ValidateArgs) -> Result<()> {
+    let options = args.numeric.options()?;
+    let dir = data_dir(args.data);
+    let inputs = read_inputs(&dir).with_context(|| format!("validation data in '{}'", dir.display()))?;
+    let (report, lab) = evaluate(&inputs, options).context("running the validation cases")?;
+    if args.output.json {
+        print_json(&report)?;
+    } else {
+        emit(&render(&report))?;
+    }
+    if let Some(fig_dir) = &args.figures {
+        let paths = figures::write(fig_dir, &args.format, &inputs, &report, &lab).context("drawing the figures")?;
+        if !args.output.json {
+            for p in paths {
+                emit(&format!("wrote {}\n", p.display()))?;
+            }
+        }
+    }
+    if report.fail > 0 {
+        bail!("{} of {} rows outside their stated tolerance", report.fail, report.rows.len());
+    }
+    Ok(())
+}

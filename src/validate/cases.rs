@@ -1,0 +1,522 @@
+//! The model side of each validation row: every case simulates the measurement's conditions through the public
+//! physics API and the presets only (`Bat::preset`, `Ball::preset`, `collide`, `collide_oblique`, `metrics`,
+//! `batter`), so a change of the ball, the spin or the trampoline flows into the rows without edits here.
+//!
+//! Swings: "the average MLB swing" is [`Batter::typical`] on the R161 (Statcast's 71.5 mph 6 in from the head,
+//! turning about the knob); another bat is swung by that batter at equal effort ([`Batter::predict`]).
+//! A tee test turns the bat about its knob at the stated speed of the impact point, 6 in from the barrel end.
+//! A rigid, immovable wall or cylinder is a solid cylinder of 10⁵ kg/m³ and 10¹³ Pa integrated with its rigid
+//! modes only (no vibration): its recoil factor m/M is below 10⁻⁴.
+
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
+
+use crate::physics::batter::{Batter, ReferenceSwing};
+use crate::physics::metrics::{bbcor_report, linspace, sweep, sweet_spots};
+use crate::physics::oblique::{rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
+use crate::physics::{
+    collide, collide_oblique, Ball, Bat, CollisionOptions, Impact, Material, ModeSet, PhysicsError, Station,
+};
+
+use super::trackman::PitchMedians;
+use super::ValidateError;
+
+/// Metres per inch.
+pub const INCH: f64 = 0.0254;
+/// Metres per second per mph.
+pub const MPH: f64 = 0.44704;
+/// The usual impact point and the swing's reference point: 6 in from the barrel end, m.
+pub const SIX_INCHES: f64 = 6.0 * INCH;
+
+/// What a case computed: the number compared, and a short account of where and how.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseValue {
+    /// The model's number in the case's unit; `None` when the model has no such output here.
+    pub value: Option<f64>,
+    /// Where and how it was computed.
+    pub detail: String,
+}
+
+/// One point of a model curve used in figures (x, y).
+pub type Curve = Vec<(f64, f64)>;
+
+/// The BPF of one alloy wall.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BpfPoint {
+    /// Barrel wall, m.
+    pub wall: f64,
+    /// Hoop frequency 6 in from the barrel end, Hz.
+    pub hoop_hz: f64,
+    /// BBCOR at the BPF test speed (best spot 3–9 in from the end).
+    pub bbcor: f64,
+    /// BPF = BBCOR / the ball's COR against a rigid wall at the same speed.
+    pub bpf: f64,
+    /// Exit speed of the game ball, m/s, hit 6 in from the end by the average MLB batter swinging this bat at
+    /// equal effort, pitch at [`SWING_PITCH_SPEED`].
+    pub swing_exit_speed: f64,
+}
+
+/// Pitch speed of the swings in the BPF sweep, m/s (89.5 mph).
+pub const SWING_PITCH_SPEED: f64 = 40.0;
+
+/// The best point of a bat in the cage comparison.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CagePoint {
+    /// Largest exit speed, m/s.
+    pub best_exit_speed: f64,
+    /// Its distance from the barrel end, m.
+    pub best_from_end: f64,
+}
+
+/// The model laboratory: collision options and results shared by several rows (computed once).
+pub struct Lab {
+    /// Numerical options of every collision with a real bat.
+    pub options: CollisionOptions,
+    /// The `Ball::preset` of the game ball (every game swing, tee test and the game ball's rows).
+    pub game_ball: String,
+    bpf: OnceLock<Vec<BpfPoint>>,
+    cage: OnceLock<(CagePoint, CagePoint, Curve, Curve)>,
+}
+
+fn physics(case: &str) -> impl Fn(PhysicsError) -> ValidateError + '_ {
+    move |source| ValidateError::Physics { case: case.to_string(), source }
+}
+
+fn modes_of(bat: &Bat, options: &CollisionOptions) -> Result<ModeSet, PhysicsError> {
+    ModeSet::compute(bat, options.modes.max(2))
+}
+
+/// An immovable rigid cylinder of `radius` and `length` (m): 10⁵ kg/m³, 10¹³ Pa.
+fn rigid_cylinder(radius: f64, length: f64) -> Result<ModeSet, PhysicsError> {
+    let heavy = Material { density: 1.0e5, youngs_modulus: 1.0e13, shear_modulus: 1.0e13 };
+    let stations = vec![
+        Station { z: 0.0, outer_radius: radius, inner_radius: 0.0 },
+        Station { z: length, outer_radius: radius, inner_radius: 0.0 },
+    ];
+    let bat = Bat::new("rigid cylinder", stations, heavy, None, length / 20.0)?;
+    ModeSet::compute(&bat, 2)
+}
+
+/// Rigid-modes-only options with `time_step` (the immovable bodies have no vibration to integrate).
+fn rigid_options(time_step: f64) -> CollisionOptions {
+    CollisionOptions { modes: 0, time_step }
+}
+
+/// The ball's COR against an immovable rigid wall at `speed` (m/s): the effective COR of a head-on impact at
+/// the centre of a massive rigid cylinder.
+pub fn wall_cor(ball: &Ball, speed: f64, time_step: f64) -> Result<f64, PhysicsError> {
+    let wall = rigid_cylinder(0.2, 0.3)?;
+    let cm = wall.mass_properties().center_of_mass;
+    let impact = Impact { ball_speed: speed, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: cm };
+    Ok(collide(&wall, ball, &impact, &rigid_options(time_step))?.effective_cor)
+}
+
+/// Largest effective COR of a bat at rest hit at `speed` (m/s), over 3–9 in from the barrel end in 0.5-in steps.
+fn best_cor_at_rest(modes: &ModeSet, ball: &Ball, speed: f64, options: &CollisionOptions) -> Result<f64, PhysicsError> {
+    let length = modes.length();
+    (0..13)
+        .map(|i| length - (9.0 - 0.5 * i as f64) * INCH)
+        .map(|impact_z| {
+            let impact = Impact { ball_speed: speed, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z };
+            collide(modes, ball, &impact, options).map(|r| r.effective_cor)
+        })
+        .try_fold(f64::NEG_INFINITY, |best, cor| cor.map(|c| best.max(c)))
+}
+
+impl Lab {
+    /// A laboratory running collisions with `options`, the game ball being the `game_ball` preset.
+    pub fn new(options: CollisionOptions, game_ball: &str) -> Lab {
+        Lab { options, game_ball: game_ball.to_string(), bpf: OnceLock::new(), cage: OnceLock::new() }
+    }
+
+    fn bat(&self, case: &str, name: &str) -> Result<(Bat, ModeSet), ValidateError> {
+        let bat = Bat::preset(name).map_err(physics(case))?;
+        let modes = modes_of(&bat, &self.options).map_err(physics(case))?;
+        Ok((bat, modes))
+    }
+
+    fn ball(&self, case: &str, name: &str) -> Result<Ball, ValidateError> {
+        Ball::preset(name).map_err(physics(case))
+    }
+
+    /// The average MLB swing given to `modes`' bat at equal effort (the R161 is the reference bat).
+    fn typical_swing(
+        &self,
+        case: &str,
+        modes: &ModeSet,
+    ) -> Result<crate::physics::batter::SwingPrediction, ValidateError> {
+        let (_, reference) = self.bat(case, "r161")?;
+        let batter = Batter::typical(reference.mass_properties()).map_err(physics(case))?;
+        batter.predict(&modes.mass_properties()).map_err(physics(case))
+    }
+
+    /// Collision efficiency e_A at the point of largest exit speed of `bat`, average MLB swing, pitch at
+    /// `pitch_speed` m/s.
+    pub fn collision_efficiency_sweet_spot(&self, bat: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
+        let case = "collision_efficiency_sweet_spot";
+        let (_, modes) = self.bat(case, bat)?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let swing = self.typical_swing(case, &modes)?;
+        let template = swing.impact(pitch_speed);
+        let spots = sweet_spots(&modes, &ball, &template, &self.options).map_err(physics(case))?;
+        let impact = Impact { impact_z: spots.max_exit_speed_z, ..template };
+        let r = collide(&modes, &ball, &impact, &self.options).map_err(physics(case))?;
+        Ok(CaseValue {
+            value: Some(r.collision_efficiency),
+            detail: format!(
+                "{bat}, bat {:.1} mph at 6 in from the end, best point {:.2} in from the end, exit {:.1} mph",
+                swing.bat_speed / MPH,
+                (modes.length() - spots.max_exit_speed_z) / INCH,
+                r.exit_speed / MPH
+            ),
+        })
+    }
+
+    /// The ball's COR against a rigid wall at `speed` m/s.
+    pub fn ball_wall_cor(&self, ball: &str, speed: f64) -> Result<CaseValue, ValidateError> {
+        let case = "ball_wall_cor";
+        let b = self.ball(case, ball)?;
+        let cor = wall_cor(&b, speed, self.options.time_step).map_err(physics(case))?;
+        Ok(CaseValue {
+            value: Some(cor),
+            detail: format!("`{ball}` ball at {speed:.2} m/s ({:.1} mph) on a rigid wall", speed / MPH),
+        })
+    }
+
+    /// BBCOR of `bat` with the `ball` preset.
+    pub fn bbcor(&self, bat: &str, ball: &str) -> Result<CaseValue, ValidateError> {
+        let case = "bbcor";
+        let (_, modes) = self.bat(case, bat)?;
+        let b = self.ball(case, ball)?;
+        let r = bbcor_report(&modes, &b, &self.options).map_err(physics(case))?;
+        Ok(CaseValue {
+            value: Some(r.bbcor),
+            detail: format!(
+                "{bat}, `{ball}` ball, best spot {:.2} in from the end",
+                (modes.length() - r.impact_z) / INCH
+            ),
+        })
+    }
+
+    /// First bending frequency of `bat`, Hz.
+    pub fn first_mode_hz(&self, bat: &str) -> Result<CaseValue, ValidateError> {
+        let (_, modes) = self.bat("first_mode_hz", bat)?;
+        Ok(CaseValue { value: modes.frequencies_hz().first().copied(), detail: format!("{bat}, free-free") })
+    }
+
+    /// Node of the first bending mode nearest the barrel end, inches from the end.
+    pub fn first_node_from_end_in(&self, bat: &str) -> Result<CaseValue, ValidateError> {
+        let (_, modes) = self.bat("first_node_from_end_in", bat)?;
+        let node = modes.nodes(1).into_iter().fold(f64::NAN, f64::max);
+        let value = node.is_finite().then(|| (modes.length() - node) / INCH);
+        Ok(CaseValue { value, detail: format!("{bat}, node at z = {node:.3} m") })
+    }
+
+    /// Hoop frequency of `bat` at `from_end` m from the barrel end, Hz (`None` for a solid section).
+    pub fn hoop_frequency_hz(&self, bat: &str, from_end: f64) -> Result<CaseValue, ValidateError> {
+        let (_, modes) = self.bat("hoop_frequency_hz", bat)?;
+        let z = modes.length() - from_end;
+        Ok(CaseValue {
+            value: modes.hoop_frequency_at(z),
+            detail: format!("{bat}, {:.1} in from the end", from_end / INCH),
+        })
+    }
+
+    /// Launch angle (deg) and spin (rpm) of `bat` swung about its knob at `bat_speed` (m/s) at the point 6 in
+    /// from its end into a ball at rest, over undercuts across the ball.
+    pub fn tee_curve(&self, bat: &str, bat_speed: f64) -> Result<Curve, ValidateError> {
+        let case = "tee_max_spin_rpm";
+        let (b, modes) = self.bat(case, bat)?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let z = modes.length() - SIX_INCHES;
+        let swing = ReferenceSwing::from_speed_at(modes.mass_properties(), bat_speed, z, 0.0).map_err(physics(case))?;
+        let impact = Impact {
+            ball_speed: 0.0,
+            bat_cm_speed: swing.bat_cm_speed,
+            bat_angular_speed: swing.bat_angular_speed,
+            impact_z: z,
+        };
+        let rk = b.radii_at(z).0;
+        self.oblique_scan(case, &modes, &ball, impact, rk, 0.0, 0.0, 0.0)
+    }
+
+    /// (launch deg, spin rpm) over undercuts from 0 to 95 % of the reach (ball + barrel radius), in order.
+    #[allow(clippy::too_many_arguments)]
+    fn oblique_scan(
+        &self,
+        case: &str,
+        modes: &ModeSet,
+        ball: &Ball,
+        impact: Impact,
+        barrel_radius: f64,
+        attack: f64,
+        pitch_angle: f64,
+        pitch_spin: f64,
+    ) -> Result<Curve, ValidateError> {
+        let reach = ball.radius + barrel_radius;
+        linspace(0.0, 0.95 * reach, 77)
+            .par_iter()
+            .map(|&undercut| {
+                let oblique = ObliqueImpact {
+                    undercut,
+                    attack_angle: attack,
+                    pitch_angle,
+                    pitch_spin,
+                    ..ObliqueImpact::head_on(impact, barrel_radius)
+                };
+                collide_oblique(modes, ball, &oblique, &TangentialContact::default(), &self.options)
+                    .map(|r| (r.launch_angle_deg(), r.spin_rpm()))
+                    .map_err(physics(case))
+            })
+            .collect()
+    }
+
+    /// Largest spin (rpm) at launch angles 0…`max_launch` deg in a tee test at `bat_speed` m/s.
+    pub fn tee_max_spin_rpm(&self, bat: &str, bat_speed: f64, max_launch: f64) -> Result<CaseValue, ValidateError> {
+        let curve = self.tee_curve(bat, bat_speed)?;
+        let best = curve.iter().filter(|(launch, _)| (0.0..=max_launch).contains(launch)).fold(
+            None,
+            |acc: Option<(f64, f64)>, &(l, s)| match acc {
+                Some((_, best)) if best >= s => acc,
+                _ => Some((l, s)),
+            },
+        );
+        Ok(CaseValue {
+            value: best.map(|(_, s)| s),
+            detail: match best {
+                Some((l, _)) => format!("{bat}, {:.0} mph, largest at {l:.1}° launch", bat_speed / MPH),
+                None => format!("{bat}: no launch angle in 0–{max_launch}°"),
+            },
+        })
+    }
+
+    /// Launch angle and spin of the game swing (R161, average MLB swing rising `attack` deg) against `pitch`,
+    /// over undercuts: the swing the TrackMan rows are compared with.
+    pub fn game_curve(&self, pitch: &PitchMedians, attack_deg: f64) -> Result<Curve, ValidateError> {
+        let case = "game_spin_rpm";
+        let (b, modes) = self.bat(case, "r161")?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let swing = self.typical_swing(case, &modes)?;
+        let impact = swing.impact(pitch.zone_speed_mph * MPH);
+        let rk = b.radii_at(impact.impact_z).0;
+        self.oblique_scan(
+            case,
+            &modes,
+            &ball,
+            impact,
+            rk,
+            attack_deg.to_radians(),
+            (-pitch.vert_appr_angle_deg).to_radians(),
+            rpm_to_rad_per_s(pitch.spin_rpm),
+        )
+    }
+
+    /// Spin (rpm) of the game swing launched at `launch` deg (interpolated along the undercut scan at the first
+    /// crossing), or `None` if the swing never launches there.
+    pub fn game_spin_rpm(
+        &self,
+        pitch: &PitchMedians,
+        attack_deg: f64,
+        launch: f64,
+    ) -> Result<CaseValue, ValidateError> {
+        let curve = self.game_curve(pitch, attack_deg)?;
+        let value = curve.windows(2).find_map(|w| {
+            let ((l0, s0), (l1, s1)) = (w[0], w[1]);
+            ((l0 - launch) * (l1 - launch) <= 0.0 && l1 != l0).then(|| s0 + (s1 - s0) * (launch - l0) / (l1 - l0))
+        });
+        Ok(CaseValue {
+            value,
+            detail: format!(
+                "R161, swing rising {attack_deg}°, pitch {:.1} mph descending {:.1}° with {:.0} rpm backspin",
+                pitch.zone_speed_mph, -pitch.vert_appr_angle_deg, pitch.spin_rpm
+            ),
+        })
+    }
+
+    /// dΩ_out/dΩ_in for a ball at `ball_speed` m/s on an immovable cylinder of `radius` m, line of centres
+    /// `line_deg` from the ball's path, incoming spin ±`spin_rpm`.
+    pub fn spin_transfer_fixed_cylinder(
+        &self,
+        ball_speed: f64,
+        radius: f64,
+        line_deg: f64,
+        spin_rpm: f64,
+    ) -> Result<CaseValue, ValidateError> {
+        let case = "spin_transfer_fixed_cylinder";
+        let ball = self.ball(case, &self.game_ball)?;
+        let cylinder = rigid_cylinder(radius, 1.0).map_err(physics(case))?;
+        let cm = cylinder.mass_properties().center_of_mass;
+        let impact = Impact { ball_speed, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: cm };
+        let undercut = (ball.radius + radius) * line_deg.to_radians().sin();
+        let spin_out = |pitch_spin: f64| {
+            let oblique = ObliqueImpact { undercut, pitch_spin, ..ObliqueImpact::head_on(impact, radius) };
+            collide_oblique(
+                &cylinder,
+                &ball,
+                &oblique,
+                &TangentialContact::default(),
+                &rigid_options(self.options.time_step),
+            )
+            .map(|r| r.spin)
+            .map_err(physics(case))
+        };
+        let w = rpm_to_rad_per_s(spin_rpm);
+        let slope = (spin_out(w)? - spin_out(-w)?) / (2.0 * w);
+        Ok(CaseValue {
+            value: Some(slope),
+            detail: format!("{:.0} mph, cylinder radius {:.2} in, ±{spin_rpm:.0} rpm", ball_speed / MPH, radius / INCH),
+        })
+    }
+
+    /// BPF against hoop frequency for the `aluminum` profile with its wall varied from 1.2 to 4 mm (computed once).
+    pub fn bpf_curve(&self, ball: &str, speed: f64) -> Result<&[BpfPoint], ValidateError> {
+        if let Some(points) = self.bpf.get() {
+            return Ok(points);
+        }
+        let case = "bpf_hoop_trend";
+        let b = self.ball(case, ball)?;
+        let ball_cor = wall_cor(&b, speed, self.options.time_step).map_err(physics(case))?;
+        let game_ball = self.ball(case, &self.game_ball)?;
+        let (_, reference) = self.bat(case, "r161")?;
+        let batter = Batter::typical(reference.mass_properties()).map_err(physics(case))?;
+        let walls = linspace(1.2e-3, 4.0e-3, 29);
+        let points: Vec<BpfPoint> = walls
+            .par_iter()
+            .map(|&wall| {
+                let bat = Bat::alloy_profile("alloy", wall)?;
+                let modes = modes_of(&bat, &self.options)?;
+                let hoop_hz = modes.hoop_frequency_at(modes.length() - SIX_INCHES).unwrap_or(f64::NAN);
+                let bbcor = best_cor_at_rest(&modes, &b, speed, &self.options)?;
+                let swing = batter.predict(&modes.mass_properties())?;
+                let swing_exit_speed =
+                    collide(&modes, &game_ball, &swing.impact(SWING_PITCH_SPEED), &self.options)?.exit_speed;
+                Ok(BpfPoint { wall, hoop_hz, bbcor, bpf: bbcor / ball_cor, swing_exit_speed })
+            })
+            .collect::<Result<_, PhysicsError>>()
+            .map_err(physics(case))?;
+        Ok(self.bpf.get_or_init(|| points))
+    }
+
+    /// The cage comparison at equal effort: best exit speed and where, and exit speed against the distance from
+    /// the barrel end (in, mph), for `wood` and `metal` (computed once).
+    pub fn cage(
+        &self,
+        wood: &str,
+        metal: &str,
+        pitch_speed: f64,
+    ) -> Result<&(CagePoint, CagePoint, Curve, Curve), ValidateError> {
+        if let Some(c) = self.cage.get() {
+            return Ok(c);
+        }
+        let case = "cage";
+        let ball = self.ball(case, &self.game_ball)?;
+        let one = |name: &str| -> Result<(CagePoint, Curve), ValidateError> {
+            let (_, modes) = self.bat(case, name)?;
+            let swing = self.typical_swing(case, &modes)?;
+            let template = swing.impact(pitch_speed);
+            let spots = sweet_spots(&modes, &ball, &template, &self.options).map_err(physics(case))?;
+            let length = modes.length();
+            let zs: Vec<f64> = linspace(0.5 * INCH, 12.0 * INCH, 47).into_iter().map(|d| length - d).collect();
+            let points = sweep(&modes, &ball, &template, &zs, &self.options).map_err(physics(case))?;
+            let curve = points.iter().map(|p| ((length - p.impact_z) / INCH, p.result.exit_speed / MPH)).collect();
+            Ok((
+                CagePoint { best_exit_speed: spots.max_exit_speed, best_from_end: length - spots.max_exit_speed_z },
+                curve,
+            ))
+        };
+        let (w, wc) = one(wood)?;
+        let (m, mc) = one(metal)?;
+        Ok(self.cage.get_or_init(|| (w, m, wc, mc)))
+    }
+
+    /// Best exit speed of `metal` minus `wood` at equal effort, mph.
+    pub fn cage_exit_difference_mph(
+        &self,
+        wood: &str,
+        metal: &str,
+        pitch_speed: f64,
+    ) -> Result<CaseValue, ValidateError> {
+        let (w, m, _, _) = self.cage(wood, metal, pitch_speed)?;
+        Ok(CaseValue {
+            value: Some((m.best_exit_speed - w.best_exit_speed) / MPH),
+            detail: format!(
+                "best exit {metal} {:.1} mph, {wood} {:.1} mph, {:.1} mph pitch",
+                m.best_exit_speed / MPH,
+                w.best_exit_speed / MPH,
+                pitch_speed / MPH
+            ),
+        })
+    }
+
+    /// Distance of the best point from the barrel end, `metal` minus `wood`, inches.
+    pub fn sweet_spot_shift_in(&self, wood: &str, metal: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
+        let (w, m, _, _) = self.cage(wood, metal, pitch_speed)?;
+        Ok(CaseValue {
+            value: Some((m.best_from_end - w.best_from_end) / INCH),
+            detail: format!(
+                "best point {metal} {:.2} in, {wood} {:.2} in from the end",
+                m.best_from_end / INCH,
+                w.best_from_end / INCH
+            ),
+        })
+    }
+
+    /// Contact time (ms) of the average MLB swing on `bat` at `from_end` m from the end, pitch `pitch_speed` m/s.
+    pub fn contact_time_ms(&self, bat: &str, pitch_speed: f64, from_end: f64) -> Result<CaseValue, ValidateError> {
+        let case = "contact_time_ms";
+        let (_, modes) = self.bat(case, bat)?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let swing = self.typical_swing(case, &modes)?;
+        let impact = swing.impact_at(pitch_speed, modes.length() - from_end);
+        let r = collide(&modes, &ball, &impact, &self.options).map_err(physics(case))?;
+        Ok(CaseValue {
+            value: Some(r.contact_time * 1e3),
+            detail: format!("{bat}, {:.1} in from the end, exit {:.1} mph", from_end / INCH, r.exit_speed / MPH),
+        })
+    }
+}
+
+/// Spearman's rank correlation of the pairs (no ties expected; ties take their order of appearance), or `None`
+/// with fewer than 3 pairs.
+pub fn rank_correlation(pairs: &[(f64, f64)]) -> Option<f64> {
+    let n = pairs.len();
+    if n < 3 {
+        return None;
+    }
+    let ranks = |key: fn(&(f64, f64)) -> f64| {
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| key(&pairs[a]).total_cmp(&key(&pairs[b])));
+        let mut r = vec![0.0; n];
+        for (rank, &i) in order.iter().enumerate() {
+            r[i] = rank as f64;
+        }
+        r
+    };
+    let (rx, ry) = (ranks(|p| p.0), ranks(|p| p.1));
+    let d2: f64 = rx.iter().zip(&ry).map(|(a, b)| (a - b) * (a - b)).sum();
+    let n = n as f64;
+    Some(1.0 - 6.0 * d2 / (n * (n * n - 1.0)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rank_correlation_of_monotone_data_is_plus_or_minus_one() {
+        let up = [(1.0, 10.0), (2.0, 20.0), (3.0, 25.0), (4.0, 40.0)];
+        let down = [(1.0, 4.0), (2.0, 3.0), (3.0, 2.0), (4.0, 1.0)];
+        assert_eq!(rank_correlation(&up), Some(1.0));
+        assert_eq!(rank_correlation(&down), Some(-1.0));
+        assert_eq!(rank_correlation(&up[..2]), None);
+    }
+
+    #[test]
+    fn a_constant_cor_ball_rebounds_from_the_rigid_wall_with_its_own_cor() {
+        // Closed form: a rigid, immovable wall returns e0 exactly (recoil m/M < 1e-4 of the 3.8-t cylinder).
+        let ball = Ball { cor: 0.6, ..Ball::default() };
+        let cor = wall_cor(&ball, 25.0, 5e-6).unwrap();
+        assert!((cor - 0.6).abs() < 2e-3, "{cor}");
+    }
+}

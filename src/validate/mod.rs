@@ -1,0 +1,630 @@
+//! The validation suite: the model against published measurements (`sweetspot validate`, issue 22 §1).
+//!
+//! The measurements live in data files in the repository (`validation/`): `measurements.toml` (one row per
+//! compared quantity, with its conditions, value or range, tolerance rule and source, and a list of what could
+//! not be found), `trackman_spin.csv` (real tracker rows: measured spin by launch angle), and, when present,
+//! `ball_cor.toml` (a ball's COR against impact speed; its rows join the suite, see [`BallCorRow`]). Each row
+//! names a case of [`cases::Lab`], which simulates the measurement's conditions with the public physics API;
+//! [`evaluate`] applies the row's rule and gives a verdict: PASS, FAIL (outside the stated tolerance), or N/A
+//! (the model has no such output yet). A tolerance is part of the measurement and is never loosened.
+
+pub mod cases;
+pub mod figures;
+pub mod trackman;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::physics::{CollisionOptions, PhysicsError};
+use cases::{CaseValue, Lab, MPH};
+
+/// Errors of the validation suite.
+#[derive(Debug, thiserror::Error)]
+pub enum ValidateError {
+    /// A data file could not be read.
+    #[error("cannot read '{path}': {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// A data file is malformed.
+    #[error("'{path}': {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// A row is inconsistent (unknown case, missing parameter, unit mismatch).
+    #[error("row '{id}': {message}")]
+    Row {
+        /// The row's id.
+        id: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The physics refused a case's input.
+    #[error("case {case}: {source}")]
+    Physics {
+        /// The case.
+        case: String,
+        /// The physics error.
+        source: PhysicsError,
+    },
+    /// A figure could not be drawn.
+    #[error("figure '{path}': {message}")]
+    Figure {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// How a row's model number is judged.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Rule {
+    /// low ≤ model ≤ high.
+    Range,
+    /// model ≤ high.
+    AtMost,
+    /// model ≥ low.
+    AtLeast,
+    /// |model − value| ≤ uncertainty.
+    Within,
+    /// Inside the interquartile range of the TrackMan spins in the row's launch-angle bin.
+    TrackmanIqr,
+}
+
+/// One measurement of `measurements.toml`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Measurement {
+    /// Stable name.
+    pub id: String,
+    /// What is compared.
+    pub quantity: String,
+    /// The model computation (see [`case_unit`]).
+    pub case: String,
+    /// Unit of the numbers.
+    pub unit: String,
+    /// Conditions of the measurement and of the model's case.
+    pub conditions: String,
+    /// The verdict rule.
+    pub rule: Rule,
+    /// Lower bound.
+    #[serde(default)]
+    pub low: Option<f64>,
+    /// Upper bound.
+    #[serde(default)]
+    pub high: Option<f64>,
+    /// Reference value for the ratio.
+    #[serde(default)]
+    pub value: Option<f64>,
+    /// Standard uncertainty (rule `within`).
+    #[serde(default)]
+    pub uncertainty: Option<f64>,
+    /// The tolerance in words, and why.
+    pub tolerance: String,
+    /// Authors, title, journal, year, where in it.
+    pub source: String,
+    /// `text`, `abstract`, `figure` or `data`.
+    pub read_from: String,
+    /// Anything else a reader should know.
+    #[serde(default)]
+    pub note: Option<String>,
+    /// The case's inputs.
+    #[serde(default)]
+    pub params: BTreeMap<String, toml::Value>,
+}
+
+/// Something that could not be found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NotFound {
+    /// What was looked for.
+    pub what: String,
+    /// Where.
+    pub searched: String,
+}
+
+fn default_game_ball() -> String {
+    "baseball".into()
+}
+
+/// `measurements.toml`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeasurementFile {
+    /// The `Ball::preset` used as the game ball (default `baseball`).
+    #[serde(default = "default_game_ball")]
+    pub game_ball: String,
+    /// The rows.
+    pub row: Vec<Measurement>,
+    /// What could not be found.
+    #[serde(default)]
+    pub not_found: Vec<NotFound>,
+}
+
+/// One row of `ball_cor.toml` (any array of tables whose entries carry `speed` and `value`): a ball's COR
+/// against a rigid surface at an impact speed, compared with the model's ball hitting a rigid wall.
+///
+/// Fields: `quantity` (text), `speed` (impact speed; m/s unless `speed_unit` is `mph` or `ft/s`), `value`
+/// (the COR), `low` and `high` (a stated range: the rule is low ≤ model ≤ high) or else `uncertainty` (± on
+/// the COR: |model − value| ≤ uncertainty; a row with neither gets N/A), `source`, `read_from`, and
+/// optionally `ball` (a `Ball::preset` name; default: the suite's game ball) and `id`. Other fields are
+/// ignored.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct BallCorRow {
+    /// Optional stable name.
+    #[serde(default)]
+    pub id: Option<String>,
+    /// What was measured.
+    #[serde(default)]
+    pub quantity: Option<String>,
+    /// Impact speed in `speed_unit`.
+    pub speed: f64,
+    /// `m/s` (default), `mph` or `ft/s`.
+    #[serde(default)]
+    pub speed_unit: Option<String>,
+    /// The measured COR.
+    pub value: f64,
+    /// ± on the COR.
+    #[serde(default)]
+    pub uncertainty: Option<f64>,
+    /// Lower end of a stated range (with `high`, the row's bounds).
+    #[serde(default)]
+    pub low: Option<f64>,
+    /// Upper end of a stated range.
+    #[serde(default)]
+    pub high: Option<f64>,
+    /// The ball preset.
+    #[serde(default)]
+    pub ball: Option<String>,
+    /// Where the number was read.
+    #[serde(default)]
+    pub source: Option<String>,
+    /// `text`, `abstract`, `figure`, `data`.
+    #[serde(default)]
+    pub read_from: Option<String>,
+}
+
+/// A row's verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Verdict {
+    /// Inside the tolerance.
+    #[serde(rename = "PASS")]
+    Pass,
+    /// Outside the tolerance.
+    #[serde(rename = "FAIL")]
+    Fail,
+    /// The model (or the data) has no such number yet.
+    #[serde(rename = "N/A")]
+    NotApplicable,
+}
+
+impl Verdict {
+    /// PASS, FAIL or N/A.
+    pub fn label(self) -> &'static str {
+        match self {
+            Verdict::Pass => "PASS",
+            Verdict::Fail => "FAIL",
+            Verdict::NotApplicable => "N/A",
+        }
+    }
+}
+
+/// One judged row.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RowResult {
+    /// Stable name.
+    pub id: String,
+    /// What is compared.
+    pub quantity: String,
+    /// Unit.
+    pub unit: String,
+    /// Conditions.
+    pub conditions: String,
+    /// The rule.
+    pub rule: Rule,
+    /// Lower bound used.
+    pub low: Option<f64>,
+    /// Upper bound used.
+    pub high: Option<f64>,
+    /// Reference value of the ratio.
+    pub reference: Option<f64>,
+    /// The model's number.
+    pub model: Option<f64>,
+    /// model / reference.
+    pub ratio: Option<f64>,
+    /// PASS, FAIL, N/A.
+    pub verdict: Verdict,
+    /// How the model got its number.
+    pub model_detail: String,
+    /// The tolerance in words.
+    pub tolerance: String,
+    /// Source.
+    pub source: String,
+    /// text / abstract / figure / data.
+    pub read_from: String,
+    /// Notes.
+    pub note: Option<String>,
+}
+
+/// The suite's result.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Report {
+    /// Every row, in file order (ball COR rows last).
+    pub rows: Vec<RowResult>,
+    /// Rows that passed, failed, had no verdict.
+    pub pass: usize,
+    /// Rows outside their tolerance.
+    pub fail: usize,
+    /// Rows without a model number.
+    pub not_applicable: usize,
+    /// The TrackMan bins used (launch angle, count, quartiles).
+    pub trackman_bins: Vec<trackman::SpinBin>,
+    /// The pitch the game swing met (medians over balls in play).
+    pub trackman_pitch: Option<trackman::PitchMedians>,
+    /// What could not be found.
+    pub not_found: Vec<NotFound>,
+    /// Data files read.
+    pub files: Vec<String>,
+}
+
+/// The unit each case computes in.
+pub fn case_unit(case: &str) -> Option<&'static str> {
+    Some(match case {
+        "collision_efficiency_sweet_spot"
+        | "ball_wall_cor"
+        | "bbcor"
+        | "spin_transfer_fixed_cylinder"
+        | "bpf_hoop_trend"
+        | "bpf_max_in_band"
+        | "swing_exit_hoop_trend" => "1",
+        "first_mode_hz" | "hoop_frequency_hz" => "Hz",
+        "first_node_from_end_in" | "sweet_spot_shift_in" => "in",
+        "tee_max_spin_rpm" | "game_spin_rpm" => "rpm",
+        "cage_exit_difference_mph" => "mph",
+        "contact_time_ms" => "ms",
+        _ => return None,
+    })
+}
+
+/// Reads `measurements.toml`.
+pub fn read_measurements(path: &Path) -> Result<MeasurementFile, ValidateError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ValidateError::Read { path: path.into(), source })?;
+    let file: MeasurementFile =
+        toml::from_str(&text).map_err(|e| ValidateError::Parse { path: path.into(), message: e.to_string() })?;
+    for row in &file.row {
+        match case_unit(&row.case) {
+            None => {
+                return Err(ValidateError::Row { id: row.id.clone(), message: format!("unknown case '{}'", row.case) })
+            }
+            Some(unit) if unit != row.unit => {
+                return Err(ValidateError::Row {
+                    id: row.id.clone(),
+                    message: format!("unit '{}' but case {} computes in '{unit}'", row.unit, row.case),
+                })
+            }
+            _ => {}
+        }
+    }
+    let mut ids: Vec<&str> = file.row.iter().map(|r| r.id.as_str()).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        return Err(ValidateError::Row { id: w[0].to_string(), message: "id used twice".into() });
+    }
+    Ok(file)
+}
+
+/// Reads the rows of `ball_cor.toml`: every top-level array of tables whose entries have `speed` and `value`.
+pub fn read_ball_cor(path: &Path) -> Result<Vec<BallCorRow>, ValidateError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ValidateError::Read { path: path.into(), source })?;
+    let parse_err = |message: String| ValidateError::Parse { path: path.into(), message };
+    let doc: toml::Table = toml::from_str(&text).map_err(|e| parse_err(e.to_string()))?;
+    let mut rows = Vec::new();
+    for (key, value) in doc {
+        let Some(array) = value.as_array() else { continue };
+        for (i, entry) in array.iter().enumerate() {
+            let Some(table) = entry.as_table() else { continue };
+            if !(table.contains_key("speed") && table.contains_key("value")) {
+                continue;
+            }
+            let row: BallCorRow =
+                entry.clone().try_into().map_err(|e: toml::de::Error| parse_err(format!("{key}[{i}]: {e}")))?;
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+fn speed_in_m_s(row: &BallCorRow) -> Result<f64, String> {
+    match row.speed_unit.as_deref().map(str::trim) {
+        None | Some("m/s") => Ok(row.speed),
+        Some("mph") => Ok(row.speed * MPH),
+        Some("ft/s") => Ok(row.speed * 0.3048),
+        Some(other) => Err(format!("speed_unit '{other}' (expected m/s, mph or ft/s)")),
+    }
+}
+
+fn param(row: &Measurement, key: &str) -> Result<f64, ValidateError> {
+    match row.params.get(key) {
+        Some(toml::Value::Float(v)) => Ok(*v),
+        Some(toml::Value::Integer(v)) => Ok(*v as f64),
+        _ => Err(ValidateError::Row { id: row.id.clone(), message: format!("params.{key}: a number is required") }),
+    }
+}
+
+fn param_str<'a>(row: &'a Measurement, key: &str) -> Result<&'a str, ValidateError> {
+    match row.params.get(key) {
+        Some(toml::Value::String(v)) => Ok(v),
+        _ => Err(ValidateError::Row { id: row.id.clone(), message: format!("params.{key}: a string is required") }),
+    }
+}
+
+/// Everything the suite reads.
+pub struct Inputs {
+    /// The measurements.
+    pub measurements: MeasurementFile,
+    /// TrackMan rows.
+    pub trackman: Vec<trackman::SpinRow>,
+    /// Ball COR rows (empty when the file is absent).
+    pub ball_cor: Vec<BallCorRow>,
+    /// The files read.
+    pub files: Vec<String>,
+}
+
+/// Reads the suite's files from `dir` (`ball_cor.toml` only if present).
+pub fn read_inputs(dir: &Path) -> Result<Inputs, ValidateError> {
+    let m = dir.join("measurements.toml");
+    let t = dir.join("trackman_spin.csv");
+    let c = dir.join("ball_cor.toml");
+    let mut files = vec![m.display().to_string(), t.display().to_string()];
+    let ball_cor = if c.exists() {
+        files.push(c.display().to_string());
+        read_ball_cor(&c)?
+    } else {
+        Vec::new()
+    };
+    Ok(Inputs { measurements: read_measurements(&m)?, trackman: trackman::read(&t)?, ball_cor, files })
+}
+
+/// Judges `model` against the bounds.
+pub fn judge(rule: Rule, model: Option<f64>, low: Option<f64>, high: Option<f64>) -> Verdict {
+    let Some(m) = model.filter(|m| m.is_finite()) else { return Verdict::NotApplicable };
+    let ok = match rule {
+        Rule::Range | Rule::Within | Rule::TrackmanIqr => match (low, high) {
+            (Some(lo), Some(hi)) => lo <= m && m <= hi,
+            _ => return Verdict::NotApplicable,
+        },
+        Rule::AtMost => match high {
+            Some(hi) => m <= hi,
+            None => return Verdict::NotApplicable,
+        },
+        Rule::AtLeast => match low {
+            Some(lo) => m >= lo,
+            None => return Verdict::NotApplicable,
+        },
+    };
+    if ok {
+        Verdict::Pass
+    } else {
+        Verdict::Fail
+    }
+}
+
+fn ratio(model: Option<f64>, reference: Option<f64>) -> Option<f64> {
+    match (model, reference) {
+        (Some(m), Some(r)) if r != 0.0 && m.is_finite() => Some(m / r),
+        _ => None,
+    }
+}
+
+/// Runs the model case of `row`.
+fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, ValidateError> {
+    let p = |k: &str| param(row, k);
+    let s = |k: &str| param_str(row, k);
+    match row.case.as_str() {
+        "collision_efficiency_sweet_spot" => lab.collision_efficiency_sweet_spot(s("bat")?, p("pitch_speed")?),
+        "ball_wall_cor" => lab.ball_wall_cor(&lab.game_ball, p("speed")?),
+        "bbcor" => lab.bbcor(s("bat")?, s("ball")?),
+        "first_mode_hz" => lab.first_mode_hz(s("bat")?),
+        "first_node_from_end_in" => lab.first_node_from_end_in(s("bat")?),
+        "hoop_frequency_hz" => lab.hoop_frequency_hz(s("bat")?, p("from_end")?),
+        "tee_max_spin_rpm" => lab.tee_max_spin_rpm(s("bat")?, p("bat_speed_mph")? * MPH, p("max_launch_deg")?),
+        "game_spin_rpm" => match trackman::pitch_medians(&inputs.trackman) {
+            Some(pitch) => lab.game_spin_rpm(&pitch, p("attack_deg")?, p("launch_deg")?),
+            None => Ok(CaseValue { value: None, detail: "no pitch data in the TrackMan rows".into() }),
+        },
+        "spin_transfer_fixed_cylinder" => lab.spin_transfer_fixed_cylinder(
+            p("ball_speed_mph")? * MPH,
+            p("cylinder_radius")?,
+            p("line_of_centres_deg")?,
+            p("incoming_spin_rpm")?,
+        ),
+        "bpf_hoop_trend" | "bpf_max_in_band" | "swing_exit_hoop_trend" => {
+            let (lo, hi) = (p("hoop_low_hz")?, p("hoop_high_hz")?);
+            let curve = lab.bpf_curve(s("ball")?, p("ball_speed_mph")? * MPH)?;
+            let band: Vec<&cases::BpfPoint> = curve.iter().filter(|q| q.hoop_hz >= lo && q.hoop_hz <= hi).collect();
+            let walls = match (band.first(), band.last()) {
+                (Some(a), Some(b)) => format!("{} walls {:.2}–{:.2} mm", band.len(), a.wall * 1e3, b.wall * 1e3),
+                _ => "no wall in the band".into(),
+            };
+            if row.case == "bpf_hoop_trend" {
+                let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.bpf)).collect();
+                Ok(CaseValue {
+                    value: cases::rank_correlation(&pairs), detail: format!("{walls}, {lo:.0}–{hi:.0} Hz")
+                })
+            } else if row.case == "swing_exit_hoop_trend" {
+                let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.swing_exit_speed)).collect();
+                let ends = match (band.first(), band.last()) {
+                    (Some(a), Some(b)) => format!(
+                        "; exit {:.1} mph at {:.0} Hz, {:.1} mph at {:.0} Hz",
+                        a.swing_exit_speed / MPH,
+                        a.hoop_hz,
+                        b.swing_exit_speed / MPH,
+                        b.hoop_hz
+                    ),
+                    _ => String::new(),
+                };
+                Ok(CaseValue { value: cases::rank_correlation(&pairs), detail: format!("{walls}{ends}") })
+            } else {
+                let best = band.iter().max_by(|a, b| a.bpf.total_cmp(&b.bpf));
+                Ok(CaseValue {
+                    value: best.map(|q| q.bpf),
+                    detail: match best {
+                        Some(q) => format!("{walls}; largest at {:.2} mm, {:.0} Hz", q.wall * 1e3, q.hoop_hz),
+                        None => walls,
+                    },
+                })
+            }
+        }
+        "cage_exit_difference_mph" => lab.cage_exit_difference_mph(s("wood")?, s("metal")?, p("pitch_speed")?),
+        "sweet_spot_shift_in" => lab.sweet_spot_shift_in(s("wood")?, s("metal")?, p("pitch_speed")?),
+        "contact_time_ms" => lab.contact_time_ms(s("bat")?, p("pitch_speed")?, p("from_end")?),
+        other => Err(ValidateError::Row { id: row.id.clone(), message: format!("unknown case '{other}'") }),
+    }
+}
+
+/// Runs every row with collisions under `options`.
+pub fn evaluate(inputs: &Inputs, options: CollisionOptions) -> Result<(Report, Lab), ValidateError> {
+    let lab = Lab::new(options, &inputs.measurements.game_ball);
+    let mut rows = Vec::new();
+    let mut bins = Vec::new();
+    for row in &inputs.measurements.row {
+        let case = run_case(&lab, inputs, row)?;
+        let (low, high, reference) = if row.rule == Rule::TrackmanIqr {
+            let b = trackman::bin(&inputs.trackman, param(row, "launch_deg")?, param(row, "bin_half_width_deg")?);
+            let bounds = if b.count >= 2 { (b.q1_rpm, b.q3_rpm) } else { (None, None) };
+            let r = (bounds.0, bounds.1, b.median_rpm);
+            bins.push(b);
+            r
+        } else {
+            let reference = row.value.or(match (row.low, row.high) {
+                (Some(lo), Some(hi)) => Some(0.5 * (lo + hi)),
+                (Some(lo), None) => Some(lo),
+                (None, Some(hi)) => Some(hi),
+                (None, None) => None,
+            });
+            match row.rule {
+                Rule::Within => {
+                    let u = row.uncertainty;
+                    (row.value.zip(u).map(|(v, u)| v - u), row.value.zip(u).map(|(v, u)| v + u), reference)
+                }
+                _ => (row.low, row.high, reference),
+            }
+        };
+        let mut detail = case.detail;
+        if row.rule == Rule::TrackmanIqr {
+            if let Some(b) = bins.last() {
+                detail.push_str(&format!("; {} balls in the bin", b.count));
+            }
+        }
+        rows.push(RowResult {
+            id: row.id.clone(),
+            quantity: row.quantity.clone(),
+            unit: row.unit.clone(),
+            conditions: row.conditions.clone(),
+            rule: row.rule,
+            low,
+            high,
+            reference,
+            model: case.value,
+            ratio: ratio(case.value, reference),
+            verdict: judge(row.rule, case.value, low, high),
+            model_detail: detail,
+            tolerance: row.tolerance.clone(),
+            source: row.source.clone(),
+            read_from: row.read_from.clone(),
+            note: row.note.clone(),
+        });
+    }
+    for (i, c) in inputs.ball_cor.iter().enumerate() {
+        let id = format!("ball-cor/{}", c.id.clone().unwrap_or_else(|| (i + 1).to_string()));
+        let speed = speed_in_m_s(c).map_err(|message| ValidateError::Row { id: id.clone(), message })?;
+        let ball = c.ball.clone().unwrap_or_else(|| lab.game_ball.clone());
+        let case = lab.ball_wall_cor(&ball, speed)?;
+        let (rule, low, high, tolerance) = match (c.low, c.high, c.uncertainty) {
+            (Some(lo), Some(hi), _) => (Rule::Range, Some(lo), Some(hi), format!("inside the stated range {lo}–{hi}")),
+            (_, _, Some(u)) => {
+                (Rule::Within, Some(c.value - u), Some(c.value + u), format!("value ± {u} (the stated uncertainty)"))
+            }
+            _ => (Rule::Within, None, None, "no range or uncertainty given: not judged".to_string()),
+        };
+        rows.push(RowResult {
+            id,
+            quantity: c.quantity.clone().unwrap_or_else(|| "ball COR against a rigid surface".into()),
+            unit: "1".into(),
+            conditions: format!("`{ball}` ball at {speed:.2} m/s ({:.1} mph) on a rigid wall", speed / MPH),
+            rule,
+            low,
+            high,
+            reference: Some(c.value),
+            model: case.value,
+            ratio: ratio(case.value, Some(c.value)),
+            verdict: judge(rule, case.value, low, high),
+            model_detail: case.detail,
+            tolerance,
+            source: c.source.clone().unwrap_or_default(),
+            read_from: c.read_from.clone().unwrap_or_default(),
+            note: Some("from validation/ball_cor.toml".into()),
+        });
+    }
+    let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
+    let report = Report {
+        pass: count(Verdict::Pass),
+        fail: count(Verdict::Fail),
+        not_applicable: count(Verdict::NotApplicable),
+        rows,
+        trackman_bins: bins,
+        trackman_pitch: trackman::pitch_medians(&inputs.trackman),
+        not_found: inputs.measurements.not_found.clone(),
+        files: inputs.files.clone(),
+    };
+    Ok((report, lab))
+}
+
+/// The report as an aligned text table with a summary and the TrackMan bins.
+pub fn render(report: &Report) -> String {
+    use crate::report::table::{num, Table};
+    let fmt = |v: Option<f64>| v.map(|v| num(v, 4)).unwrap_or_else(|| "—".into());
+    let mut t = Table::new(["id", "unit", "model", "measured", "ratio", "verdict"]);
+    for r in &report.rows {
+        let measured = match r.rule {
+            Rule::AtMost => format!("≤ {}", fmt(r.high)),
+            Rule::AtLeast => format!("≥ {}", fmt(r.low)),
+            Rule::TrackmanIqr => format!("{} (IQR {}–{})", fmt(r.reference), fmt(r.low), fmt(r.high)),
+            _ if r.low.is_none() && r.high.is_none() => "—".to_string(),
+            _ => format!("{}–{}", fmt(r.low), fmt(r.high)),
+        };
+        t.row([r.id.clone(), r.unit.clone(), fmt(r.model), measured, fmt(r.ratio), r.verdict.label().to_string()]);
+    }
+    let mut out = t.render();
+    out.push_str(&format!(
+        "\n{} rows: {} PASS, {} FAIL, {} N/A\n",
+        report.rows.len(),
+        report.pass,
+        report.fail,
+        report.not_applicable
+    ));
+    out.push_str("\nHow the model got each number:\n");
+    for r in &report.rows {
+        out.push_str(&format!("  {}: {}\n", r.id, r.model_detail));
+    }
+    if let Some(p) = &report.trackman_pitch {
+        out.push_str(&format!(
+            "\nTrackMan pitch (medians of {} balls in play): {} mph, approach {}°, {} rpm\n",
+            p.count,
+            num(p.zone_speed_mph, 4),
+            num(p.vert_appr_angle_deg, 3),
+            num(p.spin_rpm, 4)
+        ));
+    }
+    out
+}
