@@ -584,6 +584,9 @@ pub fn bag_reader(data: &[u8]) {
     let scratch = ScratchDir::new();
     let bag_dir = scratch.0.join("bag");
     std::fs::create_dir_all(&bag_dir).expect("bag directory");
+    // A bag directory is what its metadata.yaml lists.
+    let listing = "rosbag2_bagfile_information:\n  relative_file_paths:\n    - bag_0.mcap\n";
+    std::fs::write(bag_dir.join("metadata.yaml"), listing).expect("metadata.yaml");
     let file = bag_dir.join("bag_0.mcap");
     std::fs::write(&file, data).expect("write the fuzzed file");
 
@@ -688,6 +691,9 @@ pub fn bag_hostile(data: &[u8]) {
     let scratch = ScratchDir::new();
     let dir = scratch.0.join("bag");
     std::fs::create_dir_all(&dir).expect("bag directory");
+    // A bag directory is what its metadata.yaml lists.
+    let listing = "rosbag2_bagfile_information:\n  relative_file_paths:\n    - bag_0.mcap\n";
+    std::fs::write(dir.join("metadata.yaml"), listing).expect("metadata.yaml");
     let file = dir.join("bag_0.mcap");
     let mut claims = Vec::new();
     match kind % 8 {
