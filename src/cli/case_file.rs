@@ -134,7 +134,7 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
             bat_spec
                 .into_bat("case-bat", |file| {
                     let path = base.join(file);
-                    std::fs::read_to_string(&path).with_context(|| format!("cannot read '{}'", path.display()))
+                    Ok(crate::files::read_text(&path, "bat profile")?)
                 })
                 .context("field `bat`")?
         }
@@ -193,7 +193,7 @@ fn impact_list(value: &serde_json::Value) -> Result<Vec<f64>> {
 
 /// Reads and resolves a case file.
 pub fn load_case(path: &Path) -> Result<Case> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read case file '{}'", path.display()))?;
+    let text = crate::files::read_text(path, "case file")?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     parse_case(&text, &base).with_context(|| format!("case file '{}'", path.display()))
 }

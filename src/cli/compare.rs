@@ -241,8 +241,7 @@ pub fn parse_bats(list: &str) -> Result<Vec<Bat>> {
 
 /// Reads a batter file; relative bat paths in it are taken relative to the file.
 pub fn load_batter_file(path: &Path) -> Result<(Batter, String)> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read batter file '{}'", path.display()))?;
+    let text = crate::files::read_text(path, "batter file")?;
     let spec: BatterSpec = toml::from_str(&text).with_context(|| format!("batter file '{}'", path.display()))?;
     batter_from_spec(&spec, path.parent()).with_context(|| format!("batter file '{}'", path.display()))
 }

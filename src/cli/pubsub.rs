@@ -4,7 +4,7 @@
 //! Both honour `ROS_DOMAIN_ID`, `ROS_AUTOMATIC_DISCOVERY_RANGE` / `ROS_LOCALHOST_ONLY` and
 //! `--ros-args -r __ns:=/rig3 -r from:=to` (see [`crate::ros`]).
 
-use std::io::{BufRead, Write};
+use std::io::{BufRead, Read as _, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -444,7 +444,7 @@ fn parse_values(text: &str) -> anyhow::Result<Value> {
 
 /// A YAML file: one list of messages, or one message per `---` document.
 fn read_yaml_file(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::files::read_text(path, "--file")?;
     let docs =
         yaml_rust2::YamlLoader::load_from_str(&text).map_err(|e| anyhow!("{}: invalid YAML: {e}", path.display()))?;
     let mut out = Vec::new();
@@ -519,17 +519,22 @@ fn split_positionals(args: &PubArgs) -> anyhow::Result<(Option<String>, Option<S
 }
 
 fn read_json_lines(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
+    use crate::files::MAX_INPUT_BYTES;
     let reader: Box<dyn BufRead> = if path == Path::new("-") {
-        Box::new(std::io::BufReader::new(std::io::stdin()))
+        Box::new(std::io::BufReader::new(std::io::stdin().take(MAX_INPUT_BYTES + 1)))
     } else {
-        Box::new(std::io::BufReader::new(
-            std::fs::File::open(path).with_context(|| format!("cannot open {}", path.display()))?,
-        ))
+        Box::new(std::io::Cursor::new(crate::files::read_limited(path, "--file", MAX_INPUT_BYTES)?))
     };
     let mut out = Vec::new();
     let mut lines = Vec::new();
+    let mut bytes = 0u64;
     for line in reader.lines() {
-        lines.push(line.with_context(|| format!("cannot read {}", path.display()))?);
+        let line = line.with_context(|| format!("cannot read {}", path.display()))?;
+        bytes += line.len() as u64 + 1;
+        if bytes > MAX_INPUT_BYTES + 1 {
+            bail!("{}: over the limit of {MAX_INPUT_BYTES} bytes for an input: refused", path.display());
+        }
+        lines.push(line);
     }
     // A file holding one JSON array is accepted too.
     let whole = lines.join("\n");
@@ -558,8 +563,7 @@ fn read_csv(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
-        .from_path(path)
-        .with_context(|| format!("cannot open {}", path.display()))?;
+        .from_reader(std::io::Cursor::new(crate::files::read_limited(path, "--file", crate::files::MAX_INPUT_BYTES)?));
     let headers = reader.headers().with_context(|| format!("{}: no header row", path.display()))?.clone();
     let mut out = Vec::new();
     for (i, record) in reader.records().enumerate() {
