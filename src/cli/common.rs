@@ -31,6 +31,36 @@ pub fn finite_f64(text: &str) -> std::result::Result<f64, String> {
     }
 }
 
+/// Parses a number of seconds ≥ 0 (clap value parser; +∞ and huge values mean for ever, see
+/// [`crate::model::time`]).
+pub fn seconds_at_least_zero(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    crate::model::time::check_seconds(value, crate::model::time::Least::Zero)
+}
+
+/// Parses a number of seconds > 0 (clap value parser; +∞ and huge values mean for ever).
+pub fn seconds_above_zero(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    crate::model::time::check_seconds(value, crate::model::time::Least::AboveZero)
+}
+
+/// Parses a rate in Hz (clap value parser): finite, at least one per 100 years.
+pub fn rate_hz(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a rate"))?;
+    crate::model::time::check_rate(value)
+}
+
+/// Parses a time scale (clap value parser): finite and > 0 (a scale that makes a wait longer than 100 years
+/// waits for ever).
+pub fn time_scale(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number"))?;
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(format!("{value} is out of range: expected a finite time scale > 0"))
+    }
+}
+
 /// `--bat PRESET|FILE`.
 #[derive(Debug, Clone, Args)]
 pub struct BatArgs {
@@ -285,11 +315,7 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
     emit(&text)
 }
 
-/// Writes `text` to stdout; a closed pipe (e.g. `| head`) ends the output quietly instead of panicking.
-pub fn emit(text: &str) -> Result<()> {
-    use std::io::Write;
-    Stdout::default().write_all(text.as_bytes()).context("cannot write to stdout")
-}
+pub use crate::report::stdout::{closed as stdout_closed, emit, Stdout};
 
 /// Prints a line to stdout through [`emit`] (a closed pipe ends the output quietly): `println!` for the CLI.
 #[macro_export]
@@ -297,42 +323,6 @@ macro_rules! outln {
     ($($arg:tt)*) => {
         $crate::cli::common::emit(&format!("{}\n", format_args!($($arg)*)))
     };
-}
-
-/// Standard output for the CLI's tables and streams: once the reader closes the pipe (`| head`), everything
-/// later is dropped and reported as written, so a tool ends quietly with status 0, as Unix filters do,
-/// instead of panicking or blaming its input.
-#[derive(Debug, Default)]
-pub struct Stdout {
-    closed: bool,
-}
-
-impl std::io::Write for Stdout {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        if self.closed {
-            return Ok(buf.len());
-        }
-        match std::io::stdout().lock().write(buf) {
-            Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => {
-                self.closed = true;
-                Ok(buf.len())
-            }
-            other => other,
-        }
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        if self.closed {
-            return Ok(());
-        }
-        match std::io::stdout().lock().flush() {
-            Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => {
-                self.closed = true;
-                Ok(())
-            }
-            other => other,
-        }
-    }
 }
 
 #[cfg(test)]
