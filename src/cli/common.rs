@@ -7,8 +7,9 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use super::bat_file::load_bat_file;
+use crate::model::limits::{MAX_PITCH_SPIN, MAX_SWING_ANGLE};
 use crate::physics::collision::TIME_STEP_RANGE;
-use crate::physics::oblique::{rpm_to_rad_per_s, TangentialContact};
+use crate::physics::oblique::{rad_per_s_to_rpm, rpm_to_rad_per_s, TangentialContact};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
@@ -287,6 +288,21 @@ impl ObliqueInputs {
         let geometry = [undercut, attack_angle_deg, pitch_angle_deg, pitch_spin_rpm].map(|v| v.unwrap_or(0.0));
         if let Some(bad) = geometry.iter().find(|v| !v.is_finite()) {
             bail!("{bad} is not allowed: expected a finite number");
+        }
+        // The node's limits (model::limits), quoted in the units the flags take.
+        let max_angle = MAX_SWING_ANGLE.to_degrees();
+        for (flag, v) in [("--attack-angle", geometry[1]), ("--pitch-angle", geometry[2])] {
+            if v.abs() > max_angle {
+                bail!("{flag} {v}° is out of range: expected |{}| ≤ {max_angle:.0}°", &flag[2..]);
+            }
+        }
+        let max_rpm = rad_per_s_to_rpm(MAX_PITCH_SPIN);
+        if geometry[3].abs() > max_rpm {
+            bail!(
+                "--pitch-spin {} rpm is out of range: expected |pitch-spin| ≤ {max_rpm:.0} rpm ({MAX_PITCH_SPIN} rad/s, \
+                 the node's limit)",
+                geometry[3]
+            );
         }
         let active = geometry.iter().any(|v| *v != 0.0) || tangential_cor.is_some() || friction.is_some();
         Ok(ObliqueInputs {

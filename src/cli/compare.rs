@@ -252,6 +252,15 @@ pub fn batter_from_spec(spec: &BatterSpec, base: Option<&Path>) -> Result<(Batte
     let bat = resolve_bat(bat_name, base).context("reference_bat")?;
     let props = bat.mass_properties();
     let from_end = spec.impact_from_barrel_end.unwrap_or(DEFAULT_IMPACT_FROM_BARREL_END);
+    // Checked before the reference swing is built from it: an impact off the bat would be blamed on pivot_z.
+    if !(from_end >= 0.0 && from_end < props.length) {
+        return Err(crate::physics::PhysicsError::out_of_range(
+            "impact_from_barrel_end",
+            from_end,
+            format!("0 ≤ d < reference bat length = {} m", props.length),
+        )
+        .into());
+    }
     let reference = ReferenceSwing::from_speed_at(
         props,
         spec.bat_speed.unwrap_or(DEFAULT_REFERENCE_SPEED),
