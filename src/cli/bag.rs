@@ -125,7 +125,8 @@ not recorded with -a/-e. Only the mcap storage exists: -s sqlite3 is refused.")]
         #[arg(short = 'b', long, value_name = "BYTES", default_value_t = 0)]
         max_bag_size: u64,
         /// Start a new file after this many seconds of recording (0: never).
-        #[arg(short = 'd', long, value_name = "SECONDS", default_value_t = 0.0)]
+        #[arg(short = 'd', long, value_name = "SECONDS", default_value_t = 0.0,
+              value_parser = super::common::seconds_at_least_zero)]
         max_bag_duration: f64,
         /// A rosbag2 YAML file of per-topic subscription QoS (history, depth, reliability, durability).
         #[arg(long, value_name = "FILE")]

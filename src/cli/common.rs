@@ -86,7 +86,8 @@ pub fn resolve_bat(spec: &str, base: Option<&Path>) -> Result<Bat> {
         Some(dir) => dir.join(spec),
         None => Path::new(spec).to_path_buf(),
     };
-    if path.is_file() {
+    // Anything that exists goes to the reader, whose rules (a regular file under the size cap) name what it is.
+    if path.exists() {
         return load_bat_file(&path);
     }
     bail!(

@@ -65,7 +65,8 @@ pub fn check_seconds(seconds: f64, least: Least) -> Result<f64, String> {
         return Ok(seconds);
     }
     let bound = if least == Least::Zero { "≥ 0" } else { "> 0" };
-    Err(format!("{seconds} s is out of range: expected seconds {bound} (inf or anything over 100 years: for ever)"))
+    let value = super::limits::number(seconds);
+    Err(format!("{value} s is out of range: expected seconds {bound} (inf or anything over 100 years: for ever)"))
 }
 
 /// Checks a user-given rate: finite and at least [`MIN_RATE_HZ`] (one per 100 years).
@@ -73,7 +74,8 @@ pub fn check_rate(hz: f64) -> Result<f64, String> {
     if hz.is_finite() && hz >= MIN_RATE_HZ {
         return Ok(hz);
     }
-    Err(format!("{hz} Hz is out of range: expected a finite rate ≥ {MIN_RATE_HZ:.2e} Hz (one per 100 years)"))
+    let value = super::limits::number(hz);
+    Err(format!("{value} Hz is out of range: expected a finite rate ≥ {MIN_RATE_HZ:.2e} Hz (one per 100 years)"))
 }
 
 /// Conversions of a ROS `builtin_interfaces/Time` stamp.
