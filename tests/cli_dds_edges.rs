@@ -16,14 +16,27 @@ const DOMAIN: u16 = 183;
 /// Only turns a hang into a failure; never a speed assertion.
 const LIMIT: Duration = Duration::from_secs(300);
 
+/// One test at a time: they share the domain and the default namespaces (a demo must hear only its own rig).
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Takes the domain for one test (a failed test leaves the lock poisoned, not held).
+fn domain() -> std::sync::MutexGuard<'static, ()> {
+    ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
 /// `sh -c LINE` in `dir` as a user's terminal runs it: `sweetspot` first on PATH, loopback discovery on this
 /// test's domain, its own process group (so a terminal's Ctrl-C can be sent to the group).
 fn shell(line: &str, dir: &Path) -> Command {
+    shell_in("sh", line, dir)
+}
+
+/// [`shell`] with another shell (e.g. `bash` for `pipefail`).
+fn shell_in(shell: &str, line: &str, dir: &Path) -> Command {
     use std::os::unix::process::CommandExt;
     let bin_dir = Path::new(support::BIN).parent().expect("binary directory");
     let mut dirs = vec![bin_dir.to_path_buf()];
     dirs.extend(std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()));
-    let mut c = Command::new("sh");
+    let mut c = Command::new(shell);
     c.arg("-c").arg(line).current_dir(dir).env("PATH", std::env::join_paths(dirs).expect("PATH"));
     support::dds_env(&mut c, DOMAIN);
     c.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).process_group(0);
@@ -52,10 +65,10 @@ fn run(line: &str, dir: &Path) -> (Option<i32>, String, String) {
     finish(shell(line, dir).spawn().expect("spawn sh"))
 }
 
-/// Starts `line`, lets it run `for_how_long`, sends SIGINT to its process group (a terminal's Ctrl-C), and
-/// waits for it.
+/// Starts `line` (exec'd by the shell, so the status is the command's own), lets it run `for_how_long`, sends
+/// SIGINT to its process group (a terminal's Ctrl-C), and waits for it.
 fn interrupt_after(line: &str, dir: &Path, for_how_long: Duration) -> (Option<i32>, String, String) {
-    let child = shell(line, dir).spawn().expect("spawn sh");
+    let child = shell(&format!("exec {line}"), dir).spawn().expect("spawn sh");
     std::thread::sleep(for_how_long);
     let _ = Command::new("kill").args(["-INT", "--", &format!("-{}", child.id())]).status();
     finish(child)
@@ -70,6 +83,7 @@ fn no_panic(line: &str, code: Option<i32>, stderr: &str) {
 #[test]
 fn the_readme_calibration_block_runs_as_written() {
     support::require_isolated_network();
+    let _domain = domain();
     let readme = std::fs::read_to_string(support::repo().join("README.md")).expect("README");
     let start = readme.find("`calibrate --fit-batter` fits the batter instead").expect("the calibration section");
     let block = &readme[start..];
@@ -91,6 +105,7 @@ fn the_readme_calibration_block_runs_as_written() {
 #[test]
 fn ctrl_c_on_demo_gives_a_partial_report_and_130() {
     support::require_isolated_network();
+    let _domain = domain();
     let dir = tempfile::tempdir().expect("tempdir");
     let line = "sweetspot demo --swings 100000 --rate 20 --no-figures --out bags";
     let (code, out, err) = interrupt_after(line, dir.path(), Duration::from_secs(25));
@@ -106,6 +121,7 @@ fn ctrl_c_on_demo_gives_a_partial_report_and_130() {
 #[test]
 fn huge_durations_run_until_interrupted_without_a_panic() {
     support::require_isolated_network();
+    let _domain = domain();
     let dir = tempfile::tempdir().expect("tempdir");
     let golden = support::repo().join("bags/golden/sweetspot_golden");
     let golden = golden.display();
@@ -138,6 +154,7 @@ fn huge_durations_run_until_interrupted_without_a_panic() {
 #[test]
 fn dds_commands_into_head_end_quietly() {
     support::require_isolated_network();
+    let _domain = domain();
     let dir = tempfile::tempdir().expect("tempdir");
     let lines = [
         // The rig prints a line per swing, for ever without --count: the closed pipe must end it.
@@ -148,8 +165,8 @@ fn dds_commands_into_head_end_quietly() {
          sweetspot echo exit_velocity | head -1; s=$?; kill -INT $rig $node; wait; exit $s",
     ];
     for line in lines {
-        let line = format!("set -o pipefail 2>/dev/null; {line}");
-        let (code, out, err) = run(&line, dir.path());
+        let line = format!("set -o pipefail; {line}");
+        let (code, out, err) = finish(shell_in("bash", &line, dir.path()).spawn().expect("spawn bash"));
         no_panic(&line, code, &err);
         assert_eq!(code, Some(0), "{line}:\n{err}");
         assert_eq!(out.lines().count(), 1, "{line}: {out}");
@@ -161,6 +178,7 @@ fn dds_commands_into_head_end_quietly() {
 #[test]
 fn non_regular_inputs_are_refused() {
     support::require_isolated_network();
+    let _domain = domain();
     let dir = tempfile::tempdir().expect("tempdir");
     let (code, _, err) = run("mkfifo fifo", dir.path());
     assert_eq!(code, Some(0), "{err}");
