@@ -58,7 +58,8 @@ fn main() -> anyhow::Result<()> {
             inputs.swings.push((t, rig.swing_message(&swing, Time::from_unix_ns(t))));
         }
         let problem = problem_from_inputs(&inputs, None)?;
-        let options = TangentialOptions { contact: problem.contact, max_iterations: 30, ..TangentialOptions::default() };
+        let options =
+            TangentialOptions { contact: problem.contact, max_iterations: 30, ..TangentialOptions::default() };
         let (wall, cpu) = (Instant::now(), cpu_seconds());
         let mut evaluations = 0;
         let fit = fit_tangential_with_progress(&problem, &problem.ball, &options, |p| evaluations = p.evaluations)?;

@@ -44,7 +44,12 @@ fn session(dir: &Path, swings: usize) -> PathBuf {
     for _ in 0..swings {
         t += 100_000_000;
         let swing = rig.next_swing().expect("swing");
-        assert!(recorder.record(swing_topic, encode_cdr(&rig.swing_message(&swing, Time::from_unix_ns(t))).unwrap(), t, t));
+        assert!(recorder.record(
+            swing_topic,
+            encode_cdr(&rig.swing_message(&swing, Time::from_unix_ns(t))).unwrap(),
+            t,
+            t
+        ));
     }
     assert_eq!(recorder.finish().expect("finish bag").dropped, 0);
     bag
@@ -82,7 +87,8 @@ fn the_iteration_limit_and_convergence_decide_the_exit_status_and_the_files() {
     assert_eq!(doc["tangential"]["iterations"], 1);
 
     // --force writes anyway, with a warning, status 0.
-    let run = sweetspot(&["calibrate", s(&bag), "--fit-tangential", "--max-iterations", "0", "--write", s(&out), "--force"]);
+    let run =
+        sweetspot(&["calibrate", s(&bag), "--fit-tangential", "--max-iterations", "0", "--write", s(&out), "--force"]);
     assert_eq!(run.code, Some(0), "{}", run.stderr);
     assert!(run.stderr.contains("written anyway"), "{}", run.stderr);
     assert!(out.is_file());
@@ -103,7 +109,11 @@ fn fit_batter_and_fit_tangential_are_not_silently_merged() {
         args.extend(extra);
         let run = sweetspot(&args);
         assert_eq!(run.code, Some(2), "{args:?}: {}", run.stderr);
-        assert!(run.stderr.contains("--fit-tangential") && run.stderr.contains("cannot be used with"), "{}", run.stderr);
+        assert!(
+            run.stderr.contains("--fit-tangential") && run.stderr.contains("cannot be used with"),
+            "{}",
+            run.stderr
+        );
     }
 }
 
@@ -215,7 +225,11 @@ fn oblique_flags_are_refused_in_their_own_units_at_the_nodes_limit() {
     for flag in ["--attack-angle", "--pitch-angle"] {
         let run = sweetspot(&["simulate", "--bat", "r161", flag, "81"]);
         assert_eq!(run.code, Some(1));
-        assert!(run.stderr.contains(&format!("{flag} 81° is out of range")) && run.stderr.contains("≤ 80°"), "{}", run.stderr);
+        assert!(
+            run.stderr.contains(&format!("{flag} 81° is out of range")) && run.stderr.contains("≤ 80°"),
+            "{}",
+            run.stderr
+        );
         assert!(!run.stderr.contains("rad"), "{}", run.stderr);
     }
 }

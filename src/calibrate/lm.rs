@@ -68,12 +68,15 @@ pub struct BlockJacobian {
     pub blocks: Vec<JacobianBlock>,
 }
 
-/// Per block: D⁻¹ (Cholesky of LᵀL + damping), B = GᵀL, and the Schur pieces.
+/// A block after elimination: B = GᵀL and the Cholesky factor of its damped D = LᵀL (none without locals).
+type EliminatedBlock = (DMatrix<f64>, Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>);
+
+/// The normal equations with every block's locals eliminated.
 struct Eliminated {
     /// Schur complement S = A − Σ B D⁻¹ Bᵀ.
     schur: DMatrix<f64>,
-    /// Per block (B, D's Cholesky factor).
-    blocks: Vec<(DMatrix<f64>, Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>)>,
+    /// Per block, as [`EliminatedBlock`].
+    blocks: Vec<EliminatedBlock>,
 }
 
 impl BlockJacobian {

@@ -376,7 +376,8 @@ fn fit_with(
             .par_iter()
             .zip(&rows)
             .map(|(s, rows)| {
-                let global = DMatrix::from_fn(rows.len(), 1, |i, _| -(shifted[rows.start + i] - r[rows.start + i]) / h0);
+                let global =
+                    DMatrix::from_fn(rows.len(), 1, |i, _| -(shifted[rows.start + i] - r[rows.start + i]) / h0);
                 let (locals, local) = match s.undercut_index {
                     None => (Vec::new(), DMatrix::zeros(rows.len(), 0)),
                     Some(k) => {

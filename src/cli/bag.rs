@@ -472,7 +472,8 @@ fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
 
 fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> anyhow::Result<()> {
     if let Some(file) = &output {
-        crate::files::refuse_clobber("-o/--output", file, &[], std::slice::from_ref(&path)).map_err(anyhow::Error::msg)?;
+        crate::files::refuse_clobber("-o/--output", file, &[], std::slice::from_ref(&path))
+            .map_err(anyhow::Error::msg)?;
     }
     let (rows, counts) =
         bag::export::swing_rows(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;

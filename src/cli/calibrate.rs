@@ -92,7 +92,8 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     let problem = problem_from_bag(&args.bag, args.ball.as_deref())
         .map_err(flat)
         .with_context(|| format!("calibrating from '{}'", args.bag.display()))?;
-    let options = FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations, ..FitOptions::default() };
+    let options =
+        FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations, ..FitOptions::default() };
     let result = fit(&problem, &options).map_err(flat).context("fitting")?;
     let tangential = match args.fit_tangential {
         true => Some(fit_tangential_of(&args, &result)?),
@@ -234,8 +235,11 @@ fn fit_tangential_of(args: &CalibrateArgs, result: &Fit) -> Result<crate::calibr
     let problem =
         problem_from_bag(&args.bag, args.ball.as_deref()).map_err(flat).context("reading the launch measurements")?;
     // Start from the contact the node was given (μ and the moment of inertia stay as they were).
-    let options =
-        TangentialOptions { contact: problem.contact, max_iterations: args.max_iterations, ..TangentialOptions::default() };
+    let options = TangentialOptions {
+        contact: problem.contact,
+        max_iterations: args.max_iterations,
+        ..TangentialOptions::default()
+    };
     // Progress on a terminal once the fit has taken a few seconds (a large session takes minutes).
     let started = std::time::Instant::now();
     let on_terminal = std::io::stderr().is_terminal();

@@ -22,7 +22,7 @@ pub const MIN_RATE_HZ: f64 = 1.0 / (100.0 * 365.0 * 86_400.0);
 /// `seconds` as a Duration, never panicking: NaN and ≤ 0 give zero, anything at or beyond [`FOREVER`]
 /// (+∞ included) gives FOREVER, and a positive value stays positive (1e-300 s gives 1 ns).
 pub fn saturating_secs(seconds: f64) -> Duration {
-    if !(seconds > 0.0) {
+    if seconds.is_nan() || seconds <= 0.0 {
         Duration::ZERO
     } else if seconds >= FOREVER.as_secs_f64() {
         FOREVER

@@ -245,7 +245,8 @@ impl ClockOut {
             return;
         }
         self.next = (self.next + self.period).max(now);
-        let bag_ns = origin_ns.saturating_add(u64::try_from(crate::model::time::scaled(position, rate).as_nanos()).unwrap_or(u64::MAX));
+        let bag_ns = origin_ns
+            .saturating_add(u64::try_from(crate::model::time::scaled(position, rate).as_nanos()).unwrap_or(u64::MAX));
         let message = Clock { clock: time_of(bag_ns) };
         // Best effort, like rosbag2's: a lost tick is replaced by the next one.
         if let Err(e) = self.writer.write(message, Some(rustdds::Timestamp::now())) {

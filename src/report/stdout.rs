@@ -23,7 +23,10 @@ pub fn emit(text: &str) -> Result<()> {
 
 /// Standard output that treats a closed pipe as the end of the output (see the module docs).
 #[derive(Debug, Default)]
-pub struct Stdout;
+pub struct Stdout {
+    /// Nothing: the state ([`closed`]) is the process's, shared by every handle.
+    _shared: (),
+}
 
 /// `result` of a write to stdout, with a broken pipe turned into "written" (and [`closed`] set).
 fn absorb_broken_pipe<T>(result: std::io::Result<T>, written: T) -> std::io::Result<T> {
