@@ -147,6 +147,15 @@ fn no_output_lands_on_or_in_the_bag_being_read() {
         assert_eq!(std::fs::read(&mcap).unwrap(), bytes, "{args:?} changed the recording");
         assert!(!inside.exists());
     }
+    // Other writers keep the rule: a figure onto the batter file it reads (here through a hard link).
+    let batter = tmp.path().join("batter.toml");
+    std::fs::write(&batter, "exponent = 0.25\n").unwrap();
+    let figure = tmp.path().join("batter.svg");
+    std::fs::hard_link(&batter, &figure).unwrap();
+    let run = sweetspot(&["compare", "--batter", s(&batter), "--figure", s(&figure), "--modes", "2"]);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(run.stderr.contains("--figure") && run.stderr.contains("refused"), "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(&batter).unwrap(), "exponent = 0.25\n");
     // Beside the bag is fine.
     let run = sweetspot(&["bag", "export", s(&bag), "-o", s(&tmp.path().join("swings.csv"))]);
     assert_eq!(run.code, Some(0), "{}", run.stderr);

@@ -363,25 +363,8 @@ pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
     Ok(files.into_iter().map(|(_, f)| f).collect())
 }
 
-/// What a path is when it is not a regular file (following symlinks).
-fn not_regular(file_type: std::fs::FileType) -> Option<&'static str> {
-    use std::os::unix::fs::FileTypeExt;
-    if file_type.is_file() {
-        None
-    } else if file_type.is_dir() {
-        Some("a directory")
-    } else if file_type.is_fifo() {
-        Some("a FIFO")
-    } else if file_type.is_char_device() {
-        Some("a character device")
-    } else if file_type.is_block_device() {
-        Some("a block device")
-    } else if file_type.is_socket() {
-        Some("a socket")
-    } else {
-        Some("not a regular file")
-    }
-}
+/// What a path is when it is not a regular file (following symlinks): the rule every input file follows.
+use crate::files::not_regular;
 
 /// Opens `path` for reading if it is (or a symlink resolves to) a regular file that starts with the MCAP magic;
 /// returns it with its size. Never blocks (a FIFO is refused before it is opened) and never reads more than

@@ -195,6 +195,9 @@ pub fn run(args: CompareArgs) -> Result<()> {
     }
     if let Some(path) = &args.figure {
         ImageFormat::from_path(path).context("--figure")?;
+        let mut inputs: Vec<PathBuf> = args.bats.split(',').map(PathBuf::from).collect();
+        inputs.extend(args.batter.clone());
+        crate::files::refuse_clobber("--figure", path, &inputs, &[]).map_err(anyhow::Error::msg)?;
     }
     let doc = compare(&batter, &reference_name, &bats, &ball, args.pitch_speed, &options)?;
     if let Some(path) = &args.figure {
