@@ -161,12 +161,16 @@ fn dds_commands_into_head_end_quietly() {
         "sweetspot node --no-record & node=$!; sweetspot rig --rate 50 | head -1; s=$?; kill -INT $node; wait $node; exit $s",
         "sweetspot pub swing '{}' --rate 50 -w 0 | head -1",
         "sweetspot demo --swings 40 --no-figures --out bags | head -1",
+        "sweetspot bag play \"$GOLDEN\" -r 10 | head -1",
         "sweetspot node --no-record & node=$!; sweetspot rig --rate 50 --quiet & rig=$!; \
          sweetspot echo exit_velocity | head -1; s=$?; kill -INT $rig $node; wait; exit $s",
     ];
+    let golden = support::repo().join("bags/golden/sweetspot_golden");
     for line in lines {
         let line = format!("set -o pipefail; {line}");
-        let (code, out, err) = finish(shell_in("bash", &line, dir.path()).spawn().expect("spawn bash"));
+        let mut c = shell_in("bash", &line, dir.path());
+        c.env("GOLDEN", &golden);
+        let (code, out, err) = finish(c.spawn().expect("spawn bash"));
         no_panic(&line, code, &err);
         assert_eq!(code, Some(0), "{line}:\n{err}");
         assert_eq!(out.lines().count(), 1, "{line}: {out}");
