@@ -15,6 +15,8 @@
 //! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
 //!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
 //!   [`validate`]: the model against published measurements;
+//! - [`files`]: the rules for the files a user names (regular inputs under a size cap; no output onto an
+//!   input), used by every layer that opens one;
 //! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
 pub mod bag;
 pub mod bench;
@@ -22,6 +24,7 @@ pub mod calibrate;
 pub mod child;
 pub mod cli;
 pub mod demo;
+pub mod files;
 pub mod model;
 pub mod msgs;
 pub mod node;

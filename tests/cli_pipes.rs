@@ -57,3 +57,30 @@ fn a_mistyped_what_if_preset_is_blamed_on_its_flag_not_on_the_bag() {
     assert!(run.stderr.contains("aluminum"), "lists the presets: {}", run.stderr);
     assert!(!run.stderr.contains("bad bag"), "{}", run.stderr);
 }
+
+/// `| head -1` on every command that prints without DDS: each ends with status 0, no panic, no "Broken pipe".
+#[test]
+fn every_printing_command_into_a_closed_pipe_exits_quietly_with_status_0() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let figures = dir.path().join("figs");
+    let figures = figures.to_str().expect("utf-8 path");
+    let commands: Vec<Vec<&str>> = vec![
+        vec!["modes", "--bat", "r161"],
+        vec!["modes", "--bat", "r161", "--json"],
+        vec!["simulate", "--bat", "r161", "--impact-z", "0.6,0.65,0.7"],
+        vec!["simulate", "--bat", "r161", "--undercut", "0.01", "--pitch-spin", "1500"],
+        vec!["sweep", "--bat", "r161", "--points", "20"],
+        vec!["bbcor", "--bat", "aluminum"],
+        vec!["compare", "--bats", "r161,aluminum", "--modes", "4"],
+        vec!["figures", figures, "--format", "svg"],
+        vec!["bag", "replay", GOLDEN],
+        vec!["bag", "info", GOLDEN, "--json"],
+        vec!["--help"],
+        vec!["calibrate", "--help"],
+    ];
+    for args in commands {
+        let (code, stderr) = run_into_a_closed_pipe(&args);
+        assert_eq!(code, Some(0), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked") && !stderr.contains("Broken pipe"), "{args:?}: {stderr}");
+    }
+}

@@ -168,7 +168,8 @@ fn demo_runs_a_session_through_dds_and_leaves_a_bag_and_figures() {
     }
 
     // The figures, next to the bag.
-    let figures = PathBuf::from(format!("{}_figures", bag.display()));
+    let figures = sweetspot::demo::figures_dir(&bag);
+    assert_eq!(figures, bag.parent().unwrap().join("figures").join(bag.file_name().unwrap()));
     for file in [
         "demo-exit-speed-vs-impact.png",
         "fig2-rigid-exit-speed.png",

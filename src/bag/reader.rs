@@ -39,6 +39,7 @@ use mcap::records::{op, Record};
 
 use super::rosbag2::parse_offered_qos;
 use super::{BagError, McapLayout, RecordedQos, TopicInfo};
+use crate::files::not_regular;
 
 /// Largest uncompressed chunk the reader decompresses, bytes (sweetspot writes chunks of 4 MiB at most;
 /// rosbag2 and the mcap writers default to well under 1 MiB).
@@ -449,24 +450,22 @@ pub fn mcap_files_in_dir(path: &Path) -> Result<Vec<PathBuf>, BagError> {
     Ok(files.into_iter().map(|(_, f)| f).collect())
 }
 
-/// A regular file of at most `limit` bytes as UTF-8 text, or why not ("is missing", "is a FIFO, …").
+/// A regular file of at most `limit` bytes as UTF-8 text (the input rule of [`crate::files`]), or why not
+/// ("is missing", "is a FIFO, …").
 fn read_small_regular_file(path: &Path, limit: u64) -> Result<String, String> {
-    let meta = match std::fs::metadata(path) {
-        Ok(meta) => meta,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err("is missing".to_string()),
-        Err(e) => return Err(format!("cannot be read ({e})")),
-    };
-    if let Some(what) = not_regular(meta.file_type()) {
-        return Err(format!("is {what}, not a regular file"));
+    use crate::files::InputError;
+    match crate::files::read_limited(path, "metadata.yaml", limit) {
+        Ok(bytes) => String::from_utf8(bytes).map_err(|_| "is not UTF-8 text".to_string()),
+        Err(InputError::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
+            Err("is missing".to_string())
+        }
+        Err(InputError::Io { source, .. }) => Err(format!("cannot be read ({source})")),
+        Err(InputError::NotRegular { kind, .. }) => Err(format!("is {kind}, not a regular file")),
+        Err(InputError::TooLarge { size, limit, .. }) => {
+            Err(format!("is {size} bytes, more than the {limit} read at most"))
+        }
+        Err(InputError::NotText { .. }) => Err("is not UTF-8 text".to_string()),
     }
-    if meta.len() > limit {
-        return Err(format!("is {} bytes, more than the {limit} read at most", meta.len()));
-    }
-    let mut text = String::new();
-    File::open(path)
-        .and_then(|f| f.take(limit + 1).read_to_string(&mut text))
-        .map_err(|e| format!("cannot be read ({e})"))?;
-    Ok(text)
 }
 
 /// `relative_file_paths` of a rosbag2 `metadata.yaml`, with each file's `message_count` from `files:` when
@@ -495,26 +494,6 @@ fn parse_file_list(text: &str) -> Result<Vec<(String, Option<u64>)>, String> {
         out.push((relative.to_string(), count));
     }
     Ok(out)
-}
-
-/// What a path is when it is not a regular file (following symlinks).
-fn not_regular(file_type: std::fs::FileType) -> Option<&'static str> {
-    use std::os::unix::fs::FileTypeExt;
-    if file_type.is_file() {
-        None
-    } else if file_type.is_dir() {
-        Some("a directory")
-    } else if file_type.is_fifo() {
-        Some("a FIFO")
-    } else if file_type.is_char_device() {
-        Some("a character device")
-    } else if file_type.is_block_device() {
-        Some("a block device")
-    } else if file_type.is_socket() {
-        Some("a socket")
-    } else {
-        Some("not a regular file")
-    }
 }
 
 /// Opens `path` for reading if it is (or a symlink resolves to) a regular file that starts with the MCAP magic;

@@ -16,7 +16,9 @@
 //! (errors in variables; ≈ −0.05 for 2 mm noise on a 1 cm spread). With σ_D = 0 the reported undercuts are
 //! taken as exact. Σ r² is minimised by Levenberg–Marquardt with
 //! forward-difference Jacobians, as the exit-speed fit of [`super`] does; a D_j moves only its own swing's
-//! residuals, so its Jacobian column costs one collision.
+//! residuals, so its Jacobian column costs one collision, and the Jacobian is block-sparse (a swing's rows
+//! depend on e_T and its own D_j). The normal equations are solved as such: each D_j is eliminated onto e_T
+//! (the Schur complement), the same step and covariance as the dense solve at a cost linear in the swings.
 //!
 //! **Uncertainty** as in [`super`]: s² = Σ r²/(n − p), Cov θ = s² (JᵀJ)⁻¹, σ_k = √Cov_kk. Only the ratio
 //! σ_θ/σ_ω matters (s² absorbs their common scale); the measured swing inputs are treated as exact, so noise
@@ -183,11 +185,63 @@ struct LaunchSwing<'a> {
     undercut_index: Option<usize>,
 }
 
+/// What a minimisation found, whichever solver found it.
+struct Solved {
+    x: DVector<f64>,
+    predicted: Vec<Option<Launch>>,
+    predicted_at_start: Vec<Option<Launch>>,
+    sigmas: Option<Vec<f64>>,
+    residual_variance: f64,
+    dof: usize,
+    iterations: usize,
+    converged: bool,
+}
+
+impl Solved {
+    fn of<J: lm::Linearisation>(m: lm::Minimum<Vec<Option<Launch>>, J>) -> Solved {
+        Solved {
+            sigmas: m.standard_errors(),
+            residual_variance: m.residual_variance(),
+            dof: m.dof(),
+            iterations: m.iterations,
+            converged: m.converged,
+            x: m.x,
+            predicted: m.predicted,
+            predicted_at_start: m.predicted_at_start,
+        }
+    }
+}
+
+pub use lm::Progress;
+
 /// Fits e_T (and unmeasured undercuts) of `problem` with the ball `ball` (see the module docs).
 pub fn fit_tangential(
     problem: &Problem,
     ball: &Ball,
     options: &TangentialOptions,
+) -> Result<TangentialFit, CalibrateError> {
+    fit_tangential_with_progress(problem, ball, options, |_| {})
+}
+
+/// [`fit_tangential`], calling `progress` after every evaluation of the residuals or the Jacobian (each
+/// costs one or two collisions per swing). The normal equations are solved block by block (each swing's
+/// undercut eliminated onto e_T), so the cost grows linearly with the number of swings.
+pub fn fit_tangential_with_progress(
+    problem: &Problem,
+    ball: &Ball,
+    options: &TangentialOptions,
+    progress: impl FnMut(Progress),
+) -> Result<TangentialFit, CalibrateError> {
+    fit_with(problem, ball, options, false, progress)
+}
+
+/// The fit, with the dense solver (`dense`, the reference the block solver is tested against) or the block one.
+fn fit_with(
+    problem: &Problem,
+    ball: &Ball,
+    options: &TangentialOptions,
+    dense: bool,
+    progress: impl FnMut(Progress),
 ) -> Result<TangentialFit, CalibrateError> {
     options.contact.validate().map_err(|source| CalibrateError::Physics { context: "start contact".into(), source })?;
     if !(options.launch_angle_sigma > 0.0 && options.spin_sigma > 0.0 && options.undercut_sigma >= 0.0) {
@@ -262,13 +316,13 @@ pub fn fit_tangential(
         Some(k) => x[k] * UNDERCUT_UNIT,
         None => s.observation.input.undercut,
     };
-    // Predicted (launch angle, spin) of one swing; None when the parameters are outside the model's range.
-    let predict_one = |s: &LaunchSwing, x: &DVector<f64>| -> Option<(f64, f64)> {
+    // Predicted (launch angle, spin) of one swing at e_T and undercut D (m); None when outside the model's range.
+    let predict_at = |s: &LaunchSwing, e_t: f64, undercut: f64| -> Option<(f64, f64)> {
         let o = s.observation;
         let pb = &problem.bats[o.bat_id.as_str()];
-        let contact = TangentialContact { tangential_cor: x[0], ..options.contact };
+        let contact = TangentialContact { tangential_cor: e_t, ..options.contact };
         let collision = CollisionOptions { modes: pb.modes, time_step: problem.time_step };
-        let oblique = oblique_impact(&pb.bat, &o.input, undercut_of(s, x));
+        let oblique = oblique_impact(&pb.bat, &o.input, undercut);
         collide_oblique(&modes[o.bat_id.as_str()], ball, &oblique, &contact, &collision)
             .ok()
             .map(|r| (r.launch_angle, r.spin))
@@ -277,23 +331,27 @@ pub fn fit_tangential(
         if !(0.0..=1.0).contains(&x[0]) {
             return vec![None; swings.len()];
         }
-        swings.par_iter().map(|s| predict_one(s, x)).collect()
+        swings.par_iter().map(|s| predict_at(s, x[0], undercut_of(s, x))).collect()
     };
-    // Weighted residuals, in swing order: launch angle, spin (measured values only), reported undercut.
+    // One swing's weighted residuals: launch angle, spin (measured values only), reported undercut.
+    let swing_residuals = |s: &LaunchSwing, predicted: Option<(f64, f64)>, undercut: f64, out: &mut Vec<f64>| {
+        let input = &s.observation.input;
+        let (la, spin) = predicted.unwrap_or((f64::NAN, f64::NAN));
+        if input.measured_launch_angle.is_finite() {
+            out.push((input.measured_launch_angle - la) / options.launch_angle_sigma);
+        }
+        if input.measured_spin.is_finite() {
+            out.push((input.measured_spin - spin) / options.spin_sigma);
+        }
+        if undercut_prior && input.undercut.is_finite() {
+            out.push((input.undercut - undercut) / options.undercut_sigma);
+        }
+    };
+    // Weighted residuals, in swing order.
     let residuals = |predicted: &[Option<(f64, f64)>], x: &DVector<f64>| -> DVector<f64> {
         let mut r = Vec::with_capacity(n);
         for (s, p) in swings.iter().zip(predicted) {
-            let input = &s.observation.input;
-            let (la, spin) = p.unwrap_or((f64::NAN, f64::NAN));
-            if input.measured_launch_angle.is_finite() {
-                r.push((input.measured_launch_angle - la) / options.launch_angle_sigma);
-            }
-            if input.measured_spin.is_finite() {
-                r.push((input.measured_spin - spin) / options.spin_sigma);
-            }
-            if undercut_prior && input.undercut.is_finite() {
-                r.push((input.undercut - undercut_of(s, x)) / options.undercut_sigma);
-            }
+            swing_residuals(s, *p, undercut_of(s, x), &mut r);
         }
         DVector::from_vec(r)
     };
@@ -305,48 +363,58 @@ pub fn fit_tangential(
         rows.push(row..row + k);
         row += k;
     }
+    // The Jacobian is block-sparse: a swing's rows depend on e_T and on its own undercut only. One block per
+    // swing; its e_T column from one shifted evaluation of every swing, its undercut column from one
+    // collision of its own (both forward differences, r = (measured − predicted)/σ so J = −∂r/∂θ).
     let step = 1e-4;
-    let jacobian_of = |x: &DVector<f64>, r: &DVector<f64>| -> DMatrix<f64> {
-        let mut j = DMatrix::zeros(n, p);
+    let jacobian_of = |x: &DVector<f64>, r: &DVector<f64>| -> lm::BlockJacobian {
         let mut xe = x.clone();
         xe[0] += if x[0] + step <= 1.0 { step } else { -step };
         let h0 = xe[0] - x[0];
         let shifted = residuals(&predict_all(&xe), &xe);
-        for i in 0..n {
-            // r = (measured − predicted)/σ, so ∂predicted/∂θ·(1/σ) = −∂r/∂θ.
-            j[(i, 0)] = -(shifted[i] - r[i]) / h0;
-        }
-        let columns: Vec<(usize, usize, Option<Launch>)> = swings
+        let blocks = swings
             .par_iter()
-            .enumerate()
-            .filter_map(|(i, s)| s.undercut_index.map(|k| (i, k)))
-            .map(|(i, k)| {
-                let mut xk = x.clone();
-                xk[k] += step;
-                (i, k, predict_one(&swings[i], &xk))
+            .zip(&rows)
+            .map(|(s, rows)| {
+                let global =
+                    DMatrix::from_fn(rows.len(), 1, |i, _| -(shifted[rows.start + i] - r[rows.start + i]) / h0);
+                let (locals, local) = match s.undercut_index {
+                    None => (Vec::new(), DMatrix::zeros(rows.len(), 0)),
+                    Some(k) => {
+                        let undercut = (x[k] + step) * UNDERCUT_UNIT;
+                        let mut moved = Vec::with_capacity(rows.len());
+                        swing_residuals(s, predict_at(s, x[0], undercut), undercut, &mut moved);
+                        let local = DMatrix::from_fn(rows.len(), 1, |i, _| {
+                            let (m, r) = (moved[i], r[rows.start + i]);
+                            if m.is_finite() {
+                                -(m - r) / step
+                            } else {
+                                0.0
+                            }
+                        });
+                        (vec![k], local)
+                    }
+                };
+                lm::JacobianBlock { rows: rows.clone(), locals, global, local }
             })
             .collect();
-        for (i, k, predicted) in columns {
-            let mut alone = vec![None; swings.len()];
-            alone[i] = predicted;
-            let mut xk = x.clone();
-            xk[k] += step;
-            let moved = residuals(&alone, &xk);
-            for row in rows[i].clone() {
-                j[(row, k)] = if moved[row].is_finite() { -(moved[row] - r[row]) / step } else { 0.0 };
-            }
-        }
-        j
+        lm::BlockJacobian { globals: 1, parameters: p, blocks }
     };
 
     let evaluate = |x: &DVector<f64>| {
         let predicted = predict_all(x);
         Ok((residuals(&predicted, x), predicted))
     };
-    let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(jacobian_of(x, r));
-    let minimum =
-        lm::minimize(DVector::from_vec(start), evaluate, jacobian, options.max_iterations, options.tolerance)?;
-    let sigmas = minimum.standard_errors().ok_or_else(|| {
+    let start = DVector::from_vec(start);
+    let (max_iterations, tolerance) = (options.max_iterations, options.tolerance);
+    let minimum = if dense {
+        let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(jacobian_of(x, r).to_dense());
+        Solved::of(lm::minimize_with(start, evaluate, jacobian, max_iterations, tolerance, progress)?)
+    } else {
+        let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(jacobian_of(x, r));
+        Solved::of(lm::minimize_with(start, evaluate, jacobian, max_iterations, tolerance, progress)?)
+    };
+    let sigmas = minimum.sigmas.clone().ok_or_else(|| {
         CalibrateError::Degenerate(
             "JᵀJ is singular: the launch angles and spins do not constrain e_T (every swing slides, or no spin is \
              measured) or an unmeasured undercut"
@@ -410,8 +478,8 @@ pub fn fit_tangential(
         residuals: residual_rows,
         rms_launch_angle: (rms(before, false), rms(current, false)),
         rms_spin: (rms(before, true), rms(current, true)),
-        residual_sigma: minimum.residual_variance().sqrt(),
-        dof: minimum.dof(),
+        residual_sigma: minimum.residual_variance.sqrt(),
+        dof: minimum.dof,
         iterations: minimum.iterations,
         converged: minimum.converged,
         contact: TangentialContact { tangential_cor: x[0], ..options.contact },
@@ -447,4 +515,90 @@ pub fn report(fit: &TangentialFit) -> String {
         out.push_str(&format!("skipped: {s}\n"));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibrate::RecordedInputs;
+    use crate::model::time::RosTime;
+    use crate::msgs::builtin_interfaces::msg::Time;
+    use crate::rig::{LaunchConditions, RigConfig, SessionGenerator};
+
+    /// A small noisy session of the rig (true e_T 0.30), as the fit reads it from a bag.
+    fn session(swings: usize, report_undercut: bool) -> Problem {
+        let launch = LaunchConditions {
+            contact: TangentialContact { tangential_cor: 0.30, ..TangentialContact::default() },
+            report_undercut,
+            ..LaunchConditions::default()
+        };
+        let config = RigConfig {
+            bats: vec!["r161".into(), "r161-corked".into()],
+            seed: 11,
+            options: CollisionOptions { modes: 18, ..CollisionOptions::default() },
+            launch: Some(launch),
+            ..RigConfig::default()
+        };
+        let mut rig = SessionGenerator::new(config).unwrap().with_block(4);
+        let mut t = 1_700_000_000_000_000_000u64;
+        let mut inputs = RecordedInputs {
+            bats: rig.bat_params(Time::from_unix_ns(t)).into_iter().map(|b| (t, b)).collect(),
+            balls: vec![(t, rig.ball_params(Time::from_unix_ns(t)))],
+            ..RecordedInputs::default()
+        };
+        for _ in 0..swings {
+            t += 1_000_000;
+            let swing = rig.next_swing().unwrap();
+            inputs.swings.push((t, rig.swing_message(&swing, Time::from_unix_ns(t))));
+        }
+        problem_from_inputs(&inputs, None).unwrap()
+    }
+
+    /// The block (Schur-complement) solver takes the dense solver's steps: same iterations, same e_T and
+    /// undercuts, same standard errors, with reported undercuts held by their prior and with none reported.
+    #[test]
+    fn the_block_solver_agrees_with_the_dense_one() {
+        for report_undercut in [true, false] {
+            let problem = session(24, report_undercut);
+            let options = TangentialOptions { contact: problem.contact, ..TangentialOptions::default() };
+            let dense = fit_with(&problem, &problem.ball, &options, true, |_| {}).unwrap();
+            let block = fit_with(&problem, &problem.ball, &options, false, |_| {}).unwrap();
+            assert_eq!(dense.iterations, block.iterations);
+            assert_eq!(dense.converged, block.converged);
+            assert_eq!(dense.parameters.len(), block.parameters.len());
+            assert!(dense.parameters.len() > 20, "the undercuts are fitted too");
+            for (d, b) in dense.parameters.iter().zip(&block.parameters) {
+                assert_eq!(d.name, b.name);
+                let scale = d.value.abs().max(d.std_error).max(1e-6);
+                assert!((d.value - b.value).abs() < 1e-9 * scale, "{}: {} vs {}", d.name, d.value, b.value);
+                assert!(
+                    (d.std_error - b.std_error).abs() < 1e-7 * d.std_error,
+                    "{}: σ {} vs {}",
+                    d.name,
+                    d.std_error,
+                    b.std_error
+                );
+            }
+        }
+    }
+
+    /// `max_iterations` is honoured: 0 runs none (the start comes back, not converged), 1 runs one.
+    #[test]
+    fn the_iteration_limit_is_honoured() {
+        let problem = session(12, true);
+        for limit in [0, 1] {
+            let options =
+                TangentialOptions { contact: problem.contact, max_iterations: limit, ..TangentialOptions::default() };
+            let mut evaluations = 0;
+            let fit = fit_tangential_with_progress(&problem, &problem.ball, &options, |p| evaluations = p.evaluations)
+                .unwrap();
+            assert_eq!(fit.iterations, limit);
+            assert!(!fit.converged);
+            if limit == 0 {
+                assert_eq!(fit.parameters[0].value, problem.contact.tangential_cor);
+                // One evaluation of the residuals and one Jacobian for the uncertainties at the start.
+                assert_eq!(evaluations, 2);
+            }
+        }
+    }
 }

@@ -125,7 +125,8 @@ not recorded with -a/-e. Only the mcap storage exists: -s sqlite3 is refused.")]
         #[arg(short = 'b', long, value_name = "BYTES", default_value_t = 0)]
         max_bag_size: u64,
         /// Start a new file after this many seconds of recording (0: never).
-        #[arg(short = 'd', long, value_name = "SECONDS", default_value_t = 0.0)]
+        #[arg(short = 'd', long, value_name = "SECONDS", default_value_t = 0.0,
+              value_parser = super::common::seconds_at_least_zero)]
         max_bag_duration: f64,
         /// A rosbag2 YAML file of per-topic subscription QoS (history, depth, reliability, durability).
         #[arg(long, value_name = "FILE")]
@@ -163,7 +164,7 @@ so every swing meets the bat and ball in force when it was recorded.")]
         /// Bag directory or .mcap file.
         path: PathBuf,
         /// Time scale: 2 plays twice as fast, 0.5 at half speed.
-        #[arg(short = 'r', long, default_value_t = 1.0)]
+        #[arg(short = 'r', long, default_value_t = 1.0, value_parser = super::common::time_scale)]
         rate: f64,
         /// Start over when done, until interrupted.
         #[arg(short = 'l', long = "loop")]
@@ -175,13 +176,13 @@ so every swing meets the bat and ball in force when it was recorded.")]
         #[arg(short = 'm', long = "remap", value_name = "FROM:=TO")]
         remap: Vec<String>,
         /// Start this many seconds (recorded time) after the bag's first message.
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::seconds_at_least_zero)]
         start_offset: f64,
         /// Wait this many seconds before playing (before each pass with --loop).
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::seconds_at_least_zero)]
         delay: f64,
         /// Publish rosgraph_msgs/Clock with the bag's time on /clock at HZ (40 without a value, as rosbag2).
-        #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40")]
+        #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40", value_parser = super::common::rate_hz)]
         clock: Option<f64>,
         /// Wait until every topic has this many subscriptions before starting (default: wait until the
         /// subscriptions discovery shows have matched, at most --timeout, and warn of topics with none).
@@ -191,7 +192,7 @@ so every swing meets the bat and ball in force when it was recorded.")]
         #[arg(long, conflicts_with = "wait_subscribers")]
         no_wait: bool,
         /// Seconds to wait for subscribers, and for acknowledgments at the end.
-        #[arg(long, default_value_t = 10.0)]
+        #[arg(long, default_value_t = 10.0, value_parser = super::common::seconds_above_zero)]
         timeout: f64,
         /// Do not print each message.
         #[arg(short, long)]
@@ -235,9 +236,6 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             if !all && regex.is_none() && topics.is_empty() {
                 anyhow::bail!("nothing to record: pass -a/--all, topic names, or -e/--regex");
             }
-            if !(max_bag_duration.is_finite() && max_bag_duration >= 0.0) {
-                anyhow::bail!("-d/--max-bag-duration {max_bag_duration} is out of range: expected seconds >= 0");
-            }
             if polling_interval == 0 {
                 anyhow::bail!("-p/--polling-interval must be at least 1 ms");
             }
@@ -264,7 +262,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
                 storage,
                 max_bag_size: (max_bag_size > 0).then_some(max_bag_size),
                 max_bag_duration: (max_bag_duration > 0.0)
-                    .then(|| std::time::Duration::from_secs_f64(max_bag_duration)),
+                    .then(|| crate::model::time::saturating_secs(max_bag_duration)),
                 qos_overrides,
                 polling_interval: std::time::Duration::from_millis(polling_interval),
             };
@@ -293,7 +291,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
                     let bound = if positive { "> 0" } else { ">= 0" };
                     anyhow::bail!("{flag} {value} is out of range: expected a finite value {bound} s");
                 }
-                Ok(std::time::Duration::from_secs_f64(value))
+                Ok(crate::model::time::saturating_secs(value))
             };
             let options = crate::play::PlayOptions {
                 rate,
@@ -498,6 +496,10 @@ fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
 }
 
 fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> anyhow::Result<()> {
+    if let Some(file) = &output {
+        crate::files::refuse_clobber("-o/--output", file, &[], std::slice::from_ref(&path))
+            .map_err(anyhow::Error::msg)?;
+    }
     let (rows, counts) =
         bag::export::swing_rows(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
     match &output {

@@ -298,12 +298,12 @@ pub fn spec_to_toml(spec: &BatSpec) -> String {
 
 /// Reads a bat file from disk; the CSV profile is resolved relative to the TOML file.
 pub fn load_bat_file(path: &Path) -> Result<Bat> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read bat file '{}'", path.display()))?;
+    let text = crate::files::read_text(path, "bat file")?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("bat").to_string();
     parse_bat_toml(&text, &stem, |file| {
         let csv_path = base.join(file);
-        std::fs::read_to_string(&csv_path).with_context(|| format!("cannot read '{}'", csv_path.display()))
+        Ok(crate::files::read_text(&csv_path, "bat profile")?)
     })
     .with_context(|| format!("bat file '{}'", path.display()))
 }

@@ -110,17 +110,17 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         Some(BenchPart::Recorder) => {
             let before = bench::loadavg();
             let disk = bench::disk_bench(&opts.work_dir, if opts.quick { 1_000_000 } else { 5_000_000 })?;
-            println!("load average before: {before}, after: {}\n{}", bench::loadavg(), bench::disk_table(&disk));
+            crate::outln!("load average before: {before}, after: {}\n{}", bench::loadavg(), bench::disk_table(&disk))?;
             write_json(args.json.as_deref(), &disk)
         }
         Some(BenchPart::Latency) => {
             let report = bench::run_latency_interleaved(&opts)?;
-            println!("{}", bench::interleaved_table(&report));
+            crate::outln!("{}", bench::interleaved_table(&report))?;
             write_json(args.json.as_deref(), &report)
         }
         Some(BenchPart::Sustained) | None => {
             let report = bench::run(&opts)?;
-            println!("{}", bench::table(&report));
+            crate::outln!("{}", bench::table(&report))?;
             write_json(args.json.as_deref(), &report)
         }
     }

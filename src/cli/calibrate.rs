@@ -3,9 +3,12 @@
 //! with `--fit-batter`, fit the batter (bat speed against swing weight) and write it for `sweetspot compare`.
 
 use std::io::Write as _;
+
+use super::common::{emit, print_json};
+use crate::outln;
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use serde_json::json;
 
@@ -41,7 +44,8 @@ pub struct CalibrateArgs {
     /// BatParams go to FILE with `.bats` before the extension.
     #[arg(long, value_name = "FILE")]
     pub write: Option<PathBuf>,
-    /// Iteration limit of Levenberg–Marquardt.
+    /// Iteration limit of Levenberg–Marquardt, for each fit (0 runs none: the start values with their
+    /// uncertainties, reported as not converged).
     #[arg(long, default_value_t = 30, value_name = "N")]
     pub max_iterations: usize,
     /// Residual rows printed (largest |residual| first); 0 = all.
@@ -52,15 +56,15 @@ pub struct CalibrateArgs {
     pub json: bool,
     /// Fit the batter instead: bat speed at the usual impact point against the bats' swing weights,
     /// v = v_ref·(I/I_ref)^(−n) (needs a session with bats of two or more swing weights).
-    #[arg(long, conflicts_with_all = ["fit_youngs", "write"])]
+    #[arg(long, conflicts_with_all = ["fit_youngs", "write", "fit_tangential"])]
     pub fit_batter: bool,
     /// The bat_id whose swing is the fitted batter's reference [default: the bat of the first swing]; implies
     /// --fit-batter.
-    #[arg(long, value_name = "BAT_ID", conflicts_with_all = ["fit_youngs", "write"])]
+    #[arg(long, value_name = "BAT_ID", conflicts_with_all = ["fit_youngs", "write", "fit_tangential"])]
     pub reference_bat: Option<String>,
     /// Write the fitted batter to FILE in the format `sweetspot compare --batter` and `sweetspot demo --batter`
     /// read (implies --fit-batter; a reference bat that is no preset is written beside it as a bat file).
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["fit_youngs", "write"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["fit_youngs", "write", "fit_tangential"])]
     pub batter_out: Option<PathBuf>,
     /// Also fit the tangential COR e_T (and unmeasured undercuts) to the measured launch angles and spins.
     #[arg(long)]
@@ -69,6 +73,10 @@ pub struct CalibrateArgs {
     /// it a damaged bag is refused and nothing is written.
     #[arg(long)]
     pub skip_damaged: bool,
+    /// Write --write's files even when a fit did not converge within --max-iterations (without it, a fit
+    /// that did not converge writes nothing and exits with status 1).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// A calibration error as one message: its text already holds every cause, which anyhow would repeat.
@@ -91,17 +99,23 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
     if args.fit_batter || args.batter_out.is_some() || args.reference_bat.is_some() {
         return run_batter(&args);
     }
+    if let Some(path) = &args.write {
+        refuse_onto_the_bag("--write", path, &args.bag)?;
+        refuse_onto_the_bag("--write", &bats_path(path), &args.bag)?;
+    }
     let problem = problem_from_bag(&args.bag, args.ball.as_deref())
         .map_err(flat)
         .with_context(|| format!("calibrating from '{}'", args.bag.display()))?;
     let options =
-        FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations.max(1), ..FitOptions::default() };
+        FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations, ..FitOptions::default() };
     let result = fit(&problem, &options).map_err(flat).context("fitting")?;
     let tangential = match args.fit_tangential {
         true => Some(fit_tangential_of(&args, &result)?),
         false => None,
     };
+    let converged = result.converged && tangential.as_ref().is_none_or(|t| t.converged);
     let written = match &args.write {
+        Some(_) if !converged && !args.force => Vec::new(),
         Some(path) => {
             // The fitted e_T when there is one, else the contact the bag's BallParams gave the node.
             let contact = tangential.as_ref().map_or(problem.contact, |t| t.contact);
@@ -126,30 +140,54 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
             "written": written,
             "tangential": tangential.as_ref().map(|t| json!({
                 "parameters": t.parameters, "residual_sigma": t.residual_sigma, "dof": t.dof,
-                "converged": t.converged, "residuals": t.residuals, "skipped": t.skipped,
+                "iterations": t.iterations, "converged": t.converged, "residuals": t.residuals, "skipped": t.skipped,
             })),
         });
-        println!("{}", serde_json::to_string_pretty(&doc).context("serialising the result")?);
-        return Ok(());
+        print_json(&doc)?;
+    } else {
+        emit(&report(&problem, &result, args.show))?;
+        if let Some(t) = &tangential {
+            emit(&format!("\n{}", crate::calibrate::tangential::report(t)))?;
+        }
+        for path in &written {
+            outln!("wrote {}", path.display())?;
+        }
+        if let Some(path) = written.first() {
+            outln!("send it to a running node:  sweetspot pub ball --file {}", path.display())?;
+        }
+        if let Some(path) = written.get(1) {
+            outln!("                            sweetspot pub bat --file {}", path.display())?;
+        }
     }
-    print!("{}", report(&problem, &result, args.show));
-    if let Some(t) = &tangential {
-        print!("\n{}", crate::calibrate::tangential::report(t));
-    }
-    for path in &written {
-        println!("wrote {}", path.display());
-    }
-    if let Some(path) = written.first() {
-        println!("send it to a running node:  sweetspot pub ball --file {}", path.display());
-    }
-    if let Some(path) = written.get(1) {
-        println!("                            sweetspot pub bat --file {}", path.display());
+    if !converged {
+        let limit = args.max_iterations;
+        if args.force {
+            eprintln!("warning: a fit did not converge within --max-iterations {limit}; written anyway (--force)");
+        } else {
+            let nothing = if args.write.is_some() { "; nothing written (--force writes anyway)" } else { "" };
+            bail!("a fit did not converge within --max-iterations {limit} (raise it){nothing}");
+        }
     }
     Ok(())
 }
 
+/// Refuses an output of `calibrate` that is a file of the bag being read, or a new file in its directory.
+fn refuse_onto_the_bag(flag: &str, output: &Path, bag: &Path) -> Result<()> {
+    crate::files::refuse_clobber(flag, output, &[], &[bag.to_path_buf()]).map_err(|e| anyhow!(e))
+}
+
+/// Where `--write FILE` puts the fitted bats: FILE with `.bats` before the extension.
+fn bats_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("fitted");
+    let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("jsonl");
+    path.with_file_name(format!("{stem}.bats.{ext}"))
+}
+
 /// `sweetspot calibrate --fit-batter`: fits, prints and (with `--batter-out`) writes the batter.
 fn run_batter(args: &CalibrateArgs) -> Result<()> {
+    if let Some(path) = &args.batter_out {
+        refuse_onto_the_bag("--batter-out", path, &args.bag)?;
+    }
     let options = BatterFitOptions { reference_bat: args.reference_bat.clone(), ..BatterFitOptions::default() };
     let result = batter_fit_from_bag(&args.bag, &options)
         .map_err(flat)
@@ -162,15 +200,14 @@ fn run_batter(args: &CalibrateArgs) -> Result<()> {
         let mut doc = serde_json::to_value(&result).context("serialising the result")?;
         doc["bag"] = json!(args.bag);
         doc["written"] = json!(written);
-        println!("{}", serde_json::to_string_pretty(&doc).context("serialising the result")?);
-        return Ok(());
+        return print_json(&doc);
     }
-    print!("{}", render_batter_fit(&result));
+    emit(&render_batter_fit(&result))?;
     for path in &written {
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
     }
     if let Some(path) = written.last() {
-        println!("compare bats as this batter swings them:  sweetspot compare --batter {}", path.display());
+        outln!("compare bats as this batter swings them:  sweetspot compare --batter {}", path.display())?;
     }
     Ok(())
 }
@@ -189,6 +226,10 @@ pub fn write_batter_file(path: &Path, result: &BatterFit, bag: &Path) -> Result<
                 .chars()
                 .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
                 .collect();
+            for ext in ["toml", "csv"] {
+                let file = dir.join(format!("{stem}.{id}.{ext}"));
+                refuse_onto_the_bag("--batter-out", &file, bag)?;
+            }
             let bat_file = super::bat_file::write_bat_files(&result.reference, dir, &format!("{stem}.{id}"))?;
             let name = bat_file.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
             written.push(bat_file);
@@ -203,12 +244,38 @@ pub fn write_batter_file(path: &Path, result: &BatterFit, bag: &Path) -> Result<
 
 /// The e_T fit of the bag, with the ball of the exit-speed fit (`--fit-tangential`).
 fn fit_tangential_of(args: &CalibrateArgs, result: &Fit) -> Result<crate::calibrate::tangential::TangentialFit> {
-    use crate::calibrate::tangential::{fit_tangential, problem_from_bag, TangentialOptions};
+    use crate::calibrate::tangential::{fit_tangential_with_progress, problem_from_bag, Progress, TangentialOptions};
+    use std::io::IsTerminal as _;
     let problem =
         problem_from_bag(&args.bag, args.ball.as_deref()).map_err(flat).context("reading the launch measurements")?;
     // Start from the contact the node was given (μ and the moment of inertia stay as they were).
-    let options = TangentialOptions { contact: problem.contact, ..TangentialOptions::default() };
-    fit_tangential(&problem, &result.ball, &options).map_err(flat).context("fitting e_T")
+    let options = TangentialOptions {
+        contact: problem.contact,
+        max_iterations: args.max_iterations,
+        ..TangentialOptions::default()
+    };
+    // Progress on a terminal once the fit has taken a few seconds (a large session takes minutes).
+    let started = std::time::Instant::now();
+    let on_terminal = std::io::stderr().is_terminal();
+    let mut shown = false;
+    let swings = problem.observations.len();
+    let progress = |p: Progress| {
+        if on_terminal && started.elapsed() > std::time::Duration::from_secs(2) {
+            eprint!(
+                "\re_T fit, {swings} swings: iteration {}, {} evaluations, Σr² {:.6e}, {:.0} s   ",
+                p.iteration,
+                p.evaluations,
+                p.cost,
+                started.elapsed().as_secs_f64()
+            );
+            shown = true;
+        }
+    };
+    let fitted = fit_tangential_with_progress(&problem, &result.ball, &options, progress);
+    if shown {
+        eprintln!();
+    }
+    fitted.map_err(flat).context("fitting e_T")
 }
 
 /// The human-readable report of a fit: parameters with uncertainty, residual summary per bat, worst residuals.
@@ -285,9 +352,7 @@ pub fn write_params(path: &Path, problem: &Problem, result: &Fit, contact: &Tang
     write_lines(path, &[ball.to_json()])?;
     written.push(path.to_path_buf());
     if !result.bats.is_empty() {
-        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("fitted");
-        let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("jsonl");
-        let bats_path = path.with_file_name(format!("{stem}.bats.{ext}"));
+        let bats_path = bats_path(path);
         let lines: Vec<_> = result
             .bats
             .iter()

@@ -134,7 +134,7 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
             bat_spec
                 .into_bat("case-bat", |file| {
                     let path = base.join(file);
-                    std::fs::read_to_string(&path).with_context(|| format!("cannot read '{}'", path.display()))
+                    Ok(crate::files::read_text(&path, "bat profile")?)
                 })
                 .context("field `bat`")?
         }
@@ -193,7 +193,7 @@ fn impact_list(value: &serde_json::Value) -> Result<Vec<f64>> {
 
 /// Reads and resolves a case file.
 pub fn load_case(path: &Path) -> Result<Case> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read case file '{}'", path.display()))?;
+    let text = crate::files::read_text(path, "case file")?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     parse_case(&text, &base).with_context(|| format!("case file '{}'", path.display()))
 }
@@ -233,11 +233,14 @@ mod tests {
 
     #[test]
     fn oblique_fields_are_read_in_their_named_units() {
-        let text = r#"{"undercut": 0.01, "attack_angle_deg": 90, "pitch_spin_rpm": 60, "friction": 0.3}"#;
+        let text = r#"{"undercut": 0.01, "attack_angle_deg": 45, "pitch_spin_rpm": 60, "friction": 0.3}"#;
         let case = parse_case(text, Path::new(".")).unwrap_or_else(|err| panic!("{err:#}"));
         assert!(case.oblique.active);
         assert_eq!(case.oblique.undercut, 0.01);
-        assert!((case.oblique.attack_angle - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!((case.oblique.attack_angle - std::f64::consts::FRAC_PI_4).abs() < 1e-15);
+        // Beyond the node's 80° the case is refused in the unit it was given in.
+        let err = parse_case(r#"{"attack_angle_deg": 90}"#, Path::new(".")).unwrap_err();
+        assert!(format!("{err:#}").contains("90° is out of range"), "{err:#}");
         assert!((case.oblique.pitch_spin - std::f64::consts::TAU).abs() < 1e-12, "60 rpm is one turn a second");
         assert_eq!(case.oblique.contact.friction, 0.3);
         let err = parse_case(r#"{"tangential_cor": 2}"#, Path::new(".")).unwrap_err();

@@ -7,8 +7,9 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use super::bat_file::load_bat_file;
+use crate::model::limits::{MAX_PITCH_SPIN, MAX_SWING_ANGLE};
 use crate::physics::collision::TIME_STEP_RANGE;
-use crate::physics::oblique::{rpm_to_rad_per_s, TangentialContact};
+use crate::physics::oblique::{rad_per_s_to_rpm, rpm_to_rad_per_s, TangentialContact};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
@@ -28,6 +29,36 @@ pub fn finite_f64(text: &str) -> std::result::Result<f64, String> {
         Ok(value)
     } else {
         Err(format!("{value} is not allowed: expected a finite number"))
+    }
+}
+
+/// Parses a number of seconds ≥ 0 (clap value parser; +∞ and huge values mean for ever, see
+/// [`crate::model::time`]).
+pub fn seconds_at_least_zero(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    crate::model::time::check_seconds(value, crate::model::time::Least::Zero)
+}
+
+/// Parses a number of seconds > 0 (clap value parser; +∞ and huge values mean for ever).
+pub fn seconds_above_zero(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    crate::model::time::check_seconds(value, crate::model::time::Least::AboveZero)
+}
+
+/// Parses a rate in Hz (clap value parser): finite, at least one per 100 years.
+pub fn rate_hz(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a rate"))?;
+    crate::model::time::check_rate(value)
+}
+
+/// Parses a time scale (clap value parser): finite and > 0 (a scale that makes a wait longer than 100 years
+/// waits for ever).
+pub fn time_scale(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number"))?;
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(format!("{value} is out of range: expected a finite time scale > 0"))
     }
 }
 
@@ -55,7 +86,8 @@ pub fn resolve_bat(spec: &str, base: Option<&Path>) -> Result<Bat> {
         Some(dir) => dir.join(spec),
         None => Path::new(spec).to_path_buf(),
     };
-    if path.is_file() {
+    // Anything that exists goes to the reader, whose rules (a regular file under the size cap) name what it is.
+    if path.exists() {
         return load_bat_file(&path);
     }
     bail!(
@@ -258,6 +290,21 @@ impl ObliqueInputs {
         if let Some(bad) = geometry.iter().find(|v| !v.is_finite()) {
             bail!("{bad} is not allowed: expected a finite number");
         }
+        // The node's limits (model::limits), quoted in the units the flags take.
+        let max_angle = MAX_SWING_ANGLE.to_degrees();
+        for (flag, v) in [("--attack-angle", geometry[1]), ("--pitch-angle", geometry[2])] {
+            if v.abs() > max_angle {
+                bail!("{flag} {v}° is out of range: expected |{}| ≤ {max_angle:.0}°", &flag[2..]);
+            }
+        }
+        let max_rpm = rad_per_s_to_rpm(MAX_PITCH_SPIN);
+        if geometry[3].abs() > max_rpm {
+            bail!(
+                "--pitch-spin {} rpm is out of range: expected |pitch-spin| ≤ {max_rpm:.0} rpm ({MAX_PITCH_SPIN} rad/s, \
+                 the node's limit)",
+                geometry[3]
+            );
+        }
         let active = geometry.iter().any(|v| *v != 0.0) || tangential_cor.is_some() || friction.is_some();
         Ok(ObliqueInputs {
             undercut: geometry[0],
@@ -285,11 +332,7 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
     emit(&text)
 }
 
-/// Writes `text` to stdout; a closed pipe (e.g. `| head`) ends the output quietly instead of panicking.
-pub fn emit(text: &str) -> Result<()> {
-    use std::io::Write;
-    Stdout::default().write_all(text.as_bytes()).context("cannot write to stdout")
-}
+pub use crate::report::stdout::{closed as stdout_closed, emit, Stdout};
 
 /// Prints a line to stdout through [`emit`] (a closed pipe ends the output quietly): `println!` for the CLI.
 #[macro_export]
@@ -297,42 +340,6 @@ macro_rules! outln {
     ($($arg:tt)*) => {
         $crate::cli::common::emit(&format!("{}\n", format_args!($($arg)*)))
     };
-}
-
-/// Standard output for the CLI's tables and streams: once the reader closes the pipe (`| head`), everything
-/// later is dropped and reported as written, so a tool ends quietly with status 0, as Unix filters do,
-/// instead of panicking or blaming its input.
-#[derive(Debug, Default)]
-pub struct Stdout {
-    closed: bool,
-}
-
-impl std::io::Write for Stdout {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        if self.closed {
-            return Ok(buf.len());
-        }
-        match std::io::stdout().lock().write(buf) {
-            Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => {
-                self.closed = true;
-                Ok(buf.len())
-            }
-            other => other,
-        }
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        if self.closed {
-            return Ok(());
-        }
-        match std::io::stdout().lock().flush() {
-            Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => {
-                self.closed = true;
-                Ok(())
-            }
-            other => other,
-        }
-    }
 }
 
 #[cfg(test)]

@@ -195,6 +195,9 @@ pub fn run(args: CompareArgs) -> Result<()> {
     }
     if let Some(path) = &args.figure {
         ImageFormat::from_path(path).context("--figure")?;
+        let mut inputs: Vec<PathBuf> = args.bats.split(',').map(PathBuf::from).collect();
+        inputs.extend(args.batter.clone());
+        crate::files::refuse_clobber("--figure", path, &inputs, &[]).map_err(anyhow::Error::msg)?;
     }
     let doc = compare(&batter, &reference_name, &bats, &ball, args.pitch_speed, &options)?;
     if let Some(path) = &args.figure {
@@ -241,8 +244,7 @@ pub fn parse_bats(list: &str) -> Result<Vec<Bat>> {
 
 /// Reads a batter file; relative bat paths in it are taken relative to the file.
 pub fn load_batter_file(path: &Path) -> Result<(Batter, String)> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read batter file '{}'", path.display()))?;
+    let text = crate::files::read_text(path, "batter file")?;
     let spec: BatterSpec = toml::from_str(&text).with_context(|| format!("batter file '{}'", path.display()))?;
     batter_from_spec(&spec, path.parent()).with_context(|| format!("batter file '{}'", path.display()))
 }
@@ -253,6 +255,15 @@ pub fn batter_from_spec(spec: &BatterSpec, base: Option<&Path>) -> Result<(Batte
     let bat = resolve_bat(bat_name, base).context("reference_bat")?;
     let props = bat.mass_properties();
     let from_end = spec.impact_from_barrel_end.unwrap_or(DEFAULT_IMPACT_FROM_BARREL_END);
+    // Checked before the reference swing is built from it: an impact off the bat would be blamed on pivot_z.
+    if !(from_end >= 0.0 && from_end < props.length) {
+        return Err(crate::physics::PhysicsError::out_of_range(
+            "impact_from_barrel_end",
+            from_end,
+            format!("0 ≤ d < reference bat length = {} m", props.length),
+        )
+        .into());
+    }
     let reference = ReferenceSwing::from_speed_at(
         props,
         spec.bat_speed.unwrap_or(DEFAULT_REFERENCE_SPEED),

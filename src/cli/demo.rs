@@ -1,7 +1,6 @@
 //! `sweetspot demo`: its arguments, checked and handed to [`crate::demo::run`].
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use anyhow::{bail, Result};
 
@@ -23,7 +22,7 @@ pub struct DemoArgs {
     #[arg(long, default_value_t = 200, value_name = "N")]
     pub swings: u64,
     /// Swings per second (default: as fast as the node answers).
-    #[arg(long, value_name = "HZ")]
+    #[arg(long, value_name = "HZ", value_parser = super::common::rate_hz)]
     pub rate: Option<f64>,
     /// Directory the bag (and its figures) are written under.
     #[arg(long, default_value = "bags", value_name = "DIR")]
@@ -49,7 +48,7 @@ pub struct DemoArgs {
     #[arg(long, conflicts_with = "batter")]
     pub equal_bat_speed: bool,
     /// Seconds to wait for the node to start, and for any answer before giving up.
-    #[arg(long, default_value_t = 60.0, value_name = "S")]
+    #[arg(long, default_value_t = 60.0, value_name = "S", value_parser = super::common::seconds_above_zero)]
     pub timeout: f64,
 }
 
@@ -62,9 +61,6 @@ pub fn run(args: DemoArgs) -> Result<()> {
         if !(rate.is_finite() && rate > 0.0 && rate <= 10_000.0) {
             bail!("--rate must be in (0, 10000] swings per second, got {rate}");
         }
-    }
-    if !(args.timeout.is_finite() && args.timeout > 0.0) {
-        bail!("--timeout must be positive seconds, got {}", args.timeout);
     }
     let mut rig = args.rig.config()?;
     if !args.equal_bat_speed {
@@ -83,6 +79,6 @@ pub fn run(args: DemoArgs) -> Result<()> {
         namespace: args.namespace,
         figures: (!args.no_figures).then(|| args.format.into()),
         env_discovery: args.env_discovery,
-        timeout: Duration::from_secs_f64(args.timeout),
+        timeout: crate::model::time::saturating_secs(args.timeout),
     })
 }

@@ -90,7 +90,11 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err:#}");
-            ExitCode::FAILURE
+            // Interrupted (Ctrl-C) with a partial result: 128 + SIGINT, as a shell reports it.
+            match err.is::<crate::demo::Interrupted>() {
+                true => ExitCode::from(130),
+                false => ExitCode::FAILURE,
+            }
         }
     }
 }

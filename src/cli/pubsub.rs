@@ -4,13 +4,14 @@
 //! Both honour `ROS_DOMAIN_ID`, `ROS_AUTOMATIC_DISCOVERY_RANGE` / `ROS_LOCALHOST_ONLY` and
 //! `--ros-args -r __ns:=/rig3 -r from:=to` (see [`crate::ros`]).
 
-use std::io::{BufRead, Write};
+use std::io::{BufRead, Read as _, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Context as _};
 use serde_json::{Map, Value};
 
+use crate::model::time::{period_of, saturating_secs};
 use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use crate::msgs::json::ToJson;
@@ -60,7 +61,7 @@ pub struct PubArgs {
     #[arg(long, value_name = "PATH")]
     pub file: Option<PathBuf>,
     /// Publish at this rate (messages per second); without it messages go out as fast as they are acknowledged.
-    #[arg(short = 'r', long, value_name = "HZ")]
+    #[arg(short = 'r', long, value_name = "HZ", value_parser = super::common::rate_hz)]
     pub rate: Option<f64>,
     /// Publish this many messages in total, cycling through the input (default: each input message once, or
     /// forever when a single message is repeated with --rate).
@@ -74,12 +75,13 @@ pub struct PubArgs {
     #[arg(short = 'w', long = "wait-matching-subscriptions", visible_alias = "wait-subscribers", value_name = "N")]
     pub wait_subscribers: Option<usize>,
     /// Seconds to wait for matching subscriptions, and for subscribers to acknowledge everything at the end.
-    #[arg(long, visible_alias = "max-wait-time-secs", value_name = "SECS", default_value_t = 10.0)]
+    #[arg(long, visible_alias = "max-wait-time-secs", value_name = "SECS", default_value_t = 10.0,
+          value_parser = super::common::seconds_at_least_zero)]
     pub timeout: f64,
     /// Stay up this many seconds after every subscription acknowledged the last message: readers need a moment
     /// to take what they acknowledged (a RustDDS reader drops the untaken samples of a writer whose participant
     /// has left), and late joiners get latched params only while we are up.
-    #[arg(long, value_name = "SECS", default_value_t = 0.5)]
+    #[arg(long, value_name = "SECS", default_value_t = 0.5, value_parser = super::common::seconds_at_least_zero)]
     pub keep_alive: f64,
     /// QoS over the topic's own.
     #[command(flatten)]
@@ -127,7 +129,7 @@ pub struct EchoArgs {
     #[arg(long, conflicts_with = "count")]
     pub once: bool,
     /// Exit after this many seconds.
-    #[arg(long, value_name = "SECS")]
+    #[arg(long, value_name = "SECS", value_parser = super::common::seconds_at_least_zero)]
     pub timeout: Option<f64>,
     /// Subscribe volatile even on latched topics (params, sweet_spot): only messages published from now on.
     #[arg(long)]
@@ -443,7 +445,7 @@ fn parse_values(text: &str) -> anyhow::Result<Value> {
 
 /// A YAML file: one list of messages, or one message per `---` document.
 fn read_yaml_file(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::files::read_text(path, "--file")?;
     let docs =
         yaml_rust2::YamlLoader::load_from_str(&text).map_err(|e| anyhow!("{}: invalid YAML: {e}", path.display()))?;
     let mut out = Vec::new();
@@ -518,17 +520,22 @@ fn split_positionals(args: &PubArgs) -> anyhow::Result<(Option<String>, Option<S
 }
 
 fn read_json_lines(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
+    use crate::files::MAX_INPUT_BYTES;
     let reader: Box<dyn BufRead> = if path == Path::new("-") {
-        Box::new(std::io::BufReader::new(std::io::stdin()))
+        Box::new(std::io::BufReader::new(std::io::stdin().take(MAX_INPUT_BYTES + 1)))
     } else {
-        Box::new(std::io::BufReader::new(
-            std::fs::File::open(path).with_context(|| format!("cannot open {}", path.display()))?,
-        ))
+        Box::new(std::io::Cursor::new(crate::files::read_limited(path, "--file", MAX_INPUT_BYTES)?))
     };
     let mut out = Vec::new();
     let mut lines = Vec::new();
+    let mut bytes = 0u64;
     for line in reader.lines() {
-        lines.push(line.with_context(|| format!("cannot read {}", path.display()))?);
+        let line = line.with_context(|| format!("cannot read {}", path.display()))?;
+        bytes += line.len() as u64 + 1;
+        if bytes > MAX_INPUT_BYTES + 1 {
+            bail!("{}: over the limit of {MAX_INPUT_BYTES} bytes for an input: refused", path.display());
+        }
+        lines.push(line);
     }
     // A file holding one JSON array is accepted too.
     let whole = lines.join("\n");
@@ -557,8 +564,7 @@ fn read_csv(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
-        .from_path(path)
-        .with_context(|| format!("cannot open {}", path.display()))?;
+        .from_reader(std::io::Cursor::new(crate::files::read_limited(path, "--file", crate::files::MAX_INPUT_BYTES)?));
     let headers = reader.headers().with_context(|| format!("{}: no header row", path.display()))?.clone();
     let mut out = Vec::new();
     for (i, record) in reader.records().enumerate() {
@@ -637,7 +643,7 @@ fn publish_all<T: RosMessage>(
     let writer = writer::<T>(&ctx, fq_topic, qos)?;
 
     let interrupted = interrupt_flag();
-    let timeout = Duration::from_secs_f64(args.timeout);
+    let timeout = saturating_secs(args.timeout);
     let latched = qos.durability == ros2_client::qos::Durability::TransientLocal;
     let wait_for = args.wait_subscribers.unwrap_or(default_wait(latched, total.is_none()));
     if wait_for > 0 {
@@ -670,16 +676,16 @@ fn publish_all<T: RosMessage>(
         std::thread::sleep(MATCH_SETTLE);
     }
 
-    let period = args.rate.map(|r| Duration::from_secs_f64(1.0 / r));
+    let period = args.rate.map(period_of);
     let start = Instant::now();
     let mut sent: u64 = 0;
-    let stdout = std::io::stdout();
     while total.is_none_or(|t| sent < t) {
-        if interrupted.load(std::sync::atomic::Ordering::Relaxed) {
+        // A closed stdout (`pub … | head`) ends the publishing as Ctrl-C does.
+        if interrupted.load(std::sync::atomic::Ordering::Relaxed) || super::common::stdout_closed() {
             break;
         }
         if let Some(p) = period {
-            let due = start + p.mul_f64(sent as f64);
+            let due = start + crate::model::time::scaled(p, sent as f64);
             let now = Instant::now();
             if due > now {
                 std::thread::sleep(due - now);
@@ -689,8 +695,7 @@ fn publish_all<T: RosMessage>(
         let v = complete(kind, &template, value, sent + 1, &now_time());
         let message = T::from_json(&v, "").map_err(|e| anyhow!("{origin}: {e}"))?;
         if !args.quiet {
-            let mut out = stdout.lock();
-            let _ = writeln!(out, "publishing #{} to {fq_topic}: {}", sent + 1, message.to_json());
+            crate::outln!("publishing #{} to {fq_topic}: {}", sent + 1, message.to_json())?;
         }
         write_reliably(&writer, message, timeout, &interrupted)
             .with_context(|| format!("publishing message #{} to {fq_topic}", sent + 1))?;
@@ -706,7 +711,7 @@ fn publish_all<T: RosMessage>(
         ),
         Err(e) => eprintln!("warning: waiting for acknowledgments on {fq_topic}: {e}"),
     }
-    let linger_until = Instant::now() + Duration::from_secs_f64(args.keep_alive);
+    let linger_until = Instant::now() + saturating_secs(args.keep_alive);
     while Instant::now() < linger_until && !interrupted.load(std::sync::atomic::Ordering::Relaxed) {
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -818,7 +823,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
         );
     }
 
-    let deadline = args.timeout.map(|t| tokio::time::Instant::now() + Duration::from_secs_f64(t));
+    let deadline = args.timeout.map(|t| tokio::time::Instant::now() + saturating_secs(t));
     // Take samples as soon as they arrive and print on another thread: a RustDDS reader loses the untaken
     // samples of a writer whose participant leaves, so a slow terminal must not leave them sitting in DDS.
     let (to_printer, printed) = std::sync::mpsc::channel::<T>();

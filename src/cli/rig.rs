@@ -7,7 +7,8 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
-use crate::model::time::{now_ns, RosTime};
+use super::common::stdout_closed;
+use crate::model::time::{now_ns, period_of, saturating_secs, scaled, RosTime};
 use crate::msgs::builtin_interfaces::msg::Time;
 use crate::physics::Bat;
 use crate::rig::dds::{context, RigPublisher};
@@ -92,7 +93,7 @@ pub struct RigArgs {
     #[command(flatten)]
     pub rig: RigOptions,
     /// Swings per second.
-    #[arg(long, default_value_t = 2.0, value_name = "HZ")]
+    #[arg(long, default_value_t = 2.0, value_name = "HZ", value_parser = super::common::rate_hz)]
     pub rate: f64,
     /// Swings to publish, then exit (default: until Ctrl-C).
     #[arg(long, value_name = "N")]
@@ -101,7 +102,7 @@ pub struct RigArgs {
     #[arg(long, visible_alias = "ns", default_value = "/", value_name = "NS")]
     pub namespace: String,
     /// Seconds to wait for a node to subscribe before giving up (0 = publish without waiting).
-    #[arg(long, default_value_t = 30.0, value_name = "S")]
+    #[arg(long, default_value_t = 30.0, value_name = "S", value_parser = super::common::seconds_at_least_zero)]
     pub wait: f64,
     /// Print nothing per swing.
     #[arg(long)]
@@ -133,7 +134,7 @@ pub fn run(args: RigArgs) -> Result<()> {
     if args.wait > 0.0 {
         eprintln!("rig: waiting up to {:.0} s for a node to subscribe…", args.wait);
         let flag = interrupted.clone();
-        publisher.wait_for_subscribers(1, Duration::from_secs_f64(args.wait), || {
+        publisher.wait_for_subscribers(1, saturating_secs(args.wait), || {
             flag.load(Ordering::Relaxed).then(|| "interrupted".to_string())
         })?;
     }
@@ -142,18 +143,19 @@ pub fn run(args: RigArgs) -> Result<()> {
     for p in rig.bat_params(Time::from_unix_ns(now)) {
         publisher.publish_bat(p)?;
     }
-    let period = Duration::from_secs_f64(1.0 / args.rate);
+    let period = period_of(args.rate);
     let start = Instant::now();
     let mut sent = 0u64;
-    while args.count.is_none_or(|c| sent < c) && !interrupted.load(Ordering::Relaxed) {
-        let due = start + period.mul_f64(sent as f64);
+    // A closed stdout (`rig … | head`) ends the session as Ctrl-C does.
+    while args.count.is_none_or(|c| sent < c) && !interrupted.load(Ordering::Relaxed) && !stdout_closed() {
+        let due = start + scaled(period, sent as f64);
         if let Some(wait) = due.checked_duration_since(Instant::now()) {
             std::thread::sleep(wait);
         }
         let swing = rig.next_swing().context("simulating a swing")?;
         let msg = rig.swing_message(&swing, Time::from_unix_ns(now_ns()));
         if !args.quiet {
-            println!(
+            crate::outln!(
                 "swing {:>5}  {:<12} pitch {:5.1} mph  barrel ω {:5.1} rad/s  impact {:.3} m  measured exit {:5.1} mph",
                 msg.swing_id,
                 msg.bat_id,
@@ -161,7 +163,7 @@ pub fn run(args: RigArgs) -> Result<()> {
                 msg.bat_angular_speed,
                 msg.impact_z,
                 msg.measured_exit_speed / MPH
-            );
+            )?;
         }
         publisher.publish_swing(msg)?;
         sent += 1;

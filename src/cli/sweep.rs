@@ -71,6 +71,8 @@ pub struct SweepArgs {
 pub fn run(args: SweepArgs) -> Result<()> {
     if let Some(path) = &args.plot {
         ImageFormat::from_path(path).context("--plot")?;
+        let inputs = [PathBuf::from(&args.bat.bat)];
+        crate::files::refuse_clobber("--plot", path, &inputs, &[]).map_err(anyhow::Error::msg)?;
     }
     let oblique = args.oblique.inputs()?;
     match args.over {

@@ -13,9 +13,11 @@ use crate::report::figures::{write_figures, FigureSettings, EXIT_SPEED_LABEL, Z_
 use crate::report::plot::{draw_panels, ImageFormat, LineChart, LineKind, Series, VerticalMarker};
 use crate::rig::{RigSwing, SessionGenerator, MPH};
 
-/// Where the figures of the bag `bag` go: a sibling directory `<bag>_figures`.
+/// Where the figures of the bag `bag` go: `figures/<bag's name>` beside it, so a glob for the bags
+/// (`bags/demo_*/`) matches bags only.
 pub fn figures_dir(bag: &Path) -> PathBuf {
-    PathBuf::from(format!("{}_figures", bag.display()))
+    let name = bag.file_name().map(|n| n.to_os_string()).unwrap_or_else(|| "demo".into());
+    bag.parent().unwrap_or(Path::new("")).join("figures").join(name)
 }
 
 /// The demo's figures: exit speed against impact point per bat (measured, model, and the model's curve for

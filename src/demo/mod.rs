@@ -14,6 +14,8 @@ mod summary;
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
@@ -31,6 +33,17 @@ use crate::report::plot::ImageFormat;
 use crate::rig::dds::{context, AnswerListener, RigPublisher};
 use crate::rig::{LaunchConditions, RigConfig, RigSwing, SessionGenerator, MPH};
 use crate::ros::{DdsConfig, DiscoveryRange};
+
+/// A line of the report on stdout; a closed pipe (`demo | head`) drops the rest quietly (see
+/// [`crate::report::stdout`]), and so does any other failure to write it: the session and its bag stand.
+macro_rules! outln {
+    () => {
+        let _ = crate::report::stdout::emit("\n");
+    };
+    ($($arg:tt)*) => {
+        let _ = crate::report::stdout::emit(&format!("{}\n", format_args!($($arg)*)));
+    };
+}
 
 /// Node name of the demo's node.
 pub const DEMO_NODE_NAME: &str = "sweetspot_demo";
@@ -140,6 +153,32 @@ fn fresh_bag_dir(out: &Path) -> PathBuf {
     dir
 }
 
+/// A demo stopped by Ctrl-C (SIGINT) or SIGTERM: it printed what it had (a partial report) and exits with
+/// status 130, as a shell reports a command interrupted by SIGINT.
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted after {answered} of {total} swings answered (partial report above; the bag keeps them)")]
+pub struct Interrupted {
+    /// Swings answered before the interruption.
+    pub answered: u64,
+    /// Swings the session was to have.
+    pub total: u64,
+}
+
+/// Why the session cannot go on, if it cannot: an interruption (Ctrl-C reaches the node too, so a node that
+/// exits right after one is part of it, not a failure), or the node's own early exit.
+fn stop_reason(node: &mut ChildProcess, interrupted: &AtomicBool) -> Option<String> {
+    if interrupted.load(Ordering::Relaxed) {
+        return Some(INTERRUPTED.into());
+    }
+    let reason = node.exited()?;
+    // The node may have seen the terminal's SIGINT before our signal thread did.
+    std::thread::sleep(Duration::from_millis(300));
+    Some(if interrupted.load(Ordering::Relaxed) { INTERRUPTED.into() } else { reason })
+}
+
+/// The reason [`stop_reason`] gives for an interruption.
+const INTERRUPTED: &str = "interrupted";
+
 /// The rig's side of a session while the node runs: what it publishes on, what it has heard back.
 struct Session<'a> {
     rig: SessionGenerator,
@@ -148,9 +187,22 @@ struct Session<'a> {
     node: &'a mut ChildProcess,
     answers: Answers,
     timeout: Duration,
+    interrupted: Arc<AtomicBool>,
+    total: u64,
 }
 
 impl Session<'_> {
+    /// Fails when the session cannot go on: [`Interrupted`], or the node's early exit.
+    fn check(&mut self) -> Result<()> {
+        match stop_reason(self.node, &self.interrupted) {
+            None => Ok(()),
+            Some(reason) if reason == INTERRUPTED => {
+                Err(Interrupted { answered: self.answers.exits.len() as u64, total: self.total }.into())
+            }
+            Some(reason) => bail!("{reason}"),
+        }
+    }
+
     /// Publishes the ball, then the bats, and waits until the node has published a SweetSpot for every bat.
     fn announce(&mut self) -> Result<()> {
         // Ball first: the node computes each bat's SweetSpot with the latest ball, and we wait for those.
@@ -166,9 +218,7 @@ impl Session<'_> {
         }
         let wait_start = Instant::now();
         while self.rig.bats().iter().any(|b| !self.answers.sweet_spots.contains_key(&b.bat_id)) {
-            if let Some(reason) = self.node.exited() {
-                bail!("{reason}");
-            }
+            self.check()?;
             if wait_start.elapsed() > self.timeout {
                 bail!("the node published no SweetSpot for every bat within {:.0} s", self.timeout.as_secs_f64());
             }
@@ -208,11 +258,9 @@ impl Session<'_> {
         let mut sent = 0u64;
         let mut answered = 0usize;
         while (self.answers.exits.len() as u64) < total {
-            if let Some(reason) = self.node.exited() {
-                bail!("{reason}");
-            }
+            self.check()?;
             let due = match rate {
-                Some(rate) => session_start + Duration::from_secs_f64(sent as f64 / rate) <= Instant::now(),
+                Some(rate) => session_start + crate::model::time::saturating_secs(sent as f64 / rate) <= Instant::now(),
                 None => sent < self.answers.exits.len() as u64 + WINDOW,
             };
             if sent < total && due {
@@ -268,25 +316,57 @@ pub fn run(settings: DemoSettings) -> Result<()> {
         dds.range,
         bag.display()
     ));
+    // Ctrl-C reaches the node too (same process group); we stop with a partial report, not "node exited".
+    let interrupted = crate::ros::interrupt_flag();
     let mut node = start_node(&exe, &settings.namespace, &bag, &log, forced_range)?;
 
+    let total = settings.swings;
     let ctx = context(&dds)?;
     let mut publisher = RigPublisher::new(&ctx, &settings.namespace)?;
     let listener = AnswerListener::new(&ctx, &publisher.names)?;
-    publisher.wait_for_subscribers(1, settings.timeout, || node.exited())?;
+    let waited = publisher.wait_for_subscribers(1, settings.timeout, || stop_reason(&mut node, &interrupted));
+    if waited.is_err() && interrupted.load(Ordering::Relaxed) {
+        let _ = node.stop(Duration::from_secs(10));
+        return Err(Interrupted { answered: 0, total }.into());
+    }
+    waited?;
     say(&format!(
         "node is up after {:.1} s; the rig announces its ball and {} bats",
         started.elapsed().as_secs_f64(),
         rig.bats().len()
     ));
-    let mut session =
-        Session { rig, publisher, listener, node: &mut node, answers: Answers::default(), timeout: settings.timeout };
-    session.announce()?;
-    say(&format!("modes and sweet spots ready after {:.1} s; swinging", started.elapsed().as_secs_f64()));
-
-    let total = settings.swings;
-    let session_start = Instant::now();
-    let truths = session.swing(total, settings.rate)?;
+    let mut session = Session {
+        rig,
+        publisher,
+        listener,
+        node: &mut node,
+        answers: Answers::default(),
+        timeout: settings.timeout,
+        interrupted: interrupted.clone(),
+        total,
+    };
+    let mut session_start = Instant::now();
+    let swung = match session.announce() {
+        Ok(()) => {
+            say(&format!("modes and sweet spots ready after {:.1} s; swinging", started.elapsed().as_secs_f64()));
+            session_start = Instant::now();
+            session.swing(total, settings.rate)
+        }
+        Err(e) => Err(e),
+    };
+    let truths = match swung {
+        Ok(truths) => truths,
+        Err(e) if e.is::<Interrupted>() => {
+            // The partial report: what was answered, and the bag the node finished on the way out.
+            let Session { rig, answers, .. } = session;
+            let _ = node.stop(Duration::from_secs(10));
+            print_summary(&rig, &answers, answers.exits.len() as u64);
+            outln!("bag:      {} (interrupted after {:.1} s)", bag.display(), session_start.elapsed().as_secs_f64());
+            outln!("node log: {}", log.display());
+            return Err(e);
+        }
+        Err(e) => return Err(e),
+    };
     let session_time = session_start.elapsed();
     say(&format!(
         "{total} swings answered in {:.2} s ({:.0} swings/s); stopping the node",
@@ -301,25 +381,25 @@ pub fn run(settings: DemoSettings) -> Result<()> {
     let (bag_swings, bag_exits) = (count_of(Swing::TYPE_NAME), count_of(ExitVelocity::TYPE_NAME));
 
     print_summary(&rig, &answers, total);
-    println!(
+    outln!(
         "bag:      {}  ({} swings, {} exit velocities, {} messages)",
         bag.display(),
         bag_swings,
         bag_exits,
         info.messages
     );
-    println!("node log: {}", log.display());
+    outln!("node log: {}", log.display());
 
     if let Some(format) = settings.figures {
         let dir = figures_dir(&bag);
         let files = write_demo_figures(&dir, &rig, &truths, &answers, format)?;
-        println!("figures:  {}/ ({})", dir.display(), files.join(", "));
+        outln!("figures:  {}/ ({})", dir.display(), files.join(", "));
     }
-    println!();
-    println!("next:     sweetspot bag info {}", bag.display());
-    println!("          sweetspot bag replay {}", bag.display());
-    println!("          sweetspot calibrate {} --fit-tangential", bag.display());
-    println!("(demo took {:.1} s)", started.elapsed().as_secs_f64());
+    outln!();
+    outln!("next:     sweetspot bag info {}", bag.display());
+    outln!("          sweetspot bag replay {}", bag.display());
+    outln!("          sweetspot calibrate {} --fit-tangential", bag.display());
+    outln!("(demo took {:.1} s)", started.elapsed().as_secs_f64());
     if bag_swings != total || bag_exits != total {
         bail!("the bag holds {bag_swings} swings and {bag_exits} exit velocities, expected {total} of each");
     }
@@ -332,8 +412,8 @@ pub fn run(settings: DemoSettings) -> Result<()> {
 /// The session's head line, the table per bat and how to read it.
 fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
     let config = rig.config();
-    println!();
-    println!(
+    outln!();
+    outln!(
         "sweetspot demo — {total} swings, {} bats, pitches {:.0}–{:.0} mph, bat speed {:.0}–{:.0} mph at the barrel, seed {}",
         rig.bats().len(),
         config.pitch_speed.0 / MPH,
@@ -343,7 +423,7 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
         config.seed
     );
     if let Some(batter) = &config.batter {
-        println!(
+        outln!(
             "batter: {:.1} mph at {:.0} in from the barrel end with a bat of swing weight {:.4} kg·m², n = {}; each bat \
              is swung at equal effort (v ∝ I^(−n)), the spread above scaled around that speed",
             batter.reference_speed() / MPH,
@@ -352,10 +432,10 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
             batter.exponent
         );
     }
-    println!();
-    print!("{}", table(&summarize(rig, answers)));
-    println!();
-    println!(
+    outln!();
+    outln!("{}", table(&summarize(rig, answers)).trim_end_matches('\n'));
+    outln!();
+    outln!(
         "exit speeds are the node's model; \"measured − model\" compares them with the rig's radar (σ {} m/s). Sweet spot\n\
          and BBCOR come from the node's SweetSpot messages (its reference swing); vibration is the mean share of the\n\
          collision energy left ringing in the bat (ModalEnergies). Bat speed is the batter's at its usual impact point\n\
@@ -363,7 +443,7 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
         config.noise.exit_speed
     );
     if let Some(launch) = &config.launch {
-        println!(
+        outln!(
             "launch angle and spin (backspin positive) are session means, the node's model / the rig's ball tracker\n\
              (σ {:.1}° and {:.0} rpm); the rig draws undercut {:.1} ± {:.1} cm, attack angle {:.0}° ± {:.0}°, pitch\n\
              descent {:.0}° ± {:.0}° and pitch backspin {:.0} ± {:.0} rpm.",
@@ -379,7 +459,7 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
             rad_per_s_to_rpm(launch.pitch_spin.sigma),
         );
     }
-    println!();
+    outln!();
 }
 
 #[cfg(test)]

@@ -340,10 +340,7 @@ fn long_forgotten(evictions: u64, message: &str, limit: &str, capacity: usize) -
     }
 }
 
-/// Largest |attack_angle| and |pitch_angle| a swing may have, rad (80°, the oblique model's limit).
-pub const MAX_SWING_ANGLE: f64 = 80.0 * std::f64::consts::PI / 180.0;
-/// Largest |pitch_spin| a swing may have, rad/s (~9,500 rpm, well above any pitch).
-pub const MAX_PITCH_SPIN: f64 = 1000.0;
+pub use crate::model::limits::{MAX_PITCH_SPIN, MAX_SWING_ANGLE};
 
 /// What the model takes from a Swing besides its bat and ball (units and signs as in Swing.msg): the impact
 /// along the bat's path, the oblique geometry (all 0 = head-on) and the rig's launch measurements (NaN = not

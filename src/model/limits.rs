@@ -26,6 +26,12 @@ pub const MAX_MESSAGE_BYTES: usize = 4096;
 /// flat has a contact circle √(2Ru − u²) = 0.87 R wide; only the impossible is refused. A baseball at game
 /// speeds compresses by about R/3.)
 pub const MAX_COMPRESSION_FRACTION: f64 = 1.0;
+/// Largest |attack_angle| and |pitch_angle| a swing may have, rad (80°, the oblique model's limit); the node,
+/// `simulate` and case files all refuse beyond it.
+pub const MAX_SWING_ANGLE: f64 = 80.0 * std::f64::consts::PI / 180.0;
+/// Largest |pitch_spin| a swing may have, rad/s (~9,549 rpm, well above any pitch); the node, `simulate` and
+/// case files all refuse beyond it.
+pub const MAX_PITCH_SPIN: f64 = 1000.0;
 /// Largest |measured_exit_speed| accepted, m/s: above any ball speed the node accepts (300 m/s) by far.
 pub const MAX_MEASURED_SPEED: f64 = 1000.0;
 

@@ -1,7 +1,82 @@
 //! ROS time ↔ nanoseconds since the Unix epoch (the clock of MCAP log times), as methods on the message's
-//! [`Time`].
+//! [`Time`]; and the one checked way a user-given number of seconds or rate becomes a [`Duration`].
+//!
+//! **Durations and rates from users.** Every duration flag or parameter (timeouts, delays, offsets, split
+//! times) is checked by [`check_seconds`] (NaN and negatives refused, +∞ allowed) and converted by
+//! [`saturating_secs`], which never panics: anything beyond [`FOREVER`] (1e300, +∞) is FOREVER, which
+//! `Instant` arithmetic can hold. Every rate (Hz) is checked by [`check_rate`] (finite, at least one per
+//! FOREVER) and turned into a period by [`period_of`]; a time scale applied to a duration goes through
+//! [`scaled`].
+
+use std::time::Duration;
 
 use crate::msgs::builtin_interfaces::msg::Time;
+
+/// The longest span a user-given duration stands for: 100 years, "for ever" in practice (an `Instant` plus
+/// it does not overflow).
+pub const FOREVER: Duration = Duration::from_secs(100 * 365 * 86_400);
+
+/// The slowest rate accepted, Hz: one per [`FOREVER`].
+pub const MIN_RATE_HZ: f64 = 1.0 / (100.0 * 365.0 * 86_400.0);
+
+/// `seconds` as a Duration, never panicking: NaN and ≤ 0 give zero, anything at or beyond [`FOREVER`]
+/// (+∞ included) gives FOREVER, and a positive value stays positive (1e-300 s gives 1 ns).
+pub fn saturating_secs(seconds: f64) -> Duration {
+    if seconds.is_nan() || seconds <= 0.0 {
+        Duration::ZERO
+    } else if seconds >= FOREVER.as_secs_f64() {
+        FOREVER
+    } else {
+        Duration::from_secs_f64(seconds).max(Duration::from_nanos(1))
+    }
+}
+
+/// The period of a rate `hz` (1/hz s), saturating as [`saturating_secs`] does (a rate ≤ 0 or NaN: FOREVER).
+pub fn period_of(hz: f64) -> Duration {
+    if hz > 0.0 {
+        saturating_secs(1.0 / hz)
+    } else {
+        FOREVER
+    }
+}
+
+/// `duration × factor`, saturating at [`FOREVER`] (a NaN or negative factor gives zero).
+pub fn scaled(duration: Duration, factor: f64) -> Duration {
+    saturating_secs(duration.as_secs_f64() * factor)
+}
+
+/// Whether a duration may be zero.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Least {
+    /// 0 allowed (often "off" or "no wait").
+    Zero,
+    /// Must be above 0.
+    AboveZero,
+}
+
+/// Checks a user-given number of seconds: NaN, negatives (and 0 under [`Least::AboveZero`]) are refused
+/// with the range expected; +∞ and huge values are accepted and mean [`FOREVER`] ([`saturating_secs`]).
+pub fn check_seconds(seconds: f64, least: Least) -> Result<f64, String> {
+    let ok = match least {
+        Least::Zero => seconds >= 0.0,
+        Least::AboveZero => seconds > 0.0,
+    };
+    if ok {
+        return Ok(seconds);
+    }
+    let bound = if least == Least::Zero { "≥ 0" } else { "> 0" };
+    let value = super::limits::number(seconds);
+    Err(format!("{value} s is out of range: expected seconds {bound} (inf or anything over 100 years: for ever)"))
+}
+
+/// Checks a user-given rate: finite and at least [`MIN_RATE_HZ`] (one per 100 years).
+pub fn check_rate(hz: f64) -> Result<f64, String> {
+    if hz.is_finite() && hz >= MIN_RATE_HZ {
+        return Ok(hz);
+    }
+    let value = super::limits::number(hz);
+    Err(format!("{value} Hz is out of range: expected a finite rate ≥ {MIN_RATE_HZ:.2e} Hz (one per 100 years)"))
+}
 
 /// Conversions of a ROS `builtin_interfaces/Time` stamp.
 pub trait RosTime: Sized {
@@ -37,6 +112,38 @@ pub fn now_ns() -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The user-facing extremes: nothing panics, "for ever" saturates, NaN and negatives are refused.
+    #[test]
+    fn durations_and_rates_at_the_extremes() {
+        for v in [0.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e300, -1e300, 1e-300, -0.0] {
+            let d = saturating_secs(v);
+            assert!(d <= FOREVER, "{v}");
+            let _ = std::time::Instant::now() + d;
+            let _ = std::time::Instant::now() + period_of(v);
+            let _ = std::time::Instant::now() + scaled(Duration::from_secs(u64::MAX), v);
+            let _ = std::time::Instant::now() + scaled(Duration::from_nanos(1), v);
+        }
+        assert_eq!(saturating_secs(1e300), FOREVER);
+        assert_eq!(saturating_secs(f64::INFINITY), FOREVER);
+        assert_eq!(saturating_secs(1.5), Duration::from_millis(1500));
+        assert_eq!(saturating_secs(1e-300), Duration::from_nanos(1));
+        assert_eq!(saturating_secs(0.0), Duration::ZERO);
+        assert_eq!(period_of(1e-300), FOREVER);
+        assert_eq!(period_of(4.0), Duration::from_millis(250));
+        assert_eq!(scaled(Duration::from_secs(10), 1e300), FOREVER);
+        assert!(check_seconds(0.0, Least::Zero).is_ok());
+        assert!(check_seconds(0.0, Least::AboveZero).is_err());
+        assert!(check_seconds(1e-300, Least::AboveZero).is_ok());
+        assert!(check_seconds(f64::INFINITY, Least::AboveZero).is_ok());
+        assert!(check_seconds(f64::NAN, Least::Zero).unwrap_err().contains("out of range"));
+        assert!(check_seconds(f64::NEG_INFINITY, Least::Zero).is_err());
+        assert!(check_seconds(-1.0, Least::Zero).is_err());
+        assert!(check_rate(1e-300).unwrap_err().contains("one per 100 years"));
+        assert!(check_rate(f64::INFINITY).is_err() && check_rate(f64::NAN).is_err() && check_rate(0.0).is_err());
+        assert!(check_rate(1e300).is_ok() && check_rate(MIN_RATE_HZ).is_ok());
+        assert!(std::time::Instant::now().checked_add(period_of(MIN_RATE_HZ)).is_some());
+    }
 
     #[test]
     fn stamps_round_trip() {

@@ -315,7 +315,7 @@ fn start_tape(
         dir: dir.clone(),
         max_file_size: (settings.record_max_file_size > 0).then_some(settings.record_max_file_size),
         max_file_duration: (settings.record_max_file_duration > 0.0)
-            .then(|| Duration::from_secs_f64(settings.record_max_file_duration)),
+            .then(|| crate::model::time::saturating_secs(settings.record_max_file_duration)),
         flush_interval: Duration::from_secs(1),
         queue_capacity: 65_536,
     };

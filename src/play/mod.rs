@@ -124,7 +124,9 @@ pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Du
             item.at = if k < leading {
                 Duration::ZERO
             } else {
-                Duration::from_nanos(item.log_time_ns.saturating_sub(origin_ns)).div_f64(rate)
+                crate::model::time::saturating_secs(
+                    Duration::from_nanos(item.log_time_ns.saturating_sub(origin_ns)).as_secs_f64() / rate,
+                )
             };
             item
         })
@@ -261,7 +263,8 @@ impl ClockOut {
             return;
         }
         self.next = (self.next + self.period).max(now);
-        let bag_ns = origin_ns.saturating_add(u64::try_from(position.mul_f64(rate).as_nanos()).unwrap_or(u64::MAX));
+        let bag_ns = origin_ns
+            .saturating_add(u64::try_from(crate::model::time::scaled(position, rate).as_nanos()).unwrap_or(u64::MAX));
         let message = Clock { clock: time_of(bag_ns) };
         // Best effort, like rosbag2's: a lost tick is replaced by the next one.
         if let Err(e) = self.writer.write(message, Some(rustdds::Timestamp::now())) {
@@ -499,7 +502,7 @@ pub fn play(
     let mut clock = match options.clock_hz {
         Some(hz) => Some(ClockOut {
             writer: make_writer::<Clock>(&ctx, "/clock", &clock_qos())?,
-            period: Duration::from_secs_f64(1.0 / hz),
+            period: crate::model::time::period_of(hz),
             next: Instant::now(),
         }),
         None => None,

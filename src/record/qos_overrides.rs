@@ -59,7 +59,7 @@ impl QosOverrides {
     /// Reads and checks a rosbag2 QoS override file.
     pub fn load(path: &Path) -> Result<QosOverrides, QosOverridesError> {
         let fail = |reason: String| QosOverridesError { path: path.display().to_string(), reason };
-        let text = std::fs::read_to_string(path).map_err(|e| fail(e.to_string()))?;
+        let text = crate::files::read_text(path, "QoS override file").map_err(|e| fail(e.to_string()))?;
         QosOverrides::parse(&text).map_err(fail)
     }
 

@@ -6,5 +6,6 @@ mod crisp_text;
 pub mod figures;
 pub mod json;
 pub mod plot;
+pub mod stdout;
 pub mod sweep;
 pub mod table;

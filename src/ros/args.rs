@@ -211,7 +211,7 @@ impl RosArgs {
     pub fn parameter_overrides(&self, node: &NodeIdentity) -> Result<BTreeMap<String, ParameterValue>, RosArgsError> {
         let mut values = BTreeMap::new();
         for path in &self.params_files {
-            let text = std::fs::read_to_string(path)
+            let text = crate::files::read_text(path, "parameter file")
                 .map_err(|e| RosArgsError::BadParamsFile { path: path.clone(), why: e.to_string() })?;
             for (name, value) in params_file_values(&text, path, node)? {
                 values.insert(name, value);

@@ -1,0 +1,197 @@
+//! The rules every tool applies to the files a user names: an input is a regular file (after following
+//! symlinks) no larger than a stated cap, so `/dev/zero`, a FIFO or a directory is a clear error instead of
+//! a read that never ends; an output is never one of the inputs (the same file by device and inode, however
+//! it is named: another path, a symlink or a hard link) nor a file of a bag being read.
+//!
+//! The bag readers apply the same regular-file rule to MCAP files ([`not_regular`]); their size is not capped
+//! (they are read a chunk at a time).
+
+use std::io::Read;
+use std::os::unix::fs::MetadataExt;
+use std::path::{Path, PathBuf};
+
+/// Largest text input a tool reads whole (case files, batter files, bat files and their profile CSV, QoS
+/// override files, `--params-file`, `pub --file`), bytes: 16 MiB, far beyond any such file (a bat profile at
+/// the most stations a BatParams may carry is ~200 kB).
+pub const MAX_INPUT_BYTES: u64 = 16 << 20;
+
+/// Why an input file was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum InputError {
+    /// The file could not be opened or read.
+    #[error("cannot read {what} '{path}': {source}")]
+    Io {
+        what: String,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// Not a regular file (after following symlinks).
+    #[error("{what} '{path}' is {kind}, not a regular file: refused")]
+    NotRegular { what: String, path: PathBuf, kind: &'static str },
+    /// Larger than the cap.
+    #[error("{what} '{path}' is {size} bytes, over the limit of {limit} bytes for an input file: refused")]
+    TooLarge { what: String, path: PathBuf, size: u64, limit: u64 },
+    /// Not UTF-8 text.
+    #[error("{what} '{path}' is not UTF-8 text")]
+    NotText { what: String, path: PathBuf },
+}
+
+/// What a file type is when it is not a regular file (`None` for a regular file).
+pub fn not_regular(file_type: std::fs::FileType) -> Option<&'static str> {
+    use std::os::unix::fs::FileTypeExt;
+    if file_type.is_file() {
+        None
+    } else if file_type.is_dir() {
+        Some("a directory")
+    } else if file_type.is_fifo() {
+        Some("a FIFO")
+    } else if file_type.is_char_device() {
+        Some("a character device")
+    } else if file_type.is_block_device() {
+        Some("a block device")
+    } else if file_type.is_socket() {
+        Some("a socket")
+    } else {
+        Some("not a regular file")
+    }
+}
+
+/// Reads the whole of `path` (described as `what` in errors, e.g. "case file") if it is a regular file of at
+/// most `limit` bytes. Never blocks on a FIFO (it is refused before it is opened, and opened non-blocking)
+/// and never reads more than `limit + 1` bytes, whatever the file does meanwhile.
+pub fn read_limited(path: &Path, what: &str, limit: u64) -> Result<Vec<u8>, InputError> {
+    use std::os::unix::fs::OpenOptionsExt;
+    let io = |source| InputError::Io { what: what.to_string(), path: path.to_path_buf(), source };
+    let refuse = |kind| InputError::NotRegular { what: what.to_string(), path: path.to_path_buf(), kind };
+    let too_large = |size| InputError::TooLarge { what: what.to_string(), path: path.to_path_buf(), size, limit };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if let Some(kind) = not_regular(meta.file_type()) {
+        return Err(refuse(kind));
+    }
+    if meta.len() > limit {
+        return Err(too_large(meta.len()));
+    }
+    let file = std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK).open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if let Some(kind) = not_regular(meta.file_type()) {
+        return Err(refuse(kind));
+    }
+    let mut bytes = Vec::with_capacity(meta.len().min(limit) as usize);
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// [`read_limited`] at [`MAX_INPUT_BYTES`], as UTF-8 text.
+pub fn read_text(path: &Path, what: &str) -> Result<String, InputError> {
+    let bytes = read_limited(path, what, MAX_INPUT_BYTES)?;
+    String::from_utf8(bytes).map_err(|_| InputError::NotText { what: what.to_string(), path: path.to_path_buf() })
+}
+
+/// (device, inode) of the file at `path` after following symlinks; `None` when it does not exist.
+fn identity(path: &Path) -> Option<(u64, u64)> {
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
+
+/// The files a bag at `path` is made of: the path itself when it is a file, else every file directly in the
+/// directory (its MCAP files and `metadata.yaml`, and anything else lying there).
+pub fn bag_files(path: &Path) -> Vec<PathBuf> {
+    match std::fs::read_dir(path) {
+        Ok(entries) => entries.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_file()).collect(),
+        Err(_) => vec![path.to_path_buf()],
+    }
+}
+
+/// Refuses `output` (named by `flag`) when it is — under any name, through a symlink or a hard link — one of
+/// `inputs`, or a new file inside a bag directory among `bags` (which would become part of that bag). An
+/// output that does not exist yet cannot be an input file; its directory is compared canonicalised.
+pub fn refuse_clobber(flag: &str, output: &Path, inputs: &[PathBuf], bags: &[PathBuf]) -> Result<(), String> {
+    let mut files: Vec<PathBuf> = inputs.to_vec();
+    for bag in bags {
+        files.extend(bag_files(bag));
+    }
+    if let Some(out) = identity(output) {
+        if let Some(input) = files.iter().find(|f| identity(f) == Some(out)) {
+            return Err(format!(
+                "{flag} '{}' is the input file '{}': refused (it would be overwritten while it is read)",
+                output.display(),
+                input.display()
+            ));
+        }
+    }
+    let parent = match output.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if let Ok(dir) = parent.canonicalize() {
+        for bag in bags {
+            if bag.is_dir() && bag.canonicalize().is_ok_and(|b| b == dir) {
+                return Err(format!(
+                    "{flag} '{}' is inside the bag directory '{}' being read: refused (write it elsewhere)",
+                    output.display(),
+                    bag.display()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_regular_files_within_the_cap_are_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("case.toml");
+        std::fs::write(&file, "a = 1\n").unwrap();
+        assert_eq!(read_text(&file, "case file").unwrap(), "a = 1\n");
+        let e = read_limited(&file, "case file", 3).unwrap_err().to_string();
+        assert!(e.contains("6 bytes, over the limit of 3 bytes"), "{e}");
+        let e = read_text(dir.path(), "case file").unwrap_err().to_string();
+        assert!(e.contains("is a directory, not a regular file"), "{e}");
+        let e = read_text(Path::new("/dev/zero"), "batter file").unwrap_err().to_string();
+        assert!(e.contains("'/dev/zero' is a character device"), "{e}");
+        let fifo = dir.path().join("fifo");
+        let name = std::ffi::CString::new(fifo.as_os_str().as_encoded_bytes()).unwrap();
+        assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+        let e = read_text(&fifo, "QoS override file").unwrap_err().to_string();
+        assert!(e.contains("is a FIFO"), "{e}");
+        let e = read_text(&dir.path().join("missing"), "bat file").unwrap_err().to_string();
+        assert!(e.starts_with("cannot read bat file"), "{e}");
+    }
+
+    #[test]
+    fn an_output_is_never_an_input_by_any_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.toml");
+        std::fs::write(&input, "x").unwrap();
+        let inputs = vec![input.clone()];
+        assert!(refuse_clobber("-o", &input, &inputs, &[]).is_err());
+        let link = dir.path().join("link.toml");
+        std::os::unix::fs::symlink(&input, &link).unwrap();
+        assert!(refuse_clobber("-o", &link, &inputs, &[]).is_err(), "symlink");
+        let hard = dir.path().join("hard.toml");
+        std::fs::hard_link(&input, &hard).unwrap();
+        assert!(refuse_clobber("-o", &hard, &inputs, &[]).is_err(), "hard link");
+        let dotted = dir.path().join(".").join("in.toml");
+        assert!(refuse_clobber("-o", &dotted, &inputs, &[]).is_err(), "another spelling");
+        assert!(refuse_clobber("-o", &dir.path().join("new.toml"), &inputs, &[]).is_ok());
+        // A bag: every file in its directory, and new files in it.
+        let bag = dir.path().join("bag");
+        std::fs::create_dir(&bag).unwrap();
+        std::fs::write(bag.join("bag_0.mcap"), "m").unwrap();
+        std::fs::write(bag.join("metadata.yaml"), "y").unwrap();
+        let bags = vec![bag.clone()];
+        let e = refuse_clobber("--write", &bag.join("bag_0.mcap"), &[], &bags).unwrap_err();
+        assert!(e.contains("is the input file"), "{e}");
+        assert!(refuse_clobber("--write", &bag.join("metadata.yaml"), &[], &bags).is_err());
+        let e = refuse_clobber("--write", &bag.join("fitted.jsonl"), &[], &bags).unwrap_err();
+        assert!(e.contains("inside the bag directory"), "{e}");
+        assert!(refuse_clobber("--write", &dir.path().join("fitted.jsonl"), &[], &bags).is_ok());
+    }
+}
