@@ -12,6 +12,7 @@
 //!   [`record`]: `bag record` over DDS;
 //! - [`report`]: tables, JSON documents, plots and the seed's figures, for the tools below; [`child`]: the
 //!   node (or any tool) as a child process;
+//! - [`import`]: tracker exports (TrackMan, Statcast) into bags of swings;
 //! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
 //!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
 //! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
@@ -21,6 +22,7 @@ pub mod calibrate;
 pub mod child;
 pub mod cli;
 pub mod demo;
+pub mod import;
 pub mod model;
 pub mod msgs;
 pub mod node;

@@ -14,6 +14,7 @@ pub mod common;
 pub mod compare;
 pub mod demo;
 pub mod figures;
+pub mod import;
 pub mod modes;
 pub mod node;
 pub mod pubsub;
@@ -61,6 +62,8 @@ pub enum Command {
     Compare(compare::CompareArgs),
     /// Fit the ball's COR (and bat stiffness) to the measured exit speeds of a recorded session.
     Calibrate(calibrate::CalibrateArgs),
+    /// Tracker exports (TrackMan, Statcast CSV) into a bag of swings.
+    Import(import::ImportArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand; errors are printed with context.
@@ -81,6 +84,7 @@ pub fn main() -> ExitCode {
         Command::Calibrate(args) => calibrate::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Import(args) => import::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
