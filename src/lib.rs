@@ -12,7 +12,8 @@
 //!   [`record`]: `bag record` over DDS;
 //! - [`report`]: tables, JSON documents, plots and the seed's figures, for the tools below; [`child`]: the
 //!   node (or any tool) as a child process;
-//! - [`import`]: tracker exports (TrackMan, Statcast) into bags of swings;
+//! - [`import`]: tracker exports (TrackMan, Statcast) into bags of swings; [`locate`]: where on the bat each
+//!   recorded ball was hit;
 //! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
 //!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
 //! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
@@ -23,6 +24,7 @@ pub mod child;
 pub mod cli;
 pub mod demo;
 pub mod import;
+pub mod locate;
 pub mod model;
 pub mod msgs;
 pub mod node;
