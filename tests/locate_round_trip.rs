@@ -54,7 +54,8 @@ struct Export {
 impl Export {
     fn from_fixture(name: &str, template_line: usize) -> Export {
         let mut reader = csv::Reader::from_path(data(name)).unwrap();
-        let header: Vec<String> = reader.headers().unwrap().iter().map(|h| h.trim_start_matches('\u{feff}').to_string()).collect();
+        let header: Vec<String> =
+            reader.headers().unwrap().iter().map(|h| h.trim_start_matches('\u{feff}').to_string()).collect();
         let template = reader.records().nth(template_line - 2).unwrap().unwrap().iter().map(String::from).collect();
         Export { header, template, rows: Vec::new() }
     }

@@ -57,7 +57,8 @@ pub struct ImportArgs {
 /// Runs `sweetspot import`.
 pub fn run(args: ImportArgs) -> Result<()> {
     let mut files = args.files.clone();
-    let mut format = args.format.as_deref().map(str::parse::<Format>).transpose().map_err(|e| anyhow!("--format: {e}"))?;
+    let mut format =
+        args.format.as_deref().map(str::parse::<Format>).transpose().map_err(|e| anyhow!("--format: {e}"))?;
     if let Some(first) = files.first() {
         if let Ok(word) = first.parse::<Format>() {
             if !std::path::Path::new(first).exists() {

@@ -37,10 +37,12 @@ pub struct LocateArgs {
 
 /// Runs `sweetspot locate`.
 pub fn run(args: LocateArgs) -> Result<()> {
-    for (name, v) in
-        [("--exit-speed-sigma", args.exit_speed_sigma), ("--launch-angle-sigma", args.launch_angle_sigma), ("--spin-sigma", args.spin_sigma)]
-    {
-        if !(v > 0.0) {
+    for (name, v) in [
+        ("--exit-speed-sigma", args.exit_speed_sigma),
+        ("--launch-angle-sigma", args.launch_angle_sigma),
+        ("--spin-sigma", args.spin_sigma),
+    ] {
+        if v <= 0.0 {
             return Err(anyhow!("{name} = {v}: expected > 0"));
         }
     }

@@ -45,9 +45,9 @@ use crate::bag::{BagError, RecordedQos, TopicId, TopicInfo};
 use crate::model::settings::ModelSettings;
 use crate::model::time::RosTime;
 use crate::msgs::builtin_interfaces::msg::Time;
+use crate::msgs::encode_cdr;
 use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
-use crate::msgs::encode_cdr;
 use crate::physics::batter::{Batter, ReferenceSwing};
 use crate::physics::{Bat, MassProperties};
 
@@ -169,9 +169,10 @@ impl Format {
 impl std::str::FromStr for Format {
     type Err = ImportError;
     fn from_str(s: &str) -> Result<Format, ImportError> {
-        Format::ALL.into_iter().find(|f| f.name() == s.to_ascii_lowercase()).ok_or_else(|| {
-            ImportError::Options(format!("unknown format {s:?}: expected trackman or statcast"))
-        })
+        Format::ALL
+            .into_iter()
+            .find(|f| f.name() == s.to_ascii_lowercase())
+            .ok_or_else(|| ImportError::Options(format!("unknown format {s:?}: expected trackman or statcast")))
     }
 }
 
@@ -520,7 +521,16 @@ impl Output {
         let file = std::fs::File::create(&path).map_err(|source| ImportError::Io { path: path.clone(), source })?;
         let mut rows = csv::Writer::from_writer(file);
         rows.write_record([
-            "swing_id", "file", "line", "format", "batter", "pitcher", "pitch_id", "call", "swing_length_m", "assumed",
+            "swing_id",
+            "file",
+            "line",
+            "format",
+            "batter",
+            "pitcher",
+            "pitch_id",
+            "call",
+            "swing_length_m",
+            "assumed",
         ])
         .map_err(|e| ImportError::Csv { path: path.clone(), line: None, message: e.to_string() })?;
         Ok(Output { writer, swing_topic, rows, last_log_ns: t + 1_000 })
@@ -615,7 +625,8 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
             for name in &names {
                 *report.assumed.entry((*name).to_string()).or_default() += 1;
             }
-            let length = if tracked.swing_length.is_finite() { format!("{}", tracked.swing_length) } else { String::new() };
+            let length =
+                if tracked.swing_length.is_finite() { format!("{}", tracked.swing_length) } else { String::new() };
             out.rows
                 .write_record([
                     swing.swing_id.to_string().as_str(),

@@ -29,7 +29,7 @@
 //! TrackMan does not measure the bat: its speed comes from the batter model (assumed, see [`super`]).
 
 use super::table::{Row, Table};
-use super::{deg, mph, rpm, backspin, Skip, TrackedRow};
+use super::{backspin, deg, mph, rpm, Skip, TrackedRow};
 
 /// Columns a header must have to be read as TrackMan's.
 pub const REQUIRED: &[&str] = &["PitchCall", "ZoneSpeed", "VertApprAngle", "ExitSpeed", "Angle"];

@@ -330,7 +330,7 @@ impl SwingModel<'_> {
             }
             let damped = [[a[0][0] * (1.0 + lambda), a[0][1]], [a[1][0], a[1][1] * (1.0 + lambda)]];
             let det = damped[0][0] * damped[1][1] - damped[0][1] * damped[1][0];
-            if !(det.abs() > 0.0) {
+            if det == 0.0 || det.is_nan() {
                 return None;
             }
             let step_z = -(damped[1][1] * g[0] - damped[0][1] * g[1]) / det;
@@ -437,7 +437,8 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 if dof_fit && chi2 > 1e-6 || !chi2.is_finite() {
                     continue;
                 }
-                if solutions.iter().any(|s: &Solution| (s.impact_z - zf).abs() < 1e-3 && (s.undercut - df).abs() < 1e-3) {
+                if solutions.iter().any(|s: &Solution| (s.impact_z - zf).abs() < 1e-3 && (s.undercut - df).abs() < 1e-3)
+                {
                     continue;
                 }
                 let (sweet, _) = model.sweet_spot(df);
@@ -525,12 +526,10 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
             swing.bat_id.clone()
         };
         if !bats.contains_key(&bat_id) {
-            let prepared = Bat::preset(&bat_id)
-                .map_err(|e| e.to_string())
-                .and_then(|bat| {
-                    let modes = settings.modes_for(&bat, None);
-                    prepare(bat, modes)
-                });
+            let prepared = Bat::preset(&bat_id).map_err(|e| e.to_string()).and_then(|bat| {
+                let modes = settings.modes_for(&bat, None);
+                prepare(bat, modes)
+            });
             bats.insert(bat_id.clone(), prepared);
         }
         let ball_id = if swing.ball_id.is_empty() {
