@@ -27,6 +27,7 @@ fn options() -> ImportOptions {
         ball_params: params_from_ball("baseball", &Ball::default(), None, Header::default()),
         batter,
         undercut: 0.0,
+        map: None,
     }
 }
 
@@ -235,4 +236,33 @@ fn a_large_export_streams_row_by_row() {
     }
     let report = import_files(&[big], &tmp.path().join("big"), &options()).unwrap();
     assert_eq!(report.swings, 200_000);
+}
+
+#[test]
+fn another_trackers_export_through_a_column_map() {
+    use sweetspot::import::mapped::ColumnMap;
+    let tmp = tempfile::tempdir().unwrap();
+    let map = ColumnMap::load(&data("mapped_session.toml")).unwrap();
+    let options = ImportOptions { map: Some(map), ..options() };
+    let bag = tmp.path().join("mapped");
+    let report = import_files(&[data("mapped_session.csv")], &bag, &options).unwrap();
+    assert_eq!(report.swings, 1);
+    assert_eq!(report.skipped.get("no ball hit (call \"no exit speed\")"), Some(&1));
+    assert!(report.refused[0].contains("line 4: pitch_speed = \"fast\" is not a number"), "{:?}", report.refused);
+    let swing = &read_inputs(&bag).unwrap().swings[0].1;
+    // By hand: 130 km/h = 36.1111 m/s; 95 mph = 42.4688 m/s; 20° = 0.349066 rad; 2500 rpm = 261.799 rad/s.
+    assert!(close(swing.ball_speed, 36.1111, 1e-4), "{}", swing.ball_speed);
+    assert!(close(swing.measured_exit_speed, 42.4688, 1e-9));
+    assert!(close(swing.measured_launch_angle, 0.349066, 1e-6));
+    assert!(close(swing.measured_spin, 261.799, 1e-3));
+    // 32.0 m/s 6 in from the head, split about the knob.
+    let mp = Bat::preset("r161").unwrap().mass_properties();
+    let at = swing.bat_cm_speed + swing.bat_angular_speed * (mp.length - 0.1524 - mp.center_of_mass);
+    assert!(close(at, 32.0, 1e-9));
+    assert_eq!(swing.header.stamp.sec, 1_751_652_000);
+    // A map naming an unknown quantity or unit is refused with what is allowed.
+    let bad: Result<ColumnMap, _> = toml::from_str(
+        "name = \"x\"\n[columns]\nexit_speed = \"EV\"\npitch_speed = \"PV\"\n[units]\nexit_speed = \"knots\"\n",
+    );
+    assert!(bad.unwrap().check().unwrap_err().contains("unit 'knots'"));
 }

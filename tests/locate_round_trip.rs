@@ -32,6 +32,7 @@ fn options() -> ImportOptions {
         ball_params: params_from_ball("baseball", &Ball::default(), None, Header::default()),
         batter,
         undercut: 0.0,
+        map: None,
     }
 }
 

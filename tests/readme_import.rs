@@ -1,6 +1,7 @@
 //! README "Bringing your rig's data": every command line of its `sh` block runs as written (trailing
 //! `# comment` dropped) with the built `sweetspot` first on PATH, in a fresh directory holding `game.csv` (the
-//! real TrackMan rows of tests/data) and `savant.csv` (the Statcast fixture).
+//! real TrackMan rows of tests/data), `savant.csv` (the Statcast fixture) and `session.csv` with its map
+//! `my-tracker.toml` (the column-map fixture).
 
 use std::path::Path;
 use std::process::Command;
@@ -28,6 +29,8 @@ fn the_import_section_runs_as_written() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::copy(repo.join("tests/data/trackman_game.csv"), dir.path().join("game.csv")).unwrap();
     std::fs::copy(repo.join("tests/data/statcast_search.csv"), dir.path().join("savant.csv")).unwrap();
+    std::fs::copy(repo.join("tests/data/mapped_session.csv"), dir.path().join("session.csv")).unwrap();
+    std::fs::copy(repo.join("tests/data/mapped_session.toml"), dir.path().join("my-tracker.toml")).unwrap();
     let bin_dir = Path::new(env!("CARGO_BIN_EXE_sweetspot")).parent().unwrap().to_path_buf();
     let path = format!("{}:{}", bin_dir.display(), std::env::var("PATH").unwrap_or_default());
     let mut outputs = Vec::new();
@@ -40,4 +43,5 @@ fn the_import_section_runs_as_written() {
     assert!(outputs[2].contains("4 located"), "{}", outputs[2]);
     let json: serde_json::Value = serde_json::from_str(&outputs[3]).expect("locate --json is one JSON document");
     assert_eq!(json["swings"].as_array().map(Vec::len), Some(3));
+    assert!(outputs[5].contains("1 swings written to bags/lab"), "{}", outputs[5]);
 }

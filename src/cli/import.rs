@@ -7,6 +7,7 @@ use clap::Args;
 
 use super::common::{print_json, resolve_bat};
 use super::compare::{batter_from_spec, load_batter_file, BatterSpec};
+use crate::import::mapped::ColumnMap;
 use crate::import::{import_files, Format, ImportOptions, ImportReport};
 use crate::model::convert::{params_from_ball, params_from_bat, params_of_preset};
 use crate::msgs::std_msgs::msg::Header;
@@ -49,6 +50,11 @@ pub struct ImportArgs {
     /// `calibrate --fit-tangential` (the node and `bag replay` then refuse the swings).
     #[arg(long, value_name = "M", default_value_t = 0.0, allow_negative_numbers = true)]
     pub undercut: f64,
+    /// Column map (TOML) for an export of another tracker (Rapsodo, HitTrax, Blast, …): which column holds
+    /// pitch_speed, exit_speed, launch_angle, spin, bat_speed, attack_angle, pitch_angle, time, batter, and
+    /// their units (see `crate::import::mapped`).
+    #[arg(long, value_name = "FILE", conflicts_with = "format")]
+    pub map: Option<PathBuf>,
     /// Print one JSON document instead of the summary.
     #[arg(long)]
     pub json: bool,
@@ -91,7 +97,11 @@ pub fn run(args: ImportArgs) -> Result<()> {
     if output.exists() {
         bail!("{}: already exists (the bag directory must be new)", output.display());
     }
-    let options = ImportOptions { format, bat, bat_params, ball_params, batter, undercut: args.undercut };
+    let map = args.map.as_deref().map(ColumnMap::load).transpose().map_err(|e| anyhow!("--map: {e}"))?;
+    if map.is_some() && format.is_some() {
+        bail!("--map reads every file through the map: give no format with it");
+    }
+    let options = ImportOptions { format, bat, bat_params, ball_params, batter, undercut: args.undercut, map };
     let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
     let report = import_files(&paths, &output, &options).map_err(|e| anyhow!("{e}"))?;
     if args.json {

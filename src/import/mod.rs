@@ -33,6 +33,7 @@
 //! absurd speed, which is also what a column in other units looks like): those are *refused* with the file
 //! and line. Nothing is guessed silently.
 
+pub mod mapped;
 pub mod statcast;
 pub mod table;
 pub mod trackman;
@@ -133,6 +134,8 @@ pub enum Format {
     TrackMan,
     /// Baseball Savant's Statcast search CSV ([`statcast`]).
     Statcast,
+    /// Any CSV through a user's column map ([`mapped`]; never detected).
+    Mapped,
 }
 
 impl Format {
@@ -144,6 +147,7 @@ impl Format {
         match self {
             Format::TrackMan => "trackman",
             Format::Statcast => "statcast",
+            Format::Mapped => "mapped",
         }
     }
 
@@ -152,6 +156,7 @@ impl Format {
         match self {
             Format::TrackMan => trackman::REQUIRED,
             Format::Statcast => statcast::REQUIRED,
+            Format::Mapped => &[],
         }
     }
 
@@ -290,6 +295,8 @@ pub struct ImportOptions {
     pub batter: Batter,
     /// Undercut written for every swing, m (no tracker measures it; NaN = leave unmeasured).
     pub undercut: f64,
+    /// A user's column map: every file is read through it (`format` must then be None).
+    pub map: Option<mapped::ColumnMap>,
 }
 
 /// Fields filled in rather than measured, per swing.
@@ -545,6 +552,20 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
     let mut tables = Vec::new();
     for path in files {
         let table = Table::open(path)?;
+        if let Some(map) = &options.map {
+            if options.format.is_some() {
+                return Err(ImportError::Options("a column map and a forced format exclude each other".into()));
+            }
+            let missing = map.missing(table.headers());
+            if !missing.is_empty() {
+                return Err(ImportError::UnknownHeader {
+                    path: path.clone(),
+                    message: format!("the header lacks the mapped columns {}", missing.join(", ")),
+                });
+            }
+            tables.push((path.clone(), table, Format::Mapped));
+            continue;
+        }
         let format = match options.format {
             Some(format) => {
                 let missing = format.missing(table.headers());
@@ -586,12 +607,17 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
         let mut file_report = FileReport { path: path.clone(), format, rows: 0, swings: 0 };
         let trackman = (format == Format::TrackMan).then(|| trackman::Columns::of(&table));
         let statcast = (format == Format::Statcast).then(|| statcast::Columns::of(&table));
+        let mapped = match (&options.map, format) {
+            (Some(map), Format::Mapped) => Some(mapped::Columns::of(&table, map)),
+            _ => None,
+        };
         while table.next_row()? {
             file_report.rows += 1;
             let row = table.row();
-            let tracked = match (&trackman, &statcast) {
-                (Some(cols), _) => trackman::read(&row, cols),
-                (_, Some(cols)) => statcast::read(&row, cols),
+            let tracked = match (&trackman, &statcast, &mapped) {
+                (Some(cols), _, _) => trackman::read(&row, cols),
+                (_, Some(cols), _) => statcast::read(&row, cols),
+                (_, _, Some(cols)) => mapped::read(&row, cols),
                 _ => unreachable!("one format's columns are set"),
             };
             let stamp_ns = match &tracked {
@@ -660,6 +686,9 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
         report.files.iter().map(|f| f.path.display().to_string()).collect::<Vec<_>>().join(","),
     );
     custom.insert("sweetspot/import/rows_table".into(), ROWS_TABLE.into());
+    if let Some(map) = &options.map {
+        custom.insert("sweetspot/import/map".into(), map.name.clone());
+    }
     custom.insert(
         "sweetspot/import/assumed".into(),
         report.assumed.iter().map(|(k, n)| format!("{k}:{n}")).collect::<Vec<_>>().join(","),
@@ -705,6 +734,7 @@ mod tests {
             ),
             batter: Batter::typical(mp).unwrap(),
             undercut: 0.0,
+            map: None,
         }
     }
 
