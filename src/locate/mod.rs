@@ -215,18 +215,16 @@ impl SwingModel<'_> {
         (SEARCH_FROM * length, length - END_GAP)
     }
 
-    /// The sweet spot at undercut `d`: (z*, v(z*)).
-    fn sweet_spot(&self, d: f64) -> (f64, f64) {
+    /// The sweet spot at undercut `d` near `guess` (the sweet spot at a nearby undercut): the maximum of v
+    /// within two grid spacings of it, by golden section.
+    fn sweet_spot_near(&self, d: f64, guess: f64) -> (f64, f64) {
         let (lo, hi) = self.range();
-        let grid: Vec<f64> = (0..GRID_POINTS).map(|i| lo + (hi - lo) * i as f64 / (GRID_POINTS - 1) as f64).collect();
-        let speeds: Vec<f64> = grid.iter().map(|&z| self.speed(z, d)).collect();
-        self.refine_peak(&grid, &speeds, d)
+        let h = 2.0 * (hi - lo) / (GRID_POINTS - 1) as f64;
+        self.golden((guess - h).max(lo), (guess + h).min(hi), d)
     }
 
-    fn refine_peak(&self, grid: &[f64], speeds: &[f64], d: f64) -> (f64, f64) {
-        let best = (0..grid.len()).filter(|&i| speeds[i].is_finite()).max_by(|&a, &b| speeds[a].total_cmp(&speeds[b]));
-        let Some(best) = best else { return (f64::NAN, f64::NAN) };
-        let (mut a, mut b) = (grid[best.saturating_sub(1)], grid[(best + 1).min(grid.len() - 1)]);
+    /// The maximum of v(·, d) on [a, b] by golden section (v unimodal there): (z, v).
+    fn golden(&self, mut a: f64, mut b: f64, d: f64) -> (f64, f64) {
         let ratio = (5f64.sqrt() - 1.0) / 2.0;
         let mut c = b - ratio * (b - a);
         let mut e = a + ratio * (b - a);
@@ -247,7 +245,13 @@ impl SwingModel<'_> {
             }
         }
         let z = 0.5 * (a + b);
-        let v = self.speed(z, d);
+        (z, self.speed(z, d))
+    }
+
+    fn refine_peak(&self, grid: &[f64], speeds: &[f64], d: f64) -> (f64, f64) {
+        let best = (0..grid.len()).filter(|&i| speeds[i].is_finite()).max_by(|&a, &b| speeds[a].total_cmp(&speeds[b]));
+        let Some(best) = best else { return (f64::NAN, f64::NAN) };
+        let (z, v) = self.golden(grid[best.saturating_sub(1)], grid[(best + 1).min(grid.len() - 1)], d);
         if v >= speeds[best] {
             (z, v)
         } else {
@@ -273,21 +277,39 @@ impl SwingModel<'_> {
             if !(fa.is_finite() && fb.is_finite()) || fa.signum() == fb.signum() && fb != 0.0 {
                 continue;
             }
-            let (mut a, mut b, mut f_a) = (grid[i - 1], grid[i], fa);
+            // Regula falsi with the Illinois modification: superlinear, and the bracket is never lost.
+            let (mut a, mut b, mut f_a, mut f_b) = (grid[i - 1], grid[i], fa, fb);
+            let mut side = 0i8;
+            let mut root = 0.5 * (a + b);
             for _ in 0..60 {
-                let m = 0.5 * (a + b);
-                let fm = self.speed(m, d) - target;
-                if fm.signum() == f_a.signum() {
-                    a = m;
-                    f_a = fm;
-                } else {
-                    b = m;
+                if f_a == f_b {
+                    break;
                 }
-                if b - a < 1e-9 {
+                root = (a * f_b - b * f_a) / (f_b - f_a);
+                let f = self.speed(root, d) - target;
+                if f == 0.0 || (b - a) < 1e-9 || !f.is_finite() {
+                    break;
+                }
+                if f.signum() == f_b.signum() {
+                    b = root;
+                    f_b = f;
+                    if side == -1 {
+                        f_a *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    a = root;
+                    f_a = f;
+                    if side == 1 {
+                        f_b *= 0.5;
+                    }
+                    side = 1;
+                }
+                if f.abs() < 1e-12 {
                     break;
                 }
             }
-            roots.push(0.5 * (a + b));
+            roots.push(root);
         }
         (roots, peak)
     }
@@ -441,7 +463,7 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 {
                     continue;
                 }
-                let (sweet, _) = model.sweet_spot(df);
+                let (sweet, _) = model.sweet_spot_near(df, peak_z);
                 solutions.push(Solution {
                     impact_z: zf,
                     impact_z_sigma: cov[0][0].sqrt(),
