@@ -266,3 +266,29 @@ fn another_trackers_export_through_a_column_map() {
     );
     assert!(bad.unwrap().check().unwrap_err().contains("unit 'knots'"));
 }
+
+#[test]
+fn statcast_bat_tracking_gives_a_batter_file_that_compare_reads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = env!("CARGO_BIN_EXE_sweetspot");
+    let batters = tmp.path().join("batters");
+    let out = Command::new(bin)
+        .arg("import")
+        .arg(data("statcast_search.csv"))
+        .arg("-o")
+        .arg(tmp.path().join("savant"))
+        .arg("--batter-out")
+        .arg(&batters)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let file = batters.join("batter_100001.toml");
+    let spec: toml::Value = toml::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    // Batter 100001's rows with bat tracking: 74.5 mph (the single) and 71.0 mph (the swing and miss), swing
+    // lengths 7.4 and 7.1 ft: means 72.75 mph = 32.52216 m/s and 7.25 ft = 2.2098 m.
+    assert!(close(spec["bat_speed"].as_float().unwrap(), 32.52216, 1e-9), "{spec}");
+    assert!(close(spec["swing_length"].as_float().unwrap(), 2.2098, 1e-12), "{spec}");
+    assert_eq!(spec["reference_bat"].as_str(), Some("r161"));
+    let out = Command::new(bin).args(["compare", "--bats", "r161,torpedo", "--batter"]).arg(&file).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

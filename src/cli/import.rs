@@ -55,6 +55,11 @@ pub struct ImportArgs {
     /// their units (see `crate::import::mapped`).
     #[arg(long, value_name = "FILE", conflicts_with = "format")]
     pub map: Option<PathBuf>,
+    /// Write one batter file per batter with measured bat speeds (Statcast bat tracking) into DIR, as
+    /// `compare --batter` and `import --batter` read: their mean bat speed (6 in from the head) and swing
+    /// length with this import's bat as the reference bat, the rest from --batter.
+    #[arg(long, value_name = "DIR")]
+    pub batter_out: Option<PathBuf>,
     /// Print one JSON document instead of the summary.
     #[arg(long)]
     pub json: bool,
@@ -104,10 +109,56 @@ pub fn run(args: ImportArgs) -> Result<()> {
     let options = ImportOptions { format, bat, bat_params, ball_params, batter, undercut: args.undercut, map };
     let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
     let report = import_files(&paths, &output, &options).map_err(|e| anyhow!("{e}"))?;
+    if let Some(dir) = &args.batter_out {
+        write_batters(&report, dir, &args.bat, &options)?;
+    }
     if args.json {
         return print_json(&report);
     }
     print_report(&report)
+}
+
+/// One batter file per batter of the report.
+fn write_batters(report: &ImportReport, dir: &std::path::Path, bat: &str, options: &ImportOptions) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("--batter-out {}", dir.display()))?;
+    // The bat is named as given; a bat file is named by its absolute path so the batter file works anywhere.
+    let reference_bat = if Bat::preset_names().contains(&bat) {
+        bat.to_string()
+    } else {
+        std::fs::canonicalize(bat).map_or(bat.to_string(), |p| p.display().to_string())
+    };
+    let reference = &options.batter.reference;
+    let pivot_z = if reference.bat_angular_speed != 0.0 {
+        reference.bat.center_of_mass - reference.bat_cm_speed / reference.bat_angular_speed
+    } else {
+        0.0
+    };
+    if report.batters.is_empty() {
+        bail!("--batter-out: no row has a measured bat speed (Statcast bat_speed), so there is no batter to write");
+    }
+    for (name, stats) in &report.batters {
+        let spec = BatterSpec {
+            reference_bat: Some(reference_bat.clone()),
+            bat_speed: Some(stats.bat_speed),
+            impact_from_barrel_end: Some(crate::import::BAT_SPEED_POINT_FROM_HEAD),
+            pivot_z: Some(pivot_z),
+            exponent: Some(options.batter.exponent),
+            swing_length: stats.swing_length.is_finite().then_some(stats.swing_length),
+            shape: Some(options.batter.shape),
+        };
+        let safe: String =
+            name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+        let path = dir.join(format!("batter_{safe}.toml"));
+        let text = format!(
+            "# {name}: mean of {} measured bat speeds and {} swing lengths (sweetspot import)\n{}",
+            stats.swings,
+            stats.swing_lengths,
+            toml::to_string(&spec).context("batter file")?
+        );
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        crate::outln!("batter {name}: {} swings, {:.2} m/s → {}", stats.swings, stats.bat_speed, path.display())?;
+    }
+    Ok(())
 }
 
 fn print_report(report: &ImportReport) -> Result<()> {

@@ -496,6 +496,36 @@ pub struct ImportReport {
     pub assumed: BTreeMap<String, u64>,
     /// The impact point given to every swing, m from the knob (assumed).
     pub impact_z: f64,
+    /// Per batter, the measured bat speeds (6 in from the head) of every row with one, swings that missed
+    /// included: (count, mean bat speed m/s, mean swing length m or NaN).
+    pub batters: BTreeMap<String, BatterStats>,
+}
+
+/// A batter's measured swings in an export (Statcast bat tracking).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct BatterStats {
+    /// Rows with a measured bat speed.
+    pub swings: u64,
+    /// Mean bat speed 6 in from the head, m/s.
+    pub bat_speed: f64,
+    /// Rows with a measured swing length.
+    pub swing_lengths: u64,
+    /// Mean swing length, m (NaN without any).
+    pub swing_length: f64,
+}
+
+impl BatterStats {
+    fn add(&mut self, bat_speed: f64, swing_length: f64) {
+        self.swings += 1;
+        self.bat_speed += (bat_speed - self.bat_speed) / self.swings as f64;
+        if swing_length.is_finite() {
+            if self.swing_lengths == 0 {
+                self.swing_length = 0.0;
+            }
+            self.swing_lengths += 1;
+            self.swing_length += (swing_length - self.swing_length) / self.swing_lengths as f64;
+        }
+    }
 }
 
 /// Refused rows listed by name in a report (all are counted).
@@ -600,6 +630,7 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
         refused: Vec::new(),
         assumed: BTreeMap::new(),
         impact_z: builder.impact_z(),
+        batters: BTreeMap::new(),
     };
     let mut last_stamp: Option<u64> = None;
     let start_ns = crate::model::time::now_ns();
@@ -620,6 +651,15 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
                 (_, _, Some(cols)) => mapped::read(&row, cols),
                 _ => unreachable!("one format's columns are set"),
             };
+            if let Ok(t) = &tracked {
+                if t.bat_speed.is_finite() && t.bat_speed > 0.0 && t.bat_speed <= MAX_BAT_SPEED {
+                    let stats = report
+                        .batters
+                        .entry(t.batter.clone())
+                        .or_insert(BatterStats { swing_length: f64::NAN, ..BatterStats::default() });
+                    stats.add(t.bat_speed, t.swing_length);
+                }
+            }
             let stamp_ns = match &tracked {
                 Ok(t) => t.stamp_ns.unwrap_or_else(|| last_stamp.map_or(start_ns, |s| s + 1_000_000)),
                 Err(_) => 0,
