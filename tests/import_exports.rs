@@ -82,6 +82,14 @@ fn real_trackman_rows_convert_by_hand_computed_factors() {
     let length = Bat::preset("r161").unwrap().mass_properties().length;
     assert!(swings.iter().all(|s| close(s.impact_z, length - 0.1524, 1e-12) && s.undercut == 0.0));
 
+    // The bag says what it is and what was assumed (custom_data, in every MCAP file and metadata.yaml).
+    let scans = sweetspot::bag::reader::read_bag(&bag, |_| {}).unwrap();
+    let custom = sweetspot::bag::info::custom_data_of(&scans);
+    assert_eq!(custom["sweetspot/import/formats"], "trackman");
+    assert_eq!(custom["sweetspot/import/assumed"], "attack_angle:5,bat_speed:5,impact_z:5,undercut:5");
+    assert_eq!(custom["sweetspot/default_modes"], "18");
+    assert!(std::fs::read_to_string(bag.join("metadata.yaml")).unwrap().contains("sweetspot/import/rows_table"));
+
     // The side table names each swing's source line.
     let table = std::fs::read_to_string(bag.join(ROWS_TABLE)).unwrap();
     let first = table.lines().nth(1).unwrap();
