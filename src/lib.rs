@@ -12,6 +12,8 @@
 //!   [`record`]: `bag record` over DDS;
 //! - [`report`]: tables, JSON documents, plots and the seed's figures, for the tools below; [`child`]: the
 //!   node (or any tool) as a child process;
+//! - [`import`]: tracker exports (TrackMan, Statcast) into bags of swings; [`locate`]: where on the bat each
+//!   recorded ball was hit;
 //! - [`calibrate`]: fitting the ball's COR (and bats' Young's moduli) to recorded swings; [`rig`]: a simulated
 //!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
 //!   [`validate`]: the model against published measurements;
@@ -25,6 +27,8 @@ pub mod child;
 pub mod cli;
 pub mod demo;
 pub mod files;
+pub mod import;
+pub mod locate;
 pub mod model;
 pub mod msgs;
 pub mod node;

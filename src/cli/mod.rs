@@ -14,6 +14,8 @@ pub mod common;
 pub mod compare;
 pub mod demo;
 pub mod figures;
+pub mod import;
+pub mod locate;
 pub mod modes;
 pub mod node;
 pub mod pubsub;
@@ -64,6 +66,10 @@ pub enum Command {
     Calibrate(calibrate::CalibrateArgs),
     /// The model against published measurements: model vs measured, ratio and verdict per row, figures.
     Validate(validate::ValidateArgs),
+    /// Tracker exports (TrackMan, Statcast CSV) into a bag of swings.
+    Import(import::ImportArgs),
+    /// Where on the bat each ball of a bag was hit, from its measured exit speed, launch angle and spin.
+    Locate(locate::LocateArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand; errors are printed with context.
@@ -85,6 +91,8 @@ pub fn main() -> ExitCode {
         Command::Compare(args) => compare::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Validate(args) => validate::run(args),
+        Command::Import(args) => import::run(args),
+        Command::Locate(args) => locate::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,191 @@
+//! `sweetspot import [FORMAT] FILE… -o DIR`: tracker exports into a rosbag2 bag (see [`crate::import`]).
+
+use std::path::PathBuf;
+
+use anyhow::{anyhow, bail, Context, Result};
+use clap::Args;
+
+use super::common::{print_json, resolve_bat};
+use super::compare::{batter_from_spec, load_batter_file, BatterSpec};
+use crate::import::mapped::ColumnMap;
+use crate::import::{import_files, Format, ImportOptions, ImportReport};
+use crate::model::convert::{params_from_ball, params_from_bat, params_of_preset};
+use crate::msgs::std_msgs::msg::Header;
+use crate::physics::{Ball, Bat};
+
+/// Arguments of `sweetspot import`.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  sweetspot import trackman game.csv -o bags/game            # TrackMan Baseball CSV export
+  sweetspot import savant_2025.csv -o bags/savant            # the format is detected from the header
+  sweetspot import a.csv b.csv --batter me.toml --bat torpedo -o bags/lab
+  sweetspot locate bags/game                                 # where on the bat each ball was hit
+
+Rows the bat did not hit, or without a pitch speed, are skipped and counted by reason; rows with a value
+out of range (a negative or absurd speed, or a column in other units) are refused with file and line.
+What no tracker measures (impact point, undercut; bat speed for TrackMan) is filled in from the batter
+and marked assumed in the bag (import_rows.csv beside the MCAP file, custom_data sweetspot/import/*).")]
+pub struct ImportArgs {
+    /// [FORMAT] FILE…: the exports (CSV); a first word `trackman` or `statcast` that is not a file forces
+    /// the format, as --format does.
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<String>,
+    /// The bag directory to create [default: bags/import_<UTC time>].
+    #[arg(short = 'o', long, value_name = "DIR")]
+    pub output: Option<PathBuf>,
+    /// Force the format (trackman, statcast) instead of detecting it from each header.
+    #[arg(long, value_name = "FORMAT")]
+    pub format: Option<String>,
+    /// The bat the swings were made with: a preset or a bat file.
+    #[arg(long, value_name = "PRESET|FILE", default_value = "r161")]
+    pub bat: String,
+    /// The ball: a preset (baseball, bbcor).
+    #[arg(long, value_name = "PRESET", default_value = "baseball")]
+    pub ball: String,
+    /// Batter file (as `compare --batter` reads): its swing stands in for a bat speed the tracker did not
+    /// measure, and its pivot splits a measured one [default: the Statcast-average batter].
+    #[arg(long, value_name = "FILE")]
+    pub batter: Option<PathBuf>,
+    /// Undercut given to every swing, m (no tracker measures it); `nan` leaves it unmeasured for
+    /// `calibrate --fit-tangential` (the node and `bag replay` then refuse the swings).
+    #[arg(long, value_name = "M", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub undercut: f64,
+    /// Column map (TOML) for an export of another tracker (Rapsodo, HitTrax, Blast, …): which column holds
+    /// pitch_speed, exit_speed, launch_angle, spin, bat_speed, attack_angle, pitch_angle, time, batter, and
+    /// their units (see `crate::import::mapped`).
+    #[arg(long, value_name = "FILE", conflicts_with = "format")]
+    pub map: Option<PathBuf>,
+    /// Write one batter file per batter with measured bat speeds (Statcast bat tracking) into DIR, as
+    /// `compare --batter` and `import --batter` read: their mean bat speed (6 in from the head) and swing
+    /// length with this import's bat as the reference bat, the rest from --batter.
+    #[arg(long, value_name = "DIR")]
+    pub batter_out: Option<PathBuf>,
+    /// Print one JSON document instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `sweetspot import`.
+pub fn run(args: ImportArgs) -> Result<()> {
+    let mut files = args.files.clone();
+    let mut format =
+        args.format.as_deref().map(str::parse::<Format>).transpose().map_err(|e| anyhow!("--format: {e}"))?;
+    if let Some(first) = files.first() {
+        if let Ok(word) = first.parse::<Format>() {
+            if !std::path::Path::new(first).exists() {
+                if format.is_some_and(|f| f != word) {
+                    bail!("format '{first}' and --format {} disagree", args.format.as_deref().unwrap_or(""));
+                }
+                format = Some(word);
+                files.remove(0);
+            }
+        }
+    }
+    if files.is_empty() {
+        bail!("no export file given");
+    }
+    let bat = resolve_bat(&args.bat, None)?;
+    let bat_params = if Bat::preset_names().contains(&args.bat.as_str()) {
+        params_of_preset(&args.bat, &args.bat, Header::default())
+    } else {
+        params_from_bat(&bat.name, &bat, 0, Header::default())
+    };
+    let ball = Ball::preset(&args.ball).with_context(|| format!("--ball {}", args.ball))?;
+    let ball_params = params_from_ball(&args.ball, &ball, None, Header::default());
+    let (batter, _) = match &args.batter {
+        Some(path) => load_batter_file(path)?,
+        None => batter_from_spec(&BatterSpec::default(), None)?,
+    };
+    let output = args.output.clone().unwrap_or_else(|| {
+        crate::bag::default_bag_dir(std::path::Path::new("bags"), "import", std::time::SystemTime::now())
+    });
+    if output.exists() {
+        bail!("{}: already exists (the bag directory must be new)", output.display());
+    }
+    let map = args.map.as_deref().map(ColumnMap::load).transpose().map_err(|e| anyhow!("--map: {e}"))?;
+    if map.is_some() && format.is_some() {
+        bail!("--map reads every file through the map: give no format with it");
+    }
+    let options = ImportOptions { format, bat, bat_params, ball_params, batter, undercut: args.undercut, map };
+    let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
+    let report = import_files(&paths, &output, &options).map_err(|e| anyhow!("{e}"))?;
+    if let Some(dir) = &args.batter_out {
+        write_batters(&report, dir, &args.bat, &options)?;
+    }
+    if args.json {
+        return print_json(&report);
+    }
+    print_report(&report)
+}
+
+/// One batter file per batter of the report.
+fn write_batters(report: &ImportReport, dir: &std::path::Path, bat: &str, options: &ImportOptions) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("--batter-out {}", dir.display()))?;
+    // The bat is named as given; a bat file is named by its absolute path so the batter file works anywhere.
+    let reference_bat = if Bat::preset_names().contains(&bat) {
+        bat.to_string()
+    } else {
+        std::fs::canonicalize(bat).map_or(bat.to_string(), |p| p.display().to_string())
+    };
+    let reference = &options.batter.reference;
+    let pivot_z = if reference.bat_angular_speed != 0.0 {
+        reference.bat.center_of_mass - reference.bat_cm_speed / reference.bat_angular_speed
+    } else {
+        0.0
+    };
+    if report.batters.is_empty() {
+        bail!("--batter-out: no row has a measured bat speed (Statcast bat_speed), so there is no batter to write");
+    }
+    for (name, stats) in &report.batters {
+        let spec = BatterSpec {
+            reference_bat: Some(reference_bat.clone()),
+            bat_speed: Some(stats.bat_speed),
+            impact_from_barrel_end: Some(crate::import::BAT_SPEED_POINT_FROM_HEAD),
+            pivot_z: Some(pivot_z),
+            exponent: Some(options.batter.exponent),
+            swing_length: stats.swing_length.is_finite().then_some(stats.swing_length),
+            shape: Some(options.batter.shape),
+        };
+        let safe: String =
+            name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+        let path = dir.join(format!("batter_{safe}.toml"));
+        let text = format!(
+            "# {name}: mean of {} measured bat speeds and {} swing lengths (sweetspot import)\n{}",
+            stats.swings,
+            stats.swing_lengths,
+            toml::to_string(&spec).context("batter file")?
+        );
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        crate::outln!("batter {name}: {} swings, {:.2} m/s → {}", stats.swings, stats.bat_speed, path.display())?;
+    }
+    Ok(())
+}
+
+fn print_report(report: &ImportReport) -> Result<()> {
+    for file in &report.files {
+        crate::outln!(
+            "{}: {} export, {} rows, {} swings",
+            file.path.display(),
+            file.format.name(),
+            file.rows,
+            file.swings
+        )?;
+    }
+    crate::outln!("{} swings written to {}", report.swings, report.bag.display())?;
+    for (reason, count) in &report.skipped {
+        crate::outln!("  skipped {count:>6}: {reason}")?;
+    }
+    for line in &report.refused {
+        crate::outln!("  refused: {line}")?;
+    }
+    let assumed: Vec<String> = report.assumed.iter().map(|(k, n)| format!("{k} ({n})")).collect();
+    if !assumed.is_empty() {
+        crate::outln!(
+            "assumed, not measured: {} — impact_z = {:.4} m from the knob; `sweetspot locate {}` finds it",
+            assumed.join(", "),
+            report.impact_z,
+            report.bag.display()
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,113 @@
+//! `sweetspot locate BAG`: where on the bat each ball was hit (see [`crate::locate`]).
+
+use std::path::PathBuf;
+
+use anyhow::{anyhow, Result};
+use clap::Args;
+
+use super::common::{finite_f64, print_json};
+use crate::locate::{locate_bag, LocateOptions, Outcome, Side};
+use crate::physics::oblique::rpm_to_rad_per_s;
+
+/// Arguments of `sweetspot locate`.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  sweetspot import trackman game.csv -o bags/game && sweetspot locate bags/game
+  sweetspot locate bags/game --json > located.json
+
+Every impact point (either side of the sweet spot) that reproduces the measured exit speed (and launch angle
+and spin, where measured) is listed with its standard uncertainty; `*` marks the one the other measurements
+favour. A swing faster than the sweet spot allows is reported with the excess.")]
+pub struct LocateArgs {
+    /// A bag of swings with measured exit speeds (from `sweetspot import`, or recorded from a rig).
+    pub bag: PathBuf,
+    /// Exit-speed accuracy of the tracker, m/s.
+    #[arg(long, value_name = "M/S", default_value_t = 0.45, value_parser = finite_f64)]
+    pub exit_speed_sigma: f64,
+    /// Launch-angle accuracy of the tracker, degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 1.0, value_parser = finite_f64)]
+    pub launch_angle_sigma: f64,
+    /// Spin accuracy of the tracker, rpm.
+    #[arg(long, value_name = "RPM", default_value_t = 100.0, value_parser = finite_f64)]
+    pub spin_sigma: f64,
+    /// Print one JSON document with a `swings` list instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `sweetspot locate`.
+pub fn run(args: LocateArgs) -> Result<()> {
+    for (name, v) in [
+        ("--exit-speed-sigma", args.exit_speed_sigma),
+        ("--launch-angle-sigma", args.launch_angle_sigma),
+        ("--spin-sigma", args.spin_sigma),
+    ] {
+        if v <= 0.0 {
+            return Err(anyhow!("{name} = {v}: expected > 0"));
+        }
+    }
+    let options = LocateOptions {
+        exit_speed_sigma: args.exit_speed_sigma,
+        launch_angle_sigma: args.launch_angle_sigma.to_radians(),
+        spin_sigma: rpm_to_rad_per_s(args.spin_sigma),
+    };
+    let report = locate_bag(&args.bag, &options).map_err(|e| anyhow!("{}: {e}", args.bag.display()))?;
+    if args.json {
+        return print_json(&report);
+    }
+    crate::outln!(
+        "{:>8} {:>8} {:>7} {:>7}  {:<58}",
+        "swing",
+        "v (m/s)",
+        "θ (°)",
+        "ω (rpm)",
+        "impact_z ± σ (m from knob), undercut ± σ (mm), side of the sweet spot"
+    )?;
+    for s in &report.swings {
+        let [v, theta, omega] = s.measured;
+        let text = match &s.outcome {
+            Outcome::Located { solutions, favoured, squared_up } => {
+                let list: Vec<String> = solutions
+                    .iter()
+                    .enumerate()
+                    .map(|(i, x)| {
+                        format!(
+                            "{}{:.4} ± {:.4}, {:+.1} ± {:.1} mm, {} (sweet spot {:.3})",
+                            if Some(i) == *favoured { "*" } else { "" },
+                            x.impact_z,
+                            x.impact_z_sigma,
+                            x.undercut * 1e3,
+                            x.undercut_sigma * 1e3,
+                            match x.side {
+                                Side::Handle => "handle side",
+                                Side::End => "end side",
+                            },
+                            x.sweet_spot_z
+                        )
+                    })
+                    .collect();
+                format!("{}{}", list.join("  |  "), if *squared_up { "  squared up" } else { "" })
+            }
+            Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => format!(
+                "FASTER than the sweet spot allows by {excess:.2} m/s (max {max_exit_speed:.2} m/s at z = {sweet_spot_z:.3} m)"
+            ),
+            Outcome::NotMeasured => "no exit speed measured".to_string(),
+            Outcome::Failed { reason } => format!("not located: {reason}"),
+        };
+        crate::outln!(
+            "{:>8} {:>8.2} {:>7.1} {:>7.0}  {text}",
+            s.swing_id,
+            v,
+            theta.to_degrees(),
+            omega * 60.0 / (2.0 * std::f64::consts::PI)
+        )?;
+    }
+    crate::outln!(
+        "{} located, {} faster than the sweet spot allows, of {} swings; squared up (±2 cm of the sweet spot): {:.0} %",
+        report.located,
+        report.too_fast,
+        report.swings.len(),
+        report.squared_up_share * 100.0
+    )?;
+    Ok(())
+}

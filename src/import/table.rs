@@ -1,0 +1,213 @@
+//! The one table mechanism every format reads through: a CSV file opened only if it is a regular file,
+//! streamed record by record (one record in memory, each line at most [`MAX_LINE_BYTES`]), its header
+//! row (a UTF-8 byte-order mark stripped, names trimmed) mapped to column indexes, and cells read as
+//! numbers with the trackers' spellings of "not measured" — blank, `NA`, `NULL`, `null`, `NaN`, `-` — as NaN.
+//!
+//! The `csv` crate does the quoting (a quoted field may hold commas, quotes doubled, line breaks), CRLF or
+//! LF line ends and short rows; what is added here is the file check, the line cap, the header map and the
+//! cell rules.
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{BufReader, Read};
+use std::path::{Path, PathBuf};
+
+use super::ImportError;
+
+/// Longest line (bytes between two line feeds) accepted: far beyond any tracker's row (TrackMan's 167
+/// columns are ~1.5 KB), small enough that a file without line breaks cannot fill memory.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Cell texts that mean "not measured" (compared after trimming, case-sensitive as the trackers write them).
+pub const MISSING: &[&str] = &["", "NA", "N/A", "NULL", "null", "NaN", "nan", "-"];
+
+/// Opens `path` for reading if it is (or a symlink resolves to) a regular file: a directory, FIFO, device or
+/// socket is refused before it is opened, so a FIFO never blocks the import.
+pub fn open_regular(path: &Path) -> Result<File, ImportError> {
+    let io = |source| ImportError::Io { path: path.to_path_buf(), source };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if let Some(what) = crate::files::not_regular(meta.file_type()) {
+        return Err(ImportError::NotRegularFile { path: path.to_path_buf(), what: what.to_string() });
+    }
+    File::open(path).map_err(io)
+}
+
+/// A reader that fails once a line grows past `max` bytes, so a record can never be larger than that.
+struct LineCap<R> {
+    inner: R,
+    since_newline: usize,
+    max: usize,
+}
+
+impl<R: Read> Read for LineCap<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        for &b in &buf[..n] {
+            if b == b'\n' {
+                self.since_newline = 0;
+            } else {
+                self.since_newline += 1;
+                if self.since_newline > self.max {
+                    return Err(std::io::Error::new(
+                        std::io::ErrorKind::InvalidData,
+                        format!("a line longer than {} bytes: not a tracker export", self.max),
+                    ));
+                }
+            }
+        }
+        Ok(n)
+    }
+}
+
+/// A CSV table being streamed: its header and the current record.
+pub struct Table {
+    path: PathBuf,
+    reader: csv::Reader<LineCap<BufReader<Box<dyn Read>>>>,
+    headers: Vec<String>,
+    index: HashMap<String, usize>,
+    record: csv::StringRecord,
+    line: u64,
+}
+
+impl Table {
+    /// Opens a regular file and reads its header row.
+    pub fn open(path: &Path) -> Result<Table, ImportError> {
+        let file = open_regular(path)?;
+        Table::from_reader(path, Box::new(file))
+    }
+
+    /// Reads the header row of `input`; `path` names it in errors.
+    pub fn from_reader(path: &Path, input: Box<dyn Read>) -> Result<Table, ImportError> {
+        let capped = LineCap { inner: BufReader::new(input), since_newline: 0, max: MAX_LINE_BYTES };
+        let mut reader = csv::ReaderBuilder::new().has_headers(true).flexible(true).from_reader(capped);
+        let headers: Vec<String> = reader
+            .headers()
+            .map_err(|e| csv_error(path, e))?
+            .iter()
+            .enumerate()
+            .map(|(i, h)| if i == 0 { h.trim_start_matches('\u{feff}') } else { h }.trim().to_string())
+            .collect();
+        let mut index = HashMap::new();
+        for (i, h) in headers.iter().enumerate() {
+            // The first of two equal names wins (a later duplicate is ignored, never silently preferred).
+            index.entry(h.clone()).or_insert(i);
+        }
+        Ok(Table { path: path.to_path_buf(), reader, headers, index, record: csv::StringRecord::new(), line: 1 })
+    }
+
+    /// The header names, in file order.
+    pub fn headers(&self) -> &[String] {
+        &self.headers
+    }
+
+    /// The index of column `name`, if the header has it.
+    pub fn column(&self, name: &str) -> Option<usize> {
+        self.index.get(name).copied()
+    }
+
+    /// Advances to the next record; false at the end of the file.
+    pub fn next_row(&mut self) -> Result<bool, ImportError> {
+        // The reader stops at the end of the previous record, before its line break: the record starts on the
+        // next line (blank lines, which the csv crate skips, are not counted).
+        let start = self.reader.position().line() + 1;
+        match self.reader.read_record(&mut self.record) {
+            Ok(more) => {
+                self.line = start;
+                Ok(more)
+            }
+            Err(e) => Err(csv_error(&self.path, e)),
+        }
+    }
+
+    /// The current record.
+    pub fn row(&self) -> Row<'_> {
+        Row { record: &self.record, line: self.line }
+    }
+}
+
+fn csv_error(path: &Path, e: csv::Error) -> ImportError {
+    let line = e.position().map(|p| p.line());
+    ImportError::Csv { path: path.to_path_buf(), line, message: e.to_string() }
+}
+
+/// Why a cell could not be read as a number.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellError {
+    /// The cell's text (cut to 40 bytes).
+    pub text: String,
+}
+
+/// One record of a [`Table`].
+#[derive(Debug, Clone, Copy)]
+pub struct Row<'a> {
+    record: &'a csv::StringRecord,
+    line: u64,
+}
+
+impl<'a> Row<'a> {
+    /// The line of the file the record starts on (the header is line 1).
+    pub fn line(&self) -> u64 {
+        self.line
+    }
+
+    /// The trimmed text of column `col` ("" when the column is absent or the row short).
+    pub fn text(&self, col: Option<usize>) -> &'a str {
+        col.and_then(|c| self.record.get(c)).map_or("", str::trim)
+    }
+
+    /// Column `col` as a number: NaN when absent or written as "not measured" ([`MISSING`]); an error for any
+    /// other text that is not a number (including `inf`).
+    pub fn number(&self, col: Option<usize>) -> Result<f64, CellError> {
+        let text = self.text(col);
+        if MISSING.contains(&text) {
+            return Ok(f64::NAN);
+        }
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(CellError { text: text.chars().take(40).collect() }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &'static str) -> Table {
+        Table::from_reader(Path::new("t.csv"), Box::new(text.as_bytes())).expect("header")
+    }
+
+    #[test]
+    fn bom_crlf_quotes_and_missing_cells() {
+        let mut t = table("\u{feff}a,\"b\",c\r\n1.5,\"x, y\",NA\r\n-,,2e3\r\n");
+        assert_eq!(t.headers(), ["a", "b", "c"]);
+        assert!(t.next_row().unwrap());
+        let (a, b, c) = (t.column("a"), t.column("b"), t.column("c"));
+        assert_eq!(t.row().number(a).unwrap(), 1.5);
+        assert_eq!(t.row().text(b), "x, y");
+        assert!(t.row().number(c).unwrap().is_nan());
+        assert_eq!(t.row().line(), 2);
+        assert!(t.next_row().unwrap());
+        assert!(t.row().number(a).unwrap().is_nan());
+        assert!(t.row().number(b).unwrap().is_nan());
+        assert_eq!(t.row().number(c).unwrap(), 2000.0);
+        assert!(t.row().number(None).unwrap().is_nan());
+        assert!(!t.next_row().unwrap());
+    }
+
+    #[test]
+    fn garbage_and_infinities_are_errors_not_nan() {
+        let mut t = table("a,b\nfast,inf\n");
+        assert!(t.next_row().unwrap());
+        assert_eq!(t.row().number(t.column("a")).unwrap_err().text, "fast");
+        assert!(t.row().number(t.column("b")).is_err());
+    }
+
+    #[test]
+    fn an_endless_line_is_refused_not_buffered() {
+        let long = format!("a,b\n{}\n", "9".repeat(MAX_LINE_BYTES + 10));
+        let mut t = Table::from_reader(Path::new("t.csv"), Box::new(std::io::Cursor::new(long))).unwrap();
+        let err = t.next_row().unwrap_err().to_string();
+        assert!(err.contains("longer than"), "{err}");
+    }
+}

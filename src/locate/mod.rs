@@ -1,0 +1,585 @@
+//! `sweetspot locate BAG`: where on the bat each ball was hit — the impact point `impact_z` and the undercut
+//! for which the model reproduces what the tracker measured off the bat.
+//!
+//! **Model.** The node's own: the bat and ball in force for the swing (BatParams/BallParams of the bag,
+//! modes and time step from its `custom_data`), the head-on collision for a head-on swing and the oblique
+//! one otherwise ([`crate::calibrate::tangential::exit_speed`]'s rule), with the swing's recorded speeds and
+//! angles; only `impact_z` (z) and `undercut` (D) are free.
+//!
+//! **What is solved.** With only the exit speed v measured, z alone (D kept at the swing's value, 0 if
+//! NaN): v(z) = v_m. Exit speed is not monotonic along the barrel — it rises from the handle to the sweet
+//! spot z* and falls toward the end — so every root is found: the grid of [`GRID_POINTS`] points over the
+//! barrel half of the bat (L/2 … L − 5 mm) plus the sweet spot (golden-section refined) brackets them, and
+//! each is refined by bisection. With the launch angle θ measured too, (z, D) are found together from each of
+//! those roots by Levenberg–Marquardt on the weighted residuals (v − v_m)/σ_v, (θ − θ_m)/σ_θ and, when the
+//! spin ω is measured, (ω − ω_m)/σ_ω (forward-difference Jacobian).
+//!
+//! **Uncertainty.** The trackers' accuracies (default σ_v = 0.45 m/s ≈ 1 mph, σ_θ = 1°, σ_ω = 100 rpm: the
+//! exit radar's noise of `sweetspot rig` and the accuracies `calibrate --fit-tangential` weights by)
+//! propagated linearly: Cov(z, D) = (JᵀJ)⁻¹ with J the Jacobian of the weighted residuals at the solution;
+//! for z alone σ_z = σ_v / |dv/dz|. Near the sweet spot dv/dz → 0 and σ_z grows without bound: the honest
+//! answer there is "somewhere near the sweet spot".
+//!
+//! **Which solution.** With three measurements for two unknowns the solutions' χ² = Σ r² differ, and one with
+//! a χ² lower by more than 1 is favoured; with as many measurements as unknowns every solution reproduces
+//! them exactly and none is favoured.
+//!
+//! **Too fast.** A measured exit speed above the largest the model gives over the barrel (at the swing's D,
+//! and over the undercuts tried when D is free) is reported with the excess: no impact point explains it —
+//! a check on the ball (COR), the bat, or the assumed bat speed.
+//!
+//! **Squared up.** A located swing is squared up when its favoured solution (every solution, when none is
+//! favoured) lies within ±2 cm ([`SQUARED_UP`]) of the sweet spot z* at its undercut.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::calibrate::{problem_bat, read_inputs, CalibrateError};
+use crate::model::convert::{ball_from_params, swing_input, BallModel};
+use crate::model::engine::{SwingInput, DEFAULT_BALL_ID};
+use crate::msgs::sweetspot_msgs::msg::Swing;
+use crate::physics::oblique::{collide_oblique, rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
+use crate::physics::{collide, Ball, Bat, CollisionOptions, ModeSet, PhysicsError};
+
+/// Grid points along the barrel half that bracket the exit-speed roots.
+pub const GRID_POINTS: usize = 41;
+/// Half-width of the "squared up" band around the sweet spot, m.
+pub const SQUARED_UP: f64 = 0.02;
+/// Impact points are searched from this fraction of the bat's length to its end.
+pub const SEARCH_FROM: f64 = 0.5;
+/// Gap kept from the barrel end, m.
+pub const END_GAP: f64 = 0.005;
+
+/// How to locate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocateOptions {
+    /// Exit-speed accuracy σ_v, m/s.
+    pub exit_speed_sigma: f64,
+    /// Launch-angle accuracy σ_θ, rad.
+    pub launch_angle_sigma: f64,
+    /// Spin accuracy σ_ω, rad/s.
+    pub spin_sigma: f64,
+}
+
+impl Default for LocateOptions {
+    fn default() -> Self {
+        LocateOptions {
+            exit_speed_sigma: 0.45,
+            launch_angle_sigma: 1f64.to_radians(),
+            spin_sigma: rpm_to_rad_per_s(100.0),
+        }
+    }
+}
+
+/// Which side of the sweet spot a solution lies on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    /// Between the hands and the sweet spot.
+    Handle,
+    /// Between the sweet spot and the barrel end.
+    End,
+}
+
+/// One (z, D) that reproduces the measurements.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Solution {
+    /// Impact point, m from the knob.
+    pub impact_z: f64,
+    /// Its standard uncertainty, m.
+    pub impact_z_sigma: f64,
+    /// Undercut, m.
+    pub undercut: f64,
+    /// Its standard uncertainty, m (0 when D was not fitted).
+    pub undercut_sigma: f64,
+    /// Whether D was fitted (launch angle measured) or kept at the swing's value.
+    pub undercut_fitted: bool,
+    /// Side of the sweet spot.
+    pub side: Side,
+    /// The sweet spot at this undercut, m from the knob.
+    pub sweet_spot_z: f64,
+    /// χ² = Σ of the squared weighted residuals at the solution.
+    pub chi2: f64,
+    /// Model exit speed, launch angle, spin at the solution (m/s, rad, rad/s).
+    pub model: [f64; 3],
+}
+
+/// What was found for one swing.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(tag = "verdict", rename_all = "snake_case")]
+pub enum Outcome {
+    /// At least one solution.
+    Located {
+        /// Every solution, handle side first.
+        solutions: Vec<Solution>,
+        /// Index of the favoured solution, if the measurements favour one.
+        favoured: Option<usize>,
+        /// Whether the swing was squared up (see the module docs).
+        squared_up: bool,
+    },
+    /// The exit speed is above what the sweet spot gives.
+    TooFast {
+        /// The largest exit speed the model gives, m/s.
+        max_exit_speed: f64,
+        /// Measured minus that, m/s.
+        excess: f64,
+        /// Where the largest is, m from the knob.
+        sweet_spot_z: f64,
+    },
+    /// No exit speed measured.
+    NotMeasured,
+    /// The swing cannot be simulated (unknown bat, bad inputs) or the search failed.
+    Failed {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// One swing's result.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Located {
+    /// The swing.
+    pub swing_id: u64,
+    /// Its bat.
+    pub bat_id: String,
+    /// Measured exit speed (m/s), launch angle (rad) and spin (rad/s); NaN = not measured (null in JSON).
+    pub measured: [f64; 3],
+    /// The result.
+    #[serde(flatten)]
+    pub outcome: Outcome,
+}
+
+/// Every swing of a bag.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct LocateReport {
+    /// Per swing, in time order.
+    pub swings: Vec<Located>,
+    /// Swings located.
+    pub located: usize,
+    /// Swings faster than the sweet spot allows.
+    pub too_fast: usize,
+    /// Share of located swings squared up (within ±2 cm of the sweet spot), NaN without any.
+    pub squared_up_share: f64,
+}
+
+/// A bat ready to collide.
+struct PreparedBat {
+    bat: Bat,
+    modes: ModeSet,
+    options: CollisionOptions,
+}
+
+/// The model of one swing with z and D free.
+struct SwingModel<'a> {
+    bat: &'a PreparedBat,
+    ball: Ball,
+    contact: TangentialContact,
+    input: SwingInput,
+}
+
+impl SwingModel<'_> {
+    /// Exit speed, launch angle and spin at impact point `z` and undercut `d`.
+    fn predict(&self, z: f64, d: f64) -> Result<[f64; 3], PhysicsError> {
+        let mut input = self.input;
+        input.impact.impact_z = z;
+        input.undercut = d;
+        if input.is_head_on() {
+            let r = collide(&self.bat.modes, &self.ball, &input.impact, &self.bat.options)?;
+            return Ok([r.exit_speed, 0.0, 0.0]);
+        }
+        let oblique = ObliqueImpact {
+            impact: input.impact,
+            barrel_radius: self.bat.bat.radii_at(z).0,
+            undercut: d,
+            attack_angle: input.attack_angle,
+            pitch_angle: input.pitch_angle,
+            pitch_spin: input.pitch_spin,
+        };
+        let r = collide_oblique(&self.bat.modes, &self.ball, &oblique, &self.contact, &self.bat.options)?;
+        Ok([r.exit_speed, r.launch_angle, r.spin])
+    }
+
+    fn speed(&self, z: f64, d: f64) -> f64 {
+        self.predict(z, d).map_or(f64::NAN, |p| p[0])
+    }
+
+    /// Largest |D| tried at `z`, m: 90 % of ball radius + barrel radius.
+    fn reach(&self, z: f64) -> f64 {
+        0.9 * (self.ball.radius + self.bat.bat.radii_at(z).0)
+    }
+
+    fn range(&self) -> (f64, f64) {
+        let length = self.bat.bat.length();
+        (SEARCH_FROM * length, length - END_GAP)
+    }
+
+    /// The sweet spot at undercut `d` near `guess` (the sweet spot at a nearby undercut): the maximum of v
+    /// within two grid spacings of it, by golden section.
+    fn sweet_spot_near(&self, d: f64, guess: f64) -> (f64, f64) {
+        let (lo, hi) = self.range();
+        let h = 2.0 * (hi - lo) / (GRID_POINTS - 1) as f64;
+        self.golden((guess - h).max(lo), (guess + h).min(hi), d)
+    }
+
+    /// The maximum of v(·, d) on [a, b] by golden section (v unimodal there): (z, v).
+    fn golden(&self, mut a: f64, mut b: f64, d: f64) -> (f64, f64) {
+        let ratio = (5f64.sqrt() - 1.0) / 2.0;
+        let mut c = b - ratio * (b - a);
+        let mut e = a + ratio * (b - a);
+        let (mut fc, mut fe) = (self.speed(c, d), self.speed(e, d));
+        while b - a > 1e-5 {
+            if fc > fe {
+                b = e;
+                e = c;
+                fe = fc;
+                c = b - ratio * (b - a);
+                fc = self.speed(c, d);
+            } else {
+                a = c;
+                c = e;
+                fc = fe;
+                e = a + ratio * (b - a);
+                fe = self.speed(e, d);
+            }
+        }
+        let z = 0.5 * (a + b);
+        (z, self.speed(z, d))
+    }
+
+    fn refine_peak(&self, grid: &[f64], speeds: &[f64], d: f64) -> (f64, f64) {
+        let best = (0..grid.len()).filter(|&i| speeds[i].is_finite()).max_by(|&a, &b| speeds[a].total_cmp(&speeds[b]));
+        let Some(best) = best else { return (f64::NAN, f64::NAN) };
+        let (z, v) = self.golden(grid[best.saturating_sub(1)], grid[(best + 1).min(grid.len() - 1)], d);
+        if v >= speeds[best] {
+            (z, v)
+        } else {
+            (grid[best], speeds[best])
+        }
+    }
+
+    /// Every z in the search range with v(z, d) = target, by grid bracketing and bisection; with the peak.
+    fn speed_roots(&self, target: f64, d: f64) -> (Vec<f64>, (f64, f64)) {
+        let (lo, hi) = self.range();
+        let mut grid: Vec<f64> =
+            (0..GRID_POINTS).map(|i| lo + (hi - lo) * i as f64 / (GRID_POINTS - 1) as f64).collect();
+        let mut speeds: Vec<f64> = grid.iter().map(|&z| self.speed(z, d)).collect();
+        let peak = self.refine_peak(&grid, &speeds, d);
+        if peak.0.is_finite() {
+            let at = grid.partition_point(|&z| z < peak.0);
+            grid.insert(at, peak.0);
+            speeds.insert(at, peak.1);
+        }
+        let mut roots = Vec::new();
+        for i in 1..grid.len() {
+            let (fa, fb) = (speeds[i - 1] - target, speeds[i] - target);
+            if !(fa.is_finite() && fb.is_finite()) || fa.signum() == fb.signum() && fb != 0.0 {
+                continue;
+            }
+            // Regula falsi with the Illinois modification: superlinear, and the bracket is never lost.
+            let (mut a, mut b, mut f_a, mut f_b) = (grid[i - 1], grid[i], fa, fb);
+            let mut side = 0i8;
+            let mut root = 0.5 * (a + b);
+            for _ in 0..60 {
+                if f_a == f_b {
+                    break;
+                }
+                root = (a * f_b - b * f_a) / (f_b - f_a);
+                let f = self.speed(root, d) - target;
+                if f == 0.0 || (b - a) < 1e-9 || !f.is_finite() {
+                    break;
+                }
+                if f.signum() == f_b.signum() {
+                    b = root;
+                    f_b = f;
+                    if side == -1 {
+                        f_a *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    a = root;
+                    f_a = f;
+                    if side == 1 {
+                        f_b *= 0.5;
+                    }
+                    side = 1;
+                }
+                if f.abs() < 1e-12 {
+                    break;
+                }
+            }
+            roots.push(root);
+        }
+        (roots, peak)
+    }
+
+    /// Weighted residuals of the measured quantities at (z, d).
+    fn residuals(&self, z: f64, d: f64, measured: &[f64; 3], sigma: &[f64; 3]) -> Option<Vec<f64>> {
+        let p = self.predict(z, d).ok()?;
+        Some((0..3).filter(|&k| measured[k].is_finite()).map(|k| (p[k] - measured[k]) / sigma[k]).collect())
+    }
+
+    /// Levenberg–Marquardt in (z, D) from `start`, z kept in the search range and |D| within reach.
+    fn fit(&self, start: (f64, f64), measured: &[f64; 3], sigma: &[f64; 3]) -> Option<(f64, f64, [[f64; 2]; 2])> {
+        let (lo, hi) = self.range();
+        let clamp = |z: f64, d: f64| {
+            let z = z.clamp(lo, hi);
+            let reach = self.reach(z);
+            (z, d.clamp(-reach, reach))
+        };
+        let (mut z, mut d) = clamp(start.0, start.1);
+        let mut r = self.residuals(z, d, measured, sigma)?;
+        let cost = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+        let mut lambda = 1e-3;
+        let (hz, hd) = (1e-5, 1e-6);
+        let jacobian = |z: f64, d: f64, r: &[f64]| -> Option<Vec<[f64; 2]>> {
+            let rz = self.residuals(z + hz, d, measured, sigma)?;
+            let rd = self.residuals(z, d + hd, measured, sigma)?;
+            Some((0..r.len()).map(|i| [(rz[i] - r[i]) / hz, (rd[i] - r[i]) / hd]).collect())
+        };
+        let mut jac = jacobian(z, d, &r)?;
+        for _ in 0..100 {
+            let mut a = [[0.0; 2]; 2];
+            let mut g = [0.0; 2];
+            for (row, ri) in jac.iter().zip(&r) {
+                for p in 0..2 {
+                    g[p] += row[p] * ri;
+                    for q in 0..2 {
+                        a[p][q] += row[p] * row[q];
+                    }
+                }
+            }
+            let damped = [[a[0][0] * (1.0 + lambda), a[0][1]], [a[1][0], a[1][1] * (1.0 + lambda)]];
+            let det = damped[0][0] * damped[1][1] - damped[0][1] * damped[1][0];
+            if det == 0.0 || det.is_nan() {
+                return None;
+            }
+            let step_z = -(damped[1][1] * g[0] - damped[0][1] * g[1]) / det;
+            let step_d = -(damped[0][0] * g[1] - damped[1][0] * g[0]) / det;
+            let (nz, nd) = clamp(z + step_z, d + step_d);
+            match self.residuals(nz, nd, measured, sigma) {
+                Some(nr) if cost(&nr) < cost(&r) => {
+                    let moved = (nz - z).abs().max((nd - d).abs());
+                    z = nz;
+                    d = nd;
+                    r = nr;
+                    lambda = (lambda * 0.3).max(1e-9);
+                    jac = jacobian(z, d, &r)?;
+                    if moved < 1e-8 || cost(&r) < 1e-20 {
+                        break;
+                    }
+                }
+                _ => {
+                    lambda *= 10.0;
+                    if lambda > 1e10 {
+                        break;
+                    }
+                }
+            }
+        }
+        let mut a = [[0.0; 2]; 2];
+        for row in &jac {
+            for p in 0..2 {
+                for q in 0..2 {
+                    a[p][q] += row[p] * row[q];
+                }
+            }
+        }
+        let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+        let cov = if det.abs() > 0.0 {
+            [[a[1][1] / det, -a[0][1] / det], [-a[1][0] / det, a[0][0] / det]]
+        } else {
+            [[f64::INFINITY; 2]; 2]
+        };
+        Some((z, d, cov))
+    }
+}
+
+/// Locates one swing.
+fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) -> Outcome {
+    let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
+    let sigma = [options.exit_speed_sigma, options.launch_angle_sigma, options.spin_sigma];
+    if !measured[0].is_finite() {
+        return Outcome::NotMeasured;
+    }
+    let d0 = if swing.undercut.is_finite() { swing.undercut } else { 0.0 };
+    let (roots, (peak_z, peak_v)) = model.speed_roots(measured[0], d0);
+    if !peak_v.is_finite() {
+        return Outcome::Failed { reason: "the model gives no exit speed anywhere on the barrel".into() };
+    }
+    let free_d = measured[1].is_finite();
+    let mut solutions = Vec::new();
+    if !free_d {
+        if roots.is_empty() {
+            return Outcome::TooFast { max_exit_speed: peak_v, excess: measured[0] - peak_v, sweet_spot_z: peak_z };
+        }
+        for z in roots {
+            let h = 1e-4;
+            let slope = (model.speed(z + h, d0) - model.speed(z - h, d0)) / (2.0 * h);
+            let p = model.predict(z, d0).unwrap_or([f64::NAN; 3]);
+            solutions.push(Solution {
+                impact_z: z,
+                impact_z_sigma: sigma[0] / slope.abs(),
+                undercut: d0,
+                undercut_sigma: 0.0,
+                undercut_fitted: false,
+                side: if z < peak_z { Side::Handle } else { Side::End },
+                sweet_spot_z: peak_z,
+                chi2: ((p[0] - measured[0]) / sigma[0]).powi(2),
+                model: p,
+            });
+        }
+    } else {
+        // Starting undercuts: the one nearest the launch angle at each root (or at the peak).
+        let starts: Vec<f64> = if roots.is_empty() { vec![peak_z] } else { roots.clone() };
+        let mut best_v = peak_v;
+        let mut best_z = peak_z;
+        for &z in &starts {
+            let reach = model.reach(z);
+            let mut best = (f64::INFINITY, d0);
+            for k in 0..=16 {
+                let d = -reach + 2.0 * reach * k as f64 / 16.0;
+                if let Ok(p) = model.predict(z, d) {
+                    if p[0] > best_v {
+                        best_v = p[0];
+                        best_z = z;
+                    }
+                    let miss = ((p[1] - measured[1]) / sigma[1]).abs() + ((p[0] - measured[0]) / sigma[0]).abs();
+                    if miss < best.0 {
+                        best = (miss, d);
+                    }
+                }
+            }
+            if let Some((zf, df, cov)) = model.fit((z, best.1), &measured, &sigma) {
+                let Some(r) = model.residuals(zf, df, &measured, &sigma) else { continue };
+                let chi2 = r.iter().map(|x| x * x).sum::<f64>();
+                // As many unknowns as measurements (or fewer): a solution reproduces them all.
+                let dof_fit = r.len() <= 2;
+                if dof_fit && chi2 > 1e-6 || !chi2.is_finite() {
+                    continue;
+                }
+                if solutions.iter().any(|s: &Solution| (s.impact_z - zf).abs() < 1e-3 && (s.undercut - df).abs() < 1e-3)
+                {
+                    continue;
+                }
+                let (sweet, _) = model.sweet_spot_near(df, peak_z);
+                solutions.push(Solution {
+                    impact_z: zf,
+                    impact_z_sigma: cov[0][0].sqrt(),
+                    undercut: df,
+                    undercut_sigma: cov[1][1].sqrt(),
+                    undercut_fitted: true,
+                    side: if zf < sweet { Side::Handle } else { Side::End },
+                    sweet_spot_z: sweet,
+                    chi2,
+                    model: model.predict(zf, df).unwrap_or([f64::NAN; 3]),
+                });
+            }
+        }
+        if solutions.is_empty() {
+            if measured[0] > best_v {
+                return Outcome::TooFast { max_exit_speed: best_v, excess: measured[0] - best_v, sweet_spot_z: best_z };
+            }
+            return Outcome::Failed {
+                reason: "no impact point and undercut reproduce the exit speed and launch angle together".into(),
+            };
+        }
+    }
+    solutions.sort_by(|a, b| a.impact_z.total_cmp(&b.impact_z));
+    let favoured = if solutions.len() == 1 {
+        Some(0)
+    } else {
+        let mut order: Vec<usize> = (0..solutions.len()).collect();
+        order.sort_by(|&a, &b| solutions[a].chi2.total_cmp(&solutions[b].chi2));
+        (solutions[order[1]].chi2 - solutions[order[0]].chi2 > 1.0).then_some(order[0])
+    };
+    let near = |s: &Solution| (s.impact_z - s.sweet_spot_z).abs() <= SQUARED_UP;
+    let squared_up = match favoured {
+        Some(i) => near(&solutions[i]),
+        None => solutions.iter().all(near),
+    };
+    Outcome::Located { solutions, favoured, squared_up }
+}
+
+/// Errors of `locate`.
+#[derive(Debug, thiserror::Error)]
+pub enum LocateError {
+    /// Reading the bag failed.
+    #[error("{0}")]
+    Read(#[from] CalibrateError),
+    /// Nothing to locate.
+    #[error("{0}")]
+    NoData(String),
+}
+
+/// Locates every swing of a bag (swings in parallel).
+pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, LocateError> {
+    let inputs = read_inputs(path)?;
+    if inputs.swings.is_empty() {
+        return Err(LocateError::NoData(format!("{}: the bag holds no Swing messages", path.display())));
+    }
+    let settings = &inputs.settings;
+    // Bats and balls by id (the last version of each), as calibrate reads them.
+    let mut bats: BTreeMap<String, Result<PreparedBat, String>> = BTreeMap::new();
+    let prepare = |bat: Bat, modes: usize| -> Result<PreparedBat, String> {
+        let set = ModeSet::compute(&bat, modes).map_err(|e| e.to_string())?;
+        Ok(PreparedBat { bat, modes: set, options: CollisionOptions { modes, time_step: settings.time_step } })
+    };
+    for (_, params) in &inputs.bats {
+        let prepared = problem_bat(params, settings).and_then(|pb| prepare(pb.bat, pb.modes));
+        bats.insert(params.bat_id.clone(), prepared);
+    }
+    let mut balls: BTreeMap<String, BallModel> = BTreeMap::new();
+    balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default().into());
+    for (_, params) in &inputs.balls {
+        if let Ok(ball) = ball_from_params(params) {
+            balls.insert(params.ball_id.clone(), ball);
+        }
+    }
+    let latest = |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
+    let bat_times: Vec<(u64, String)> = inputs.bats.iter().map(|(t, p)| (*t, p.bat_id.clone())).collect();
+    let ball_times: Vec<(u64, String)> = inputs.balls.iter().map(|(t, p)| (*t, p.ball_id.clone())).collect();
+    let mut jobs = Vec::new();
+    for (t, swing) in &inputs.swings {
+        let bat_id = if swing.bat_id.is_empty() {
+            latest(&bat_times, *t).unwrap_or_else(|| settings.default_bat.clone())
+        } else {
+            swing.bat_id.clone()
+        };
+        if !bats.contains_key(&bat_id) {
+            let prepared = Bat::preset(&bat_id).map_err(|e| e.to_string()).and_then(|bat| {
+                let modes = settings.modes_for(&bat, None);
+                prepare(bat, modes)
+            });
+            bats.insert(bat_id.clone(), prepared);
+        }
+        let ball_id = if swing.ball_id.is_empty() {
+            latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string())
+        } else {
+            swing.ball_id.clone()
+        };
+        jobs.push((swing, bat_id, ball_id));
+    }
+    let swings: Vec<Located> = jobs
+        .par_iter()
+        .map(|(swing, bat_id, ball_id)| {
+            let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
+            let outcome = match (bats.get(bat_id), balls.get(ball_id)) {
+                (Some(Ok(bat)), Some(ball)) => {
+                    let model = SwingModel { bat, ball: ball.ball, contact: ball.contact, input: swing_input(swing) };
+                    locate_swing(&model, swing, options)
+                }
+                (Some(Err(e)), _) => Outcome::Failed { reason: format!("bat '{bat_id}': {e}") },
+                (None, _) => Outcome::Failed { reason: format!("unknown bat '{bat_id}'") },
+                (_, None) => Outcome::Failed { reason: format!("unknown ball '{ball_id}'") },
+            };
+            Located { swing_id: swing.swing_id, bat_id: bat_id.clone(), measured, outcome }
+        })
+        .collect();
+    let located = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { .. })).count();
+    let too_fast = swings.iter().filter(|s| matches!(s.outcome, Outcome::TooFast { .. })).count();
+    let squared = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { squared_up: true, .. })).count();
+    let squared_up_share = if located > 0 { squared as f64 / located as f64 } else { f64::NAN };
+    Ok(LocateReport { swings, located, too_fast, squared_up_share })
+}
