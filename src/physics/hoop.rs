@@ -266,6 +266,86 @@ impl ContactPatch {
     }
 }
 
+/// Degree of the polynomial that carries the patch's coupling ψ(u) through a collision ([`PatchLaw`]).
+pub const PATCH_DEGREE: usize = 12;
+
+/// The coupling ψ(u) of the wall's hoop mode to a ball whose contact patch follows the ball's compression u:
+/// the mode's point-load coupling (the bore share √χ) times the share S·A of the patch the ball makes at u
+/// ([`ContactPatch`]), carried as its Chebyshev interpolant of degree [`PATCH_DEGREE`] on [0, U] (written
+/// out in powers of t = 2u/U − 1), so that ψ and its slope ψ′ cost one short polynomial per evaluation. The
+/// polynomial *is* the coupling the collision uses, and its slope is its exact derivative, so the collision
+/// stays conservative (see [`crate::physics::collision`]); it differs from the patch formulas by less than
+/// 1e-4 on [0, U] (tested).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PatchLaw {
+    /// Coefficients of t⁰ … t^PATCH_DEGREE.
+    coeffs: [f64; PATCH_DEGREE + 1],
+    /// 2/U, 1/m.
+    scale: f64,
+    /// Upper end U of the interpolated range of compressions, m.
+    pub range: f64,
+}
+
+impl PatchLaw {
+    /// A coupling that does not depend on the compression: ψ(u) = `coupling` (dimensionless).
+    pub fn constant(coupling: f64) -> PatchLaw {
+        let mut coeffs = [0.0; PATCH_DEGREE + 1];
+        coeffs[0] = coupling;
+        PatchLaw { coeffs, scale: 0.0, range: f64::INFINITY }
+    }
+
+    /// The coupling of `mode` (its point-load coupling, [`HoopMode::of_section`]) to a ball of radius
+    /// `ball_radius` whose patch follows its compression u, for u in [0, `range`] (m).
+    pub fn following(mode: &HoopMode, ball_radius: f64, range: f64) -> PatchLaw {
+        let n = PATCH_DEGREE + 1;
+        let pi = std::f64::consts::PI;
+        let share = |t: f64| {
+            let u = 0.5 * range * (t + 1.0);
+            mode.coupling * ContactPatch::new(ball_radius, mode.outer_radius(), u).share(mode.decay_length)
+        };
+        // Chebyshev coefficients from the values at the Chebyshev nodes.
+        let values: Vec<f64> = (0..n).map(|j| share((pi * (j as f64 + 0.5) / n as f64).cos())).collect();
+        let mut coeffs = [0.0; PATCH_DEGREE + 1];
+        // T_k as powers of t, built by T_{k+1} = 2t T_k − T_{k−1}.
+        let (mut previous, mut current) = ([0.0; PATCH_DEGREE + 1], [0.0; PATCH_DEGREE + 1]);
+        previous[0] = 1.0;
+        current[1] = 1.0;
+        for k in 0..n {
+            let c: f64 = (0..n).map(|j| values[j] * (pi * k as f64 * (j as f64 + 0.5) / n as f64).cos()).sum::<f64>()
+                * if k == 0 { 1.0 } else { 2.0 }
+                / n as f64;
+            let t_k = if k == 0 { previous } else { current };
+            for (a, b) in coeffs.iter_mut().zip(t_k) {
+                *a += c * b;
+            }
+            if k >= 1 {
+                let mut next = [0.0; PATCH_DEGREE + 1];
+                for i in 0..PATCH_DEGREE {
+                    next[i + 1] = 2.0 * current[i];
+                }
+                for (a, b) in next.iter_mut().zip(previous) {
+                    *a -= b;
+                }
+                (previous, current) = (current, next);
+            }
+        }
+        PatchLaw { coeffs, scale: 2.0 / range, range }
+    }
+
+    /// ψ(u) and its slope dψ/du (1/m) at compression `u` (m).
+    #[inline(always)]
+    pub fn value_and_slope(&self, u: f64) -> (f64, f64) {
+        let t = u * self.scale - 1.0;
+        let c = &self.coeffs;
+        let (mut p, mut d) = (c[PATCH_DEGREE], 0.0);
+        for k in (0..PATCH_DEGREE).rev() {
+            d = d * t + p;
+            p = p * t + c[k];
+        }
+        (p, d * self.scale)
+    }
+}
+
 /// Peak compression of a ball against a wall that does not give, m: ½ μ v² = k₁ u^{α+1}/(α+1) for the
 /// ball `ball`, the normal approach speed `approach_speed` (m/s) and the bat's effective mass at the impact
 /// point `bat_effective_mass` (kg; infinite for a fixed wall), μ their reduced mass.
