@@ -24,22 +24,26 @@
 //!
 //! # The hoop mode of a hollow barrel
 //! Where the bat's wall has a hoop (n = 2 shell) mode at the impact point ([`super::hoop`]: stiffness k_h,
-//! effective mass m_h), the wall's ovalling is one more mode of the bat, integrated with the others: its
-//! amplitude q_h obeys q̈_h + ω_h² q_h = −F·Y_h with ω_h² = k_h/m_h and Y_h = ψ/√m_h (unit modal mass; ψ
-//! the share of the ball's force that drives the mode and of its deflection the ball feels, set by the
-//! ball's contact patch, see [`super::hoop`]), and the contact displacement becomes
-//! u = Σ Y_n q_n + Y_h q_h − s. The ball
-//! thus pushes on the wall (inertia m_h), the wall deflects against the hoop spring k_h, and the hoop spring
-//! rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia acts in
-//! the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of the
-//! beam's slices, and ovalling moves no centre of mass (the n = 2 displacement integrates to zero around the
-//! circumference), so the hoop mode carries no momentum, counts no mass twice and is M-orthogonal to the beam
-//! modes, exactly as a shell mode of the whole bat would be. At t = 0 the wall moves with the section
+//! effective mass m_h), the wall's ovalling is one more mode of the bat: its amplitude q_h (unit modal mass,
+//! wall deflection W = q_h/√m_h) obeys q̈_h + ω_h² q_h = −F·g·ψ/√m_h with ω_h² = k_h/m_h, where ψ(u) is the
+//! share of the ball's force that drives the mode and of its deflection the ball feels, set by the ball's
+//! contact patch at the current compression u ([`PatchLaw`]). The compression solves u = δ + ψ(u)·W, with
+//! δ = Σ Y_n q_n − s the beam's approach as without a wall, so the ball's potential V(u) is a function of the
+//! coordinates and its exact gradients are the forces: the beam modes and the ball feel F·g (g = 1/(1 − ψ′W),
+//! of order 1 ± 1e-2), the wall F·g·ψ; with ψ constant (g = 1, [`collide_with_hoop`]) this is the linear
+//! coupling u = Σ Y_n q_n + ψ W − s. The step loop solves u by two Newton steps at each RK4 stage and
+//! integrates the wall as a scalar beside the ball, the beam's closed-form update driven by F·g. The ball
+//! thus pushes on the wall (inertia m_h/ψ²), the wall deflects against the hoop spring k_h, and the hoop
+//! spring rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia
+//! acts in the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of
+//! the beam's slices, and ovalling moves no centre of mass (the n = 2 displacement integrates to zero around
+//! the circumference), so the hoop mode carries no momentum, counts no mass twice and is M-orthogonal to the
+//! beam modes, exactly as a shell mode of the whole bat would be. At t = 0 the wall moves with the section
 //! (q_h = q̇_h = 0).
 //!
 //! The wall gets no damping: a metal shell's loss factor η ~ 1e-3 would take about η·ω_h·t_c ≈ 0.7 % of the
-//! energy the wall holds during a ~0.7-ms contact at 1.8 kHz, a few hundredths of a joule out of a few
-//! joules in the wall and ~10² J in the collision — below the model's other approximations. The energy the
+//! energy the wall holds during a ~0.7-ms contact at 1.8 kHz, a few tenths of a joule out of the tens of
+//! joules the wall takes and ~10² J in the collision — below the model's other approximations. The energy the
 //! wall holds is tracked at every step end: its increases add up to [`EnergyBudget::hoop_stored`], its
 //! decreases to [`EnergyBudget::hoop_returned`], and what is left after separation,
 //! [`EnergyBudget::hoop`] = stored − returned, enters the budget next to the beam's vibration. Solid sections
