@@ -24,27 +24,32 @@
 //!
 //! # The hoop mode of a hollow barrel
 //! Where the bat's wall has a hoop (n = 2 shell) mode at the impact point ([`super::hoop`]: stiffness k_h,
-//! effective mass m_h), the wall's ovalling is one more mode of the bat, integrated with the others: its
-//! amplitude q_h obeys q̈_h + ω_h² q_h = −F·Y_h with ω_h² = k_h/m_h and Y_h = ψ/√m_h (unit modal mass; ψ
-//! the share of the ball's force that drives the mode and of its deflection the ball feels, set by the
-//! ball's contact patch, see [`super::hoop`]), and the contact displacement becomes
-//! u = Σ Y_n q_n + Y_h q_h − s. The ball
-//! thus pushes on the wall (inertia m_h), the wall deflects against the hoop spring k_h, and the hoop spring
-//! rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia acts in
-//! the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of the
-//! beam's slices, and ovalling moves no centre of mass (the n = 2 displacement integrates to zero around the
-//! circumference), so the hoop mode carries no momentum, counts no mass twice and is M-orthogonal to the beam
-//! modes, exactly as a shell mode of the whole bat would be. At t = 0 the wall moves with the section
+//! effective mass m_h), the wall's ovalling is one more mode of the bat: its amplitude q_h (unit modal mass,
+//! wall deflection W = q_h/√m_h) obeys q̈_h + ω_h² q_h = −F·g·ψ/√m_h with ω_h² = k_h/m_h, where ψ(u) is the
+//! share of the ball's force that drives the mode and of its deflection the ball feels, set by the ball's
+//! contact patch at the current compression u ([`PatchLaw`]). The compression solves u = δ + ψ(u)·W, with
+//! δ = Σ Y_n q_n − s the beam's approach as without a wall, so the ball's potential V(u) is a function of the
+//! coordinates and its exact gradients are the forces: the beam modes and the ball feel F·g (g = 1/(1 − ψ′W),
+//! of order 1 ± 1e-2), the wall F·g·ψ; with ψ constant (g = 1, [`collide_with_hoop`]) this is the linear
+//! coupling u = Σ Y_n q_n + ψ W − s. The step loop solves u by two Newton steps at each RK4 stage and
+//! integrates the wall as a scalar beside the ball, the beam's closed-form update driven by F·g. The ball
+//! thus pushes on the wall (inertia m_h/ψ²), the wall deflects against the hoop spring k_h, and the hoop
+//! spring rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia
+//! acts in the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of
+//! the beam's slices, and ovalling moves no centre of mass (the n = 2 displacement integrates to zero around
+//! the circumference), so the hoop mode carries no momentum, counts no mass twice and is M-orthogonal to the
+//! beam modes, exactly as a shell mode of the whole bat would be. At t = 0 the wall moves with the section
 //! (q_h = q̇_h = 0).
 //!
 //! The wall gets no damping: a metal shell's loss factor η ~ 1e-3 would take about η·ω_h·t_c ≈ 0.7 % of the
-//! energy the wall holds during a ~0.7-ms contact at 1.8 kHz, a few hundredths of a joule out of a few
-//! joules in the wall and ~10² J in the collision — below the model's other approximations. The energy the
+//! energy the wall holds during a ~0.7-ms contact at 1.8 kHz, a few tenths of a joule out of the tens of
+//! joules the wall takes and ~10² J in the collision — below the model's other approximations. The energy the
 //! wall holds is tracked at every step end: its increases add up to [`EnergyBudget::hoop_stored`], its
 //! decreases to [`EnergyBudget::hoop_returned`], and what is left after separation,
 //! [`EnergyBudget::hoop`] = stored − returned, enters the budget next to the beam's vibration. Solid sections
 //! (no hoop mode) take exactly the code path, and produce exactly the bits, of a bat without one.
 
+use super::hoop::PatchLaw;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::{Lane4, Lanes, Portable, LANES};
@@ -567,6 +572,53 @@ struct Work {
     /// Compression at the start of the step being taken and of the last accepted one, m.
     this_start: f64,
     previous_start: f64,
+    /// The wall's hoop mode, integrated beside the ball (unused without one).
+    hoop: HoopScalar,
+}
+
+/// The wall's hoop mode in the step loop: one mode of unit modal mass, integrated as a scalar beside the ball
+/// because the force that drives it, F·ψ(u)·g/√m_h, is not the beam's (see the module docs).
+#[derive(Clone, Default)]
+struct HoopScalar {
+    /// Amplitude and velocity at the current state and at the end of the step being taken, indexed like
+    /// [`Work::state`].
+    q: [f64; 2],
+    p: [f64; 2],
+    /// ω_h², 1/s².
+    w2: f64,
+    /// 1/√m_h: the wall's deflection at the impact point per unit amplitude, m.
+    inv_root_mass: f64,
+    /// The coupling ψ(u).
+    law: PatchLaw,
+    /// Where the coupling was last evaluated: compression (m), ψ and ψ′ (1/m) there; the next solve starts
+    /// from it.
+    last: std::cell::Cell<(f64, f64, f64)>,
+    /// The last solve's (δ, w) and result: the loop asks again for the same state (the end of a step is the
+    /// start of the next and its first stage), which then costs a comparison.
+    memo: std::cell::Cell<(f64, f64, (f64, f64, f64))>,
+}
+
+impl HoopScalar {
+    /// The compression u solving u = δ + ψ(u)·w, with g = 1/(1 − ψ′(u)·w) and ψ(u) there, for the beam's
+    /// approach δ (m) and the wall's deflection w (m): a Newton step from where ψ was last evaluated (within
+    /// about a half step's travel, ~1e-4 m), ψ and ψ′ evaluated there, and a second Newton step with them.
+    /// With ψ′·w of order 1e-2 and ψ″·w ~ 1 /m, u is then exact to ~1e-11 m, and ψ, g taken a Newton
+    /// step's ~1e-11 m away are exact to ~1e-9 of themselves.
+    #[inline(always)]
+    fn contact(&self, delta: f64, w: f64) -> (f64, f64, f64) {
+        let (memo_delta, memo_w, memo) = self.memo.get();
+        if delta == memo_delta && w == memo_w {
+            return memo;
+        }
+        let (guess, psi0, slope0) = self.last.get();
+        let u1 = guess - (guess - delta - psi0 * w) / (1.0 - slope0 * w);
+        let (psi, slope) = self.law.value_and_slope(u1);
+        let g = 1.0 / (1.0 - slope * w);
+        let u = u1 - (u1 - delta - psi * w) * g;
+        self.last.set((u1, psi, slope));
+        self.memo.set((delta, w, (u, g, psi)));
+        (u, g, psi)
+    }
 }
 
 impl Work {
@@ -607,6 +659,7 @@ impl Work {
             anchor: Anchor::NONE,
             this_start: 0.0,
             previous_start: 0.0,
+            hoop: HoopScalar::default(),
         };
         work.project();
         work
@@ -655,8 +708,27 @@ impl Work {
 
     /// Compression and its rate for the current modal state and ball state `sc`.
     #[inline(always)]
-    fn u_and_rate(&self, sc: &Scalars) -> (f64, f64) {
-        (self.proj[0] - sc.s, self.proj[1] - sc.v)
+    fn u_and_rate<const HOOP: bool>(&self, sc: &Scalars) -> (f64, f64) {
+        if HOOP {
+            let c = self.current;
+            self.hoop_u_and_rate(self.proj[0] - sc.s, self.proj[1] - sc.v, self.hoop.q[c], self.hoop.p[c])
+        } else {
+            (self.proj[0] - sc.s, self.proj[1] - sc.v)
+        }
+    }
+
+    /// Compression u and its rate u̇ = g·(δ̇ + ψ ẇ) from the beam's approach δ and its rate and the hoop
+    /// mode's amplitude and velocity.
+    #[inline(always)]
+    fn hoop_u_and_rate(&self, delta: f64, delta_rate: f64, q: f64, p: f64) -> (f64, f64) {
+        let r = self.hoop.inv_root_mass;
+        let (u, g, psi) = self.hoop.contact(delta, q * r);
+        (u, g * (delta_rate + psi * p * r))
+    }
+
+    /// The hoop mode's amplitude and velocity in the current state.
+    fn hoop_state(&self) -> (f64, f64) {
+        (self.hoop.q[self.current], self.hoop.p[self.current])
     }
 
     /// One classical RK4 step of length `partial.h` (if `use_partial`) or the full step, from the current
@@ -672,7 +744,13 @@ impl Work {
     /// overlaps it with the force evaluations, which form the step's critical path; the projections of the
     /// forced part are the precomputed sums c0…c2 times four scalars.
     #[inline(always)]
-    fn step<V: Lane4>(&mut self, sc: &Scalars, use_partial: bool, law: &ForceLaw, inv_mass: f64) -> (Scalars, f64) {
+    fn step<V: Lane4, const HOOP: bool>(
+        &mut self,
+        sc: &Scalars,
+        use_partial: bool,
+        law: &ForceLaw,
+        inv_mass: f64,
+    ) -> (Scalars, f64) {
         let c = if use_partial { &self.partial } else { &self.full };
         let [a0, b0, a1, b1] = self.proj;
         let (c0, c1, c2) = (self.c0, self.c1, self.c2);
@@ -692,6 +770,9 @@ impl Work {
         // one multiply and one add separate a force from the next stage: the forces form the critical path.
         let d0 = a0 - s;
         let e0 = b0 - v;
+        if HOOP {
+            return self.step_with_hoop(h, sc, law, inv_mass, [h0, h1, h2, h3]);
+        }
         // Stages 1 and 2: compressions independent of the forces.
         let u1 = d0;
         let u2 = d0 + a * e0;
@@ -727,10 +808,86 @@ impl Work {
         (next, f1)
     }
 
+    /// [`Work::step`] with the wall's hoop mode, for a step of length `h` whose force-free projections are
+    /// `free`. The beam's approach δ at each stage comes from the same closed form, driven by the beam's
+    /// force F·g; the hoop mode takes the classical RK4 stages of q̈_h = −ω_h² q_h − F·g·ψ/√m_h; the
+    /// compression at each stage solves u = δ + ψ(u)·q_h/√m_h (see the module docs).
+    #[inline(always)]
+    fn step_with_hoop(
+        &mut self,
+        h: f64,
+        sc: &Scalars,
+        law: &ForceLaw,
+        inv_mass: f64,
+        [h0, h1, h2, h3]: [f64; 4],
+    ) -> (Scalars, f64) {
+        let [a0, b0, a1, b1] = self.proj;
+        let (c0, c1, c2) = (self.c0, self.c1, self.c2);
+        let a = 0.5 * h;
+        let (s, v) = (sc.s, sc.v);
+        let k = c0 + inv_mass;
+        let d0 = a0 - s;
+        let e0 = b0 - v;
+        let cur = self.current;
+        let (qh, ph) = (self.hoop.q[cur], self.hoop.p[cur]);
+        let (w2h, r) = (self.hoop.w2, self.hoop.inv_root_mass);
+        // Stages 1 and 2: approaches and wall amplitudes independent of the forces.
+        let (q1, q2) = (qh, qh + a * ph);
+        let (x1, g1, psi1) = self.hoop.contact(d0, q1 * r);
+        let (x2, g2, psi2) = self.hoop.contact(d0 + a * e0, q2 * r);
+        let u_free = d0 + h * e0;
+        self.anchor.prepare(law, x1, x1 + (x1 - self.previous_start));
+        self.this_start = x1;
+        let [raw1, raw2] = self.anchor.force_pair(law, [x1, x2]);
+        let (f1, f2) = (raw1 * g1, raw2 * g2);
+        let acc1 = -w2h * q1 - f1 * psi1 * r;
+        let acc2 = -w2h * q2 - f2 * psi2 * r;
+        // Stages 3 and 4.
+        let (p2, p3) = (ph + a * acc1, ph + a * acc2);
+        let (q3, q4) = (qh + a * p2, qh + h * p3);
+        let d3 = ((d0 + a * e0) - a * a * a1) - a * a * k * f1;
+        let d4 = (u_free - h * a * a1 - h * a * a * b1) - h * a * k * f2;
+        let (x3, g3, psi3) = self.hoop.contact(d3, q3 * r);
+        let (x4, g4, psi4) = self.hoop.contact(d4, q4 * r);
+        let [f3, f4] = self.anchor.force_pair(law, [x3, x4]);
+        let (f3, f4) = (f3 * g3, f4 * g4);
+        let acc3 = -w2h * q3 - f3 * psi3 * r;
+        let p4 = ph + h * acc3;
+        let acc4 = -w2h * q4 - f4 * psi4 * r;
+        let h_6 = h / 6.0;
+        self.hoop.q[1 - cur] = qh + h_6 * (ph + 2.0 * p2 + 2.0 * p3 + p4);
+        self.hoop.p[1 - cur] = ph + h_6 * (acc1 + 2.0 * acc2 + 2.0 * acc3 + acc4);
+
+        // The beam and the ball, as in `step`, with the beam's forces F·g.
+        let h2_6 = h * h / 6.0;
+        let f12 = f1 + f2;
+        let fq = -h2_6 * f12 - h2_6 * f3;
+        let fp = -h_6 * (f12 + f2) - h_6 * (2.0 * f3 + f4);
+        let gq = h * h * h * h / 24.0 * f1;
+        let gp = h * h * h / 12.0 * f12;
+        self.proj_next = [
+            (h0 + gq * c1 - h2_6 * c0 * f12) - h2_6 * c0 * f3,
+            (h1 + gp * c1 - h_6 * c0 * (f12 + f2)) - h_6 * c0 * (2.0 * f3 + f4),
+            h2 + fq * c1 + gq * c2,
+            h3 + fp * c1 + gp * c2,
+        ];
+        self.pending[1 - self.current] = [fq, fp, gq, gp];
+        let next = Scalars {
+            s: (s + h * v + h2_6 * inv_mass * f12) + h2_6 * inv_mass * f3,
+            v: (v + h_6 * inv_mass * (f12 + f2)) + h_6 * inv_mass * (2.0 * f3 + f4),
+        };
+        (next, raw1)
+    }
+
     /// Compression and its rate at the end of the step just taken.
     #[inline(always)]
-    fn next_u_and_rate(&self, sc: &Scalars) -> (f64, f64) {
-        (self.proj_next[0] - sc.s, self.proj_next[1] - sc.v)
+    fn next_u_and_rate<const HOOP: bool>(&self, sc: &Scalars) -> (f64, f64) {
+        if HOOP {
+            let n = 1 - self.current;
+            self.hoop_u_and_rate(self.proj_next[0] - sc.s, self.proj_next[1] - sc.v, self.hoop.q[n], self.hoop.p[n])
+        } else {
+            (self.proj_next[0] - sc.s, self.proj_next[1] - sc.v)
+        }
     }
 
     /// Makes the end of the step just taken the current state.
@@ -795,7 +952,7 @@ enum Event {
 /// RK4 steps from the saved start state; leaves the state at τ and returns (τ, scalars, force at τ).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn locate<V: Lane4>(
+fn locate<V: Lane4, const HOOP: bool>(
     work: &mut Work,
     start: &Scalars,
     h: f64,
@@ -808,10 +965,10 @@ fn locate<V: Lane4>(
     let value = |work: &mut Work, tau: f64| -> Scalars {
         let Work { partial, modes, .. } = work;
         partial.set(tau, modes);
-        work.step::<V>(start, true, law, inv_mass).0
+        work.step::<V, HOOP>(start, true, law, inv_mass).0
     };
     let g_of = |work: &Work, sc: &Scalars| {
-        let (u, ud) = work.next_u_and_rate(sc);
+        let (u, ud) = work.next_u_and_rate::<HOOP>(sc);
         match event {
             Event::Peak => ud,
             Event::Separation => u,
@@ -858,11 +1015,9 @@ fn locate<V: Lane4>(
     (tau, sc)
 }
 
-/// Tracks the energy of the wall's hoop mode (mode `index` of the step loop) at every accepted step end.
+/// Tracks the energy of the wall's hoop mode at every accepted step end.
 #[derive(Clone, Copy, Default)]
 struct HoopMeter {
-    /// Index of the hoop mode among the integrated modes.
-    index: usize,
     /// ω_h², 1/s².
     w2: f64,
     /// Energy at the last accepted step end, J.
@@ -877,7 +1032,7 @@ impl HoopMeter {
     /// Reads the hoop mode's energy from the current state and books its change.
     #[inline(always)]
     fn update(&mut self, work: &Work) {
-        let (q, p) = work.mode_state(self.index);
+        let (q, p) = work.hoop_state();
         let energy = 0.5 * (p * p + self.w2 * q * q);
         let change = energy - self.energy;
         if change > 0.0 {
@@ -952,20 +1107,20 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
     let max_steps = (MAX_CONTACT_TIME / h).ceil() as usize + 1;
     let mut separated = false;
     for _ in 0..max_steps {
-        let (u0, ud0) = work.u_and_rate(&sc);
+        let (u0, ud0) = work.u_and_rate::<HOOP>(&sc);
         let loading = u0 >= law.um && ud0 > 0.0 && !just_peaked;
         just_peaked = false;
         let start = sc;
-        let (next, f_start) = work.step::<V>(&start, false, law, inv_mass);
+        let (next, f_start) = work.step::<V, HOOP>(&start, false, law, inv_mass);
         peak_force = peak_force.max(f_start);
-        let (u1, ud1) = work.next_u_and_rate(&next);
+        let (u1, ud1) = work.next_u_and_rate::<HOOP>(&next);
         if !(u1.is_finite() && ud1.is_finite() && next.v.is_finite()) {
             return Err(PhysicsError::Numerical(format!("non-finite state at t = {t:e} s")));
         }
         if loading && ud1 <= 0.0 && u1 > 0.0 {
             // Maximum compression inside this step: stop exactly there and switch to unloading.
-            let (tau, sc_peak) = locate::<V>(work, &start, h, law, inv_mass, Event::Peak, ud0, ud1);
-            let (u_peak, _) = work.next_u_and_rate(&sc_peak);
+            let (tau, sc_peak) = locate::<V, HOOP>(work, &start, h, law, inv_mass, Event::Peak, ud0, ud1);
+            let (u_peak, _) = work.next_u_and_rate::<HOOP>(&sc_peak);
             work.accept();
             if HOOP {
                 meter.update(work);
@@ -982,7 +1137,7 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
         }
         if u1 <= 0.0 && law.um > 0.0 {
             // Separation inside this step (u̇ < 0 here, so u crossed zero from above).
-            let (tau, sc_sep) = locate::<V>(work, &start, h, law, inv_mass, Event::Separation, u0, u1);
+            let (tau, sc_sep) = locate::<V, HOOP>(work, &start, h, law, inv_mass, Event::Separation, u0, u1);
             work.accept();
             if HOOP {
                 meter.update(work);
@@ -1009,23 +1164,31 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
 /// The step loop's buffers for `impact` on `modes` (validated) with `options`: mode shapes at the impact
 /// point, and the bat's rigid motion as the initial modal velocities; with `hoop`, the wall's hoop mode is
 /// one more mode after the beam's (shape ψ/√m_h, ω_h² = k_h/m_h, at rest).
-fn work_for(modes: &ModeSet, impact: &Impact, options: &CollisionOptions, hoop: Option<&HoopMode>) -> Work {
+fn work_for(modes: &ModeSet, impact: &Impact, options: &CollisionOptions, hoop: Option<(&HoopMode, PatchLaw)>) -> Work {
     let mp = modes.mass_properties();
     let nm = 2 + options.modes;
-    let mut phi: Vec<f64> = (0..nm).map(|k| modes.shape_at(k, impact.impact_z)).collect();
-    let mut w2: Vec<f64> = modes.all_modes()[..nm].iter().map(|m| m.angular_frequency * m.angular_frequency).collect();
-    if let Some(hoop) = hoop {
-        phi.push(hoop.coupling / hoop.effective_mass.sqrt());
-        w2.push(hoop.stiffness / hoop.effective_mass);
-    }
+    let phi: Vec<f64> = (0..nm).map(|k| modes.shape_at(k, impact.impact_z)).collect();
+    let w2: Vec<f64> = modes.all_modes()[..nm].iter().map(|m| m.angular_frequency * m.angular_frequency).collect();
     // Rigid initial velocities: ẏ = V + ω (z − z_cm) = p_0/√M + p_1 (z − z_cm)/√I.
     let rigid_p = [impact.bat_cm_speed * mp.mass.sqrt(), impact.bat_angular_speed * mp.moment_of_inertia.sqrt()];
-    Work::new(&phi, &w2, rigid_p, options.time_step)
+    let mut work = Work::new(&phi, &w2, rigid_p, options.time_step);
+    if let Some((mode, law)) = hoop {
+        let (psi, slope) = law.value_and_slope(0.0);
+        work.hoop = HoopScalar {
+            w2: mode.stiffness / mode.effective_mass,
+            inv_root_mass: 1.0 / mode.effective_mass.sqrt(),
+            law,
+            last: std::cell::Cell::new((0.0, psi, slope)),
+            memo: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
+            ..HoopScalar::default()
+        };
+    }
+    work
 }
 
 /// Runs one collision of `ball` with the bat described by `modes`, with the wall's hoop mode at the impact
-/// point when the section there has one ([`ModeSet::hoop_at`]), loaded through the ball's contact patch
-/// ([`hoop_under_ball`]).
+/// point when the section there has one ([`ModeSet::hoop_at`]), loaded through a contact patch that follows
+/// the ball's compression ([`collide_with_patch`]).
 pub fn collide(
     modes: &ModeSet,
     ball: &Ball,
@@ -1033,8 +1196,44 @@ pub fn collide(
     options: &CollisionOptions,
 ) -> Result<CollisionResult, PhysicsError> {
     impact.validate(modes)?;
-    let hoop = hoop_under_ball(modes, ball, impact);
-    collide_with_hoop(modes, ball, impact, options, hoop.as_ref())
+    let section = modes.hoop_at(impact.impact_z);
+    collide_with_patch(modes, ball, impact, options, section.as_ref())
+}
+
+/// Runs one collision of `ball` with the bat described by `modes` and the wall section's hoop mode `section`
+/// at the impact point (its [`HoopMode::coupling`] that of a point load, as [`HoopMode::of_section`] gives
+/// it; `None`: a rigid wall there), loaded through the ball's contact patch as it grows and shrinks with the
+/// ball's compression u: ψ(u) from [`PatchLaw::following`] over compressions up to
+/// [`PATCH_RANGE_FACTOR`] times the reference compression ([`hoop::reference_compression`]). The result's
+/// [`CollisionResult::hoop`] carries the coupling at the collision's peak compression.
+pub fn collide_with_patch(
+    modes: &ModeSet,
+    ball: &Ball,
+    impact: &Impact,
+    options: &CollisionOptions,
+    section: Option<&HoopMode>,
+) -> Result<CollisionResult, PhysicsError> {
+    impact.validate(modes)?;
+    let hoop = section.map(|mode| {
+        let range = PATCH_RANGE_FACTOR * reference_compression_at(modes, ball, impact);
+        (mode, PatchLaw::following(mode, ball.radius, range.min(ball.radius)))
+    });
+    run(modes, ball, impact, options, hoop)
+}
+
+/// The patch's coupling is interpolated over compressions up to this multiple of the reference compression
+/// (the peak of the same impact on a rigid, non-vibrating wall, which the wall's give and the beam's
+/// vibrations only lower; the collision reports a peak beyond the range as an error).
+pub const PATCH_RANGE_FACTOR: f64 = 1.25;
+
+/// The peak compression of `impact` with `ball` on the bat's rigid-body effective mass at the impact point,
+/// without the wall's give ([`hoop::reference_compression`]), m.
+fn reference_compression_at(modes: &ModeSet, ball: &Ball, impact: &Impact) -> f64 {
+    let mp = modes.mass_properties();
+    let approach = impact.ball_speed + rigid::bat_speed_at(&mp, impact);
+    let arm = impact.impact_z - mp.center_of_mass;
+    let bat_effective_mass = 1.0 / (1.0 / mp.mass + arm * arm / mp.moment_of_inertia);
+    hoop::reference_compression(ball, approach, bat_effective_mass)
 }
 
 /// The wall's hoop mode at `impact`'s point as `ball` loads it: the section's mode ([`ModeSet::hoop_at`])
@@ -1043,17 +1242,12 @@ pub fn collide(
 /// where the section has no hoop mode.
 pub fn hoop_under_ball(modes: &ModeSet, ball: &Ball, impact: &Impact) -> Option<HoopMode> {
     let section = modes.hoop_at(impact.impact_z)?;
-    let mp = modes.mass_properties();
-    let approach = impact.ball_speed + rigid::bat_speed_at(&mp, impact);
-    let arm = impact.impact_z - mp.center_of_mass;
-    let bat_effective_mass = 1.0 / (1.0 / mp.mass + arm * arm / mp.moment_of_inertia);
-    let compression = hoop::reference_compression(ball, approach, bat_effective_mass);
-    Some(section.under_patch(ball.radius, compression))
+    Some(section.under_patch(ball.radius, reference_compression_at(modes, ball, impact)))
 }
 
 /// Runs one collision of `ball` with the bat described by `modes` and the given hoop mode at the impact
 /// point (`None`: a rigid wall there, as for a solid section), whatever the bat's own wall has; the mode's
-/// [`HoopMode::coupling`] is used as given.
+/// [`HoopMode::coupling`] is used as given, the same at every compression (a patch fixed in size).
 pub fn collide_with_hoop(
     modes: &ModeSet,
     ball: &Ball,
@@ -1061,11 +1255,22 @@ pub fn collide_with_hoop(
     options: &CollisionOptions,
     hoop: Option<&HoopMode>,
 ) -> Result<CollisionResult, PhysicsError> {
+    run(modes, ball, impact, options, hoop.map(|mode| (mode, PatchLaw::constant(mode.coupling))))
+}
+
+/// One collision with the wall's hoop mode `hoop` and its coupling law, if any (see [`collide_with_hoop`]).
+fn run(
+    modes: &ModeSet,
+    ball: &Ball,
+    impact: &Impact,
+    options: &CollisionOptions,
+    hoop: Option<(&HoopMode, PatchLaw)>,
+) -> Result<CollisionResult, PhysicsError> {
     ball.validate()?;
     impact.validate(modes)?;
     options.validate(modes)?;
-    if let Some(hoop) = hoop {
-        options.validate_hoop(hoop, impact.impact_z)?;
+    if let Some((mode, _)) = hoop {
+        options.validate_hoop(mode, impact.impact_z)?;
     }
     let mp = modes.mass_properties();
     let nm = 2 + options.modes;
@@ -1080,8 +1285,7 @@ pub fn collide_with_hoop(
     let initial_energy =
         0.5 * ball.mass * impact.ball_speed.powi(2) + 0.5 * (p_translation * p_translation + p_rotation * p_rotation);
 
-    let mut meter =
-        HoopMeter { index: nm, w2: hoop.map_or(0.0, |m| m.stiffness / m.effective_mass), ..HoopMeter::default() };
+    let mut meter = HoopMeter { w2: hoop.map_or(0.0, |(m, _)| m.stiffness / m.effective_mass), ..HoopMeter::default() };
     let contact = match hoop {
         Some(_) => integrate::<true>(&mut work, &mut law, ball, impact.ball_speed, h, &mut meter)?,
         None => integrate::<false>(&mut work, &mut law, ball, impact.ball_speed, h, &mut meter)?,
@@ -1094,7 +1298,7 @@ pub fn collide_with_hoop(
     }
 
     let exit_speed = sc.v;
-    let states = work.mode_states(nm + usize::from(hoop.is_some()));
+    let states = work.mode_states(nm);
     let (p_translation, p_rotation) = (states[0].1, states[1].1);
     let bat_rigid = 0.5 * (p_translation * p_translation + p_rotation * p_rotation);
     let mode_energies: Vec<ModeEnergy> = states[2..nm]
@@ -1106,7 +1310,19 @@ pub fn collide_with_hoop(
         })
         .collect();
     let vibration: f64 = mode_energies.iter().map(|m| m.energy).sum();
-    let hoop_energy = states.get(nm).map_or(0.0, |&(q, p, w2)| 0.5 * (p * p + w2 * q * q));
+    let hoop_energy = match hoop {
+        Some((mode, patch)) => {
+            if law.um > patch.range {
+                return Err(PhysicsError::Numerical(format!(
+                    "the ball's compression {:e} m left the range of the patch's coupling ({:e} m)",
+                    law.um, patch.range
+                )));
+            }
+            let (q, p) = work.hoop_state();
+            0.5 * (p * p + mode.stiffness / mode.effective_mass * q * q)
+        }
+        None => 0.0,
+    };
     let ball_energy = 0.5 * ball.mass * exit_speed * exit_speed;
     let hysteresis_loss = ball.hysteresis_loss(law.um);
     // Without a hoop mode hoop_energy is +0.0, which leaves the sum's bits unchanged.
@@ -1136,7 +1352,7 @@ pub fn collide_with_hoop(
         },
         bat_cm_speed_after: p_translation / mp.mass.sqrt(),
         bat_angular_speed_after: p_rotation / mp.moment_of_inertia.sqrt(),
-        hoop: hoop.copied(),
+        hoop: hoop.map(|(mode, patch)| HoopMode { coupling: patch.value_and_slope(law.um).0, ..*mode }),
     };
     let finite = [
         result.exit_speed,
@@ -1349,9 +1565,17 @@ mod tests {
             let v = 40.0;
             let h = 1e-6;
             // Rigid modes with zero shape at the impact point: the wall's base does not move.
-            let mut work = Work::new(&[0.0, 0.0, 1.0 / m_h.sqrt()], &[0.0, 0.0, k_h / m_h], [0.0, 0.0], h);
+            let mut work = Work::new(&[0.0, 0.0], &[0.0, 0.0], [0.0, 0.0], h);
+            work.hoop = HoopScalar {
+                w2: k_h / m_h,
+                inv_root_mass: 1.0 / m_h.sqrt(),
+                law: PatchLaw::constant(1.0),
+                last: std::cell::Cell::new((0.0, 1.0, 0.0)),
+                memo: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
+                ..HoopScalar::default()
+            };
             let mut law = ForceLaw::new(&ball);
-            let mut meter = HoopMeter { index: 2, w2: k_h / m_h, ..HoopMeter::default() };
+            let mut meter = HoopMeter { w2: k_h / m_h, ..HoopMeter::default() };
             let contact = integrate::<true>(&mut work, &mut law, &ball, v, h, &mut meter).expect("integrates");
             assert!(contact.separated);
             let (t_sep, v_sep) = two_mass_closed_form(ball.mass, k_b, m_h, k_h, v);

@@ -115,10 +115,11 @@ pub mod rigid;
 pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
 pub use collision::{
-    collide, collide_with_hoop, hoop_under_ball, CollisionOptions, CollisionResult, EnergyBudget, Impact, ModeEnergy,
+    collide, collide_with_hoop, collide_with_patch, hoop_under_ball, CollisionOptions, CollisionResult, EnergyBudget,
+    Impact, ModeEnergy,
 };
 pub use error::PhysicsError;
-pub use hoop::HoopMode;
+pub use hoop::{HoopMode, PatchLaw};
 pub use metrics::{BbcorReport, BesrReport, SweepPoint, SweetSpotSet};
 pub use modes::{BeamMatrices, EigenSolver, LinkRule, Mode, ModeSet};
 pub use oblique::{collide_oblique, ObliqueImpact, ObliqueResult, TangentialContact};
