@@ -73,6 +73,8 @@ fn ball() -> BallParams {
         tangential_cor: 0.3,
         friction: 0.5,
         moment_of_inertia: 7.4e-5,
+        cor_slope: -0.0027,
+        cor_reference_speed: 25.9,
     }
 }
 
