@@ -24,12 +24,27 @@ fn r161() -> ModeSet {
     ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap()
 }
 
-/// The R161 made a million times denser and integrated without vibrational modes: a rigid target of ~10⁶ kg,
-/// whose recoil changes a COR by ~m_ball/M ≈ 2e-7.
+/// The R161 made 150 times denser (the densest shell allowed) and integrated without vibrational modes: a
+/// rigid target of about 130 kg. Its small recoil is taken out by measuring the COR as it is defined, from the
+/// relative speeds of ball and target surface after and before.
 fn wall() -> ModeSet {
     let mut bat = Bat::preset("r161").unwrap();
-    bat.shell.density *= 1e6;
+    bat.shell.density *= 150.0;
     ModeSet::compute(&bat, 2).unwrap()
+}
+
+/// COR and the reduced-mass kinetic energy of a collision with the ball at `v` on the wall at rest, at z.
+fn wall_cor(modes: &ModeSet, ball: &Ball, v: f64, z: f64) -> (f64, f64, sweetspot::physics::CollisionResult) {
+    let impact = Impact { ball_speed: v, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: z };
+    let r = collide(modes, ball, &impact, &rigid()).unwrap();
+    let mp = modes.mass_properties();
+    let arm = z - mp.center_of_mass;
+    // The surface moves toward the ball at V + ω·arm; after contact it recedes (negative).
+    let surface_after = r.bat_cm_speed_after + r.bat_angular_speed_after * arm;
+    let cor = (r.exit_speed - surface_after) / v;
+    let effective_mass = 1.0 / (1.0 / mp.mass + arm * arm / mp.moment_of_inertia);
+    let reduced = ball.mass * effective_mass / (ball.mass + effective_mass);
+    (cor, 0.5 * reduced * v * v, r)
 }
 
 fn rigid() -> CollisionOptions {
@@ -67,8 +82,8 @@ fn a_speed_dependent_ball_meets_e0_at_the_normal_approach_speed_of_ball_and_bat_
     let b = collide(&modes, &constant, &impact, &options).unwrap();
     assert!((a.exit_speed - b.exit_speed).abs() < 1e-9, "{} vs {}", a.exit_speed, b.exit_speed);
     assert!((a.energy.hysteresis_loss - b.energy.hysteresis_loss).abs() < 1e-9 * b.energy.initial);
-    // The budget closes with the speed's e0.
-    assert!(a.energy.residual.abs() < 1e-8 * a.energy.initial, "residual {:e}", a.energy.residual);
+    // The budget closes with the speed's e0 (to the 5-µs step's integration error).
+    assert!(a.energy.residual.abs() < 1e-6 * a.energy.initial, "residual {:e}", a.energy.residual);
 }
 
 #[test]
@@ -76,12 +91,9 @@ fn against_a_rigid_wall_the_cor_at_each_speed_is_the_laws_and_the_loss_is_one_mi
     let modes = wall();
     let z = 0.70;
     for v in [1.0, 10.0, SPEC_SPEED, 40.0, 60.8, 75.0] {
-        let impact = Impact { ball_speed: v, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: z };
-        let r = collide(&modes, &Ball::mlb(), &impact, &rigid()).unwrap();
+        let (cor, kinetic, r) = wall_cor(&modes, &Ball::mlb(), v, z);
         let e0 = published_law(v);
-        let cor = r.exit_speed / v;
         assert!((cor - e0).abs() < 1e-5, "v = {v}: simulated COR {cor} vs law {e0}");
-        let kinetic = 0.5 * Ball::mlb().mass * v * v;
         let loss = (1.0 - e0 * e0) * kinetic;
         assert!((r.energy.hysteresis_loss - loss).abs() < 1e-5 * kinetic, "v = {v}: {} vs {loss}", r.energy.hysteresis_loss);
         assert!(r.energy.residual.abs() < 1e-7 * r.energy.initial, "v = {v}: residual {:e}", r.energy.residual);
@@ -91,10 +103,7 @@ fn against_a_rigid_wall_the_cor_at_each_speed_is_the_laws_and_the_loss_is_one_mi
 #[test]
 fn the_mlb_ball_meets_its_specification_and_falls_at_nathans_slope() {
     let modes = wall();
-    let cor_at = |v: f64| {
-        let impact = Impact { ball_speed: v, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: 0.70 };
-        collide(&modes, &Ball::mlb(), &impact, &rigid()).unwrap().exit_speed / v
-    };
+    let cor_at = |v: f64| wall_cor(&modes, &Ball::mlb(), v, 0.70).0;
     // The specification's test, simulated: within 0.514–0.578 at 85 ft/s (at its nominal 0.546).
     let spec = cor_at(SPEC_SPEED);
     assert!((SPEC_LOW..=SPEC_HIGH).contains(&spec), "{spec}");
@@ -104,9 +113,8 @@ fn the_mlb_ball_meets_its_specification_and_falls_at_nathans_slope() {
     assert!((fall - (NATHAN[0].1 - NATHAN[1].1)).abs() < 1e-4, "fall {fall}");
     // Nathan's cases themselves stay reproducible as constant-COR balls.
     for (v, e) in NATHAN {
-        let impact = Impact { ball_speed: v, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: 0.70 };
-        let r = collide(&modes, &Ball { cor: e, ..Ball::default() }, &impact, &rigid()).unwrap();
-        assert!((r.exit_speed / v - e).abs() < 1e-5, "constant e0 {e} at {v} m/s");
+        let (cor, _, _) = wall_cor(&modes, &Ball { cor: e, ..Ball::default() }, v, 0.70);
+        assert!((cor - e).abs() < 1e-5, "constant e0 {e} at {v} m/s: {cor}");
     }
 }
 
