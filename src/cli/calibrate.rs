@@ -10,6 +10,7 @@ use clap::Args;
 use serde_json::json;
 
 use crate::calibrate::batter::{batter_fit_from_bag, render_batter_fit, BatterFit, BatterFitOptions};
+use crate::calibrate::cor_speed::fit_cor_law;
 use crate::calibrate::{fit, problem_from_bag, CalibrateError, Fit, FitOptions, Problem};
 use crate::model::convert::{params_from_ball, params_from_bat};
 use crate::msgs::json::ToJson;
@@ -65,6 +66,10 @@ pub struct CalibrateArgs {
     /// Also fit the tangential COR e_T (and unmeasured undercuts) to the measured launch angles and spins.
     #[arg(long)]
     pub fit_tangential: bool,
+    /// Also fit how the ball's COR falls with impact speed, e0(v) = cor + cor_slope·(v − v_ref), to sessions
+    /// at several pitch speeds; --write then writes the fitted law (cor_slope, cor_reference_speed).
+    #[arg(long, conflicts_with = "fit_youngs")]
+    pub fit_cor_slope: bool,
 }
 
 /// A calibration error as one message: its text already holds every cause, which anyhow would repeat.
@@ -83,6 +88,15 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     let options =
         FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations.max(1), ..FitOptions::default() };
     let result = fit(&problem, &options).map_err(flat).context("fitting")?;
+    let cor_law = match args.fit_cor_slope {
+        true => Some(fit_cor_law(&problem, &options).map_err(flat).context("fitting the COR's speed law")?),
+        false => None,
+    };
+    // With --fit-cor-slope the ball written (and handed to the e_T fit) is the one with the fitted law.
+    let result = match &cor_law {
+        Some(law) => Fit { ball: law.ball, ..result },
+        None => result,
+    };
     let tangential = match args.fit_tangential {
         true => Some(fit_tangential_of(&args, &result)?),
         false => None,
@@ -110,6 +124,11 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
             "converged": result.converged,
             "residuals": result.residuals,
             "written": written,
+            "cor_law": cor_law.as_ref().map(|l| json!({
+                "parameters": l.parameters, "reference_speed": l.reference_speed, "speed_range": l.speed_range,
+                "rms_before": l.rms_before, "rms": l.rms, "residual_sigma": l.residual_sigma, "dof": l.dof,
+                "converged": l.converged,
+            })),
             "tangential": tangential.as_ref().map(|t| json!({
                 "parameters": t.parameters, "residual_sigma": t.residual_sigma, "dof": t.dof,
                 "converged": t.converged, "residuals": t.residuals, "skipped": t.skipped,
@@ -119,6 +138,9 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
         return Ok(());
     }
     print!("{}", report(&problem, &result, args.show));
+    if let Some(law) = &cor_law {
+        print!("\n{}", crate::calibrate::cor_speed::report(law));
+    }
     if let Some(t) = &tangential {
         print!("\n{}", crate::calibrate::tangential::report(t));
     }
