@@ -1,4 +1,4 @@
-//! `calibrate --fit-cor-slope` recovers a known COR-against-speed law from swings at several pitch speeds,
+//! `calibrate --fit-cor-exponent` recovers a known COR-against-speed law from swings at several pitch speeds,
 //! starting from a constant-COR ball, and refuses sessions that do not span speeds.
 
 use std::collections::BTreeMap;
@@ -53,22 +53,22 @@ fn the_speed_law_is_recovered_from_sessions_at_several_pitch_speeds() {
     let fit = fit_cor_law(&problem, &FitOptions::default()).unwrap();
     assert!(fit.converged);
     let v_ref = fit.reference_speed;
-    // The truth at the fit's reference speed, from the published law written out (0.546 at 85 ft/s,
-    // Nathan's slope −0.16 per 59 m/s).
-    let slope = (0.50 - 0.66) / 59.0;
-    let e_ref = 0.546 + slope * (v_ref - 85.0 * 0.3048);
-    let (cor, cor_slope) = (&fit.parameters[0], &fit.parameters[1]);
+    // The truth at the fit's reference speed, from the published law written out (the power law through
+    // e0 = 0.66 at 1 m/s and 0.50 at 60 m/s).
+    let p = (0.66f64 / 0.50).ln() / 60f64.ln();
+    let e_ref = 0.66 * v_ref.powf(-p);
+    let (cor, exponent) = (&fit.parameters[0], &fit.parameters[1]);
     assert!((cor.value - e_ref).abs() < 3.0 * cor.std_error + 1e-4, "cor {} ± {} vs {e_ref}", cor.value, cor.std_error);
     assert!(
-        (cor_slope.value - slope).abs() < 3.0 * cor_slope.std_error + 1e-5,
-        "slope {} ± {} vs {slope}",
-        cor_slope.value,
-        cor_slope.std_error
+        (exponent.value - p).abs() < 3.0 * exponent.std_error + 1e-4,
+        "exponent {} ± {} vs {p}",
+        exponent.value,
+        exponent.std_error
     );
     // The noise is ±0.1 m/s: the fit leaves about that, and started well above it (a constant 0.53).
     assert!(fit.rms < 0.12 && fit.rms_before > 0.3, "rms {} (before {})", fit.rms, fit.rms_before);
-    assert!(cor_slope.std_error > 0.0 && cor_slope.std_error < 5e-4, "σ {}", cor_slope.std_error);
-    assert_eq!((fit.ball.cor_slope, fit.ball.cor_reference_speed), (cor_slope.value, v_ref));
+    assert!(exponent.std_error > 0.0 && exponent.std_error < 0.02, "σ {}", exponent.std_error);
+    assert_eq!((fit.ball.cor_speed_exponent, fit.ball.cor_reference_speed), (exponent.value, v_ref));
 }
 
 #[test]

@@ -1,13 +1,13 @@
-//! `calibrate --fit-cor-slope`: the ball's COR as a function of impact speed, e0(v) = cor +
-//! cor_slope·(v − v_ref) ([`Ball::cor_at`]), fitted to the measured exit speeds of sessions at several
-//! pitch speeds.
+//! `calibrate --fit-cor-exponent`: the ball's COR as a function of impact speed, e0(v) =
+//! cor·(v/v_ref)^(−p) ([`Ball::cor_at`]), fitted to the measured exit speeds of sessions at several pitch
+//! speeds.
 //!
-//! Two parameters: e0 at the reference speed v_ref and the slope. v_ref is held fixed — the ball's own when
+//! Two parameters: e0 at the reference speed v_ref and the exponent p. v_ref is held fixed — the ball's own when
 //! its BallParams already carries a law, else the mean head-on approach speed of the measured swings (ball
-//! speed plus the bat's speed at the impact point), where e0 and the slope are least correlated. Each swing
+//! speed plus the bat's speed at the impact point), where e0 and the exponent are least correlated. Each swing
 //! is predicted as the node answers it (its collision takes e0 at its own normal approach speed), the sum
 //! of squared exit-speed residuals is minimised by [`super::lm`] (forward-difference Jacobian), and the
-//! uncertainties are the linearised s²·(JᵀJ)⁻¹ of the other fits. A slope needs swings that differ in
+//! uncertainties are the linearised s²·(JᵀJ)⁻¹ of the other fits. An exponent needs swings that differ in
 //! approach speed: sessions spanning less than [`MIN_SPEED_SPAN`] are refused rather than fitted to noise.
 
 use std::collections::BTreeMap;
@@ -16,18 +16,18 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
 use super::{lm, tangential, CalibrateError, FitOptions, FittedParameter, Problem};
-use crate::physics::ball::MAX_COR_SLOPE;
+use crate::physics::ball::MAX_COR_SPEED_EXPONENT;
 use crate::physics::{rigid, Ball, CollisionOptions, ModeSet};
 
-/// Smallest spread of head-on approach speeds (max − min) a slope is fitted from, m/s.
+/// Smallest spread of head-on approach speeds (max − min) an exponent is fitted from, m/s.
 pub const MIN_SPEED_SPAN: f64 = 5.0;
-/// Scale of the slope in the minimiser's parameter vector, s/m (the slope is θ₁ = x₁·SLOPE_SCALE).
-const SLOPE_SCALE: f64 = 1e-3;
+/// Scale of the exponent in the minimiser's parameter vector (p = x₁·EXPONENT_SCALE).
+const EXPONENT_SCALE: f64 = 0.1;
 
 /// The fitted speed law.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CorLawFit {
-    /// e0 at [`CorLawFit::reference_speed`] and the slope (s/m), with their 1σ.
+    /// e0 at [`CorLawFit::reference_speed`] and the exponent p, with their 1σ.
     pub parameters: Vec<FittedParameter>,
     /// The speed at which e0 = `cor`, m/s (held fixed).
     pub reference_speed: f64,
@@ -53,7 +53,7 @@ pub struct CorLawFit {
 pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit, CalibrateError> {
     let n = problem.observations.len();
     if n <= 2 {
-        return Err(CalibrateError::NoData(format!("{n} measured swings cannot determine e0 and its slope; need 3")));
+        return Err(CalibrateError::NoData(format!("{n} measured swings cannot determine e0 and its exponent; need 3")));
     }
     let mut modes: BTreeMap<&str, ModeSet> = BTreeMap::new();
     for (id, pb) in &problem.bats {
@@ -71,13 +71,13 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
     let (low, high) = speeds.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
     if !(high - low >= MIN_SPEED_SPAN) {
         return Err(CalibrateError::NoData(format!(
-            "a COR slope needs swings at several approach speeds: these span {:.2} m/s ({low:.2}–{high:.2}), \
+            "a COR exponent needs swings at several approach speeds: these span {:.2} m/s ({low:.2}–{high:.2}), \
              at least {MIN_SPEED_SPAN} m/s are needed (record sessions at different pitch speeds)",
             high - low
         )));
     }
     let start_ball = problem.ball;
-    let reference_speed = if start_ball.cor_slope != 0.0 {
+    let reference_speed = if start_ball.cor_speed_exponent != 0.0 {
         start_ball.cor_reference_speed
     } else {
         (speeds.iter().sum::<f64>() / n as f64 * 10.0).round() / 10.0
@@ -85,13 +85,13 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
     let cor0 = start_ball.cor_at(reference_speed);
     let ball_of = |x: &DVector<f64>| Ball {
         cor: x[0] * cor0,
-        cor_slope: x[1] * SLOPE_SCALE,
+        cor_speed_exponent: x[1] * EXPONENT_SCALE,
         cor_reference_speed: reference_speed,
         ..start_ball
     };
     let predict = |x: &DVector<f64>| -> Result<Vec<Option<f64>>, CalibrateError> {
         let ball = ball_of(x);
-        if !(ball.cor > 0.05 && ball.cor <= 1.0 && ball.cor_slope.abs() <= MAX_COR_SLOPE) {
+        if !(ball.cor > 0.05 && ball.cor <= 1.0 && (0.0..=MAX_COR_SPEED_EXPONENT).contains(&ball.cor_speed_exponent)) {
             return Ok(vec![None; n]);
         }
         problem
@@ -130,10 +130,10 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
         }
         Ok(j)
     };
-    let start = DVector::from_vec(vec![1.0, start_ball.cor_slope / SLOPE_SCALE]);
+    let start = DVector::from_vec(vec![1.0, start_ball.cor_speed_exponent / EXPONENT_SCALE]);
     let minimum = lm::minimize(start.clone(), evaluate, jacobian, options.max_iterations, options.tolerance)?;
     let errors = minimum.standard_errors().ok_or_else(|| {
-        CalibrateError::Degenerate("JᵀJ is singular; the swings do not constrain both e0 and its slope".into())
+        CalibrateError::Degenerate("JᵀJ is singular; the swings do not constrain both e0 and its exponent".into())
     })?;
     let x = &minimum.x;
     let parameters = vec![
@@ -145,11 +145,11 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
             std_error: errors[0] * cor0,
         },
         FittedParameter {
-            name: "cor_slope".into(),
-            unit: "s/m",
-            initial: start_ball.cor_slope,
-            value: x[1] * SLOPE_SCALE,
-            std_error: errors[1] * SLOPE_SCALE,
+            name: "cor_speed_exponent".into(),
+            unit: "",
+            initial: start_ball.cor_speed_exponent,
+            value: x[1] * EXPONENT_SCALE,
+            std_error: errors[1] * EXPONENT_SCALE,
         },
     ];
     let rms = |p: &[Option<f64>]| (residuals(p).norm_squared() / n as f64).sqrt();
@@ -171,7 +171,7 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
 pub fn report(fit: &CorLawFit) -> String {
     use crate::report::table::{num, Table};
     let mut out = format!(
-        "COR against impact speed: e0(v) = cor + cor_slope·(v − {} m/s), swings at {}–{} m/s approach; \
+        "COR against impact speed: e0(v) = cor·(v / {} m/s)^(−cor_speed_exponent), swings at {}–{} m/s approach; \
          {} iteration(s){}\n\n",
         num(fit.reference_speed, 4),
         num(fit.speed_range.0, 4),

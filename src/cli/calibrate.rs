@@ -66,10 +66,10 @@ pub struct CalibrateArgs {
     /// Also fit the tangential COR e_T (and unmeasured undercuts) to the measured launch angles and spins.
     #[arg(long)]
     pub fit_tangential: bool,
-    /// Also fit how the ball's COR falls with impact speed, e0(v) = cor + cor_slope·(v − v_ref), to sessions
-    /// at several pitch speeds; --write then writes the fitted law (cor_slope, cor_reference_speed).
+    /// Also fit how the ball's COR falls with impact speed, e0(v) = cor·(v/v_ref)^(−p), to sessions at several
+    /// pitch speeds; --write then writes the fitted law (cor_speed_exponent, cor_reference_speed).
     #[arg(long, conflicts_with = "fit_youngs")]
-    pub fit_cor_slope: bool,
+    pub fit_cor_exponent: bool,
 }
 
 /// A calibration error as one message: its text already holds every cause, which anyhow would repeat.
@@ -88,11 +88,11 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     let options =
         FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations.max(1), ..FitOptions::default() };
     let result = fit(&problem, &options).map_err(flat).context("fitting")?;
-    let cor_law = match args.fit_cor_slope {
+    let cor_law = match args.fit_cor_exponent {
         true => Some(fit_cor_law(&problem, &options).map_err(flat).context("fitting the COR's speed law")?),
         false => None,
     };
-    // With --fit-cor-slope the ball written (and handed to the e_T fit) is the one with the fitted law.
+    // With --fit-cor-exponent the ball written (and handed to the e_T fit) is the one with the fitted law.
     let result = match &cor_law {
         Some(law) => Fit { ball: law.ball, ..result },
         None => result,

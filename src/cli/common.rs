@@ -85,10 +85,10 @@ pub struct BallArgs {
     /// A built-in ball to start from (baseball, bbcor, mlb); the other --ball-* flags override its fields.
     #[arg(long = "ball", value_name = "NAME")]
     pub ball_preset: Option<String>,
-    /// Change of e0 per m/s of normal approach speed, s/m (0 = constant COR) [default 0].
-    #[arg(long, value_name = "S/M", value_parser = finite_f64, allow_negative_numbers = true)]
-    pub ball_cor_slope: Option<f64>,
-    /// Normal approach speed at which e0 = --ball-cor, m/s (with --ball-cor-slope) [default 0].
+    /// Exponent p of e0 ∝ v^(−p) in the normal approach speed v, 0..=1 (0 = constant COR) [default 0].
+    #[arg(long, value_name = "P", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub ball_cor_exponent: Option<f64>,
+    /// Normal approach speed at which e0 = --ball-cor, m/s (with --ball-cor-exponent) [default 0].
     #[arg(long, value_name = "M/S", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_cor_speed: Option<f64>,
 }
@@ -106,12 +106,12 @@ impl BallArgs {
             stiffness: self.ball_stiffness.unwrap_or(base.stiffness),
             exponent: self.ball_exponent.unwrap_or(base.exponent),
             cor: self.ball_cor.unwrap_or(base.cor),
-            cor_slope: self.ball_cor_slope.unwrap_or(base.cor_slope),
+            cor_speed_exponent: self.ball_cor_exponent.unwrap_or(base.cor_speed_exponent),
             cor_reference_speed: self.ball_cor_speed.unwrap_or(base.cor_reference_speed),
         };
         ball.validate().context(
             "invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent/\
-             --ball-cor-slope/--ball-cor-speed)",
+             --ball-cor-exponent/--ball-cor-speed)",
         )?;
         Ok(ball)
     }

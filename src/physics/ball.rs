@@ -13,14 +13,17 @@
 //! # e0 as a function of impact speed
 //! A real ball is less lively the harder it is hit (a viscoelastic ball: Shenoy, Smith & Axtell, Compos.
 //! Struct. 52, 397 (2001); the Sports Science Laboratory's cylindrical COR at bat speeds is lower than the
-//! 60-mph wall COR). The ball carries that as a measured law, linear in the normal approach speed v of ball
-//! and bat surface at first contact and clamped to the range a COR can have:
-//!   e0(v) = clamp(cor + cor_slope·(v − cor_reference_speed), 0.05, 1).
+//! 60-mph wall COR). The ball carries that as a measured law of the normal approach speed v of ball and bat
+//! surface at first contact, a power law clamped to the range a COR can have:
+//!   e0(v) = clamp(cor·(v / cor_reference_speed)^(−cor_speed_exponent), 0.05, 1).
 //! A collision takes e0 at its own v ([`Ball::at_approach_speed`]), and β, k2 and the hysteresis loss follow
-//! from that e0 exactly as above, so the loss stays (1 − e0(v)²) of the loading work and the energy budget
-//! stays exact. `cor_slope = 0` (the default) is the constant-COR ball, unchanged bit for bit. Linear is the
-//! simplest form that falls with speed; no published COR-against-speed table for baseballs was found to
-//! support a curve (`validation/ball_cor.toml` lists what was and was not found).
+//! from that e0 exactly as above, so the loss stays (1 − e0²) of the loading work and the energy budget
+//! stays exact. `cor_speed_exponent = 0` (the default) is the constant-COR ball, unchanged bit for bit.
+//!
+//! Why a power law: the three published numbers found (`validation/ball_cor.toml`) — Nathan's two cases,
+//! e0 = 0.66 at 1 m/s and 0.50 near 60 m/s, and MLB's 0.514–0.578 at 85 ft/s — lie on one power law (the one
+//! through Nathan's pair gives 0.529 at 85 ft/s), while a straight line through Nathan's pair gives 0.592 there,
+//! outside the specification. Two parameters are all three points can carry.
 
 use super::PhysicsError;
 
@@ -37,12 +40,12 @@ pub struct Ball {
     /// Loading exponent α, dimensionless.
     pub exponent: f64,
     /// Coefficient of restitution e0 against a rigid wall at the approach speed `cor_reference_speed`, in (0, 1]
-    /// (at every speed when `cor_slope` is 0).
+    /// (at every speed when `cor_speed_exponent` is 0).
     pub cor: f64,
-    /// Change of e0 per m/s of normal approach speed, s/m (0 = constant COR; negative: less lively at speed).
+    /// Exponent p of e0 ∝ v^(−p) in the normal approach speed v, dimensionless (0 = constant COR).
     #[serde(default, skip_serializing_if = "is_zero")]
-    pub cor_slope: f64,
-    /// Normal approach speed at which e0 = `cor`, m/s (used only when `cor_slope` ≠ 0).
+    pub cor_speed_exponent: f64,
+    /// Normal approach speed at which e0 = `cor`, m/s (used only when `cor_speed_exponent` ≠ 0).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub cor_reference_speed: f64,
 }
@@ -52,22 +55,19 @@ fn is_zero(v: &f64) -> bool {
     *v == 0.0
 }
 
-/// Largest |cor_slope| accepted, s/m: e0 moving by 0.02 per m/s would span its whole range within 50 m/s.
-pub const MAX_COR_SLOPE: f64 = 0.02;
+/// Largest `cor_speed_exponent` accepted: e0 ∝ 1/v, a ball that returns the same rebound speed whatever
+/// the impact speed, is already far beyond any ball.
+pub const MAX_COR_SPEED_EXPONENT: f64 = 1.0;
 /// Metres per second in one foot per second.
 const FT_PER_S: f64 = 0.3048;
 
 /// MLB's specification speed for the ball's COR, m/s: 85 ft/s (about 58 mph) against an ash slab.
 pub const MLB_COR_SPEED: f64 = 85.0 * FT_PER_S;
-/// Nominal e0 of the MLB ball at [`MLB_COR_SPEED`]: 0.546, the middle of the specified 0.514–0.578
-/// (0.546 ± 0.032: R. S. Lakes, Viscoelastic Materials (2009), baseball example; 54.6 % rebound from a wooden
-/// target, Sports Illustrated, 13 June 1977; 0.514–0.578, D. Ropeik, MSNBC 2003).
-pub const MLB_COR: f64 = 0.546;
-/// Slope of e0 with approach speed for the game ball, s/m: Nathan's low- and high-speed cases as quoted in
-/// issue 22 (e0 = 0.66 at 1 m/s, 0.50 near 60 m/s), (0.50 − 0.66)/(60 − 1). No measured slope for baseballs
-/// was found (see `validation/ball_cor.toml`); `sweetspot calibrate --fit-cor-slope` measures one from sessions
-/// at several pitch speeds.
-pub const GAME_BALL_COR_SLOPE: f64 = (0.50 - 0.66) / (60.0 - 1.0);
+/// Nathan's low-speed case: e0 = 0.66 at 1 m/s (A. M. Nathan, Am. J. Phys. 68, 979 (2000), as issue 22 quotes
+/// it), the reference point of the game ball's law.
+pub const GAME_BALL_COR: (f64, f64) = (1.0, 0.66);
+/// Nathan's high-speed case: e0 = 0.50 near 60 m/s (same source).
+pub const GAME_BALL_COR_HIGH: (f64, f64) = (60.0, 0.50);
 
 impl Default for Ball {
     /// A regulation baseball: 0.145 kg, 0.0366 m, k1 = 6.53e7 N/m^α, α = 1.84, e0 = 0.53.
@@ -78,7 +78,7 @@ impl Default for Ball {
             stiffness: 6.53e7,
             exponent: 1.84,
             cor: 0.53,
-            cor_slope: 0.0,
+            cor_speed_exponent: 0.0,
             cor_reference_speed: 0.0,
         }
     }
@@ -113,48 +113,54 @@ impl Ball {
     /// same 60.8 m/s), so this ball is constant-COR: 0.50 is its e0 *at 136 mph*. That value is supported by
     /// the NCAA's statement (16 Sep 2008) that the 0.50 limit sits "slightly higher than the best available
     /// wood bats": a wood bat at its best point scores e0 less a little vibration (the R161: 0.498), so the
-    /// test ball's e0 at 136 mph is about 0.50. Its COR at F1887's 60 mph is not known here (not found); with
-    /// the game ball's slope it would be 0.50 − [`GAME_BALL_COR_SLOPE`]·(60.8 − 26.8 m/s) ≈ 0.59.
+    /// test ball's e0 at 136 mph is about 0.50 — which is also where the game ball's law ([`Ball::mlb`]) puts
+    /// it. Its COR at F1887's 60 mph is not known here (not found); with the game ball's exponent it would be
+    /// 0.50·(60.8/26.8)^0.068 ≈ 0.53.
     pub fn bbcor_protocol() -> Ball {
         Ball { cor: 0.50, ..Ball::default() }
     }
 
-    /// `mlb`: the MLB game ball with e0 falling with impact speed: [`MLB_COR`] = 0.546 at [`MLB_COR_SPEED`]
-    /// (85 ft/s, the specification's speed; its 0.514–0.578 band is met by construction) and
-    /// [`GAME_BALL_COR_SLOPE`] ≈ −0.0027 per m/s, so e0 ≈ 0.49 at 45 m/s (a pitch met by a slow swing) and
-    /// ≈ 0.42 at 72 m/s (a 40-m/s pitch on a 32-m/s sweet spot). Mass, radius and force law are the default
-    /// ball's.
+    /// `mlb`: the MLB game ball with e0 falling with impact speed: the power law through Nathan's two cases,
+    /// e0 = 0.66 at 1 m/s and 0.50 at 60 m/s ([`GAME_BALL_COR`], [`GAME_BALL_COR_HIGH`]), p = ln(0.66/0.50)/ln 60
+    /// ≈ 0.068. At MLB's specification speed, 85 ft/s, it gives 0.529, inside the specified 0.514–0.578; at
+    /// 136 mph (the BBCOR test) 0.500; at 73 m/s (a 40-m/s pitch on a 33-m/s sweet spot) 0.493. Mass, radius
+    /// and force law are the default ball's.
     ///
     /// The specification is measured against a slab of northern white ash, not a rigid wall. The model
     /// treats a wood bat's surface as locally rigid (the ball's law carries every contact loss), so the e0
-    /// that makes a wood bat behave right is the one measured against ash: the ash-slab number is used as is,
-    /// and a "rigid-wall" correction would count the wood's local give twice. Against an alloy barrel, whose
-    /// surface gives less, the true rigid-wall e0 would be slightly lower; the difference is not known here.
+    /// that makes a wood bat behave right is the one measured against ash: the ash-slab number is compared as
+    /// it is, and a "rigid-wall" correction would count the wood's local give twice. Against an alloy barrel,
+    /// whose surface gives less, the true rigid-wall e0 would be slightly lower; by how much is not known here.
     pub fn mlb() -> Ball {
+        let ((v1, e1), (v2, e2)) = (GAME_BALL_COR, GAME_BALL_COR_HIGH);
         Ball {
-            cor: MLB_COR,
-            cor_slope: GAME_BALL_COR_SLOPE,
-            cor_reference_speed: MLB_COR_SPEED,
+            cor: e1,
+            cor_speed_exponent: (e1 / e2).ln() / (v2 / v1).ln(),
+            cor_reference_speed: v1,
             ..Ball::default()
         }
     }
 
     /// e0 at the normal approach speed `approach_speed` (m/s): `cor` itself for a constant-COR ball, else
-    /// cor + cor_slope·(v − cor_reference_speed) clamped to [0.05, 1].
+    /// cor·(v / cor_reference_speed)^(−cor_speed_exponent) clamped to [0.05, 1].
     pub fn cor_at(&self, approach_speed: f64) -> f64 {
-        if self.cor_slope == 0.0 {
+        if self.cor_speed_exponent == 0.0 {
             return self.cor;
         }
-        (self.cor + self.cor_slope * (approach_speed - self.cor_reference_speed)).clamp(0.05, 1.0)
+        let e = self.cor * (approach_speed / self.cor_reference_speed).powf(-self.cor_speed_exponent);
+        if e.is_nan() {
+            return 1.0;
+        }
+        e.clamp(0.05, 1.0)
     }
 
     /// The constant-COR ball one collision at normal approach speed `approach_speed` (m/s) sees: e0 =
     /// [`Ball::cor_at`]; a constant-COR ball is returned as it is (bit for bit).
     pub fn at_approach_speed(&self, approach_speed: f64) -> Ball {
-        if self.cor_slope == 0.0 {
+        if self.cor_speed_exponent == 0.0 {
             return *self;
         }
-        Ball { cor: self.cor_at(approach_speed), cor_slope: 0.0, cor_reference_speed: 0.0, ..*self }
+        Ball { cor: self.cor_at(approach_speed), cor_speed_exponent: 0.0, cor_reference_speed: 0.0, ..*self }
     }
 
     /// Checks every field; the error names the field and its allowed range.
@@ -177,17 +183,22 @@ impl Ball {
             "0.05 ≤ e0 ≤ 1 (e0 in (0, 1]; below 0.05 the unloading exponent exceeds 1000)",
         )?;
         check(
-            "cor_slope",
-            self.cor_slope,
-            self.cor_slope.abs() <= MAX_COR_SLOPE,
-            "−0.02 ≤ cor_slope ≤ 0.02 s/m (0 = constant COR)",
+            "cor_speed_exponent",
+            self.cor_speed_exponent,
+            (0.0..=MAX_COR_SPEED_EXPONENT).contains(&self.cor_speed_exponent),
+            "0 ≤ cor_speed_exponent ≤ 1 (0 = constant COR)",
         )?;
-        check(
-            "cor_reference_speed",
-            self.cor_reference_speed,
-            (0.0..=300.0).contains(&self.cor_reference_speed),
-            "0 ≤ cor_reference_speed ≤ 300 m/s",
-        )?;
+        let speed = self.cor_reference_speed;
+        if self.cor_speed_exponent == 0.0 {
+            check("cor_reference_speed", speed, (0.0..=300.0).contains(&speed), "0 ≤ cor_reference_speed ≤ 300 m/s")?;
+        } else {
+            check(
+                "cor_reference_speed",
+                speed,
+                speed >= 0.01 && speed <= 300.0,
+                "0.01 ≤ cor_reference_speed ≤ 300 m/s (with a cor_speed_exponent)",
+            )?;
+        }
         Ok(())
     }
 
@@ -223,14 +234,15 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_speed_law_is_linear_clamped_and_a_zero_slope_is_the_ball_itself() {
-        let ball = Ball { cor: 0.5, cor_slope: -0.01, cor_reference_speed: 30.0, ..Ball::default() };
-        // 0.5 − 0.01·(40 − 30) = 0.4; far below and above, the clamp to a COR's range.
-        assert!((ball.cor_at(40.0) - 0.4).abs() < 1e-15);
-        assert_eq!(ball.cor_at(200.0), 0.05);
-        assert_eq!(Ball { cor_slope: 0.01, ..ball }.cor_at(200.0), 1.0);
-        let resolved = ball.at_approach_speed(40.0);
-        assert_eq!((resolved.cor_slope, resolved.cor_reference_speed), (0.0, 0.0));
+    fn the_speed_law_is_a_clamped_power_law_and_a_zero_exponent_is_the_ball_itself() {
+        let ball = Ball { cor: 0.5, cor_speed_exponent: 0.5, cor_reference_speed: 16.0, ..Ball::default() };
+        // 0.5·(64/16)^(−1/2) = 0.25; far below the reference speed the clamp at 1, far above at 0.05.
+        assert!((ball.cor_at(64.0) - 0.25).abs() < 1e-15);
+        assert_eq!(ball.cor_at(1e-6), 1.0);
+        assert_eq!(ball.cor_at(0.0), 1.0);
+        assert_eq!(Ball { cor_speed_exponent: 1.0, ..ball }.cor_at(1e4), 0.05);
+        let resolved = ball.at_approach_speed(64.0);
+        assert_eq!((resolved.cor_speed_exponent, resolved.cor_reference_speed), (0.0, 0.0));
         assert!(resolved.validate().is_ok());
         let constant = Ball::default();
         assert_eq!(constant.at_approach_speed(1e3), constant);
@@ -240,8 +252,10 @@ mod tests {
     #[test]
     fn bad_speed_laws_are_refused_naming_the_field() {
         for (ball, field) in [
-            (Ball { cor_slope: 0.03, ..Ball::default() }, "cor_slope"),
-            (Ball { cor_slope: f64::NAN, ..Ball::default() }, "cor_slope"),
+            (Ball { cor_speed_exponent: 1.5, cor_reference_speed: 20.0, ..Ball::default() }, "cor_speed_exponent"),
+            (Ball { cor_speed_exponent: -0.1, cor_reference_speed: 20.0, ..Ball::default() }, "cor_speed_exponent"),
+            (Ball { cor_speed_exponent: f64::NAN, ..Ball::default() }, "cor_speed_exponent"),
+            (Ball { cor_speed_exponent: 0.1, cor_reference_speed: 0.0, ..Ball::default() }, "cor_reference_speed"),
             (Ball { cor_reference_speed: 301.0, ..Ball::default() }, "cor_reference_speed"),
             (Ball { cor_reference_speed: -1.0, ..Ball::default() }, "cor_reference_speed"),
         ] {
@@ -258,7 +272,7 @@ mod tests {
     #[test]
     fn a_constant_ball_serialises_as_before_and_reads_without_the_new_fields() {
         let json = serde_json::to_string(&Ball::default()).unwrap();
-        assert!(!json.contains("cor_slope") && !json.contains("cor_reference_speed"), "{json}");
+        assert!(!json.contains("cor_speed_exponent") && !json.contains("cor_reference_speed"), "{json}");
         let back: Ball = serde_json::from_str(&json).unwrap();
         assert_eq!(back, Ball::default());
         let mlb: Ball = serde_json::from_str(&serde_json::to_string(&Ball::mlb()).unwrap()).unwrap();
