@@ -10,6 +10,7 @@ use super::bat_file::load_bat_file;
 use crate::physics::collision::TIME_STEP_RANGE;
 use crate::physics::oblique::{rpm_to_rad_per_s, TangentialContact};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
+use crate::report::table::num;
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
 pub const DEFAULT_BALL_SPEED: f64 = 40.0;
@@ -114,6 +115,21 @@ impl BallArgs {
              --ball-cor-exponent/--ball-cor-speed)",
         )?;
         Ok(ball)
+    }
+}
+
+/// The ball's e0 for a report (its JSON form): the number for a constant-COR ball, the law for one whose COR
+/// falls with speed.
+pub fn cor_text(ball: &crate::report::json::BallJson) -> String {
+    if ball.cor_speed_exponent == 0.0 {
+        num(ball.cor, 4)
+    } else {
+        format!(
+            "{}·(v / {} m/s)^−{} (v: normal approach speed)",
+            num(ball.cor, 4),
+            num(ball.cor_reference_speed, 4),
+            num(ball.cor_speed_exponent, 4)
+        )
     }
 }
 
