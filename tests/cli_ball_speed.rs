@@ -15,12 +15,14 @@ fn library(ball: &Ball, z: f64) -> f64 {
 
 #[test]
 fn simulate_takes_the_mlb_ball_and_an_explicit_law_alike() {
-    let args = ["simulate", "--impact-z", "0.705", "--ball-speed", "40", "--bat-cm-speed", "25", "--bat-angular-speed", "45"];
+    let args =
+        ["simulate", "--impact-z", "0.705", "--ball-speed", "40", "--bat-cm-speed", "25", "--bat-angular-speed", "45"];
     let mlb = json(&[&args[..], &["--ball", "mlb"]].concat());
     assert_eq!(num(&mlb, "/results/0/exit_speed"), library(&Ball::mlb(), 0.705));
     let law = Ball::mlb();
     let (p, v) = (law.cor_speed_exponent.to_string(), law.cor_reference_speed.to_string());
-    let explicit = json(&[&args[..], &["--ball-cor", "0.66", "--ball-cor-exponent", &p, "--ball-cor-speed", &v]].concat());
+    let explicit =
+        json(&[&args[..], &["--ball-cor", "0.66", "--ball-cor-exponent", &p, "--ball-cor-speed", &v]].concat());
     assert_eq!(num(&explicit, "/results/0/exit_speed"), num(&mlb, "/results/0/exit_speed"));
     assert_eq!(num(&mlb, "/ball/cor_speed_exponent"), law.cor_speed_exponent);
     // The constant default ball: the same fields as before the law existed, and a harder hit.

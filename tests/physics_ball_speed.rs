@@ -96,7 +96,11 @@ fn against_a_rigid_wall_the_cor_at_each_speed_is_the_laws_and_the_loss_is_one_mi
         let e0 = published_law(v);
         assert!((cor - e0).abs() < 1e-5, "v = {v}: simulated COR {cor} vs law {e0}");
         let loss = (1.0 - e0 * e0) * kinetic;
-        assert!((r.energy.hysteresis_loss - loss).abs() < 1e-5 * kinetic, "v = {v}: {} vs {loss}", r.energy.hysteresis_loss);
+        assert!(
+            (r.energy.hysteresis_loss - loss).abs() < 1e-5 * kinetic,
+            "v = {v}: {} vs {loss}",
+            r.energy.hysteresis_loss
+        );
         assert!(r.energy.residual.abs() < 1e-7 * r.energy.initial, "v = {v}: residual {:e}", r.energy.residual);
     }
 }

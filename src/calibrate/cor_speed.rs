@@ -53,7 +53,9 @@ pub struct CorLawFit {
 pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit, CalibrateError> {
     let n = problem.observations.len();
     if n <= 2 {
-        return Err(CalibrateError::NoData(format!("{n} measured swings cannot determine e0 and its exponent; need 3")));
+        return Err(CalibrateError::NoData(format!(
+            "{n} measured swings cannot determine e0 and its exponent; need 3"
+        )));
     }
     let mut modes: BTreeMap<&str, ModeSet> = BTreeMap::new();
     for (id, pb) in &problem.bats {
@@ -64,7 +66,10 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
     let mut speeds = Vec::with_capacity(n);
     for o in &problem.observations {
         let set = modes.get(o.bat_id.as_str()).ok_or_else(|| {
-            CalibrateError::NoData(format!("swing {} refers to bat '{}', which the session lacks", o.swing_id, o.bat_id))
+            CalibrateError::NoData(format!(
+                "swing {} refers to bat '{}', which the session lacks",
+                o.swing_id, o.bat_id
+            ))
         })?;
         speeds.push(o.impact.ball_speed + rigid::bat_speed_at(&set.mass_properties(), &o.impact));
     }

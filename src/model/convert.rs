@@ -722,7 +722,10 @@ mod tests {
         use crate::msgs::{decode_cdr, encode_cdr};
         let mlb = Ball::mlb();
         let full = params_from_ball("mlb", &mlb, None, Header::default());
-        assert_eq!((full.cor_speed_exponent, full.cor_reference_speed), (mlb.cor_speed_exponent, mlb.cor_reference_speed));
+        assert_eq!(
+            (full.cor_speed_exponent, full.cor_reference_speed),
+            (mlb.cor_speed_exponent, mlb.cor_reference_speed)
+        );
         assert_eq!(ball_from_params(&full).unwrap().ball, mlb);
         let bytes = encode_cdr(&full).unwrap();
         // Recorded before the speed law: the two appended float64 (16 bytes) are missing, and read as 0.
