@@ -74,7 +74,8 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
         speeds.push(o.impact.ball_speed + rigid::bat_speed_at(&set.mass_properties(), &o.impact));
     }
     let (low, high) = speeds.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-    if !(high - low >= MIN_SPEED_SPAN) {
+    let span = high - low;
+    if span.is_nan() || span < MIN_SPEED_SPAN {
         return Err(CalibrateError::NoData(format!(
             "a COR exponent needs swings at several approach speeds: these span {:.2} m/s ({low:.2}–{high:.2}), \
              at least {MIN_SPEED_SPAN} m/s are needed (record sessions at different pitch speeds)",

@@ -195,7 +195,7 @@ impl Ball {
             check(
                 "cor_reference_speed",
                 speed,
-                speed >= 0.01 && speed <= 300.0,
+                (0.01..=300.0).contains(&speed),
                 "0.01 ≤ cor_reference_speed ≤ 300 m/s (with a cor_speed_exponent)",
             )?;
         }
