@@ -29,6 +29,14 @@ fn simulate_takes_the_mlb_ball_and_an_explicit_law_alike() {
     let plain = json(&args);
     assert!(plain["ball"].get("cor_speed_exponent").is_none() && plain["ball"].get("cor_reference_speed").is_none());
     assert!(num(&plain, "/results/0/exit_speed") > num(&mlb, "/results/0/exit_speed"));
+    // The README's comparison at the R161's sweet spot (z = 0.705 m in the default swing): the game ball's
+    // collision efficiency is inside the 0.20–0.23 of MLB wood bats (Statcast's squared-up maximum), the
+    // constant default ball's above it.
+    let q = |doc: &serde_json::Value| num(doc, "/results/0/collision_efficiency");
+    assert!((0.20..=0.23).contains(&q(&mlb)), "q = {}", q(&mlb));
+    assert!(q(&plain) > 0.23, "q = {}", q(&plain));
+    let readme = json(&["simulate", "--ball", "mlb", "--impact-z", "0.705"]);
+    assert_eq!(q(&readme), q(&mlb));
     // The human report names the law.
     assert!(ok(&[&args[..], &["--ball", "mlb"]].concat()).contains("e0 0.6600·(v / 1.000 m/s)^−0.06781"));
 }
