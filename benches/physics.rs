@@ -6,6 +6,7 @@
 //! (from /proc/thread-self/schedstat) and exits.
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use sweetspot::physics::metrics::{linspace, sweep};
+use sweetspot::physics::rigid;
 use sweetspot::physics::{
     collide, collide_oblique, collide_with_hoop, Ball, Bat, CollisionOptions, EigenSolver, Impact, LinkRule, ModeSet,
     ObliqueImpact, TangentialContact,
@@ -62,6 +63,16 @@ fn benches(c: &mut Criterion) {
     });
     c.bench_function("collision_r161_18_modes_5us", |b| {
         b.iter(|| collide(black_box(&modes), &ball, black_box(&impact), &options).expect("collide"))
+    });
+    // The game ball, whose e0 follows the approach speed, against a constant-COR ball with the very e0 it
+    // resolves to here (same trajectory, same steps): the pair's difference is the speed law's cost.
+    let game = Ball::mlb();
+    let twin = game.at_approach_speed(impact.ball_speed + rigid::bat_speed_at(&modes.mass_properties(), &impact));
+    c.bench_function("collision_r161_speed_law_ball_18_modes_5us", |b| {
+        b.iter(|| collide(black_box(&modes), &game, black_box(&impact), &options).expect("collide"))
+    });
+    c.bench_function("collision_r161_speed_law_constant_twin_18_modes_5us", |b| {
+        b.iter(|| collide(black_box(&modes), &twin, black_box(&impact), &options).expect("collide"))
     });
     // An oblique swing (1 cm undercut, bat path +10°, pitch descending 6° with 2000 rpm backspin) against the
     // head-on collision it drives along the line of centres: the pair's difference is the tangential step's cost.

@@ -435,6 +435,7 @@ pub fn physics_case(data: &[u8]) -> Option<PhysicsCase> {
         stiffness: k.get(1e5, 1e9),
         exponent: a.get(1.0, 4.0),
         cor: e.get(0.05, 1.0),
+        ..Ball::default()
     };
     let max_modes = input.max_modes as usize % (MAX_FUZZ_MODES + 1);
     let [vb, vcm, w, zk] = input.impact;

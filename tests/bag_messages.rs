@@ -73,6 +73,8 @@ fn record_run(dir: &std::path::Path) {
         tangential_cor: 0.3,
         friction: 0.5,
         moment_of_inertia: 7.4e-5,
+        cor_speed_exponent: 0.068,
+        cor_reference_speed: 1.0,
     };
     assert!(r.record(ball, encode_cdr(&ball_msg).unwrap(), T0, T0));
     let spot = SweetSpot {

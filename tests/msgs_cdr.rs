@@ -73,6 +73,8 @@ fn ball() -> BallParams {
         tangential_cor: 0.3,
         friction: 0.5,
         moment_of_inertia: 7.4e-5,
+        cor_speed_exponent: 0.068,
+        cor_reference_speed: 1.0,
     }
 }
 

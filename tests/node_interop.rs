@@ -109,7 +109,7 @@ fn cyclone_dds_peer_sends_params_and_swings_and_gets_the_library_numbers() {
     wait_for_file(&ready, "the Cyclone DDS listener");
 
     let bat = Bat::preset("aluminum").unwrap();
-    let ball = Ball { mass: 0.142, radius: 0.0365, cor: 0.5, stiffness: 6.0e7, exponent: 1.9 };
+    let ball = Ball { mass: 0.142, radius: 0.0365, cor: 0.5, stiffness: 6.0e7, exponent: 1.9, ..Ball::default() };
     publish(domain, "sweetspot_msgs/msg/BatParams", "/bat/params", "params", &bat_json("cy_bat", &bat));
     node.wait_for_log("bat 'cy_bat' set", Duration::from_secs(60));
     let ball_msg = json!({

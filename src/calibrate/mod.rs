@@ -21,6 +21,7 @@
 //! [`batter`] fits a batter's reference swing and exponent to the bat speeds of the same sessions.
 
 pub mod batter;
+pub mod cor_speed;
 mod lm;
 pub mod tangential;
 

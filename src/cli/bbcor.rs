@@ -130,7 +130,7 @@ pub fn run(args: BbcorArgs) -> Result<()> {
         num(doc.ball.radius, 4),
         num(doc.ball.stiffness, 4),
         num(doc.ball.exponent, 4),
-        num(doc.ball.cor, 4),
+        super::common::cor_text(&doc.ball),
         doc.options.modes,
         num(doc.options.time_step, 3)
     ));

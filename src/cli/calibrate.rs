@@ -13,6 +13,7 @@ use clap::Args;
 use serde_json::json;
 
 use crate::calibrate::batter::{batter_fit_from_bag, render_batter_fit, BatterFit, BatterFitOptions};
+use crate::calibrate::cor_speed::fit_cor_law;
 use crate::calibrate::{fit, problem_from_bag, CalibrateError, Fit, FitOptions, Problem};
 use crate::model::convert::{params_from_ball, params_from_bat};
 use crate::msgs::json::ToJson;
@@ -77,6 +78,10 @@ pub struct CalibrateArgs {
     /// that did not converge writes nothing and exits with status 1).
     #[arg(long)]
     pub force: bool,
+    /// Also fit how the ball's COR falls with impact speed, e0(v) = cor·(v/v_ref)^(−p), to sessions at several
+    /// pitch speeds; --write then writes the fitted law (cor_speed_exponent, cor_reference_speed).
+    #[arg(long, conflicts_with = "fit_youngs")]
+    pub fit_cor_exponent: bool,
 }
 
 /// A calibration error as one message: its text already holds every cause, which anyhow would repeat.
@@ -109,11 +114,22 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
     let options =
         FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations, ..FitOptions::default() };
     let result = fit(&problem, &options).map_err(flat).context("fitting")?;
+    let cor_law = match args.fit_cor_exponent {
+        true => Some(fit_cor_law(&problem, &options).map_err(flat).context("fitting the COR's speed law")?),
+        false => None,
+    };
+    // With --fit-cor-exponent the ball written (and handed to the e_T fit) is the one with the fitted law.
+    let result = match &cor_law {
+        Some(law) => Fit { ball: law.ball, ..result },
+        None => result,
+    };
     let tangential = match args.fit_tangential {
         true => Some(fit_tangential_of(&args, &result)?),
         false => None,
     };
-    let converged = result.converged && tangential.as_ref().is_none_or(|t| t.converged);
+    let converged = result.converged
+        && cor_law.as_ref().is_none_or(|l| l.converged)
+        && tangential.as_ref().is_none_or(|t| t.converged);
     let written = match &args.write {
         Some(_) if !converged && !args.force => Vec::new(),
         Some(path) => {
@@ -138,6 +154,11 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
             "converged": result.converged,
             "residuals": result.residuals,
             "written": written,
+            "cor_law": cor_law.as_ref().map(|l| json!({
+                "parameters": l.parameters, "reference_speed": l.reference_speed, "speed_range": l.speed_range,
+                "rms_before": l.rms_before, "rms": l.rms, "residual_sigma": l.residual_sigma, "dof": l.dof,
+                "converged": l.converged,
+            })),
             "tangential": tangential.as_ref().map(|t| json!({
                 "parameters": t.parameters, "residual_sigma": t.residual_sigma, "dof": t.dof,
                 "iterations": t.iterations, "converged": t.converged, "residuals": t.residuals, "skipped": t.skipped,
@@ -146,6 +167,9 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
         print_json(&doc)?;
     } else {
         emit(&report(&problem, &result, args.show))?;
+        if let Some(law) = &cor_law {
+            emit(&format!("\n{}", crate::calibrate::cor_speed::report(law)))?;
+        }
         if let Some(t) = &tangential {
             emit(&format!("\n{}", crate::calibrate::tangential::report(t)))?;
         }

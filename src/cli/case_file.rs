@@ -94,8 +94,12 @@ pub struct BallSpec {
     pub stiffness: Option<f64>,
     /// α.
     pub exponent: Option<f64>,
-    /// e0.
+    /// e0 (at `cor_reference_speed` when `cor_speed_exponent` is given).
     pub cor: Option<f64>,
+    /// p of e0 ∝ v^(−p) (0 = constant COR).
+    pub cor_speed_exponent: Option<f64>,
+    /// Normal approach speed at which e0 = `cor`, m/s.
+    pub cor_reference_speed: Option<f64>,
 }
 
 /// A resolved case, ready to simulate.
@@ -148,6 +152,8 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
         stiffness: overrides.stiffness.unwrap_or(default.stiffness),
         exponent: overrides.exponent.unwrap_or(default.exponent),
         cor: overrides.cor.unwrap_or(default.cor),
+        cor_speed_exponent: overrides.cor_speed_exponent.unwrap_or(default.cor_speed_exponent),
+        cor_reference_speed: overrides.cor_reference_speed.unwrap_or(default.cor_reference_speed),
     };
     ball.validate().context("field `ball`")?;
     let swing = Impact {

@@ -11,6 +11,7 @@ use crate::model::limits::{MAX_PITCH_SPIN, MAX_SWING_ANGLE};
 use crate::physics::collision::TIME_STEP_RANGE;
 use crate::physics::oblique::{rad_per_s_to_rpm, rpm_to_rad_per_s, TangentialContact};
 use crate::physics::{Ball, Bat, CollisionOptions, Impact};
+use crate::report::table::num;
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
 pub const DEFAULT_BALL_SPEED: f64 = 40.0;
@@ -114,21 +115,53 @@ pub struct BallArgs {
     /// Ball loading exponent α [default 1.84].
     #[arg(long, value_name = "ALPHA", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_exponent: Option<f64>,
+    /// A built-in ball to start from (baseball, bbcor, mlb); the other --ball-* flags override its fields.
+    #[arg(long = "ball", value_name = "NAME")]
+    pub ball_preset: Option<String>,
+    /// Exponent p of e0 ∝ v^(−p) in the normal approach speed v, 0..=1 (0 = constant COR) [default 0].
+    #[arg(long, value_name = "P", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub ball_cor_exponent: Option<f64>,
+    /// Normal approach speed at which e0 = --ball-cor, m/s (with --ball-cor-exponent) [default 0].
+    #[arg(long, value_name = "M/S", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub ball_cor_speed: Option<f64>,
 }
 
 impl BallArgs {
     /// `base` with the overrides applied, validated.
     pub fn apply(&self, base: Ball) -> Result<Ball> {
+        let base = match &self.ball_preset {
+            Some(name) => Ball::preset(name).context("--ball")?,
+            None => base,
+        };
         let ball = Ball {
             mass: self.ball_mass.unwrap_or(base.mass),
             radius: self.ball_radius.unwrap_or(base.radius),
             stiffness: self.ball_stiffness.unwrap_or(base.stiffness),
             exponent: self.ball_exponent.unwrap_or(base.exponent),
             cor: self.ball_cor.unwrap_or(base.cor),
+            cor_speed_exponent: self.ball_cor_exponent.unwrap_or(base.cor_speed_exponent),
+            cor_reference_speed: self.ball_cor_speed.unwrap_or(base.cor_reference_speed),
         };
-        ball.validate()
-            .context("invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent)")?;
+        ball.validate().context(
+            "invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent/\
+             --ball-cor-exponent/--ball-cor-speed)",
+        )?;
         Ok(ball)
+    }
+}
+
+/// The ball's e0 for a report (its JSON form): the number for a constant-COR ball, the law for one whose COR
+/// falls with speed.
+pub fn cor_text(ball: &crate::report::json::BallJson) -> String {
+    if ball.cor_speed_exponent == 0.0 {
+        num(ball.cor, 4)
+    } else {
+        format!(
+            "{}·(v / {} m/s)^−{} (v: normal approach speed)",
+            num(ball.cor, 4),
+            num(ball.cor_reference_speed, 4),
+            num(ball.cor_speed_exponent, 4)
+        )
     }
 }
 

@@ -198,7 +198,7 @@ pub fn describe_inputs(bat: &BatJson, ball: &BallJson, swing: &SwingJson, option
         num(ball.radius, 4),
         num(ball.stiffness, 4),
         num(ball.exponent, 4),
-        num(ball.cor, 4),
+        super::common::cor_text(ball),
         num(swing.ball_speed, 4),
         num(swing.bat_cm_speed, 4),
         num(swing.bat_angular_speed, 4),

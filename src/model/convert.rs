@@ -192,7 +192,16 @@ pub fn ball_from_params(p: &BallParams) -> Result<BallModel, String> {
     }
     let context = |e: &dyn std::fmt::Display| format!("BallParams '{}': {e}", p.ball_id);
     check_string("header.frame_id", &p.header.frame_id).map_err(|e| context(&e))?;
-    let ball = Ball { mass: p.mass, radius: p.radius, stiffness: p.stiffness, exponent: p.exponent, cor: p.cor };
+    // cor_speed_exponent 0 (what a publisher that never set it sends, and older bags read) is a constant COR.
+    let ball = Ball {
+        mass: p.mass,
+        radius: p.radius,
+        stiffness: p.stiffness,
+        exponent: p.exponent,
+        cor: p.cor,
+        cor_speed_exponent: p.cor_speed_exponent,
+        cor_reference_speed: p.cor_reference_speed,
+    };
     ball.validate().map_err(|e| context(&e))?;
     let defaults = TangentialContact::default();
     // 0 is what a ROS publisher that never set the field sends (and what bags from before the fields read).
@@ -260,6 +269,8 @@ pub fn params_from_ball(ball_id: &str, ball: &Ball, contact: Option<&TangentialC
         } else {
             contact.ball_inertia_ratio * sphere
         },
+        cor_speed_exponent: ball.cor_speed_exponent,
+        cor_reference_speed: ball.cor_reference_speed,
     }
 }
 
@@ -699,10 +710,36 @@ mod tests {
             ..params_from_ball("old", &Ball::default(), None, Header::default())
         };
         let bytes = encode_cdr(&full).unwrap();
-        // The old layout ends after `exponent`: the three appended float64 are the last 24 bytes.
-        let old = decode_cdr::<BallParams>(&bytes[..bytes.len() - 24]).expect("old BallParams decode");
+        // The old layout ends after `exponent`: the three contact float64 and the two speed-law float64
+        // appended after them are the last 40 bytes.
+        let old = decode_cdr::<BallParams>(&bytes[..bytes.len() - 40]).expect("old BallParams decode");
         assert_eq!((old.tangential_cor, old.friction, old.moment_of_inertia), (0.0, 0.0, 0.0));
         assert_eq!(ball_from_params(&old).unwrap().contact, TangentialContact::default());
+    }
+
+    #[test]
+    fn ball_params_without_the_speed_law_read_as_a_constant_cor_and_a_speed_law_round_trips() {
+        use crate::msgs::{decode_cdr, encode_cdr};
+        let mlb = Ball::mlb();
+        let full = params_from_ball("mlb", &mlb, None, Header::default());
+        assert_eq!(
+            (full.cor_speed_exponent, full.cor_reference_speed),
+            (mlb.cor_speed_exponent, mlb.cor_reference_speed)
+        );
+        assert_eq!(ball_from_params(&full).unwrap().ball, mlb);
+        let bytes = encode_cdr(&full).unwrap();
+        // Recorded before the speed law: the two appended float64 (16 bytes) are missing, and read as 0.
+        let old = decode_cdr::<BallParams>(&bytes[..bytes.len() - 16]).expect("old BallParams decode");
+        assert_eq!((old.cor_speed_exponent, old.cor_reference_speed), (0.0, 0.0));
+        let ball = ball_from_params(&old).unwrap().ball;
+        assert_eq!(ball, Ball { cor_speed_exponent: 0.0, cor_reference_speed: 0.0, ..mlb });
+        // A constant COR: e0 is `cor` at any speed, the very bits of a ball that never had the fields.
+        assert_eq!(ball.at_approach_speed(70.0), ball);
+        // Out-of-range laws are refused naming the field.
+        let steep = BallParams { cor_speed_exponent: 1.5, ..full.clone() };
+        assert!(ball_from_params(&steep).unwrap_err().contains("cor_speed_exponent"));
+        let fast = BallParams { cor_reference_speed: 0.0, ..full };
+        assert!(ball_from_params(&fast).unwrap_err().contains("cor_reference_speed"));
     }
 
     #[test]

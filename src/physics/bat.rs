@@ -346,10 +346,13 @@ impl Bat {
     /// ([`crate::physics::Ball::bbcor_protocol`]) a rigid, non-vibrating bat scores exactly 0.50, the beam's
     /// vibrations lower that only a little at the best point (the R161 scores 0.498), so in this model a
     /// BBCOR of 0.50 needs a wall whose trampoline is almost gone; the model's BBCOR falls below 0.51 only
-    /// from a wall of about 4.3 mm on. Real BBCOR-certified alloy bats do it with thinner walls, so either
-    /// the model's trampoline is still too strong for them (it leaves out the end cap, which stiffens the
-    /// wall near the barrel's end, the wall's damping and multi-wall construction) or the protocol ball's
-    /// assumed e0 is too high; the model cannot tell which without a measured BBCOR bat.
+    /// from a wall of about 4.3 mm on. Real BBCOR-certified alloy bats do it with thinner walls. The protocol
+    /// ball's e0 at 136 mph is not the free choice it looks: the NCAA set 0.50 "slightly higher than the best
+    /// available wood bats", which puts the test ball's e0 there near 0.50 (the game ball's speed law,
+    /// [`crate::physics::Ball::mlb`], gives 0.4995 and moves the wall to 10.9 mm, 2.35 kg); `aluminum`'s
+    /// 2.4-mm wall would score 0.50 only with e0 = 0.46, with which the R161 would score 0.459. So the
+    /// model's trampoline is too strong for certified bats (it leaves out the end cap, which stiffens the
+    /// wall near the barrel's end, the wall's damping and multi-wall construction).
     pub fn bbcor_alloy() -> Result<Bat, PhysicsError> {
         Bat::alloy_profile("bbcor-alloy", BBCOR_ALLOY_BARREL_WALL)
     }

@@ -1273,6 +1273,10 @@ fn run(
         options.validate_hoop(mode, impact.impact_z)?;
     }
     let mp = modes.mass_properties();
+    // e0 at this collision's normal approach speed (ball and bat surface at first contact): β, k2 and the
+    // hysteresis loss below all follow from it. A constant-COR ball is itself, bit for bit.
+    let resolved = ball.at_approach_speed(impact.ball_speed + rigid::bat_speed_at(&mp, impact));
+    let ball = &resolved;
     let nm = 2 + options.modes;
     let z = impact.impact_z;
 

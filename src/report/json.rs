@@ -75,13 +75,33 @@ pub struct BallJson {
     pub stiffness: f64,
     /// α.
     pub exponent: f64,
-    /// e0.
+    /// e0 (at `cor_reference_speed` for a ball with a speed law).
     pub cor: f64,
+    /// p of e0 ∝ v^(−p); left out for a constant-COR ball.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub cor_speed_exponent: f64,
+    /// m/s; left out for a constant-COR ball.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub cor_reference_speed: f64,
+}
+
+/// Whether `v` is 0 (a constant-COR ball's document keeps exactly its former fields).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl From<&Ball> for BallJson {
     fn from(b: &Ball) -> BallJson {
-        BallJson { mass: b.mass, radius: b.radius, stiffness: b.stiffness, exponent: b.exponent, cor: b.cor }
+        let law = b.cor_speed_exponent != 0.0;
+        BallJson {
+            mass: b.mass,
+            radius: b.radius,
+            stiffness: b.stiffness,
+            exponent: b.exponent,
+            cor: b.cor,
+            cor_speed_exponent: b.cor_speed_exponent,
+            cor_reference_speed: if law { b.cor_reference_speed } else { 0.0 },
+        }
     }
 }
 
