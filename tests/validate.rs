@@ -13,6 +13,7 @@ use support::cli::{num, s, sweetspot};
 
 /// Rows inside their tolerance today: a model change that pushes one out fails this test.
 const GREEN: &[&str] = &[
+    "q-statcast-max",
     "mlb-ball-cor-58mph",
     "bbcor-wood",
     "wood-first-bending-mode",
@@ -41,6 +42,7 @@ const RED: &[&str] = &[
 /// (id, low, high) as the sources state them (see validation/measurements.toml); `None`: no bound that side.
 const BOUNDS: &[(&str, Option<f64>, Option<f64>)] = &[
     ("q-sweet-spot", Some(0.10), Some(0.20)),
+    ("q-statcast-max", Some(0.20), Some(0.23)),
     ("mlb-ball-cor-58mph", Some(0.514), Some(0.578)),
     ("bbcor-wood", None, Some(0.50)),
     ("wood-first-bending-mode", Some(153.0), Some(187.0)),
