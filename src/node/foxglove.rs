@@ -78,6 +78,8 @@ impl ServerListener for Latches {
 
 /// A running server and its channels, in the order of the topics it was started with.
 pub struct LiveServer {
+    /// Kept alive: a channel whose context is dropped is closed.
+    _context: Arc<Context>,
     channels: Vec<Arc<RawChannel>>,
     latched: Vec<bool>,
     latches: Arc<Latches>,
@@ -120,7 +122,7 @@ impl LiveServer {
             .await
             .map_err(|e| format!("Foxglove server on {}:{}: {e}", bind.host, bind.port))?;
         let port = handle.port();
-        Ok(LiveServer { channels, latched, latches, port, handle: Mutex::new(Some(handle)) })
+        Ok(LiveServer { _context: context, channels, latched, latches, port, handle: Mutex::new(Some(handle)) })
     }
 
     /// The TCP port it listens on.
