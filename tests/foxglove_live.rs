@@ -90,12 +90,15 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     let mut peer = Peer::new(domain, "foxglove_peer");
     let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
-    let port = PORT.to_string();
-    let node = NodeProcess::spawn(
-        domain,
-        dir.path(),
-        &["--foxglove", &port, "--ros-args", "-p", &format!("record_path:={}", bag.display())],
-    );
+    // The README's command line ("Watching a session"), with the bag put in the test's directory.
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let section = readme.split("## Watching a session").nth(1).expect("a README section 'Watching a session'");
+    let line = section.lines().find(|l| l.starts_with("sweetspot node")).expect("a node command line");
+    let line = line.split('#').next().unwrap().trim();
+    assert_eq!(line, format!("sweetspot node --foxglove {PORT}"));
+    let mut args: Vec<String> = line.split_whitespace().skip(2).map(String::from).collect();
+    args.extend(["--ros-args".into(), "-p".into(), format!("record_path:={}", bag.display())]);
+    let node = NodeProcess::spawn(domain, dir.path(), &args.iter().map(String::as_str).collect::<Vec<_>>());
     node.wait_for_log("Foxglove WebSocket server on ws://127.0.0.1:8765", WAIT);
     peer.wait_for_reader(&swing_pub);
     let url = format!("ws://127.0.0.1:{PORT}");
