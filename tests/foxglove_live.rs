@@ -5,7 +5,8 @@
 //! - every ExitVelocity the client decodes equals, field for field, the one the node recorded in its bag, in
 //!   order, with none missing; modal energies decode too, and the latched SweetSpot reaches a client that
 //!   connects after it was published;
-//! - a client that subscribes and then stops reading changes no answer and loses no swing.
+//! - a client that subscribes and then stops reading changes no answer and loses no swing;
+//! - `/diagnostics` is served (live only; it is not recorded).
 
 mod support;
 
@@ -151,6 +152,19 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     }
     let _ = stalled.kill();
     let _ = stalled.wait();
+
+    // 3. /diagnostics is served too (the node's counters, every diagnostics_period = 1 s).
+    let (mut watcher, watched) = client(&[&url, "1", "/diagnostics"]);
+    let line = watched
+        .lines()
+        .map(Result::unwrap)
+        .find(|l| l.contains("\"topic\":\"/diagnostics\""))
+        .expect("a diagnostics line");
+    assert!(watcher.wait().unwrap().success());
+    let v: Value = serde_json::from_str(&line).unwrap();
+    let statuses = v["message"]["status"].as_array().unwrap_or_else(|| panic!("no statuses: {line}"));
+    let values = statuses.iter().filter_map(|s| s["values"].as_array()).flatten();
+    assert!(values.into_iter().any(|kv| kv["key"] == "swings_processed"), "{line}");
 
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");

@@ -1,7 +1,7 @@
 //! The node's live view: a Foxglove WebSocket server (`sweetspot node --foxglove [ADDR:]PORT`, parameter
 //! `foxglove_port`) built on Foxglove's own SDK (crate `foxglove`, feature `websocket` only).
 //!
-//! Every topic the node records is a channel here too, with the bag's `ros2msg` schema text and `cdr`
+//! Every topic the node records is a channel here too (and `/diagnostics`, served but not recorded), with the bag's `ros2msg` schema text and `cdr`
 //! message encoding ([`crate::bag::TopicInfo`], generated from `msgs/`), and carries the very CDR bytes the
 //! recorder gets: [`super::recording::Tape::record`] encodes once and hands the bytes to both.
 //!

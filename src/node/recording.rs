@@ -42,6 +42,8 @@ pub enum Recorded {
     ModalEnergies = 4,
     /// Output `sweet_spot`.
     SweetSpot = 5,
+    /// Output `/diagnostics`: served live only, not recorded.
+    Diagnostics = 6,
 }
 
 /// The node's recorder: a backend plus the ids of its topics, or nothing when recording is off or failed.

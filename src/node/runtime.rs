@@ -145,7 +145,12 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         "" => tape,
         bind => {
             let bind = super::foxglove::Bind::parse(bind).map_err(|e| anyhow::anyhow!("foxglove_port: {e}"))?;
-            let live = super::foxglove::LiveServer::start(&fqn, &bind, &recorded_topics(&topic_names))
+            let mut served = recorded_topics(&topic_names);
+            served.push(TopicInfo::of::<crate::msgs::diagnostic_msgs::msg::DiagnosticArray>(
+                topic_names.get(topics::DIAGNOSTICS),
+                recorded_qos(&diagnostics_qos()),
+            ));
+            let live = super::foxglove::LiveServer::start(&fqn, &bind, &served)
                 .await
                 .map_err(|e| anyhow::anyhow!("{e} (pass another foxglove_port / --foxglove)"))?;
             log.info(&format!("Foxglove WebSocket server on ws://{}:{}", bind.host, live.port()));
