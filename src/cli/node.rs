@@ -16,6 +16,11 @@ pub struct NodeArgs {
     #[arg(long)]
     pub no_record: bool,
 
+    /// Serve the session live to Foxglove (WebSocket) on [ADDR:]PORT, 127.0.0.1 unless ADDR is given
+    /// (same as `--ros-args -p foxglove_port:=[ADDR:]PORT`).
+    #[arg(long, value_name = "[ADDR:]PORT")]
+    pub foxglove: Option<String>,
+
     /// ROS 2 arguments (remaps, parameters, params files); must come last.
     #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, action = clap::ArgAction::Append, value_name = "ROS_ARGS")]
     pub ros_args: Option<Vec<String>>,
@@ -25,7 +30,7 @@ impl NodeArgs {
     /// The node configuration these arguments describe.
     pub fn config(&self) -> anyhow::Result<NodeConfig> {
         let ros_args = RosArgs::parse(self.ros_args.as_deref().unwrap_or_default())?;
-        Ok(NodeConfig { ros_args, no_record: self.no_record })
+        Ok(NodeConfig { ros_args, no_record: self.no_record, foxglove: self.foxglove.clone() })
     }
 }
 
@@ -33,7 +38,7 @@ impl NodeArgs {
 fn after_help() -> String {
     let mut text = String::from(
         "Examples:\n  sweetspot node\n  sweetspot node --no-record --ros-args -r __ns:=/rig3 -p default_modes:=12\n  \
-         sweetspot node --ros-args --params-file params.yaml\n\n",
+         sweetspot node --ros-args --params-file params.yaml\n  sweetspot node --foxglove 8765\n\n",
     );
     let mut line = String::from("The node's parameters (see `ros2 param list /sweetspot`):");
     let names = parameter_names();

@@ -375,6 +375,7 @@ impl NodeLoop {
             flag_dds_stopped(&mut report, &stopped.to_string());
         }
         let msg = convert::diagnostic_array(&report, &self.fqn, Time::now());
+        self.tape.record(Recorded::Diagnostics, &msg, crate::model::time::now_ns(), msg.header.stamp.unix_ns());
         if let Err(e) = self.outputs.diagnostics.publish(msg) {
             tracing::debug!("publishing diagnostics: {e:?}");
         }

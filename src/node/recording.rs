@@ -42,6 +42,8 @@ pub enum Recorded {
     ModalEnergies = 4,
     /// Output `sweet_spot`.
     SweetSpot = 5,
+    /// Output `/diagnostics`: served live only, not recorded.
+    Diagnostics = 6,
 }
 
 /// The node's recorder: a backend plus the ids of its topics, or nothing when recording is off or failed.
@@ -51,6 +53,7 @@ pub struct Tape {
     ids: Vec<Option<TopicId>>,
     error: Mutex<Option<String>>,
     final_stats: Mutex<Option<RecorderStats>>,
+    live: Option<super::foxglove::LiveServer>,
 }
 
 impl Tape {
@@ -62,7 +65,20 @@ impl Tape {
             ids: Vec::new(),
             error: Mutex::new(None),
             final_stats: Mutex::new(None),
+            live: None,
         }
+    }
+
+    /// Also serves every recorded message live (the same CDR bytes, topic for topic) on `live`, whose
+    /// channels were started from the same topic list, in [`Recorded`] order.
+    pub fn with_live(mut self, live: super::foxglove::LiveServer) -> Tape {
+        self.live = Some(live);
+        self
+    }
+
+    /// The live server's port, when one runs.
+    pub fn live_port(&self) -> Option<u16> {
+        self.live.as_ref().map(|l| l.port())
     }
 
     /// A recorder that could not start: the node runs and reports why.
@@ -86,25 +102,34 @@ impl Tape {
             ids,
             error: Mutex::new(None),
             final_stats: Mutex::new(None),
+            live: None,
         }
     }
 
     /// Records one message: CDR-encoded now, logged at `log_time_ns`, published at `publish_time_ns`.
     pub fn record<M: RosMessage>(&self, topic: Recorded, message: &M, log_time_ns: u64, publish_time_ns: u64) {
-        let Some(Some(id)) = self.ids.get(topic as usize).copied() else { return };
-        let Ok(backend) = self.backend.lock() else { return };
-        let Some(backend) = backend.as_ref() else { return };
-        match encode_cdr(message) {
-            // A false return is a drop the recorder counts and diagnostics report.
-            Ok(cdr) => {
-                let _ = backend.record(id, cdr, log_time_ns, publish_time_ns);
-            }
+        let id = self.ids.get(topic as usize).copied().flatten();
+        if id.is_none() && self.live.is_none() {
+            return;
+        }
+        let cdr = match encode_cdr(message) {
+            Ok(cdr) => cdr,
             Err(e) => {
                 if let Ok(mut err) = self.error.lock() {
                     err.get_or_insert_with(|| format!("encoding {}: {e}", M::TYPE_NAME));
                 }
+                return;
             }
+        };
+        // Live clients get the bytes the bag gets; enqueueing never waits for a client.
+        if let Some(live) = &self.live {
+            live.send(topic as usize, &cdr, log_time_ns);
         }
+        let Some(id) = id else { return };
+        let Ok(backend) = self.backend.lock() else { return };
+        let Some(backend) = backend.as_ref() else { return };
+        // A false return is a drop the recorder counts and diagnostics report.
+        let _ = backend.record(id, cdr, log_time_ns, publish_time_ns);
     }
 
     /// Writes the model settings a replay needs to recompute the recorded swings into the bag's `custom_data`
@@ -142,6 +167,9 @@ impl Tape {
 
     /// Closes the bag; later `record` calls do nothing. Returns the final counters (None when off).
     pub fn finish(&self) -> Option<Result<RecorderStats, String>> {
+        if let Some(live) = &self.live {
+            live.stop();
+        }
         let backend = self.backend.lock().ok()?.take()?;
         let result = backend.finish().map_err(|e| e.to_string());
         if let (Ok(stats), Ok(mut slot)) = (&result, self.final_stats.lock()) {

@@ -42,6 +42,8 @@ pub struct NodeConfig {
     pub ros_args: RosArgs,
     /// `--no-record`: overrides the `record` parameter.
     pub no_record: bool,
+    /// `--foxglove [ADDR:]PORT`: overrides the `foxglove_port` parameter.
+    pub foxglove: Option<String>,
 }
 
 /// Everything resolved before DDS starts: identity, topic names, parameter values.
@@ -64,6 +66,9 @@ impl NodeConfig {
         let mut overrides = self.ros_args.parameter_overrides(&identity)?;
         if self.no_record {
             overrides.insert("record".to_string(), ParameterValue::Boolean(false));
+        }
+        if let Some(bind) = &self.foxglove {
+            overrides.insert("foxglove_port".to_string(), ParameterValue::String(bind.clone()));
         }
         let settings = NodeSettings::with_overrides(&overrides).map_err(|e| anyhow::anyhow!(e))?;
         let names = self.ros_args.resolver(&identity);
@@ -134,7 +139,24 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
 
     // Recording: every input as received and every output as published.
     // A node told to record that cannot record stops here rather than pretend to.
-    let tape = Arc::new(start_tape(&settings, &identity, started_utc, &topic_names)?);
+    let tape = start_tape(&settings, &identity, started_utc, &topic_names)?;
+    // Live view: the same topics, schemas and CDR bytes served to Foxglove clients.
+    let tape = Arc::new(match settings.foxglove_port.as_str() {
+        "" => tape,
+        bind => {
+            let bind = super::foxglove::Bind::parse(bind).map_err(|e| anyhow::anyhow!("foxglove_port: {e}"))?;
+            let mut served = recorded_topics(&topic_names);
+            served.push(TopicInfo::of::<crate::msgs::diagnostic_msgs::msg::DiagnosticArray>(
+                topic_names.get(topics::DIAGNOSTICS),
+                recorded_qos(&diagnostics_qos()),
+            ));
+            let live = super::foxglove::LiveServer::start(&fqn, &bind, &served)
+                .await
+                .map_err(|e| anyhow::anyhow!("{e} (pass another foxglove_port / --foxglove)"))?;
+            log.info(&format!("Foxglove WebSocket server on ws://{}:{}", bind.host, live.port()));
+            tape.with_live(live)
+        }
+    });
     tape.note_settings(&settings);
     let stats = Arc::new(NodeStats::new());
     let publish_failures = PublishFailures::new(log.clone());
@@ -319,14 +341,7 @@ fn start_tape(
         flush_interval: Duration::from_secs(1),
         queue_capacity: 65_536,
     };
-    let topics = vec![
-        TopicInfo::of::<BatParams>(topic_names.get(topics::BAT_PARAMS), recorded_qos(&params_qos())),
-        TopicInfo::of::<BallParams>(topic_names.get(topics::BALL_PARAMS), recorded_qos(&params_qos())),
-        TopicInfo::of::<Swing>(topic_names.get(topics::SWING), recorded_qos(&swing_qos())),
-        TopicInfo::of::<ExitVelocity>(topic_names.get(topics::EXIT_VELOCITY), recorded_qos(&results_qos())),
-        TopicInfo::of::<ModalEnergies>(topic_names.get(topics::MODAL_ENERGIES), recorded_qos(&results_qos())),
-        TopicInfo::of::<SweetSpot>(topic_names.get(topics::SWEET_SPOT), recorded_qos(&latched_results_qos())),
-    ];
+    let topics = recorded_topics(topic_names);
     // record_storage_preset, then record_compression over it (rosbag2's order). apply() refused any
     // combination that does not go together, so the error arm is for settings built some other way.
     let storage = settings.storage_options().map_err(|e| {
@@ -351,4 +366,17 @@ fn start_tape(
             settings.record_path
         )),
     }
+}
+
+/// The topics the node records and serves live, in [`super::recording::Recorded`] order: name, type, schema
+/// and the QoS they are offered with.
+fn recorded_topics(topic_names: &TopicNames) -> Vec<TopicInfo> {
+    vec![
+        TopicInfo::of::<BatParams>(topic_names.get(topics::BAT_PARAMS), recorded_qos(&params_qos())),
+        TopicInfo::of::<BallParams>(topic_names.get(topics::BALL_PARAMS), recorded_qos(&params_qos())),
+        TopicInfo::of::<Swing>(topic_names.get(topics::SWING), recorded_qos(&swing_qos())),
+        TopicInfo::of::<ExitVelocity>(topic_names.get(topics::EXIT_VELOCITY), recorded_qos(&results_qos())),
+        TopicInfo::of::<ModalEnergies>(topic_names.get(topics::MODAL_ENERGIES), recorded_qos(&results_qos())),
+        TopicInfo::of::<SweetSpot>(topic_names.get(topics::SWEET_SPOT), recorded_qos(&latched_results_qos())),
+    ]
 }

@@ -45,6 +45,8 @@ pub struct NodeSettings {
     pub record_compression: String,
     /// Diagnostics period, s.
     pub diagnostics_period: f64,
+    /// Foxglove WebSocket server, `[ADDR:]PORT` (address 127.0.0.1 unless given); empty = off.
+    pub foxglove_port: String,
 }
 
 /// What changing a parameter on a running node requires of the engine.
@@ -380,6 +382,25 @@ pub static PARAMETERS: &[Parameter] = &[
         },
         get: |s| ParameterValue::Double(s.diagnostics_period),
     },
+    Parameter {
+        name: "foxglove_port",
+        unit: "",
+        description: "serve the session live to Foxglove on [ADDR:]PORT (WebSocket; 127.0.0.1 unless ADDR is \
+                      given); empty = off",
+        read_only: true,
+        rule: Rule::Text {
+            default: "",
+            set: |s, v| {
+                if !v.is_empty() {
+                    super::foxglove::Bind::parse(v)
+                        .map_err(|e| Refusal::Refused(format!("foxglove_port = {v:?} is REJECTED: {e}")))?;
+                }
+                s.foxglove_port = v.to_string();
+                STORED
+            },
+        },
+        get: |s| ParameterValue::String(s.foxglove_port.clone()),
+    },
 ];
 
 fn set_record_storage_preset(s: &mut NodeSettings, preset: &str) -> Checked {
@@ -480,6 +501,7 @@ impl Default for NodeSettings {
             record_storage_preset: String::new(),
             record_compression: String::new(),
             diagnostics_period: 0.0,
+            foxglove_port: String::new(),
         };
         for parameter in PARAMETERS {
             let stored = parameter.set(&mut settings, &parameter.default_value());
@@ -709,6 +731,7 @@ mod tests {
             ("record_storage_preset", String("".into()), true),
             ("record_compression", String("".into()), true),
             ("diagnostics_period", Double(1.0), true),
+            ("foxglove_port", String("".into()), true),
         ];
         let declared = NodeSettings::default().declarations();
         assert_eq!(declared.len(), documented.len());

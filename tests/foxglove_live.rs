@@ -1,0 +1,187 @@
+//! `sweetspot node --foxglove PORT` serves the session live over the Foxglove WebSocket protocol. Checked with
+//! Foxglove's own client and decoder from npm (`tests/js/`, installed by scripts/test: `@foxglove/ws-protocol`'s
+//! FoxgloveClient, `@foxglove/rosmsg` and `@foxglove/rosmsg2-serialization`), inside the private network
+//! namespace of scripts/test (the node binds 127.0.0.1, the swings arrive over DDS on loopback):
+//! - every ExitVelocity the client decodes equals, field for field, the one the node recorded in its bag, in
+//!   order, with none missing; modal energies decode too, and the latched SweetSpot reaches a client that
+//!   connects after it was published;
+//! - a client that subscribes and then stops reading changes no answer and loses no swing;
+//! - `/diagnostics` is served (live only; it is not recorded).
+
+mod support;
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdout, Command, Stdio};
+use std::time::Duration;
+
+use serde_json::Value;
+use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+use sweetspot::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
+
+const WAIT: Duration = Duration::from_secs(60);
+const PORT: u16 = 8765;
+/// Swings answered while the decoding client reads.
+const LIVE: u64 = 200;
+/// Swings answered while the stalled client is connected (several times its queue in bytes of answers).
+const STALLED: u64 = 600;
+
+fn swing(id: u64) -> Swing {
+    Swing {
+        swing_id: id,
+        ball_speed: 40.0,
+        bat_cm_speed: 20.0,
+        bat_angular_speed: 50.0,
+        impact_z: 0.45 + 0.01 * (id % 20) as f64,
+        measured_exit_speed: 30.0 + (id % 7) as f64,
+        ..Swing::default()
+    }
+}
+
+fn js_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/js")
+}
+
+/// The npm client (see tests/js/foxglove_client.mjs) with `args`; stdout piped.
+fn client(args: &[&str]) -> (Child, BufReader<ChildStdout>) {
+    let modules = js_dir().join("node_modules/@foxglove/ws-protocol");
+    assert!(modules.is_dir(), "{} missing: run `bash scripts/test` (it runs npm ci in tests/js)", modules.display());
+    let mut child = Command::new("node")
+        .arg(js_dir().join("foxglove_client.mjs"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("starting node (Node.js); scripts/test installs it");
+    let out = BufReader::new(child.stdout.take().unwrap());
+    (child, out)
+}
+
+/// Reads lines until the client says it subscribed to everything; panics if it exits first.
+fn wait_subscribed(out: &mut BufReader<ChildStdout>) {
+    let mut line = String::new();
+    loop {
+        line.clear();
+        assert!(out.read_line(&mut line).unwrap() > 0, "the client exited before subscribing");
+        if line.contains("\"subscribed\"") {
+            return;
+        }
+    }
+}
+
+/// Numbers compared as f64 (JSON from JavaScript writes 5.0 as 5), everything else exactly.
+fn same(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
+        (Value::Object(x), Value::Object(y)) => {
+            // Foxglove's decoders name builtin_interfaces/Time's `nanosec` `nsec`.
+            let key = |k: &str| if k == "nsec" { "nanosec".to_string() } else { k.to_string() };
+            x.len() == y.len() && x.iter().all(|(k, v)| y.get(&key(k)).is_some_and(|w| same(v, w)))
+        }
+        (Value::Array(x), Value::Array(y)) => x.len() == y.len() && x.iter().zip(y).all(|(v, w)| same(v, w)),
+        _ => a == b,
+    }
+}
+
+#[test]
+fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_nothing() {
+    let domain = domain(91);
+    let dir = tempfile::tempdir().unwrap();
+    let bag = dir.path().join("bag");
+    let mut peer = Peer::new(domain, "foxglove_peer");
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    // The README's command line ("Watching a session"), with the bag put in the test's directory.
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let section = readme.split("## Watching a session").nth(1).expect("a README section 'Watching a session'");
+    let line = section.lines().find(|l| l.starts_with("sweetspot node")).expect("a node command line");
+    let line = line.split('#').next().unwrap().trim();
+    assert_eq!(line, format!("sweetspot node --foxglove {PORT}"));
+    let mut args: Vec<String> = line.split_whitespace().skip(2).map(String::from).collect();
+    args.extend(["--ros-args".into(), "-p".into(), format!("record_path:={}", bag.display())]);
+    let node = NodeProcess::spawn(domain, dir.path(), &args.iter().map(String::as_str).collect::<Vec<_>>());
+    node.wait_for_log("Foxglove WebSocket server on ws://127.0.0.1:8765", WAIT);
+    peer.wait_for_reader(&swing_pub);
+    let url = format!("ws://127.0.0.1:{PORT}");
+
+    // 1. A client that connects after the default bat's SweetSpot was published and reads everything.
+    let (mut reader, mut out) = client(&[&url, &LIVE.to_string(), "/exit_velocity", "/modal_energies", "/sweet_spot"]);
+    wait_subscribed(&mut out);
+    for id in 1..=LIVE {
+        swing_pub.publish(swing(id)).unwrap();
+    }
+    let over_dds = peer.collect(&answers, LIVE as usize, WAIT);
+    assert_eq!(over_dds.iter().map(|ev| ev.swing_id).collect::<Vec<_>>(), (1..=LIVE).collect::<Vec<_>>());
+    let mut live: Vec<Value> = Vec::new();
+    let (mut energies, mut sweet_spots) = (0, 0);
+    for line in out.lines() {
+        let line = line.unwrap();
+        let v: Value = serde_json::from_str(&line).unwrap_or_else(|e| panic!("{e}: {line}"));
+        match v["topic"].as_str() {
+            Some("/exit_velocity") => live.push(v["message"].clone()),
+            Some("/modal_energies") => {
+                assert!(v["message"]["energy"].as_array().is_some_and(|e| !e.is_empty()), "{line}");
+                energies += 1;
+            }
+            Some("/sweet_spot") => sweet_spots += 1,
+            _ => panic!("unexpected line {line}"),
+        }
+    }
+    assert!(reader.wait().unwrap().success(), "the client did not get {LIVE} ExitVelocity");
+    assert!(sweet_spots >= 1, "the latched SweetSpot did not reach a client that connected after it");
+    assert!(energies >= 1, "no ModalEnergies decoded");
+
+    // 2. A client that subscribes and stops reading; the node answers every swing, and the same swings
+    //    (same kinematics as 1..=STALLED mod 20 / 7) get the same answers as before.
+    let (mut stalled, mut stalled_out) = client(&[&url, "stall", "/exit_velocity", "/modal_energies", "/swing"]);
+    wait_subscribed(&mut stalled_out);
+    for id in LIVE + 1..=LIVE + STALLED {
+        swing_pub.publish(swing(id)).unwrap();
+    }
+    let while_stalled = peer.collect(&answers, STALLED as usize, WAIT);
+    assert_eq!(
+        while_stalled.iter().map(|ev| ev.swing_id).collect::<Vec<_>>(),
+        (LIVE + 1..=LIVE + STALLED).collect::<Vec<_>>(),
+        "a swing was lost while a client stalled"
+    );
+    for ev in &while_stalled {
+        // Swing ids 140 apart have the same kinematics (140 = lcm(20, 7)).
+        let twin = over_dds.iter().find(|a| (ev.swing_id - a.swing_id) % 140 == 0).expect("a twin swing");
+        assert_eq!(ev.exit_speed.to_bits(), twin.exit_speed.to_bits(), "swing {} vs {}", ev.swing_id, twin.swing_id);
+        assert_eq!(ev.status, ExitVelocity::STATUS_OK);
+    }
+    let _ = stalled.kill();
+    let _ = stalled.wait();
+
+    // 3. /diagnostics is served too (the node's counters, every diagnostics_period = 1 s).
+    let (mut watcher, watched) = client(&[&url, "1", "/diagnostics"]);
+    let line = watched
+        .lines()
+        .map(Result::unwrap)
+        .find(|l| l.contains("\"topic\":\"/diagnostics\""))
+        .expect("a diagnostics line");
+    assert!(watcher.wait().unwrap().success());
+    let v: Value = serde_json::from_str(&line).unwrap();
+    let statuses = v["message"]["status"].as_array().unwrap_or_else(|| panic!("no statuses: {line}"));
+    let values = statuses.iter().filter_map(|s| s["values"].as_array()).flatten();
+    assert!(values.into_iter().any(|kv| kv["key"] == "swings_processed"), "{line}");
+
+    let (status, _, log) = node.stop_with(15);
+    assert!(status.success(), "{log}");
+    let mut recorded: Vec<ExitVelocity> = Vec::new();
+    sweetspot::bag::reader::read_bag(&bag, |m| {
+        if m.channel.topic.name == "/exit_velocity" {
+            recorded.push(sweetspot::msgs::decode_cdr(m.data).unwrap());
+        }
+    })
+    .expect("read the bag");
+    assert_eq!(recorded.len() as u64, LIVE + STALLED, "every swing recorded");
+    assert_eq!(live.len(), LIVE as usize);
+    for (decoded, bagged) in live.iter().zip(&recorded) {
+        let bagged = serde_json::to_value(bagged).unwrap();
+        assert!(same(decoded, &bagged), "live {decoded}\n bag {bagged}");
+    }
+    println!(
+        "{LIVE} ExitVelocity decoded live = bag; {energies} ModalEnergies; {STALLED} answered with a client stalled"
+    );
+}
