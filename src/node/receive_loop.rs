@@ -177,7 +177,30 @@ impl NodeLoop {
         let mut held: Option<ReadResult<(Swing, MessageInfo)>> = None;
         loop {
             if let Some(received) = held.take() {
-                self.on_swing_sample(received);
+                // Params already waiting that were sent no later than the held swing still go before it (the
+                // loop favours params); the first one sent after it lets the swing go first.
+                let swing_sent = sent_at(&received);
+                let sent_before = |params_sent: Option<ros2_client::ROSTime>| match (params_sent, swing_sent) {
+                    (Some(p), Some(s)) => p <= s,
+                    _ => true,
+                };
+                let mut swing = Some(received);
+                while swing.is_some() {
+                    if let Some(Some(params)) = futures::FutureExt::now_or_never(bats.next()) {
+                        if !sent_before(sent_at(&params)) {
+                            swing.take().into_iter().for_each(|s| self.on_swing_sample(s));
+                        }
+                        self.on_bat_params(params);
+                    } else if let Some(Some(params)) = futures::FutureExt::now_or_never(balls.next()) {
+                        if !sent_before(sent_at(&params)) {
+                            swing.take().into_iter().for_each(|s| self.on_swing_sample(s));
+                        }
+                        self.on_ball_params(params);
+                    } else {
+                        break;
+                    }
+                }
+                swing.into_iter().for_each(|s| self.on_swing_sample(s));
                 continue;
             }
             tokio::select! {
