@@ -87,7 +87,8 @@ fn a_split_bag_is_what_its_metadata_yaml_lists() {
 
     // A listed file removed: damage, named with the messages metadata.yaml counted in it, for every reader.
     let missing = copy_bag(&good, &tmp.path().join("missing"));
-    let (gone, lost) = counts[1].clone();
+    // A file from the middle of the session holds swings (the first ones may hold only params).
+    let (gone, lost) = counts[counts.len() / 2].clone();
     std::fs::remove_file(missing.join(&gone)).unwrap();
     let needle = format!("{gone}: at offset 0: listed in metadata.yaml but missing; {lost} messages lost");
     let out = tmp.path().join("fit.jsonl");

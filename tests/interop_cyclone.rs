@@ -121,7 +121,8 @@ fn interop_latched_params_and_ros_naming() {
     let domain = 163;
     let ball = json!({"header": {"stamp": {"sec": 1, "nanosec": 2}, "frame_id": ""}, "ball_id": "mlb", "mass": 0.145,
                       "radius": 0.0366, "cor": 0.5, "stiffness": 7.1e6, "exponent": 1.25, "tangential_cor": 0.3,
-                      "friction": 0.5, "moment_of_inertia": 7.4e-5});
+                      "friction": 0.5, "moment_of_inertia": 7.4e-5, "cor_speed_exponent": 0.0678,
+                      "cor_reference_speed": 25.9});
     let mut cyclone = spawn_piped(cyclone_peer(
         domain,
         &[

@@ -41,10 +41,9 @@
 //!   results are published in swing order. A swing that finds the pipeline idle and its bat's modes solved
 //!   is answered on the receive task itself ([`pipeline::Pipeline::answer_inline`], paced by
 //!   [`pipeline::InlinePacing`] to half that task's time), which saves two thread wake-ups per answer. Its
-//!   ExitVelocity publish then runs on the receive task. A subscriber that stops acknowledging does not hold
-//!   it: the results writers are KEEP_LAST and replace their oldest result instead of waiting for a reader
-//!   (patches/README.md, fix 5); only a send socket that cannot drain makes a publish wait (up to 500 ms)
-//!   and fail.
+//!   ExitVelocity publish then runs on the receive task. A subscriber that stops acknowledging holds it once
+//!   8,192 results are unacknowledged (RustDDS's reliable window): each publish then waits up to 500 ms and
+//!   fails, counted and logged, until that reader's lease expires (README, "What the node promises").
 //! - ModalEnergies are published only while the topic has a matched subscription (re-checked on every
 //!   discovery event; `modal_energies_published` on /diagnostics) and recorded always: a DDS write costs
 //!   every answer latency even with no reader. A swing arriving when the pipeline is full is dropped, counted

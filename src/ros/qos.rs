@@ -19,10 +19,8 @@ pub const PARAMS_DEPTH: usize = 16;
 pub const SWING_DEPTH: usize = 1000;
 /// Results kept per writer (and queued per reader) on `exit_velocity` / `modal_energies`.
 pub const RESULTS_DEPTH: usize = 1000;
-/// How long a results writer waits for room before it reports the write failed (counted by the node). With
-/// KEEP_LAST history the writer never waits for a reader's acknowledgements (patches/README.md, fix 5: a
-/// reader more than 8,192 results behind loses the oldest); it waits only while its own unsent backlog is
-/// full (a send socket that cannot drain).
+/// How long a results writer waits for a slow reliable reader to acknowledge before it reports the write
+/// failed (counted by the node), rather than overwriting unacknowledged results.
 pub const RESULTS_MAX_BLOCKING: Duration = Duration::from_millis(500);
 
 fn reliable(depth: usize, durability: Durability) -> QosProfile {
@@ -44,9 +42,8 @@ pub fn swing_qos() -> QosProfile {
 
 /// `exit_velocity`, `modal_energies`: reliable (writers wait up to [`RESULTS_MAX_BLOCKING`]), volatile,
 /// keep-last [`RESULTS_DEPTH`]. The node's writers, `sweetspot pub` and the recorded QoS all use this one
-/// profile. A reliable KEEP_LAST writer keeps up to 8,192 unacknowledged results for repair and then replaces
-/// the oldest: a listener that stops acknowledging (killed, stopped) loses old results, never stalls the
-/// others.
+/// profile: a reliable writer never overwrites unacknowledged results, and the wide window and the wait keep
+/// a briefly slow listener from costing results (beyond that: counted failures).
 pub fn results_qos() -> QosProfile {
     reliable(RESULTS_DEPTH, Durability::Volatile)
         .reliability(Reliability::Reliable { when_full: WhenFull::Wait(RESULTS_MAX_BLOCKING) })

@@ -2780,7 +2780,6 @@ mod tests {
           "repair_test".to_string(),
           true, // reliable
           writer_id.kind().is_built_in(),
-          false, // keep_last: KEEP_ALL, as before
           false,
           DEFAULT_WRITER_MAX_SAMPLES,
           DEFAULT_WRITER_MAX_SAMPLES,

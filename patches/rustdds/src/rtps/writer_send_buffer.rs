@@ -83,14 +83,6 @@ struct Shared {
   writer_guid: GUID,
   reliable_writer: bool,
   is_builtin: bool,
-  // True for KEEP_LAST history (also the DDS default when History is unset).
-  // A reliable KEEP_LAST writer never blocks on its readers' acknowledgements:
-  // when `window_limit` samples are unacknowledged, the next write replaces the
-  // oldest retained sample instead (DDS v1.4 2.2.3.18: the writer keeps only the
-  // latest `depth` values; only KEEP_ALL blocks on readers). A reader that cannot
-  // keep up (stopped, killed but not yet expired, slow) loses those old samples
-  // (it gets a GAP if it asks for them) and the other readers lose nothing.
-  keep_last: bool,
   // True for VOLATILE durability (the DDS default). When true, a reliable writer
   // with no matched reliable reader trims KeepLast on insert (there is no
   // late-joiner to serve, so retaining unacked samples is pointless). When false
@@ -121,7 +113,6 @@ impl WriterSendBuffer {
     topic_name: String,
     reliable_writer: bool,
     is_builtin: bool,
-    keep_last: bool,
     volatile: bool,
     window_limit: usize,
     backlog_limit: usize,
@@ -145,7 +136,6 @@ impl WriterSendBuffer {
         writer_guid,
         reliable_writer,
         is_builtin,
-        keep_last,
         volatile,
         topic_name,
       }),
@@ -181,12 +171,9 @@ impl WriterSendBuffer {
       return false;
     }
 
-    if !shared.reliable_writer || !inner.reliable_readers_present || shared.keep_last {
+    if !shared.reliable_writer || !inner.reliable_readers_present {
       // Best-effort and "no reliable reader yet" writers have no acknowledgement
-      // window to wait on; the backlog limit above is their only throttle. Nor
-      // does a KEEP_LAST writer: a full window makes it replace its oldest
-      // sample (see `insert_locked`), so one reader that stops acknowledging
-      // cannot stall the writer, and with it every other reader.
+      // window to wait on; the backlog limit above is their only throttle.
       return true;
     }
     // Number of unacknowledged samples in [acked_before, last_seq].
@@ -313,33 +300,6 @@ impl WriterSendBuffer {
         };
         inner.changes.remove(&oldest);
         inner.first_seq = oldest.plus_1();
-      }
-    } else if shared.keep_last && shared.reliable_writer && !shared.is_builtin {
-      // A reliable KEEP_LAST writer with matched readers: retain at most the
-      // window (or the History depth, if larger) and let the newest sample
-      // replace the oldest. Acknowledged samples are the oldest and go first;
-      // only when all retained samples are unacknowledged by some reader does
-      // that reader lose one. Unsent samples are never evicted here: at most
-      // `backlog_limit <= window_limit` of them exist (`has_room`).
-      let bound = inner.window_limit.max(inner.max_retain);
-      let mut evicted_unacked = 0u64;
-      while inner.changes.len() > bound {
-        let oldest = match inner.changes.keys().next().copied() {
-          Some(sn) => sn,
-          None => break,
-        };
-        if inner.reliable_readers_present && oldest >= inner.acked_before {
-          evicted_unacked += 1;
-        }
-        inner.changes.remove(&oldest);
-        inner.first_seq = oldest.plus_1();
-      }
-      if evicted_unacked > 0 {
-        trace!(
-          "WriterSendBuffer: KEEP_LAST window full, dropped {evicted_unacked} sample(s) a reader \
-           has not acknowledged topic={}",
-          shared.topic_name
-        );
       }
     }
     seq
@@ -521,7 +481,6 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ true,
       /* is_builtin */ false,
-      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1,
       /* backlog_limit */ 1000,
@@ -537,95 +496,6 @@ mod tests {
     assert!(admit_now(&buf, WriteOptions::default())); // seq 2
   }
 
-  // A reliable KEEP_LAST writer whose matched reader never acknowledges (a
-  // process stopped or killed before its lease expires) must not block: each
-  // write past the window replaces the oldest retained sample, so the writer --
-  // and every other reader -- goes on. The same writer with KEEP_ALL blocks
-  // (returns WouldBlock after its max_blocking_time) once the window is full.
-  #[test]
-  fn keep_last_reliable_writer_replaces_oldest_instead_of_blocking() {
-    let window = 4;
-    let make = |keep_last| {
-      WriterSendBuffer::new(
-        GUID::GUID_UNKNOWN,
-        "t".to_string(),
-        /* reliable_writer */ true,
-        /* is_builtin */ false,
-        keep_last,
-        /* volatile */ true,
-        window,
-        /* backlog_limit */ window,
-        /* max_retain (KEEP_LAST depth) */ 1,
-      )
-    };
-    // A matched reader that acknowledges nothing, ever.
-    let keep_last = make(true);
-    keep_last.set_acked_frontier(Some(SequenceNumber::new(1)));
-    for n in 1..=100 {
-      assert!(
-        admit_now(&keep_last, WriteOptions::default()),
-        "write {n} blocked"
-      );
-      // The event loop puts it on the wire (a dead reader's socket still takes it).
-      keep_last.set_sent_frontier(SequenceNumber::new(n));
-      assert!(keep_last.retained_len() <= window);
-    }
-    // The newest `window` samples are kept (for repair of readers that ask), the
-    // older ones are gone: a reader asking for them gets a GAP.
-    assert_eq!(keep_last.retained_len(), window);
-    assert_eq!(
-      keep_last.first_change_sequence_number(),
-      SequenceNumber::new(97)
-    );
-    assert!(keep_last.get_by_sn(SequenceNumber::new(100)).is_some());
-    assert!(keep_last.get_by_sn(SequenceNumber::new(96)).is_none());
-    // It still waits for acknowledgements when asked to: nothing was acknowledged.
-    assert!(!keep_last.is_acked_through(SequenceNumber::new(1)));
-
-    // KEEP_ALL: the window bounds what may be unacknowledged, so the fifth write
-    // blocks until the reader acknowledges.
-    let keep_all = make(false);
-    keep_all.set_acked_frontier(Some(SequenceNumber::new(1)));
-    for n in 1..=window as i64 {
-      assert!(admit_now(&keep_all, WriteOptions::default()));
-      keep_all.set_sent_frontier(SequenceNumber::new(n));
-    }
-    assert!(!admit_now(&keep_all, WriteOptions::default()));
-    keep_all.set_acked_frontier(Some(SequenceNumber::new(2)));
-    assert!(admit_now(&keep_all, WriteOptions::default()));
-  }
-
-  // A KEEP_LAST writer evicts acknowledged samples first: a reader that keeps
-  // up loses nothing it has not yet acknowledged while the window has room.
-  #[test]
-  fn keep_last_reliable_writer_keeps_every_unacknowledged_sample_within_the_window() {
-    let window = 8;
-    let buf = WriterSendBuffer::new(
-      GUID::GUID_UNKNOWN,
-      "t".to_string(),
-      /* reliable_writer */ true,
-      /* is_builtin */ false,
-      /* keep_last */ true,
-      /* volatile */ true,
-      window,
-      /* backlog_limit */ window,
-      /* max_retain */ 1,
-    );
-    buf.set_acked_frontier(Some(SequenceNumber::new(1)));
-    for n in 1..=50i64 {
-      assert!(admit_now(&buf, WriteOptions::default()));
-      buf.set_sent_frontier(SequenceNumber::new(n));
-      // The reader acknowledges all but the latest 3.
-      buf.set_acked_frontier(Some(SequenceNumber::new((n - 2).max(1))));
-      for unacked in (n - 2).max(1)..=n {
-        assert!(
-          buf.get_by_sn(SequenceNumber::new(unacked)).is_some(),
-          "sample {unacked} lost at write {n}"
-        );
-      }
-    }
-  }
-
   // nonblocking-transmit: a best-effort writer that opted in via
   // `best_effort_may_block` is throttled by the unsent-backlog limit once the
   // socket stops draining, and released when the Writer advances the sent
@@ -637,7 +507,6 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ false,
       /* is_builtin */ false,
-      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 2,
@@ -666,7 +535,6 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ false,
       /* is_builtin */ false,
-      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 1,
@@ -687,7 +555,6 @@ mod tests {
       "t".to_string(),
       false,
       /* is_builtin */ true,
-      /* keep_last */ false,
       /* volatile */ true,
       1000,
       /* backlog_limit */ 1,
@@ -712,7 +579,6 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ false,
       /* is_builtin */ false,
-      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 1000,
@@ -748,7 +614,6 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ true,
       /* is_builtin */ false,
-      /* keep_last */ false,
       /* volatile */ false, // TRANSIENT_LOCAL etc: keep for late joiners
       /* window_limit */ 1000,
       /* backlog_limit */ 1000,
@@ -777,7 +642,6 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ true,
       /* is_builtin */ false,
-      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 1000,
