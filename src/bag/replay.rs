@@ -64,7 +64,8 @@ pub enum Verdict {
     Match,
     /// At least one field beyond tolerance (or OK vs REJECTED).
     Differs,
-    /// No ExitVelocity was recorded for this swing (dropped by the node, or recording stopped): nothing to compare.
+    /// No ExitVelocity was recorded for this swing, or only a DROPPED one (the node's queue was full: nothing was
+    /// computed live), or recording stopped: nothing to compare.
     NotRecorded,
     /// The node answered OK with a bat or ball whose params the bag does not hold (recorded without
     /// `bat/params` or `ball/params`, or started after they were sent): the replay cannot know what the node
@@ -352,6 +353,7 @@ pub fn replay(
                 };
                 let verdict = match &row.exit_velocity {
                     None => Verdict::NotRecorded,
+                    Some(recorded) if recorded.status == ExitVelocity::STATUS_DROPPED => Verdict::NotRecorded,
                     Some(_) if missing_input.is_some() => Verdict::MissingInput,
                     Some(recorded) => {
                         cmp.exit_velocity(recorded, &ev);

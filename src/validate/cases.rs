@@ -173,6 +173,29 @@ impl Lab {
         })
     }
 
+    /// Statcast's collision efficiency at the point of largest exit speed: q = (v_exit − v_bat)/(v_pitch + v_bat)
+    /// with v_bat the bat's speed 6 in from the head (where Statcast measures it), not at the impact point.
+    pub fn statcast_q_sweet_spot(&self, bat: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
+        let case = "statcast_q_sweet_spot";
+        let (_, modes) = self.bat(case, bat)?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let swing = self.typical_swing(case, &modes)?;
+        let template = swing.impact(pitch_speed);
+        let spots = sweet_spots(&modes, &ball, &template, &self.options).map_err(physics(case))?;
+        let impact = Impact { impact_z: spots.max_exit_speed_z, ..template };
+        let r = collide(&modes, &ball, &impact, &self.options).map_err(physics(case))?;
+        let q = (r.exit_speed - swing.bat_speed) / (pitch_speed + swing.bat_speed);
+        Ok(CaseValue {
+            value: Some(q),
+            detail: format!(
+                "{bat}, bat {:.1} mph at 6 in from the end (Statcast's point), best point {:.2} in from the end, exit {:.1} mph",
+                swing.bat_speed / MPH,
+                (modes.length() - spots.max_exit_speed_z) / INCH,
+                r.exit_speed / MPH
+            ),
+        })
+    }
+
     /// The ball's COR against a rigid wall at `speed` m/s.
     pub fn ball_wall_cor(&self, ball: &str, speed: f64) -> Result<CaseValue, ValidateError> {
         let case = "ball_wall_cor";

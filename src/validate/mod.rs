@@ -23,14 +23,9 @@ use cases::{CaseValue, Lab, MPH};
 /// Errors of the validation suite.
 #[derive(Debug, thiserror::Error)]
 pub enum ValidateError {
-    /// A data file could not be read.
-    #[error("cannot read '{path}': {source}")]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
+    /// A data file is not a regular file within the input cap, or could not be read.
+    #[error(transparent)]
+    Input(#[from] crate::files::InputError),
     /// A data file is malformed.
     #[error("'{path}': {message}")]
     Parse {
@@ -281,6 +276,7 @@ pub struct Report {
 pub fn case_unit(case: &str) -> Option<&'static str> {
     Some(match case {
         "collision_efficiency_sweet_spot"
+        | "statcast_q_sweet_spot"
         | "ball_wall_cor"
         | "bbcor"
         | "spin_transfer_fixed_cylinder"
@@ -298,7 +294,7 @@ pub fn case_unit(case: &str) -> Option<&'static str> {
 
 /// Reads `measurements.toml`.
 pub fn read_measurements(path: &Path) -> Result<MeasurementFile, ValidateError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ValidateError::Read { path: path.into(), source })?;
+    let text = crate::files::read_text(path, "validation data file")?;
     let file: MeasurementFile =
         toml::from_str(&text).map_err(|e| ValidateError::Parse { path: path.into(), message: e.to_string() })?;
     for row in &file.row {
@@ -325,7 +321,7 @@ pub fn read_measurements(path: &Path) -> Result<MeasurementFile, ValidateError> 
 
 /// Reads the rows of `ball_cor.toml`: every top-level array of tables whose entries have `speed` and `value`.
 pub fn read_ball_cor(path: &Path) -> Result<Vec<BallCorRow>, ValidateError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ValidateError::Read { path: path.into(), source })?;
+    let text = crate::files::read_text(path, "validation data file")?;
     let parse_err = |message: String| ValidateError::Parse { path: path.into(), message };
     let doc: toml::Table = toml::from_str(&text).map_err(|e| parse_err(e.to_string()))?;
     let mut rows = Vec::new();
@@ -432,6 +428,7 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
     let s = |k: &str| param_str(row, k);
     match row.case.as_str() {
         "collision_efficiency_sweet_spot" => lab.collision_efficiency_sweet_spot(s("bat")?, p("pitch_speed")?),
+        "statcast_q_sweet_spot" => lab.statcast_q_sweet_spot(s("bat")?, p("pitch_speed")?),
         "ball_wall_cor" => lab.ball_wall_cor(&lab.game_ball, p("speed")?),
         "bbcor" => lab.bbcor(s("bat")?, s("ball")?),
         "first_mode_hz" => lab.first_mode_hz(s("bat")?),

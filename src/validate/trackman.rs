@@ -83,7 +83,7 @@ fn cell(value: &str) -> Result<Option<f64>, String> {
 
 /// Reads the spin file.
 pub fn read(path: &Path) -> Result<Vec<SpinRow>, ValidateError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ValidateError::Read { path: path.into(), source })?;
+    let text = crate::files::read_text(path, "validation data file")?;
     parse(&text).map_err(|message| ValidateError::Parse { path: path.into(), message })
 }
 
