@@ -16,7 +16,8 @@ use crate::physics::batter::{Batter, ReferenceSwing};
 use crate::physics::metrics::{bbcor_report, linspace, sweep, sweet_spots};
 use crate::physics::oblique::{rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
 use crate::physics::{
-    collide, collide_oblique, Ball, Bat, CollisionOptions, Impact, Material, ModeSet, PhysicsError, Station,
+    collide, collide_oblique, Ball, Bat, CollisionOptions, CollisionResult, Impact, Material, ModeSet, PhysicsError,
+    Station,
 };
 
 use super::trackman::PitchMedians;
@@ -154,46 +155,28 @@ impl Lab {
     /// Collision efficiency e_A at the point of largest exit speed of `bat`, average MLB swing, pitch at
     /// `pitch_speed` m/s.
     pub fn collision_efficiency_sweet_spot(&self, bat: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
-        let case = "collision_efficiency_sweet_spot";
-        let (_, modes) = self.bat(case, bat)?;
-        let ball = self.ball(case, &self.game_ball)?;
-        let swing = self.typical_swing(case, &modes)?;
-        let template = swing.impact(pitch_speed);
-        let spots = sweet_spots(&modes, &ball, &template, &self.options).map_err(physics(case))?;
-        let impact = Impact { impact_z: spots.max_exit_speed_z, ..template };
-        let r = collide(&modes, &ball, &impact, &self.options).map_err(physics(case))?;
-        Ok(CaseValue {
-            value: Some(r.collision_efficiency),
-            detail: format!(
-                "{bat}, bat {:.1} mph at 6 in from the end, best point {:.2} in from the end, exit {:.1} mph",
-                swing.bat_speed / MPH,
-                (modes.length() - spots.max_exit_speed_z) / INCH,
-                r.exit_speed / MPH
-            ),
-        })
+        let best = self.best_point_swing("collision_efficiency_sweet_spot", bat, pitch_speed)?;
+        Ok(CaseValue { value: Some(best.result.collision_efficiency), detail: best.detail(bat, "") })
     }
 
     /// Statcast's collision efficiency at the point of largest exit speed: q = (v_exit − v_bat)/(v_pitch + v_bat)
     /// with v_bat the bat's speed 6 in from the head (where Statcast measures it), not at the impact point.
     pub fn statcast_q_sweet_spot(&self, bat: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
-        let case = "statcast_q_sweet_spot";
+        let best = self.best_point_swing("statcast_q_sweet_spot", bat, pitch_speed)?;
+        let q = (best.result.exit_speed - best.bat_speed) / (pitch_speed + best.bat_speed);
+        Ok(CaseValue { value: Some(q), detail: best.detail(bat, " (Statcast's point)") })
+    }
+
+    /// The average MLB swing of `bat` at a pitch of `pitch_speed` m/s, struck at its point of largest exit speed.
+    fn best_point_swing(&self, case: &str, bat: &str, pitch_speed: f64) -> Result<BestPoint, ValidateError> {
         let (_, modes) = self.bat(case, bat)?;
         let ball = self.ball(case, &self.game_ball)?;
         let swing = self.typical_swing(case, &modes)?;
         let template = swing.impact(pitch_speed);
         let spots = sweet_spots(&modes, &ball, &template, &self.options).map_err(physics(case))?;
         let impact = Impact { impact_z: spots.max_exit_speed_z, ..template };
-        let r = collide(&modes, &ball, &impact, &self.options).map_err(physics(case))?;
-        let q = (r.exit_speed - swing.bat_speed) / (pitch_speed + swing.bat_speed);
-        Ok(CaseValue {
-            value: Some(q),
-            detail: format!(
-                "{bat}, bat {:.1} mph at 6 in from the end (Statcast's point), best point {:.2} in from the end, exit {:.1} mph",
-                swing.bat_speed / MPH,
-                (modes.length() - spots.max_exit_speed_z) / INCH,
-                r.exit_speed / MPH
-            ),
-        })
+        let result = collide(&modes, &ball, &impact, &self.options).map_err(physics(case))?;
+        Ok(BestPoint { result, bat_speed: swing.bat_speed, from_end: modes.length() - spots.max_exit_speed_z })
     }
 
     /// The ball's COR against a rigid wall at `speed` m/s.
@@ -520,6 +503,28 @@ pub fn rank_correlation(pairs: &[(f64, f64)]) -> Option<f64> {
     let d2: f64 = rx.iter().zip(&ry).map(|(a, b)| (a - b) * (a - b)).sum();
     let n = n as f64;
     Some(1.0 - 6.0 * d2 / (n * (n * n - 1.0)))
+}
+
+/// One collision at a bat's point of largest exit speed ([`Lab::best_point_swing`]).
+struct BestPoint {
+    /// The collision there.
+    result: CollisionResult,
+    /// The swing's bat speed 6 in from the barrel end, m/s.
+    bat_speed: f64,
+    /// The point's distance from the barrel end, m.
+    from_end: f64,
+}
+
+impl BestPoint {
+    /// How the model got the number, for the row's detail line.
+    fn detail(&self, bat: &str, note: &str) -> String {
+        format!(
+            "{bat}, bat {:.1} mph at 6 in from the end{note}, best point {:.2} in from the end, exit {:.1} mph",
+            self.bat_speed / MPH,
+            self.from_end / INCH,
+            self.result.exit_speed / MPH
+        )
+    }
 }
 
 #[cfg(test)]
