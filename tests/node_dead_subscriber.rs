@@ -72,6 +72,8 @@ impl CycloneSubscriber {
                 "300",
                 "--qos",
                 "results",
+                "--wait-publishers",
+                "1",
                 "--ready-file",
                 ready,
             ],

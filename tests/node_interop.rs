@@ -98,6 +98,8 @@ fn cyclone_dds_peer_sends_params_and_swings_and_gets_the_library_numbers() {
             "120",
             "--qos",
             "results",
+            "--wait-publishers",
+            "1",
             "--ready-file",
             ready.to_str().unwrap(),
         ],

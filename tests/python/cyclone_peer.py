@@ -8,7 +8,7 @@ plain XCDR1 encoding, as rmw_cyclonedds_cpp does. Topics get the ROS 2 'rt' pref
   cyclone_peer.py pub --type sweetspot_msgs/msg/Swing --topic /rig3/swing --json '[{...}, ...]' \
       [--qos swing] [--wait-subscribers N] [--timeout S] [--keep-alive S]
   cyclone_peer.py sub --type sweetspot_msgs/msg/ExitVelocity --topic /exit_velocity --count N [--timeout S] \
-      [--qos results]
+      [--qos results] [--ready-file F] [--wait-publishers N]
 
   cyclone_peer.py endpoints --topic /swing --count N [--timeout S]
 
@@ -329,7 +329,9 @@ def main():
     s.add_argument("--count", type=int, default=1)
     s.add_argument("--timeout", type=float, default=30.0)
     s.add_argument("--qos", default="results", choices=sorted(QOS))
-    s.add_argument("--ready-file", help="touch this file once the reader exists")
+    s.add_argument("--ready-file", help="touch this file once the reader exists (and has matched --wait-publishers)")
+    s.add_argument("--wait-publishers", type=int, default=0,
+                   help="before the ready file, wait until the reader has matched this many remote writers")
     s.add_argument("--dds-type-name", help="use this DDS type name instead of the ROS 2 one")
     e = sub.add_parser("endpoints")
     e.add_argument("--topic", required=True)
@@ -375,6 +377,18 @@ def main():
         return 0
 
     reader = DataReader(dp, topic, qos=make_qos(args.qos))
+    deadline = time.monotonic() + args.timeout
+    # A volatile reader gets nothing a writer sent before the two matched: the caller starts sending only after
+    # the ready file, so the file waits for the match (on a loaded machine discovery can take seconds).
+    while len(reader.get_matched_publications()) < args.wait_publishers:
+        if time.monotonic() > deadline:
+            print(f"only {len(reader.get_matched_publications())} of {args.wait_publishers} publications "
+                  f"matched on {args.topic}", file=sys.stderr)
+            return 2
+        time.sleep(0.02)
+    if args.wait_publishers:
+        # The writer may see the match a moment after we do (see `pub --wait-subscribers`).
+        time.sleep(0.3)
     if args.ready_file:
         Path(args.ready_file).touch()
     received = 0
