@@ -122,7 +122,7 @@
 //!   R_k = 31.4 mm, M_eff = 0.666 kg, I_axial = 3.19·10⁻⁴ kg·m², r_x = 0.190 of which 0.062 is the bat's
 //!   translation and rotation and the rest its roll) gives, as the largest spin at launch angles 0–30°:
 //!
-//!   | contact law (undercuts scanned in 400 steps; the suite's 77 give 3,700 and 5,130) | 63 mph | 88 mph | passes 3,500 rpm above |
+//!   | contact law | 63 mph | 88 mph | over 3,500 rpm from launch (63 / 88 mph) |
 //!   |---|---|---|---|
 //!   | defaults (e_T = 0.405, μ = 0.20) | 3,710 | 5,140 | 24.0° / 17.1° |
 //!   | e_T = 0.30 (Nathan et al. 2012's fixed-cylinder value) | 3,600 | 5,000 | 26.8° / 19.0° |
@@ -131,6 +131,8 @@
 //!   | rolling, μ = 0.15 | 2,730 | 3,790 | — / 27.1° |
 //!   | e_T = 0.405, μ = 0.10 (gross slip) | 2,160 | 2,990 | — / — |
 //!   | I_ball/(m R²) = 0.5 instead of 0.4 | 3,090 | 4,290 | — / 17.8° |
+//!
+//!   (undercuts scanned in 400 steps; the suite's 77 give 3,700 and 5,130; —: not below 30°)
 //!
 //!   - *What e_T is defined against*: KNS's relation, as quoted from their paper in secondary notes (their
 //!     equations were not readable here), is v_t + R Ω = ((1 + e_T)/(1 + r_x)) V_t with r_x carrying the bat's
@@ -148,8 +150,9 @@
 //!     The bat's vertical tilt does not apply (a machine-swung bat in a plane), and would not lower the total
 //!     spin at a given launch angle anyway (the game-data point above).
 //!   - *The bat's effective mass and roll*: both are in r_x; leaving the roll out would *raise* the spin by
-//!     13 %. The rolling limit scales as 1/(1 + r_x): to bring it under 3,500 rpm at 30° and 88 mph the bat's
-//!     r_x would have to be about 0.31 or more, and e_T = 0.405 would still give ~4,700 rpm there.
+//!     about 12 %. The rolling limit scales as 1/(1 + r_x): to bring it under 3,500 rpm at 30° and 88 mph the bat's
+//!     r_x would have to be about 0.31 or more, and e_T = 0.405 would still give ~4,700 rpm there (the
+//!     table's numbers scaled by 1.190/(1 + r_x), leaving out the small shift of the line of centres).
 //!   - *The ball's moment of inertia*: the uniform-sphere 0.4; a baseball's dense centre would make it smaller
 //!     and the spin larger; even a shell-like 0.5 leaves the 88-mph row at 4,290 rpm.
 //!   - *Grip vs slip*: only a gross slip with μ ≈ 0.10 brings the 88-mph row under 3,500 rpm, and KNS state
