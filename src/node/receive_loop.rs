@@ -444,7 +444,6 @@ impl NodeLoop {
             (plan, swing)
         };
         if let Err((_plan, swing)) = self.pipeline.submit(received, plan, swing) {
-            NodeStats::bump(&self.stats.swings_dropped);
             if let Some(suppressed) = self.warnings.drop.allow(Instant::now()) {
                 self.log.warn(&format!(
                     "swing {} dropped: {} swings already in flight (queue_capacity); {suppressed} more dropped since the last warning",
@@ -453,11 +452,17 @@ impl NodeLoop {
                 ));
             }
             // Still exactly one answer per swing taken: a cheap DROPPED, at once (ahead of earlier swings still
-            // in flight), recorded as published.
+            // in flight), recorded as published. Only if the send window has room now: waiting for a slow
+            // reader here would stall the receive loop (every input) for up to the writer's blocking time. A
+            // DROPPED answer that could not go out counts as unsent, so the summary still adds up.
             let ev = convert::dropped_answer(&swing, self.pipeline.capacity());
             self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), swing.header.stamp.unix_ns());
-            if let Err(e) = self.outputs.exit_velocity.publish(ev) {
-                self.publish_failures.report(&format!("the DROPPED answer of swing {}", swing.swing_id), &e);
+            match crate::ros::edge::try_publish(&self.outputs.exit_velocity, ev) {
+                Ok(()) => NodeStats::bump(&self.stats.swings_dropped),
+                Err(e) => {
+                    NodeStats::bump(&self.stats.publish_failures);
+                    self.publish_failures.report(&format!("the DROPPED answer of swing {}", swing.swing_id), &e);
+                }
             }
         }
     }
@@ -547,7 +552,8 @@ impl NodeLoop {
 }
 
 /// The node's last words: where every swing it took went (the parts add up to `swings received`: answered
-/// OK, REJECTED, DROPPED, computed but not sent because publishing failed, still queued when it stopped),
+/// OK, REJECTED, DROPPED, computed or dropped but not sent because publishing failed, still queued when it
+/// stopped),
 /// swings that never reached it, latency and caches. `s.in_flight` is what was left queued after the drain.
 pub fn summary_line(fqn: &str, s: &StatsSnapshot, usage: &RegistryUsage) -> String {
     format!(

@@ -15,7 +15,7 @@ pub struct NodeStats {
     pub swings_ok: AtomicU64,
     /// Swings answered with status REJECTED.
     pub swings_rejected: AtomicU64,
-    /// Swings dropped because `queue_capacity` swings were already in flight.
+    /// Swings dropped because `queue_capacity` swings were already in flight, and answered DROPPED.
     pub swings_dropped: AtomicU64,
     /// Swings a publisher sent that never reached the node (gaps in its DDS sequence numbers: the reader's
     /// history overflowed, or the publisher's history replaced them before delivery).
@@ -30,7 +30,8 @@ pub struct NodeStats {
     pub mode_cache_hits: AtomicU64,
     /// Mode computations (first use of a bat, or after its params changed).
     pub mode_cache_misses: AtomicU64,
-    /// Results DDS refused to send (send window full past its blocking time).
+    /// Swings whose answer DDS refused to send: a computed one (send window full past its blocking time), or
+    /// a DROPPED one (send window full at that moment: the receive loop does not wait).
     pub publish_failures: AtomicU64,
     /// Swings answered on the receive task because the pipeline was idle (no worker or sequencer hop).
     pub swings_answered_inline: AtomicU64,
