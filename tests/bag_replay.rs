@@ -44,6 +44,12 @@ fn swing(i: u64, bat_id: &str) -> Swing {
 /// Records a run as the node would: bat "game" is r161 for swings 0..4, then aluminum for 5..9; swing 10
 /// asks for an unknown bat (rejected). Returns the settings used.
 fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> ModelSettings {
+    record_run(dir, tamper, None)
+}
+
+/// As [`record_like_the_node`], and swing `dropped` (if any) answered DROPPED as the node answers a swing its
+/// full queue cannot take (nothing computed: no ModalEnergies).
+fn record_run(dir: &Path, tamper: Option<u64>, dropped: Option<u64>) -> ModelSettings {
     let settings = ModelSettings { default_modes: 8, ..ModelSettings::default() };
     let rec = Recorder::start(RecorderConfig::new(dir)).unwrap();
     rec.set_custom_data("sweetspot/default_modes", settings.default_modes.to_string());
@@ -82,6 +88,11 @@ fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> ModelSettings {
         }
         let s = swing(i, if i == 10 { "no_such_bat" } else { "game" });
         assert!(rec.record(swing_t, encode_cdr(&s).unwrap(), next(), 0));
+        if dropped == Some(i) {
+            let ev = sweetspot::node::convert::dropped_answer(&s, 4);
+            assert!(rec.record(ev_t, encode_cdr(&ev).unwrap(), next(), 0));
+            continue;
+        }
         let (plan, _) =
             engine::plan_swing(&mut registry, &settings, &s.bat_id, &s.ball_id, convert::impact_from_swing(&s));
         let result = engine::compute(&plan, &stats);
@@ -123,6 +134,25 @@ fn replay_matches_bit_exactly_with_params_in_force_at_each_swing() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains("11 swings: 11 match, 0 differ (bit-exact)"), "{text}");
+}
+
+/// A swing the node dropped (its queue was full) was answered DROPPED without computing anything: the replay
+/// has nothing to compare it with (not a difference), and the rest of the run still matches.
+#[test]
+fn a_recorded_dropped_answer_is_not_recorded_output_not_a_difference() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("dropped");
+    let settings = record_run(&dir, None, Some(6));
+    let report = sweetspot::bag::replay::replay(&dir, &settings, &Default::default(), 0.0, |_, _| {}).unwrap();
+    assert_eq!(report.rows.len(), 11);
+    assert_eq!(report.rows[6].verdict, sweetspot::bag::replay::Verdict::NotRecorded, "{:#?}", report.rows[6]);
+    assert_eq!(report.tally(), (10, 0, 1));
+    // The replay computed the swing the node never did.
+    assert_eq!(report.rows[6].replayed_status, ExitVelocity::STATUS_OK);
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay"]).arg(&dir).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("11 swings: 10 match, 0 differ (bit-exact), 1 without recorded output"), "{text}");
 }
 
 #[test]
