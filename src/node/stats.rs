@@ -37,6 +37,9 @@ pub struct NodeStats {
     pub swings_answered_inline: AtomicU64,
     /// ModalEnergies published (they are recorded for every OK swing, published only while subscribed).
     pub modal_energies_published: AtomicU64,
+    /// ModalEnergies DDS refused to send (their swing's ExitVelocity may still have gone out: the swing is
+    /// counted by its answer, this apart).
+    pub modal_energies_unsent: AtomicU64,
     /// Receive-to-publish latency, µs.
     latency_us: Mutex<Histogram<u64>>,
     started: Instant,
@@ -71,6 +74,8 @@ pub struct StatsSnapshot {
     pub swings_answered_inline: u64,
     /// ModalEnergies published, since start.
     pub modal_energies_published: u64,
+    /// ModalEnergies that could not be published, since start.
+    pub modal_energies_unsent: u64,
     /// Swings queued, computing or waiting for in-order publication.
     pub in_flight: u64,
     /// Bats held by the registry now (filled in by the runtime, which owns the registry).
@@ -121,6 +126,7 @@ impl NodeStats {
             publish_failures: AtomicU64::new(0),
             swings_answered_inline: AtomicU64::new(0),
             modal_energies_published: AtomicU64::new(0),
+            modal_energies_unsent: AtomicU64::new(0),
             // 1 µs … 1 h at 3 significant digits: a fixed ~200 kB, never grows.
             latency_us: Mutex::new(Histogram::new_with_bounds(1, 3_600_000_000, 3).expect("static bounds are valid")),
             started: Instant::now(),
@@ -167,6 +173,7 @@ impl NodeStats {
             publish_failures: load(&self.publish_failures),
             swings_answered_inline: load(&self.swings_answered_inline),
             modal_energies_published: load(&self.modal_energies_published),
+            modal_energies_unsent: load(&self.modal_energies_unsent),
             in_flight,
             bats_cached: 0,
             bats_evicted: 0,
@@ -256,6 +263,7 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
         ("publish_failures".into(), now.publish_failures.to_string()),
         ("swings_answered_inline".into(), now.swings_answered_inline.to_string()),
         ("modal_energies_published".into(), now.modal_energies_published.to_string()),
+        ("modal_energies_unsent".into(), now.modal_energies_unsent.to_string()),
         ("latency_p50_us".into(), now.latency_p50_us.to_string()),
         ("latency_p99_us".into(), now.latency_p99_us.to_string()),
         ("latency_max_us".into(), now.latency_max_us.to_string()),
