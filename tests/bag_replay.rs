@@ -44,6 +44,12 @@ fn swing(i: u64, bat_id: &str) -> Swing {
 /// Records a run as the node would: bat "game" is r161 for swings 0..4, then aluminum for 5..9; swing 10
 /// asks for an unknown bat (rejected). Returns the settings used.
 fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> ModelSettings {
+    record_run(dir, tamper, None)
+}
+
+/// As [`record_like_the_node`], and swing `dropped` (if any) answered DROPPED as the node answers a swing its
+/// full queue cannot take (nothing computed: no ModalEnergies).
+fn record_run(dir: &Path, tamper: Option<u64>, dropped: Option<u64>) -> ModelSettings {
     let settings = ModelSettings { default_modes: 8, ..ModelSettings::default() };
     let rec = Recorder::start(RecorderConfig::new(dir)).unwrap();
     rec.set_custom_data("sweetspot/default_modes", settings.default_modes.to_string());
@@ -82,6 +88,11 @@ fn record_like_the_node(dir: &Path, tamper: Option<u64>) -> ModelSettings {
         }
         let s = swing(i, if i == 10 { "no_such_bat" } else { "game" });
         assert!(rec.record(swing_t, encode_cdr(&s).unwrap(), next(), 0));
+        if dropped == Some(i) {
+            let ev = sweetspot::node::convert::dropped_answer(&s, 4);
+            assert!(rec.record(ev_t, encode_cdr(&ev).unwrap(), next(), 0));
+            continue;
+        }
         let (plan, _) =
             engine::plan_swing(&mut registry, &settings, &s.bat_id, &s.ball_id, convert::impact_from_swing(&s));
         let result = engine::compute(&plan, &stats);
@@ -123,6 +134,25 @@ fn replay_matches_bit_exactly_with_params_in_force_at_each_swing() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains("11 swings: 11 match, 0 differ (bit-exact)"), "{text}");
+}
+
+/// A swing the node dropped (its queue was full) was answered DROPPED without computing anything: the replay
+/// has nothing to compare it with (not a difference), and the rest of the run still matches.
+#[test]
+fn a_recorded_dropped_answer_is_not_recorded_output_not_a_difference() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("dropped");
+    let settings = record_run(&dir, None, Some(6));
+    let report = sweetspot::bag::replay::replay(&dir, &settings, &Default::default(), 0.0, |_, _| {}).unwrap();
+    assert_eq!(report.rows.len(), 11);
+    assert_eq!(report.rows[6].verdict, sweetspot::bag::replay::Verdict::NotRecorded, "{:#?}", report.rows[6]);
+    assert_eq!(report.tally(), (10, 0, 1));
+    // The replay computed the swing the node never did.
+    assert_eq!(report.rows[6].replayed_status, ExitVelocity::STATUS_OK);
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay"]).arg(&dir).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("11 swings: 10 match, 0 differ (bit-exact), 1 without recorded output"), "{text}");
 }
 
 #[test]
@@ -301,4 +331,76 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
     let report = sweetspot::bag::replay::replay(&bag, &unlimited, &Default::default(), 0.0, |_, _| {}).unwrap();
     let differ: Vec<u64> = report.rows.iter().filter(|r| !r.differences.is_empty()).map(|r| r.swing_id).collect();
     assert_eq!(differ, [1, 2, 6, 7, 10]);
+}
+
+/// A run whose swings name no bat or ball (empty ids: the latest received), answered by a node that got
+/// bat "game" (aluminum) and ball "rig_ball" before the recording started; `record_params` also records them.
+fn record_with_default_ids(dir: &Path, record_params: bool) -> ModelSettings {
+    let settings = ModelSettings { default_modes: 8, ..ModelSettings::default() };
+    let rec = Recorder::start(RecorderConfig::new(dir)).unwrap();
+    rec.set_custom_data("sweetspot/default_modes", settings.default_modes.to_string());
+    rec.set_custom_data("sweetspot/time_step", settings.time_step.to_string());
+    rec.set_custom_data("sweetspot/default_bat", settings.default_bat.clone());
+    let bat_t = rec.register_topic(TopicInfo::of::<BatParams>("/lab/bat/params", Q)).unwrap();
+    let ball_t = rec.register_topic(TopicInfo::of::<BallParams>("/lab/ball/params", Q)).unwrap();
+    let swing_t = rec.register_topic(TopicInfo::of::<Swing>("/lab/swing", Q)).unwrap();
+    let ev_t = rec.register_topic(TopicInfo::of::<ExitVelocity>("/lab/exit_velocity", Q)).unwrap();
+    let me_t = rec.register_topic(TopicInfo::of::<ModalEnergies>("/lab/modal_energies", Q)).unwrap();
+    let mut registry = Registry::new();
+    let mut t = T0;
+    let mut next = || {
+        t += 1_000_000;
+        t
+    };
+    let ball = BallParams {
+        ball_id: "rig_ball".into(),
+        mass: 0.150,
+        radius: 0.037,
+        cor: 0.45,
+        stiffness: 7.5e6,
+        exponent: 1.5,
+        ..BallParams::default()
+    };
+    let bat = BatParams { bat_id: "game".into(), preset: "aluminum".into(), ..BatParams::default() };
+    registry.set_ball(&ball.ball_id, convert::ball_from_params(&ball).unwrap());
+    let built = convert::bat_from_params(&bat).unwrap();
+    registry.set_bat(BatEntry::new("game", built.bat, built.max_modes, &settings));
+    if record_params {
+        assert!(rec.record(ball_t, encode_cdr(&ball).unwrap(), next(), 0));
+        assert!(rec.record(bat_t, encode_cdr(&bat).unwrap(), next(), 0));
+    }
+    for i in 0..3u64 {
+        let s = swing(i, "");
+        assert!(rec.record(swing_t, encode_cdr(&s).unwrap(), next(), 0));
+        let (plan, _) = engine::plan_swing(&mut registry, &settings, "", "", convert::impact_from_swing(&s));
+        let result = engine::compute(&plan, &ModeCacheCount::default());
+        let c = result.as_ref().expect("answered OK");
+        assert!(rec.record(me_t, encode_cdr(&convert::modal_energies(&s, plan.bat_id(), c)).unwrap(), next(), 0));
+        let ev = convert::exit_velocity(&s, plan.bat_id(), plan.ball_id(), &result);
+        assert_eq!((ev.bat_id.as_str(), ev.ball_id.as_str()), ("game", "rig_ball"));
+        assert!(rec.record(ev_t, encode_cdr(&ev).unwrap(), next(), 0));
+    }
+    rec.finish().unwrap();
+    settings
+}
+
+/// Swings with empty ids were answered with the latest bat and ball received: when the bag lacks their
+/// params the replay cannot know them (it would fall back to the default bat and ball), so the swings are
+/// not checked and the report names what is missing — as for swings naming the ids. With the params in the
+/// bag the same run matches bit-exactly.
+#[test]
+fn swings_with_default_ids_answered_with_params_the_bag_lacks_are_not_checked() {
+    use sweetspot::bag::replay::{replay, Verdict};
+    let tmp = tempfile::tempdir().unwrap();
+    let (with, without) = (tmp.path().join("with"), tmp.path().join("without"));
+    let settings = record_with_default_ids(&with, true);
+    let report = replay(&with, &settings, &Default::default(), 0.0, |_, _| {}).unwrap();
+    assert_eq!(report.tally(), (3, 0, 0), "{:#?}", report.rows);
+    record_with_default_ids(&without, false);
+    let report = replay(&without, &settings, &Default::default(), 0.0, |_, _| {}).unwrap();
+    assert!(report.rows.iter().all(|r| r.verdict == Verdict::MissingInput), "{:#?}", report.rows);
+    assert_eq!(report.rows[0].missing_input.as_deref(), Some("BatParams of bat 'game' in /lab"));
+    let out = Command::new(sweetspot_bin()).args(["bag", "replay"]).arg(&without).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("not checked: the bag lacks the BatParams of bat 'game' in /lab"), "{text}");
 }

@@ -1,7 +1,8 @@
 //! Every user-given duration and rate goes through one checked conversion (`model::time`): at 0, NaN, ±∞,
-//! 1e300 and 1e-300 each flag either parses (and then means a span an `Instant` can hold: huge values and
-//! inf saturate at 100 years, "for ever") or is refused by clap with a range error naming the flag — never a
-//! panic. Parsing only: no DDS participant is started here (the runs are in `cli_extremes_dds`).
+//! 1e300 and 1e-300 each flag either parses (and then means a span an `Instant` can hold: huge values and,
+//! for a limit, inf saturate at 100 years, "for ever") or is refused by clap with a range error naming the
+//! flag — never a panic; and what parses is not refused again when the command checks its arguments.
+//! Parsing and argument checks only: no DDS participant is started here.
 
 use clap::Parser;
 use sweetspot::cli::Cli;
@@ -13,6 +14,10 @@ enum Kind {
     SecondsZero,
     /// Seconds > 0 (+∞ = for ever).
     SecondsPositive,
+    /// A span ≥ 0 that is not a limit: finite (+∞ refused).
+    SpanZero,
+    /// A swing rate, Hz: a rate of at most 10000.
+    SwingRate,
     /// A rate, Hz: finite, at least one per 100 years.
     Rate,
     /// A time scale: finite, > 0.
@@ -26,6 +31,8 @@ fn accepted(kind: Kind, value: &str) -> bool {
     match (kind, value) {
         (Kind::SecondsZero, v) => matches!(v, "0" | "inf" | "1e300" | "1e-300"),
         (Kind::SecondsPositive, v) => matches!(v, "inf" | "1e300" | "1e-300"),
+        (Kind::SpanZero, v) => matches!(v, "0" | "1e300" | "1e-300"),
+        (Kind::SwingRate, _) => false,
         (Kind::Rate, v) => v == "1e300",
         (Kind::Scale, v) => matches!(v, "1e300" | "1e-300"),
     }
@@ -37,8 +44,8 @@ fn flags() -> Vec<(Vec<&'static str>, &'static str, Kind)> {
     vec![
         (vec!["bag", "record", "-a"], "-d", Kind::SecondsZero),
         (vec!["bag", "record", "-a"], "--max-bag-duration", Kind::SecondsZero),
-        (vec!["bag", "play", golden], "--start-offset", Kind::SecondsZero),
-        (vec!["bag", "play", golden], "--delay", Kind::SecondsZero),
+        (vec!["bag", "play", golden], "--start-offset", Kind::SpanZero),
+        (vec!["bag", "play", golden], "--delay", Kind::SpanZero),
         (vec!["bag", "play", golden], "--timeout", Kind::SecondsPositive),
         (vec!["bag", "play", golden], "-r", Kind::Scale),
         (vec!["bag", "play", golden], "--clock", Kind::Rate),
@@ -47,8 +54,8 @@ fn flags() -> Vec<(Vec<&'static str>, &'static str, Kind)> {
         (vec!["pub", "swing", "{}"], "--rate", Kind::Rate),
         (vec!["echo", "swing"], "--timeout", Kind::SecondsZero),
         (vec!["rig"], "--wait", Kind::SecondsZero),
-        (vec!["rig"], "--rate", Kind::Rate),
-        (vec!["demo"], "--rate", Kind::Rate),
+        (vec!["rig"], "--rate", Kind::SwingRate),
+        (vec!["demo"], "--rate", Kind::SwingRate),
         (vec!["demo"], "--timeout", Kind::SecondsPositive),
     ]
 }
@@ -87,4 +94,44 @@ fn every_duration_and_rate_flag_is_checked_at_the_extremes() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// What parses is not refused again when the command runs: `inf` for a limit means no limit. Each run stops
+/// at an invalid `ROS_DOMAIN_ID` (read before any DDS participant is made), so reaching that error shows the
+/// durations passed every check before it.
+#[test]
+fn inf_for_a_limit_passes_the_commands_own_checks() {
+    let golden = "bags/golden/sweetspot_golden";
+    let runs: [&[&str]; 6] = [
+        &["bag", "play", golden, "--timeout", "inf"],
+        &["pub", "swing", "{}", "--timeout", "inf"],
+        &["pub", "swing", "{}", "--keep-alive", "inf"],
+        &["echo", "swing", "--timeout", "inf"],
+        &["rig", "--wait", "inf"],
+        &["rig", "--rate", "10000"],
+    ];
+    for args in runs {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .env("ROS_DOMAIN_ID", "not-a-domain")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(stderr.contains("ROS_DOMAIN_ID=\"not-a-domain\" is invalid"), "{args:?} stopped before DDS: {stderr}");
+    }
+}
+
+/// A span that is not a limit refuses `inf` with the range it expects, naming the flag.
+#[test]
+fn inf_for_a_span_is_a_range_error_naming_the_flag() {
+    for flag in ["--start-offset", "--delay"] {
+        let err = Cli::try_parse_from(["sweetspot", "bag", "play", "bags/golden/sweetspot_golden", flag, "inf"])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(flag) && err.contains("expected finite seconds ≥ 0"), "{err}");
+    }
+    let err = Cli::try_parse_from(["sweetspot", "rig", "--rate", "10001"]).unwrap_err().to_string();
+    assert!(err.contains("--rate") && err.contains("at most 10000 swings per second"), "{err}");
 }

@@ -345,13 +345,15 @@ fn a_full_queue_drops_counts_and_reports_instead_of_growing() {
         })
     });
     let last = reports.last().unwrap();
-    let (ok, rejected, dropped, lost) = (
+    let (ok, rejected, dropped, unsent, lost) = (
         value(last, "swings_processed"),
         value(last, "swings_rejected"),
         value(last, "swings_dropped"),
+        value(last, "publish_failures"),
         value(last, "swings_lost_in_transport"),
     );
     assert!(dropped > 0, "the flood must overflow a 4-swing queue");
+    assert_eq!(unsent, 0, "a keep-all reader that keeps up leaves the send window room for every answer");
     assert_eq!(ok + rejected + dropped + lost, N, "every swing is answered or counted as dropped or lost");
     assert!(reports.iter().all(|d| value(d, "swings_in_flight") <= CAPACITY), "in flight never exceeds capacity");
     assert!(reports.iter().any(|d| d.status[0].level == 1 && d.status[0].message.contains("dropped")), "a WARN report");

@@ -21,13 +21,13 @@ const GREEN: &[&str] = &[
     "alloy-hoop-frequency",
     "spin-vs-incoming-spin",
     "bpf-falls-with-hoop-frequency",
-    "bpf-youth-limit-reached",
 ];
 
 /// Rows outside their tolerance today (README, "Validation against measurement", says why). They may turn
 /// green through the model, never through their tolerance (pinned in [`BOUNDS`]).
 const RED: &[&str] = &[
     "q-sweet-spot",
+    "bpf-youth-limit-reached",
     "tee-spin-88mph",
     "tee-spin-63mph",
     "game-spin-10deg",
@@ -53,7 +53,7 @@ const BOUNDS: &[(&str, Option<f64>, Option<f64>)] = &[
     ("spin-vs-incoming-spin", Some(-0.1), Some(0.1)),
     ("bpf-falls-with-hoop-frequency", None, Some(0.0)),
     ("field-performance-falls-with-hoop-frequency", None, Some(0.0)),
-    ("bpf-youth-limit-reached", Some(1.15), None),
+    ("bpf-youth-limit-reached", None, Some(1.15)),
     ("cage-metal-minus-wood", Some(5.0), Some(9.0)),
     ("sweet-spot-same-distance", Some(-1.0), Some(1.0)),
     ("contact-time-game", Some(0.6), Some(0.8)),

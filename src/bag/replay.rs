@@ -328,18 +328,24 @@ pub fn replay(
                 let me = result.as_ref().ok().map(|c| convert::modal_energies(swing, plan.bat_id(), c));
                 let mut differences = Vec::new();
                 let mut cmp = Comparer { tolerance, diffs: &mut differences, worst: 0.0 };
-                // Recorded OK, replayed "unknown bat_id/ball_id" for an id the bag never announced: the bag
-                // lacks what the node had, not a difference of the model.
+                // Recorded OK with a bat or ball the bag never announced, which the replay could not use: it
+                // replayed "unknown bat_id/ball_id" for that id, or (an empty id: the latest received) resolved
+                // another one. The bag lacks what the node had, not a difference of the model.
                 let ns = row.namespace.clone();
                 let missing_input = match &row.exit_velocity {
-                    Some(recorded)
-                        if recorded.status == ExitVelocity::STATUS_OK && ev.status == ExitVelocity::STATUS_REJECTED =>
-                    {
-                        let (bat_id, ball_id) = (plan.bat_id(), plan.ball_id());
-                        let unknown_bat = ev.message.starts_with("unknown bat_id")
-                            && !announced_bats.contains(&(ns.clone(), bat_id.to_string()));
-                        let unknown_ball = ev.message.starts_with("unknown ball_id")
-                            && !announced_balls.contains(&(ns.clone(), ball_id.to_string()));
+                    Some(recorded) if recorded.status == ExitVelocity::STATUS_OK => {
+                        // What the node used, as its answer says (an answer naming none: what the replay used).
+                        let or_replayed = |recorded: &str, replayed: &str| {
+                            if recorded.is_empty() { replayed } else { recorded }.to_string()
+                        };
+                        let bat_id = or_replayed(&recorded.bat_id, plan.bat_id());
+                        let ball_id = or_replayed(&recorded.ball_id, plan.ball_id());
+                        let unknown_bat = override_bat.is_none()
+                            && !announced_bats.contains(&(ns.clone(), bat_id.clone()))
+                            && (ev.message.starts_with("unknown bat_id") || bat_id != plan.bat_id());
+                        let unknown_ball = override_ball.is_none()
+                            && !announced_balls.contains(&(ns.clone(), ball_id.clone()))
+                            && (ev.message.starts_with("unknown ball_id") || ball_id != plan.ball_id());
                         let at = if ns == "/" { String::new() } else { format!(" in {ns}") };
                         if unknown_bat {
                             Some(format!("BatParams of bat '{bat_id}'{at}"))

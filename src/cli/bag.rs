@@ -175,11 +175,11 @@ so every swing meets the bat and ball in force when it was recorded.")]
         /// Publish what was recorded on FROM on TO instead (repeatable), e.g. `--remap /lab/swing:=/swing`.
         #[arg(short = 'm', long = "remap", value_name = "FROM:=TO")]
         remap: Vec<String>,
-        /// Start this many seconds (recorded time) after the bag's first message.
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::seconds_at_least_zero)]
+        /// Start this many seconds (recorded time) after the bag's first message (finite).
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::finite_seconds_at_least_zero)]
         start_offset: f64,
-        /// Wait this many seconds before playing (before each pass with --loop).
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::seconds_at_least_zero)]
+        /// Wait this many seconds before playing (before each pass with --loop; finite).
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::finite_seconds_at_least_zero)]
         delay: f64,
         /// Publish rosgraph_msgs/Clock with the bag's time on /clock at HZ (40 without a value, as rosbag2).
         #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40", value_parser = super::common::rate_hz)]
@@ -191,7 +191,7 @@ so every swing meets the bat and ball in force when it was recorded.")]
         /// Start publishing at once, without waiting for discovered subscribers to match (as `ros2 bag play`).
         #[arg(long, conflicts_with = "wait_subscribers")]
         no_wait: bool,
-        /// Seconds to wait for subscribers, and for acknowledgments at the end.
+        /// Seconds to wait for subscribers, and for acknowledgments at the end (inf: no limit).
         #[arg(long, default_value_t = 10.0, value_parser = super::common::seconds_above_zero)]
         timeout: f64,
         /// Do not print each message.
@@ -285,24 +285,18 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             ros_args,
         } => {
             check_damage(&path, skip_damaged)?;
-            let seconds = |flag: &str, value: f64, positive: bool| -> anyhow::Result<std::time::Duration> {
-                let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
-                if !ok {
-                    let bound = if positive { "> 0" } else { ">= 0" };
-                    anyhow::bail!("{flag} {value} is out of range: expected a finite value {bound} s");
-                }
-                Ok(crate::model::time::saturating_secs(value))
-            };
+            // Checked by their value parsers (model::time): --timeout inf waits for ever, the spans are finite.
+            let seconds = crate::model::time::saturating_secs;
             let options = crate::play::PlayOptions {
                 rate,
                 repeat,
                 topics,
                 wait_subscribers,
                 wait_discovered: !no_wait,
-                timeout: seconds("--timeout", timeout, true)?,
+                timeout: seconds(timeout),
                 remaps: play_remaps(&remap, ros_args.as_deref().unwrap_or_default())?,
-                start_offset: seconds("--start-offset", start_offset, false)?,
-                delay: seconds("--delay", delay, false)?,
+                start_offset: seconds(start_offset),
+                delay: seconds(delay),
                 clock_hz: clock,
                 paused: None,
             };

@@ -46,6 +46,20 @@ pub fn seconds_above_zero(text: &str) -> std::result::Result<f64, String> {
     crate::model::time::check_seconds(value, crate::model::time::Least::AboveZero)
 }
 
+/// Parses a span of seconds ≥ 0 that is not a limit (clap value parser; finite: +∞ is a range error, see
+/// [`crate::model::time::check_finite_seconds`]).
+pub fn finite_seconds_at_least_zero(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    crate::model::time::check_finite_seconds(value, crate::model::time::Least::Zero)
+}
+
+/// Parses a swing rate in Hz (clap value parser): a rate of at most
+/// [`crate::model::time::MAX_SWING_RATE_HZ`].
+pub fn swing_rate_hz(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a rate"))?;
+    crate::model::time::check_swing_rate(value)
+}
+
 /// Parses a rate in Hz (clap value parser): finite, at least one per 100 years.
 pub fn rate_hz(text: &str) -> std::result::Result<f64, String> {
     let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a rate"))?;

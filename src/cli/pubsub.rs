@@ -74,13 +74,14 @@ pub struct PubArgs {
     /// (default 1; 0 on latched topics and when repeating forever at --rate).
     #[arg(short = 'w', long = "wait-matching-subscriptions", visible_alias = "wait-subscribers", value_name = "N")]
     pub wait_subscribers: Option<usize>,
-    /// Seconds to wait for matching subscriptions, and for subscribers to acknowledge everything at the end.
+    /// Seconds to wait for matching subscriptions, and for subscribers to acknowledge everything at the end
+    /// (inf: no limit).
     #[arg(long, visible_alias = "max-wait-time-secs", value_name = "SECS", default_value_t = 10.0,
           value_parser = super::common::seconds_at_least_zero)]
     pub timeout: f64,
     /// Stay up this many seconds after every subscription acknowledged the last message: readers need a moment
     /// to take what they acknowledged (a RustDDS reader drops the untaken samples of a writer whose participant
-    /// has left), and late joiners get latched params only while we are up.
+    /// has left), and late joiners get latched params only while we are up (inf: until Ctrl-C).
     #[arg(long, value_name = "SECS", default_value_t = 0.5, value_parser = super::common::seconds_at_least_zero)]
     pub keep_alive: f64,
     /// QoS over the topic's own.
@@ -128,7 +129,7 @@ pub struct EchoArgs {
     /// Print the first message received and exit (same as `--count 1`).
     #[arg(long, conflicts_with = "count")]
     pub once: bool,
-    /// Exit after this many seconds.
+    /// Exit after this many seconds (inf: no limit, as without it).
     #[arg(long, value_name = "SECS", value_parser = super::common::seconds_at_least_zero)]
     pub timeout: Option<f64>,
     /// Subscribe volatile even on latched topics (params, sweet_spot): only messages published from now on.
@@ -601,15 +602,7 @@ pub fn run_pub(args: PubArgs) -> anyhow::Result<()> {
     let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_pub")?;
     let (msg_type, message) = split_positionals(&args)?;
     let (fq_topic, kind) = resolve_target(&args.target, &msg_type, &identity, &resolver)?;
-    if let Some(rate) = args.rate {
-        if !(rate.is_finite() && rate > 0.0) {
-            bail!("--rate must be a positive number of messages per second, got {rate}");
-        }
-    }
-    let non_negative = |v: f64| v.is_finite() && v >= 0.0;
-    if !non_negative(args.timeout) || !non_negative(args.keep_alive) {
-        bail!("--timeout and --keep-alive must be non-negative seconds");
-    }
+    // --rate, --timeout and --keep-alive are checked by their value parsers (model::time): inf waits for ever.
     let inputs = read_inputs(message.as_deref(), &args)?;
     if inputs.is_empty() {
         bail!("no messages to publish");
@@ -793,11 +786,7 @@ pub fn run_echo(args: EchoArgs) -> anyhow::Result<()> {
         (flag, pos) => flag.clone().or_else(|| pos.clone()),
     };
     let (fq_topic, kind) = resolve_target(&args.topic, &msg_type, &identity, &resolver)?;
-    if let Some(t) = args.timeout {
-        if !(t.is_finite() && t >= 0.0) {
-            bail!("--timeout must be non-negative seconds, got {t}");
-        }
-    }
+    // --timeout is checked by its value parser (model::time): inf waits for ever.
     with_type!(kind, T => echo::<T>(kind, &args, &fq_topic))
 }
 

@@ -4,8 +4,10 @@
 //! **Durations and rates from users.** Every duration flag or parameter (timeouts, delays, offsets, split
 //! times) is checked by [`check_seconds`] (NaN and negatives refused, +∞ allowed) and converted by
 //! [`saturating_secs`], which never panics: anything beyond [`FOREVER`] (1e300, +∞) is FOREVER, which
-//! `Instant` arithmetic can hold. Every rate (Hz) is checked by [`check_rate`] (finite, at least one per
-//! FOREVER) and turned into a period by [`period_of`]; a time scale applied to a duration goes through
+//! `Instant` arithmetic can hold. A span that is not a limit (a bag offset, a delay) is checked by
+//! [`check_finite_seconds`] instead: +∞ there is a range error, not "for ever". Every rate (Hz) is checked by [`check_rate`] (finite, at least one per
+//! FOREVER; a swing rate also at most [`MAX_SWING_RATE_HZ`], [`check_swing_rate`]) and turned into a period by
+//! [`period_of`]; a time scale applied to a duration goes through
 //! [`scaled`].
 
 use std::time::Duration;
@@ -67,6 +69,39 @@ pub fn check_seconds(seconds: f64, least: Least) -> Result<f64, String> {
     let bound = if least == Least::Zero { "≥ 0" } else { "> 0" };
     let value = super::limits::number(seconds);
     Err(format!("{value} s is out of range: expected seconds {bound} (inf or anything over 100 years: for ever)"))
+}
+
+/// Checks a user-given span that is not a limit (an offset into a bag, a delay before starting): as
+/// [`check_seconds`], but +∞ is refused with the range expected, since "for ever" there would only mean the
+/// command never does anything. Finite huge values still saturate at [`FOREVER`].
+pub fn check_finite_seconds(seconds: f64, least: Least) -> Result<f64, String> {
+    let seconds = check_seconds(seconds, least).map_err(|_| finite_range(seconds, least))?;
+    if seconds.is_finite() {
+        Ok(seconds)
+    } else {
+        Err(finite_range(seconds, least))
+    }
+}
+
+fn finite_range(seconds: f64, least: Least) -> String {
+    let bound = if least == Least::Zero { "≥ 0" } else { "> 0" };
+    let value = super::limits::number(seconds);
+    format!("{value} s is out of range: expected finite seconds {bound} (a span, not a limit: inf is not one)")
+}
+
+/// The fastest a rig (or the demo's rig) publishes swings, Hz: a swing every 100 µs, about what one node
+/// answers (faster only fills its queue with DROPPED answers).
+pub const MAX_SWING_RATE_HZ: f64 = 10_000.0;
+
+/// Checks a user-given swing rate: a rate ([`check_rate`]) of at most [`MAX_SWING_RATE_HZ`].
+pub fn check_swing_rate(hz: f64) -> Result<f64, String> {
+    let hz = check_rate(hz)?;
+    if hz <= MAX_SWING_RATE_HZ {
+        Ok(hz)
+    } else {
+        let value = super::limits::number(hz);
+        Err(format!("{value} Hz is out of range: expected at most {MAX_SWING_RATE_HZ} swings per second"))
+    }
 }
 
 /// Checks a user-given rate: finite and at least [`MIN_RATE_HZ`] (one per 100 years).

@@ -45,9 +45,10 @@
 //!   8,192 results are unacknowledged (RustDDS's reliable window): each publish then waits up to 500 ms and
 //!   fails, counted and logged, until that reader's lease expires (README, "What the node promises").
 //! - ModalEnergies are published only while the topic has a matched subscription (re-checked on every
-//!   discovery event; `modal_energies_published` on /diagnostics) and recorded always: a DDS write costs
-//!   every answer latency even with no reader. A swing arriving when the pipeline is full is dropped, counted
-//!   (`swings_dropped`), warned about on /rosout (rate-limited) and answered at once with status DROPPED (so
+//!   discovery event; `modal_energies_published` on /diagnostics, and `modal_energies_unsent` apart from the
+//!   swing's answer) and recorded always: a DDS write costs every answer latency even with no reader. A swing
+//!   arriving when the pipeline is full is dropped, counted (`swings_dropped`), warned about on /rosout
+//!   (rate-limited) and answered at once with status DROPPED, without waiting for room in the send window (so
 //!   every swing taken gets exactly one answer); gaps in a publisher's DDS sequence numbers are counted as
 //!   `swings_lost_in_transport` (those swings never reached the node and get no answer). A failed publish
 //!   is counted (`publish_failures`) and logged, rate-limited, with DDS's reason.

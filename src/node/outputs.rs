@@ -35,14 +35,13 @@ pub struct Outputs {
 impl Outputs {
     /// The sink that publishes answers (and records them on `tape`) for the pipeline.
     pub fn sink(&self, tape: &Arc<Tape>, stats: &Arc<NodeStats>, failures: &PublishFailures) -> DdsSink {
-        DdsSink {
+        let out = DdsAnswers {
             exit_velocity: Arc::clone(&self.exit_velocity),
             modal_energies: Arc::clone(&self.modal_energies),
             energies_listened: Arc::clone(&self.energies_listeners.flag),
-            tape: Arc::clone(tape),
-            stats: Arc::clone(stats),
             failures: failures.clone(),
-        }
+        };
+        DdsSink { out, tape: Arc::clone(tape), stats: Arc::clone(stats) }
     }
 
     /// Re-checks whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
@@ -137,51 +136,90 @@ pub fn publish_failure_text<D>(what: &str, error: &ros2_client::WriteError<D>, s
     format!("{what} could not be published: {error}{meaning}; {suppressed} more publish failures since the last such report")
 }
 
-/// Publishes and records results in swing order (on the pipeline's sequencer thread, or inline on the
-/// receive task when the pipeline is idle).
-pub struct DdsSink {
+/// Where the sink sends answers: the node's publishers ([`DdsAnswers`]), or a test's.
+pub trait AnswerOut: Send + 'static {
+    /// Whether ModalEnergies has a listener (published only then).
+    fn energies_listened(&self) -> bool;
+    /// Publishes a swing's ModalEnergies.
+    fn publish_energies(&self, message: ModalEnergies) -> Result<(), ros2_client::WriteError<()>>;
+    /// Publishes a swing's ExitVelocity (its answer).
+    fn publish_answer(&self, message: ExitVelocity) -> Result<(), ros2_client::WriteError<()>>;
+    /// Reports (rate-limited) that `what` could not be published.
+    fn report_failure(&self, what: &str, error: &ros2_client::WriteError<()>);
+}
+
+/// The node's answer publishers.
+pub struct DdsAnswers {
     /// ExitVelocity out.
     exit_velocity: Arc<Publisher<ExitVelocity>>,
     /// ModalEnergies out.
     modal_energies: Arc<Publisher<ModalEnergies>>,
     /// Whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
     energies_listened: Arc<AtomicBool>,
-    /// The recording.
-    tape: Arc<Tape>,
-    /// The node's counters.
-    stats: Arc<NodeStats>,
     /// Where failed publishes are reported.
     failures: PublishFailures,
 }
 
-impl ResultSink<Swing> for DdsSink {
+impl AnswerOut for DdsAnswers {
+    fn energies_listened(&self) -> bool {
+        self.energies_listened.load(Ordering::Relaxed)
+    }
+
+    fn publish_energies(&self, message: ModalEnergies) -> Result<(), ros2_client::WriteError<()>> {
+        self.modal_energies.publish(message).map_err(ros2_client::WriteError::forget_data)
+    }
+
+    fn publish_answer(&self, message: ExitVelocity) -> Result<(), ros2_client::WriteError<()>> {
+        self.exit_velocity.publish(message).map_err(ros2_client::WriteError::forget_data)
+    }
+
+    fn report_failure(&self, what: &str, error: &ros2_client::WriteError<()>) {
+        self.failures.report(what, error);
+    }
+}
+
+/// Publishes and records results in swing order (on the pipeline's sequencer thread, or inline on the
+/// receive task when the pipeline is idle).
+pub struct DdsSink<O: AnswerOut = DdsAnswers> {
+    /// The publishers.
+    out: O,
+    /// The recording.
+    tape: Arc<Tape>,
+    /// The node's counters.
+    stats: Arc<NodeStats>,
+}
+
+impl<O: AnswerOut> ResultSink<Swing> for DdsSink<O> {
+    /// Delivered = the ExitVelocity (the swing's answer) went out. A ModalEnergies that could not go out is
+    /// reported and counted on its own (`modal_energies_unsent`): the swing was still answered.
     fn deliver(&mut self, outcome: &Outcome<Swing>) -> bool {
         let swing = &outcome.payload;
         let ev = crate::model::convert::exit_velocity(swing, &outcome.bat_id, &outcome.ball_id, &outcome.result);
         let stamp_ns = swing.header.stamp.unix_ns();
-        let mut delivered = true;
         if let Ok(computed) = &outcome.result {
             let me = crate::model::convert::modal_energies(swing, &outcome.bat_id, computed);
             // Always recorded; published only when someone listens: a DDS write wakes RustDDS's event
             // loop thread even with no reader, which costs every answer latency for nothing.
             self.tape.record(Recorded::ModalEnergies, &me, crate::model::time::now_ns(), stamp_ns);
-            if self.energies_listened.load(Ordering::Relaxed) {
-                match self.modal_energies.publish(me) {
+            if self.out.energies_listened() {
+                match self.out.publish_energies(me) {
                     Ok(()) => NodeStats::bump(&self.stats.modal_energies_published),
                     Err(e) => {
-                        self.failures.report(&format!("the ModalEnergies of swing {}", swing.swing_id), &e);
-                        delivered = false;
+                        NodeStats::bump(&self.stats.modal_energies_unsent);
+                        self.out.report_failure(&format!("the ModalEnergies of swing {}", swing.swing_id), &e);
                     }
                 }
             }
         }
         // ExitVelocity last, so a listener that has the answer also has its energies.
         self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), stamp_ns);
-        if let Err(e) = self.exit_velocity.publish(ev) {
-            self.failures.report(&format!("the ExitVelocity of swing {}", swing.swing_id), &e);
-            delivered = false;
+        match self.out.publish_answer(ev) {
+            Ok(()) => true,
+            Err(e) => {
+                self.out.report_failure(&format!("the ExitVelocity of swing {}", swing.swing_id), &e);
+                false
+            }
         }
-        delivered
     }
 }
 
@@ -218,6 +256,84 @@ impl EnergiesListeners {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::engine::{self, Registry};
+    use crate::model::settings::ModelSettings;
+    use std::sync::Mutex;
+
+    /// Publishers that fail on demand and keep what they sent.
+    #[derive(Default)]
+    struct Fake {
+        energies_fail: bool,
+        answer_fails: bool,
+        sent: Arc<Mutex<Vec<String>>>,
+    }
+
+    impl AnswerOut for Fake {
+        fn energies_listened(&self) -> bool {
+            true
+        }
+        fn publish_energies(&self, m: ModalEnergies) -> Result<(), ros2_client::WriteError<()>> {
+            if self.energies_fail {
+                return Err(ros2_client::WriteError::WouldBlock { data: () });
+            }
+            self.sent.lock().unwrap().push(format!("ModalEnergies {}", m.swing_id));
+            Ok(())
+        }
+        fn publish_answer(&self, m: ExitVelocity) -> Result<(), ros2_client::WriteError<()>> {
+            if self.answer_fails {
+                return Err(ros2_client::WriteError::WouldBlock { data: () });
+            }
+            self.sent.lock().unwrap().push(format!("ExitVelocity {}", m.swing_id));
+            Ok(())
+        }
+        fn report_failure(&self, what: &str, _: &ros2_client::WriteError<()>) {
+            self.sent.lock().unwrap().push(format!("failed: {what}"));
+        }
+    }
+
+    /// An OK outcome of swing 7 on the built-in default bat and ball (a real, coarse collision).
+    fn ok_outcome() -> Outcome<Swing> {
+        let settings = ModelSettings { default_modes: 2, ..ModelSettings::default() };
+        let swing = Swing {
+            swing_id: 7,
+            ball_speed: 40.0,
+            bat_cm_speed: 25.0,
+            bat_angular_speed: 45.0,
+            impact_z: 0.7,
+            ..Swing::default()
+        };
+        let mut registry = Registry::new();
+        let (plan, _) =
+            engine::plan_swing(&mut registry, &settings, "", "", crate::model::convert::swing_input(&swing));
+        let result = engine::compute(&plan, &());
+        assert!(result.is_ok(), "{result:?}");
+        let (bat_id, ball_id) = (plan.bat_id().to_string(), plan.ball_id().to_string());
+        Outcome { seq: 0, received: Instant::now(), bat_id, ball_id, result, payload: swing }
+    }
+
+    #[test]
+    fn a_modal_energies_failure_leaves_the_swing_answered_and_is_counted_on_its_own() {
+        let stats = Arc::new(NodeStats::new());
+        let out = Fake { energies_fail: true, ..Fake::default() };
+        let sent = Arc::clone(&out.sent);
+        let mut sink = DdsSink { out, tape: Arc::new(Tape::off()), stats: Arc::clone(&stats) };
+        assert!(sink.deliver(&ok_outcome()), "the ExitVelocity went out: the swing is answered");
+        assert_eq!(*sent.lock().unwrap(), ["failed: the ModalEnergies of swing 7", "ExitVelocity 7"]);
+        let s = stats.snapshot(0);
+        assert_eq!((s.modal_energies_unsent, s.modal_energies_published), (1, 0));
+    }
+
+    #[test]
+    fn an_exit_velocity_failure_is_the_swing_unsent() {
+        let stats = Arc::new(NodeStats::new());
+        let out = Fake { answer_fails: true, ..Fake::default() };
+        let sent = Arc::clone(&out.sent);
+        let mut sink = DdsSink { out, tape: Arc::new(Tape::off()), stats: Arc::clone(&stats) };
+        assert!(!sink.deliver(&ok_outcome()));
+        assert_eq!(*sent.lock().unwrap(), ["ModalEnergies 7", "failed: the ExitVelocity of swing 7"]);
+        let s = stats.snapshot(0);
+        assert_eq!((s.modal_energies_unsent, s.modal_energies_published), (0, 1));
+    }
 
     #[test]
     fn a_publish_failure_names_what_failed_and_why() {

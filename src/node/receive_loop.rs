@@ -173,36 +173,9 @@ impl NodeLoop {
         let mut swings = pin!(inputs.swings.async_stream());
         let mut participants = pin!(inputs.participants.async_stream());
         let mut shutdown = pin!(shutdown_signal());
-        // A swing taken while looking for swings sent before some params, but sent after them: handled next.
-        let mut held: Option<ReadResult<(Swing, MessageInfo)>> = None;
+        // Bat params, ball params and swings taken from their readers but not yet handled.
+        let mut arrivals = Arrivals::default();
         loop {
-            if let Some(received) = held.take() {
-                // Params already waiting that were sent no later than the held swing still go before it (the
-                // loop favours params); the first one sent after it lets the swing go first.
-                let swing_sent = sent_at(&received);
-                let sent_before = |params_sent: Option<ros2_client::ROSTime>| match (params_sent, swing_sent) {
-                    (Some(p), Some(s)) => p <= s,
-                    _ => true,
-                };
-                let mut swing = Some(received);
-                while swing.is_some() {
-                    if let Some(Some(params)) = futures::FutureExt::now_or_never(bats.next()) {
-                        if !sent_before(sent_at(&params)) {
-                            swing.take().into_iter().for_each(|s| self.on_swing_sample(s));
-                        }
-                        self.on_bat_params(params);
-                    } else if let Some(Some(params)) = futures::FutureExt::now_or_never(balls.next()) {
-                        if !sent_before(sent_at(&params)) {
-                            swing.take().into_iter().for_each(|s| self.on_swing_sample(s));
-                        }
-                        self.on_ball_params(params);
-                    } else {
-                        break;
-                    }
-                }
-                swing.into_iter().for_each(|s| self.on_swing_sample(s));
-                continue;
-            }
             tokio::select! {
                 biased;
                 signal = &mut shutdown => {
@@ -211,41 +184,52 @@ impl NodeLoop {
                 }
                 Some(event) = self.events.recv() => self.on_event(event),
                 Some(received) = bats.next() => {
-                    held = self.take_swings_sent_before(&mut swings, sent_at(&received));
-                    self.on_bat_params(received)
+                    arrivals.bats.push_back(Timed::of(received));
+                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
                 }
                 Some(received) = balls.next() => {
-                    held = self.take_swings_sent_before(&mut swings, sent_at(&received));
-                    self.on_ball_params(received)
+                    arrivals.balls.push_back(Timed::of(received));
+                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
                 }
                 Some(_event) = self.graph_events.next() => self.on_discovery(node),
                 Some(received) = participants.next() => self.on_participant_info(received),
                 _ = diagnostics.tick() => self.on_diagnostics_tick()?,
-                Some(received) = swings.next() => self.on_swing_sample(received),
+                // A reader cut short at the drain cap: the rest of what was waiting, after the other inputs had
+                // their turn.
+                _ = std::future::ready(()), if arrivals.waiting() => {
+                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
+                }
+                Some(received) = swings.next() => {
+                    arrivals.swings.push_back(Timed::of(received));
+                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
+                }
             }
         }
     }
 
-    /// Params are taken ahead of swings (the loop favours them), but must not overtake swings their publisher
-    /// sent earlier: handles every swing already waiting whose source timestamp is before `params_sent`, in
-    /// arrival order, and stops at the first one that is not (returned, to be handled after the params).
-    /// Within one publisher (one clock) swings are thus answered with the params in force when they were sent;
-    /// across publishers the order follows their clocks.
-    fn take_swings_sent_before<S>(
+    /// Takes what is already waiting on the bat, ball and swing readers (never waits; at most
+    /// [`DRAIN_CAP`] more of each) and handles it in the order it was sent (see [`Arrivals::pop_next`]): a
+    /// swing meets the params its publisher sent before it, whichever reader the loop happened to wake on,
+    /// and params sent after a swing never overtake it.
+    fn handle_arrivals<B, L, S>(
         &mut self,
+        arrivals: &mut Arrivals<BatSample, BallSample, SwingSample>,
+        bats: &mut std::pin::Pin<&mut B>,
+        balls: &mut std::pin::Pin<&mut L>,
         swings: &mut std::pin::Pin<&mut S>,
-        params_sent: Option<ros2_client::ROSTime>,
-    ) -> Option<ReadResult<(Swing, MessageInfo)>>
-    where
-        S: futures::Stream<Item = ReadResult<(Swing, MessageInfo)>>,
+    ) where
+        B: futures::Stream<Item = BatSample>,
+        L: futures::Stream<Item = BallSample>,
+        S: futures::Stream<Item = SwingSample>,
     {
-        let params_sent = params_sent?;
-        loop {
-            // Only what is already there: never waits.
-            let received = futures::FutureExt::now_or_never(swings.next())??;
-            match sent_at(&received) {
-                Some(swing_sent) if swing_sent < params_sent => self.on_swing_sample(received),
-                _ => return Some(received),
+        arrivals.more[0] = top_up(&mut arrivals.bats, bats);
+        arrivals.more[1] = top_up(&mut arrivals.balls, balls);
+        arrivals.more[2] = top_up(&mut arrivals.swings, swings);
+        while let Some(next) = arrivals.pop_next() {
+            match next {
+                Next::Bat(received) => self.on_bat_params(received),
+                Next::Ball(received) => self.on_ball_params(received),
+                Next::Swing(received) => self.on_swing_sample(received),
             }
         }
     }
@@ -460,7 +444,6 @@ impl NodeLoop {
             (plan, swing)
         };
         if let Err((_plan, swing)) = self.pipeline.submit(received, plan, swing) {
-            NodeStats::bump(&self.stats.swings_dropped);
             if let Some(suppressed) = self.warnings.drop.allow(Instant::now()) {
                 self.log.warn(&format!(
                     "swing {} dropped: {} swings already in flight (queue_capacity); {suppressed} more dropped since the last warning",
@@ -469,11 +452,17 @@ impl NodeLoop {
                 ));
             }
             // Still exactly one answer per swing taken: a cheap DROPPED, at once (ahead of earlier swings still
-            // in flight), recorded as published.
+            // in flight), recorded as published. Only if the send window has room now: waiting for a slow
+            // reader here would stall the receive loop (every input) for up to the writer's blocking time. A
+            // DROPPED answer that could not go out counts as unsent, so the summary still adds up.
             let ev = convert::dropped_answer(&swing, self.pipeline.capacity());
             self.tape.record(Recorded::ExitVelocity, &ev, crate::model::time::now_ns(), swing.header.stamp.unix_ns());
-            if let Err(e) = self.outputs.exit_velocity.publish(ev) {
-                self.publish_failures.report(&format!("the DROPPED answer of swing {}", swing.swing_id), &e);
+            match crate::ros::edge::try_publish(&self.outputs.exit_velocity, ev) {
+                Ok(()) => NodeStats::bump(&self.stats.swings_dropped),
+                Err(e) => {
+                    NodeStats::bump(&self.stats.publish_failures);
+                    self.publish_failures.report(&format!("the DROPPED answer of swing {}", swing.swing_id), &e);
+                }
             }
         }
     }
@@ -563,7 +552,8 @@ impl NodeLoop {
 }
 
 /// The node's last words: where every swing it took went (the parts add up to `swings received`: answered
-/// OK, REJECTED, DROPPED, computed but not sent because publishing failed, still queued when it stopped),
+/// OK, REJECTED, DROPPED, computed or dropped but not sent because publishing failed, still queued when it
+/// stopped),
 /// swings that never reached it, latency and caches. `s.in_flight` is what was left queued after the drain.
 pub fn summary_line(fqn: &str, s: &StatsSnapshot, usage: &RegistryUsage) -> String {
     format!(
@@ -590,6 +580,104 @@ pub fn summary_line(fqn: &str, s: &StatsSnapshot, usage: &RegistryUsage) -> Stri
 /// When a received sample was sent (its DDS source timestamp), if it says.
 fn sent_at<M>(received: &ReadResult<(M, MessageInfo)>) -> Option<ros2_client::ROSTime> {
     received.as_ref().ok().and_then(|(_, info)| info.source_timestamp())
+}
+
+/// A bat params sample as the reader gives it.
+type BatSample = ReadResult<(BatParams, MessageInfo)>;
+/// A ball params sample as the reader gives it.
+type BallSample = ReadResult<(BallParams, MessageInfo)>;
+/// A swing sample as the reader gives it.
+type SwingSample = ReadResult<(Swing, MessageInfo)>;
+
+/// How many samples one wake of the loop takes from each reader at most, so a burst of swings still lets
+/// shutdown, parameter changes and diagnostics in between.
+const DRAIN_CAP: usize = 64;
+
+/// Moves what `stream` already holds into `queue` without waiting, until `queue` holds [`DRAIN_CAP`]: true
+/// when it stopped at the cap (more may be waiting).
+fn top_up<T, S: futures::Stream<Item = ReadResult<(T, MessageInfo)>>>(
+    queue: &mut std::collections::VecDeque<Timed<ReadResult<(T, MessageInfo)>, ros2_client::ROSTime>>,
+    stream: &mut std::pin::Pin<&mut S>,
+) -> bool {
+    while queue.len() < DRAIN_CAP {
+        match futures::FutureExt::now_or_never(stream.next()) {
+            Some(Some(received)) => queue.push_back(Timed::of(received)),
+            _ => return false,
+        }
+    }
+    true
+}
+
+/// A sample and when it was sent (its DDS source timestamp), if it says.
+struct Timed<T, K> {
+    sent: Option<K>,
+    item: T,
+}
+
+impl<M> Timed<ReadResult<(M, MessageInfo)>, ros2_client::ROSTime> {
+    fn of(received: ReadResult<(M, MessageInfo)>) -> Self {
+        Timed { sent: sent_at(&received), item: received }
+    }
+}
+
+/// The next sample to handle.
+#[derive(Debug, PartialEq)]
+enum Next<B, L, S> {
+    Bat(B),
+    Ball(L),
+    Swing(S),
+}
+
+/// Samples taken from the bat params, ball params and swing readers, each in arrival order, not yet handled.
+struct Arrivals<B, L, S, K = ros2_client::ROSTime> {
+    bats: std::collections::VecDeque<Timed<B, K>>,
+    balls: std::collections::VecDeque<Timed<L, K>>,
+    swings: std::collections::VecDeque<Timed<S, K>>,
+    /// Per reader (bats, balls, swings): its last drain stopped at the cap, so it may hold more.
+    more: [bool; 3],
+}
+
+impl<B, L, S, K> Default for Arrivals<B, L, S, K> {
+    fn default() -> Self {
+        Arrivals { bats: Default::default(), balls: Default::default(), swings: Default::default(), more: [false; 3] }
+    }
+}
+
+impl<B, L, S, K: Ord + Copy> Arrivals<B, L, S, K> {
+    /// Whether something is left to handle, or a reader cut short at the cap may hold more.
+    fn waiting(&self) -> bool {
+        !(self.bats.is_empty() && self.balls.is_empty() && self.swings.is_empty()) || self.more.contains(&true)
+    }
+
+    /// The sample sent first among the heads of the three queues (each queue keeps its arrival order). Params
+    /// go first on a tie, and params that do not say when they were sent go before every swing; a swing that
+    /// does not say goes after every params sample taken. `None` when all is handled, or when a reader cut
+    /// short at the cap has run out here: what it still holds may have been sent before every other head.
+    fn pop_next(&mut self) -> Option<Next<B, L, S>> {
+        let queues_empty = [self.bats.is_empty(), self.balls.is_empty(), self.swings.is_empty()];
+        if (0..3).any(|i| self.more[i] && queues_empty[i]) {
+            return None;
+        }
+        // (rank, time): params without a time first, then everything with one by time, then swings without.
+        let params_key = |sent: Option<K>| sent.map_or((0, None), |t| (1, Some(t)));
+        let swing_key = |sent: Option<K>| sent.map_or((2, None), |t| (1, Some(t)));
+        let candidates = [
+            self.bats.front().map(|t| params_key(t.sent)),
+            self.balls.front().map(|t| params_key(t.sent)),
+            self.swings.front().map(|t| swing_key(t.sent)),
+        ];
+        // The earliest; on a tie the first in this order (bats, balls, swings).
+        let (which, _) = candidates
+            .iter()
+            .enumerate()
+            .filter_map(|(i, key)| key.map(|k| (i, k)))
+            .min_by(|(i, a), (j, b)| a.cmp(b).then(i.cmp(j)))?;
+        match which {
+            0 => self.bats.pop_front().map(|t| Next::Bat(t.item)),
+            1 => self.balls.pop_front().map(|t| Next::Ball(t.item)),
+            _ => self.swings.pop_front().map(|t| Next::Swing(t.item)),
+        }
+    }
 }
 
 /// The warning when other participants announce a node with our fully-qualified name.
@@ -692,6 +780,61 @@ mod tests {
             ),
             "{line}"
         );
+    }
+
+    /// Queues of (sent, label) and the labels in the order the loop handles them.
+    fn handled(
+        bats: &[(Option<i64>, &'static str)],
+        balls: &[(Option<i64>, &'static str)],
+        swings: &[(Option<i64>, &'static str)],
+        more: [bool; 3],
+    ) -> Vec<&'static str> {
+        let timed = |q: &[(Option<i64>, &'static str)]| q.iter().map(|&(sent, item)| Timed { sent, item }).collect();
+        let mut arrivals: Arrivals<&str, &str, &str, i64> =
+            Arrivals { bats: timed(bats), balls: timed(balls), swings: timed(swings), more };
+        std::iter::from_fn(|| arrivals.pop_next())
+            .map(|next| match next {
+                Next::Bat(x) | Next::Ball(x) | Next::Swing(x) => x,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_swing_meets_the_ball_params_sent_before_it_even_when_bat_params_sent_after_it_are_waiting() {
+        // The review's case: ball params (t=1), then a swing (t=2), then bat params (t=3), all waiting when the
+        // loop wakes. Taking the bat params first (the loop's old bias) answered the swing before the ball.
+        let order = handled(&[(Some(3), "bat")], &[(Some(1), "ball")], &[(Some(2), "swing")], [false; 3]);
+        assert_eq!(order, ["ball", "swing", "bat"]);
+    }
+
+    #[test]
+    fn samples_go_in_sent_order_each_reader_keeping_its_own_order_params_first_on_a_tie() {
+        let order = handled(
+            &[(Some(10), "bat10"), (Some(30), "bat30")],
+            &[(Some(20), "ball20"), (Some(40), "ball40")],
+            &[(Some(5), "s5"), (Some(20), "s20"), (Some(35), "s35"), (Some(50), "s50")],
+            [false; 3],
+        );
+        assert_eq!(order, ["s5", "bat10", "ball20", "s20", "bat30", "s35", "ball40", "s50"]);
+        // A reader's own order is kept even when its clock disagrees (another publisher, another clock).
+        let order = handled(&[], &[], &[(Some(9), "late-clock"), (Some(1), "early-clock")], [false; 3]);
+        assert_eq!(order, ["late-clock", "early-clock"]);
+    }
+
+    #[test]
+    fn samples_without_a_source_time_put_params_before_every_swing() {
+        let order = handled(&[(None, "bat")], &[(Some(7), "ball")], &[(Some(1), "s1"), (None, "s?")], [false; 3]);
+        assert_eq!(order, ["bat", "s1", "ball", "s?"]);
+    }
+
+    #[test]
+    fn a_reader_cut_short_at_the_cap_stops_the_merge_where_its_unread_samples_could_come_first() {
+        // Swings 1..=2 taken, more waiting: params sent at 5 must wait, the swings still unread may be earlier.
+        let order = handled(&[(Some(5), "bat")], &[], &[(Some(1), "s1"), (Some(2), "s2")], [false, false, true]);
+        assert_eq!(order, ["s1", "s2"]);
+        // Everything taken: the params go in their place.
+        let order = handled(&[(Some(5), "bat")], &[], &[(Some(1), "s1"), (Some(2), "s2")], [false; 3]);
+        assert_eq!(order, ["s1", "s2", "bat"]);
     }
 
     #[test]

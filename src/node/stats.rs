@@ -15,7 +15,7 @@ pub struct NodeStats {
     pub swings_ok: AtomicU64,
     /// Swings answered with status REJECTED.
     pub swings_rejected: AtomicU64,
-    /// Swings dropped because `queue_capacity` swings were already in flight.
+    /// Swings dropped because `queue_capacity` swings were already in flight, and answered DROPPED.
     pub swings_dropped: AtomicU64,
     /// Swings a publisher sent that never reached the node (gaps in its DDS sequence numbers: the reader's
     /// history overflowed, or the publisher's history replaced them before delivery).
@@ -30,12 +30,16 @@ pub struct NodeStats {
     pub mode_cache_hits: AtomicU64,
     /// Mode computations (first use of a bat, or after its params changed).
     pub mode_cache_misses: AtomicU64,
-    /// Results DDS refused to send (send window full past its blocking time).
+    /// Swings whose answer DDS refused to send: a computed one (send window full past its blocking time), or
+    /// a DROPPED one (send window full at that moment: the receive loop does not wait).
     pub publish_failures: AtomicU64,
     /// Swings answered on the receive task because the pipeline was idle (no worker or sequencer hop).
     pub swings_answered_inline: AtomicU64,
     /// ModalEnergies published (they are recorded for every OK swing, published only while subscribed).
     pub modal_energies_published: AtomicU64,
+    /// ModalEnergies DDS refused to send (their swing's ExitVelocity may still have gone out: the swing is
+    /// counted by its answer, this apart).
+    pub modal_energies_unsent: AtomicU64,
     /// Receive-to-publish latency, µs.
     latency_us: Mutex<Histogram<u64>>,
     started: Instant,
@@ -70,6 +74,8 @@ pub struct StatsSnapshot {
     pub swings_answered_inline: u64,
     /// ModalEnergies published, since start.
     pub modal_energies_published: u64,
+    /// ModalEnergies that could not be published, since start.
+    pub modal_energies_unsent: u64,
     /// Swings queued, computing or waiting for in-order publication.
     pub in_flight: u64,
     /// Bats held by the registry now (filled in by the runtime, which owns the registry).
@@ -120,6 +126,7 @@ impl NodeStats {
             publish_failures: AtomicU64::new(0),
             swings_answered_inline: AtomicU64::new(0),
             modal_energies_published: AtomicU64::new(0),
+            modal_energies_unsent: AtomicU64::new(0),
             // 1 µs … 1 h at 3 significant digits: a fixed ~200 kB, never grows.
             latency_us: Mutex::new(Histogram::new_with_bounds(1, 3_600_000_000, 3).expect("static bounds are valid")),
             started: Instant::now(),
@@ -166,6 +173,7 @@ impl NodeStats {
             publish_failures: load(&self.publish_failures),
             swings_answered_inline: load(&self.swings_answered_inline),
             modal_energies_published: load(&self.modal_energies_published),
+            modal_energies_unsent: load(&self.modal_energies_unsent),
             in_flight,
             bats_cached: 0,
             bats_evicted: 0,
@@ -255,6 +263,7 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
         ("publish_failures".into(), now.publish_failures.to_string()),
         ("swings_answered_inline".into(), now.swings_answered_inline.to_string()),
         ("modal_energies_published".into(), now.modal_energies_published.to_string()),
+        ("modal_energies_unsent".into(), now.modal_energies_unsent.to_string()),
         ("latency_p50_us".into(), now.latency_p50_us.to_string()),
         ("latency_p99_us".into(), now.latency_p99_us.to_string()),
         ("latency_max_us".into(), now.latency_max_us.to_string()),

@@ -1,6 +1,6 @@
 //! The DDS edge every sweetspot program shares: creating writers and readers on a fully-qualified topic with
 //! the project's QoS ([`super::qos`]), counting a writer's matched subscriptions, writing through a full
-//! reliable send window, and the one shutdown signal (SIGINT/SIGTERM).
+//! reliable send window (or, for the node, not waiting for room: [`try_publish`]), and the one shutdown signal (SIGINT/SIGTERM).
 //!
 //! Two kinds of endpoint: raw RustDDS writers/readers on a bare participant ([`writer`], [`reader`]) for the
 //! tools that publish or listen without being a ROS node (`pub`, `echo`, the rig, `bag play`), and
@@ -130,6 +130,22 @@ pub fn publisher<T: RosMessage>(
     let topic = create_topic::<T>(node, fq_topic, qos)?;
     node.create_publisher::<T>(&topic, writer_qos)
         .map_err(|e| RosError::CreateWriter { topic: fq_topic.to_string(), reason: format!("{e:?}") })
+}
+
+/// Publishes `message` only if the reliable send window has room now: never waits (the publisher's
+/// `publish` waits up to the writer's `max_blocking_time` for a slow reader). A full window gives back the
+/// message in `WouldBlock`. For callers that must not stall, such as the node's receive loop.
+pub fn try_publish<T: RosMessage>(
+    publisher: &ros2_client::Publisher<T>,
+    message: T,
+) -> Result<(), ros2_client::WriteError<()>> {
+    // The first poll of RustDDS's asynchronous write admits the sample if the window has room and is
+    // otherwise pending; dropping the pending future leaves nothing behind (the sample was never admitted).
+    match futures::FutureExt::now_or_never(publisher.async_publish(message)) {
+        Some(Ok(())) => Ok(()),
+        Some(Err(e)) => Err(e.forget_data()),
+        None => Err(ros2_client::WriteError::WouldBlock { data: () }),
+    }
 }
 
 /// A ros2-client subscription of `T` on the fully-qualified ROS topic `fq_topic`: the topic with `qos`, the

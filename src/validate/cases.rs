@@ -8,7 +8,7 @@
 //! A rigid, immovable wall or cylinder is a solid cylinder of 10⁵ kg/m³ and 10¹³ Pa integrated with its rigid
 //! modes only (no vibration): its recoil factor m/M is below 10⁻⁴.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex};
 
 use rayon::prelude::*;
 
@@ -76,8 +76,41 @@ pub struct Lab {
     pub options: CollisionOptions,
     /// The `Ball::preset` of the game ball (every game swing, tee test and the game ball's rows).
     pub game_ball: String,
-    bpf: OnceLock<Vec<BpfPoint>>,
-    cage: OnceLock<(CagePoint, CagePoint, Curve, Curve)>,
+    bpf: Memo<(String, u64), Vec<BpfPoint>>,
+    cage: Memo<(String, String, u64), CageComparison>,
+}
+
+/// The cage comparison of a wood and a metal bat: their best points, then their exit-speed curves.
+pub type CageComparison = (CagePoint, CagePoint, Curve, Curve);
+
+/// Results computed once per distinct arguments (several rows and figures share one BPF sweep or cage
+/// comparison; a call with other arguments computes its own).
+struct Memo<K, V> {
+    done: Mutex<Vec<(K, Arc<V>)>>,
+}
+
+impl<K: PartialEq, V> Default for Memo<K, V> {
+    fn default() -> Self {
+        Memo { done: Mutex::new(Vec::new()) }
+    }
+}
+
+impl<K: PartialEq, V> Memo<K, V> {
+    /// The result for `key`: the one computed before, or `compute`'s (kept unless it failed). Computed
+    /// outside the lock (it runs in parallel itself); a result another thread kept first wins.
+    fn get_or_try<E>(&self, key: K, compute: impl FnOnce() -> Result<V, E>) -> Result<Arc<V>, E> {
+        let find = |done: &[(K, Arc<V>)], key: &K| done.iter().find(|(k, _)| k == key).map(|(_, v)| Arc::clone(v));
+        if let Some(v) = find(&self.done.lock().unwrap_or_else(|e| e.into_inner()), &key) {
+            return Ok(v);
+        }
+        let value = Arc::new(compute()?);
+        let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(v) = find(&done, &key) {
+            return Ok(v);
+        }
+        done.push((key, Arc::clone(&value)));
+        Ok(value)
+    }
 }
 
 fn physics(case: &str) -> impl Fn(PhysicsError) -> ValidateError + '_ {
@@ -128,7 +161,7 @@ fn best_cor_at_rest(modes: &ModeSet, ball: &Ball, speed: f64, options: &Collisio
 impl Lab {
     /// A laboratory running collisions with `options`, the game ball being the `game_ball` preset.
     pub fn new(options: CollisionOptions, game_ball: &str) -> Lab {
-        Lab { options, game_ball: game_ball.to_string(), bpf: OnceLock::new(), cage: OnceLock::new() }
+        Lab { options, game_ball: game_ball.to_string(), bpf: Memo::default(), cage: Memo::default() }
     }
 
     fn bat(&self, case: &str, name: &str) -> Result<(Bat, ModeSet), ValidateError> {
@@ -375,11 +408,13 @@ impl Lab {
         })
     }
 
-    /// BPF against hoop frequency for the `aluminum` profile with its wall varied from 1.2 to 4 mm (computed once).
-    pub fn bpf_curve(&self, ball: &str, speed: f64) -> Result<&[BpfPoint], ValidateError> {
-        if let Some(points) = self.bpf.get() {
-            return Ok(points);
-        }
+    /// BPF against hoop frequency for the `aluminum` profile with its wall varied from 1.2 to 4 mm, `ball` at
+    /// `speed` m/s (computed once per ball and speed).
+    pub fn bpf_curve(&self, ball: &str, speed: f64) -> Result<Arc<Vec<BpfPoint>>, ValidateError> {
+        self.bpf.get_or_try((ball.to_string(), speed.to_bits()), || self.compute_bpf_curve(ball, speed))
+    }
+
+    fn compute_bpf_curve(&self, ball: &str, speed: f64) -> Result<Vec<BpfPoint>, ValidateError> {
         let case = "bpf_hoop_trend";
         let b = self.ball(case, ball)?;
         let ball_cor = wall_cor(&b, speed, self.options.time_step).map_err(physics(case))?;
@@ -401,20 +436,17 @@ impl Lab {
             })
             .collect::<Result<_, PhysicsError>>()
             .map_err(physics(case))?;
-        Ok(self.bpf.get_or_init(|| points))
+        Ok(points)
     }
 
     /// The cage comparison at equal effort: best exit speed and where, and exit speed against the distance from
-    /// the barrel end (in, mph), for `wood` and `metal` (computed once).
-    pub fn cage(
-        &self,
-        wood: &str,
-        metal: &str,
-        pitch_speed: f64,
-    ) -> Result<&(CagePoint, CagePoint, Curve, Curve), ValidateError> {
-        if let Some(c) = self.cage.get() {
-            return Ok(c);
-        }
+    /// the barrel end (in, mph), for `wood` and `metal` at `pitch_speed` m/s (computed once per bats and speed).
+    pub fn cage(&self, wood: &str, metal: &str, pitch_speed: f64) -> Result<Arc<CageComparison>, ValidateError> {
+        let key = (wood.to_string(), metal.to_string(), pitch_speed.to_bits());
+        self.cage.get_or_try(key, || self.compute_cage(wood, metal, pitch_speed))
+    }
+
+    fn compute_cage(&self, wood: &str, metal: &str, pitch_speed: f64) -> Result<CageComparison, ValidateError> {
         let case = "cage";
         let ball = self.ball(case, &self.game_ball)?;
         let one = |name: &str| -> Result<(CagePoint, Curve), ValidateError> {
@@ -433,7 +465,7 @@ impl Lab {
         };
         let (w, wc) = one(wood)?;
         let (m, mc) = one(metal)?;
-        Ok(self.cage.get_or_init(|| (w, m, wc, mc)))
+        Ok((w, m, wc, mc))
     }
 
     /// Best exit speed of `metal` minus `wood` at equal effort, mph.
@@ -443,7 +475,8 @@ impl Lab {
         metal: &str,
         pitch_speed: f64,
     ) -> Result<CaseValue, ValidateError> {
-        let (w, m, _, _) = self.cage(wood, metal, pitch_speed)?;
+        let cage = self.cage(wood, metal, pitch_speed)?;
+        let (w, m, _, _) = &*cage;
         Ok(CaseValue {
             value: Some((m.best_exit_speed - w.best_exit_speed) / MPH),
             detail: format!(
@@ -457,7 +490,8 @@ impl Lab {
 
     /// Distance of the best point from the barrel end, `metal` minus `wood`, inches.
     pub fn sweet_spot_shift_in(&self, wood: &str, metal: &str, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
-        let (w, m, _, _) = self.cage(wood, metal, pitch_speed)?;
+        let cage = self.cage(wood, metal, pitch_speed)?;
+        let (w, m, _, _) = &*cage;
         Ok(CaseValue {
             value: Some((m.best_from_end - w.best_from_end) / INCH),
             detail: format!(
@@ -530,6 +564,32 @@ impl BestPoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_memo_computes_once_per_key_and_keeps_no_failure() {
+        let memo: Memo<u32, u32> = Memo::default();
+        let calls = std::cell::Cell::new(0);
+        let square = |k: u32| {
+            calls.set(calls.get() + 1);
+            Ok::<u32, ()>(k * k)
+        };
+        assert_eq!(*memo.get_or_try(3, || square(3)).unwrap(), 9);
+        assert_eq!(*memo.get_or_try(4, || square(4)).unwrap(), 16, "another key computes its own");
+        assert_eq!(*memo.get_or_try(3, || square(3)).unwrap(), 9);
+        assert_eq!(calls.get(), 2, "a key seen before is not computed again");
+        assert_eq!(memo.get_or_try(5, || Err::<u32, ()>(())), Err(()));
+        assert_eq!(*memo.get_or_try(5, || square(5)).unwrap(), 25, "a failure is not kept");
+    }
+
+    #[test]
+    fn the_cage_comparison_follows_its_pitch_speed_on_a_second_call() {
+        let lab = Lab::new(CollisionOptions::default(), "mlb");
+        let slow = lab.cage("r161", "aluminum", 30.0).unwrap();
+        let fast = lab.cage("r161", "aluminum", 40.0).unwrap();
+        // A faster pitch leaves the same bat faster (more ball speed to bounce back).
+        assert!(fast.0.best_exit_speed > slow.0.best_exit_speed, "{:?} vs {:?}", fast.0, slow.0);
+        assert!(Arc::ptr_eq(&slow, &lab.cage("r161", "aluminum", 30.0).unwrap()), "computed once");
+    }
 
     #[test]
     fn rank_correlation_of_monotone_data_is_plus_or_minus_one() {

@@ -152,7 +152,8 @@ pub fn write(
 
     // Exit speed against the impact point, at equal effort.
     let pitch = param_or(inputs, "cage_exit_difference_mph", "pitch_speed", 40.0);
-    let (_, _, wood, metal) = lab.cage("r161", "aluminum", pitch)?;
+    let cage = lab.cage("r161", "aluminum", pitch)?;
+    let (_, _, wood, metal) = &*cage;
     let exit = LineChart {
         title: "Exit speed vs impact point, one batter at equal effort".into(),
         x_label: "distance from the barrel end (in)".into(),
