@@ -113,9 +113,6 @@ fn wait_for_file(path: &std::path::Path) {
 }
 
 #[test]
-#[ignore = "needs a RustDDS KEEP_LAST writer that replaces its oldest sample without stalling healthy readers: \
-            the first attempt (replace the oldest past 8,192 unacknowledged) left a healthy ros2-client reader \
-            stuck after 8,192 answers of a 10,000-swing burst (node_e2e), so it is not carried"]
 fn a_killed_and_a_stopped_subscriber_cost_a_healthy_subscriber_no_answer() {
     support::require_isolated_network();
     let domain = domain(18);
@@ -126,9 +123,10 @@ fn a_killed_and_a_stopped_subscriber_cost_a_healthy_subscriber_no_answer() {
     let (killed_ready, stopped_ready) = (dir.path().join("killed.ready"), dir.path().join("stopped.ready"));
     let killed = CycloneSubscriber::start(domain, &killed_ready);
     let stopped = CycloneSubscriber::start(domain, &stopped_ready);
+    // The subscribers say ready once they have matched the node's writer (`--wait-publishers 1`).
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
     wait_for_file(&killed_ready);
     wait_for_file(&stopped_ready);
-    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
     peer.wait_for_reader(&swing_pub);
 
     // Warm-up, slowly, until both Cyclone subscribers have answers: they are matched with the node's writer

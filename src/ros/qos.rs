@@ -20,7 +20,8 @@ pub const SWING_DEPTH: usize = 1000;
 /// Results kept per writer (and queued per reader) on `exit_velocity` / `modal_energies`.
 pub const RESULTS_DEPTH: usize = 1000;
 /// How long a results writer waits for a slow reliable reader to acknowledge before it reports the write
-/// failed (counted by the node), rather than overwriting unacknowledged results.
+/// failed (counted by the node), rather than overwriting results that reader still lacks. A reader that has
+/// acknowledged nothing for 2 s is not waited for (the RustDDS patch, fix 5 in `patches/README.md`).
 pub const RESULTS_MAX_BLOCKING: Duration = Duration::from_millis(500);
 
 fn reliable(depth: usize, durability: Durability) -> QosProfile {
@@ -42,8 +43,9 @@ pub fn swing_qos() -> QosProfile {
 
 /// `exit_velocity`, `modal_energies`: reliable (writers wait up to [`RESULTS_MAX_BLOCKING`]), volatile,
 /// keep-last [`RESULTS_DEPTH`]. The node's writers, `sweetspot pub` and the recorded QoS all use this one
-/// profile: a reliable writer never overwrites unacknowledged results, and the wide window and the wait keep
-/// a briefly slow listener from costing results (beyond that: counted failures).
+/// profile: a reliable writer never overwrites results a responsive reader lacks, and the wide window and the
+/// wait keep a briefly slow listener from costing results (beyond that: counted failures); a reader that
+/// stopped acknowledging loses the old results instead of stalling everyone else.
 pub fn results_qos() -> QosProfile {
     reliable(RESULTS_DEPTH, Durability::Volatile)
         .reliability(Reliability::Reliable { when_full: WhenFull::Wait(RESULTS_MAX_BLOCKING) })

@@ -546,11 +546,16 @@ impl InnerPublisher {
         .unwrap_or(policy::Durability::Volatile),
       policy::Durability::Volatile
     );
+    // KEEP_LAST (the DDS default when History is unset) waits only for readers
+    // that still acknowledge (RTPS `isActive`), and a write past the window
+    // replaces the oldest sample those readers have acknowledged.
+    let keep_last = !matches!(writer_qos.history(), Some(policy::History::KeepAll));
     let send_buffer = WriterSendBuffer::new(
       guid,
       topic.name(),
       writer_qos.is_reliable(),
       guid.entity_id.entity_kind.is_built_in(),
+      keep_last,
       volatile,
       window_limit,
       backlog_limit,

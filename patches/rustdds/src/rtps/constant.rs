@@ -52,6 +52,22 @@ pub const HEARTBEAT_PERIOD_SLOW: crate::structure::duration::Duration =
 pub const HEARTBEAT_PERIOD_FAST: crate::structure::duration::Duration =
   crate::structure::duration::Duration::from_millis(100);
 
+// A reliable KEEP_LAST Writer stops waiting for a matched reader that has had
+// unacknowledged samples for this long without acknowledging anything new
+// (RTPS 8.4.7.5 ReaderProxy `isActive` = false): its process stopped, or killed
+// while its participant's lease has not expired yet. Without this, one such
+// reader holds the send window (`DEFAULT_WRITER_MAX_SAMPLES`) and, once it is
+// full, blocks every write and with it every other reader. Long enough for a
+// healthy reader that matched late (discovery under load) or is briefly slow
+// to acknowledge; short enough that a writer at a few thousand samples/s has
+// not filled its window yet. KEEP_ALL writers wait for every reader.
+pub const READER_INACTIVE_AFTER: std::time::Duration = std::time::Duration::from_secs(2);
+// The same for a reader that has sent no ACKNACK at all yet. Our discovery may
+// have matched it before its discovery matched us; until then it drops our DATA
+// and cannot acknowledge, and SEDP under load can take seconds. One that never
+// answers (killed right after matching) holds the writer this long, once.
+pub const READER_FIRST_ACKNACK_WITHIN: std::time::Duration = std::time::Duration::from_secs(10);
+
 // Fallback upper bound on the number of CacheChanges a Writer retains in its
 // history when the Writer QoS does not specify ResourceLimits.max_samples. This
 // is only a memory-safety backstop: for reliable Writers, samples that matched

@@ -2,6 +2,7 @@ use std::{
   cmp::max,
   collections::{BTreeMap, BTreeSet},
   net::SocketAddr,
+  time::{Duration as StdDuration, Instant},
 };
 
 use bit_vec::BitVec;
@@ -55,7 +56,13 @@ pub(crate) struct RtpsReaderProxy {
   /// sent along with any data.
   expects_in_line_qos: bool,
   /// Specifies whether the remote Reader is responsive to the Writer
+  /// (RTPS 8.4.7.5). Maintained by `update_activity`: a reader that has had
+  /// unacknowledged samples for `READER_INACTIVE_AFTER` without acknowledging
+  /// anything new is inactive, and a KEEP_LAST writer stops waiting for it.
   is_active: bool,
+  // When the reader last acknowledged something new, or was last seen with
+  // nothing left to acknowledge.
+  ack_progress_at: Instant,
 
   // Reader has positively acked all SequenceNumbers _before_ this.
   // This is directly the same as readerSNState.base in ACKNACK submessage.
@@ -107,6 +114,7 @@ impl RtpsReaderProxy {
       loopback_unicast_locators: Vec::default(),
       expects_in_line_qos,
       is_active: true,
+      ack_progress_at: Instant::now(),
       all_acked_before: SequenceNumber::zero(),
       unsent_changes: BTreeSet::new(),
       pending_gap: BTreeSet::new(),
@@ -236,6 +244,7 @@ impl RtpsReaderProxy {
       loopback_unicast_locators: Vec::new(),
       expects_in_line_qos: false,
       is_active: true,
+      ack_progress_at: Instant::now(),
       all_acked_before: SequenceNumber::zero(),
       unsent_changes: BTreeSet::new(),
       pending_gap: BTreeSet::new(),
@@ -314,6 +323,7 @@ impl RtpsReaderProxy {
       loopback_unicast_locators,
       expects_in_line_qos: discovered_reader_data.reader_proxy.expects_inline_qos,
       is_active: true,
+      ack_progress_at: Instant::now(),
       all_acked_before: SequenceNumber::zero(),
       unsent_changes: BTreeSet::new(),
       pending_gap: BTreeSet::new(),
@@ -468,6 +478,9 @@ impl RtpsReaderProxy {
           return;
         }
         self.remove_from_unsent_set_all_before(new_all_acked_before);
+        if new_all_acked_before > self.all_acked_before {
+          self.ack_progress_at = Instant::now();
+        }
         self.all_acked_before = new_all_acked_before;
 
         // Insert the requested changes. These are (by construction) greater
@@ -543,6 +556,66 @@ impl RtpsReaderProxy {
   #[cfg(test)]
   pub fn unsent_changes_count(&self) -> usize {
     self.unsent_changes.len()
+  }
+
+  /// RTPS 8.4.7.5 `isActive`, as last computed by `update_activity`.
+  pub fn is_active(&self) -> bool {
+    self.is_active
+  }
+
+  /// Note that the writer is about to send samples after `last_sent`: a
+  /// reader that has acknowledged everything sent so far starts its inactivity
+  /// clock now, not at its last acknowledgement.
+  pub fn note_new_data(&mut self, last_sent: SequenceNumber, now: Instant) {
+    if max(self.all_acked_before, SequenceNumber::new(1)) > last_sent {
+      self.ack_progress_at = now;
+    }
+  }
+
+  /// Recompute `is_active`. A reader with nothing left to acknowledge (all of
+  /// `..=last_seq`) is active. A reader with unacknowledged samples becomes
+  /// inactive when it has acknowledged nothing new for `inactive_after` (or for
+  /// `first_acknack_within` if it has sent no ACKNACK at all yet: it may not
+  /// have matched us, and drops our DATA until it does), and active again once
+  /// it acknowledges something new while fewer than `window / 2` samples behind
+  /// (so that a reader coming back does not stall the writer while it catches
+  /// up). Returns the new value.
+  pub fn update_activity(
+    &mut self,
+    last_seq: SequenceNumber,
+    window: usize,
+    now: Instant,
+    inactive_after: StdDuration,
+    first_acknack_within: StdDuration,
+  ) -> bool {
+    let inactive_after = if self.last_acknack_count.is_none() {
+      first_acknack_within
+    } else {
+      inactive_after
+    };
+    if max(self.all_acked_before, SequenceNumber::new(1)) > last_seq {
+      self.ack_progress_at = now;
+      self.is_active = true;
+    } else if now.saturating_duration_since(self.ack_progress_at) >= inactive_after {
+      if self.is_active {
+        info!(
+          "Reader {:?} acknowledged nothing for {:?}: inactive, not waited for (acked before {:?}, \
+           last {:?})",
+          self.remote_reader_guid, inactive_after, self.all_acked_before, last_seq
+        );
+      }
+      self.is_active = false;
+    } else if !self.is_active {
+      let behind = i64::from(last_seq) - i64::from(self.all_acked_before) + 1;
+      if behind < (window / 2) as i64 {
+        info!(
+          "Reader {:?} acknowledges again: active (acked before {:?}, last {:?})",
+          self.remote_reader_guid, self.all_acked_before, last_seq
+        );
+        self.is_active = true;
+      }
+    }
+    self.is_active
   }
 
   pub fn acked_up_to_before(&self) -> SequenceNumber {
@@ -908,5 +981,80 @@ mod route_tests {
     let route = rp.send_route();
     assert!(!route.fallback);
     assert_eq!(route.unicast, Some(udp([127, 0, 0, 1], 7413)));
+  }
+}
+
+#[cfg(test)]
+mod activity_tests {
+  use std::time::Duration as StdDuration;
+
+  use super::*;
+  use crate::structure::guid::GuidPrefix;
+
+  const AFTER: StdDuration = StdDuration::from_secs(2);
+  const FIRST: StdDuration = StdDuration::from_secs(10);
+
+  // A reader that has sent ACKNACKs before.
+  fn proxy() -> RtpsReaderProxy {
+    let mut rp = RtpsReaderProxy::new(
+      GUID::new(GuidPrefix::UNKNOWN, EntityId::UNKNOWN),
+      QosPolicies::default(),
+      false,
+    );
+    rp.last_acknack_count = Some(1);
+    rp
+  }
+
+  // A reader that has never sent an ACKNACK may not have matched the writer yet
+  // (it drops DATA from writers it does not know): it gets the longer grace.
+  #[test]
+  fn a_reader_that_never_sent_an_acknack_gets_the_longer_grace() {
+    let mut rp = proxy();
+    rp.last_acknack_count = None;
+    let t0 = rp.ack_progress_at;
+    rp.note_new_data(SequenceNumber::new(0), t0);
+    assert!(rp.update_activity(SequenceNumber::new(5), 8, t0 + AFTER, AFTER, FIRST));
+    assert!(!rp.update_activity(SequenceNumber::new(5), 8, t0 + FIRST, AFTER, FIRST));
+  }
+
+  // RTPS 8.4.7.5 `isActive`: a reader that acknowledges nothing while samples
+  // wait for it becomes inactive after the timeout, not before; one with
+  // nothing to acknowledge never does, however long it stays silent.
+  #[test]
+  fn a_silent_reader_with_unacknowledged_samples_becomes_inactive_after_the_timeout() {
+    let mut rp = proxy();
+    let t0 = rp.ack_progress_at;
+    // Nothing written yet: nothing to acknowledge, active however long.
+    assert!(rp.update_activity(SequenceNumber::new(0), 8, t0 + 10 * AFTER, AFTER, FIRST));
+    let t1 = rp.ack_progress_at;
+    // Samples 1..=5 sent, never acknowledged.
+    rp.note_new_data(SequenceNumber::new(0), t1);
+    assert!(rp.update_activity(SequenceNumber::new(5), 8, t1 + AFTER / 2, AFTER, FIRST));
+    assert!(!rp.update_activity(SequenceNumber::new(5), 8, t1 + AFTER, AFTER, FIRST));
+    assert!(!rp.is_active());
+  }
+
+  // An inactive reader is active again once it acknowledges something new while
+  // less than half a window behind; acknowledging progress while still far
+  // behind leaves it inactive (it would stall the writer while catching up).
+  #[test]
+  fn an_inactive_reader_is_active_again_when_it_acknowledges_within_half_a_window() {
+    let mut rp = proxy();
+    let t0 = rp.ack_progress_at;
+    rp.note_new_data(SequenceNumber::new(0), t0);
+    assert!(!rp.update_activity(SequenceNumber::new(100), 8, t0 + AFTER, AFTER, FIRST));
+    // Acknowledges 1..=50: progress, but 50 behind a window of 8.
+    rp.all_acked_before = SequenceNumber::new(51);
+    rp.ack_progress_at = t0 + 2 * AFTER;
+    assert!(!rp.update_activity(SequenceNumber::new(100), 8, t0 + 2 * AFTER, AFTER, FIRST));
+    // Acknowledges up to 97: 4 behind, less than half the window.
+    rp.all_acked_before = SequenceNumber::new(98);
+    rp.ack_progress_at = t0 + 3 * AFTER;
+    assert!(rp.update_activity(SequenceNumber::new(100), 8, t0 + 3 * AFTER, AFTER, FIRST));
+    // Caught up: active, and the clock restarts.
+    rp.all_acked_before = SequenceNumber::new(101);
+    let t4 = t0 + 10 * AFTER;
+    assert!(rp.update_activity(SequenceNumber::new(100), 8, t4, AFTER, FIRST));
+    assert_eq!(rp.ack_progress_at, t4);
   }
 }

@@ -5,6 +5,7 @@ use std::{
   ops::Bound::Included,
   rc::Rc,
   sync::{atomic, mpsc::TrySendError},
+  time::Instant,
 };
 
 #[allow(unused_imports)]
@@ -30,8 +31,9 @@ use crate::{
     constant::{
       DEFAULT_WRITER_MAX_SAMPLES, FALLBACK_MAX_AGGREGATED_DATAGRAM_SIZE, FRAGMENT_SIZE,
       HEARTBEAT_PERIOD_FAST, HEARTBEAT_PERIOD_SLOW, HEARTBEAT_SUBMESSAGE_SERIALIZED_SIZE,
-      NACK_RESPONSE_DELAY, NACK_SUPPRESSION_DURATION, REPAIR_BATCH_MAX_BYTES,
-      REPAIR_INTERVAL_DEFAULT, REPAIR_INTERVAL_MAX, REPAIR_INTERVAL_MIN,
+      NACK_RESPONSE_DELAY, NACK_SUPPRESSION_DURATION, READER_FIRST_ACKNACK_WITHIN,
+      READER_INACTIVE_AFTER, REPAIR_BATCH_MAX_BYTES, REPAIR_INTERVAL_DEFAULT, REPAIR_INTERVAL_MAX,
+      REPAIR_INTERVAL_MIN,
     },
     outbound::{SocketId, TrafficClass},
     rtps_reader_proxy::RtpsReaderProxy,
@@ -781,6 +783,12 @@ impl Writer {
         break;
       }
       let sequence_number = self.last_sent.plus_1();
+      // Readers that have acknowledged everything sent so far start their
+      // inactivity clock (READER_INACTIVE_AFTER) with this new data.
+      let now = Instant::now();
+      for reader in self.readers.values_mut() {
+        reader.note_new_data(self.last_sent, now);
+      }
 
       // Item 1 (DATA aggregation): coalesce several consecutive small samples
       // into one datagram to amortize the per-sample RTPS header + syscall.
@@ -1069,6 +1077,10 @@ impl Writer {
       self.readers.len()
     );
 
+    // A reader that stopped acknowledging becomes inactive here too, while the
+    // application may be blocked on a full window and no ACKNACK arrives.
+    self.refresh_acked_frontier();
+
     let first_change = self.send_buffer.first_change_sequence_number();
     let last_change = self.send_buffer.last_change_sequence_number();
 
@@ -1334,16 +1346,37 @@ impl Writer {
   //
   // TODO: On first match the first missed sample is only recovered via
   // periodic-heartbeat repair, which can take ~1 s under load.
-  fn refresh_acked_frontier(&self) {
+  //
+  // A KEEP_LAST writer leaves inactive readers out (RTPS 8.4.7.5 `isActive`,
+  // see `RtpsReaderProxy::update_activity` and `READER_INACTIVE_AFTER`): one
+  // reader that stopped acknowledging must not block every write, and with it
+  // every other reader. The send buffer then replaces samples only that reader
+  // still lacks; it gets a GAP for them. KEEP_ALL writers wait for all readers.
+  fn refresh_acked_frontier(&mut self) {
     if self.like_stateless {
       // Stateless-like writer is BestEffort: never throttle, never wait.
       self.send_buffer.set_acked_frontier(None);
       return;
     }
+    let keep_last = self.send_buffer.keep_last();
+    if keep_last {
+      let last_seq = self.send_buffer.last_change_sequence_number();
+      let window = self.send_buffer.window_limit();
+      let now = Instant::now();
+      for rp in self.readers.values_mut() {
+        rp.update_activity(
+          last_seq,
+          window,
+          now,
+          READER_INACTIVE_AFTER,
+          READER_FIRST_ACKNACK_WITHIN,
+        );
+      }
+    }
     let frontier = self
       .readers
       .values()
-      .filter(|rp| rp.qos().is_reliable())
+      .filter(|rp| rp.qos().is_reliable() && (!keep_last || rp.is_active()))
       .map(RtpsReaderProxy::acked_up_to_before)
       .min();
     self.send_buffer.set_acked_frontier(frontier);
@@ -2780,6 +2813,7 @@ mod tests {
           "repair_test".to_string(),
           true, // reliable
           writer_id.kind().is_built_in(),
+          false, // keep_last: KEEP_ALL, as before
           false,
           DEFAULT_WRITER_MAX_SAMPLES,
           DEFAULT_WRITER_MAX_SAMPLES,

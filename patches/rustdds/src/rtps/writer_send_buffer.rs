@@ -83,6 +83,17 @@ struct Shared {
   writer_guid: GUID,
   reliable_writer: bool,
   is_builtin: bool,
+  // True for KEEP_LAST history (also the DDS default when History is unset).
+  // A reliable KEEP_LAST writer is back-pressured only by its *active* readers
+  // (RTPS 8.4.7.5 ReaderProxy `isActive`; the Writer leaves a reader that has
+  // not acknowledged anything new for `READER_INACTIVE_AFTER` out of
+  // `acked_before`), and retains at most `max(window_limit, depth)` samples: the
+  // next write replaces the oldest, which the active readers have acknowledged
+  // (DDS v1.4 2.2.3.18: only KEEP_ALL must deliver every old value to all
+  // subscribers). An inactive reader (stopped, killed but not yet expired) loses
+  // the replaced samples -- it gets a GAP if it asks for them -- and the other
+  // readers lose nothing.
+  keep_last: bool,
   // True for VOLATILE durability (the DDS default). When true, a reliable writer
   // with no matched reliable reader trims KeepLast on insert (there is no
   // late-joiner to serve, so retaining unacked samples is pointless). When false
@@ -113,6 +124,7 @@ impl WriterSendBuffer {
     topic_name: String,
     reliable_writer: bool,
     is_builtin: bool,
+    keep_last: bool,
     volatile: bool,
     window_limit: usize,
     backlog_limit: usize,
@@ -136,6 +148,7 @@ impl WriterSendBuffer {
         writer_guid,
         reliable_writer,
         is_builtin,
+        keep_last,
         volatile,
         topic_name,
       }),
@@ -176,8 +189,17 @@ impl WriterSendBuffer {
       // window to wait on; the backlog limit above is their only throttle.
       return true;
     }
-    // Number of unacknowledged samples in [acked_before, last_seq].
-    let unacked = i64::from(inner.last_seq) - i64::from(inner.acked_before) + 1;
+    // Number of unacknowledged samples in [acked_before, last_seq]. For a
+    // KEEP_LAST writer, samples already replaced (below `first_seq`) no longer
+    // count: a reader that missed them gets a GAP, not a retransmission, so they
+    // do not hold the window. (For a KEEP_LAST writer `acked_before` is the
+    // frontier of the *active* readers only, see `Writer::refresh_acked_frontier`.)
+    let oldest_unacked = if shared.keep_last {
+      max(inner.acked_before, inner.first_seq)
+    } else {
+      inner.acked_before
+    };
+    let unacked = i64::from(inner.last_seq) - i64::from(oldest_unacked) + 1;
     unacked < inner.window_limit as i64
   }
 
@@ -301,6 +323,34 @@ impl WriterSendBuffer {
         inner.changes.remove(&oldest);
         inner.first_seq = oldest.plus_1();
       }
+    } else if shared.keep_last && shared.reliable_writer && !shared.is_builtin {
+      // A reliable KEEP_LAST writer with matched readers: retain at most the
+      // window (or the History depth, if larger) and let the newest sample
+      // replace the oldest. `has_room` admitted this sample only while fewer
+      // than `window_limit` retained samples are unacknowledged by the active
+      // readers, so the sample replaced here is one they have all acknowledged;
+      // only an inactive reader can lose it. Unsent samples are never evicted
+      // here: at most `backlog_limit <= window_limit` of them exist.
+      let bound = inner.window_limit.max(inner.max_retain);
+      let mut evicted_unacked = 0u64;
+      while inner.changes.len() > bound {
+        let oldest = match inner.changes.keys().next().copied() {
+          Some(sn) => sn,
+          None => break,
+        };
+        if inner.reliable_readers_present && oldest >= inner.acked_before {
+          evicted_unacked += 1;
+        }
+        inner.changes.remove(&oldest);
+        inner.first_seq = oldest.plus_1();
+      }
+      if evicted_unacked > 0 {
+        trace!(
+          "WriterSendBuffer: KEEP_LAST window full, dropped {evicted_unacked} sample(s) a reader \
+           has not acknowledged topic={}",
+          shared.topic_name
+        );
+      }
     }
     seq
   }
@@ -349,6 +399,16 @@ impl WriterSendBuffer {
       inner.sent_frontier = sent_frontier;
       Self::wake_all(&mut inner, &shared.progress);
     }
+  }
+
+  /// True for a KEEP_LAST writer (History unset counts as KEEP_LAST 1).
+  pub fn keep_last(&self) -> bool {
+    self.shared.keep_last
+  }
+
+  /// Most samples the active reliable readers may leave unacknowledged.
+  pub fn window_limit(&self) -> usize {
+    self.shared.inner.lock().unwrap().window_limit
   }
 
   /// The sequence number of the latest allocated sample (0 if none yet).
@@ -481,6 +541,7 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ true,
       /* is_builtin */ false,
+      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1,
       /* backlog_limit */ 1000,
@@ -496,6 +557,110 @@ mod tests {
     assert!(admit_now(&buf, WriteOptions::default())); // seq 2
   }
 
+  fn reliable(keep_last: bool, window: usize, max_retain: usize) -> WriterSendBuffer {
+    WriterSendBuffer::new(
+      GUID::GUID_UNKNOWN,
+      "t".to_string(),
+      /* reliable_writer */ true,
+      /* is_builtin */ false,
+      keep_last,
+      /* volatile */ true,
+      window,
+      /* backlog_limit */ window,
+      max_retain,
+    )
+  }
+
+  // A reliable KEEP_LAST writer still waits for an *active* reader that has not
+  // acknowledged (e.g. one that matched late and has not seen our DATA yet): a
+  // full window blocks, nothing is replaced, so that reader loses nothing. Once
+  // the Writer declares the reader inactive (`Writer::refresh_acked_frontier`
+  // leaves it out: here the only reader, so no frontier), writes go on and the
+  // History depth bounds what is kept.
+  #[test]
+  fn keep_last_reliable_writer_blocks_on_active_readers_only() {
+    let window = 4;
+    let buf = reliable(true, window, /* depth */ 2);
+    buf.set_acked_frontier(Some(SequenceNumber::new(1)));
+    for n in 1..=window as i64 {
+      assert!(admit_now(&buf, WriteOptions::default()));
+      buf.set_sent_frontier(SequenceNumber::new(n));
+    }
+    assert!(
+      !admit_now(&buf, WriteOptions::default()),
+      "a full window must block"
+    );
+    assert_eq!(buf.first_change_sequence_number(), SequenceNumber::new(1));
+    // The reader stopped acknowledging: inactive, left out of the frontier.
+    buf.set_acked_frontier(None);
+    for n in window as i64 + 1..=100 {
+      assert!(
+        admit_now(&buf, WriteOptions::default()),
+        "write {n} blocked"
+      );
+      buf.set_sent_frontier(SequenceNumber::new(n));
+    }
+    assert_eq!(buf.retained_len(), 2);
+    assert_eq!(buf.first_change_sequence_number(), SequenceNumber::new(99));
+  }
+
+  // With an active reader that acknowledges as it goes, a KEEP_LAST writer never
+  // blocks and keeps at most max(window, depth) samples: each new one replaces
+  // the oldest, which that reader has acknowledged -- never one it still lacks.
+  #[test]
+  fn keep_last_reliable_writer_replaces_only_samples_the_active_readers_acknowledged() {
+    let window = 8;
+    let buf = reliable(true, window, /* depth */ 1);
+    buf.set_acked_frontier(Some(SequenceNumber::new(1)));
+    for n in 1..=50i64 {
+      assert!(
+        admit_now(&buf, WriteOptions::default()),
+        "write {n} blocked"
+      );
+      buf.set_sent_frontier(SequenceNumber::new(n));
+      assert!(buf.retained_len() <= window);
+      // The reader acknowledges all but the latest 3.
+      buf.set_acked_frontier(Some(SequenceNumber::new((n - 2).max(1))));
+      for unacked in (n - 2).max(1)..=n {
+        assert!(
+          buf.get_by_sn(SequenceNumber::new(unacked)).is_some(),
+          "sample {unacked} lost at write {n}"
+        );
+      }
+    }
+    assert_eq!(buf.retained_len(), window);
+    // KEEP_ALL replaces nothing on write.
+    let keep_all = reliable(false, window, 1);
+    keep_all.set_acked_frontier(Some(SequenceNumber::new(1)));
+    for n in 1..=50i64 {
+      assert!(admit_now(&keep_all, WriteOptions::default()));
+      keep_all.set_sent_frontier(SequenceNumber::new(n));
+      keep_all.set_acked_frontier(Some(SequenceNumber::new((n - 2).max(1))));
+    }
+    assert_eq!(keep_all.retained_len(), 50);
+  }
+
+  // Samples a KEEP_LAST writer has already replaced do not count against the
+  // window: a reader that comes back far behind gets a GAP for them, so only
+  // what is still kept can hold the writer. KEEP_ALL counts from the reader's
+  // acknowledgement, as before.
+  #[test]
+  fn replaced_samples_do_not_hold_a_keep_last_window() {
+    let window = 4;
+    for keep_last in [true, false] {
+      let buf = reliable(keep_last, window, /* depth */ 1);
+      // No (active) reader while 100 samples are written: the depth applies.
+      for n in 1..=100i64 {
+        assert!(admit_now(&buf, WriteOptions::default()));
+        buf.set_sent_frontier(SequenceNumber::new(n));
+      }
+      assert_eq!(buf.first_change_sequence_number(), SequenceNumber::new(100));
+      // A reader that has acknowledged nothing becomes active.
+      buf.set_acked_frontier(Some(SequenceNumber::new(1)));
+      assert_eq!(admit_now(&buf, WriteOptions::default()), keep_last);
+    }
+  }
+
   // nonblocking-transmit: a best-effort writer that opted in via
   // `best_effort_may_block` is throttled by the unsent-backlog limit once the
   // socket stops draining, and released when the Writer advances the sent
@@ -507,6 +672,7 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ false,
       /* is_builtin */ false,
+      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 2,
@@ -535,6 +701,7 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ false,
       /* is_builtin */ false,
+      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 1,
@@ -555,6 +722,7 @@ mod tests {
       "t".to_string(),
       false,
       /* is_builtin */ true,
+      /* keep_last */ false,
       /* volatile */ true,
       1000,
       /* backlog_limit */ 1,
@@ -579,6 +747,7 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ false,
       /* is_builtin */ false,
+      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 1000,
@@ -614,6 +783,7 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ true,
       /* is_builtin */ false,
+      /* keep_last */ false,
       /* volatile */ false, // TRANSIENT_LOCAL etc: keep for late joiners
       /* window_limit */ 1000,
       /* backlog_limit */ 1000,
@@ -642,6 +812,7 @@ mod tests {
       "t".to_string(),
       /* reliable_writer */ true,
       /* is_builtin */ false,
+      /* keep_last */ false,
       /* volatile */ true,
       /* window_limit */ 1000,
       /* backlog_limit */ 1000,
