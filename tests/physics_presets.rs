@@ -34,6 +34,52 @@ fn aluminum_preset_matches_the_seeds_table_2() {
     check("moment of inertia", mp.moment_of_inertia, 0.046);
 }
 
+/// Mass (kg) and moment of inertia about the 6-in pivot (kg·m²) summed slice by slice about the pivot itself
+/// (no parallel-axis step), from the bat's slices.
+fn mass_and_swing_weight(bat: &Bat) -> (f64, f64) {
+    let pivot = 6.0 * 0.0254;
+    bat.slices()
+        .iter()
+        .fold((0.0, 0.0), |(m, i), s| (m + s.mass, i + s.mass * (s.z - pivot).powi(2) + s.rotary_inertia))
+}
+
+#[test]
+fn weight_matched_alloy_walls_keep_aluminums_mass_and_swing_weight_with_a_real_end_plug() {
+    let aluminum = Bat::preset("aluminum").expect("preset");
+    let (mass, weight) = mass_and_swing_weight(&aluminum);
+    let rho_area = |r: f64| 2700.0 * std::f64::consts::PI * r * r * 0.01;
+    for wall in [1.2e-3, 1.6e-3, 2.0e-3] {
+        let matched = Bat::alloy_weight_matched("m", wall).expect("a wall thinner than aluminum's can be matched");
+        let plain = Bat::alloy_profile("p", wall).expect("bat");
+        let (m, w) = mass_and_swing_weight(&matched);
+        assert!((m - mass).abs() < 1e-9, "wall {wall}: mass {m} vs {mass}");
+        assert!((w - weight).abs() < 1e-9, "wall {wall}: swing weight {w} vs {weight}");
+        assert!((matched.length() - aluminum.length()).abs() < 1e-15);
+        // The barrel (from the taper's end to the plug) and its hoop mode are the plain wall's, bit for bit.
+        let (a, b) = (matched.slices(), plain.slices());
+        for z in [0.55, 0.62, 0.68, 0.7] {
+            assert_eq!(matched.hoop_at(z), plain.hoop_at(z), "wall {wall}, z {z}");
+        }
+        let plugged: Vec<usize> = (0..a.len()).filter(|&i| a[i].mass != b[i].mass && a[i].z > 0.5).collect();
+        assert!(!plugged.is_empty() && plugged.iter().all(|&i| a[i].z > 0.75), "plug at {plugged:?}");
+        // The plug is solid alloy: every plugged slice but the innermost has no bore left, and its mass is
+        // that of a solid disc of the barrel's outer radius.
+        for &i in &plugged[1..] {
+            let r_o = matched.radii_at(a[i].z).0;
+            assert_eq!(matched.radii_at(a[i].z).1, 0.0, "slice {i}");
+            assert!((a[i].mass - rho_area(r_o)).abs() < 1e-12, "slice {i}: {} vs {}", a[i].mass, rho_area(r_o));
+            assert_eq!(matched.hoop_at(a[i].z), None, "a plugged section has no hoop mode");
+        }
+        // The handle wall is what restores the mass: thicker than aluminum's for a thinner barrel.
+        assert!(a[10].mass > aluminum.slices()[10].mass, "wall {wall}");
+    }
+    // A barrel heavier than aluminum's cannot be brought to its swing weight by a handle and an end plug.
+    match Bat::alloy_weight_matched("m", 3.0e-3) {
+        Err(PhysicsError::OutOfRange { field, .. }) => assert_eq!(field, "barrel_wall"),
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+}
+
 #[test]
 fn corking_makes_the_bat_lighter_with_its_centre_of_mass_toward_the_handle() {
     let wood = Bat::preset("r161").expect("preset").mass_properties();

@@ -360,49 +360,34 @@ impl Bat {
     /// The alloy profile of `aluminum` (see [`Bat::aluminum`]) with a barrel wall of `barrel_wall` m (the
     /// handle wall and end cap as solved for `aluminum`), named `name`.
     pub fn alloy_profile(name: &str, barrel_wall: f64) -> Result<Bat, PhysicsError> {
-        const LENGTH: f64 = 0.81;
-        const DZ: f64 = 0.01;
-        const KNOB_RADIUS: f64 = 0.85 * INCH;
-        const HANDLE_RADIUS: f64 = 0.5 * INCH;
-        const BARREL_RADIUS: f64 = 2.625 / 2.0 * INCH;
-        const TAPER_START: f64 = 0.28;
-        const TAPER_END: f64 = 0.50;
-        // Solved offline (see `Bat::aluminum`); not tuned beyond Table 2's three numbers.
-        const HANDLE_WALL: f64 = 0.003_122_543_377;
-        const END_CAP_INNER_RADIUS: f64 = 0.029_837_307_136;
-        if !(barrel_wall.is_finite() && barrel_wall > 0.0 && barrel_wall < BARREL_RADIUS) {
-            return Err(PhysicsError::out_of_range(
-                "barrel_wall",
-                barrel_wall,
-                format!("0 < barrel_wall < {BARREL_RADIUS} m (the barrel's outer radius)"),
-            ));
-        }
-        let n = (LENGTH / DZ).round() as usize;
-        let section = |z: f64| -> (f64, f64) {
-            let t = ((z - TAPER_START) / (TAPER_END - TAPER_START)).clamp(0.0, 1.0);
-            let outer = HANDLE_RADIUS + (BARREL_RADIUS - HANDLE_RADIUS) * t;
-            let wall = HANDLE_WALL + (barrel_wall - HANDLE_WALL) * t;
-            (outer, outer - wall)
-        };
-        let mut stations = Vec::with_capacity(n + 2);
-        for i in 0..n {
-            let z = (i as f64 + 0.5) * DZ;
-            let (mut outer, mut inner) = section(z);
-            if i == 0 {
-                outer = KNOB_RADIUS;
-                inner = 0.0;
-            } else if i == n - 1 {
-                inner = END_CAP_INNER_RADIUS.min(inner);
-            }
-            if i == 0 {
-                stations.push(Station { z: 0.0, outer_radius: outer, inner_radius: inner });
-            }
-            stations.push(Station { z, outer_radius: outer, inner_radius: inner });
-            if i == n - 1 {
-                stations.push(Station { z: LENGTH, outer_radius: outer, inner_radius: inner });
-            }
-        }
-        Bat::new(name, stations, Material::ALUMINUM, None, DZ)
+        let stations = alloy_stations(barrel_wall, ALLOY_HANDLE_WALL, 0.0)?;
+        Bat::new(name, stations, Material::ALUMINUM, None, ALLOY_SLICE)
+    }
+
+    /// The alloy profile of `aluminum` with a barrel wall of `barrel_wall` m, built to `aluminum`'s mass and
+    /// swing weight (moment of inertia about the 6-in pivot) as a bat maker keeps a certified model's weight
+    /// and swing weight: the handle wall and a solid end-cap plug are the two free parameters (see
+    /// [`Bat::alloy_weight_matched`]), named `name`. Length, mass and swing weight are those of a drop −3
+    /// bat: 0.81 m (31.9 in) and 0.825 kg (29.1 oz), length in inches minus weight in ounces = 2.8.
+    ///
+    /// Why: a thinner barrel wall alone makes a lighter bat, which the batter swings faster but which gives
+    /// the ball less effective mass; certified bats are held to a length–weight rule ("minus-3") and a lower
+    /// limit on the moment of inertia, so bats compared by their hoop frequency (Nathan, Crisco, Greenwald,
+    /// Russell & Smith, Sports Eng. 13, 153 (2011)) differ in their walls, not in their weight.
+    ///
+    /// The end-cap plug fills the bore from the barrel end inward, slice by slice, with the shell's alloy
+    /// (a solid plug of `end_cap_mass` kg beyond the `aluminum` end cap's rim), so its mass sits in the
+    /// beam's own slices (exact in the mass matrix, mass properties and rigid modes) and the filled slices
+    /// keep no hoop mode (no bore left, or a bore plugged at the end, which is where a cap stiffens the
+    /// wall). The solve is nested bisection: the handle wall for the mass at a given plug, the plug for the
+    /// swing weight (monotone: moving mass from the handle to the end raises it). It exists for walls up to
+    /// about `aluminum`'s own ([`ALUMINUM_BARREL_WALL`]): a thicker barrel is heavier at the barrel than
+    /// `aluminum` even with the lightest handle, and is refused with [`PhysicsError::OutOfRange`].
+    pub fn alloy_weight_matched(name: &str, barrel_wall: f64) -> Result<Bat, PhysicsError> {
+        let target = Bat::aluminum()?.mass_properties();
+        let (handle_wall, end_cap_mass) = alloy_weight_match(barrel_wall, &target)?;
+        let stations = alloy_stations(barrel_wall, handle_wall, end_cap_mass)?;
+        Bat::new(name, stations, Material::ALUMINUM, None, ALLOY_SLICE)
     }
 
     /// Parses a slice table (Nathan's `.dat` format: per line the 1-based slice index and the slice
@@ -569,4 +554,161 @@ pub(crate) fn mass_properties_of(slices: &[Slice], length: f64) -> MassPropertie
     let zcm = slices.iter().map(|s| s.mass * s.z).sum::<f64>() / mass;
     let icm: f64 = slices.iter().map(|s| s.mass * (s.z - zcm).powi(2) + s.rotary_inertia).sum();
     MassProperties::from_totals(mass, length, zcm, icm)
+}
+
+/// Length of the alloy profile, m.
+const ALLOY_LENGTH: f64 = 0.81;
+/// Slice length of the alloy profile, m.
+const ALLOY_SLICE: f64 = 0.01;
+/// Handle wall of `aluminum`, m (solved offline with the barrel wall and end cap for Table 2's mass
+/// properties; see [`Bat::aluminum`]).
+const ALLOY_HANDLE_WALL: f64 = 0.003_122_543_377;
+/// Outer radius of the alloy barrel, m (2⅝ in).
+const ALLOY_BARREL_RADIUS: f64 = 2.625 / 2.0 * INCH;
+/// Outer radius of the alloy handle, m (1 in).
+const ALLOY_HANDLE_RADIUS: f64 = 0.5 * INCH;
+
+/// Stations of the alloy profile (see [`Bat::aluminum`]) with the given barrel and handle walls (m) and a
+/// solid end-cap plug of `end_cap_mass` kg of the shell alloy filling the bore from the barrel end inward.
+fn alloy_stations(barrel_wall: f64, handle_wall: f64, end_cap_mass: f64) -> Result<Vec<Station>, PhysicsError> {
+    const KNOB_RADIUS: f64 = 0.85 * INCH;
+    const TAPER_START: f64 = 0.28;
+    const TAPER_END: f64 = 0.50;
+    // Solved offline (see `Bat::aluminum`); not tuned beyond Table 2's three numbers.
+    const END_CAP_INNER_RADIUS: f64 = 0.029_837_307_136;
+    if !(barrel_wall.is_finite() && barrel_wall > 0.0 && barrel_wall < ALLOY_BARREL_RADIUS) {
+        return Err(PhysicsError::out_of_range(
+            "barrel_wall",
+            barrel_wall,
+            format!("0 < barrel_wall < {ALLOY_BARREL_RADIUS} m (the barrel's outer radius)"),
+        ));
+    }
+    if !(handle_wall.is_finite() && handle_wall > 0.0 && handle_wall < ALLOY_HANDLE_RADIUS) {
+        return Err(PhysicsError::out_of_range(
+            "handle_wall",
+            handle_wall,
+            format!("0 < handle_wall < {ALLOY_HANDLE_RADIUS} m (the handle's outer radius)"),
+        ));
+    }
+    let n = (ALLOY_LENGTH / ALLOY_SLICE).round() as usize;
+    let section = |z: f64| -> (f64, f64) {
+        let t = ((z - TAPER_START) / (TAPER_END - TAPER_START)).clamp(0.0, 1.0);
+        let outer = ALLOY_HANDLE_RADIUS + (ALLOY_BARREL_RADIUS - ALLOY_HANDLE_RADIUS) * t;
+        let wall = handle_wall + (barrel_wall - handle_wall) * t;
+        (outer, outer - wall)
+    };
+    let mut radii: Vec<(f64, f64, f64)> = (0..n)
+        .map(|i| {
+            let z = (i as f64 + 0.5) * ALLOY_SLICE;
+            let (outer, inner) = section(z);
+            if i == 0 {
+                (z, KNOB_RADIUS, 0.0)
+            } else if i == n - 1 {
+                (z, outer, END_CAP_INNER_RADIUS.min(inner))
+            } else {
+                (z, outer, inner)
+            }
+        })
+        .collect();
+    // The plug: each slice from the end takes what its bore holds, ρπr_i²Δz, until the plug's mass is placed;
+    // the last slice it reaches keeps the bore r with ρπ(r_i² − r²)Δz = what is left.
+    let per_area = Material::ALUMINUM.density * std::f64::consts::PI * ALLOY_SLICE;
+    let mut left = end_cap_mass.max(0.0);
+    for slice in radii.iter_mut().rev() {
+        if !(left > 0.0) {
+            break;
+        }
+        let capacity = per_area * slice.2 * slice.2;
+        if left >= capacity {
+            slice.2 = 0.0;
+            left -= capacity;
+        } else {
+            slice.2 = (slice.2 * slice.2 - left / per_area).max(0.0).sqrt();
+            left = 0.0;
+        }
+    }
+    if !end_cap_mass.is_finite() || left > 0.0 {
+        return Err(PhysicsError::out_of_range("end_cap_mass", end_cap_mass, "0 ≤ end_cap_mass ≤ the bore's capacity"));
+    }
+    let mut stations = Vec::with_capacity(n + 2);
+    let first = radii[0];
+    stations.push(Station { z: 0.0, outer_radius: first.1, inner_radius: first.2 });
+    stations.extend(radii.iter().map(|&(z, outer_radius, inner_radius)| Station { z, outer_radius, inner_radius }));
+    let last = radii[n - 1];
+    stations.push(Station { z: ALLOY_LENGTH, outer_radius: last.1, inner_radius: last.2 });
+    Ok(stations)
+}
+
+/// Mass (kg) and swing weight (moment of inertia about the 6-in pivot, kg·m²) of the alloy profile.
+fn alloy_inertia(barrel_wall: f64, handle_wall: f64, end_cap_mass: f64) -> Result<(f64, f64), PhysicsError> {
+    let bat = Bat::new(
+        "solve",
+        alloy_stations(barrel_wall, handle_wall, end_cap_mass)?,
+        Material::ALUMINUM,
+        None,
+        ALLOY_SLICE,
+    )?;
+    let mp = bat.mass_properties();
+    Ok((mp.mass, mp.moment_about(super::metrics::PIVOT_Z)))
+}
+
+/// Bisection of an increasing `f` for `f(x) = target` on [lo, hi]; `None` if the target is outside.
+fn bisect(
+    mut lo: f64,
+    mut hi: f64,
+    target: f64,
+    f: impl Fn(f64) -> Result<f64, PhysicsError>,
+) -> Result<Option<f64>, PhysicsError> {
+    // A target met at an end to rounding (the `aluminum` wall itself, with no plug) is met there.
+    let slack = 1e-12 * target.abs();
+    let (at_lo, at_hi) = (f(lo)?, f(hi)?);
+    if at_lo > target + slack || at_hi < target - slack {
+        return Ok(None);
+    }
+    if at_lo >= target {
+        return Ok(Some(lo));
+    }
+    // 64 halvings take any bracket here below the rounding of its ends.
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid)? < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(Some(0.5 * (lo + hi)))
+}
+
+/// Handle wall (m) and end-cap plug mass (kg) that give the alloy profile with `barrel_wall` (m) the mass
+/// and swing weight of `target` (see [`Bat::alloy_weight_matched`]).
+fn alloy_weight_match(barrel_wall: f64, target: &MassProperties) -> Result<(f64, f64), PhysicsError> {
+    let goal_mass = target.mass;
+    let goal_weight = target.moment_about(super::metrics::PIVOT_Z);
+    let (thinnest, thickest) = (1e-4, ALLOY_HANDLE_RADIUS - 1e-4);
+    let refuse = || {
+        PhysicsError::out_of_range(
+            "barrel_wall",
+            barrel_wall,
+            format!(
+                "a wall whose bat can be brought to {goal_mass:.3} kg and a swing weight of {goal_weight:.4} kg·m² \
+                 by its handle wall and end-cap plug (up to about {ALUMINUM_BARREL_WALL} m)"
+            ),
+        )
+    };
+    // The handle wall giving the goal mass with a plug of `plug` kg.
+    let handle_for = |plug: f64| -> Result<Option<f64>, PhysicsError> {
+        bisect(thinnest, thickest, goal_mass, |h| alloy_inertia(barrel_wall, h, plug).map(|(m, _)| m))
+    };
+    // The largest plug the end slices hold while the mass can still be met: bounded by the goal mass itself.
+    let plug_max = (goal_mass - alloy_inertia(barrel_wall, thinnest, 0.0)?.0).max(0.0);
+    let weight_at = |plug: f64| -> Result<f64, PhysicsError> {
+        match handle_for(plug)? {
+            Some(h) => alloy_inertia(barrel_wall, h, plug).map(|(_, w)| w),
+            None => Ok(f64::INFINITY),
+        }
+    };
+    let plug = bisect(0.0, plug_max, goal_weight, weight_at)?.ok_or_else(refuse)?;
+    let handle = handle_for(plug)?.ok_or_else(refuse)?;
+    Ok((handle, plug))
 }

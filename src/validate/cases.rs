@@ -8,7 +8,7 @@
 //! A rigid, immovable wall or cylinder is a solid cylinder of 10⁵ kg/m³ and 10¹³ Pa integrated with its rigid
 //! modes only (no vibration): its recoil factor m/M is below 10⁻⁴.
 
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
 
@@ -58,6 +58,21 @@ pub struct BpfPoint {
     pub swing_exit_speed: f64,
 }
 
+/// A swing at equal effort with one alloy wall, the bat held at `aluminum`'s mass and swing weight
+/// ([`Bat::alloy_weight_matched`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SwingPoint {
+    /// Barrel wall, m.
+    pub wall: f64,
+    /// Hoop frequency 6 in from the barrel end, Hz.
+    pub hoop_hz: f64,
+    /// Exit speed of the game ball hit 6 in from the end by the average MLB batter at equal effort, m/s.
+    pub exit_speed: f64,
+    /// The same swing's exit speed on a rigid bat of the same mass properties (the closed form), m/s: the
+    /// exit speed less the wall's and the beam's share.
+    pub rigid_exit_speed: f64,
+}
+
 /// Pitch speed of the swings in the BPF sweep, m/s (89.5 mph).
 pub const SWING_PITCH_SPEED: f64 = 40.0;
 
@@ -78,6 +93,8 @@ pub struct Lab {
     pub game_ball: String,
     bpf: Memo<(String, u64), Vec<BpfPoint>>,
     cage: Memo<(String, String, u64), CageComparison>,
+    /// The weight-matched swing curve (takes no arguments, so one result).
+    matched: OnceLock<Vec<SwingPoint>>,
 }
 
 /// The cage comparison of a wood and a metal bat: their best points, then their exit-speed curves.
@@ -161,7 +178,13 @@ fn best_cor_at_rest(modes: &ModeSet, ball: &Ball, speed: f64, options: &Collisio
 impl Lab {
     /// A laboratory running collisions with `options`, the game ball being the `game_ball` preset.
     pub fn new(options: CollisionOptions, game_ball: &str) -> Lab {
-        Lab { options, game_ball: game_ball.to_string(), bpf: Memo::default(), cage: Memo::default() }
+        Lab {
+            options,
+            game_ball: game_ball.to_string(),
+            bpf: Memo::default(),
+            cage: Memo::default(),
+            matched: OnceLock::new(),
+        }
     }
 
     fn bat(&self, case: &str, name: &str) -> Result<(Bat, ModeSet), ValidateError> {
@@ -437,6 +460,34 @@ impl Lab {
             .collect::<Result<_, PhysicsError>>()
             .map_err(physics(case))?;
         Ok(points)
+    }
+
+    /// Exit speed at equal effort against hoop frequency for alloy walls from 1.2 mm to `aluminum`'s own, each
+    /// bat built to `aluminum`'s mass and swing weight by its handle wall and end-cap plug
+    /// ([`Bat::alloy_weight_matched`]), game ball, pitch at [`SWING_PITCH_SPEED`], impact 6 in from the end
+    /// (computed once).
+    pub fn matched_swing_curve(&self) -> Result<&[SwingPoint], ValidateError> {
+        if let Some(points) = self.matched.get() {
+            return Ok(points);
+        }
+        let case = "swing_exit_hoop_trend";
+        let game_ball = self.ball(case, &self.game_ball)?;
+        let (_, reference) = self.bat(case, "r161")?;
+        let batter = Batter::typical(reference.mass_properties()).map_err(physics(case))?;
+        let walls = linspace(1.2e-3, crate::physics::bat::ALUMINUM_BARREL_WALL, 24);
+        let points: Vec<SwingPoint> = walls
+            .par_iter()
+            .map(|&wall| {
+                let bat = Bat::alloy_weight_matched("alloy", wall)?;
+                let modes = modes_of(&bat, &self.options)?;
+                let hoop_hz = modes.hoop_frequency_at(modes.length() - SIX_INCHES).unwrap_or(f64::NAN);
+                let swing = batter.predict(&modes.mass_properties())?;
+                let r = collide(&modes, &game_ball, &swing.impact(SWING_PITCH_SPEED), &self.options)?;
+                Ok(SwingPoint { wall, hoop_hz, exit_speed: r.exit_speed, rigid_exit_speed: r.rigid_exit_speed })
+            })
+            .collect::<Result<_, PhysicsError>>()
+            .map_err(physics(case))?;
+        Ok(self.matched.get_or_init(|| points))
     }
 
     /// The cage comparison at equal effort: best exit speed and where, and exit speed against the distance from

@@ -137,11 +137,21 @@ pub fn write(
     let mut swing: Vec<(f64, f64)> =
         curve.iter().filter(|p| p.hoop_hz.is_finite()).map(|p| (p.hoop_hz, p.swing_exit_speed / MPH)).collect();
     swing.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut matched: Vec<(f64, f64)> = lab
+        .matched_swing_curve()?
+        .iter()
+        .filter(|p| p.hoop_hz.is_finite())
+        .map(|p| (p.hoop_hz, p.exit_speed / MPH))
+        .collect();
+    matched.sort_by(|a, b| a.0.total_cmp(&b.0));
     let field = LineChart {
         title: "Exit speed in a swing at equal effort vs hoop frequency".into(),
         x_label: "hoop frequency 6 in from the end (Hz)".into(),
         y_label: "exit speed 6 in from the end (mph)".into(),
-        series: vec![Series::solid("model", 1, swing)],
+        series: vec![
+            Series::dashed("model, wall alone (the bat's mass changes)", 1, swing),
+            Series::solid("model, at aluminum's mass and swing weight", 0, matched),
+        ],
         markers: band,
         ..Default::default()
     };

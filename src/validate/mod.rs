@@ -445,7 +445,32 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
             p("line_of_centres_deg")?,
             p("incoming_spin_rpm")?,
         ),
-        "bpf_hoop_trend" | "bpf_max_in_band" | "swing_exit_hoop_trend" => {
+        "swing_exit_hoop_trend" => {
+            let (lo, hi) = (p("hoop_low_hz")?, p("hoop_high_hz")?);
+            let curve = lab.matched_swing_curve()?;
+            let band: Vec<&cases::SwingPoint> = curve.iter().filter(|q| q.hoop_hz >= lo && q.hoop_hz <= hi).collect();
+            let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.exit_speed)).collect();
+            let detail = match (band.first(), band.last()) {
+                (Some(a), Some(b)) => format!(
+                    "{} walls {:.2}–{:.2} mm at aluminum's mass and swing weight ({:.0}–{:.0} Hz; heavier walls cannot \
+                     be built to it); exit {:.1} mph at {:.0} Hz (rigid bat {:.1}), {:.1} mph at {:.0} Hz (rigid {:.1})",
+                    band.len(),
+                    a.wall * 1e3,
+                    b.wall * 1e3,
+                    a.hoop_hz,
+                    b.hoop_hz,
+                    a.exit_speed / MPH,
+                    a.hoop_hz,
+                    a.rigid_exit_speed / MPH,
+                    b.exit_speed / MPH,
+                    b.hoop_hz,
+                    b.rigid_exit_speed / MPH
+                ),
+                _ => "no wall in the band".into(),
+            };
+            Ok(CaseValue { value: cases::rank_correlation(&pairs), detail })
+        }
+        "bpf_hoop_trend" | "bpf_max_in_band" => {
             let (lo, hi) = (p("hoop_low_hz")?, p("hoop_high_hz")?);
             let curve = lab.bpf_curve(s("ball")?, p("ball_speed_mph")? * MPH)?;
             let band: Vec<&cases::BpfPoint> = curve.iter().filter(|q| q.hoop_hz >= lo && q.hoop_hz <= hi).collect();
@@ -458,19 +483,6 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
                 Ok(CaseValue {
                     value: cases::rank_correlation(&pairs), detail: format!("{walls}, {lo:.0}–{hi:.0} Hz")
                 })
-            } else if row.case == "swing_exit_hoop_trend" {
-                let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.swing_exit_speed)).collect();
-                let ends = match (band.first(), band.last()) {
-                    (Some(a), Some(b)) => format!(
-                        "; exit {:.1} mph at {:.0} Hz, {:.1} mph at {:.0} Hz",
-                        a.swing_exit_speed / MPH,
-                        a.hoop_hz,
-                        b.swing_exit_speed / MPH,
-                        b.hoop_hz
-                    ),
-                    _ => String::new(),
-                };
-                Ok(CaseValue { value: cases::rank_correlation(&pairs), detail: format!("{walls}{ends}") })
             } else {
                 let best = band.iter().max_by(|a, b| a.bpf.total_cmp(&b.bpf));
                 Ok(CaseValue {
