@@ -74,7 +74,6 @@
 //! ([`settings::is_read_only`]) are refused by `ros2 param set` on a running node.
 
 pub mod convert;
-pub mod foxglove;
 mod live_settings;
 mod outputs;
 pub mod pipeline;
