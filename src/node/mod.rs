@@ -21,7 +21,7 @@
 //! | `modal_energies` | sweetspot_msgs/ModalEnergies       | out       | reliable; one per OK swing, published while a subscription is matched, always recorded |
 //! | `sweet_spot`     | sweetspot_msgs/SweetSpot           | out       | reliable, transient-local; on every bat change |
 //! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
-//! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout                          |
+//! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout (and the Foxglove server's, with `foxglove_port`) |
 //!
 //! # Behaviour
 //!
