@@ -7,11 +7,14 @@
 //!   bag's message; before them only the latched topics' last messages before the seek point;
 //! - at speed 2 the rest of the bag takes at least half its recorded span, and playback then reports "ended".
 //!
-//! No DDS: the server binds 127.0.0.1 and `--no-dds` starts no participant.
+//! - without `--no-dds` the inputs still go out over DDS (to a subscriber in scripts/test's private network
+//!   namespace) while the same bag is served to Foxglove.
+
+mod support;
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{ChildStderr, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
@@ -67,6 +70,18 @@ fn recorded_fields(mut json: Value, schema: &str) -> Value {
     json
 }
 
+/// Reads `bag play`'s stderr until it names the server's URL (`ws://ADDR:PORT`).
+fn served_url(stderr: &mut BufReader<ChildStderr>) -> String {
+    let mut line = String::new();
+    loop {
+        line.clear();
+        assert!(stderr.read_line(&mut line).unwrap() > 0, "bag play exited before serving");
+        if let Some(rest) = line.strip_prefix("Foxglove WebSocket server on ") {
+            return rest.split(':').take(3).collect::<Vec<_>>().join(":");
+        }
+    }
+}
+
 struct Recorded {
     topic: String,
     log_time: u64,
@@ -104,14 +119,7 @@ fn a_foxglove_client_seeks_into_a_played_bag_and_gets_the_rest_in_log_time_order
         .spawn()
         .unwrap();
     let mut stderr = BufReader::new(player.stderr.take().unwrap());
-    let mut line = String::new();
-    let url = loop {
-        line.clear();
-        assert!(stderr.read_line(&mut line).unwrap() > 0, "bag play exited before serving");
-        if let Some(rest) = line.strip_prefix("Foxglove WebSocket server on ") {
-            break rest.split(':').take(3).collect::<Vec<_>>().join(":");
-        }
-    };
+    let url = served_url(&mut stderr);
     assert!(url.starts_with("ws://127.0.0.1:"), "bound beyond loopback: {url}");
 
     assert!(js_dir().join("node_modules/@foxglove/ws-protocol").is_dir(), "run `bash scripts/test` (npm ci)");
@@ -203,4 +211,44 @@ fn a_foxglove_client_seeks_into_a_played_bag_and_gets_the_rest_in_log_time_order
     assert!(status.success(), "bag play: {status}\n{tail}");
     assert!(tail.contains("served "), "{tail}");
     println!("{} messages from the seek point, {head} latched re-sent, {took:?} for {span:?}", rest.len());
+}
+
+#[test]
+fn with_dds_the_inputs_go_out_while_the_bag_is_served() {
+    use support::node::{keep_all, Peer};
+    let domain = support::node::domain(92);
+    let bag = Path::new(env!("CARGO_MANIFEST_DIR")).join("bags/golden/sweetspot_golden");
+    let mut peer = Peer::new(domain, "foxglove_play_listener");
+    let swings = peer.subscription::<Swing>("/golden/swing", keep_all(sweetspot::ros::swing_qos()));
+    let mut c = support::sweetspot(domain, &["bag", "play", "-q", "--wait-subscribers", "1", "--timeout", "30"]);
+    c.arg(&bag).args(["--topics", "/golden/swing", "--foxglove", "0"]);
+    let mut player = c.stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut stderr = BufReader::new(player.stderr.take().unwrap());
+    let url = served_url(&mut stderr);
+    let over_dds = peer.collect(&swings, 10, Duration::from_secs(30));
+    assert_eq!(over_dds.iter().map(|s| s.swing_id).collect::<Vec<_>>(), (1..=10).collect::<Vec<u64>>());
+
+    // Foxglove's timeline is its own: from the start, at speed 8, the client gets the same ten swings.
+    let mut first = u64::MAX;
+    sweetspot::bag::reader::read_bag(&bag, |m| first = first.min(m.log_time_ns)).unwrap();
+    let client = Command::new("node")
+        .arg(js_dir().join("foxglove_client.mjs"))
+        .args([url.as_str(), &format!("play:{first}:8"), "/golden/swing"])
+        .output()
+        .expect("node (Node.js)");
+    assert!(client.status.success(), "the client did not see playback end");
+    let ids: Vec<u64> = String::from_utf8_lossy(&client.stdout)
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|v| v["topic"] == "/golden/swing")
+        .map(|v| v["message"]["swing_id"].as_u64().unwrap())
+        .collect();
+    assert_eq!(ids, (1..=10).collect::<Vec<u64>>());
+
+    let pid = player.id().to_string();
+    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    let status = player.wait().unwrap();
+    let mut tail = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut tail).unwrap();
+    assert!(status.success() && tail.contains("published 10 messages"), "bag play: {status}\n{tail}");
 }

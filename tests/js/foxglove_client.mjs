@@ -10,7 +10,8 @@
 //                                                 (a server with playback controls, `bag play --foxglove`)
 //                                                 subscribes, waits 500 ms, asks to play from SEEK_NS at SPEED,
 //                                                 prints every message with its log time and every playback
-//                                                 state ({"playback": ...}), and exits when playback has ended
+//                                                 state ({"playback": ...}), and exits 500 ms after playback
+//                                                 has ended
 //
 // @foxglove/ws-protocol 0.8 knows neither the playbackControlRequest (client binary opcode 3) nor the
 // playbackState (server binary opcode 5) of the protocol's v1 spec, so this client writes and reads those two
@@ -51,7 +52,9 @@ ws.onmessage = (event) => {
     };
     const line = JSON.stringify({ playback: state }) + "\n";
     if (state.status === "ended") {
-      process.stdout.write(line, () => process.exit(0));
+      // The SDK sends states on its control queue and messages on its data queue, so the last messages may
+      // arrive after "ended": keep reading a moment before leaving.
+      process.stdout.write(line, () => setTimeout(() => process.exit(0), 500));
     } else {
       process.stdout.write(line);
     }
