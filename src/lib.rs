@@ -8,8 +8,9 @@
 //!   bag records — the one place the node, replay, calibration, the rig and the fuzz targets decide alike;
 //! - [`bag`]: MCAP record, read, export and replay in the rosbag2 layout;
 //!   [`ros`]: the DDS edge (names, `--ros-args`, QoS, the participant);
-//! - [`node`]: the ROS 2 node (topics, parameters, diagnostics, recording); [`play`]: `bag play` over DDS;
-//!   [`record`]: `bag record` over DDS;
+//! - [`foxglove`]: the Foxglove WebSocket server the node and `bag play` serve topics on;
+//! - [`node`]: the ROS 2 node (topics, parameters, diagnostics, recording); [`play`]: `bag play` over DDS
+//!   and Foxglove; [`record`]: `bag record` over DDS;
 //! - [`report`]: tables, JSON documents, plots and the seed's figures, for the tools below; [`child`]: the
 //!   node (or any tool) as a child process;
 //! - [`import`]: tracker exports (TrackMan, Statcast) into bags of swings; [`locate`]: where on the bat each
@@ -27,6 +28,7 @@ pub mod child;
 pub mod cli;
 pub mod demo;
 pub mod files;
+pub mod foxglove;
 pub mod import;
 pub mod locate;
 pub mod model;

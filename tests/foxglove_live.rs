@@ -6,7 +6,10 @@
 //!   order, with none missing; modal energies decode too, and the latched SweetSpot reaches a client that
 //!   connects after it was published;
 //! - a client that subscribes and then stops reading changes no answer and loses no swing;
-//! - `/diagnostics` is served (live only; it is not recorded).
+//! - `/diagnostics` is served (live only; it is not recorded), with the server's own counters (clients,
+//!   subscriptions, messages served);
+//! - `/rosout` is served: the node's log lines as rcl_interfaces/Log, each one a line of the node's log, the
+//!   startup lines still there for a client that connects later.
 
 mod support;
 
@@ -163,11 +166,34 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     assert!(watcher.wait().unwrap().success());
     let v: Value = serde_json::from_str(&line).unwrap();
     let statuses = v["message"]["status"].as_array().unwrap_or_else(|| panic!("no statuses: {line}"));
-    let values = statuses.iter().filter_map(|s| s["values"].as_array()).flatten();
-    assert!(values.into_iter().any(|kv| kv["key"] == "swings_processed"), "{line}");
+    let values: Vec<&Value> = statuses.iter().filter_map(|s| s["values"].as_array()).flatten().collect();
+    let value = |key: &str| values.iter().find(|kv| kv["key"] == key).and_then(|kv| kv["value"].as_str());
+    assert!(value("swings_processed").is_some(), "{line}");
+    // The client reading this line is connected and subscribed, so the server counts at least it.
+    let at_least_one = |key: &str| value(key).and_then(|v| v.parse::<u64>().ok()).is_some_and(|n| n >= 1);
+    assert!(at_least_one("foxglove_clients") && at_least_one("foxglove_subscriptions"), "{line}");
+    assert!(at_least_one("foxglove_messages_served"), "{line}");
+
+    // 4. /rosout: the node's log lines as rcl_interfaces/Log; a client connecting now still gets the
+    //    startup lines (the latch), and each is a line the node also logged on stderr.
+    let (mut logs, logged) = client(&[&url, "1", "/rosout"]);
+    let lines: Vec<Value> = logged
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(&l.unwrap()).unwrap())
+        .filter(|v| v["topic"] == "/rosout")
+        .collect();
+    assert!(logs.wait().unwrap().success(), "no /rosout line");
 
     let (status, _, log) = node.stop_with(15);
     assert!(status.success(), "{log}");
+    for line in &lines {
+        let m = &line["message"];
+        assert_eq!(line["type"], "rcl_interfaces/msg/Log", "{line}");
+        assert_eq!(m["level"], 20, "an INFO line: {line}");
+        assert_eq!(m["name"], "sweetspot", "{line}");
+        let text = m["msg"].as_str().unwrap_or_default();
+        assert!(!text.is_empty() && log.contains(text), "/rosout line not in the node's log: {line}");
+    }
     let mut recorded: Vec<ExitVelocity> = Vec::new();
     sweetspot::bag::reader::read_bag(&bag, |m| {
         if m.channel.topic.name == "/exit_velocity" {

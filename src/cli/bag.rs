@@ -153,6 +153,7 @@ Examples:
   sweetspot bag play BAG --start-offset 30                start 30 s (recorded time) into the bag
   sweetspot bag play BAG --clock                          also publish the bag's time on /clock at 40 Hz
   sweetspot bag play BAG --clock 100 --delay 2            /clock at 100 Hz, after waiting 2 s
+  sweetspot bag play BAG --foxglove 8765 --no-dds         serve every topic to Foxglove (ws://localhost:8765) only
 
 Before the first message it waits (at most --timeout) until the subscriptions discovery shows on each played
 topic have matched, so a node already running misses nothing, and warns of topics nobody subscribes to
@@ -200,6 +201,13 @@ so every swing meets the bat and ball in force when it was recorded.")]
         /// Go on past damaged chunks with everything intact around them (the damage is still listed).
         #[arg(long)]
         skip_damaged: bool,
+        /// Also serve the bag (every topic, or --topics) on a Foxglove WebSocket server at [ADDR:]PORT
+        /// (127.0.0.1 unless ADDR is given), with Foxglove's play, pause, seek and speed controls.
+        #[arg(long, value_name = "[ADDR:]PORT")]
+        foxglove: Option<String>,
+        /// With --foxglove: serve only, no DDS output (playback then starts paused, for the client to start).
+        #[arg(long, requires = "foxglove")]
+        no_dds: bool,
         /// ROS arguments: `-r FROM:=TO` remaps topics as --remap does; must come last.
         #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
         ros_args: Option<Vec<String>>,
@@ -282,6 +290,8 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
             timeout,
             quiet,
             skip_damaged,
+            foxglove,
+            no_dds,
             ros_args,
         } => {
             check_damage(&path, skip_damaged)?;
@@ -300,7 +310,13 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
                 clock_hz: clock,
                 paused: None,
             };
-            play(path, options, quiet)
+            match foxglove {
+                None => play(path, options, quiet),
+                Some(bind) => {
+                    let bind = crate::foxglove::Bind::parse(&bind).map_err(|e| anyhow::anyhow!("--foxglove: {e}"))?;
+                    play_foxglove(path, options, bind, !no_dds, quiet)
+                }
+            }
         }
         BagCommand::Replay {
             path,
@@ -715,6 +731,49 @@ fn play_remaps(remap: &[String], ros_args: &[String]) -> anyhow::Result<Vec<(Str
         .filter(|r| r.node.as_deref().is_none_or(|n| n == identity.name))
         .map(|r| (crate::ros::args::resolve_name(&r.from, &identity), crate::ros::args::resolve_name(&r.to, &identity)))
         .collect())
+}
+
+/// `bag play --foxglove`: serves the bag on a Foxglove server until Ctrl-C, while (unless `dds` is false)
+/// playing its inputs over DDS as `bag play` does; each keeps its own clock, so pausing or seeking in
+/// Foxglove moves what Foxglove shows, not what goes out over DDS.
+fn play_foxglove(
+    path: PathBuf,
+    options: crate::play::PlayOptions,
+    bind: crate::foxglove::Bind,
+    dds: bool,
+    quiet: bool,
+) -> anyhow::Result<()> {
+    use crate::play::foxglove::{serve, ServeOptions, ServedBag};
+    let stop = crate::ros::interrupt_flag();
+    let served = ServedBag::read(&path, &options.topics, |topic| options.remapped(topic).to_string())
+        .map_err(flat)
+        .with_context(|| format!("reading bag {}", path.display()))?;
+    let serve_options =
+        ServeOptions { bind: bind.clone(), playing: dds, rate: options.rate, start_offset: options.start_offset };
+    std::thread::scope(|scope| {
+        let server = scope.spawn(|| {
+            serve(&served, &serve_options, &stop, |port| {
+                eprintln!(
+                    "Foxglove WebSocket server on ws://{}:{port}: {} messages on {} topics, {} (Ctrl-C to stop)",
+                    bind.host,
+                    served.messages.len(),
+                    served.topics.len(),
+                    if dds { "playing" } else { "paused until a client plays" }
+                )
+            })
+        });
+        if dds {
+            let played = play(path.clone(), options, quiet);
+            if played.is_err() {
+                stop.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            played?;
+        }
+        let sent = server.join().map_err(|_| anyhow::anyhow!("the Foxglove server thread panicked"))?;
+        let sent = sent.map_err(flat).with_context(|| format!("serving {}", path.display()))?;
+        eprintln!("served {sent} messages to Foxglove");
+        Ok(())
+    })
 }
 
 fn play(path: PathBuf, mut options: crate::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {

@@ -21,7 +21,7 @@
 //! | `modal_energies` | sweetspot_msgs/ModalEnergies       | out       | reliable; one per OK swing, published while a subscription is matched, always recorded |
 //! | `sweet_spot`     | sweetspot_msgs/SweetSpot           | out       | reliable, transient-local; on every bat change |
 //! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
-//! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout                          |
+//! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout (and the Foxglove server's, with `foxglove_port`) |
 //!
 //! # Behaviour
 //!
@@ -75,7 +75,6 @@
 //! ([`settings::is_read_only`]) are refused by `ros2 param set` on a running node.
 
 pub mod convert;
-pub mod foxglove;
 mod live_settings;
 mod outputs;
 pub mod pipeline;

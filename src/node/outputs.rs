@@ -3,7 +3,7 @@
 
 use crate::model::time::RosTime;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
 use futures::FutureExt as _;
@@ -12,6 +12,7 @@ use ros2_client::rosout::RosoutRaw;
 use ros2_client::{NodeLoggingHandle, Publisher};
 
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
+use crate::msgs::rcl_interfaces::msg::Log as RosoutLine;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot, Swing};
 
 use super::pipeline::{Outcome, ResultSink};
@@ -50,17 +51,27 @@ impl Outputs {
     }
 }
 
-/// rosout + tracing, from any thread.
+/// rosout + tracing (+ the Foxglove server's `/rosout`), from any thread.
 #[derive(Clone)]
 pub struct Log {
     handle: Arc<NodeLoggingHandle>,
     rosout: bool,
+    /// Where the lines are also served live once the Foxglove server runs (shared by every clone).
+    live: Arc<OnceLock<Arc<Tape>>>,
 }
 
 impl Log {
     /// Logs to rosout (the node's handle; `rosout` false: tracing only) and tracing.
     pub fn new(handle: NodeLoggingHandle, rosout: bool) -> Log {
-        Log { handle: Arc::new(handle), rosout }
+        Log { handle: Arc::new(handle), rosout, live: Arc::new(OnceLock::new()) }
+    }
+
+    /// Also serves every later line, as rcl_interfaces/Log, on `tape`'s Foxglove server (if it has one);
+    /// `--disable-rosout-logs` turns off the DDS topic only.
+    pub fn serve_on(&self, tape: Arc<Tape>) {
+        if tape.live_port().is_some() {
+            let _ = self.live.set(tape);
+        }
     }
 
     fn log(&self, level: LogLevel, message: &str) {
@@ -71,16 +82,24 @@ impl Log {
             LogLevel::Info => tracing::info!("{message}"),
             LogLevel::Debug => tracing::debug!("{message}"),
         }
+        let stamp = ros2_client::builtin_interfaces::Time::now();
+        let (file, line) = (file!(), line!());
+        if let Some(tape) = self.live.get() {
+            // The message ros2-client's rosout_raw publishes below, field for field.
+            let ns = u64::try_from(stamp.to_nanos()).unwrap_or(0);
+            let line = RosoutLine {
+                stamp: crate::msgs::builtin_interfaces::msg::Time::from_unix_ns(ns),
+                level: level as u8,
+                name: self.handle.base_name().to_string(),
+                msg: message.to_string(),
+                file: file.to_string(),
+                function: "sweetspot::node".to_string(),
+                line,
+            };
+            tape.record(Recorded::Rosout, &line, ns, ns);
+        }
         if self.rosout {
-            self.handle.rosout_raw(
-                ros2_client::builtin_interfaces::Time::now(),
-                level,
-                self.handle.base_name(),
-                message,
-                file!(),
-                "sweetspot::node",
-                line!(),
-            );
+            self.handle.rosout_raw(stamp, level, self.handle.base_name(), message, file, "sweetspot::node", line);
         }
     }
 

@@ -11,7 +11,7 @@ use ros2_client::QosProfile;
 use crate::bag::{BagError, RecordedQos, RecorderStats, TopicId, TopicInfo};
 use crate::msgs::{encode_cdr, RosMessage};
 
-use super::stats::RecorderState;
+use super::stats::{RecorderState, TapeState};
 
 /// What the node needs of a recorder (implemented by the bag's `Recorder`; by fakes in tests).
 pub trait RecordBackend: Send {
@@ -44,6 +44,8 @@ pub enum Recorded {
     SweetSpot = 5,
     /// Output `/diagnostics`: served live only, not recorded.
     Diagnostics = 6,
+    /// Output `/rosout` (the node's log lines): served live only, not recorded.
+    Rosout = 7,
 }
 
 /// The node's recorder: a backend plus the ids of its topics, or nothing when recording is off or failed.
@@ -53,7 +55,7 @@ pub struct Tape {
     ids: Vec<Option<TopicId>>,
     error: Mutex<Option<String>>,
     final_stats: Mutex<Option<RecorderStats>>,
-    live: Option<super::foxglove::LiveServer>,
+    live: Option<crate::foxglove::LiveServer>,
 }
 
 impl Tape {
@@ -71,7 +73,7 @@ impl Tape {
 
     /// Also serves every recorded message live (the same CDR bytes, topic for topic) on `live`, whose
     /// channels were started from the same topic list, in [`Recorded`] order.
-    pub fn with_live(mut self, live: super::foxglove::LiveServer) -> Tape {
+    pub fn with_live(mut self, live: crate::foxglove::LiveServer) -> Tape {
         self.live = Some(live);
         self
     }
@@ -143,8 +145,12 @@ impl Tape {
         }
     }
 
-    /// The state for `/diagnostics`.
-    pub fn state(&self) -> RecorderState {
+    /// The state for `/diagnostics`: the recorder's, and the Foxglove server's counters.
+    pub fn state(&self) -> TapeState {
+        TapeState { recorder: self.recorder_state(), live: self.live.as_ref().map(|l| l.counters()) }
+    }
+
+    fn recorder_state(&self) -> RecorderState {
         let Some(dir) = &self.dir else { return RecorderState::Off };
         let dir = dir.display().to_string();
         let stats = match self.backend.lock().ok().and_then(|b| b.as_ref().map(|b| b.stats())) {

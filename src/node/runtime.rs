@@ -144,19 +144,27 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let tape = Arc::new(match settings.foxglove_port.as_str() {
         "" => tape,
         bind => {
-            let bind = super::foxglove::Bind::parse(bind).map_err(|e| anyhow::anyhow!("foxglove_port: {e}"))?;
+            let bind = crate::foxglove::Bind::parse(bind).map_err(|e| anyhow::anyhow!("foxglove_port: {e}"))?;
             let mut served = recorded_topics(&topic_names);
             served.push(TopicInfo::of::<crate::msgs::diagnostic_msgs::msg::DiagnosticArray>(
                 topic_names.get(topics::DIAGNOSTICS),
                 recorded_qos(&diagnostics_qos()),
             ));
-            let live = super::foxglove::LiveServer::start(&fqn, &bind, &served)
+            // `/rosout` as ros2-client offers it (transient-local, keep-last 1000): a client that connects
+            // later gets the lines logged before it, from the latch.
+            served.push(TopicInfo::of::<crate::msgs::rcl_interfaces::msg::Log>(
+                topics::ROSOUT,
+                recorded_qos(&crate::ros::qos::rosout_qos()),
+            ));
+            let live = crate::foxglove::LiveServer::start(&fqn, &bind, &served)
                 .await
                 .map_err(|e| anyhow::anyhow!("{e} (pass another foxglove_port / --foxglove)"))?;
             log.info(&format!("Foxglove WebSocket server on ws://{}:{}", bind.host, live.port()));
             tape.with_live(live)
         }
     });
+    // From here on the node's log lines go to the Foxglove server's `/rosout` too.
+    log.serve_on(Arc::clone(&tape));
     tape.note_settings(&settings);
     let stats = Arc::new(NodeStats::new());
     let publish_failures = PublishFailures::new(log.clone());

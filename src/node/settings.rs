@@ -392,7 +392,7 @@ pub static PARAMETERS: &[Parameter] = &[
             default: "",
             set: |s, v| {
                 if !v.is_empty() {
-                    super::foxglove::Bind::parse(v)
+                    crate::foxglove::Bind::parse(v)
                         .map_err(|e| Refusal::Refused(format!("foxglove_port = {v:?} is REJECTED: {e}")))?;
                 }
                 s.foxglove_port = v.to_string();

@@ -198,6 +198,21 @@ pub enum RecorderState {
     Failed { dir: String, error: String, written: u64, dropped: u64 },
 }
 
+/// What the node's outputs besides DDS report on `/diagnostics`: the recorder and the Foxglove server.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TapeState {
+    /// The recorder.
+    pub recorder: RecorderState,
+    /// The Foxglove server's counters, when one runs.
+    pub live: Option<crate::foxglove::LiveCounters>,
+}
+
+impl From<RecorderState> for TapeState {
+    fn from(recorder: RecorderState) -> TapeState {
+        TapeState { recorder, live: None }
+    }
+}
+
 /// Severity of a diagnostics report (values of diagnostic_msgs/DiagnosticStatus).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Health {
@@ -221,7 +236,7 @@ pub struct HealthReport {
 }
 
 /// Summarises `now` against the previous report `before` (for "since the last report" warnings).
-pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &RecorderState) -> HealthReport {
+pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, tape: &TapeState) -> HealthReport {
     let new_drops = now.swings_dropped.saturating_sub(before.swings_dropped);
     let new_losses = now.swings_lost_in_transport.saturating_sub(before.swings_lost_in_transport);
     let new_publish_failures = now.publish_failures.saturating_sub(before.publish_failures);
@@ -275,7 +290,15 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, recorder: &Rec
         ("balls_evicted".into(), now.balls_evicted.to_string()),
         ("uptime_s".into(), format!("{:.1}", now.uptime_s)),
     ];
-    match recorder {
+    if let Some(live) = &tape.live {
+        // The SDK drops a slow client's oldest queued messages without counting them (see crate::foxglove):
+        // what is reported is what the server sees, and the queue bound that limits what a client can lose.
+        values.push(("foxglove_clients".into(), live.clients.to_string()));
+        values.push(("foxglove_subscriptions".into(), live.subscriptions.to_string()));
+        values.push(("foxglove_messages_served".into(), live.served.to_string()));
+        values.push(("foxglove_client_backlog".into(), live.backlog.to_string()));
+    }
+    match &tape.recorder {
         RecorderState::Off => values.push(("recorder_state".into(), "off".into())),
         RecorderState::Recording { dir, written, dropped, bytes } => {
             values.push(("recorder_state".into(), "recording".into()));
@@ -429,27 +452,27 @@ mod tests {
     fn report_warns_on_new_drops_only_and_errors_on_recorder_failure() {
         let before = StatsSnapshot { swings_dropped: 5, ..Default::default() };
         let now = StatsSnapshot { swings_dropped: 5, swings_ok: 7, swings_rejected: 1, ..Default::default() };
-        let r = health_report(&now, &before, &RecorderState::Off);
+        let r = health_report(&now, &before, &RecorderState::Off.into());
         assert_eq!(r.level, Health::Ok);
         assert!(r.values.contains(&("swings_processed".into(), "7".into())));
         assert!(r.values.contains(&("recorder_state".into(), "off".into())));
         let later = StatsSnapshot { swings_dropped: 9, ..now.clone() };
-        let r = health_report(&later, &now, &RecorderState::Off);
+        let r = health_report(&later, &now, &RecorderState::Off.into());
         assert_eq!(r.level, Health::Warn);
         assert!(r.message.contains("4 swings dropped"), "{}", r.message);
         let lost = StatsSnapshot { swings_lost_in_transport: 2, ..now.clone() };
-        let r = health_report(&lost, &now, &RecorderState::Off);
+        let r = health_report(&lost, &now, &RecorderState::Off.into());
         assert_eq!(r.level, Health::Warn);
         assert!(r.message.contains("2 lost in transport"), "{}", r.message);
         let evicted = StatsSnapshot { bats_evicted: 3, bats_cached: 64, ..now.clone() };
-        let r = health_report(&evicted, &now, &RecorderState::Off);
+        let r = health_report(&evicted, &now, &RecorderState::Off.into());
         assert_eq!(r.level, Health::Warn);
         assert!(r.message.contains("3 bats and 0 balls forgotten"), "{}", r.message);
         assert!(r.values.contains(&("bats_evicted".into(), "3".into())));
         assert!(r.values.contains(&("bats_cached".into(), "64".into())));
-        assert_eq!(health_report(&evicted, &evicted, &RecorderState::Off).level, Health::Ok);
+        assert_eq!(health_report(&evicted, &evicted, &RecorderState::Off.into()).level, Health::Ok);
         let failed = RecorderState::Failed { dir: "/x".into(), error: "disk full".into(), written: 3, dropped: 1 };
-        let r = health_report(&now, &now, &failed);
+        let r = health_report(&now, &now, &failed.clone().into());
         assert_eq!(r.level, Health::Error);
         assert!(r.message.contains("disk full"));
     }
@@ -457,7 +480,7 @@ mod tests {
     #[test]
     fn a_namesake_warns_and_a_stopped_dds_is_an_error() {
         let quiet = StatsSnapshot::default();
-        let mut r = health_report(&quiet, &quiet, &RecorderState::Off);
+        let mut r = health_report(&quiet, &quiet, &RecorderState::Off.into());
         assert_eq!(r.level, Health::Ok);
         flag_namesakes(&mut r, "another node named /sweetspot");
         assert_eq!(r.level, Health::Warn);
@@ -468,7 +491,7 @@ mod tests {
         assert!(r.message.starts_with("the DDS event loop stopped"), "{}", r.message);
         // A recorder failure is an ERROR already; a namesake does not lower it.
         let failed = RecorderState::Failed { dir: "/x".into(), error: "disk full".into(), written: 0, dropped: 0 };
-        let mut r = health_report(&quiet, &quiet, &failed);
+        let mut r = health_report(&quiet, &quiet, &failed.clone().into());
         flag_namesakes(&mut r, "another node");
         assert_eq!(r.level, Health::Error);
     }

@@ -10,6 +10,7 @@
 //! into the bag, a delay before each pass, `/clock` with the bag's time, and pause/resume from the terminal
 //! ([`keys`]).
 
+pub mod foxglove;
 pub mod keys;
 
 use std::path::Path;

@@ -1,0 +1,277 @@
+//! The Foxglove WebSocket server that `sweetspot node --foxglove [ADDR:]PORT` (parameter `foxglove_port`) and
+//! `bag play --foxglove [ADDR:]PORT` serve on, built on Foxglove's own SDK (crate `foxglove`, feature
+//! `websocket` only).
+//!
+//! Every topic is a channel with the bag's `ros2msg` schema text and `cdr` message encoding
+//! ([`crate::bag::TopicInfo`]: generated from `msgs/` in the node, as recorded in `bag play`), and carries the
+//! very CDR bytes the bag holds: the node's [`crate::node::recording::Tape::record`] encodes once and hands the
+//! bytes to both the recorder and this server.
+//!
+//! Serving never blocks the caller: [`LiveServer::send`] only enqueues. The SDK keeps one bounded queue per
+//! client ([`BACKLOG`] messages); when a client falls behind, the oldest queued messages are dropped for that
+//! client alone (the SDK's `send_lossy`). The SDK does not expose how many it dropped (its `SentLossy` count is
+//! crate-private; it logs "outbox for client … full" at most every 30 s), so [`LiveCounters`] holds what the
+//! server can see — clients, subscriptions, messages handed over for subscribers — and the node reports those
+//! on `/diagnostics`. A client whose control queue fills is disconnected by the SDK.
+//!
+//! Latched topics (transient-local in DDS: the parameters and SweetSpot) are latched here too: the last
+//! messages (as many as the topic's QoS depth) are replayed to a client when it subscribes, so a client that
+//! connects mid-session sees the bats and balls in use.
+//!
+//! With [`Playback`] (`bag play`) the server also declares the bag's time range and answers Foxglove's
+//! playback controls (play, pause, seek, speed) through a [`PlaybackHandler`].
+
+use std::collections::{HashMap, VecDeque};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+use foxglove::websocket::{Capability, ChannelView, Client, PlaybackControlRequest, PlaybackState, ServerListener};
+use foxglove::{ChannelBuilder, ChannelId, Context, PartialMetadata, RawChannel, Schema, WebSocketServer};
+
+use crate::bag::TopicInfo;
+
+/// Messages queued per client before the oldest are dropped for that client (the SDK's default is 1024).
+pub const BACKLOG: usize = 4096;
+
+/// Where the server listens: `[ADDR:]PORT`, the address 127.0.0.1 unless given.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Bind {
+    /// Host or IP address to bind (IPv6 without brackets).
+    pub host: String,
+    /// TCP port; 0 = any free port.
+    pub port: u16,
+}
+
+impl Bind {
+    /// Parses `PORT`, `ADDR:PORT` or `[IPV6]:PORT`.
+    pub fn parse(text: &str) -> Result<Bind, String> {
+        let text = text.trim();
+        let (host, port) = match text.rsplit_once(':') {
+            Some((host, port)) => (host.trim_start_matches('[').trim_end_matches(']'), port),
+            None => ("127.0.0.1", text),
+        };
+        let port = port.parse::<u16>().map_err(|_| format!("'{text}' is not [ADDR:]PORT (PORT 0–65535)"))?;
+        if host.is_empty() {
+            return Err(format!("'{text}' has an empty address"));
+        }
+        Ok(Bind { host: host.to_string(), port })
+    }
+}
+
+/// Answers Foxglove's playback control requests (play/pause, speed, seek) with the resulting state.
+pub trait PlaybackHandler: Send + Sync {
+    /// Applies `request`; returns the playback state after it (the SDK sends it to every client).
+    fn on_request(&self, request: PlaybackControlRequest) -> PlaybackState;
+}
+
+/// A fixed time range served with playback controls (`bag play`).
+pub struct Playback {
+    /// First and last log time of the data, ns since the Unix epoch.
+    pub range: (u64, u64),
+    /// Who applies the controls.
+    pub handler: Arc<dyn PlaybackHandler>,
+}
+
+/// What the server can see of its clients, for `/diagnostics`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LiveCounters {
+    /// Clients connected now.
+    pub clients: u64,
+    /// Channel subscriptions held by those clients now.
+    pub subscriptions: u64,
+    /// Messages handed to the server while their channel had at least one subscriber.
+    pub served: u64,
+    /// Per-client queue bound, messages ([`BACKLOG`]).
+    pub backlog: u64,
+}
+
+/// The last messages of each latched channel, replayed to each new subscriber; the client and subscription
+/// counts; the playback handler, if any.
+#[derive(Default)]
+struct Listener {
+    /// Channel id → (channel, depth, last messages with their log times).
+    slots: Mutex<HashMap<ChannelId, Latch>>,
+    clients: AtomicU64,
+    subscriptions: AtomicU64,
+    playback: Option<Arc<dyn PlaybackHandler>>,
+}
+
+struct Latch {
+    channel: Arc<RawChannel>,
+    depth: usize,
+    last: VecDeque<(Vec<u8>, u64)>,
+}
+
+impl ServerListener for Listener {
+    fn on_subscribe(&self, client: Client, channel: ChannelView) {
+        self.subscriptions.fetch_add(1, Ordering::Relaxed);
+        let Ok(slots) = self.slots.lock() else { return };
+        if let Some(latch) = slots.get(&channel.id()) {
+            for (cdr, log_time) in &latch.last {
+                let meta = PartialMetadata { log_time: Some(*log_time) };
+                latch.channel.log_with_meta_to_sink(cdr, meta, client.sink_id());
+            }
+        }
+    }
+
+    fn on_unsubscribe(&self, _client: Client, _channel: ChannelView) {
+        // The SDK calls this for every subscription a disconnecting client held, too.
+        let _ = self.subscriptions.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1));
+    }
+
+    fn on_client_connect(&self) {
+        self.clients.fetch_add(1, Ordering::Relaxed);
+    }
+
+    fn on_client_disconnect(&self) {
+        let _ = self.clients.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1));
+    }
+
+    fn on_playback_control_request(&self, request: PlaybackControlRequest) -> Option<PlaybackState> {
+        self.playback.as_ref().map(|handler| handler.on_request(request))
+    }
+}
+
+/// A running server and its channels, in the order of the topics it was started with.
+pub struct LiveServer {
+    /// Kept alive: a channel whose context is dropped is closed.
+    _context: Arc<Context>,
+    channels: Vec<Arc<RawChannel>>,
+    latched: Vec<bool>,
+    listener: Arc<Listener>,
+    served: AtomicU64,
+    port: u16,
+    handle: Mutex<Option<foxglove::WebSocketServerHandle>>,
+}
+
+impl LiveServer {
+    /// Starts serving `topics` (as the recorder registers them) on `bind`, named `name` to clients.
+    pub async fn start(name: &str, bind: &Bind, topics: &[TopicInfo]) -> Result<LiveServer, String> {
+        LiveServer::start_with(name, bind, topics, None).await
+    }
+
+    /// [`LiveServer::start`], with playback controls over a fixed time range when `playback` is given.
+    pub async fn start_with(
+        name: &str,
+        bind: &Bind,
+        topics: &[TopicInfo],
+        playback: Option<Playback>,
+    ) -> Result<LiveServer, String> {
+        // A context of its own: channels of another server in the same process are not advertised here.
+        let context = Context::new();
+        let mut listener =
+            Listener { playback: playback.as_ref().map(|p| Arc::clone(&p.handler)), ..Default::default() };
+        let mut channels = Vec::with_capacity(topics.len());
+        let mut latched = Vec::with_capacity(topics.len());
+        for topic in topics {
+            let schema = Schema::new(topic.type_name.clone(), "ros2msg", topic.schema_text.clone().into_bytes());
+            let channel = ChannelBuilder::new(topic.name.clone())
+                .message_encoding("cdr")
+                .schema(schema)
+                .context(&context)
+                .build_raw()
+                .map_err(|e| format!("channel {}: {e}", topic.name))?;
+            if topic.qos.transient_local {
+                let depth = (topic.qos.depth as usize).max(1);
+                let latch = Latch { channel: Arc::clone(&channel), depth, last: VecDeque::new() };
+                listener.slots.get_mut().map_err(|_| "latch table poisoned".to_string())?.insert(channel.id(), latch);
+            }
+            latched.push(topic.qos.transient_local);
+            channels.push(channel);
+        }
+        let listener = Arc::new(listener);
+        let as_listener: Arc<dyn ServerListener> = listener.clone();
+        let mut server = WebSocketServer::new()
+            .name(name)
+            .bind(bind.host.clone(), bind.port)
+            .context(&context)
+            .listener(as_listener)
+            .message_backlog_size(BACKLOG);
+        if let Some(playback) = &playback {
+            // The time range implies the PlaybackControl capability; Time lets clients follow the position.
+            server = server.playback_time_range(playback.range.0, playback.range.1).capabilities([Capability::Time]);
+        }
+        let handle =
+            server.start().await.map_err(|e| format!("Foxglove server on {}:{}: {e}", bind.host, bind.port))?;
+        let port = handle.port();
+        Ok(LiveServer {
+            _context: context,
+            channels,
+            latched,
+            listener,
+            served: AtomicU64::new(0),
+            port,
+            handle: Mutex::new(Some(handle)),
+        })
+    }
+
+    /// The TCP port it listens on.
+    pub fn port(&self) -> u16 {
+        self.port
+    }
+
+    /// Hands one CDR message of topic `index` to every subscribed client's queue; never blocks on a client.
+    pub fn send(&self, index: usize, cdr: &[u8], log_time_ns: u64) {
+        let Some(channel) = self.channels.get(index) else { return };
+        if self.latched.get(index).copied().unwrap_or(false) {
+            if let Ok(mut slots) = self.listener.slots.lock() {
+                if let Some(latch) = slots.get_mut(&channel.id()) {
+                    if latch.last.len() == latch.depth {
+                        latch.last.pop_front();
+                    }
+                    latch.last.push_back((cdr.to_vec(), log_time_ns));
+                }
+            }
+        }
+        if channel.has_sinks() {
+            self.served.fetch_add(1, Ordering::Relaxed);
+        }
+        channel.log_with_meta(cdr, PartialMetadata { log_time: Some(log_time_ns) });
+    }
+
+    /// Tells every client the current time (ns since the Unix epoch; the bag's time in `bag play`).
+    pub fn broadcast_time(&self, time_ns: u64) {
+        if let Some(handle) = self.handle.lock().ok().as_ref().and_then(|h| h.as_ref()) {
+            handle.broadcast_time(time_ns);
+        }
+    }
+
+    /// Tells every client the playback state (a server started with [`Playback`] only).
+    pub fn broadcast_playback_state(&self, state: PlaybackState) {
+        if let Some(handle) = self.handle.lock().ok().as_ref().and_then(|h| h.as_ref()) {
+            handle.broadcast_playback_state(state);
+        }
+    }
+
+    /// What the server sees of its clients now.
+    pub fn counters(&self) -> LiveCounters {
+        LiveCounters {
+            clients: self.listener.clients.load(Ordering::Relaxed),
+            subscriptions: self.listener.subscriptions.load(Ordering::Relaxed),
+            served: self.served.load(Ordering::Relaxed),
+            backlog: BACKLOG as u64,
+        }
+    }
+
+    /// Stops the server (clients are disconnected); later `send` calls go nowhere.
+    pub fn stop(&self) {
+        if let Some(handle) = self.handle.lock().ok().and_then(|mut h| h.take()) {
+            drop(handle.stop());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bind_defaults_to_loopback_and_takes_an_address() {
+        assert_eq!(Bind::parse("8765").unwrap(), Bind { host: "127.0.0.1".into(), port: 8765 });
+        assert_eq!(Bind::parse("0.0.0.0:9000").unwrap(), Bind { host: "0.0.0.0".into(), port: 9000 });
+        assert_eq!(Bind::parse("[::1]:8765").unwrap(), Bind { host: "::1".into(), port: 8765 });
+        assert!(Bind::parse("70000").is_err());
+        assert!(Bind::parse(":8765").is_err());
+        assert!(Bind::parse("localhost:port").is_err());
+    }
+}
