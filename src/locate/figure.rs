@@ -137,6 +137,10 @@ pub fn draw_figure(
             color: 1,
             kind: LineKind::Markers { radius: MARKER_RADIUS, filled: false },
         });
+        // The legend goes above the bat: room for it on top of the data's span.
+        let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).filter(|y| y.is_finite());
+        let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y), hi.max(y)));
+        let span = (hi - lo).max(1e-3);
         group.sweet_spots.sort_by(f64::total_cmp);
         let sweet = group.sweet_spots[group.sweet_spots.len() / 2];
         charts.push(LineChart {
@@ -154,6 +158,8 @@ pub fn draw_figure(
                 label: "squared up (±2 cm)".into(),
                 color: 2,
             }],
+            y_range: Some((lo - 0.08 * span, hi + 0.65 * span)),
+            legend_upper_right: true,
             ..Default::default()
         });
     }

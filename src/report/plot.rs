@@ -154,6 +154,8 @@ pub struct LineChart {
     pub zero_line: bool,
     /// Shaded bands, drawn behind the series.
     pub bands: Vec<Band>,
+    /// Legend in the upper right corner instead of the lower right (leave room for it with `y_range`).
+    pub legend_upper_right: bool,
 }
 
 fn register_fonts() {
@@ -355,7 +357,11 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .label_font(("sans-serif", 15))
-            .position(SeriesLabelPosition::LowerRight)
+            .position(if chart.legend_upper_right {
+                SeriesLabelPosition::UpperRight
+            } else {
+                SeriesLabelPosition::LowerRight
+            })
             .draw()
             .map_err(plot_err)?;
     }
