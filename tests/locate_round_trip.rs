@@ -448,4 +448,11 @@ fn the_figure_has_a_panel_per_batter_and_a_marker_per_solution() {
     for batter in ["Batter A", "Batter B"] {
         assert!(titles.iter().any(|t| t.starts_with(batter)), "no panel for {batter} among {titles:?}");
     }
+
+    // A bag without the import's side table (recorded from a rig) names no batters: one panel per bat.
+    std::fs::remove_file(bag.join(sweetspot::import::ROWS_TABLE)).unwrap();
+    assert_eq!(batters_of(&bag).unwrap(), None);
+    let summary = draw_figure(&tmp.path().join("per_bat.svg"), &report, None).unwrap();
+    assert_eq!((summary.grouping, summary.panels.len()), (Grouping::Bat, 1));
+    assert_eq!(summary.markers, (favoured, others));
 }
