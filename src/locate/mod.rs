@@ -17,15 +17,17 @@
 //! secant steps — by Levenberg–Marquardt on the weighted residuals (v − v_m)/σ_v, (θ − θ_m)/σ_θ and, when
 //! the spin ω is measured, (ω − ω_m)/σ_ω (forward-difference Jacobian).
 //!
-//! **Cost.** A swing takes about 90 collisions with θ and ω measured (it took 185 with a 41-point grid,
-//! golden sections and a scan of undercuts), 25–45 with v alone; the bat's modes are solved once per bat,
-//! and swings run in parallel (rayon).
+//! **Cost.** A swing takes about 90 collisions with θ and ω measured, 25–45 with v alone; the bat's modes
+//! are solved once per bat, and swings run in parallel (rayon).
 //!
 //! **Uncertainty.** The trackers' accuracies (default σ_v = 0.45 m/s ≈ 1 mph, σ_θ = 1°, σ_ω = 100 rpm: the
 //! exit radar's noise of `sweetspot rig` and the accuracies `calibrate --fit-tangential` weights by)
 //! propagated linearly: Cov(z, D) = (JᵀJ)⁻¹ with J the Jacobian of the weighted residuals at the solution;
 //! for z alone σ_z = σ_v / |dv/dz|. Near the sweet spot dv/dz → 0 and σ_z grows without bound: the honest
 //! answer there is "somewhere near the sweet spot".
+//!
+//! **Side.** Handle or end side of the sweet spot at the solution's undercut, located to about 20 µm: a
+//! solution on the sweet spot itself (a ball hit about as hard as the bat allows) has no meaningful side.
 //!
 //! **Which solution.** With three measurements for two unknowns the solutions' χ² = Σ r² differ, and one with
 //! a χ² lower by more than 1 is favoured; with as many measurements as unknowns every solution reproduces
