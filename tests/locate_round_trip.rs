@@ -321,3 +321,138 @@ fn a_ball_hit_harder_than_the_sweet_spot_allows_is_reported_with_the_excess() {
     assert!((sweet_spot_z - best.0).abs() < 0.002, "{sweet_spot_z} against {}", best.0);
     assert!((excess - (120.0 * MPH - best.1)).abs() < 0.01, "{excess}");
 }
+
+/// A 1-mm scan of the barrel with the node's engine finds exactly the roots `locate` reports with only the
+/// exit speed measured (its coarse grid misses none), each within a millimetre.
+#[test]
+fn every_root_a_one_millimetre_scan_finds_is_located_and_no_other() {
+    let mp = options().bat.mass_properties();
+    let prediction = options().batter.predict(&mp).unwrap();
+    let speed_at = |z: f64| {
+        simulate(SwingInput {
+            impact: Impact {
+                ball_speed: mph(85.0),
+                bat_cm_speed: prediction.bat_cm_speed,
+                bat_angular_speed: prediction.bat_angular_speed,
+                impact_z: z,
+            },
+            undercut: 0.0,
+            attack_angle: 0.0,
+            pitch_angle: deg(6.0),
+            pitch_spin: rpm(2300.0),
+            measured_launch_angle: f64::NAN,
+            measured_spin: f64::NAN,
+        })[0]
+    };
+    // The search range of `locate` on the r161 (0.8382 m): L/2 … L − 5 mm.
+    let scan: Vec<(f64, f64)> = (420..=833).map(|mm| (mm as f64 / 1000.0, speed_at(mm as f64 / 1000.0))).collect();
+    let peak = scan.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+    let targets = [peak - 8.0, peak - 3.0, peak - 1.0, peak - 0.3];
+    let tmp = tempfile::tempdir().unwrap();
+    let mut export = Export::from_fixture("trackman_game.csv", 5);
+    let blank = String::new();
+    for v in targets {
+        export.push(&[
+            ("ZoneSpeed", "85".into()),
+            ("VertApprAngle", "-6".into()),
+            ("SpinRate", "2300".into()),
+            ("SpinAxis", "180".into()),
+            ("ExitSpeed", format!("{}", v / MPH)),
+            ("Angle", blank.clone()),
+            ("HitSpinRate", blank.clone()),
+            ("HitSpinAxis", blank.clone()),
+        ]);
+    }
+    let csv = tmp.path().join("speeds.csv");
+    export.write(&csv, true);
+    let bag = tmp.path().join("speeds");
+    import_files(&[csv], &bag, &options()).unwrap();
+    let report = locate_bag(&bag, &LocateOptions::default()).unwrap();
+    for (swing, v) in report.swings.iter().zip(targets) {
+        let crossings: Vec<f64> = scan
+            .windows(2)
+            .filter(|w| (w[0].1 - v).signum() != (w[1].1 - v).signum())
+            .map(|w| w[0].0 + (w[1].0 - w[0].0) * (v - w[0].1) / (w[1].1 - w[0].1))
+            .collect();
+        let (solutions, _) = solutions_of(&swing.outcome);
+        let found: Vec<f64> = solutions.iter().map(|s| s.impact_z).collect();
+        assert_eq!(found.len(), crossings.len(), "v = {v}: located {found:?}, the scan crosses at {crossings:?}");
+        for (z, c) in found.iter().zip(&crossings) {
+            assert!((z - c).abs() < 1e-3, "v = {v}: located {z}, the scan crosses at {c}");
+        }
+    }
+}
+
+/// Swings of two batters give a figure with one panel each, and one marker per located solution: the favoured
+/// filled, the others hollow — counted in the SVG read back with an XML parser.
+#[test]
+fn the_figure_has_a_panel_per_batter_and_a_marker_per_solution() {
+    use quick_xml::events::Event;
+    use sweetspot::locate::figure::{batters_of, draw_figure, Grouping, MARKER_RADIUS};
+
+    let tmp = tempfile::tempdir().unwrap();
+    let (mut export, _) = trackman_export(None);
+    let batter_col = export.header.iter().position(|h| h == "Batter").unwrap();
+    for (i, row) in export.rows.iter_mut().enumerate() {
+        row[batter_col] = if i % 2 == 0 { "Batter A" } else { "Batter B" }.to_string();
+    }
+    let csv = tmp.path().join("two.csv");
+    export.write(&csv, true);
+    let bag = tmp.path().join("two");
+    import_files(&[csv], &bag, &options()).unwrap();
+    let report = locate_bag(&bag, &LocateOptions::default()).unwrap();
+    let (mut favoured, mut others) = (0, 0);
+    for swing in &report.swings {
+        let (solutions, f) = solutions_of(&swing.outcome);
+        favoured += usize::from(f.is_some());
+        others += solutions.len() - usize::from(f.is_some());
+    }
+    let svg = tmp.path().join("figs/located.svg");
+    let batters = batters_of(&bag).unwrap().expect("the import wrote its side table");
+    let summary = draw_figure(&svg, &report, Some(&batters)).unwrap();
+    assert_eq!(summary.grouping, Grouping::Batter);
+    assert_eq!(summary.markers, (favoured, others));
+
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let mut reader = quick_xml::Reader::from_str(&text);
+    let (mut root, mut filled, mut hollow, mut titles) = (None, 0, 0, Vec::new());
+    let mut in_text = false;
+    loop {
+        match reader.read_event().expect("well-formed XML") {
+            Event::Start(e) | Event::Empty(e) => {
+                let name = e.name().as_ref().to_string();
+                root.get_or_insert(name.clone());
+                in_text = name == "text";
+                if name == "circle" {
+                    let attr = |key: &str| {
+                        e.attributes().flatten().find(|a| a.key.as_ref() == key).map(|a| a.value.to_string())
+                    };
+                    if attr("r").as_deref() == Some(MARKER_RADIUS.to_string().as_str()) {
+                        if attr("fill").as_deref() == Some("none") {
+                            hollow += 1;
+                        } else {
+                            filled += 1;
+                        }
+                    }
+                }
+            }
+            Event::Text(t) if in_text => titles.push(t.trim().to_string()),
+            Event::End(_) => in_text = false,
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert_eq!(root.as_deref(), Some("svg"));
+    assert!(favoured + others >= TRUTH.len(), "every truth located at least once");
+    assert_eq!((filled, hollow), (favoured, others), "markers in the SVG against the report's solutions");
+    for batter in ["Batter A", "Batter B"] {
+        assert!(titles.iter().any(|t| t.starts_with(batter)), "no panel for {batter} among {titles:?}");
+    }
+
+    // A bag without the import's side table (recorded from a rig) names no batters: one panel per bat.
+    std::fs::remove_file(bag.join(sweetspot::import::ROWS_TABLE)).unwrap();
+    assert_eq!(batters_of(&bag).unwrap(), None);
+    let summary = draw_figure(&tmp.path().join("per_bat.svg"), &report, None).unwrap();
+    assert_eq!((summary.grouping, summary.panels.len()), (Grouping::Bat, 1));
+    assert_eq!(summary.markers, (favoured, others));
+}

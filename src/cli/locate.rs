@@ -6,18 +6,23 @@ use anyhow::{anyhow, Result};
 use clap::Args;
 
 use super::common::{finite_f64, print_json};
+use crate::locate::figure::{batters_of, draw_figure, Grouping};
 use crate::locate::{locate_bag, LocateOptions, Outcome, Side};
 use crate::physics::oblique::rpm_to_rad_per_s;
+use crate::report::plot::ImageFormat;
 
 /// Arguments of `sweetspot locate`.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
   sweetspot import trackman game.csv -o bags/game && sweetspot locate bags/game
   sweetspot locate bags/game --json > located.json
+  sweetspot locate bags/game --figure located.svg
 
 Every impact point (either side of the sweet spot) that reproduces the measured exit speed (and launch angle
 and spin, where measured) is listed with its standard uncertainty; `*` marks the one the other measurements
-favour. A swing faster than the sweet spot allows is reported with the excess.")]
+favour. A swing faster than the sweet spot allows is reported with the excess. --figure draws the located
+points on the bat's outline, one panel per batter (from the import's side table; per bat for a bag without
+it), the favoured solution filled, the others hollow, the sweet spot and its ±2 cm band shaded.")]
 pub struct LocateArgs {
     /// A bag of swings with measured exit speeds (from `sweetspot import`, or recorded from a rig).
     pub bag: PathBuf,
@@ -33,6 +38,9 @@ pub struct LocateArgs {
     /// Print one JSON document with a `swings` list instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Also draw the located impact points on the bat's outline, one panel per batter (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub figure: Option<PathBuf>,
 }
 
 /// Runs `sweetspot locate`.
@@ -51,7 +59,24 @@ pub fn run(args: LocateArgs) -> Result<()> {
         launch_angle_sigma: args.launch_angle_sigma.to_radians(),
         spin_sigma: rpm_to_rad_per_s(args.spin_sigma),
     };
+    if let Some(path) = &args.figure {
+        ImageFormat::from_path(path)?;
+    }
     let report = locate_bag(&args.bag, &options).map_err(|e| anyhow!("{}: {e}", args.bag.display()))?;
+    if let Some(path) = &args.figure {
+        let batters = batters_of(&args.bag)?;
+        let summary = draw_figure(path, &report, batters.as_ref())?;
+        let left_out = if summary.groups_left_out > 0 {
+            format!(" ({} more with fewer located swings left out)", summary.groups_left_out)
+        } else {
+            String::new()
+        };
+        let per = match summary.grouping {
+            Grouping::Batter => "batter",
+            Grouping::Bat => "bat (the bag names no batters)",
+        };
+        eprintln!("wrote {}: {} panel(s), one per {per}{left_out}", path.display(), summary.panels.len());
+    }
     if args.json {
         return print_json(&report);
     }

@@ -73,6 +73,13 @@ pub enum LineKind {
     Dashed,
     /// Markers only (measured points).
     Points,
+    /// Markers only, of a given radius (pixels), filled or hollow (a hollow ring is drawn 2 px wide).
+    Markers {
+        /// Radius, px.
+        radius: u32,
+        /// Filled disc (true) or ring (false).
+        filled: bool,
+    },
 }
 
 /// One named data series.
@@ -113,6 +120,19 @@ pub struct VerticalMarker {
     pub dashed: bool,
 }
 
+/// A shaded band across the plot between two x values (e.g. a tolerance around the sweet spot).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Band {
+    /// Left edge on the x axis.
+    pub from: f64,
+    /// Right edge on the x axis.
+    pub to: f64,
+    /// Legend label; bands sharing a label share one legend entry.
+    pub label: String,
+    /// Index into [`PALETTE`] (drawn at 15 % opacity).
+    pub color: usize,
+}
+
 /// A line chart: title, axis labels (with units), series and vertical markers.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LineChart {
@@ -132,6 +152,10 @@ pub struct LineChart {
     pub y_range: Option<(f64, f64)>,
     /// Draws a horizontal line at y = 0 (mode shapes).
     pub zero_line: bool,
+    /// Shaded bands, drawn behind the series.
+    pub bands: Vec<Band>,
+    /// Legend in the upper right corner instead of the lower right (leave room for it with `y_range`).
+    pub legend_upper_right: bool,
 }
 
 fn register_fonts() {
@@ -242,7 +266,10 @@ where
     let all_points = || chart.series.iter().flat_map(|s| s.points.iter().copied());
     let x_range = chart
         .x_range
-        .or_else(|| padded_range(all_points().map(|p| p.0).chain(chart.markers.iter().map(|m| m.x)), 0.0))
+        .or_else(|| {
+            let edges = chart.bands.iter().flat_map(|b| [b.from, b.to]);
+            padded_range(all_points().map(|p| p.0).chain(chart.markers.iter().map(|m| m.x)).chain(edges), 0.0)
+        })
         .ok_or_else(|| anyhow!("chart '{}' has no finite data", chart.title))?;
     let y_range = chart
         .y_range
@@ -271,6 +298,19 @@ where
         .draw()
         .map_err(plot_err)?;
 
+    let mut band_labels: Vec<&str> = Vec::new();
+    for band in &chart.bands {
+        let color = PALETTE[band.color % PALETTE.len()];
+        let rect = Rectangle::new([(band.from, y_range.0), (band.to, y_range.1)], color.mix(0.15).filled());
+        let drawn = ctx.draw_series(std::iter::once(rect)).map_err(plot_err)?;
+        if !band_labels.contains(&band.label.as_str()) {
+            band_labels.push(band.label.as_str());
+            drawn
+                .label(band.label.as_str())
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 24, y + 5)], color.mix(0.3).filled()));
+        }
+    }
+
     if chart.zero_line {
         ctx.draw_series(LineSeries::new([(x_range.0, 0.0), (x_range.1, 0.0)], BLACK.mix(0.5))).map_err(plot_err)?;
     }
@@ -285,6 +325,10 @@ where
             LineKind::Dashed => ctx.draw_series(DashedLineSeries::new(points, 9, 6, style)).map_err(plot_err)?,
             LineKind::Points => {
                 ctx.draw_series(points.into_iter().map(|p| Circle::new(p, 3, color.filled()))).map_err(plot_err)?
+            }
+            LineKind::Markers { radius, filled } => {
+                let style = if filled { color.filled() } else { color.stroke_width(2) };
+                ctx.draw_series(points.into_iter().map(|p| Circle::new(p, radius, style))).map_err(plot_err)?
             }
         };
         let kind = series.kind;
@@ -313,7 +357,11 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .label_font(("sans-serif", 15))
-            .position(SeriesLabelPosition::LowerRight)
+            .position(if chart.legend_upper_right {
+                SeriesLabelPosition::UpperRight
+            } else {
+                SeriesLabelPosition::LowerRight
+            })
             .draw()
             .map_err(plot_err)?;
     }
@@ -333,7 +381,8 @@ fn legend_glyph<'a, DB: DrawingBackend + 'a>(
     let (first, second, dot) = match kind {
         LineKind::Solid => (line, line, hidden),
         LineKind::Dashed => (line, line, hidden),
-        LineKind::Points => (hidden, hidden, color.filled()),
+        LineKind::Points | LineKind::Markers { filled: true, .. } => (hidden, hidden, color.filled()),
+        LineKind::Markers { filled: false, .. } => (hidden, hidden, color.stroke_width(1)),
     };
     let gap = if kind == LineKind::Dashed { 5 } else { 0 };
     EmptyElement::at((x, y))
