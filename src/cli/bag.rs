@@ -309,6 +309,7 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
                 delay: seconds(delay),
                 clock_hz: clock,
                 paused: None,
+                interval: None,
             };
             match foxglove {
                 None => play(path, options, quiet),
@@ -776,7 +777,8 @@ fn play_foxglove(
     })
 }
 
-fn play(path: PathBuf, mut options: crate::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
+/// Plays `path` over DDS with a progress bar (`quiet`) or a line per message; `bag play` and `import --pub`.
+pub(crate) fn play(path: PathBuf, mut options: crate::play::PlayOptions, quiet: bool) -> anyhow::Result<()> {
     let stop = crate::ros::interrupt_flag();
     let total = options.schedule(&path).map_err(flat)?.items.len() as u64;
     let keys = crate::play::keys::SpaceBarPause::on_terminal();

@@ -20,17 +20,21 @@ use crate::physics::{Ball, Bat};
   sweetspot import savant_2025.csv -o bags/savant            # the format is detected from the header
   sweetspot import a.csv b.csv --batter me.toml --bat torpedo -o bags/lab
   sweetspot locate bags/game                                 # where on the bat each ball was hit
+  sweetspot import trackman game.csv --pub                   # to a running node, at the recorded pace
+  sweetspot import trackman game.csv --pub --rate 2 -o bags/game   # 2 swings/s, and keep the bag
 
 Rows the bat did not hit, or without a pitch speed, are skipped and counted by reason; rows with a value
 out of range (a negative or absurd speed, or a column in other units) are refused with file and line.
 What no tracker measures (impact point, undercut; bat speed for TrackMan) is filled in from the batter
-and marked assumed in the bag (import_rows.csv beside the MCAP file, custom_data sweetspot/import/*).")]
+and marked assumed in the bag (import_rows.csv beside the MCAP file, custom_data sweetspot/import/*).
+--pub plays the imported bag as `bag play` does (on /bat/params, /ball/params, /swing; it waits for the
+node's subscriptions discovery shows, at most --timeout); without -o no bag is kept.")]
 pub struct ImportArgs {
     /// [FORMAT] FILE…: the exports (CSV); a first word `trackman` or `statcast` that is not a file forces
     /// the format, as --format does.
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<String>,
-    /// The bag directory to create [default: bags/import_<UTC time>].
+    /// The bag directory to create [default: bags/import_<UTC time>; with --pub, none is kept].
     #[arg(short = 'o', long, value_name = "DIR")]
     pub output: Option<PathBuf>,
     /// Force the format (trackman, statcast) instead of detecting it from each header.
@@ -63,6 +67,20 @@ pub struct ImportArgs {
     /// Print one JSON document instead of the summary.
     #[arg(long)]
     pub json: bool,
+    /// Send the swings (after the bat and ball, latched) to a running node over DDS, at the pace of the
+    /// rows' times (header.stamp), as `bag play` plays a bag.
+    #[arg(long = "pub")]
+    pub publish: bool,
+    /// With --pub: this many swings per second instead of the recorded pace (a rig's rate, at most 10000).
+    #[arg(long, value_name = "HZ", requires = "publish", value_parser = super::common::swing_rate_hz)]
+    pub rate: Option<f64>,
+    /// With --pub: start at once, without waiting for the node's subscriptions to match.
+    #[arg(long, requires = "publish")]
+    pub no_wait: bool,
+    /// With --pub: seconds to wait for subscribers, and for acknowledgments at the end (inf: no limit).
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0, requires = "publish",
+          value_parser = super::common::seconds_above_zero)]
+    pub timeout: f64,
 }
 
 /// Runs `sweetspot import`.
@@ -96,9 +114,18 @@ pub fn run(args: ImportArgs) -> Result<()> {
         Some(path) => load_batter_file(path)?,
         None => batter_from_spec(&BatterSpec::default(), None)?,
     };
-    let output = args.output.clone().unwrap_or_else(|| {
-        crate::bag::default_bag_dir(std::path::Path::new("bags"), "import", std::time::SystemTime::now())
-    });
+    // --pub without -o plays a bag nobody keeps: it lives in a temporary directory, removed when done.
+    let scratch = match (&args.output, args.publish) {
+        (None, true) => Some(tempfile::tempdir().context("--pub: creating a temporary directory for the bag")?),
+        _ => None,
+    };
+    let output = match (&args.output, &scratch) {
+        (Some(dir), _) => dir.clone(),
+        (None, Some(tmp)) => tmp.path().join("import"),
+        (None, None) => {
+            crate::bag::default_bag_dir(std::path::Path::new("bags"), "import", std::time::SystemTime::now())
+        }
+    };
     if output.exists() {
         bail!("{}: already exists (the bag directory must be new)", output.display());
     }
@@ -113,9 +140,24 @@ pub fn run(args: ImportArgs) -> Result<()> {
         write_batters(&report, dir, &args.bat, &options)?;
     }
     if args.json {
-        return print_json(&report);
+        print_json(&report)?;
+    } else {
+        print_report(&report, scratch.is_none())?;
     }
-    print_report(&report)
+    if args.publish {
+        if report.swings == 0 {
+            bail!("--pub: no row became a swing, nothing to send");
+        }
+        let seconds = crate::model::time::saturating_secs;
+        let options = crate::play::PlayOptions {
+            wait_discovered: !args.no_wait,
+            timeout: seconds(args.timeout),
+            interval: args.rate.map(crate::model::time::period_of),
+            ..crate::play::PlayOptions::new(1.0)
+        };
+        super::bag::play(output, options, true)?;
+    }
+    Ok(())
 }
 
 /// One batter file per batter of the report.
@@ -161,7 +203,8 @@ fn write_batters(report: &ImportReport, dir: &std::path::Path, bat: &str, option
     Ok(())
 }
 
-fn print_report(report: &ImportReport) -> Result<()> {
+/// The summary on stdout; `kept` says whether the bag stays (not with --pub alone).
+fn print_report(report: &ImportReport, kept: bool) -> Result<()> {
     for file in &report.files {
         crate::outln!(
             "{}: {} export, {} rows, {} swings",
@@ -171,7 +214,11 @@ fn print_report(report: &ImportReport) -> Result<()> {
             file.swings
         )?;
     }
-    crate::outln!("{} swings written to {}", report.swings, report.bag.display())?;
+    if kept {
+        crate::outln!("{} swings written to {}", report.swings, report.bag.display())?;
+    } else {
+        crate::outln!("{} swings imported", report.swings)?;
+    }
     for (reason, count) in &report.skipped {
         crate::outln!("  skipped {count:>6}: {reason}")?;
     }
@@ -184,7 +231,7 @@ fn print_report(report: &ImportReport) -> Result<()> {
             "assumed, not measured: {} — impact_z = {:.4} m from the knob; `sweetspot locate {}` finds it",
             assumed.join(", "),
             report.impact_z,
-            report.bag.display()
+            if kept { report.bag.display().to_string() } else { "BAG".to_string() }
         )?;
     }
     Ok(())

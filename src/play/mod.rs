@@ -161,6 +161,9 @@ pub struct PlayOptions {
     pub clock_hz: Option<f64>,
     /// While set, playback time stands still (the space bar toggles it, see [`keys`]).
     pub paused: Option<Arc<AtomicBool>>,
+    /// Publish the swings this far apart, s, instead of at their recorded pace (`import --pub --rate`): an
+    /// export's rows can be minutes apart. Params after the leading ones go out just before the next swing.
+    pub interval: Option<Duration>,
 }
 
 impl PlayOptions {
@@ -178,6 +181,7 @@ impl PlayOptions {
             delay: Duration::ZERO,
             clock_hz: None,
             paused: None,
+            interval: None,
         }
     }
 
@@ -190,6 +194,9 @@ impl PlayOptions {
     /// topic (one recorded topic onto another's of a different type) is refused: a DDS topic has one type.
     pub fn schedule(&self, path: &Path) -> Result<Schedule, BagError> {
         let mut schedule = schedule_from(path, &self.topics, self.rate, self.start_offset)?;
+        if let Some(interval) = self.interval {
+            retime(&mut schedule.items, interval);
+        }
         let mut types: Vec<(String, String, String)> = Vec::new();
         for item in &mut schedule.items {
             let recorded = std::mem::take(&mut item.topic);
@@ -207,6 +214,19 @@ impl PlayOptions {
             }
         }
         Ok(schedule)
+    }
+}
+
+/// Puts the swings of `items` `interval` apart, the first at 0, and every other message after the leading
+/// params at the time of the swing that follows it (so it still goes out before that swing).
+fn retime(items: &mut [PlayItem], interval: Duration) {
+    let leading = items.iter().take_while(|i| i.type_name != Swing::TYPE_NAME).count();
+    let mut swings: u32 = 0;
+    for item in items.iter_mut().skip(leading) {
+        item.at = interval.saturating_mul(swings);
+        if item.type_name == Swing::TYPE_NAME {
+            swings = swings.saturating_add(1);
+        }
     }
 }
 
