@@ -38,11 +38,11 @@ fn import_bag(dir: &Path) -> PathBuf {
 fn a_fixed_rate_spaces_the_swings_evenly_and_keeps_the_params_first() {
     let tmp = tempfile::tempdir().unwrap();
     let bag = import_bag(tmp.path());
-    // Recorded pace: the fixture's swings are 00:42:14.69 … 00:57:33.25 apart in the game (15 min 18.56 s).
+    // Recorded pace: the fixture's first and last swings are at 18:42:14.69 and 19:17:03.33 (34 min 48.64 s).
     let recorded = PlayOptions::new(1.0).schedule(&bag).unwrap().items;
     assert_eq!(recorded.len(), 7, "bat, ball, five swings");
     let span = recorded[6].at - recorded[2].at;
-    assert!((span.as_secs_f64() - 918.56).abs() < 0.1, "{span:?}");
+    assert!((span.as_secs_f64() - 2088.64).abs() < 0.01, "{span:?}");
     let fixed = PlayOptions { interval: Some(Duration::from_millis(250)), ..PlayOptions::new(1.0) };
     let items = fixed.schedule(&bag).unwrap().items;
     let at: Vec<u128> = items.iter().map(|i| i.at.as_millis()).collect();
@@ -121,4 +121,27 @@ fn pub_without_output_keeps_no_bag_and_rate_needs_pub() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("out of range"), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(std::fs::read_dir(tmp.path()).unwrap().next().is_none(), "nothing written where it ran");
+}
+
+#[test]
+fn pub_alone_leaves_no_bag_behind() {
+    support::require_isolated_network();
+    let tmp = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .args(["import", "trackman"])
+        .arg(fixture())
+        .args(["--pub", "--rate", "100", "--no-wait"])
+        .current_dir(tmp.path())
+        .env("ROS_DOMAIN_ID", (DOMAIN + 1).to_string())
+        .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        .env("TMPDIR", tmp.path())
+        .env_remove("ROS_LOCALHOST_ONLY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("5 swings imported"));
+    assert!(stderr.contains("published 7 messages in 1 pass"), "{stderr}");
+    let left: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().path()).collect();
+    assert!(left.is_empty(), "the temporary bag is removed, nothing else written: {left:?}");
 }
