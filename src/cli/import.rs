@@ -1,4 +1,6 @@
-//! `sweetspot import [FORMAT] FILE… -o DIR`: tracker exports into a rosbag2 bag (see [`crate::import`]).
+//! `sweetspot import [FORMAT] FILE… -o DIR`: tracker exports into a rosbag2 bag (see [`crate::import`]);
+//! `--pub` then plays that bag to a running node with `bag play`'s publisher ([`crate::play`]), at the rows'
+//! pace or `--rate`, the bag in a temporary directory unless `-o` keeps it.
 
 use std::path::PathBuf;
 

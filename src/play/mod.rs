@@ -8,7 +8,8 @@
 //!
 //! Beyond that it follows `ros2 bag play`: a time scale, looping, a topic filter, topic remaps, a start offset
 //! into the bag, a delay before each pass, `/clock` with the bag's time, and pause/resume from the terminal
-//! ([`keys`]).
+//! ([`keys`]). `import --pub` plays an imported bag through the same path, with a fixed interval between the
+//! swings instead of the recorded pace when asked ([`PlayOptions::interval`]).
 
 pub mod foxglove;
 pub mod keys;
