@@ -54,16 +54,17 @@ fn a_fixed_rate_spaces_the_swings_evenly_and_keeps_the_params_first() {
 fn every_imported_swing_reaches_a_running_node_and_is_answered_with_its_measurement() {
     let tmp = tempfile::tempdir().unwrap();
     let kept = tmp.path().join("kept");
-    let node = NodeProcess::spawn(DOMAIN, tmp.path(), &["--no-record"]);
+    // A node in a namespace, as a lab runs one per cage: --ns sends the swings there.
+    let node = NodeProcess::spawn(DOMAIN, tmp.path(), &["--no-record", "--ros-args", "-r", "__ns:=/cage2"]);
     node.wait_for_log(" up on ROS_DOMAIN_ID ", WAIT);
     let mut peer = Peer::new(DOMAIN, "import_pub_peer");
-    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let answers = peer.subscription::<ExitVelocity>("/cage2/exit_velocity", keep_all(dds::results()));
 
     let start = Instant::now();
     let out = Command::new(env!("CARGO_BIN_EXE_sweetspot"))
         .args(["import", "trackman"])
         .arg(fixture())
-        .args(["--pub", "--rate", "4", "--timeout", "30", "-o"])
+        .args(["--pub", "--rate", "4", "--ns", "/cage2", "--timeout", "30", "-o"])
         .arg(&kept)
         .env("ROS_DOMAIN_ID", DOMAIN.to_string())
         .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")

@@ -24,13 +24,14 @@ use crate::physics::{Ball, Bat};
   sweetspot locate bags/game                                 # where on the bat each ball was hit
   sweetspot import trackman game.csv --pub                   # to a running node, at the recorded pace
   sweetspot import trackman game.csv --pub --rate 2 -o bags/game   # 2 swings/s, and keep the bag
+  sweetspot import trackman game.csv --pub --ns /rig3        # to the node of namespace /rig3
 
 Rows the bat did not hit, or without a pitch speed, are skipped and counted by reason; rows with a value
 out of range (a negative or absurd speed, or a column in other units) are refused with file and line.
 What no tracker measures (impact point, undercut; bat speed for TrackMan) is filled in from the batter
 and marked assumed in the bag (import_rows.csv beside the MCAP file, custom_data sweetspot/import/*).
---pub plays the imported bag as `bag play` does (on /bat/params, /ball/params, /swing; it waits for the
-node's subscriptions discovery shows, at most --timeout); without -o no bag is kept.")]
+--pub plays the imported bag as `bag play` does (on /bat/params, /ball/params, /swing, under --ns; it waits
+for the node's subscriptions discovery shows, at most --timeout); without -o no bag is kept.")]
 pub struct ImportArgs {
     /// [FORMAT] FILE…: the exports (CSV); a first word `trackman` or `statcast` that is not a file forces
     /// the format, as --format does.
@@ -76,6 +77,9 @@ pub struct ImportArgs {
     /// With --pub: this many swings per second instead of the recorded pace (a rig's rate, at most 10000).
     #[arg(long, value_name = "HZ", requires = "publish", value_parser = super::common::swing_rate_hz)]
     pub rate: Option<f64>,
+    /// With --pub: namespace of the node the swings go to (e.g. /rig3), as `rig --namespace`.
+    #[arg(long, visible_alias = "ns", default_value = "/", value_name = "NS", requires = "publish")]
+    pub namespace: String,
     /// With --pub: start at once, without waiting for the node's subscriptions to match.
     #[arg(long, requires = "publish")]
     pub no_wait: bool,
@@ -151,7 +155,15 @@ pub fn run(args: ImportArgs) -> Result<()> {
             bail!("--pub: no row became a swing, nothing to send");
         }
         let seconds = crate::model::time::saturating_secs;
+        // The imported bag's topics are the root namespace's; --namespace moves them to the node's.
+        let names = crate::rig::dds::TopicNames::in_namespace(&args.namespace)?;
+        let remaps = [
+            (crate::import::topics::BAT_PARAMS, names.bat_params),
+            (crate::import::topics::BALL_PARAMS, names.ball_params),
+            (crate::import::topics::SWING, names.swing),
+        ];
         let options = crate::play::PlayOptions {
+            remaps: remaps.into_iter().map(|(from, to)| (from.to_string(), to)).collect(),
             wait_discovered: !args.no_wait,
             timeout: seconds(args.timeout),
             interval: args.rate.map(crate::model::time::period_of),

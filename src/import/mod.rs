@@ -539,14 +539,24 @@ struct Output {
     last_log_ns: u64,
 }
 
+/// Topics of an imported bag: the node's, in the root namespace (`import --pub --ns` remaps them).
+pub mod topics {
+    /// BatParams, once, latched.
+    pub const BAT_PARAMS: &str = "/bat/params";
+    /// BallParams, once, latched.
+    pub const BALL_PARAMS: &str = "/ball/params";
+    /// One Swing per imported row.
+    pub const SWING: &str = "/swing";
+}
+
 impl Output {
     fn create(dir: &Path, options: &ImportOptions, first_ns: u64) -> Result<Output, ImportError> {
         let mut writer = BagWriter::create(dir, None, None)?;
         let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
         let stream = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
-        let bat_topic = writer.add_topic(TopicInfo::of::<BatParams>("/bat/params", latched))?;
-        let ball_topic = writer.add_topic(TopicInfo::of::<BallParams>("/ball/params", latched))?;
-        let swing_topic = writer.add_topic(TopicInfo::of::<Swing>("/swing", stream))?;
+        let bat_topic = writer.add_topic(TopicInfo::of::<BatParams>(topics::BAT_PARAMS, latched))?;
+        let ball_topic = writer.add_topic(TopicInfo::of::<BallParams>(topics::BALL_PARAMS, latched))?;
+        let swing_topic = writer.add_topic(TopicInfo::of::<Swing>(topics::SWING, stream))?;
         let t = first_ns.saturating_sub(2_000);
         let header = Header { stamp: Time::from_unix_ns(t), frame_id: String::new() };
         let bat = BatParams { header: header.clone(), ..options.bat_params.clone() };
