@@ -131,7 +131,7 @@ fn pub_alone_leaves_no_bag_behind() {
     let out = Command::new(env!("CARGO_BIN_EXE_sweetspot"))
         .args(["import", "trackman"])
         .arg(fixture())
-        .args(["--pub", "--rate", "100", "--no-wait"])
+        .args(["--pub", "--rate", "100", "--no-wait", "--json"])
         .current_dir(tmp.path())
         .env("ROS_DOMAIN_ID", (DOMAIN + 1).to_string())
         .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
@@ -141,7 +141,9 @@ fn pub_alone_leaves_no_bag_behind() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    assert!(String::from_utf8_lossy(&out.stdout).contains("5 swings imported"));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["swings"], 5);
+    assert!(report["bag"].is_null(), "no bag kept: {}", report["bag"]);
     assert!(stderr.contains("published 7 messages in 1 pass"), "{stderr}");
     let left: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().path()).collect();
     assert!(left.is_empty(), "the temporary bag is removed, nothing else written: {left:?}");

@@ -67,7 +67,7 @@ pub struct ImportArgs {
     /// length with this import's bat as the reference bat, the rest from --batter.
     #[arg(long, value_name = "DIR")]
     pub batter_out: Option<PathBuf>,
-    /// Print one JSON document instead of the summary.
+    /// Print one JSON document instead of the summary (its `bag` null with --pub and no -o).
     #[arg(long)]
     pub json: bool,
     /// Send the swings (after the bat and ball, latched) to a running node over DDS, at the pace of the
@@ -146,7 +146,12 @@ pub fn run(args: ImportArgs) -> Result<()> {
         write_batters(&report, dir, &args.bat, &options)?;
     }
     if args.json {
-        print_json(&report)?;
+        let mut document = serde_json::to_value(&report).context("cannot serialise the output as JSON")?;
+        if scratch.is_some() {
+            // The bag played from a temporary directory that is gone by the time anyone reads this.
+            document["bag"] = serde_json::Value::Null;
+        }
+        print_json(&document)?;
     } else {
         print_report(&report, scratch.is_none())?;
     }
