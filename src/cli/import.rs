@@ -120,6 +120,9 @@ pub fn run(args: ImportArgs) -> Result<()> {
         Some(path) => load_batter_file(path)?,
         None => batter_from_spec(&BatterSpec::default(), None)?,
     };
+    // The imported bag's topics are the root namespace's; --namespace moves them to the node's (checked
+    // before anything is written).
+    let names = crate::rig::dds::TopicNames::in_namespace(&args.namespace)?;
     // --pub without -o plays a bag nobody keeps: it lives in a temporary directory, removed when done.
     let scratch = match (&args.output, args.publish) {
         (None, true) => Some(tempfile::tempdir().context("--pub: creating a temporary directory for the bag")?),
@@ -160,8 +163,6 @@ pub fn run(args: ImportArgs) -> Result<()> {
             bail!("--pub: no row became a swing, nothing to send");
         }
         let seconds = crate::model::time::saturating_secs;
-        // The imported bag's topics are the root namespace's; --namespace moves them to the node's.
-        let names = crate::rig::dds::TopicNames::in_namespace(&args.namespace)?;
         let remaps = [
             (crate::import::topics::BAT_PARAMS, names.bat_params),
             (crate::import::topics::BALL_PARAMS, names.ball_params),
