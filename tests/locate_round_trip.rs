@@ -99,25 +99,6 @@ fn solutions_of(outcome: &Outcome) -> (&[Solution], Option<usize>) {
 
 /// TrackMan rows for the truths: pitch 85 mph at −6° with 2300 rpm of backspin, the batter's assumed swing.
 fn trackman_export(noise: Option<(u64, usize)>) -> (Export, Vec<(f64, f64)>) {
-    let mut export = Export::from_fixture("trackman_game.csv", 5);
-    let builder = SwingBuilder::new(&options()).unwrap();
-    let mp = options().bat.mass_properties();
-    let prediction = options().batter.predict(&mp).unwrap();
-    let (zone_speed, vaa, spin_rate) = (85.0, -6.0, 2300.0);
-    let base = SwingInput {
-        impact: Impact {
-            ball_speed: mph(zone_speed),
-            bat_cm_speed: prediction.bat_cm_speed,
-            bat_angular_speed: prediction.bat_angular_speed,
-            impact_z: builder.impact_z(),
-        },
-        undercut: 0.0,
-        attack_angle: 0.0,
-        pitch_angle: -deg(vaa),
-        pitch_spin: backspin(rpm(spin_rate), 180.0),
-        measured_launch_angle: f64::NAN,
-        measured_spin: f64::NAN,
-    };
     let mut truths: Vec<(f64, f64)> = TRUTH.to_vec();
     let mut rng = rand::rngs::StdRng::seed_from_u64(noise.map_or(0, |n| n.0));
     if let Some((_, count)) = noise {
@@ -128,17 +109,43 @@ fn trackman_export(noise: Option<(u64, usize)>) -> (Export, Vec<(f64, f64)>) {
             .filter(|(z, _)| (z - 0.705f64).abs() > 0.03)
             .collect();
     }
+    let export = trackman_rows(&truths, noise.is_some(), 1.0, &mut rng);
+    (export, truths)
+}
+
+/// TrackMan rows for `truths`, with tracker noise from `rng` if `noisy`, the batter swinging `scale` times the
+/// speed the import assumes for him.
+fn trackman_rows(truths: &[(f64, f64)], noisy: bool, scale: f64, rng: &mut rand::rngs::StdRng) -> Export {
+    let mut export = Export::from_fixture("trackman_game.csv", 5);
+    let builder = SwingBuilder::new(&options()).unwrap();
+    let mp = options().bat.mass_properties();
+    let prediction = options().batter.predict(&mp).unwrap();
+    let (zone_speed, vaa, spin_rate) = (85.0, -6.0, 2300.0);
+    let base = SwingInput {
+        impact: Impact {
+            ball_speed: mph(zone_speed),
+            bat_cm_speed: prediction.bat_cm_speed * scale,
+            bat_angular_speed: prediction.bat_angular_speed * scale,
+            impact_z: builder.impact_z(),
+        },
+        undercut: 0.0,
+        attack_angle: 0.0,
+        pitch_angle: -deg(vaa),
+        pitch_spin: backspin(rpm(spin_rate), 180.0),
+        measured_launch_angle: f64::NAN,
+        measured_spin: f64::NAN,
+    };
     let unit = Normal::new(0.0, 1.0).unwrap();
     let sigma = LocateOptions::default();
-    for &(z, d) in &truths {
+    for &(z, d) in truths {
         let mut input = base;
         input.impact.impact_z = z;
         input.undercut = d;
         let [mut v, mut theta, mut omega] = simulate(input);
-        if noise.is_some() {
-            v += sigma.exit_speed_sigma * unit.sample(&mut rng);
-            theta += sigma.launch_angle_sigma * unit.sample(&mut rng);
-            omega += sigma.spin_sigma * unit.sample(&mut rng);
+        if noisy {
+            v += sigma.exit_speed_sigma * unit.sample(rng);
+            theta += sigma.launch_angle_sigma * unit.sample(rng);
+            omega += sigma.spin_sigma * unit.sample(rng);
         }
         export.push(&[
             ("PitchCall", "InPlay".into()),
@@ -152,7 +159,7 @@ fn trackman_export(noise: Option<(u64, usize)>) -> (Export, Vec<(f64, f64)>) {
             ("HitSpinAxis", if omega >= 0.0 { "180" } else { "0" }.into()),
         ]);
     }
-    (export, truths)
+    export
 }
 
 #[test]

@@ -643,10 +643,10 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
     Outcome::Located { solutions, favoured, squared_up }
 }
 
-/// Largest standard uncertainty of the fitted bat-speed scale reported as a number (10 % of the assumed
-/// bat speed): beyond it the measurements do not separate the bat speed from the impact point and undercut,
-/// and the linearised uncertainty is no longer a fair description of what is known.
-pub const MAX_SCALE_SIGMA: f64 = 0.10;
+/// Largest standard uncertainty of the fitted bat-speed scale reported as a number (25 % of the assumed
+/// bat speed, a 95 % interval of ±50 %): beyond it the measurements do not separate the bat speed from the
+/// impact point and undercut, and the linearised uncertainty no longer describes what is known.
+pub const MAX_SCALE_SIGMA: f64 = 0.25;
 /// Largest standard uncertainty of the impact point in a bat-speed fit reported as a number, m.
 pub const MAX_FIT_Z_SIGMA: f64 = 0.05;
 /// Bat-speed scales the fit is kept within.
@@ -734,9 +734,16 @@ impl SwingModel<'_> {
         r.iter().all(|v| v.is_finite()).then_some(r)
     }
 
-    /// Levenberg–Marquardt in (z, D, scale) from `start`; the solution and Cov = (JᵀJ)⁻¹ (None if singular).
-    fn fit3(&self, start: [f64; 3], measured: &[f64; 3], sigma: &[f64; 3]) -> Option<([f64; 3], Option<[[f64; 3]; 3]>)> {
-        let (lo, hi) = self.range();
+    /// Levenberg–Marquardt in (z, D, scale) from `start`, z kept within `bounds` (one side of the sweet spot);
+    /// the solution and Cov = (JᵀJ)⁻¹ (None if singular).
+    fn fit3(
+        &self,
+        start: [f64; 3],
+        bounds: (f64, f64),
+        measured: &[f64; 3],
+        sigma: &[f64; 3],
+    ) -> Option<([f64; 3], Option<[[f64; 3]; 3]>)> {
+        let (lo, hi) = bounds;
         let clamp = |x: [f64; 3]| {
             let z = x[0].clamp(lo, hi);
             let reach = self.reach(z);
@@ -821,20 +828,30 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
     if !measured[1].is_finite() {
         return not_fitted("no launch angle measured: two measurements cannot fix three unknowns");
     }
-    let (starts, peak_z): (Vec<[f64; 3]>, f64) = match outcome {
+    // One start per side of the sweet spot, each fit kept on its side: with z as loosely held as it is near
+    // the sweet spot, a free fit would wander to the mirror solution and leave its own side unexplored.
+    let (lo, hi) = model.range();
+    let (starts, peak_z): (Vec<([f64; 3], Side)>, f64) = match outcome {
         Outcome::Located { solutions, .. } => {
-            (solutions.iter().map(|s| [s.impact_z, s.undercut, 1.0]).collect(), solutions[0].sweet_spot_z)
+            (solutions.iter().map(|s| ([s.impact_z, s.undercut, 1.0], s.side)).collect(), solutions[0].sweet_spot_z)
         }
         Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => {
+            // Faster than the assumed bat allows: a faster bat, either side of the sweet spot.
             let d = model.undercut_for_launch_angle(*sweet_spot_z, 0.0, measured[1]);
-            (vec![[*sweet_spot_z, d, 1.0 + excess / max_exit_speed]], *sweet_spot_z)
+            let scale = 1.0 + excess / max_exit_speed;
+            let h = 0.03;
+            (vec![([sweet_spot_z - h, d, scale], Side::Handle), ([sweet_spot_z + h, d, scale], Side::End)], *sweet_spot_z)
         }
         Outcome::NotMeasured => return not_fitted("no exit speed measured"),
         Outcome::Failed { reason } => return not_fitted(&format!("the swing was not located: {reason}")),
     };
     let mut found: Vec<([f64; 3], Option<[[f64; 3]; 3]>, f64)> = Vec::new();
-    for start in starts {
-        let Some((x, cov)) = model.fit3(start, &measured, &sigma) else { continue };
+    for (start, side) in starts {
+        let bounds = match side {
+            Side::Handle => (lo, peak_z.min(hi)),
+            Side::End => (peak_z.max(lo), hi),
+        };
+        let Some((x, cov)) = model.fit3(start, bounds, &measured, &sigma) else { continue };
         let Some(r) = model.residuals3(x, &measured, &sigma) else { continue };
         let chi2 = r.iter().map(|v| v * v).sum::<f64>();
         // Three measurements, three unknowns: a solution reproduces them all.
