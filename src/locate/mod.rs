@@ -840,7 +840,10 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
             let d = model.undercut_for_launch_angle(*sweet_spot_z, 0.0, measured[1]);
             let scale = 1.0 + excess / max_exit_speed;
             let h = 0.03;
-            (vec![([sweet_spot_z - h, d, scale], Side::Handle), ([sweet_spot_z + h, d, scale], Side::End)], *sweet_spot_z)
+            (
+                vec![([sweet_spot_z - h, d, scale], Side::Handle), ([sweet_spot_z + h, d, scale], Side::End)],
+                *sweet_spot_z,
+            )
         }
         Outcome::NotMeasured => return not_fitted("no exit speed measured"),
         Outcome::Failed { reason } => return not_fitted(&format!("the swing was not located: {reason}")),
@@ -1037,8 +1040,8 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
     let squared = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { squared_up: true, .. })).count();
     let squared_up_share = if located > 0 { squared as f64 / located as f64 } else { f64::NAN };
     let outlines = bats.iter().filter_map(|(id, b)| Some((id.clone(), outline(&b.as_ref().ok()?.bat)))).collect();
-    let bat_speed_fitted = options.fit_bat_speed.then(|| {
-        swings.iter().filter(|s| matches!(s.bat_speed_fit, Some(BatSpeedFit::Fitted { .. }))).count()
-    });
+    let bat_speed_fitted = options
+        .fit_bat_speed
+        .then(|| swings.iter().filter(|s| matches!(s.bat_speed_fit, Some(BatSpeedFit::Fitted { .. }))).count());
     Ok(LocateReport { swings, located, too_fast, bat_speed_fitted, squared_up_share, outlines })
 }
