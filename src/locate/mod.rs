@@ -705,6 +705,9 @@ pub enum BatSpeedFit {
     },
 }
 
+/// A 3×3 matrix (row major).
+type Matrix3 = [[f64; 3]; 3];
+
 /// Inverse of a symmetric positive 3×3 matrix, None when singular.
 fn invert3(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
     let c = |i: usize, j: usize| {
@@ -742,7 +745,7 @@ impl SwingModel<'_> {
         bounds: (f64, f64),
         measured: &[f64; 3],
         sigma: &[f64; 3],
-    ) -> Option<([f64; 3], Option<[[f64; 3]; 3]>)> {
+    ) -> Option<([f64; 3], Option<Matrix3>)> {
         let (lo, hi) = bounds;
         let clamp = |x: [f64; 3]| {
             let z = x[0].clamp(lo, hi);
@@ -790,7 +793,7 @@ impl SwingModel<'_> {
             for (p, row) in damped.iter_mut().enumerate() {
                 row[p] *= 1.0 + lambda;
             }
-            let Some(inv) = invert3(&damped) else { return None };
+            let inv = invert3(&damped)?;
             let step = [0, 1, 2].map(|p| -(0..3).map(|q| inv[p][q] * g[q]).sum::<f64>());
             let next = clamp([x[0] + step[0], x[1] + step[1], x[2] + step[2]]);
             match self.residuals3(next, measured, sigma) {
@@ -848,7 +851,7 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
         Outcome::NotMeasured => return not_fitted("no exit speed measured"),
         Outcome::Failed { reason } => return not_fitted(&format!("the swing was not located: {reason}")),
     };
-    let mut found: Vec<([f64; 3], Option<[[f64; 3]; 3]>, f64)> = Vec::new();
+    let mut found: Vec<([f64; 3], Option<Matrix3>, f64)> = Vec::new();
     for (start, side) in starts {
         let bounds = match side {
             Side::Handle => (lo, peak_z.min(hi)),
