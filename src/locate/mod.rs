@@ -825,6 +825,9 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
     let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
     let sigma = [options.exit_speed_sigma, options.launch_angle_sigma, options.spin_sigma];
     let not_fitted = |reason: &str| BatSpeedFit::NotFitted { reason: reason.into() };
+    if !measured[0].is_finite() {
+        return not_fitted("no exit speed measured");
+    }
     if !measured[2].is_finite() {
         return not_fitted("no spin measured: two measurements cannot fix three unknowns");
     }
@@ -852,6 +855,8 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
         Outcome::Failed { reason } => return not_fitted(&format!("the swing was not located: {reason}")),
     };
     let mut found: Vec<([f64; 3], Option<Matrix3>, f64)> = Vec::new();
+    // The closest miss, for the report when nothing reproduces the measurements.
+    let mut best: Option<([f64; 3], f64)> = None;
     for (start, side) in starts {
         let bounds = match side {
             Side::Handle => (lo, peak_z.min(hi)),
@@ -860,6 +865,9 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
         let Some((x, cov)) = model.fit3(start, bounds, &measured, &sigma) else { continue };
         let Some(r) = model.residuals3(x, &measured, &sigma) else { continue };
         let chi2 = r.iter().map(|v| v * v).sum::<f64>();
+        if best.is_none_or(|(_, c)| chi2 < c) {
+            best = Some((x, chi2));
+        }
         // Three measurements, three unknowns: a solution reproduces them all.
         if chi2 > 1e-6 || found.iter().any(|(y, _, _)| (y[0] - x[0]).abs() < 1e-3 && (y[1] - x[1]).abs() < 1e-3) {
             continue;
@@ -867,9 +875,18 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
         found.push((x, cov, chi2));
     }
     if found.is_empty() {
+        let closest = best.map_or(String::new(), |(x, chi2)| {
+            format!(
+                " (closest: χ² = {chi2:.1} at z = {:.3} m, D = {:+.1} mm, bat speed × {:.2})",
+                x[0],
+                x[1] * 1e3,
+                x[2]
+            )
+        });
         return BatSpeedFit::Failed {
-            reason: "no impact point, undercut and bat speed reproduce exit speed, launch angle and spin together"
-                .into(),
+            reason: format!(
+                "no impact point, undercut and bat speed reproduce exit speed, launch angle and spin together{closest}"
+            ),
         };
     }
     let mut solutions = Vec::new();
