@@ -17,12 +17,15 @@ use crate::report::plot::ImageFormat;
   sweetspot import trackman game.csv -o bags/game && sweetspot locate bags/game
   sweetspot locate bags/game --json > located.json
   sweetspot locate bags/game --figure located.svg
+  sweetspot locate bags/game --fit-bat-speed
 
 Every impact point (either side of the sweet spot) that reproduces the measured exit speed (and launch angle
 and spin, where measured) is listed with its standard uncertainty; `*` marks the one the other measurements
 favour. A swing faster than the sweet spot allows is reported with the excess. --figure draws the located
 points on the bat's outline, one panel per batter (from the import's side table; per bat for a bag without
-it), the favoured solution filled, the others hollow, the sweet spot and its ±2 cm band shaded.")]
+it), the favoured solution filled, the others hollow, the sweet spot and its ±2 cm band shaded.
+--fit-bat-speed also fits the bat speed of swings whose bat speed the import assumed and whose spin is
+measured (a factor on the assumed speed ± its uncertainty), or says per swing why it was not fitted.")]
 pub struct LocateArgs {
     /// A bag of swings with measured exit speeds (from `sweetspot import`, or recorded from a rig).
     pub bag: PathBuf,

@@ -37,6 +37,22 @@
 //! and over the undercuts tried when D is free) is reported with the excess: no impact point explains it —
 //! a check on the ball (COR), the bat, or the assumed bat speed.
 //!
+//! **Bat speed (`fit_bat_speed`, `locate --fit-bat-speed`).** TrackMan (and any export without a bat speed)
+//! leaves the bat's speed to the batter model, and `import` marks it assumed in the bag's side table
+//! ([`ROWS_TABLE`], column `assumed`). For such a swing with exit speed, launch angle and spin all measured,
+//! a third unknown is fitted with z and D: a scale s on the swing's bat speeds, `bat_cm_speed` and
+//! `bat_angular_speed` together (the batter's effort; their ratio, so the pivot [`crate::physics::batter`]
+//! places, is kept). Three measurements, three unknowns: Levenberg–Marquardt in (z, D, s) from each
+//! two-unknown solution at s = 1 (from either side of the sweet spot at a faster bat for a too-fast swing),
+//! each kept on its side of the sweet spot, and a solution reproduces all three measurements (χ² < 10⁻⁶);
+//! there are usually two, one either side, at different bat speeds, and none is favoured. Cov(z, D, s) =
+//! (JᵀJ)⁻¹ of the weighted residuals, i.e. (JᵀWJ)⁻¹ of the raw ones. The spin is what separates s from z
+//! (dω/ds ≈ 0.4 ω while the exit speed trades z against s), so at a tracker's 100 rpm σ(s) is about 10–25 %
+//! for a ball with 2000+ rpm and grows without bound as the spin vanishes or the solution nears the sweet
+//! spot: a solution with σ(s) > [`MAX_SCALE_SIGMA`] or σ_z > [`MAX_FIT_Z_SIGMA`] is reported as not separable
+//! rather than as numbers. A swing whose bat speed was measured, or a bag without the side table, is not
+//! fitted, and says so.
+//!
 //! **Squared up.** A located swing is squared up when its favoured solution (every solution, when none is
 //! favoured) lies within ±2 cm ([`SQUARED_UP`]) of the sweet spot z* at its undercut.
 
