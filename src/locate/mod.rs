@@ -724,7 +724,7 @@ pub enum BatSpeedFit {
 /// A 3×3 matrix (row major).
 type Matrix3 = [[f64; 3]; 3];
 
-/// Inverse of a symmetric positive 3×3 matrix, None when singular.
+/// Inverse of a 3×3 matrix (adjugate over determinant), None when singular.
 fn invert3(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
     let c = |i: usize, j: usize| {
         let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
@@ -1080,4 +1080,32 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
         .fit_bat_speed
         .then(|| swings.iter().filter(|s| matches!(s.bat_speed_fit, Some(BatSpeedFit::Fitted { .. }))).count());
     Ok(LocateReport { swings, located, too_fast, bat_speed_fitted, squared_up_share, outlines })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn invert3_gives_the_textbook_inverse_and_refuses_a_singular_matrix() {
+        // [[2, -1, 0], [-1, 2, -1], [0, -1, 2]]⁻¹ = [[3, 2, 1], [2, 4, 2], [1, 2, 3]] / 4 (the 1-D Laplacian).
+        let a = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 2.0]];
+        let expected = [[0.75, 0.5, 0.25], [0.5, 1.0, 0.5], [0.25, 0.5, 0.75]];
+        let inv = invert3(&a).expect("regular");
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((inv[i][j] - expected[i][j]).abs() < 1e-15, "({i}, {j}): {}", inv[i][j]);
+            }
+        }
+        // An unsymmetric one: A·A⁻¹ = I.
+        let b = [[1.0, 2.0, 3.0], [0.0, 1.0, 4.0], [5.0, 6.0, 0.0]];
+        let inv = invert3(&b).expect("regular");
+        for i in 0..3 {
+            for j in 0..3 {
+                let p: f64 = (0..3).map(|k| b[i][k] * inv[k][j]).sum();
+                assert!((p - f64::from(u8::from(i == j))).abs() < 1e-12, "({i}, {j}): {p}");
+            }
+        }
+        assert!(invert3(&[[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 1.0, 1.0]]).is_none());
+    }
 }
