@@ -1086,6 +1086,8 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
 mod tests {
     use super::*;
 
+    // Index loops read as the matrix algebra they check.
+    #[allow(clippy::needless_range_loop)]
     #[test]
     fn invert3_gives_the_textbook_inverse_and_refuses_a_singular_matrix() {
         // [[2, -1, 0], [-1, 2, -1], [0, -1, 2]]⁻¹ = [[3, 2, 1], [2, 4, 2], [1, 2, 3]] / 4 (the 1-D Laplacian).
