@@ -43,8 +43,8 @@
 //! a third unknown is fitted with z and D: a scale s on the swing's bat speeds, `bat_cm_speed` and
 //! `bat_angular_speed` together (the batter's effort; their ratio, so the pivot [`crate::physics::batter`]
 //! places, is kept). Three measurements, three unknowns: Levenberg–Marquardt in (z, D, s) from each
-//! two-unknown solution at s = 1 (from either side of the sweet spot at a faster bat for a too-fast swing),
-//! each kept on its side of the sweet spot, and a solution reproduces all three measurements (χ² < 10⁻⁶);
+//! two-unknown solution at s = 1 (from either side of the sweet spot at a faster bat for a too-fast swing)
+//! and from 5 cm either side of the sweet spot at s = 0.85 and 1.15, each kept on its side of the sweet spot, and a solution reproduces all three measurements (χ² < 10⁻⁶);
 //! there are usually two, one either side, at different bat speeds, and none is favoured. Cov(z, D, s) =
 //! (JᵀJ)⁻¹ of the weighted residuals, i.e. (JᵀWJ)⁻¹ of the raw ones. The spin is what separates s from z
 //! (dω/ds ≈ 0.4 ω while the exit speed trades z against s), so at a tracker's 100 rpm σ(s) is about 10–25 %
@@ -873,6 +873,20 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
     let mut found: Vec<([f64; 3], Option<Matrix3>, f64)> = Vec::new();
     // The closest miss, for the report when nothing reproduces the measurements.
     let mut best: Option<([f64; 3], f64)> = None;
+    // Near the sweet spot the exit speed barely moves with z, and a fit started there at the assumed bat speed
+    // can stall against the sweet spot while the solution lies a few cm out at another bat speed: each side
+    // is also started 5 cm from the sweet spot at a bat 15 % slower and 15 % faster.
+    let mut starts = starts;
+    for side in [Side::Handle, Side::End] {
+        let Some(d) = starts.iter().find(|(_, s)| *s == side).map(|(x, _)| x[1]) else { continue };
+        let z = match side {
+            Side::Handle => peak_z - 0.05,
+            Side::End => peak_z + 0.05,
+        };
+        for scale in [0.85, 1.15] {
+            starts.push(([z, d, scale], side));
+        }
+    }
     for (start, side) in starts {
         let bounds = match side {
             Side::Handle => (lo, peak_z.min(hi)),
