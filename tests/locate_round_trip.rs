@@ -576,3 +576,22 @@ fn a_swing_without_spin_is_not_fitted_for_bat_speed_and_says_why() {
     // The impact point is still located from exit speed and launch angle.
     assert!(matches!(located.swings[0].outcome, Outcome::Located { .. }));
 }
+
+#[test]
+fn a_swing_whose_spin_cannot_tell_bat_speed_from_impact_point_is_reported_not_separable() {
+    // Topped 4 mm, 5.5 cm inside the sweet spot with a bat 10 % faster than assumed: the truth fits exactly,
+    // but the spin hardly changes along the (z, bat speed) trade-off there, so σ(bat speed) is far above 25 %.
+    let tmp = tempfile::tempdir().unwrap();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(0);
+    let export = trackman_rows(&[(0.65, -0.004)], false, BAT_SPEED_SCALE, &mut rng);
+    let csv = tmp.path().join("trackman.csv");
+    export.write(&csv, true);
+    let bag = tmp.path().join("tm");
+    import_files(&[csv], &bag, &options()).unwrap();
+    let located = locate_bag(&bag, &fit_options()).unwrap();
+    assert_eq!(located.bat_speed_fitted, Some(0));
+    match &located.swings[0].bat_speed_fit {
+        Some(BatSpeedFit::NotSeparable { reason }) => assert!(reason.contains("σ(bat speed)"), "{reason}"),
+        other => panic!("expected not separable, got {other:?}"),
+    }
+}
