@@ -10,7 +10,7 @@ use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use sweetspot::import::statcast::plate_crossing;
 use sweetspot::import::{backspin, deg, import_files, mph, rpm, ImportOptions, SwingBuilder, FOOT, MPH};
-use sweetspot::locate::{locate_bag, LocateOptions, Outcome, Solution};
+use sweetspot::locate::{locate_bag, BatSpeedFit, BatSpeedSolution, LocateOptions, Outcome, Solution};
 use sweetspot::model::convert::{params_from_ball, params_of_preset};
 use sweetspot::model::engine::{compute, plan_swing, Registry, SwingInput};
 use sweetspot::model::settings::ModelSettings;
@@ -99,25 +99,6 @@ fn solutions_of(outcome: &Outcome) -> (&[Solution], Option<usize>) {
 
 /// TrackMan rows for the truths: pitch 85 mph at −6° with 2300 rpm of backspin, the batter's assumed swing.
 fn trackman_export(noise: Option<(u64, usize)>) -> (Export, Vec<(f64, f64)>) {
-    let mut export = Export::from_fixture("trackman_game.csv", 5);
-    let builder = SwingBuilder::new(&options()).unwrap();
-    let mp = options().bat.mass_properties();
-    let prediction = options().batter.predict(&mp).unwrap();
-    let (zone_speed, vaa, spin_rate) = (85.0, -6.0, 2300.0);
-    let base = SwingInput {
-        impact: Impact {
-            ball_speed: mph(zone_speed),
-            bat_cm_speed: prediction.bat_cm_speed,
-            bat_angular_speed: prediction.bat_angular_speed,
-            impact_z: builder.impact_z(),
-        },
-        undercut: 0.0,
-        attack_angle: 0.0,
-        pitch_angle: -deg(vaa),
-        pitch_spin: backspin(rpm(spin_rate), 180.0),
-        measured_launch_angle: f64::NAN,
-        measured_spin: f64::NAN,
-    };
     let mut truths: Vec<(f64, f64)> = TRUTH.to_vec();
     let mut rng = rand::rngs::StdRng::seed_from_u64(noise.map_or(0, |n| n.0));
     if let Some((_, count)) = noise {
@@ -128,17 +109,43 @@ fn trackman_export(noise: Option<(u64, usize)>) -> (Export, Vec<(f64, f64)>) {
             .filter(|(z, _)| (z - 0.705f64).abs() > 0.03)
             .collect();
     }
+    let export = trackman_rows(&truths, noise.is_some(), 1.0, &mut rng);
+    (export, truths)
+}
+
+/// TrackMan rows for `truths`, with tracker noise from `rng` if `noisy`, the batter swinging `scale` times the
+/// speed the import assumes for him.
+fn trackman_rows(truths: &[(f64, f64)], noisy: bool, scale: f64, rng: &mut rand::rngs::StdRng) -> Export {
+    let mut export = Export::from_fixture("trackman_game.csv", 5);
+    let builder = SwingBuilder::new(&options()).unwrap();
+    let mp = options().bat.mass_properties();
+    let prediction = options().batter.predict(&mp).unwrap();
+    let (zone_speed, vaa, spin_rate) = (85.0, -6.0, 2300.0);
+    let base = SwingInput {
+        impact: Impact {
+            ball_speed: mph(zone_speed),
+            bat_cm_speed: prediction.bat_cm_speed * scale,
+            bat_angular_speed: prediction.bat_angular_speed * scale,
+            impact_z: builder.impact_z(),
+        },
+        undercut: 0.0,
+        attack_angle: 0.0,
+        pitch_angle: -deg(vaa),
+        pitch_spin: backspin(rpm(spin_rate), 180.0),
+        measured_launch_angle: f64::NAN,
+        measured_spin: f64::NAN,
+    };
     let unit = Normal::new(0.0, 1.0).unwrap();
     let sigma = LocateOptions::default();
-    for &(z, d) in &truths {
+    for &(z, d) in truths {
         let mut input = base;
         input.impact.impact_z = z;
         input.undercut = d;
         let [mut v, mut theta, mut omega] = simulate(input);
-        if noise.is_some() {
-            v += sigma.exit_speed_sigma * unit.sample(&mut rng);
-            theta += sigma.launch_angle_sigma * unit.sample(&mut rng);
-            omega += sigma.spin_sigma * unit.sample(&mut rng);
+        if noisy {
+            v += sigma.exit_speed_sigma * unit.sample(rng);
+            theta += sigma.launch_angle_sigma * unit.sample(rng);
+            omega += sigma.spin_sigma * unit.sample(rng);
         }
         export.push(&[
             ("PitchCall", "InPlay".into()),
@@ -152,7 +159,7 @@ fn trackman_export(noise: Option<(u64, usize)>) -> (Export, Vec<(f64, f64)>) {
             ("HitSpinAxis", if omega >= 0.0 { "180" } else { "0" }.into()),
         ]);
     }
-    (export, truths)
+    export
 }
 
 #[test]
@@ -455,4 +462,136 @@ fn the_figure_has_a_panel_per_batter_and_a_marker_per_solution() {
     let summary = draw_figure(&tmp.path().join("per_bat.svg"), &report, None).unwrap();
     assert_eq!((summary.grouping, summary.panels.len()), (Grouping::Bat, 1));
     assert_eq!(summary.markers, (favoured, others));
+}
+
+/// The bat speed the swings of the bat-speed tests have over the one the import assumes.
+const BAT_SPEED_SCALE: f64 = 1.10;
+/// Truth (impact_z, undercut), m, for the bat-speed fit: balls undercut enough to spin (the spin is what tells
+/// the bat speed from the impact point), clear of the sweet spot.
+const BAT_TRUTH: [(f64, f64); 4] = [(0.62, 0.010), (0.64, 0.018), (0.76, 0.015), (0.79, 0.006)];
+
+fn fit_options() -> LocateOptions {
+    LocateOptions { fit_bat_speed: true, ..LocateOptions::default() }
+}
+
+fn bat_speed_solutions(fit: &Option<BatSpeedFit>) -> &[BatSpeedSolution] {
+    match fit {
+        Some(BatSpeedFit::Fitted { solutions, .. }) => solutions,
+        other => panic!("bat speed not fitted: {other:?}"),
+    }
+}
+
+fn nearest_fit(solutions: &[BatSpeedSolution], z: f64) -> &BatSpeedSolution {
+    solutions.iter().min_by(|a, b| (a.impact_z - z).abs().total_cmp(&(b.impact_z - z).abs())).unwrap()
+}
+
+#[test]
+fn noise_free_rows_with_spin_give_back_impact_point_undercut_and_a_bat_speed_ten_percent_off() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(0);
+    let export = trackman_rows(&BAT_TRUTH, false, BAT_SPEED_SCALE, &mut rng);
+    let csv = tmp.path().join("trackman.csv");
+    export.write(&csv, true);
+    let bag = tmp.path().join("tm");
+    import_files(&[csv], &bag, &options()).unwrap();
+    // Without the option nothing is fitted and the JSON has no trace of it.
+    let plain = locate_bag(&bag, &LocateOptions::default()).unwrap();
+    assert!(plain.swings.iter().all(|s| s.bat_speed_fit.is_none()) && plain.bat_speed_fitted.is_none());
+    let json = serde_json::to_string(&plain).unwrap();
+    assert!(!json.contains("bat_speed"), "{json}");
+    let located = locate_bag(&bag, &fit_options()).unwrap();
+    assert_eq!(located.bat_speed_fitted, Some(BAT_TRUTH.len()));
+    let mp = options().bat.mass_properties();
+    let assumed = options().batter.predict(&mp).unwrap();
+    for (swing, &(z, d)) in located.swings.iter().zip(&BAT_TRUTH) {
+        let solutions = bat_speed_solutions(&swing.bat_speed_fit);
+        eprintln!("swing {}: {solutions:?}", swing.swing_id);
+        let s = nearest_fit(solutions, z);
+        assert!((s.impact_z - z).abs() < 1e-3, "swing {}: z {} against {z}", swing.swing_id, s.impact_z);
+        assert!((s.undercut - d).abs() < 1e-3, "swing {}: D {} against {d}", swing.swing_id, s.undercut);
+        assert!((s.scale / BAT_SPEED_SCALE - 1.0).abs() < 1e-3, "swing {}: scale {}", swing.swing_id, s.scale);
+        // The bat's speeds themselves, against the batter model's prediction the rows were simulated from.
+        let v = assumed.bat_cm_speed * BAT_SPEED_SCALE;
+        assert!((s.bat_cm_speed / v - 1.0).abs() < 1e-3, "swing {}: V {} against {v}", swing.swing_id, s.bat_cm_speed);
+        let w = assumed.bat_angular_speed * BAT_SPEED_SCALE;
+        assert!((s.bat_angular_speed / w - 1.0).abs() < 1e-3, "swing {}: ω {}", swing.swing_id, s.bat_angular_speed);
+        assert!(s.chi2 < 1e-6 && s.scale_sigma > 0.0 && s.scale_sigma.is_finite() && s.impact_z_sigma > 0.0);
+    }
+    // The bag's JSON carries the fit.
+    let json = serde_json::to_value(&located).unwrap();
+    assert_eq!(json["bat_speed_fitted"], BAT_TRUTH.len());
+    assert_eq!(json["swings"][0]["bat_speed_fit"]["verdict"], "fitted");
+}
+
+#[test]
+fn with_tracker_noise_the_true_bat_speed_lies_within_the_reported_uncertainty() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(24);
+    let z = rand_distr::Uniform::new(0.60, 0.80);
+    let d = rand_distr::Uniform::new(0.008, 0.02);
+    let truths: Vec<(f64, f64)> = (0..60)
+        .map(|_| (z.sample(&mut rng), d.sample(&mut rng)))
+        .filter(|(z, _)| (z - 0.705f64).abs() > 0.04)
+        .collect();
+    let export = trackman_rows(&truths, true, BAT_SPEED_SCALE, &mut rng);
+    let csv = tmp.path().join("trackman.csv");
+    export.write(&csv, false);
+    let bag = tmp.path().join("tm");
+    import_files(&[csv], &bag, &options()).unwrap();
+    let located = locate_bag(&bag, &fit_options()).unwrap();
+    let (mut fitted, mut within_z, mut within_scale) = (0, 0, 0);
+    for (swing, &(z, _)) in located.swings.iter().zip(&truths) {
+        let Some(BatSpeedFit::Fitted { solutions, .. }) = &swing.bat_speed_fit else { continue };
+        let s = nearest_fit(solutions, z);
+        fitted += 1;
+        within_z += usize::from((s.impact_z - z).abs() <= s.impact_z_sigma);
+        within_scale += usize::from((s.scale - BAT_SPEED_SCALE).abs() <= s.scale_sigma);
+    }
+    let (share_z, share_scale) = (within_z as f64 / fitted as f64, within_scale as f64 / fitted as f64);
+    eprintln!("{fitted} of {} fitted; within 1σ: z {share_z:.2}, bat speed {share_scale:.2}", truths.len());
+    assert!(fitted as f64 >= 0.6 * truths.len() as f64, "{fitted} of {} fitted", truths.len());
+    // A standard uncertainty holds the truth 68 % of the time; the fit is nonlinear over σ, so allow a margin.
+    for (name, share) in [("z", share_z), ("bat speed", share_scale)] {
+        assert!((0.5..=0.9).contains(&share), "{name}: truth within 1σ in {share:.2} of the swings");
+    }
+}
+
+#[test]
+fn a_swing_without_spin_is_not_fitted_for_bat_speed_and_says_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(0);
+    let mut export = trackman_rows(&BAT_TRUTH[..1], false, BAT_SPEED_SCALE, &mut rng);
+    let spin = export.header.iter().position(|h| h == "HitSpinRate").unwrap();
+    export.rows[0][spin] = String::new();
+    let csv = tmp.path().join("trackman.csv");
+    export.write(&csv, true);
+    let bag = tmp.path().join("tm");
+    import_files(&[csv], &bag, &options()).unwrap();
+    let located = locate_bag(&bag, &fit_options()).unwrap();
+    assert_eq!(located.bat_speed_fitted, Some(0));
+    match &located.swings[0].bat_speed_fit {
+        Some(BatSpeedFit::NotFitted { reason }) => assert!(reason.contains("no spin measured"), "{reason}"),
+        other => panic!("expected not fitted, got {other:?}"),
+    }
+    // The impact point is still located from exit speed and launch angle.
+    assert!(matches!(located.swings[0].outcome, Outcome::Located { .. }));
+}
+
+#[test]
+fn a_swing_whose_spin_cannot_tell_bat_speed_from_impact_point_is_reported_not_separable() {
+    // Topped 4 mm, 5.5 cm inside the sweet spot with a bat 10 % faster than assumed: the truth fits exactly,
+    // but the spin hardly changes along the (z, bat speed) trade-off there, so σ(bat speed) is far above 25 %.
+    let tmp = tempfile::tempdir().unwrap();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(0);
+    let export = trackman_rows(&[(0.65, -0.004)], false, BAT_SPEED_SCALE, &mut rng);
+    let csv = tmp.path().join("trackman.csv");
+    export.write(&csv, true);
+    let bag = tmp.path().join("tm");
+    import_files(&[csv], &bag, &options()).unwrap();
+    let located = locate_bag(&bag, &fit_options()).unwrap();
+    assert_eq!(located.bat_speed_fitted, Some(0));
+    match &located.swings[0].bat_speed_fit {
+        Some(BatSpeedFit::NotSeparable { reason }) => assert!(reason.contains("σ(bat speed)"), "{reason}"),
+        other => panic!("expected not separable, got {other:?}"),
+    }
 }

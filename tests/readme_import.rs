@@ -44,6 +44,8 @@ fn the_import_section_runs_as_written() {
     let json: serde_json::Value = serde_json::from_str(&outputs[3]).expect("locate --json is one JSON document");
     assert_eq!(json["swings"].as_array().map(Vec::len), Some(3));
     assert!(outputs[5].contains("1 swings written to bags/lab"), "{}", outputs[5]);
+    // The real TrackMan rows: two with spin are tried for bat speed, the others say why they were not.
+    assert!(outputs[7].contains("bat speed fitted for") && outputs[7].contains("no spin measured"), "{}", outputs[7]);
     let figure = std::fs::read_to_string(dir.path().join("located.svg")).expect("locate --figure wrote its file");
     assert!(figure.contains("<svg") && figure.contains("Located impact points"), "not the figure: {figure:.200}");
 }

@@ -7,7 +7,7 @@ use clap::Args;
 
 use super::common::{finite_f64, print_json};
 use crate::locate::figure::{batters_of, draw_figure, Grouping};
-use crate::locate::{locate_bag, LocateOptions, Outcome, Side};
+use crate::locate::{locate_bag, BatSpeedFit, LocateOptions, Outcome, Side};
 use crate::physics::oblique::rpm_to_rad_per_s;
 use crate::report::plot::ImageFormat;
 
@@ -17,12 +17,15 @@ use crate::report::plot::ImageFormat;
   sweetspot import trackman game.csv -o bags/game && sweetspot locate bags/game
   sweetspot locate bags/game --json > located.json
   sweetspot locate bags/game --figure located.svg
+  sweetspot locate bags/game --fit-bat-speed
 
 Every impact point (either side of the sweet spot) that reproduces the measured exit speed (and launch angle
 and spin, where measured) is listed with its standard uncertainty; `*` marks the one the other measurements
 favour. A swing faster than the sweet spot allows is reported with the excess. --figure draws the located
 points on the bat's outline, one panel per batter (from the import's side table; per bat for a bag without
-it), the favoured solution filled, the others hollow, the sweet spot and its ±2 cm band shaded.")]
+it), the favoured solution filled, the others hollow, the sweet spot and its ±2 cm band shaded.
+--fit-bat-speed also fits the bat speed of swings whose bat speed the import assumed and whose spin is
+measured (a factor on the assumed speed ± its uncertainty), or says per swing why it was not fitted.")]
 pub struct LocateArgs {
     /// A bag of swings with measured exit speeds (from `sweetspot import`, or recorded from a rig).
     pub bag: PathBuf,
@@ -35,6 +38,10 @@ pub struct LocateArgs {
     /// Spin accuracy of the tracker, rpm.
     #[arg(long, value_name = "RPM", default_value_t = 100.0, value_parser = finite_f64)]
     pub spin_sigma: f64,
+    /// Also fit the bat speed of swings whose bat speed the import assumed (TrackMan, Rapsodo, HitTrax) and
+    /// whose exit speed, launch angle and spin are all measured: three measurements, three unknowns.
+    #[arg(long)]
+    pub fit_bat_speed: bool,
     /// Print one JSON document with a `swings` list instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -58,6 +65,7 @@ pub fn run(args: LocateArgs) -> Result<()> {
         exit_speed_sigma: args.exit_speed_sigma,
         launch_angle_sigma: args.launch_angle_sigma.to_radians(),
         spin_sigma: rpm_to_rad_per_s(args.spin_sigma),
+        fit_bat_speed: args.fit_bat_speed,
     };
     if let Some(path) = &args.figure {
         ImageFormat::from_path(path)?;
@@ -126,6 +134,9 @@ pub fn run(args: LocateArgs) -> Result<()> {
             theta.to_degrees(),
             omega * 60.0 / (2.0 * std::f64::consts::PI)
         )?;
+        if let Some(fit) = &s.bat_speed_fit {
+            crate::outln!("{:>34}  bat speed fit: {}", "", bat_speed_text(fit))?;
+        }
     }
     crate::outln!(
         "{} located, {} faster than the sweet spot allows, of {} swings; squared up (±2 cm of the sweet spot): {:.0} %",
@@ -134,5 +145,42 @@ pub fn run(args: LocateArgs) -> Result<()> {
         report.swings.len(),
         report.squared_up_share * 100.0
     )?;
+    if let Some(n) = report.bat_speed_fitted {
+        crate::outln!("bat speed fitted for {n} of {} swings", report.swings.len())?;
+    }
     Ok(())
+}
+
+/// One swing's bat-speed fit as a line of the table.
+fn bat_speed_text(fit: &BatSpeedFit) -> String {
+    match fit {
+        BatSpeedFit::Fitted { solutions, not_separable } => {
+            let list: Vec<String> = solutions
+                .iter()
+                .map(|x| {
+                    format!(
+                        "{:.4} ± {:.4}, {:+.1} ± {:.1} mm, bat speed × {:.3} ± {:.3} (V = {:.2} m/s, ω = {:.1} rad/s), {}",
+                        x.impact_z,
+                        x.impact_z_sigma,
+                        x.undercut * 1e3,
+                        x.undercut_sigma * 1e3,
+                        x.scale,
+                        x.scale_sigma,
+                        x.bat_cm_speed,
+                        x.bat_angular_speed,
+                        match x.side {
+                            Side::Handle => "handle side",
+                            Side::End => "end side",
+                        }
+                    )
+                })
+                .collect();
+            let more =
+                if *not_separable > 0 { format!("  ({not_separable} more not separable)") } else { String::new() };
+            format!("{}{more}", list.join("  |  "))
+        }
+        BatSpeedFit::NotSeparable { reason } => format!("not separable: {reason}"),
+        BatSpeedFit::NotFitted { reason } => format!("not fitted: {reason}"),
+        BatSpeedFit::Failed { reason } => format!("failed: {reason}"),
+    }
 }

@@ -37,10 +37,26 @@
 //! and over the undercuts tried when D is free) is reported with the excess: no impact point explains it —
 //! a check on the ball (COR), the bat, or the assumed bat speed.
 //!
+//! **Bat speed (`fit_bat_speed`, `locate --fit-bat-speed`).** TrackMan (and any export without a bat speed)
+//! leaves the bat's speed to the batter model, and `import` marks it assumed in the bag's side table
+//! ([`ROWS_TABLE`], column `assumed`). For such a swing with exit speed, launch angle and spin all measured,
+//! a third unknown is fitted with z and D: a scale s on the swing's bat speeds, `bat_cm_speed` and
+//! `bat_angular_speed` together (the batter's effort; their ratio, so the pivot [`crate::physics::batter`]
+//! places, is kept). Three measurements, three unknowns: Levenberg–Marquardt in (z, D, s) from each
+//! two-unknown solution at s = 1 (from either side of the sweet spot at a faster bat for a too-fast swing)
+//! and from 5 cm either side of the sweet spot at s = 0.85 and 1.15, each kept on its side of the sweet spot, and a solution reproduces all three measurements (χ² < 10⁻⁶);
+//! there are usually two, one either side, at different bat speeds, and none is favoured. Cov(z, D, s) =
+//! (JᵀJ)⁻¹ of the weighted residuals, i.e. (JᵀWJ)⁻¹ of the raw ones. The spin is what separates s from z
+//! (dω/ds ≈ 0.4 ω while the exit speed trades z against s), so at a tracker's 100 rpm σ(s) is about 10–25 %
+//! for a ball with 2000+ rpm and grows without bound as the spin vanishes or the solution nears the sweet
+//! spot: a solution with σ(s) > [`MAX_SCALE_SIGMA`] or σ_z > [`MAX_FIT_Z_SIGMA`] is reported as not separable
+//! rather than as numbers. A swing whose bat speed was measured, or a bag without the side table, is not
+//! fitted, and says so.
+//!
 //! **Squared up.** A located swing is squared up when its favoured solution (every solution, when none is
 //! favoured) lies within ±2 cm ([`SQUARED_UP`]) of the sweet spot z* at its undercut.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use rayon::prelude::*;
@@ -48,6 +64,7 @@ use rayon::prelude::*;
 pub mod figure;
 
 use crate::calibrate::{problem_bat, read_inputs, CalibrateError};
+use crate::import::ROWS_TABLE;
 use crate::model::convert::{ball_from_params, swing_input, BallModel};
 use crate::model::engine::{SwingInput, DEFAULT_BALL_ID};
 use crate::msgs::sweetspot_msgs::msg::Swing;
@@ -78,6 +95,8 @@ pub struct LocateOptions {
     pub launch_angle_sigma: f64,
     /// Spin accuracy σ_ω, rad/s.
     pub spin_sigma: f64,
+    /// Also fit the bat speed of swings whose bat speed the import assumed (see the module docs).
+    pub fit_bat_speed: bool,
 }
 
 impl Default for LocateOptions {
@@ -86,6 +105,7 @@ impl Default for LocateOptions {
             exit_speed_sigma: 0.45,
             launch_angle_sigma: 1f64.to_radians(),
             spin_sigma: rpm_to_rad_per_s(100.0),
+            fit_bat_speed: false,
         }
     }
 }
@@ -166,6 +186,9 @@ pub struct Located {
     /// The result.
     #[serde(flatten)]
     pub outcome: Outcome,
+    /// The bat-speed fit, when asked for (`LocateOptions::fit_bat_speed`); absent from JSON otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bat_speed_fit: Option<BatSpeedFit>,
 }
 
 /// Every swing of a bag.
@@ -177,6 +200,9 @@ pub struct LocateReport {
     pub located: usize,
     /// Swings faster than the sweet spot allows.
     pub too_fast: usize,
+    /// Swings whose bat speed was fitted, when asked for; absent from JSON otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bat_speed_fitted: Option<usize>,
     /// Share of located swings squared up (within ±2 cm of the sweet spot), NaN without any.
     pub squared_up_share: f64,
     /// Each bat's outline, by bat id: (z from the knob, outer radius) in m, for the figure.
@@ -216,9 +242,18 @@ struct SwingModel<'a> {
 impl SwingModel<'_> {
     /// Exit speed, launch angle and spin at impact point `z` and undercut `d`.
     fn predict(&self, z: f64, d: f64) -> Result<[f64; 3], PhysicsError> {
+        self.predict_scaled(z, d, 1.0)
+    }
+
+    /// Exit speed, launch angle and spin at impact point `z`, undercut `d` and the swing's bat speeds (centre
+    /// of mass and angular together, so the pivot stays) times `scale`.
+    fn predict_scaled(&self, z: f64, d: f64, scale: f64) -> Result<[f64; 3], PhysicsError> {
         let mut input = self.input;
         input.impact.impact_z = z;
         input.undercut = d;
+        // × 1.0 is exact: the unscaled swing is the recorded one bit for bit.
+        input.impact.bat_cm_speed *= scale;
+        input.impact.bat_angular_speed *= scale;
         if input.is_head_on() {
             let r = collide(&self.bat.modes, &self.ball, &input.impact, &self.bat.options)?;
             return Ok([r.exit_speed, 0.0, 0.0]);
@@ -624,6 +659,312 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
     Outcome::Located { solutions, favoured, squared_up }
 }
 
+/// Largest standard uncertainty of the fitted bat-speed scale reported as a number (25 % of the assumed
+/// bat speed, a 95 % interval of ±50 %): beyond it the measurements do not separate the bat speed from the
+/// impact point and undercut, and the linearised uncertainty no longer describes what is known.
+pub const MAX_SCALE_SIGMA: f64 = 0.25;
+/// Largest standard uncertainty of the impact point in a bat-speed fit reported as a number, m.
+pub const MAX_FIT_Z_SIGMA: f64 = 0.05;
+/// Bat-speed scales the fit is kept within.
+const SCALE_RANGE: (f64, f64) = (0.3, 2.0);
+
+/// One (z, D, bat-speed scale) that reproduces exit speed, launch angle and spin exactly.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct BatSpeedSolution {
+    /// Impact point, m from the knob.
+    pub impact_z: f64,
+    /// Its standard uncertainty, m.
+    pub impact_z_sigma: f64,
+    /// Undercut, m.
+    pub undercut: f64,
+    /// Its standard uncertainty, m.
+    pub undercut_sigma: f64,
+    /// Fitted bat speed over the assumed one (both the centre-of-mass and the angular speed), 1.
+    pub scale: f64,
+    /// Its standard uncertainty, 1.
+    pub scale_sigma: f64,
+    /// Fitted bat centre-of-mass speed, m/s.
+    pub bat_cm_speed: f64,
+    /// Fitted bat angular speed, rad/s.
+    pub bat_angular_speed: f64,
+    /// Side of the sweet spot (at the fitted undercut and bat speed).
+    pub side: Side,
+    /// χ² = Σ of the squared weighted residuals at the solution.
+    pub chi2: f64,
+}
+
+/// The bat-speed fit of one swing (`LocateOptions::fit_bat_speed`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(tag = "verdict", rename_all = "snake_case")]
+pub enum BatSpeedFit {
+    /// Solutions whose three unknowns the measurements separate, handle side first.
+    Fitted {
+        /// The separable solutions.
+        solutions: Vec<BatSpeedSolution>,
+        /// Further solutions found but not separable (left out).
+        not_separable: usize,
+    },
+    /// Every solution found is ill-conditioned: the numbers would mean nothing.
+    NotSeparable {
+        /// Why, with the uncertainties the linearisation gives.
+        reason: String,
+    },
+    /// Not attempted for this swing.
+    NotFitted {
+        /// Why.
+        reason: String,
+    },
+    /// Attempted, but no (z, D, scale) reproduces the three measurements.
+    Failed {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// A 3×3 matrix (row major).
+type Matrix3 = [[f64; 3]; 3];
+
+/// Inverse of a 3×3 matrix (adjugate over determinant), None when singular.
+fn invert3(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let c = |i: usize, j: usize| {
+        let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
+        let (c0, c1) = ((j + 1) % 3, (j + 2) % 3);
+        a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]
+    };
+    let det = a[0][0] * c(0, 0) + a[0][1] * c(0, 1) + a[0][2] * c(0, 2);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let mut inv = [[0.0; 3]; 3];
+    for (i, row) in inv.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            // Cofactors by cyclic index carry their sign; the inverse is the transposed cofactor matrix / det.
+            *x = c(j, i) / det;
+        }
+    }
+    Some(inv)
+}
+
+impl SwingModel<'_> {
+    /// Weighted residuals of exit speed, launch angle and spin at (z, d, scale).
+    fn residuals3(&self, x: [f64; 3], measured: &[f64; 3], sigma: &[f64; 3]) -> Option<[f64; 3]> {
+        let p = self.predict_scaled(x[0], x[1], x[2]).ok()?;
+        let r = [0, 1, 2].map(|k| (p[k] - measured[k]) / sigma[k]);
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    }
+
+    /// Levenberg–Marquardt in (z, D, scale) from `start`, z kept within `bounds` (one side of the sweet spot);
+    /// the solution and Cov = (JᵀJ)⁻¹ (None if singular).
+    fn fit3(
+        &self,
+        start: [f64; 3],
+        bounds: (f64, f64),
+        measured: &[f64; 3],
+        sigma: &[f64; 3],
+    ) -> Option<([f64; 3], Option<Matrix3>)> {
+        let (lo, hi) = bounds;
+        let clamp = |x: [f64; 3]| {
+            let z = x[0].clamp(lo, hi);
+            let reach = self.reach(z);
+            [z, x[1].clamp(-reach, reach), x[2].clamp(SCALE_RANGE.0, SCALE_RANGE.1)]
+        };
+        let steps = [1e-5, 1e-6, 1e-6];
+        let jacobian = |x: [f64; 3], r: &[f64; 3]| -> Option<[[f64; 3]; 3]> {
+            let mut j = [[0.0; 3]; 3];
+            for (p, h) in steps.iter().enumerate() {
+                let mut xp = x;
+                xp[p] += h;
+                let rp = self.residuals3(xp, measured, sigma)?;
+                for i in 0..3 {
+                    j[i][p] = (rp[i] - r[i]) / h;
+                }
+            }
+            Some(j)
+        };
+        let normal = |j: &[[f64; 3]; 3]| {
+            let mut a = [[0.0; 3]; 3];
+            for row in j {
+                for p in 0..3 {
+                    for q in 0..3 {
+                        a[p][q] += row[p] * row[q];
+                    }
+                }
+            }
+            a
+        };
+        let cost = |r: &[f64; 3]| r.iter().map(|x| x * x).sum::<f64>();
+        let mut x = clamp(start);
+        let mut r = self.residuals3(x, measured, sigma)?;
+        let mut jac = jacobian(x, &r)?;
+        let mut lambda = 1e-3;
+        for _ in 0..100 {
+            let a = normal(&jac);
+            let mut g = [0.0; 3];
+            for (row, ri) in jac.iter().zip(&r) {
+                for p in 0..3 {
+                    g[p] += row[p] * ri;
+                }
+            }
+            let mut damped = a;
+            for (p, row) in damped.iter_mut().enumerate() {
+                row[p] *= 1.0 + lambda;
+            }
+            let inv = invert3(&damped)?;
+            let step = [0, 1, 2].map(|p| -(0..3).map(|q| inv[p][q] * g[q]).sum::<f64>());
+            let next = clamp([x[0] + step[0], x[1] + step[1], x[2] + step[2]]);
+            match self.residuals3(next, measured, sigma) {
+                Some(nr) if cost(&nr) < cost(&r) => {
+                    let moved = (0..3).map(|p| (next[p] - x[p]).abs()).fold(0.0, f64::max);
+                    x = next;
+                    r = nr;
+                    lambda = (lambda * 0.3).max(1e-9);
+                    jac = jacobian(x, &r)?;
+                    if moved < 1e-9 || cost(&r) < 1e-20 {
+                        break;
+                    }
+                }
+                _ => {
+                    lambda *= 10.0;
+                    if lambda > 1e10 {
+                        break;
+                    }
+                }
+            }
+        }
+        Some((x, invert3(&normal(&jac))))
+    }
+}
+
+/// Fits the bat speed of one swing together with its impact point and undercut, from the 2-unknown
+/// solutions of `outcome` (or the sweet spot for a swing too fast for the assumed bat speed).
+fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, options: &LocateOptions) -> BatSpeedFit {
+    let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
+    let sigma = [options.exit_speed_sigma, options.launch_angle_sigma, options.spin_sigma];
+    let not_fitted = |reason: &str| BatSpeedFit::NotFitted { reason: reason.into() };
+    if !measured[0].is_finite() {
+        return not_fitted("no exit speed measured");
+    }
+    if !measured[2].is_finite() {
+        return not_fitted("no spin measured: two measurements cannot fix three unknowns");
+    }
+    if !measured[1].is_finite() {
+        return not_fitted("no launch angle measured: two measurements cannot fix three unknowns");
+    }
+    // One start per side of the sweet spot, each fit kept on its side: with z as loosely held as it is near
+    // the sweet spot, a free fit would wander to the mirror solution and leave its own side unexplored.
+    let (lo, hi) = model.range();
+    let (starts, peak_z): (Vec<([f64; 3], Side)>, f64) = match outcome {
+        Outcome::Located { solutions, .. } => {
+            (solutions.iter().map(|s| ([s.impact_z, s.undercut, 1.0], s.side)).collect(), solutions[0].sweet_spot_z)
+        }
+        Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => {
+            // Faster than the assumed bat allows: a faster bat, either side of the sweet spot.
+            let d = model.undercut_for_launch_angle(*sweet_spot_z, 0.0, measured[1]);
+            let scale = 1.0 + excess / max_exit_speed;
+            let h = 0.03;
+            (
+                vec![([sweet_spot_z - h, d, scale], Side::Handle), ([sweet_spot_z + h, d, scale], Side::End)],
+                *sweet_spot_z,
+            )
+        }
+        Outcome::NotMeasured => return not_fitted("no exit speed measured"),
+        Outcome::Failed { reason } => return not_fitted(&format!("the swing was not located: {reason}")),
+    };
+    let mut found: Vec<([f64; 3], Option<Matrix3>, f64)> = Vec::new();
+    // The closest miss, for the report when nothing reproduces the measurements.
+    let mut best: Option<([f64; 3], f64)> = None;
+    // Near the sweet spot the exit speed barely moves with z, and a fit started there at the assumed bat speed
+    // can stall against the sweet spot while the solution lies a few cm out at another bat speed: each side
+    // is also started 5 cm from the sweet spot at a bat 15 % slower and 15 % faster.
+    let mut starts = starts;
+    for side in [Side::Handle, Side::End] {
+        let Some(d) = starts.iter().find(|(_, s)| *s == side).map(|(x, _)| x[1]) else { continue };
+        let z = match side {
+            Side::Handle => peak_z - 0.05,
+            Side::End => peak_z + 0.05,
+        };
+        for scale in [0.85, 1.15] {
+            starts.push(([z, d, scale], side));
+        }
+    }
+    for (start, side) in starts {
+        let bounds = match side {
+            Side::Handle => (lo, peak_z.min(hi)),
+            Side::End => (peak_z.max(lo), hi),
+        };
+        let Some((x, cov)) = model.fit3(start, bounds, &measured, &sigma) else { continue };
+        let Some(r) = model.residuals3(x, &measured, &sigma) else { continue };
+        let chi2 = r.iter().map(|v| v * v).sum::<f64>();
+        if best.is_none_or(|(_, c)| chi2 < c) {
+            best = Some((x, chi2));
+        }
+        // Three measurements, three unknowns: a solution reproduces them all.
+        if chi2 > 1e-6 || found.iter().any(|(y, _, _)| (y[0] - x[0]).abs() < 1e-3 && (y[1] - x[1]).abs() < 1e-3) {
+            continue;
+        }
+        found.push((x, cov, chi2));
+    }
+    if found.is_empty() {
+        let closest = best.map_or(String::new(), |(x, chi2)| {
+            format!(
+                " (closest: χ² = {chi2:.1} at z = {:.3} m, D = {:+.1} mm, bat speed × {:.2})",
+                x[0],
+                x[1] * 1e3,
+                x[2]
+            )
+        });
+        return BatSpeedFit::Failed {
+            reason: format!(
+                "no impact point, undercut and bat speed reproduce exit speed, launch angle and spin together{closest}"
+            ),
+        };
+    }
+    let mut solutions = Vec::new();
+    let mut worst = String::new();
+    for (x, cov, chi2) in &found {
+        let sig = cov.map(|c| [c[0][0].sqrt(), c[1][1].sqrt(), c[2][2].sqrt()]);
+        match sig {
+            Some(s) if s[2] <= MAX_SCALE_SIGMA && s[0] <= MAX_FIT_Z_SIGMA && s.iter().all(|v| v.is_finite()) => {
+                let mut input = model.input;
+                input.impact.bat_cm_speed *= x[2];
+                input.impact.bat_angular_speed *= x[2];
+                let scaled = SwingModel { bat: model.bat, ball: model.ball, contact: model.contact, input };
+                let (sweet, _) = scaled.sweet_spot_near(x[1], peak_z);
+                solutions.push(BatSpeedSolution {
+                    impact_z: x[0],
+                    impact_z_sigma: s[0],
+                    undercut: x[1],
+                    undercut_sigma: s[1],
+                    scale: x[2],
+                    scale_sigma: s[2],
+                    bat_cm_speed: scaled.input.impact.bat_cm_speed,
+                    bat_angular_speed: scaled.input.impact.bat_angular_speed,
+                    side: if x[0] < sweet { Side::Handle } else { Side::End },
+                    chi2: *chi2,
+                });
+            }
+            Some(s) => {
+                worst = format!(
+                    "at z = {:.3} m the linearised uncertainties are σ_z = {:.3} m, σ(bat speed) = {:.0} % \
+                     (exit speed, launch angle and spin do not separate impact point, undercut and bat speed there)",
+                    x[0],
+                    s[0],
+                    s[2] * 100.0
+                );
+            }
+            None => {
+                worst = format!("at z = {:.3} m the Jacobian is singular", x[0]);
+            }
+        }
+    }
+    let not_separable = found.len() - solutions.len();
+    if solutions.is_empty() {
+        return BatSpeedFit::NotSeparable { reason: worst };
+    }
+    solutions.sort_by(|a, b| a.impact_z.total_cmp(&b.impact_z));
+    BatSpeedFit::Fitted { solutions, not_separable }
+}
+
 /// Errors of `locate`.
 #[derive(Debug, thiserror::Error)]
 pub enum LocateError {
@@ -633,6 +974,35 @@ pub enum LocateError {
     /// Nothing to locate.
     #[error("{0}")]
     NoData(String),
+    /// The import side table could not be read.
+    #[error("{0}")]
+    SideTable(String),
+}
+
+/// The swings whose bat speed the import assumed, from the bag's [`ROWS_TABLE`]; None without the table.
+pub fn assumed_bat_speeds(bag: &Path) -> Result<Option<BTreeSet<u64>>, LocateError> {
+    let path = bag.join(ROWS_TABLE);
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let fail = |m: String| LocateError::SideTable(format!("'{}': {m}", path.display()));
+    let mut reader = csv::Reader::from_path(&path).map_err(|e| fail(e.to_string()))?;
+    let headers = reader.headers().map_err(|e| fail(e.to_string()))?.clone();
+    let column = |name: &str| headers.iter().position(|h| h == name);
+    let (Some(id_col), Some(assumed_col)) = (column("swing_id"), column("assumed")) else {
+        return Err(fail("expected columns swing_id and assumed".into()));
+    };
+    let mut set = BTreeSet::new();
+    for (i, record) in reader.records().enumerate() {
+        let record = record.map_err(|e| fail(format!("line {}: {e}", i + 2)))?;
+        let Some(id) = record.get(id_col).and_then(|t| t.parse::<u64>().ok()) else {
+            return Err(fail(format!("line {}: swing_id is not a number", i + 2)));
+        };
+        if record.get(assumed_col).is_some_and(|a| a.split(';').any(|n| n == "bat_speed")) {
+            set.insert(id);
+        }
+    }
+    Ok(Some(set))
 }
 
 /// Locates every swing of a bag (swings in parallel).
@@ -642,6 +1012,8 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
         return Err(LocateError::NoData(format!("{}: the bag holds no Swing messages", path.display())));
     }
     let settings = &inputs.settings;
+    // Read only when fitting, so a plain `locate` is untouched by the side table.
+    let assumed = if options.fit_bat_speed { assumed_bat_speeds(path)? } else { None };
     // Bats and balls by id (the last version of each), as calibrate reads them.
     let mut bats: BTreeMap<String, Result<PreparedBat, String>> = BTreeMap::new();
     let prepare = |bat: Bat, modes: usize| -> Result<PreparedBat, String> {
@@ -690,13 +1062,27 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
             let outcome = match (bats.get(bat_id), balls.get(ball_id)) {
                 (Some(Ok(bat)), Some(ball)) => {
                     let model = SwingModel { bat, ball: ball.ball, contact: ball.contact, input: swing_input(swing) };
-                    locate_swing(&model, swing, options)
+                    let outcome = locate_swing(&model, swing, options);
+                    let fit = options.fit_bat_speed.then(|| match &assumed {
+                        None => BatSpeedFit::NotFitted {
+                            reason: "the bag has no import side table to say the bat speed was assumed".into(),
+                        },
+                        Some(set) if !set.contains(&swing.swing_id) => {
+                            BatSpeedFit::NotFitted { reason: "the bat speed was measured, not assumed".into() }
+                        }
+                        Some(_) => fit_bat_speed(&model, swing, &outcome, options),
+                    });
+                    (outcome, fit)
                 }
-                (Some(Err(e)), _) => Outcome::Failed { reason: format!("bat '{bat_id}': {e}") },
-                (None, _) => Outcome::Failed { reason: format!("unknown bat '{bat_id}'") },
-                (_, None) => Outcome::Failed { reason: format!("unknown ball '{ball_id}'") },
+                (Some(Err(e)), _) => (Outcome::Failed { reason: format!("bat '{bat_id}': {e}") }, None),
+                (None, _) => (Outcome::Failed { reason: format!("unknown bat '{bat_id}'") }, None),
+                (_, None) => (Outcome::Failed { reason: format!("unknown ball '{ball_id}'") }, None),
             };
-            Located { swing_id: swing.swing_id, bat_id: bat_id.clone(), measured, outcome }
+            let (outcome, bat_speed_fit) = outcome;
+            let bat_speed_fit = bat_speed_fit.or_else(|| {
+                options.fit_bat_speed.then(|| BatSpeedFit::NotFitted { reason: "the swing cannot be simulated".into() })
+            });
+            Located { swing_id: swing.swing_id, bat_id: bat_id.clone(), measured, outcome, bat_speed_fit }
         })
         .collect();
     let located = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { .. })).count();
@@ -704,5 +1090,38 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
     let squared = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { squared_up: true, .. })).count();
     let squared_up_share = if located > 0 { squared as f64 / located as f64 } else { f64::NAN };
     let outlines = bats.iter().filter_map(|(id, b)| Some((id.clone(), outline(&b.as_ref().ok()?.bat)))).collect();
-    Ok(LocateReport { swings, located, too_fast, squared_up_share, outlines })
+    let bat_speed_fitted = options
+        .fit_bat_speed
+        .then(|| swings.iter().filter(|s| matches!(s.bat_speed_fit, Some(BatSpeedFit::Fitted { .. }))).count());
+    Ok(LocateReport { swings, located, too_fast, bat_speed_fitted, squared_up_share, outlines })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Index loops read as the matrix algebra they check.
+    #[allow(clippy::needless_range_loop)]
+    #[test]
+    fn invert3_gives_the_textbook_inverse_and_refuses_a_singular_matrix() {
+        // [[2, -1, 0], [-1, 2, -1], [0, -1, 2]]⁻¹ = [[3, 2, 1], [2, 4, 2], [1, 2, 3]] / 4 (the 1-D Laplacian).
+        let a = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 2.0]];
+        let expected = [[0.75, 0.5, 0.25], [0.5, 1.0, 0.5], [0.25, 0.5, 0.75]];
+        let inv = invert3(&a).expect("regular");
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((inv[i][j] - expected[i][j]).abs() < 1e-15, "({i}, {j}): {}", inv[i][j]);
+            }
+        }
+        // An unsymmetric one: A·A⁻¹ = I.
+        let b = [[1.0, 2.0, 3.0], [0.0, 1.0, 4.0], [5.0, 6.0, 0.0]];
+        let inv = invert3(&b).expect("regular");
+        for i in 0..3 {
+            for j in 0..3 {
+                let p: f64 = (0..3).map(|k| b[i][k] * inv[k][j]).sum();
+                assert!((p - f64::from(u8::from(i == j))).abs() < 1e-12, "({i}, {j}): {p}");
+            }
+        }
+        assert!(invert3(&[[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 1.0, 1.0]]).is_none());
+    }
 }
