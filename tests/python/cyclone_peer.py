@@ -310,6 +310,22 @@ def endpoints(domain, dds_topic, count, timeout):
     return 0
 
 
+def wait_matched(matched, wanted, timeout, what):
+    """Waits until `matched()` lists `wanted` remote endpoints (False, with a message, after `timeout` s).
+
+    Matching is seen by each side on its own: once we see it, the other side gets 300 ms to see it too.
+    """
+    deadline = time.monotonic() + timeout
+    while len(matched()) < wanted:
+        if time.monotonic() > deadline:
+            print(f"only {len(matched())} of {wanted} {what}", file=sys.stderr)
+            return False
+        time.sleep(0.02)
+    if wanted:
+        time.sleep(0.3)
+    return True
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--msgs", default=str(Path(__file__).resolve().parents[2] / "msgs"))
@@ -358,17 +374,10 @@ def main():
         data = json.loads(args.json)
         messages = [ts.from_json(args.type, m) for m in (data if isinstance(data, list) else [data])]
         writer = DataWriter(dp, topic, qos=make_qos(args.qos))
-        deadline = time.monotonic() + args.timeout
-        while len(writer.get_matched_subscriptions()) < args.wait_subscribers:
-            if time.monotonic() > deadline:
-                print(f"only {len(writer.get_matched_subscriptions())} of {args.wait_subscribers} subscriptions "
-                      f"matched on {args.topic}", file=sys.stderr)
-                return 2
-            time.sleep(0.02)
-        if args.wait_subscribers:
-            # The subscriber may see the match a moment after we do; a volatile reader drops samples from a
-            # writer it has not matched yet.
-            time.sleep(0.3)
+        # A volatile reader drops samples from a writer it has not matched yet.
+        if not wait_matched(writer.get_matched_subscriptions, args.wait_subscribers, args.timeout,
+                            f"subscriptions matched on {args.topic}"):
+            return 2
         for m in messages:
             writer.write(m)
         print(f"published {len(messages)}", flush=True)
@@ -377,18 +386,11 @@ def main():
         return 0
 
     reader = DataReader(dp, topic, qos=make_qos(args.qos))
-    deadline = time.monotonic() + args.timeout
     # A volatile reader gets nothing a writer sent before the two matched: the caller starts sending only after
     # the ready file, so the file waits for the match (on a loaded machine discovery can take seconds).
-    while len(reader.get_matched_publications()) < args.wait_publishers:
-        if time.monotonic() > deadline:
-            print(f"only {len(reader.get_matched_publications())} of {args.wait_publishers} publications "
-                  f"matched on {args.topic}", file=sys.stderr)
-            return 2
-        time.sleep(0.02)
-    if args.wait_publishers:
-        # The writer may see the match a moment after we do (see `pub --wait-subscribers`).
-        time.sleep(0.3)
+    if not wait_matched(reader.get_matched_publications, args.wait_publishers, args.timeout,
+                        f"publications matched on {args.topic}"):
+        return 2
     if args.ready_file:
         Path(args.ready_file).touch()
     received = 0
