@@ -8,28 +8,11 @@ use std::process::Command;
 use sweetspot::bag::replay::{recorded_settings, replay, Verdict, WhatIf};
 use sweetspot::calibrate::{fit, problem_from_bag, read_inputs, FitOptions};
 use sweetspot::import::{import_files, Format, ImportError, ImportOptions, ImportReport, ROWS_TABLE};
-use sweetspot::model::convert::{params_from_ball, params_of_preset};
-use sweetspot::msgs::std_msgs::msg::Header;
-use sweetspot::physics::batter::Batter;
-use sweetspot::physics::{Ball, Bat};
+use sweetspot::physics::Bat;
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
-}
+mod support;
 
-fn options() -> ImportOptions {
-    let bat = Bat::preset("r161").unwrap();
-    let batter = Batter::typical(bat.mass_properties()).unwrap();
-    ImportOptions {
-        format: None,
-        bat,
-        bat_params: params_of_preset("r161", "r161", Header::default()),
-        ball_params: params_from_ball("baseball", &Ball::default(), None, Header::default()),
-        batter,
-        undercut: 0.0,
-        map: None,
-    }
-}
+use support::import::{data, options};
 
 fn import(files: &[&str], dir: &Path) -> Result<ImportReport, ImportError> {
     let paths: Vec<PathBuf> = files.iter().map(|f| data(f)).collect();

@@ -4,37 +4,20 @@
 //! and with tracker-sized noise the truth lies within the reported uncertainty about as often as a standard
 //! uncertainty promises.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use sweetspot::import::statcast::plate_crossing;
-use sweetspot::import::{backspin, deg, import_files, mph, rpm, ImportOptions, SwingBuilder, FOOT, MPH};
+use sweetspot::import::{backspin, deg, import_files, mph, rpm, SwingBuilder, FOOT, MPH};
 use sweetspot::locate::{locate_bag, BatSpeedFit, BatSpeedSolution, LocateOptions, Outcome, Solution};
-use sweetspot::model::convert::{params_from_ball, params_of_preset};
 use sweetspot::model::engine::{compute, plan_swing, Registry, SwingInput};
 use sweetspot::model::settings::ModelSettings;
-use sweetspot::msgs::std_msgs::msg::Header;
-use sweetspot::physics::batter::Batter;
-use sweetspot::physics::{Ball, Bat, Impact};
+use sweetspot::physics::Impact;
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
-}
+mod support;
 
-fn options() -> ImportOptions {
-    let bat = Bat::preset("r161").unwrap();
-    let batter = Batter::typical(bat.mass_properties()).unwrap();
-    ImportOptions {
-        format: None,
-        bat,
-        bat_params: params_of_preset("r161", "r161", Header::default()),
-        ball_params: params_from_ball("baseball", &Ball::default(), None, Header::default()),
-        batter,
-        undercut: 0.0,
-        map: None,
-    }
-}
+use support::import::{data, options};
 
 /// Exit speed, launch angle and spin the node computes for `input` on the r161 with the default ball.
 fn simulate(input: SwingInput) -> [f64; 3] {

@@ -1,11 +1,12 @@
 //! The one support module of the integration tests (`mod support;`): the repository and Python lookup, the
 //! private-network guard, and running the `sweetspot` binary and the Cyclone DDS peer on one domain of
 //! loopback discovery; [`bag`] (hand-made topics and the Python bag readers), [`cli`] (running the binary for
-//! CLI tests) and [`node`] (the node as a child process and an in-test ROS 2 peer).
+//! CLI tests), [`import`] (the import fixtures and default options) and [`node`] (the node as a child process and an in-test ROS 2 peer).
 #![allow(dead_code)]
 
 pub mod bag;
 pub mod cli;
+pub mod import;
 pub mod node;
 
 use std::path::PathBuf;
