@@ -9,7 +9,8 @@
 //   node foxglove_client.mjs URL play:SEEK_NS:SPEED TOPIC...
 //                                                 (a server with playback controls, `bag play --foxglove`)
 //                                                 subscribes, waits 500 ms, asks to play from SEEK_NS at SPEED,
-//                                                 prints every message with its log time and every playback
+//                                                 prints {"requested": ...} as it asks, then every message
+//                                                 with its log time and every playback
 //                                                 state ({"playback": ...}), and exits 500 ms after playback
 //                                                 has ended
 //
@@ -75,6 +76,8 @@ function requestPlayback(seekNs, speed) {
   view.setBigUint64(7, BigInt(seekNs), true);
   view.setUint32(15, id.length, true);
   new Uint8Array(buffer, 19).set(id);
+  // Said before it is sent, so every message printed after this line came after play was pressed.
+  process.stdout.write(JSON.stringify({ requested: { seek: String(seekNs), speed } }) + "\n");
   ws.send(buffer);
 }
 const readers = new Map(); // subscription id -> { topic, reader }
