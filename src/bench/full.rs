@@ -7,6 +7,7 @@ use std::time::Duration;
 use anyhow::Context as _;
 
 use super::client::{Client, RunResult};
+use super::foxglove::{free_port, ClientCounts, LiveClient};
 use super::machine::{machine, with_load_after};
 use super::recorder::{disk_bench, DiskResult};
 use super::servers::{start_echo, start_recording_node, stop};
@@ -33,6 +34,8 @@ pub struct BenchReport {
     pub memory: MemoryResult,
     /// Recorder against dd: Swing and ExitVelocity, zstd and uncompressed.
     pub disk: Vec<DiskResult>,
+    /// What the attached Foxglove client (`--foxglove-client`) read, if one was attached.
+    pub foxglove_client: Option<ClientCounts>,
 }
 
 /// Runs every measurement once and returns the report.
@@ -57,9 +60,19 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
     let bag_dir = opts.work_dir.join(format!("node_bag_{}", std::process::id()));
     let node_exe = opts.node_exe.as_deref().unwrap_or(&opts.exe);
     log(&format!("node executable: {}", node_exe.display()));
-    let node = start_recording_node(node_exe, &bag_dir, opts.domain, &opts.work_dir)?;
+    let port = opts.foxglove_client.map(|_| free_port()).transpose()?;
+    let node = start_recording_node(node_exe, &bag_dir, opts.domain, &opts.work_dir, port)?;
     let mut client = Client::new(opts.domain)?;
     client.warm_up(Duration::from_secs(60)).with_context(|| format!("node: {}", node.output()))?;
+    let viewer = match (opts.foxglove_client, port) {
+        (Some(mode), Some(port)) => {
+            let viewer = LiveClient::connect(port, mode, Duration::from_millis(500))
+                .with_context(|| format!("node: {}", node.output()))?;
+            log(&format!("node: Foxglove client ({mode:?}) subscribed to {} channels", viewer.counts().channels));
+            Some(viewer)
+        }
+        _ => None,
+    };
     let mut node_runs = Vec::new();
     let mut memory = MemoryResult::default();
     for &rate in latency_rates {
@@ -78,6 +91,10 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         soak(&mut client, node.pid(), max_sustained, opts.soak, &mut memory)?;
     }
     drop(client);
+    let foxglove_client = viewer.map(LiveClient::finish).transpose()?;
+    if let Some(counts) = &foxglove_client {
+        log(&format!("node: the Foxglove client read {} messages ({} bytes)", counts.messages, counts.bytes));
+    }
     let node_log = stop(node);
     if let Some(line) = node_log.lines().rev().find(|l| l.contains("bag") && l.contains("closed")) {
         log(line);
@@ -98,6 +115,7 @@ pub fn run(opts: &BenchOptions) -> anyhow::Result<BenchReport> {
         max_sustained_rate: max_sustained,
         memory,
         disk,
+        foxglove_client,
     })
 }
 

@@ -8,10 +8,14 @@ use anyhow::{bail, Context as _};
 use hdrhistogram::Histogram;
 
 use super::client::{Client, RunResult};
+use super::foxglove::{free_port, LiveClient};
 use super::machine::{machine, with_load_after};
 use super::servers::{start_echo, start_recording_node, stop};
 use super::{count_for, log, require_private_network, run_seconds, BenchOptions, LATENCY_RATES, QUIET};
 use crate::child::ChildProcess;
+
+/// The label of the node that carries `--foxglove-client`'s viewer.
+pub const FOXGLOVE_LABEL: &str = "node+foxglove";
 
 /// One server's latencies in [`run_latency_interleaved`].
 #[derive(Debug, Clone, serde::Serialize)]
@@ -46,6 +50,9 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
     let machine_before = machine();
     let mut nodes = vec![("node".to_string(), opts.exe.clone())];
     nodes.extend(opts.compare.iter().cloned());
+    if opts.foxglove_client.is_some() {
+        nodes.push((FOXGLOVE_LABEL.to_string(), opts.exe.clone()));
+    }
     if usize::from(opts.domain) + 1 + nodes.len() > 232 {
         let last = usize::from(opts.domain) + nodes.len();
         bail!("domains {}..={last} do not all exist (ROS_DOMAIN_ID ≤ 232)", opts.domain);
@@ -55,6 +62,7 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
         process: ChildProcess,
         client: Client,
         bag_dir: Option<PathBuf>,
+        viewer: Option<LiveClient>,
     }
     let mut servers = Vec::new();
     let echo_domain = opts.domain + 1;
@@ -62,16 +70,30 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
     let echo = start_echo(&opts.exe, echo_domain, &opts.work_dir)?;
     let mut client = Client::new(echo_domain)?;
     client.warm_up(Duration::from_secs(30)).with_context(|| format!("raw echo: {}", echo.output()))?;
-    servers.push(Server { label: "raw".into(), process: echo, client, bag_dir: None });
+    servers.push(Server { label: "raw".into(), process: echo, client, bag_dir: None, viewer: None });
     for (k, (label, exe)) in nodes.iter().enumerate() {
         // The node on opts.domain, the others after the echo's domain.
         let domain = if k == 0 { opts.domain } else { opts.domain + 1 + k as u16 };
         log(&format!("{label}: starting {} on domain {domain} (recording on)", exe.display()));
         let bag_dir = opts.work_dir.join(format!("node_bag_{}_{k}", std::process::id()));
-        let process = start_recording_node(exe, &bag_dir, domain, &opts.work_dir)?;
+        let viewer_mode = opts.foxglove_client.filter(|_| label == FOXGLOVE_LABEL);
+        let port = viewer_mode.map(|_| free_port()).transpose()?;
+        let process = start_recording_node(exe, &bag_dir, domain, &opts.work_dir, port)?;
         let mut client = Client::new(domain)?;
         client.warm_up(Duration::from_secs(60)).with_context(|| format!("{label}: {}", process.output()))?;
-        servers.push(Server { label: label.clone(), process, client, bag_dir: Some(bag_dir) });
+        let viewer = match (viewer_mode, port) {
+            (Some(mode), Some(port)) => {
+                let viewer = LiveClient::connect(port, mode, Duration::from_millis(500))
+                    .with_context(|| format!("{label}: {}", process.output()))?;
+                log(&format!(
+                    "{label}: Foxglove client ({mode:?}) subscribed to {} channels",
+                    viewer.counts().channels
+                ));
+                Some(viewer)
+            }
+            _ => None,
+        };
+        servers.push(Server { label: label.clone(), process, client, bag_dir: Some(bag_dir), viewer });
     }
 
     let mut merged: Vec<Vec<RunResult>> = vec![Vec::new(); servers.len()];
@@ -133,6 +155,13 @@ pub fn run_latency_interleaved(opts: &BenchOptions) -> anyhow::Result<Interleave
         .collect();
     for server in servers {
         drop(server.client);
+        if let Some(viewer) = server.viewer {
+            let counts = viewer.finish()?;
+            log(&format!(
+                "{}: the Foxglove client read {} messages ({} bytes)",
+                server.label, counts.messages, counts.bytes
+            ));
+        }
         let stderr = stop(server.process);
         // The node's own receive-to-publish latency (its shutdown summary), to tell its work from transport.
         if let Some(line) = stderr.lines().rev().find(|l| l.contains("latency p50")) {

@@ -15,9 +15,11 @@
 //! Parts: [`servers`] (the raw echo and the recording node as child processes), [`client`] (the paced
 //! driver and its latency histogram), [`full`] (everything in order: latency, [`sustained`] rate search,
 //! [`soak`] memory, [`recorder`] against `dd`), [`latency`] (the interleaved latency comparison),
-//! [`machine`] and [`tables`] (the machine line and the text reports).
+//! [`machine`] and [`tables`] (the machine line and the text reports), [`foxglove`] (a Foxglove client
+//! attached to the node's live server, `--foxglove-client`).
 
 mod client;
+mod foxglove;
 mod full;
 mod latency;
 mod machine;
@@ -36,6 +38,7 @@ use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::Swing;
 
 pub use client::{Client, RunResult};
+pub use foxglove::{ClientCounts, ClientMode, LiveClient};
 pub use full::{run, BenchReport};
 pub use latency::{run_latency_interleaved, InterleavedReport, InterleavedTarget};
 pub use machine::{loadavg, machine};
@@ -72,6 +75,10 @@ pub struct BenchOptions {
     /// Seconds per server and rate in [`run_latency_interleaved`] (default 20 s at ≤ 100/s, else 5 s): longer
     /// runs put more of the VM's rare stalls into every server's p99, so the ratios spread less.
     pub latency_seconds: Option<f64>,
+    /// A Foxglove client attached to the node's live server: in [`run_latency_interleaved`] an extra node
+    /// (`node+foxglove`) of the same executable carries it, measured in the same blocks as the bare one; in
+    /// [`run`] the node itself carries it.
+    pub foxglove_client: Option<ClientMode>,
 }
 
 /// The rates of the latency comparison.

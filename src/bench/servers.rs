@@ -82,15 +82,20 @@ pub(super) fn start_echo(exe: &Path, domain: u16, cwd: &Path) -> anyhow::Result<
     bench_child(command, domain, cwd).spawn()
 }
 
-/// Starts `exe` as `sweetspot node` on `domain`, recording to a fresh `bag_dir`, diagnostics every 0.5 s.
+/// Starts `exe` as `sweetspot node` on `domain`, recording to a fresh `bag_dir`, diagnostics every 0.5 s, and
+/// serving Foxglove on 127.0.0.1:`foxglove_port` if given.
 pub(super) fn start_recording_node(
     exe: &Path,
     bag_dir: &Path,
     domain: u16,
     cwd: &Path,
+    foxglove_port: Option<u16>,
 ) -> anyhow::Result<ChildProcess> {
     let _ = std::fs::remove_dir_all(bag_dir);
-    let command = ChildCommand::node(exe).param("record_path", bag_dir.display()).param("diagnostics_period", 0.5);
+    let mut command = ChildCommand::node(exe).param("record_path", bag_dir.display()).param("diagnostics_period", 0.5);
+    if let Some(port) = foxglove_port {
+        command = command.param("foxglove_port", format!("127.0.0.1:{port}"));
+    }
     bench_child(command, domain, cwd).spawn()
 }
 

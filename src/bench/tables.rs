@@ -91,7 +91,7 @@ pub fn interleaved_table(r: &InterleavedReport) -> String {
     let _ = writeln!(s, "\nswing → exit_velocity over DDS/loopback, servers interleaved in blocks (nodes recording)");
     let _ = writeln!(
         s,
-        "{:>8} | {:>10} | {:>9} {:>9} {:>9} | {:>9} | answered",
+        "{:>8} | {:>13} | {:>9} {:>9} {:>9} | {:>9} | answered",
         "rate/s", "server", "p50", "p99", "max", "p99/raw"
     );
     for (i, (rate, _)) in r.block_seconds.iter().enumerate() {
@@ -99,7 +99,7 @@ pub fn interleaved_table(r: &InterleavedReport) -> String {
             let run = &t.runs[i];
             let _ = writeln!(
                 s,
-                "{:>8} | {:>10} | {:>7}µs {:>7}µs {:>7}µs | {:>8.2}× | {}/{}",
+                "{:>8} | {:>13} | {:>7}µs {:>7}µs {:>7}µs | {:>8.2}× | {}/{}",
                 rate, t.label, run.p50_us, run.p99_us, run.max_us, t.p99_ratio[i].1, run.answered, run.sent
             );
         }

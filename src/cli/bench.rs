@@ -49,6 +49,12 @@ pub struct BenchArgs {
     /// Start this executable as the node (full bench and `--only sustained`), e.g. an older build.
     #[arg(long, value_name = "EXE")]
     pub node_exe: Option<PathBuf>,
+    /// Attach a Foxglove WebSocket client to the node's live server (`foxglove_port`), subscribed to every
+    /// channel: `reading` keeps up, `stalled` stops reading once subscribed. With `--only latency` it is an
+    /// extra node, `node+foxglove`, measured in the same interleaved blocks as the bare node; otherwise the
+    /// node itself carries it.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub foxglove_client: Option<bench::ClientMode>,
     /// Internal: run the raw ros2-client echo server (started by the bench itself).
     #[arg(long, hide = true)]
     pub echo_server: bool,
@@ -105,6 +111,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         sustained_only: args.only == Some(BenchPart::Sustained),
         latency_rates: args.rates,
         latency_seconds: args.seconds,
+        foxglove_client: args.foxglove_client,
     };
     match args.only {
         Some(BenchPart::Recorder) => {
