@@ -186,13 +186,11 @@ mod tests {
     use crate::foxglove::{Bind, LiveServer};
 
     fn topic(name: &str) -> TopicInfo {
-        TopicInfo {
-            name: name.to_string(),
-            type_name: "std_msgs/msg/String".to_string(),
-            schema_text: "string data\n".to_string(),
-            type_hash: String::new(),
-            qos: RecordedQos { reliable: true, transient_local: false, depth: 10 },
-        }
+        // The server forwards bytes without decoding them, so any type's schema will do.
+        TopicInfo::of::<crate::msgs::sweetspot_msgs::msg::Swing>(
+            name,
+            RecordedQos { reliable: true, transient_local: false, depth: 10 },
+        )
     }
 
     /// The reading client subscribes to every channel and counts each message the server sends while it is
@@ -209,7 +207,6 @@ mod tests {
             std::thread::sleep(Duration::from_millis(10));
         }
         assert_eq!(server.counters().subscriptions, 2);
-        // CDR of std_msgs/String "hi": encapsulation header, length 3, "hi\0".
         let cdr = [0u8, 1, 0, 0, 3, 0, 0, 0, b'h', b'i', 0];
         for k in 0..50u64 {
             server.send((k % 2) as usize, &cdr, 1_000 + k);
