@@ -375,25 +375,102 @@ impl Lab {
     }
 
     /// Spin (rpm) of the game swing launched at `launch` deg (interpolated along the undercut scan at the first
-    /// crossing), or `None` if the swing never launches there.
+    /// crossing), or `None` if the swing never launches there. With `exit_speed_mph` (the measured bin's median
+    /// exit speed) the typical swing's speed is scaled — centre-of-mass and angular speed alike, the same
+    /// batter swinging harder or softer — until the ball launched at `launch` leaves at that speed: the
+    /// exports carry no bat data, and batted-ball spin grows with exit speed at a given launch angle, so an
+    /// MLB-average swing against summer-collegiate balls would compare different conditions.
     pub fn game_spin_rpm(
         &self,
         pitch: &PitchMedians,
         attack_deg: f64,
         launch: f64,
+        exit_speed_mph: Option<f64>,
     ) -> Result<CaseValue, ValidateError> {
-        let curve = self.game_curve(pitch, attack_deg)?;
-        let value = curve.windows(2).find_map(|w| {
-            let ((l0, s0), (l1, s1)) = (w[0], w[1]);
-            ((l0 - launch) * (l1 - launch) <= 0.0 && l1 != l0).then(|| s0 + (s1 - s0) * (launch - l0) / (l1 - l0))
-        });
-        Ok(CaseValue {
-            value,
-            detail: format!(
-                "R161, swing rising {attack_deg}°, pitch {:.1} mph descending {:.1}° with {:.0} rpm backspin",
+        let describe = |scale: f64, exit: Option<f64>| {
+            let exit = exit.map(|e| format!(", exit {e:.1} mph")).unwrap_or_default();
+            format!(
+                "R161, swing rising {attack_deg}° at {scale:.3}× the average MLB swing{exit}, pitch {:.1} mph \
+                 descending {:.1}° with {:.0} rpm backspin",
                 pitch.zone_speed_mph, -pitch.vert_appr_angle_deg, pitch.spin_rpm
-            ),
-        })
+            )
+        };
+        let Some(target) = exit_speed_mph else {
+            let point = self.game_point(pitch, attack_deg, launch, 1.0)?;
+            return Ok(CaseValue { value: point.map(|p| p.0), detail: describe(1.0, point.map(|p| p.1)) });
+        };
+        // The exit speed at a given launch angle rises with the swing's speed: bisect on the scale.
+        let (mut lo, mut hi) = (0.3, 1.5);
+        let mut found = None;
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            match self.game_point(pitch, attack_deg, launch, mid)? {
+                Some((spin, exit)) => {
+                    found = Some((mid, spin, exit));
+                    if exit < target {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                // Too slow a swing cannot lift the ball to `launch`: go faster.
+                None => lo = mid,
+            }
+        }
+        match found {
+            Some((scale, spin, exit)) if (exit - target).abs() < 0.05 => {
+                Ok(CaseValue { value: Some(spin), detail: describe(scale, Some(exit)) })
+            }
+            _ => Ok(CaseValue {
+                value: None,
+                detail: format!("no swing of 0.3–1.5× the average launches at {launch}° with {target:.1} mph"),
+            }),
+        }
+    }
+
+    /// (spin rpm, exit speed mph) of the typical swing scaled by `scale` launched at `launch` deg (interpolated
+    /// along the undercut scan at the first crossing), or `None` if it never launches there.
+    fn game_point(
+        &self,
+        pitch: &PitchMedians,
+        attack_deg: f64,
+        launch: f64,
+        scale: f64,
+    ) -> Result<Option<(f64, f64)>, ValidateError> {
+        let case = "game_spin_rpm";
+        let (b, modes) = self.bat(case, "r161")?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let swing = self.typical_swing(case, &modes)?;
+        let typical = swing.impact(pitch.zone_speed_mph * MPH);
+        let impact = Impact {
+            bat_cm_speed: scale * typical.bat_cm_speed,
+            bat_angular_speed: scale * typical.bat_angular_speed,
+            ..typical
+        };
+        let barrel_radius = b.radii_at(impact.impact_z).0;
+        let reach = ball.radius + barrel_radius;
+        let scan: Vec<(f64, f64, f64)> = linspace(0.0, 0.95 * reach, 77)
+            .par_iter()
+            .map(|&undercut| {
+                let oblique = ObliqueImpact {
+                    undercut,
+                    attack_angle: attack_deg.to_radians(),
+                    pitch_angle: (-pitch.vert_appr_angle_deg).to_radians(),
+                    pitch_spin: rpm_to_rad_per_s(pitch.spin_rpm),
+                    ..ObliqueImpact::head_on(impact, barrel_radius)
+                };
+                collide_oblique(&modes, &ball, &oblique, &TangentialContact::default(), &self.options)
+                    .map(|r| (r.launch_angle_deg(), r.spin_rpm(), r.exit_speed / MPH))
+                    .map_err(physics(case))
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(scan.windows(2).find_map(|w| {
+            let ((l0, s0, e0), (l1, s1, e1)) = (w[0], w[1]);
+            ((l0 - launch) * (l1 - launch) <= 0.0 && l1 != l0).then(|| {
+                let t = (launch - l0) / (l1 - l0);
+                (s0 + (s1 - s0) * t, e0 + (e1 - e0) * t)
+            })
+        }))
     }
 
     /// dΩ_out/dΩ_in for a ball at `ball_speed` m/s on an immovable cylinder of `radius` m, line of centres

@@ -91,7 +91,7 @@ pub fn write(
     if let Some(pitch) = trackman::pitch_medians(&inputs.trackman) {
         let attack = param_or(inputs, "game_spin_rpm", "attack_deg", 8.0);
         let curve = lab.game_curve(&pitch, attack)?;
-        spin.series.push(Series::solid("model, game swing (R161)", 0, curve));
+        spin.series.push(Series::solid("model, average MLB game swing (R161)", 0, curve));
     }
     for (i, mph) in [63.0, 88.0].iter().enumerate() {
         let curve = lab.tee_curve("r161", mph * MPH)?;

@@ -436,7 +436,11 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
         "hoop_frequency_hz" => lab.hoop_frequency_hz(s("bat")?, p("from_end")?),
         "tee_max_spin_rpm" => lab.tee_max_spin_rpm(s("bat")?, p("bat_speed_mph")? * MPH, p("max_launch_deg")?),
         "game_spin_rpm" => match trackman::pitch_medians(&inputs.trackman) {
-            Some(pitch) => lab.game_spin_rpm(&pitch, p("attack_deg")?, p("launch_deg")?),
+            Some(pitch) => {
+                let (launch, half_width) = (p("launch_deg")?, p("bin_half_width_deg")?);
+                let exit_speed = trackman::bin(&inputs.trackman, launch, half_width).median_exit_speed_mph;
+                lab.game_spin_rpm(&pitch, p("attack_deg")?, launch, exit_speed)
+            }
             None => Ok(CaseValue { value: None, detail: "no pitch data in the TrackMan rows".into() }),
         },
         "spin_transfer_fixed_cylinder" => lab.spin_transfer_fixed_cylinder(

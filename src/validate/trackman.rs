@@ -58,6 +58,9 @@ pub struct SpinBin {
     pub q3_rpm: Option<f64>,
     /// The spins in the bin, sorted, rpm.
     pub spins_rpm: Vec<f64>,
+    /// Median exit speed of the bin's balls that carry one, mph (`None` if none does): the game swing's
+    /// exit speed is matched to it.
+    pub median_exit_speed_mph: Option<f64>,
 }
 
 /// The pitch the model swings at: medians over balls in play.
@@ -128,10 +131,12 @@ pub fn parse(text: &str) -> Result<Vec<SpinRow>, String> {
 /// Balls in play whose launch was tracked with High or Medium confidence, with launch angle and spin:
 /// (launch deg, spin rpm).
 pub fn tracked_balls_in_play(rows: &[SpinRow]) -> Vec<(f64, f64)> {
-    rows.iter()
-        .filter(|r| r.pitch_call == "InPlay" && matches!(r.launch_confidence.as_str(), "High" | "Medium"))
-        .filter_map(|r| Some((r.launch_deg?, r.hit_spin_rpm?)))
-        .collect()
+    rows.iter().filter(|r| is_tracked_ball_in_play(r)).filter_map(|r| Some((r.launch_deg?, r.hit_spin_rpm?))).collect()
+}
+
+/// A ball in play whose launch was tracked with High or Medium confidence.
+fn is_tracked_ball_in_play(r: &SpinRow) -> bool {
+    r.pitch_call == "InPlay" && matches!(r.launch_confidence.as_str(), "High" | "Medium")
 }
 
 /// The quantile `p` (0…1) of sorted `values`, linear between order statistics at p·(n − 1).
@@ -147,12 +152,15 @@ pub fn quantile(sorted: &[f64], p: f64) -> Option<f64> {
 
 /// Spin statistics of the tracked balls in play launched within `half_width` deg of `launch` deg.
 pub fn bin(rows: &[SpinRow], launch: f64, half_width: f64) -> SpinBin {
-    let mut spins: Vec<f64> = tracked_balls_in_play(rows)
-        .into_iter()
-        .filter(|(angle, _)| (angle - launch).abs() <= half_width)
-        .map(|(_, spin)| spin)
-        .collect();
+    let in_bin = |r: &&SpinRow| {
+        is_tracked_ball_in_play(r)
+            && r.hit_spin_rpm.is_some()
+            && r.launch_deg.is_some_and(|angle| (angle - launch).abs() <= half_width)
+    };
+    let mut spins: Vec<f64> = rows.iter().filter(in_bin).filter_map(|r| r.hit_spin_rpm).collect();
     spins.sort_by(f64::total_cmp);
+    let mut exit_speeds: Vec<f64> = rows.iter().filter(in_bin).filter_map(|r| r.exit_speed_mph).collect();
+    exit_speeds.sort_by(f64::total_cmp);
     SpinBin {
         launch_deg: launch,
         half_width_deg: half_width,
@@ -161,6 +169,7 @@ pub fn bin(rows: &[SpinRow], launch: f64, half_width: f64) -> SpinBin {
         q1_rpm: quantile(&spins, 0.25),
         q3_rpm: quantile(&spins, 0.75),
         spins_rpm: spins,
+        median_exit_speed_mph: quantile(&exit_speeds, 0.5),
     }
 }
 
