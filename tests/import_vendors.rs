@@ -116,3 +116,28 @@ fn hittrax_is_forced_by_name_and_a_wrong_header_names_what_it_lacks() {
     assert_eq!(json["swings"], 2, "{json}");
     assert_eq!(json["files"][0]["format"], "hittrax", "{json}");
 }
+
+/// A bat sensor (Blast measures the bat, not the ball) joined to a ball tracker's rows and imported through a
+/// column map: its bat speed is measured, not assumed, and `--batter-out` writes the batter's mean of it.
+#[test]
+fn a_bat_sensor_joined_through_a_map_gives_measured_bat_speeds_and_a_batter_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .args(["import", "--map"])
+        .arg(data("mapped_session.toml"))
+        .arg(data("mapped_session.csv"))
+        .arg("-o")
+        .arg(tmp.path().join("joined"))
+        .arg("--batter-out")
+        .arg(tmp.path().join("batters"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let swing = &read_inputs(&tmp.path().join("joined")).unwrap().swings[0].1;
+    assert!(swing.bat_cm_speed > 0.0 && swing.bat_angular_speed > 0.0);
+    // Batter 01's two rows carry Bat Speed 32.0 and 31.0 m/s (the miss counts: the bat was measured); the
+    // third row is refused whole (its pitch speed is "fast"), so Batter 02 has no measured swing.
+    let text = std::fs::read_to_string(tmp.path().join("batters/batter_Batter_01.toml")).unwrap();
+    assert!(text.contains("mean of 2 measured bat speeds") && text.contains("bat_speed = 31.5"), "{text}");
+    assert!(!tmp.path().join("batters/batter_Batter_02.toml").exists());
+}
