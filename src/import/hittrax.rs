@@ -12,8 +12,11 @@
 //! **Units.** HitTrax shows speeds in mph, angles in degrees and distances in feet; the export carries no
 //! unit in its names. The same application filters `Velo` and `Pitch` at 50 (mph: a cage's slowest useful
 //! batted balls) and its row (`Velo` 52.9, `LA` 21, `Dist` 116) is consistent only with mph and feet: a
-//! 52.9 mph ball launched at 21° carries about 125 ft without drag and ~115 ft with it, while 52.9 km/h
-//! would carry ~50 ft. So mph, deg and ft are read; a column in other units is caught by the range checks.
+//! 52.9 mph (23.65 m/s) ball launched at 21° carries v² sin 42°/g = 38.1 m = 125 ft without drag, somewhat
+//! less with it, while 52.9 km/h would carry 14.7 m = 48 ft even in vacuum. So mph, deg and ft are read; a
+//! column in other units is caught by the range checks. Other public parsers of HitTrax exports, which could
+//! not be tied to a repository to cite, read the `#` layout by position the same way (strike zone, exit
+//! velocity, launch angle and distance in columns F, H, I and J).
 //!
 //! | column | becomes | conversion |
 //! |---|---|---|
