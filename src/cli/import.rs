@@ -28,19 +28,19 @@ use crate::physics::{Ball, Bat};
 
 Rows the bat did not hit, or without a pitch speed, are skipped and counted by reason; rows with a value
 out of range (a negative or absurd speed, or a column in other units) are refused with file and line.
-What no tracker measures (impact point, undercut; bat speed for TrackMan) is filled in from the batter
+What no tracker measures (impact point, undercut; bat speed for TrackMan and HitTrax) is filled in from the batter
 and marked assumed in the bag (import_rows.csv beside the MCAP file, custom_data sweetspot/import/*).
 --pub plays the imported bag as `bag play` does (on /bat/params, /ball/params, /swing, under --ns; it waits
 for the node's subscriptions discovery shows, at most --timeout); without -o no bag is kept.")]
 pub struct ImportArgs {
-    /// [FORMAT] FILE…: the exports (CSV); a first word `trackman` or `statcast` that is not a file forces
-    /// the format, as --format does.
+    /// [FORMAT] FILE…: the exports (CSV); a first word `trackman`, `statcast` or `hittrax` that is not a file
+    /// forces the format, as --format does.
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<String>,
     /// The bag directory to create [default: bags/import_<UTC time>; with --pub, none is kept].
     #[arg(short = 'o', long, value_name = "DIR")]
     pub output: Option<PathBuf>,
-    /// Force the format (trackman, statcast) instead of detecting it from each header.
+    /// Force the format (trackman, statcast, hittrax) instead of detecting it from each header.
     #[arg(long, value_name = "FORMAT")]
     pub format: Option<String>,
     /// The bat the swings were made with: a preset or a bat file.
@@ -57,7 +57,7 @@ pub struct ImportArgs {
     /// `calibrate --fit-tangential` (the node and `bag replay` then refuse the swings).
     #[arg(long, value_name = "M", default_value_t = 0.0, allow_negative_numbers = true)]
     pub undercut: f64,
-    /// Column map (TOML) for an export of another tracker (Rapsodo, HitTrax, Blast, …): which column holds
+    /// Column map (TOML) for an export of another tracker (Rapsodo, …): which column holds
     /// pitch_speed, exit_speed, launch_angle, spin, bat_speed, attack_angle, pitch_angle, time, batter, and
     /// their units (see `crate::import::mapped`).
     #[arg(long, value_name = "FILE", conflicts_with = "format")]

@@ -1,11 +1,12 @@
-//! Any other tracker's CSV through a user-given column map (`import --map FILE`): Rapsodo, HitTrax, Blast
-//! Motion and the like, whose column lists could not be confirmed from public documentation, so no built-in
-//! layout is guessed for them.
+//! Any other tracker's CSV through a user-given column map (`import --map FILE`): Rapsodo's hitting export
+//! and the like, whose column lists could not be confirmed from a real export or vendor document, so no
+//! built-in layout is guessed for them (HitTrax has one: [`super::hittrax`]).
 //!
-//! The map (TOML) names, for each quantity, the export's column and its unit:
+//! The map (TOML) names, for each quantity, the export's column and its unit (the column names below are an
+//! illustration, not any vendor's):
 //!
 //! ```toml
-//! name = "hittrax"                  # recorded in the bag as the format
+//! name = "my-tracker"               # recorded in the bag as the format
 //! [columns]                         # quantity = column name in the export's header
 //! pitch_speed = "Pitch Velocity"    # required
 //! exit_speed = "Exit Velocity"      # required

@@ -1,9 +1,9 @@
-//! `sweetspot import`: real tracker exports (TrackMan, Statcast) into a rosbag2 bag of Swing messages that
-//! `bag replay`, `calibrate` and `locate` read like a recorded session.
+//! `sweetspot import`: real tracker exports (TrackMan, Statcast, HitTrax) into a rosbag2 bag of Swing messages
+//! that `bag replay`, `calibrate` and `locate` read like a recorded session.
 //!
 //! One table mechanism ([`table`]) reads every format: a regular file, streamed record by record, its header
 //! row mapped to columns, "not measured" cells (blank, `NA`, `NULL`, `-`, …) read as NaN. Each format
-//! ([`trackman`], [`statcast`]) turns a record into a [`TrackedRow`] in SI units; [`SwingBuilder`] turns that
+//! ([`trackman`], [`statcast`], [`hittrax`]) turns a record into a [`TrackedRow`] in SI units; [`SwingBuilder`] turns that
 //! into a Swing with what the tracker did not measure filled in from the batter model and marked assumed;
 //! [`import_files`] writes the bag.
 //!
@@ -13,7 +13,7 @@
 //! backspin (see [`trackman`]).
 //!
 //! # What a tracker does not measure, and what the bag says instead
-//! - **Bat speed** (TrackMan; Statcast rows without bat tracking): the batter model's swing for the bat
+//! - **Bat speed** (TrackMan, HitTrax; Statcast rows without bat tracking): the batter model's swing for the bat
 //!   ([`Batter::predict`]: `bat_cm_speed`, `bat_angular_speed`), assumed. A measured Statcast `bat_speed` v
 //!   (6 in from the head) is split with the batter's pivot z_p (the instantaneous centre of its reference
 //!   swing): ω = v / (L − 6 in − z_p), V = ω (z_cm − z_p) ([`ReferenceSwing::from_speed_at`]).
@@ -33,6 +33,7 @@
 //! absurd speed, which is also what a column in other units looks like): those are *refused* with the file
 //! and line. Nothing is guessed silently.
 
+pub mod hittrax;
 pub mod mapped;
 pub mod statcast;
 pub mod table;
@@ -134,19 +135,22 @@ pub enum Format {
     TrackMan,
     /// Baseball Savant's Statcast search CSV ([`statcast`]).
     Statcast,
+    /// HitTrax's session CSV ([`hittrax`]).
+    HitTrax,
     /// Any CSV through a user's column map ([`mapped`]; never detected).
     Mapped,
 }
 
 impl Format {
     /// Every format, in detection order.
-    pub const ALL: [Format; 2] = [Format::TrackMan, Format::Statcast];
+    pub const ALL: [Format; 3] = [Format::TrackMan, Format::Statcast, Format::HitTrax];
 
     /// The name used on the command line and in the bag.
     pub fn name(self) -> &'static str {
         match self {
             Format::TrackMan => "trackman",
             Format::Statcast => "statcast",
+            Format::HitTrax => "hittrax",
             Format::Mapped => "mapped",
         }
     }
@@ -156,6 +160,7 @@ impl Format {
         match self {
             Format::TrackMan => trackman::REQUIRED,
             Format::Statcast => statcast::REQUIRED,
+            Format::HitTrax => hittrax::REQUIRED,
             Format::Mapped => &[],
         }
     }
@@ -174,10 +179,9 @@ impl Format {
 impl std::str::FromStr for Format {
     type Err = ImportError;
     fn from_str(s: &str) -> Result<Format, ImportError> {
-        Format::ALL
-            .into_iter()
-            .find(|f| f.name() == s.to_ascii_lowercase())
-            .ok_or_else(|| ImportError::Options(format!("unknown format {s:?}: expected trackman or statcast")))
+        Format::ALL.into_iter().find(|f| f.name() == s.to_ascii_lowercase()).ok_or_else(|| {
+            ImportError::Options(format!("unknown format {s:?}: expected trackman, statcast or hittrax"))
+        })
     }
 }
 
@@ -584,6 +588,14 @@ impl Output {
     }
 }
 
+/// One file's column indexes, in its format.
+enum FormatColumns {
+    TrackMan(trackman::Columns),
+    Statcast(statcast::Columns),
+    HitTrax(hittrax::Columns),
+    Mapped(mapped::Columns),
+}
+
 /// Imports `files` into a new bag directory `dir` (which must not exist). Each file's format is detected
 /// from its header unless forced; rows stream through one at a time.
 pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result<ImportReport, ImportError> {
@@ -646,20 +658,23 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
     let start_ns = crate::model::time::now_ns();
     for (path, mut table, format) in tables {
         let mut file_report = FileReport { path: path.clone(), format, rows: 0, swings: 0 };
-        let trackman = (format == Format::TrackMan).then(|| trackman::Columns::of(&table));
-        let statcast = (format == Format::Statcast).then(|| statcast::Columns::of(&table));
-        let mapped = match (&options.map, format) {
-            (Some(map), Format::Mapped) => Some(mapped::Columns::of(&table, map)),
-            _ => None,
+        let columns = match (format, &options.map) {
+            (Format::TrackMan, _) => FormatColumns::TrackMan(trackman::Columns::of(&table)),
+            (Format::Statcast, _) => FormatColumns::Statcast(statcast::Columns::of(&table)),
+            (Format::HitTrax, _) => FormatColumns::HitTrax(hittrax::Columns::of(&table)),
+            (Format::Mapped, Some(map)) => FormatColumns::Mapped(mapped::Columns::of(&table, map)),
+            (Format::Mapped, None) => {
+                return Err(ImportError::Options("the mapped format needs a column map (--map)".into()))
+            }
         };
         while table.next_row()? {
             file_report.rows += 1;
             let row = table.row();
-            let tracked = match (&trackman, &statcast, &mapped) {
-                (Some(cols), _, _) => trackman::read(&row, cols),
-                (_, Some(cols), _) => statcast::read(&row, cols),
-                (_, _, Some(cols)) => mapped::read(&row, cols),
-                _ => unreachable!("one format's columns are set"),
+            let tracked = match &columns {
+                FormatColumns::TrackMan(cols) => trackman::read(&row, cols),
+                FormatColumns::Statcast(cols) => statcast::read(&row, cols),
+                FormatColumns::HitTrax(cols) => hittrax::read(&row, cols),
+                FormatColumns::Mapped(cols) => mapped::read(&row, cols),
             };
             if let Ok(t) = &tracked {
                 if t.bat_speed.is_finite() && t.bat_speed > 0.0 && t.bat_speed <= MAX_BAT_SPEED {

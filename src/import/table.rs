@@ -7,10 +7,12 @@
 //! LF line ends and short rows; what is added here is the file check, the line cap, the header map and the
 //! cell rules.
 
-use std::collections::HashMap;
+use std::cell::RefCell;
+use std::collections::{HashMap, VecDeque};
 use std::fs::File;
 use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use super::ImportError;
 
@@ -32,17 +34,64 @@ pub fn open_regular(path: &Path) -> Result<File, ImportError> {
     File::open(path).map_err(io)
 }
 
-/// A reader that fails once a line grows past `max` bytes, so a record can never be larger than that.
+/// Where the line breaks are among the bytes read so far, so that a record's line is told exactly.
+///
+/// The csv crate's own record position counts a record from the end of the previous one: with CRLF lines
+/// that is the `\n` left over from the `\r\n` (its line number one short), and before a blank line the blank
+/// line too. The byte offset it gives is exact, so the line is counted here from the `\r`/`\n` bytes seen:
+/// those at the record's start are skipped, and the record's line is 1 + the `\n` bytes before its first
+/// byte of content. Only the breaks of the bytes read ahead (a buffer or two) are held.
+#[derive(Debug, Default)]
+struct Breaks {
+    /// Bytes read so far.
+    offset: u64,
+    /// Offsets of the `\r` and `\n` bytes at or after the current record's start, and whether each is `\n`.
+    pending: VecDeque<(u64, bool)>,
+    /// `\n` bytes before the current record's content.
+    passed: u64,
+}
+
+impl Breaks {
+    /// The line (1 = the first) of the first byte of content at or after byte `start`.
+    fn line_at(&mut self, start: u64) -> u64 {
+        while let Some(&(at, newline)) = self.pending.front() {
+            if at >= start {
+                break;
+            }
+            self.passed += u64::from(newline);
+            self.pending.pop_front();
+        }
+        let mut content = start;
+        while let Some(&(at, newline)) = self.pending.front() {
+            if at != content {
+                break;
+            }
+            self.passed += u64::from(newline);
+            self.pending.pop_front();
+            content += 1;
+        }
+        self.passed + 1
+    }
+}
+
+/// A reader that fails once a line grows past `max` bytes, so a record can never be larger than that, and
+/// notes where the line breaks are ([`Breaks`]).
 struct LineCap<R> {
     inner: R,
     since_newline: usize,
     max: usize,
+    breaks: Rc<RefCell<Breaks>>,
 }
 
 impl<R: Read> Read for LineCap<R> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
-        for &b in &buf[..n] {
+        let mut breaks = self.breaks.borrow_mut();
+        let base = breaks.offset;
+        for (i, &b) in buf[..n].iter().enumerate() {
+            if b == b'\n' || b == b'\r' {
+                breaks.pending.push_back((base + i as u64, b == b'\n'));
+            }
             if b == b'\n' {
                 self.since_newline = 0;
             } else {
@@ -55,6 +104,7 @@ impl<R: Read> Read for LineCap<R> {
                 }
             }
         }
+        breaks.offset += n as u64;
         Ok(n)
     }
 }
@@ -67,6 +117,7 @@ pub struct Table {
     index: HashMap<String, usize>,
     record: csv::StringRecord,
     line: u64,
+    breaks: Rc<RefCell<Breaks>>,
 }
 
 impl Table {
@@ -78,7 +129,9 @@ impl Table {
 
     /// Reads the header row of `input`; `path` names it in errors.
     pub fn from_reader(path: &Path, input: Box<dyn Read>) -> Result<Table, ImportError> {
-        let capped = LineCap { inner: BufReader::new(input), since_newline: 0, max: MAX_LINE_BYTES };
+        let breaks = Rc::new(RefCell::new(Breaks::default()));
+        let capped =
+            LineCap { inner: BufReader::new(input), since_newline: 0, max: MAX_LINE_BYTES, breaks: breaks.clone() };
         let mut reader = csv::ReaderBuilder::new().has_headers(true).flexible(true).from_reader(capped);
         let headers: Vec<String> = reader
             .headers()
@@ -92,7 +145,15 @@ impl Table {
             // The first of two equal names wins (a later duplicate is ignored, never silently preferred).
             index.entry(h.clone()).or_insert(i);
         }
-        Ok(Table { path: path.to_path_buf(), reader, headers, index, record: csv::StringRecord::new(), line: 1 })
+        Ok(Table {
+            path: path.to_path_buf(),
+            reader,
+            headers,
+            index,
+            record: csv::StringRecord::new(),
+            line: 1,
+            breaks,
+        })
     }
 
     /// The header names, in file order.
@@ -107,12 +168,11 @@ impl Table {
 
     /// Advances to the next record; false at the end of the file.
     pub fn next_row(&mut self) -> Result<bool, ImportError> {
-        // The reader stops at the end of the previous record, before its line break: the record starts on the
-        // next line (blank lines, which the csv crate skips, are not counted).
-        let start = self.reader.position().line() + 1;
         match self.reader.read_record(&mut self.record) {
             Ok(more) => {
-                self.line = start;
+                if let Some(position) = self.record.position() {
+                    self.line = self.breaks.borrow_mut().line_at(position.byte());
+                }
                 Ok(more)
             }
             Err(e) => Err(csv_error(&self.path, e)),
@@ -193,6 +253,24 @@ mod tests {
         assert_eq!(t.row().number(c).unwrap(), 2000.0);
         assert!(t.row().number(None).unwrap().is_nan());
         assert!(!t.next_row().unwrap());
+    }
+
+    /// The line of each record as an editor shows it, whatever the line ends: LF, CRLF, a BOM, a blank line
+    /// (skipped) and a quoted cell over two lines.
+    #[test]
+    fn each_record_is_on_the_line_an_editor_shows() {
+        let lines = |text: &'static str| {
+            let mut t = table(text);
+            let mut out = Vec::new();
+            while t.next_row().unwrap() {
+                out.push(t.row().line());
+            }
+            out
+        };
+        assert_eq!(lines("h1,h2\n1,2\n3,4\n\n5,6\n"), [2, 3, 5]);
+        assert_eq!(lines("\u{feff}h1,h2\r\n1,2\r\n3,4\r\n\r\n5,6"), [2, 3, 5]);
+        assert_eq!(lines("h1,h2\n\"a\nb\",2\n3,4\n"), [2, 4]);
+        assert_eq!(lines("h1,h2\r\n\"a\r\nb\",2\r\n3,4\r\n"), [2, 4]);
     }
 
     #[test]
