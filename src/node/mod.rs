@@ -83,5 +83,6 @@ pub mod recording;
 /// The `--ros-args` parser now lives in the shared DDS layer ([`crate::ros::args`]); this path stays for callers.
 pub use crate::ros::args as ros_args;
 pub mod runtime;
+pub mod service;
 pub mod settings;
 pub mod stats;
