@@ -7,6 +7,11 @@
 //! rosidl_generator_type_description line by line: the crates that compute RIHS01 need their own type-description
 //! structs filled from a parsed `.msg` anyway, and checking it against rosidl's published hashes
 //! (tests/type_hashes.rs) is what makes it trustworthy either way.
+//! Every `msgs/<pkg>/srv/*.srv` is split at its `---` line into `<Name>_Request` and `<Name>_Response`, generated
+//! in `sweetspot::msgs::<pkg>::srv` as ROS 2 names them (`pkg/srv/Name_Request`, DDS
+//! `pkg::srv::dds_::Name_Request_`), with the `<Name>_Event` rosidl adds (what rosbag2 records a call as) and a
+//! `<Name>` marker carrying the service's RIHS01 hash (the service described with its request, response and
+//! event types; `service_msgs/ServiceEventInfo` must be under `msgs/`).
 //! Output is deterministic (sorted inputs, no hash maps, no timestamps). A malformed `.msg` fails the build with
 //! `file:line: reason`.
 //!
@@ -614,6 +619,8 @@ fn rust_base(base: &Base) -> String {
     match base {
         Base::Prim(p) => rust_prim(p).to_string(),
         Base::String { .. } => "::std::string::String".to_string(),
+        // A `.msg` type name has no `_` (is_valid_type_name): one with `_` is a service's `Name_Request` etc.
+        Base::Nested { pkg, name } if name.contains('_') => format!("crate::msgs::{pkg}::srv::{name}"),
         Base::Nested { pkg, name } => format!("crate::msgs::{pkg}::msg::{name}"),
     }
 }
@@ -885,8 +892,8 @@ fn parse_srv(pkg: &str, name: &str, path: &Path, text: &str) -> Result<[MsgSpec;
     Ok([half(0, *sep, "Request")?, half(sep + 1, lines.len(), "Response")?])
 }
 
-/// The two types rosidl adds to a service for its type description and hash only (sweetspot generates no Rust
-/// for them): `pkg/srv/Name_Event` (`service_msgs/ServiceEventInfo info`, the request and the response as
+/// The two types rosidl adds to a service (sweetspot generates Rust for the event only, which rosbag2 records
+/// service calls as): `pkg/srv/Name_Event` (`service_msgs/ServiceEventInfo info`, the request and the response as
 /// bounded sequences of at most one) and the service `pkg/srv/Name` itself (`request_message`,
 /// `response_message`, `event_message`), as rosidl_generator_type_description describes them.
 fn service_hash_only_specs(pkg: &str, name: &str) -> [MsgSpec; 2] {
@@ -908,13 +915,17 @@ fn service_hash_only_specs(pkg: &str, name: &str) -> [MsgSpec; 2] {
         fields,
         constants: Vec::new(),
     };
-    let event = spec(
+    let mut event = spec(
         format!("{name}_Event"),
         vec![
             field("info", "service_msgs", "ServiceEventInfo".into(), Array::None),
             field("request", pkg, format!("{name}_Request"), Array::Bounded(1)),
             field("response", pkg, format!("{name}_Response"), Array::Bounded(1)),
         ],
+    );
+    // rosidl's event has no text of its own; this one lets bag readers decode the recorded events.
+    event.text = format!(
+        "service_msgs/ServiceEventInfo info\n{pkg}/{name}_Request[<=1] request\n{pkg}/{name}_Response[<=1] response\n"
     );
     let service = spec(
         name.to_string(),
@@ -1033,8 +1044,8 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
             let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/srv/*`: each service's request and response."));
             let _ = writeln!(out, "    pub mod srv {{");
             for (name, text) in names {
-                for suffix in ["Request", "Response"] {
-                    gen_struct(&mut out, &specs[&format!("{pkg}/{name}_{suffix}")], &hashed);
+                for suffix in ["Request", "Response", "Event"] {
+                    gen_struct(&mut out, &hashed[&format!("{pkg}/{name}_{suffix}")], &hashed);
                 }
                 gen_service(&mut out, pkg, name, text, &hashed);
             }
@@ -1216,6 +1227,7 @@ fn gen_service(out: &mut String, pkg: &str, name: &str, text: &str, hashed: &BTr
     let _ = writeln!(out, "{i2}impl crate::msgs::RosService for {name} {{");
     let _ = writeln!(out, "{i3}type Request = {name}_Request;");
     let _ = writeln!(out, "{i3}type Response = {name}_Response;");
+    let _ = writeln!(out, "{i3}type Event = {name}_Event;");
     let _ = writeln!(out, "{i3}const TYPE_NAME: &'static str = {:?};", format!("{pkg}/srv/{name}"));
     let _ = writeln!(out, "{i3}const SRV_TEXT: &'static str = {text:?};");
     let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", type_hash(&format!("{pkg}/{name}"), hashed));

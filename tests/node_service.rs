@@ -289,3 +289,49 @@ fn sweetspot_call_prints_the_answer_and_says_by_its_exit_status_what_happened() 
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown service \"reset\""), "{out:?}");
     drop(node);
 }
+
+#[test]
+fn record_services_records_each_call_as_rosbag2_records_a_service_and_only_then() {
+    support::node::require_isolated_network();
+    let domain = domain(29);
+    let dir = tempfile::tempdir().unwrap();
+    let bag = dir.path().join("calls");
+    let record_path = format!("record_path:={}", bag.display());
+    let args = ["--ros-args", "-p", "record_services:=true", "-p", &record_path];
+    let node = NodeProcess::spawn(domain, dir.path(), &args);
+    node.wait_for_log("up on ROS_DOMAIN_ID", Duration::from_secs(60));
+    let c = cases()[1];
+    for id in [31, 32] {
+        let mut cmd = sweetspot(domain, &["call", "simulate_swing", &request(id, &c).to_string(), "--timeout", "60"]);
+        lines(&cmd.output().expect("sweetspot call"), "sweetspot call");
+    }
+    let (status, _, log) = node.stop_with(libc::SIGINT);
+    assert!(status.success(), "{log}");
+
+    // rosbags decodes the events with the definition stored in the bag (tests/python/service_events.py).
+    let out = Command::new(python())
+        .arg(repo().join("tests/python/service_events.py"))
+        .arg(&bag)
+        .arg("/sweetspot/simulate_swing/_service_event")
+        .output()
+        .expect("service_events.py");
+    let read = &lines(&out, "service_events.py")[0];
+    assert_eq!(read["type"], json!("sweetspot_msgs/srv/SimulateSwing_Event"), "{read}");
+    assert_eq!(read["count"], json!(4), "request and response of 2 calls: {read}");
+    assert_eq!(read["metadata_count"], json!(4), "metadata.yaml agrees");
+    let events = read["events"].as_array().unwrap();
+    for (k, id) in [31, 32].into_iter().enumerate() {
+        let (asked, answered) = (&events[2 * k], &events[2 * k + 1]);
+        assert_eq!(asked["info"]["event_type"], json!(1), "REQUEST_RECEIVED first: {asked}");
+        assert_eq!(asked["request"][0]["swing"]["swing_id"], json!(id));
+        assert_eq!(asked["response"], json!([]));
+        assert_eq!(answered["info"]["event_type"], json!(2), "then RESPONSE_SENT: {answered}");
+        assert_eq!(answered["response"][0]["exit_velocity"]["swing_id"], json!(id));
+        assert_eq!(answered["response"][0]["exit_velocity"]["status"], json!(0));
+        assert_eq!(asked["info"]["client_gid"], answered["info"]["client_gid"], "one client");
+        assert_eq!(asked["info"]["sequence_number"], answered["info"]["sequence_number"], "one request");
+    }
+    // Calls are not swings of the session: nothing recorded on exit_velocity.
+    let info = sweetspot::bag::info::bag_info(&bag).expect("bag info");
+    assert!(info.topics.iter().all(|t| t.name != "/exit_velocity" || t.count == 0), "{info:?}");
+}

@@ -123,6 +123,9 @@ pub trait RosService: 'static {
     type Request: RosMessage;
     /// The response half of the `.srv`.
     type Response: RosMessage;
+    /// `pkg/srv/Name_Event` (`service_msgs/ServiceEventInfo info`, the request and the response as sequences
+    /// of at most one), the message of ROS 2's service introspection and of rosbag2's recorded services.
+    type Event: RosMessage;
     /// ROS 2 type name, e.g. `"sweetspot_msgs/srv/SimulateSwing"`.
     const TYPE_NAME: &'static str;
     /// The `.srv` text.

@@ -23,6 +23,9 @@
 //! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
 //! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout (and the Foxglove server's, with `foxglove_port`) |
 //!
+//! Service: `~/simulate_swing` (sweetspot_msgs/srv/SimulateSwing), one answer per call with the node's
+//! registry and settings, not a swing of the session ([`service`]).
+//!
 //! # Behaviour
 //!
 //! - A swing's bat/ball: its `bat_id`/`ball_id`, empty = the latest received, before any params the

@@ -497,7 +497,7 @@ impl NodeLoop {
         if self.registry.usage() != self.seen_usage {
             self.report_evictions();
         }
-        self.calls.submit(id, plan, request.swing);
+        self.calls.submit(id, plan, request);
     }
 
     fn unreadable(&self, topic: &str, error: &ros2_client::ReadError) {

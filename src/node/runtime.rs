@@ -24,11 +24,12 @@ use super::live_settings::LiveSettings;
 use super::outputs::{EnergiesListeners, Log, Outputs, PublishFailures};
 use super::pipeline::{InlinePacing, Pipeline};
 use super::receive_loop::{Event, Inputs, NodeLoop, ParticipantLiveness, Summaries, Warnings};
-use super::recording::{recorded_qos, Tape};
+use super::recording::{recorded_qos, Recorded, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::NodeSettings;
 use super::stats::{GapCounter, NodeStats, StatsSnapshot};
 use crate::model::engine::Registry;
+use crate::msgs::sweetspot_msgs::srv::SimulateSwing_Event;
 
 use crate::model::topics;
 
@@ -139,7 +140,13 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
 
     // Recording: every input as received and every output as published.
     // A node told to record that cannot record stops here rather than pretend to.
-    let tape = start_tape(&settings, &identity, started_utc, &topic_names)?;
+    let mut tape = start_tape(&settings, &identity, started_utc, &topic_names)?;
+    if settings.record_services {
+        // As rosbag2 records a service: its events on `<service>/_service_event`.
+        let topic = format!("{}/_service_event", names.resolve(super::service::SERVICE_NAME));
+        let qos = recorded_qos(&results_qos());
+        tape.add_topic(Recorded::ServiceEvent, TopicInfo::of::<SimulateSwing_Event>(&topic, qos));
+    }
     // Live view: the same topics, schemas and CDR bytes served to Foxglove clients.
     let tape = Arc::new(match settings.foxglove_port.as_str() {
         "" => tape,
@@ -176,6 +183,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         settings.worker_count(),
         settings.queue_capacity,
         Arc::clone(&stats),
+        settings.record_services.then(|| Arc::clone(&tape)),
     )
     .context("starting the simulate_swing workers")?;
     announce(&log, &fqn, &dds_config, &settings, &topic_names, &tape);

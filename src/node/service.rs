@@ -34,9 +34,12 @@ use ros2_client::Server;
 use crate::model::convert;
 use crate::model::engine::{self, BatEntry, ModeCacheStats, Plan, Registry};
 use crate::model::settings::ModelSettings;
+use crate::model::time::RosTime as _;
+use crate::msgs::service_msgs::msg::ServiceEventInfo;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
-use crate::msgs::sweetspot_msgs::srv::{SimulateSwing_Request, SimulateSwing_Response};
+use crate::msgs::sweetspot_msgs::srv::{SimulateSwing_Event, SimulateSwing_Request, SimulateSwing_Response};
 
+use super::recording::{Recorded, Tape};
 use super::stats::NodeStats;
 
 /// The service's name, private to the node (`/<ns>/<node>/simulate_swing`).
@@ -216,11 +219,45 @@ impl Responder for SimulateSwingServer {
     }
 }
 
+/// The two events rosbag2 records of a call the server answered: REQUEST_RECEIVED with the request, then
+/// RESPONSE_SENT with the response, both naming the client and its request's sequence number.
+pub fn call_events(
+    id: RmwRequestId,
+    request: &SimulateSwing_Request,
+    response: &SimulateSwing_Response,
+) -> [SimulateSwing_Event; 2] {
+    let info = |event_type: u8| ServiceEventInfo {
+        event_type,
+        stamp: crate::msgs::builtin_interfaces::msg::Time::now(),
+        client_gid: id.writer_gid.to_bytes16(),
+        sequence_number: id.sequence_number,
+    };
+    [
+        SimulateSwing_Event {
+            info: info(ServiceEventInfo::REQUEST_RECEIVED),
+            request: vec![request.clone()],
+            response: Vec::new(),
+        },
+        SimulateSwing_Event {
+            info: info(ServiceEventInfo::RESPONSE_SENT),
+            request: Vec::new(),
+            response: vec![response.clone()],
+        },
+    ]
+}
+
+fn record_call(tape: &Tape, id: RmwRequestId, request: &SimulateSwing_Request, response: &SimulateSwing_Response) {
+    for event in call_events(id, request, response) {
+        let stamp = event.info.stamp.unix_ns();
+        tape.record(Recorded::ServiceEvent, &event, crate::model::time::now_ns(), stamp);
+    }
+}
+
 /// One planned call.
 struct CallJob {
     id: RmwRequestId,
     plan: Plan,
-    swing: Swing,
+    request: SimulateSwing_Request,
 }
 
 /// The service's workers and their bounded queue.
@@ -232,15 +269,19 @@ pub struct ServiceCalls<R: Responder> {
     workers: Vec<JoinHandle<()>>,
     /// The counters.
     pub stats: Arc<CallStats>,
+    /// Where calls are recorded (`record_services`), if anywhere.
+    tape: Option<Arc<Tape>>,
 }
 
 impl<R: Responder> ServiceCalls<R> {
-    /// `workers` threads computing calls, at most `capacity` calls queued or computing.
+    /// `workers` threads computing calls, at most `capacity` calls queued or computing; each call recorded on
+    /// `tape` when given.
     pub fn start(
         responder: Arc<R>,
         workers: usize,
         capacity: usize,
         node_stats: Arc<NodeStats>,
+        tape: Option<Arc<Tape>>,
     ) -> std::io::Result<ServiceCalls<R>> {
         let capacity = capacity.max(1);
         let (tx, rx) = crossbeam_channel::bounded::<CallJob>(capacity);
@@ -249,12 +290,15 @@ impl<R: Responder> ServiceCalls<R> {
         let mut handles = Vec::new();
         for i in 0..workers.max(1) {
             let (rx, responder, in_flight) = (rx.clone(), Arc::clone(&responder), Arc::clone(&in_flight));
-            let (stats, node_stats) = (Arc::clone(&stats), Arc::clone(&node_stats));
+            let (stats, node_stats, tape) = (Arc::clone(&stats), Arc::clone(&node_stats), tape.clone());
             handles.push(std::thread::Builder::new().name(format!("sweetspot-call-{i}")).spawn(move || {
                 for job in rx {
                     let result = engine::compute(&job.plan, &*node_stats);
-                    let answer = response(&job.swing, job.plan.bat_id(), job.plan.ball_id(), &result);
+                    let answer = response(&job.request.swing, job.plan.bat_id(), job.plan.ball_id(), &result);
                     stats.count(&answer);
+                    if let Some(tape) = &tape {
+                        record_call(tape, job.id, &job.request, &answer);
+                    }
                     if !responder.respond(job.id, answer) {
                         NodeStats::bump(&stats.unsent);
                     }
@@ -262,11 +306,11 @@ impl<R: Responder> ServiceCalls<R> {
                 }
             })?);
         }
-        Ok(ServiceCalls { responder, jobs: Some(tx), in_flight, capacity, workers: handles, stats })
+        Ok(ServiceCalls { responder, jobs: Some(tx), in_flight, capacity, workers: handles, stats, tape })
     }
 
     /// Queues a planned call, or answers it DROPPED at once when `capacity` calls are in flight.
-    pub fn submit(&self, id: RmwRequestId, plan: Plan, swing: Swing) {
+    pub fn submit(&self, id: RmwRequestId, plan: Plan, request: SimulateSwing_Request) {
         NodeStats::bump(&self.stats.received);
         let taken = self
             .in_flight
@@ -274,22 +318,25 @@ impl<R: Responder> ServiceCalls<R> {
             .is_ok();
         if taken {
             if let Some(jobs) = &self.jobs {
-                match jobs.try_send(CallJob { id, plan, swing }) {
+                match jobs.try_send(CallJob { id, plan, request }) {
                     Ok(()) => return,
                     Err(e) => {
                         self.in_flight.fetch_sub(1, Ordering::AcqRel);
                         let job = e.into_inner();
-                        return self.answer_dropped(job.id, &job.swing);
+                        return self.answer_dropped(job.id, &job.request);
                     }
                 }
             }
         }
-        self.answer_dropped(id, &swing);
+        self.answer_dropped(id, &request);
     }
 
-    fn answer_dropped(&self, id: RmwRequestId, swing: &Swing) {
-        let answer = dropped_response(swing, self.capacity);
+    fn answer_dropped(&self, id: RmwRequestId, request: &SimulateSwing_Request) {
+        let answer = dropped_response(&request.swing, self.capacity);
         self.stats.count(&answer);
+        if let Some(tape) = &self.tape {
+            record_call(tape, id, request, &answer);
+        }
         if !self.responder.respond(id, answer) {
             NodeStats::bump(&self.stats.unsent);
         }
@@ -389,12 +436,12 @@ mod tests {
     #[test]
     fn a_flood_is_answered_or_refused_with_a_reason_none_lost() {
         let out = Arc::new(Slow(Mutex::new(Vec::new()), std::time::Duration::from_millis(2)));
-        let calls = ServiceCalls::start(Arc::clone(&out), 1, 4, Arc::new(NodeStats::new())).unwrap();
+        let calls = ServiceCalls::start(Arc::clone(&out), 1, 4, Arc::new(NodeStats::new()), None).unwrap();
         let mut registry = Registry::new();
         for _ in 0..50 {
             let request = SimulateSwing_Request { swing: swing("", ""), ..Default::default() };
             let (plan, _) = plan_call(&mut registry, &settings(), &request, &());
-            calls.submit(RmwRequestId::default(), plan, request.swing);
+            calls.submit(RmwRequestId::default(), plan, request);
         }
         let stats = Arc::clone(&calls.stats);
         calls.shutdown();
