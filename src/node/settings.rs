@@ -742,6 +742,7 @@ mod tests {
             ("queue_capacity", Integer(16384), true),
             ("workers", Integer(0), true),
             ("record", Boolean(true), true),
+            ("record_services", Boolean(false), true),
             ("record_path", String("".into()), true),
             ("record_max_file_size", Integer(0), true),
             ("record_max_file_duration", Double(0.0), true),
