@@ -7,6 +7,11 @@
 //! rosidl_generator_type_description line by line: the crates that compute RIHS01 need their own type-description
 //! structs filled from a parsed `.msg` anyway, and checking it against rosidl's published hashes
 //! (tests/type_hashes.rs) is what makes it trustworthy either way.
+//! Every `msgs/<pkg>/srv/*.srv` is split at its `---` line into `<Name>_Request` and `<Name>_Response`, generated
+//! in `sweetspot::msgs::<pkg>::srv` as ROS 2 names them (`pkg/srv/Name_Request`, DDS
+//! `pkg::srv::dds_::Name_Request_`), with the `<Name>_Event` rosidl adds (what rosbag2 records a call as) and a
+//! `<Name>` marker carrying the service's RIHS01 hash (the service described with its request, response and
+//! event types; `service_msgs/ServiceEventInfo` must be under `msgs/`).
 //! Output is deterministic (sorted inputs, no hash maps, no timestamps). A malformed `.msg` fails the build with
 //! `file:line: reason`.
 //!
@@ -96,6 +101,8 @@ struct Constant {
 #[derive(Debug, Clone)]
 struct MsgSpec {
     pkg: String,
+    /// `msg`, or `srv` for the request and response halves of a `.srv` (and the types only hashed).
+    kind: &'static str,
     name: String,
     path: PathBuf,
     text: String,
@@ -107,6 +114,11 @@ struct MsgSpec {
 impl MsgSpec {
     fn key(&self) -> String {
         format!("{}/{}", self.pkg, self.name)
+    }
+
+    /// The ROS 2 type name, `pkg/msg/Type` or `pkg/srv/Type_Request`.
+    fn full_name(&self) -> String {
+        format!("{}/{}/{}", self.pkg, self.kind, self.name)
     }
 }
 
@@ -150,12 +162,12 @@ fn discover(msgs_dir: &Path) -> Result<Vec<(String, PathBuf)>, Vec<String>> {
         if !entry.is_dir() {
             continue;
         }
-        if entry.join("msg").is_dir() {
+        if entry.join("msg").is_dir() || entry.join("srv").is_dir() {
             pkg_dirs.push(entry.clone());
         } else {
             // A folder of vendored packages (msgs/ros_interfaces/<pkg>/msg).
             for sub in read(&entry).map_err(|e| vec![e])? {
-                if sub.join("msg").is_dir() {
+                if sub.join("msg").is_dir() || sub.join("srv").is_dir() {
                     pkg_dirs.push(sub);
                 }
             }
@@ -163,9 +175,14 @@ fn discover(msgs_dir: &Path) -> Result<Vec<(String, PathBuf)>, Vec<String>> {
     }
     for pkg_dir in pkg_dirs {
         let pkg = pkg_dir.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
-        for f in read(&pkg_dir.join("msg")).map_err(|e| vec![e])? {
-            if f.extension().and_then(|e| e.to_str()) == Some("msg") {
-                found.push((pkg.clone(), f));
+        for kind in ["msg", "srv"] {
+            if !pkg_dir.join(kind).is_dir() {
+                continue;
+            }
+            for f in read(&pkg_dir.join(kind)).map_err(|e| vec![e])? {
+                if f.extension().and_then(|e| e.to_str()) == Some(kind) {
+                    found.push((pkg.clone(), f));
+                }
             }
         }
     }
@@ -432,6 +449,7 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
     }
     Ok(MsgSpec {
         pkg: pkg.to_string(),
+        kind: "msg",
         name: name.to_string(),
         path: path.to_path_buf(),
         text: text.to_string(),
@@ -601,6 +619,8 @@ fn rust_base(base: &Base) -> String {
     match base {
         Base::Prim(p) => rust_prim(p).to_string(),
         Base::String { .. } => "::std::string::String".to_string(),
+        // A `.msg` type name has no `_` (is_valid_type_name): one with `_` is a service's `Name_Request` etc.
+        Base::Nested { pkg, name } if name.contains('_') => format!("crate::msgs::{pkg}::srv::{name}"),
         Base::Nested { pkg, name } => format!("crate::msgs::{pkg}::msg::{name}"),
     }
 }
@@ -732,7 +752,7 @@ fn json_string(s: &str) -> String {
 
 /// One `IndividualTypeDescription` without default values, in rosidl's key order and with Python's
 /// `separators=(', ', ': ')`. An empty message has the one `uint8` member rosidl_adapter gives it in the IDL.
-fn individual_type_description_json(spec: &MsgSpec) -> String {
+fn individual_type_description_json(spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec>) -> String {
     let placeholder = Field {
         name: "structure_needs_at_least_one_member".into(),
         ty: FieldType { base: Base::Prim("uint8"), array: Array::None },
@@ -754,7 +774,10 @@ fn individual_type_description_json(spec: &MsgSpec) -> String {
                 _ => 0,
             };
             let nested = match &f.ty.base {
-                Base::Nested { pkg, name } => format!("{pkg}/msg/{name}"),
+                Base::Nested { pkg, name } => specs
+                    .get(&format!("{pkg}/{name}"))
+                    .map(MsgSpec::full_name)
+                    .unwrap_or_else(|| format!("{pkg}/msg/{name}")),
                 _ => String::new(),
             };
             format!(
@@ -766,11 +789,7 @@ fn individual_type_description_json(spec: &MsgSpec) -> String {
             )
         })
         .collect();
-    format!(
-        "{{\"type_name\": {}, \"fields\": [{}]}}",
-        json_string(&format!("{}/msg/{}", spec.pkg, spec.name)),
-        fields.join(", ")
-    )
+    format!("{{\"type_name\": {}, \"fields\": [{}]}}", json_string(&spec.full_name()), fields.join(", "))
 }
 
 /// The RIHS01 hash of a message (REP-2011): SHA-256 of the JSON of its `TypeDescription` — its own description
@@ -786,14 +805,15 @@ fn type_hash(key: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
             queue.extend(deps_of(&specs[&dep]));
         }
     }
-    // Sorted by full type name (`pkg/msg/Type`), as rosidl sorts them.
+    // Sorted by full type name (`pkg/msg/Type`, `pkg/srv/Type_Request`), as rosidl sorts them.
     let mut referenced: Vec<(String, &MsgSpec)> =
-        referenced.iter().map(|k| (format!("{}/msg/{}", specs[k].pkg, specs[k].name), &specs[k])).collect();
+        referenced.iter().map(|k| (specs[k].full_name(), &specs[k])).collect();
     referenced.sort_by(|a, b| a.0.cmp(&b.0));
-    let referenced: Vec<String> = referenced.iter().map(|(_, spec)| individual_type_description_json(spec)).collect();
+    let referenced: Vec<String> =
+        referenced.iter().map(|(_, spec)| individual_type_description_json(spec, specs)).collect();
     let json = format!(
         "{{\"type_description\": {}, \"referenced_type_descriptions\": [{}]}}",
-        individual_type_description_json(&specs[key]),
+        individual_type_description_json(&specs[key], specs),
         referenced.join(", ")
     );
     let digest = sha2::Sha256::digest(json.as_bytes());
@@ -809,10 +829,31 @@ fn type_hash(key: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
 /// are not under `msgs/`.
 #[allow(dead_code)]
 pub fn type_hashes_of(messages: &[(&str, &str, &str)]) -> Result<BTreeMap<String, String>, Vec<String>> {
+    interface_hashes_of(messages, &[])
+}
+
+/// [`type_hashes_of`] with `.srv` texts too: each service adds `pkg/srv/Name`, `pkg/srv/Name_Request`,
+/// `pkg/srv/Name_Response` and `pkg/srv/Name_Event` (which needs `service_msgs/ServiceEventInfo` among the
+/// messages, as rosidl's does).
+#[allow(dead_code)]
+pub fn interface_hashes_of(
+    messages: &[(&str, &str, &str)],
+    services: &[(&str, &str, &str)],
+) -> Result<BTreeMap<String, String>, Vec<String>> {
     let mut specs = BTreeMap::new();
     for (pkg, name, text) in messages {
         let spec = parse_msg(pkg, name, Path::new(&format!("{pkg}/msg/{name}.msg")), text)?;
         specs.insert(spec.key(), spec);
+    }
+    for (pkg, name, text) in services {
+        for spec in parse_srv(pkg, name, Path::new(&format!("{pkg}/srv/{name}.srv")), text)? {
+            specs.insert(spec.key(), spec);
+        }
+    }
+    for (pkg, name, _) in services {
+        for spec in service_hash_only_specs(pkg, name) {
+            specs.insert(spec.key(), spec);
+        }
     }
     for spec in specs.values() {
         for dep in deps_of(spec) {
@@ -821,13 +862,88 @@ pub fn type_hashes_of(messages: &[(&str, &str, &str)]) -> Result<BTreeMap<String
             }
         }
     }
-    Ok(specs.keys().map(|k| (format!("{}/msg/{}", specs[k].pkg, specs[k].name), type_hash(k, &specs))).collect())
+    Ok(specs.keys().map(|k| (specs[k].full_name(), type_hash(k, &specs))).collect())
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Services
+
+/// A `.srv` split as rosidl_adapter splits it (at the one line that is exactly `---`) into its request and
+/// response messages, `pkg/srv/Name_Request` and `pkg/srv/Name_Response`; each half is parsed as a `.msg`.
+fn parse_srv(pkg: &str, name: &str, path: &Path, text: &str) -> Result<[MsgSpec; 2], Vec<String>> {
+    let lines: Vec<&str> = text.lines().collect();
+    let separators: Vec<usize> = lines.iter().enumerate().filter(|(_, l)| **l == "---").map(|(i, _)| i).collect();
+    let [sep] = separators.as_slice() else {
+        return Err(vec![format!(
+            "{}: a .srv needs exactly one `---` line between request and response, found {}",
+            path.display(),
+            separators.len()
+        )]);
+    };
+    let half = |from: usize, to: usize, suffix: &str| -> Result<MsgSpec, Vec<String>> {
+        let own: String = lines[from..to].iter().map(|l| format!("{l}\n")).collect();
+        // Blank lines in front keep the error messages' line numbers those of the .srv file.
+        let padded = format!("{}{own}", "\n".repeat(from));
+        let mut spec = parse_msg(pkg, &format!("{name}_{suffix}"), path, &padded)?;
+        spec.kind = "srv";
+        spec.text = own;
+        Ok(spec)
+    };
+    Ok([half(0, *sep, "Request")?, half(sep + 1, lines.len(), "Response")?])
+}
+
+/// The two types rosidl adds to a service (sweetspot generates Rust for the event only, which rosbag2 records
+/// service calls as): `pkg/srv/Name_Event` (`service_msgs/ServiceEventInfo info`, the request and the response as
+/// bounded sequences of at most one) and the service `pkg/srv/Name` itself (`request_message`,
+/// `response_message`, `event_message`), as rosidl_generator_type_description describes them.
+fn service_hash_only_specs(pkg: &str, name: &str) -> [MsgSpec; 2] {
+    let field = |field: &str, type_pkg: &str, type_name: String, array: Array| Field {
+        name: field.to_string(),
+        ty: FieldType { base: Base::Nested { pkg: type_pkg.to_string(), name: type_name }, array },
+        default: None,
+        absent: None,
+        doc: Vec::new(),
+        line: 0,
+    };
+    let spec = |type_name: String, fields: Vec<Field>| MsgSpec {
+        pkg: pkg.to_string(),
+        kind: "srv",
+        name: type_name,
+        path: PathBuf::from(format!("{pkg}/srv/{name}.srv")),
+        text: String::new(),
+        doc: Vec::new(),
+        fields,
+        constants: Vec::new(),
+    };
+    let mut event = spec(
+        format!("{name}_Event"),
+        vec![
+            field("info", "service_msgs", "ServiceEventInfo".into(), Array::None),
+            field("request", pkg, format!("{name}_Request"), Array::Bounded(1)),
+            field("response", pkg, format!("{name}_Response"), Array::Bounded(1)),
+        ],
+    );
+    // rosidl's event has no text of its own; this one lets bag readers decode the recorded events.
+    event.text = format!(
+        "service_msgs/ServiceEventInfo info\n{pkg}/{name}_Request[<=1] request\n{pkg}/{name}_Response[<=1] response\n"
+    );
+    let service = spec(
+        name.to_string(),
+        vec![
+            field("request_message", pkg, format!("{name}_Request"), Array::None),
+            field("response_message", pkg, format!("{name}_Response"), Array::None),
+            field("event_message", pkg, format!("{name}_Event"), Array::None),
+        ],
+    );
+    [event, service]
 }
 
 pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     let files = discover(msgs_dir)?;
     let mut errors = Vec::new();
     let mut specs: BTreeMap<String, MsgSpec> = BTreeMap::new();
+    // Services by package: (name, .srv text).
+    let mut services: BTreeMap<String, Vec<(String, String)>> = BTreeMap::new();
     for (pkg, path) in files {
         let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default().to_string();
         if !is_valid_pkg_name(&pkg) {
@@ -845,14 +961,25 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
                 continue;
             }
         };
-        match parse_msg(&pkg, &name, &path, &text) {
-            Ok(spec) => {
-                if let Some(prev) = specs.insert(spec.key(), spec) {
-                    errors.push(format!("{}: `{}` defined twice", prev.path.display(), prev.key()));
+        let parsed = if path.extension().and_then(|e| e.to_str()) == Some("srv") {
+            services.entry(pkg.clone()).or_default().push((name.clone(), text.clone()));
+            parse_srv(&pkg, &name, &path, &text).map(Vec::from)
+        } else {
+            parse_msg(&pkg, &name, &path, &text).map(|spec| vec![spec])
+        };
+        match parsed {
+            Ok(parsed) => {
+                for spec in parsed {
+                    if let Some(prev) = specs.insert(spec.key(), spec) {
+                        errors.push(format!("{}: `{}` defined twice", prev.path.display(), prev.key()));
+                    }
                 }
             }
             Err(mut e) => errors.append(&mut e),
         }
+    }
+    if !services.is_empty() && !specs.contains_key("service_msgs/ServiceEventInfo") {
+        errors.push("a .srv's type hash needs service_msgs/msg/ServiceEventInfo.msg under msgs/".into());
     }
     // Every nested type must exist; the type graph must be acyclic.
     for spec in specs.values() {
@@ -893,17 +1020,38 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     for s in specs.values() {
         by_pkg.entry(&s.pkg).or_default().push(s);
     }
+    // The hashes see the types rosidl adds to every service (its Event and the service itself) too.
+    let mut hashed = specs.clone();
+    for (pkg, names) in &services {
+        for (name, _) in names {
+            for spec in service_hash_only_specs(pkg, name) {
+                hashed.insert(spec.key(), spec);
+            }
+        }
+    }
     let mut registry = Vec::new();
     for (pkg, msgs) in &by_pkg {
         let _ = writeln!(out, "#[doc = {:?}]", format!(" Messages of the ROS 2 package `{pkg}`."));
         let _ = writeln!(out, "pub mod {pkg} {{");
         let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/msg/*`."));
         let _ = writeln!(out, "    pub mod msg {{");
-        for spec in msgs {
-            gen_struct(&mut out, spec, &specs);
+        for spec in msgs.iter().filter(|s| s.kind == "msg") {
+            gen_struct(&mut out, spec, &hashed);
             registry.push(format!("crate::msgs::{pkg}::msg::{}", spec.name));
         }
-        out.push_str("    }\n}\n\n");
+        out.push_str("    }\n");
+        if let Some(names) = services.get(*pkg) {
+            let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/srv/*`: each service's request and response."));
+            let _ = writeln!(out, "    pub mod srv {{");
+            for (name, text) in names {
+                for suffix in ["Request", "Response", "Event"] {
+                    gen_struct(&mut out, &hashed[&format!("{pkg}/{name}_{suffix}")], &hashed);
+                }
+                gen_service(&mut out, pkg, name, text, &hashed);
+            }
+            out.push_str("    }\n");
+        }
+        out.push_str("}\n\n");
     }
     out.push_str("/// Every message type generated from `msgs/`, sorted by type name.\n");
     out.push_str("pub static ALL_TYPES: &[crate::msgs::TypeInfo] = &[\n");
@@ -919,7 +1067,12 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let i3 = "            ";
     let name = &spec.name;
     let pkg = &spec.pkg;
-    let mut doc = vec![format!("`{pkg}/msg/{name}`, generated from `{pkg}/msg/{name}.msg`.")];
+    let full_name = spec.full_name();
+    let source = match spec.kind {
+        "srv" => format!("{pkg}/srv/{}.srv", name.rsplit_once('_').map_or(name.as_str(), |(service, _)| service)),
+        _ => format!("{pkg}/msg/{name}.msg"),
+    };
+    let mut doc = vec![format!("`{full_name}`, generated from `{source}`.")];
     if !spec.doc.is_empty() {
         doc.push(String::new());
         doc.extend(spec.doc.iter().cloned());
@@ -933,6 +1086,10 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         out,
         "{i2}#[derive(Debug, Clone, PartialEq,{derive_default} ::serde::Serialize,{derive_deserialize})]"
     );
+    if name.contains('_') {
+        // ROS 2's names of a service's request and response types (`Name_Request`).
+        let _ = writeln!(out, "{i2}#[allow(non_camel_case_types)]");
+    }
     let _ = writeln!(out, "{i2}pub struct {name} {{");
     if spec.fields.is_empty() {
         // rosidl adds this member to empty messages so that they have a wire representation.
@@ -992,8 +1149,9 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let key = spec.key();
     let schema = full_text(&key, specs);
     let _ = writeln!(out, "{i2}impl crate::msgs::RosMessage for {name} {{");
-    let _ = writeln!(out, "{i3}const TYPE_NAME: &'static str = {:?};", format!("{pkg}/msg/{name}"));
-    let _ = writeln!(out, "{i3}const DDS_TYPE_NAME: &'static str = {:?};", format!("{pkg}::msg::dds_::{name}_"));
+    let kind = spec.kind;
+    let _ = writeln!(out, "{i3}const TYPE_NAME: &'static str = {full_name:?};");
+    let _ = writeln!(out, "{i3}const DDS_TYPE_NAME: &'static str = {:?};", format!("{pkg}::{kind}::dds_::{name}_"));
     let _ = writeln!(out, "{i3}const SCHEMA_TEXT: &'static str = {schema:?};");
     let _ = writeln!(out, "{i3}const MSG_TEXT: &'static str = {:?};", spec.text);
     let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", type_hash(&key, specs));
@@ -1012,7 +1170,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         out,
         "{i3}    crate::msgs::json::reject_unknown(object, &[{}], path, {:?})?;",
         known.join(", "),
-        format!("{pkg}/msg/{name}")
+        full_name
     );
     let _ = writeln!(
         out,
@@ -1059,6 +1217,23 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let _ = writeln!(out, "{i3}    ::serde_json::Value::Object(object)\n{i3}}}\n{i2}}}\n");
 }
 
+/// A service's marker type: its names, `.srv` text and RIHS01 hash (the hash ROS 2 advertises on both of its
+/// DDS topics), with its request and response types.
+fn gen_service(out: &mut String, pkg: &str, name: &str, text: &str, hashed: &BTreeMap<String, MsgSpec>) {
+    let (i2, i3) = ("        ", "            ");
+    doc_attrs(out, i2, &[format!("The service `{pkg}/srv/{name}`, generated from `{pkg}/srv/{name}.srv`.")]);
+    let _ = writeln!(out, "{i2}#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]");
+    let _ = writeln!(out, "{i2}pub struct {name};\n");
+    let _ = writeln!(out, "{i2}impl crate::msgs::RosService for {name} {{");
+    let _ = writeln!(out, "{i3}type Request = {name}_Request;");
+    let _ = writeln!(out, "{i3}type Response = {name}_Response;");
+    let _ = writeln!(out, "{i3}type Event = {name}_Event;");
+    let _ = writeln!(out, "{i3}const TYPE_NAME: &'static str = {:?};", format!("{pkg}/srv/{name}"));
+    let _ = writeln!(out, "{i3}const SRV_TEXT: &'static str = {text:?};");
+    let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", type_hash(&format!("{pkg}/{name}"), hashed));
+    let _ = writeln!(out, "{i2}}}\n");
+}
+
 /// `Deserialize` of a message with appended fields: a sequence (CDR) may end before any appended field, the
 /// rest keeping their absent values (see the module docs); a map (self-describing formats) may leave any
 /// field out.
@@ -1080,7 +1255,7 @@ fn gen_tolerant_deserialize(out: &mut String, spec: &MsgSpec) {
     let _ = writeln!(
         out,
         "{i3}        fn expecting(&self, f: &mut ::core::fmt::Formatter) -> ::core::fmt::Result {{ f.write_str({:?}) }}",
-        format!("{}/msg/{name}", spec.pkg)
+        spec.full_name()
     );
     let _ = writeln!(
         out,

@@ -9,6 +9,7 @@ pub mod bat_file;
 pub mod bbcor;
 pub mod bench;
 pub mod calibrate;
+pub mod call;
 pub mod case_file;
 pub mod common;
 pub mod compare;
@@ -43,6 +44,8 @@ pub enum Command {
     Pub(pubsub::PubArgs),
     /// Print what arrives on a topic.
     Echo(pubsub::EchoArgs),
+    /// Call a node's service (`simulate_swing`), as `ros2 service call`.
+    Call(call::CallArgs),
     /// Record, inspect, replay, play, recover and export bags.
     #[command(subcommand)]
     Bag(bag::BagCommand),
@@ -79,6 +82,7 @@ pub fn main() -> ExitCode {
         Command::Node(args) => node::run(args),
         Command::Pub(args) => pubsub::run_pub(args),
         Command::Echo(args) => pubsub::run_echo(args),
+        Command::Call(args) => call::run(args),
         Command::Bag(cmd) => bag::run(cmd),
         Command::Modes(args) => modes::run(args),
         Command::Simulate(args) => simulate::run(args),

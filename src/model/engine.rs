@@ -199,6 +199,13 @@ impl Registry {
         entry
     }
 
+    /// As [`Registry::set_bat`] with an entry another registry holds too (its modes, once solved, are shared):
+    /// a call's scratch registry lends the node's bat this way.
+    pub fn set_shared_bat(&mut self, entry: Arc<BatEntry>) {
+        self.latest_bat = Some(entry.bat_id.clone());
+        self.bats.insert(entry.bat_id.clone(), entry, false, None);
+    }
+
     /// Stores (or replaces) a ball; it becomes the latest ball. When `max_balls` are held, the least recently
     /// used other ball is forgotten.
     pub fn set_ball(&mut self, ball_id: &str, ball: impl Into<BallModel>) {

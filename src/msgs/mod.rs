@@ -114,6 +114,27 @@ pub trait RosMessage:
     };
 }
 
+/// A service generated from a `.srv` file (`sweetspot::msgs::<pkg>::srv::<Name>`): its request and response
+/// types (`<Name>_Request`, `<Name>_Response`, ROS 2's `pkg/srv/Name_Request` and DDS
+/// `pkg::srv::dds_::Name_Request_`), its text and the RIHS01 hash of the service, which ROS 2 advertises in the
+/// USER_DATA of both of the service's DDS topics.
+pub trait RosService: 'static {
+    /// The request half of the `.srv`.
+    type Request: RosMessage;
+    /// The response half of the `.srv`.
+    type Response: RosMessage;
+    /// `pkg/srv/Name_Event` (`service_msgs/ServiceEventInfo info`, the request and the response as sequences
+    /// of at most one), the message of ROS 2's service introspection and of rosbag2's recorded services.
+    type Event: RosMessage;
+    /// ROS 2 type name, e.g. `"sweetspot_msgs/srv/SimulateSwing"`.
+    const TYPE_NAME: &'static str;
+    /// The `.srv` text.
+    const SRV_TEXT: &'static str;
+    /// RIHS01 hash of the service's type description (the service with its request, response and event types,
+    /// as rosidl_generator_type_description describes a service).
+    const TYPE_HASH: &'static str;
+}
+
 /// Looks a generated type up by ROS name, `pkg/msg/Type` or `pkg/Type`.
 pub fn type_info(type_name: &str) -> Option<&'static TypeInfo> {
     let normalized = normalize_type_name(type_name)?;

@@ -23,6 +23,9 @@
 //! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
 //! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout (and the Foxglove server's, with `foxglove_port`) |
 //!
+//! Service: `~/simulate_swing` (sweetspot_msgs/srv/SimulateSwing), one answer per call with the node's
+//! registry and settings, not a swing of the session ([`service`]).
+//!
 //! # Behaviour
 //!
 //! - A swing's bat/ball: its `bat_id`/`ball_id`, empty = the latest received, before any params the
@@ -83,5 +86,6 @@ pub mod recording;
 /// The `--ros-args` parser now lives in the shared DDS layer ([`crate::ros::args`]); this path stays for callers.
 pub use crate::ros::args as ros_args;
 pub mod runtime;
+pub mod service;
 pub mod settings;
 pub mod stats;

@@ -85,6 +85,8 @@ pub struct Inputs {
     pub ball_params: Subscription<BallParams>,
     /// Swings in.
     pub swings: Subscription<Swing>,
+    /// The `~/simulate_swing` service ([`super::service`]).
+    pub simulate_swing: Arc<super::service::SimulateSwingServer>,
     /// Every participant's announcement of its ROS nodes (`ros_discovery_info`), to notice a namesake. A
     /// reader of its own rather than the spinner's discovery events: those go through a channel of 8 that
     /// drops what does not fit, and a burst of matches at start-up can drop the one announcement that counts.
@@ -150,6 +152,8 @@ pub struct NodeLoop {
     pub own_participant: ros2_client::Gid,
     /// Other participants that announce a node with our fully-qualified name.
     pub namesakes: std::collections::BTreeSet<ros2_client::Gid>,
+    /// The workers of the `~/simulate_swing` service.
+    pub calls: super::service::ServiceCalls<super::service::SimulateSwingServer>,
 }
 
 impl NodeLoop {
@@ -172,6 +176,7 @@ impl NodeLoop {
         let mut balls = pin!(inputs.ball_params.async_stream());
         let mut swings = pin!(inputs.swings.async_stream());
         let mut participants = pin!(inputs.participants.async_stream());
+        let mut calls = inputs.simulate_swing.receive_request_stream();
         let mut shutdown = pin!(shutdown_signal());
         // Bat params, ball params and swings taken from their readers but not yet handled.
         let mut arrivals = Arrivals::default();
@@ -194,6 +199,7 @@ impl NodeLoop {
                 Some(_event) = self.graph_events.next() => self.on_discovery(node),
                 Some(received) = participants.next() => self.on_participant_info(received),
                 _ = diagnostics.tick() => self.on_diagnostics_tick()?,
+                Some(call) = calls.next() => self.on_call(call),
                 // A reader cut short at the drain cap: the rest of what was waiting, after the other inputs had
                 // their turn.
                 _ = std::future::ready(()), if arrivals.waiting() => {
@@ -374,6 +380,7 @@ impl NodeLoop {
         now.balls_cached = usage.balls as u64;
         now.balls_evicted = usage.balls_evicted;
         let mut report = health_report(&now, &self.last_report, &self.tape.state());
+        report.values.extend(self.calls.stats.values());
         if !self.namesakes.is_empty() {
             flag_namesakes(&mut report, &namesake_warning(&self.fqn, self.namesakes.len()));
         }
@@ -467,6 +474,32 @@ impl NodeLoop {
         }
     }
 
+    /// A `~/simulate_swing` call: planned here with the node's registry and settings, computed and answered
+    /// by the service's workers (or answered DROPPED at once when they have `queue_capacity` calls).
+    fn on_call(
+        &mut self,
+        call: ros2_client::ReadResult<(
+            ros2_client::service::RmwRequestId,
+            crate::msgs::sweetspot_msgs::srv::SimulateSwing_Request,
+        )>,
+    ) {
+        let (id, request) = match call {
+            Ok(call) => call,
+            Err(e) => return self.unreadable(super::service::SERVICE_NAME, &e),
+        };
+        let registry = &mut self.registry;
+        let stats = &*self.stats;
+        let (plan, new_bat) =
+            self.settings.read(|settings| super::service::plan_call(registry, &settings.model, &request, stats));
+        if let Some(entry) = new_bat {
+            self.summaries.spawn(entry, &self.registry);
+        }
+        if self.registry.usage() != self.seen_usage {
+            self.report_evictions();
+        }
+        self.calls.submit(id, plan, request);
+    }
+
     fn unreadable(&self, topic: &str, error: &ros2_client::ReadError) {
         NodeStats::bump(&self.stats.samples_unreadable);
         self.log.warn(&format!("{topic}: unreadable sample: {error:?}"));
@@ -517,12 +550,13 @@ impl NodeLoop {
     /// Stops taking swings, lets queued ones finish briefly, closes the bag and reports; then drops the
     /// discovery events and the publishers (before the caller drops the subscriptions and the node).
     pub async fn finish(self) -> anyhow::Result<()> {
-        let NodeLoop { fqn, registry, pipeline, outputs, graph_events, tape, stats, log, liveness, .. } = self;
+        let NodeLoop { fqn, registry, pipeline, outputs, graph_events, tape, stats, log, liveness, calls, .. } = self;
         // Holds a clone of the context: gone before the caller drops the context.
         drop(liveness);
         let (pipeline_stats, tape_for_finish) = (Arc::clone(&stats), Arc::clone(&tape));
         let (bag_result, final_stats) = tokio::task::spawn_blocking(move || {
             let abandoned = pipeline.shutdown(Duration::from_millis(600));
+            calls.shutdown();
             let bag = tape_for_finish.finish();
             (bag, pipeline_stats.snapshot(abandoned))
         })

@@ -46,6 +46,9 @@ pub enum Recorded {
     Diagnostics = 6,
     /// Output `/rosout` (the node's log lines): served live only, not recorded.
     Rosout = 7,
+    /// `~/simulate_swing/_service_event`: the service's calls, recorded only with `record_services`
+    /// ([`Tape::add_topic`]).
+    ServiceEvent = 8,
 }
 
 /// The node's recorder: a backend plus the ids of its topics, or nothing when recording is off or failed.
@@ -86,6 +89,26 @@ impl Tape {
     /// A recorder that could not start: the node runs and reports why.
     pub fn failed(dir: PathBuf, error: String) -> Tape {
         Tape { dir: Some(dir), error: Mutex::new(Some(error)), ..Tape::off() }
+    }
+
+    /// Registers one more topic, recorded as `at`: for topics recorded only on request (the service's events).
+    pub fn add_topic(&mut self, at: Recorded, topic: TopicInfo) {
+        let Ok(mut backend) = self.backend.lock() else { return };
+        let Some(backend) = backend.as_mut() else { return };
+        let name = topic.name.clone();
+        match backend.register_topic(topic) {
+            Ok(id) => {
+                if self.ids.len() <= at as usize {
+                    self.ids.resize(at as usize + 1, None);
+                }
+                self.ids[at as usize] = Some(id);
+            }
+            Err(e) => {
+                if let Ok(mut err) = self.error.lock() {
+                    err.get_or_insert_with(|| format!("registering {name}: {e}"));
+                }
+            }
+        }
     }
 
     /// Registers `topics` (in [`Recorded`] order: name, type, schema, QoS) with `backend`.

@@ -24,11 +24,12 @@ use super::live_settings::LiveSettings;
 use super::outputs::{EnergiesListeners, Log, Outputs, PublishFailures};
 use super::pipeline::{InlinePacing, Pipeline};
 use super::receive_loop::{Event, Inputs, NodeLoop, ParticipantLiveness, Summaries, Warnings};
-use super::recording::{recorded_qos, Tape};
+use super::recording::{recorded_qos, Recorded, Tape};
 use super::ros_args::{NameResolver, NodeIdentity, RosArgs};
 use super::settings::NodeSettings;
 use super::stats::{GapCounter, NodeStats, StatsSnapshot};
 use crate::model::engine::Registry;
+use crate::msgs::sweetspot_msgs::srv::SimulateSwing_Event;
 
 use crate::model::topics;
 
@@ -133,13 +134,19 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let mut node = context.new_node(node_name, options).map_err(|e| anyhow::anyhow!("creating node {fqn}: {e:?}"))?;
     let log = Log::new(node.logging_handle(), rosout);
     let topic_names = TopicNames::resolve(&names);
-    let (inputs, outputs) = endpoints(&context, &mut node, &topic_names, &settings)?;
+    let (inputs, outputs) = endpoints(&context, &mut node, &topic_names, &settings, &names)?;
     let (spinning, graph_events) = spin(&mut node)?;
     outputs.refresh_energies_listeners(&node);
 
     // Recording: every input as received and every output as published.
     // A node told to record that cannot record stops here rather than pretend to.
-    let tape = start_tape(&settings, &identity, started_utc, &topic_names)?;
+    let mut tape = start_tape(&settings, &identity, started_utc, &topic_names)?;
+    if settings.record_services {
+        // As rosbag2 records a service: its events on `<service>/_service_event`.
+        let topic = format!("{}/_service_event", names.resolve(super::service::SERVICE_NAME));
+        let qos = recorded_qos(&results_qos());
+        tape.add_topic(Recorded::ServiceEvent, TopicInfo::of::<SimulateSwing_Event>(&topic, qos));
+    }
     // Live view: the same topics, schemas and CDR bytes served to Foxglove clients.
     let tape = Arc::new(match settings.foxglove_port.as_str() {
         "" => tape,
@@ -171,6 +178,14 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let sink = outputs.sink(&tape, &stats, &publish_failures);
     let pipeline = Pipeline::start(settings.worker_count(), settings.queue_capacity, Arc::clone(&stats), sink)
         .context("starting the worker threads")?;
+    let calls = super::service::ServiceCalls::start(
+        Arc::clone(&inputs.simulate_swing),
+        settings.worker_count(),
+        settings.queue_capacity,
+        Arc::clone(&stats),
+        settings.record_services.then(|| Arc::clone(&tape)),
+    )
+    .context("starting the simulate_swing workers")?;
     announce(&log, &fqn, &dds_config, &settings, &topic_names, &tape);
 
     let registry = Registry::with_limits(settings.model.max_bats, settings.model.max_balls);
@@ -195,6 +210,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         liveness: Box::new(ParticipantLiveness(context.clone())),
         own_participant: context.participant_entities_info().gid(),
         namesakes: Default::default(),
+        calls,
     };
     node_loop.start_default_bat();
     let outcome = node_loop.run(&inputs, &node).await;
@@ -276,6 +292,7 @@ fn endpoints(
     node: &mut ros2_client::Node,
     topic_names: &TopicNames,
     settings: &NodeSettings,
+    names: &NameResolver,
 ) -> anyhow::Result<(Inputs, Outputs)> {
     // DDS acknowledges a sample when it reaches the reader's cache, not when the node takes it, so a burst
     // faster than the node takes swings would overwrite a keep-last-1000 cache: size it like the pipeline.
@@ -285,6 +302,7 @@ fn endpoints(
         ball_params: subscription(node, topic_names.get(topics::BALL_PARAMS), &params_qos(), None)?,
         swings: subscription(node, topic_names.get(topics::SWING), &swing_qos(), Some(swing_reader_qos))?,
         participants: participants_reader(context, node)?,
+        simulate_swing: Arc::new(simulate_swing_server(node, names, settings)?),
     };
     // The topics' own QoS (ros::results_qos: deep window, bounded wait) is the writers' QoS.
     let outputs = Outputs {
@@ -305,6 +323,23 @@ fn endpoints(
         energies_listeners: EnergiesListeners::default(),
     };
     Ok((inputs, outputs))
+}
+
+/// The `~/simulate_swing` server (see [`super::service`]): ROS 2's service QoS (reliable, volatile), the
+/// request reader deep enough to hold a burst the loop has not taken yet, the reply writer as deep as the
+/// answer topics' (every response is kept until acknowledged or its reader's lease expires).
+fn simulate_swing_server(
+    node: &mut ros2_client::Node,
+    names: &NameResolver,
+    settings: &NodeSettings,
+) -> anyhow::Result<super::service::SimulateSwingServer> {
+    let fq_name = names.resolve(super::service::SERVICE_NAME);
+    let name = crate::ros::names::to_client_name(&fq_name).map_err(|e| anyhow::anyhow!("service {fq_name}: {e}"))?;
+    let service_type = ros2_client::ServiceTypeName::new("sweetspot_msgs", "SimulateSwing");
+    let requests = swing_qos().history(History::KeepLast { depth: settings.queue_capacity.max(10_000) });
+    let replies = results_qos();
+    node.create_server(ros2_client::ServiceMapping::Enhanced, &name, &service_type, requests, replies)
+        .map_err(|e| anyhow::anyhow!("service {fq_name}: {e:?}"))
 }
 
 /// A reader of ROS 2's `ros_discovery_info` (rmw_dds_common/ParticipantEntitiesInfo: which nodes each

@@ -31,6 +31,8 @@ pub struct NodeSettings {
     pub workers: usize,
     /// Record to MCAP.
     pub record: bool,
+    /// Also record `~/simulate_swing` calls (as rosbag2 records services: `<service>/_service_event`).
+    pub record_services: bool,
     /// Bag directory; empty = `bags/<node>_<UTC time>`.
     pub record_path: String,
     /// Split size, bytes; 0 = never.
@@ -304,6 +306,20 @@ pub static PARAMETERS: &[Parameter] = &[
         get: |s| ParameterValue::Boolean(s.record),
     },
     Parameter {
+        name: "record_services",
+        unit: "",
+        description: "also record ~/simulate_swing calls (request and response events on <service>/_service_event)",
+        read_only: true,
+        rule: Rule::Boolean {
+            default: false,
+            set: |s, b| {
+                s.record_services = b;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Boolean(s.record_services),
+    },
+    Parameter {
         name: "record_path",
         unit: "",
         description: "rosbag2 directory to create; empty = bags/<node>_<UTC time>",
@@ -495,6 +511,7 @@ impl Default for NodeSettings {
             queue_capacity: 0,
             workers: 0,
             record: false,
+            record_services: false,
             record_path: String::new(),
             record_max_file_size: 0,
             record_max_file_duration: 0.0,
@@ -725,6 +742,7 @@ mod tests {
             ("queue_capacity", Integer(16384), true),
             ("workers", Integer(0), true),
             ("record", Boolean(true), true),
+            ("record_services", Boolean(false), true),
             ("record_path", String("".into()), true),
             ("record_max_file_size", Integer(0), true),
             ("record_max_file_duration", Double(0.0), true),

@@ -1,0 +1,119 @@
+//! `sweetspot call simulate_swing '{…}'`: one call of a node's `~/simulate_swing` service, as
+//! `ros2 service call /sweetspot/simulate_swing sweetspot_msgs/srv/SimulateSwing '{…}'` makes it.
+//!
+//! The request is JSON in the form `sweetspot pub` takes (fields left out keep their defaults, `null` is NaN):
+//! `{"swing": {…}, "bat": [BatParams], "ball": [BallParams]}`. The response is printed as one JSON object
+//! (NaN as null). Exit status: 0 for an OK answer; 1 when the request is not valid JSON for the type, no node
+//! serves the service within `--timeout`, or the node answered REJECTED or DROPPED (the answer is still
+//! printed, and its message repeated on stderr). DDS discovery honours `ROS_DOMAIN_ID`,
+//! `ROS_AUTOMATIC_DISCOVERY_RANGE` and `ROS_LOCALHOST_ONLY` as the other DDS commands do.
+
+use anyhow::{anyhow, bail, Context as _};
+
+use crate::msgs::json::{FromJson as _, ToJson as _};
+use crate::msgs::sweetspot_msgs::msg::ExitVelocity;
+use crate::msgs::sweetspot_msgs::srv::{SimulateSwing_Request, SimulateSwing_Response};
+use crate::ros::{self, DdsConfig};
+
+/// `sweetspot call`.
+#[derive(Debug, clap::Args)]
+pub struct CallArgs {
+    /// The service: `simulate_swing` (the node's `~/simulate_swing`, see --node and --ns) or its
+    /// fully-qualified name, e.g. `/rig3/sweetspot/simulate_swing`.
+    pub service: String,
+    /// The request as JSON, e.g. '{"swing": {"bat_id": "r161", "ball_speed": 40, "bat_cm_speed": 25,
+    /// "bat_angular_speed": 45, "impact_z": 0.7}}'.
+    pub request: String,
+    /// The node serving it (its name, for `simulate_swing`).
+    #[arg(long, value_name = "NAME", default_value = crate::node::runtime::DEFAULT_NODE_NAME)]
+    pub node: String,
+    /// The node's namespace (for `simulate_swing`).
+    #[arg(long, visible_alias = "namespace", value_name = "NS", default_value = "/")]
+    pub ns: String,
+    /// Give up after this many seconds without an answer (waiting for the service included).
+    #[arg(long, value_name = "SECS", default_value = "10", value_parser = super::common::seconds_at_least_zero)]
+    pub timeout: f64,
+}
+
+/// Resolves the service, sends the request, prints the response.
+pub fn run(args: CallArgs) -> anyhow::Result<()> {
+    let fq_name = service_name(&args.service, &args.ns, &args.node)?;
+    let value: serde_json::Value =
+        serde_json::from_str(&args.request).with_context(|| format!("the request is not JSON: {}", args.request))?;
+    let request = SimulateSwing_Request::from_json(&value, "request").map_err(|e| anyhow!("{e}"))?;
+    let config = DdsConfig::from_env()?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    let response = runtime.block_on(call(&config, &fq_name, request, args.timeout))?;
+    println!("{}", response.to_json());
+    let ev = &response.exit_velocity;
+    match ev.status {
+        ExitVelocity::STATUS_OK => Ok(()),
+        ExitVelocity::STATUS_DROPPED => bail!("{fq_name} answered DROPPED: {}", ev.message),
+        _ => bail!("{fq_name} answered REJECTED: {}", ev.message),
+    }
+}
+
+/// The fully-qualified service name of `service` for the node `node` in `ns`.
+pub fn service_name(service: &str, ns: &str, node: &str) -> anyhow::Result<String> {
+    if service.starts_with('/') {
+        return Ok(ros::names::resolve_topic(service, "/", node)?);
+    }
+    match service {
+        "simulate_swing" => Ok(ros::names::resolve_topic(crate::node::service::SERVICE_NAME, ns, node)?),
+        other => bail!(
+            "unknown service {other:?}: sweetspot serves simulate_swing (or give the fully-qualified name, \
+             e.g. /sweetspot/simulate_swing)"
+        ),
+    }
+}
+
+async fn call(
+    config: &DdsConfig,
+    fq_name: &str,
+    request: SimulateSwing_Request,
+    timeout: f64,
+) -> anyhow::Result<SimulateSwing_Response> {
+    let context = ros::context(config)?;
+    let node_name = ros2_client::NodeName::new("/", &format!("sweetspot_call_{}", std::process::id()))
+        .map_err(|e| anyhow!("node name: {e:?}"))?;
+    let mut node = context
+        .new_node(node_name, ros2_client::NodeOptions::new().enable_rosout(false))
+        .map_err(|e| anyhow!("creating the DDS node: {e:?}"))?;
+    let name = ros::names::to_client_name(fq_name)?;
+    let service_type = ros2_client::ServiceTypeName::new("sweetspot_msgs", "SimulateSwing");
+    let client = node
+        .create_client::<SimulateSwing_Request, SimulateSwing_Response>(
+            ros2_client::ServiceMapping::Enhanced,
+            &name,
+            &service_type,
+            ros::swing_qos(),
+            ros::results_qos(),
+        )
+        .map_err(|e| anyhow!("service client of {fq_name}: {e:?}"))?;
+    // The spinner keeps the graph that `wait_for_service` looks at.
+    let spinner = node.spinner().map_err(|e| anyhow!("{e:?}"))?;
+    let spinning = tokio::spawn(spinner.spin());
+    let deadline = crate::model::time::saturating_secs(timeout);
+    let started = std::time::Instant::now();
+    let outcome = tokio::time::timeout(deadline, async {
+        client.wait_for_service(&node).await;
+        let id = client.async_send_request(request).await.map_err(|e| anyhow!("sending the request: {e:?}"))?;
+        client.async_receive_response(id).await.map_err(|e| anyhow!("reading the response: {e:?}"))
+    })
+    .await;
+    spinning.abort();
+    match outcome {
+        Ok(result) => result,
+        Err(_) => bail!(
+            "no answer from {fq_name} within {:.1} s (ROS_DOMAIN_ID {}, discovery {}): is a node serving it? \
+             (`sweetspot node`; --node / --ns name another node; raise --timeout)",
+            started.elapsed().as_secs_f64(),
+            config.domain_id,
+            config.range
+        ),
+    }
+}
