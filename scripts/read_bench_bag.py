@@ -15,10 +15,9 @@ with open(out, 'wb') as f:
                                 metadata={'offered_qos_profiles': QOS}) for i in range(4)]
     i, pos = 0, 0
     while f.tell() < target:
-        text_len = 1024
         body = rnd[pos:pos + 512] + bytes(512)   # half random, half zeros: ~2x under zstd
-        pos = (pos + 509) % (len(rnd) - 1024)
-        cdr = b'\x00\x01\x00\x00' + struct.pack('<I', text_len) + body[:text_len - 1] + b'\x00'
+        pos = (pos + 512) % (len(rnd) - 1024)
+        cdr = b'\x00\x01\x00\x00' + struct.pack("<I", 1024) + body[:1023] + b'\x00'
         t = 1_700_000_000_000_000_000 + i * 1000
         w.add_message(channel_id=chans[i % 4], log_time=t, publish_time=t, data=cdr, sequence=i)
         i += 1

@@ -7,6 +7,11 @@
 //! `type_description_hash`, `custom_data` and `ros_distro` keys, which we write: each topic's RIHS01 type hash
 //! (also the `topic_type_hash` of its MCAP channel, as rosbag2_storage_mcap writes it) and [`ros_distro`], which
 //! rosbag2 also keeps in the `rosbag2` MCAP metadata record (the same text).
+//!
+//! Reading is another matter: the metadata text and QoS profiles of bags other tools wrote (rosbag2, rosbags,
+//! in their own key order and quoting, QoS enums as integers or as Jazzy's strings) are parsed as YAML with
+//! `yaml-rust2` ([`parse_custom_data`], [`parse_ros_distro`], [`parse_offered_qos`]); only the emitter is
+//! hand-written, for its exact layout.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
