@@ -7,9 +7,16 @@
 //! `type_description_hash`, `custom_data` and `ros_distro` keys, which we write: each topic's RIHS01 type hash
 //! (also the `topic_type_hash` of its MCAP channel, as rosbag2_storage_mcap writes it) and [`ros_distro`], which
 //! rosbag2 also keeps in the `rosbag2` MCAP metadata record (the same text).
+//!
+//! Reading is another matter: the metadata text and QoS profiles of bags other tools wrote (rosbag2, rosbags,
+//! in their own key order and quoting, QoS enums as integers or as Jazzy's strings) are parsed as YAML with
+//! `yaml-rust2` ([`parse_custom_data`], [`parse_ros_distro`], [`parse_offered_qos`]); only the emitter is
+//! hand-written, for its exact layout.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+use yaml_rust2::{Yaml, YamlLoader};
 
 use super::{RecordedQos, TopicInfo};
 
@@ -158,37 +165,41 @@ impl BagMetadata {
     }
 }
 
-/// Reads `custom_data` back from metadata text written by [`BagMetadata::to_yaml_body`] (the `rosbag2`
-/// record or `metadata.yaml`). Only this writer's own layout (double-quoted keys and values) is understood.
-pub fn parse_custom_data(yaml: &str) -> std::collections::BTreeMap<String, String> {
-    let mut out = std::collections::BTreeMap::new();
-    let mut lines = yaml.lines().skip_while(|l| l.trim_start() != "custom_data:");
-    let Some(first) = lines.next() else { return out };
-    let indent = first.len() - first.trim_start().len();
-    for line in lines {
-        let depth = line.len() - line.trim_start().len();
-        if depth <= indent {
-            break;
-        }
-        let entry = line.trim();
-        // `"key": "value"`: the key is a JSON string, so parse it to find where it ends.
-        let mut stream = serde_json::Deserializer::from_str(entry).into_iter::<String>();
-        let Some(Ok(key)) = stream.next() else { continue };
-        let rest = entry[stream.byte_offset()..].trim_start();
-        if let Some(value) = rest.strip_prefix(':') {
-            if let Ok(value) = serde_json::from_str::<String>(value.trim()) {
-                out.insert(key, value);
-            }
-        }
-    }
-    out
+/// The body of a rosbag2 metadata text, parsed: the `rosbag2_bagfile_information` mapping of a
+/// `metadata.yaml`, or the top-level mapping of a `rosbag2` MCAP record's `serialized_metadata` (rosbag2 writes
+/// it without the wrapper; sweetspot's [`BagMetadata::to_yaml_body`] too). Any layout, quoting and key order
+/// YAML allows; None if the text is not YAML or holds no mapping.
+fn metadata_body(yaml: &str) -> Option<Yaml> {
+    let doc = YamlLoader::load_from_str(yaml).ok()?.into_iter().next()?;
+    let body = match &doc["rosbag2_bagfile_information"] {
+        Yaml::Hash(_) => doc["rosbag2_bagfile_information"].clone(),
+        _ => doc,
+    };
+    body.as_hash().is_some().then_some(body)
 }
 
-/// Reads `ros_distro` back from metadata text written by [`BagMetadata::to_yaml_body`] (`None` if absent or
-/// empty).
+/// A YAML scalar as the text rosbag2 means by it (`custom_data` and `ros_distro` are strings to rosbag2,
+/// which yaml-cpp may write unquoted: `5`, `true`, `1.5`).
+fn scalar_text(value: &Yaml) -> Option<String> {
+    match value {
+        Yaml::String(s) | Yaml::Real(s) => Some(s.clone()),
+        Yaml::Integer(n) => Some(n.to_string()),
+        Yaml::Boolean(b) => Some(b.to_string()),
+        _ => None,
+    }
+}
+
+/// Reads `custom_data` back from rosbag2 metadata text (the `rosbag2` record or `metadata.yaml`, whoever
+/// wrote it); empty when there is none (`custom_data: ~`) or the text is not understood.
+pub fn parse_custom_data(yaml: &str) -> std::collections::BTreeMap<String, String> {
+    let Some(body) = metadata_body(yaml) else { return Default::default() };
+    let Some(entries) = body["custom_data"].as_hash() else { return Default::default() };
+    entries.iter().filter_map(|(key, value)| Some((scalar_text(key)?, scalar_text(value)?))).collect()
+}
+
+/// Reads `ros_distro` back from rosbag2 metadata text (`None` if absent or empty).
 pub fn parse_ros_distro(yaml: &str) -> Option<String> {
-    let value = yaml.lines().find_map(|l| l.trim_start().strip_prefix("ros_distro:"))?.trim();
-    let distro = serde_json::from_str::<String>(value).unwrap_or_else(|_| value.to_string());
+    let distro = scalar_text(&metadata_body(yaml)?["ros_distro"])?;
     (!distro.is_empty()).then_some(distro)
 }
 
@@ -207,28 +218,31 @@ pub fn offered_qos_profiles_yaml(qos: &RecordedQos) -> String {
     )
 }
 
-/// Parses the integer-enum or string-enum `offered_qos_profiles` text back into a [`RecordedQos`]
-/// (first profile). Returns `None` if it is not understood.
+/// Parses an `offered_qos_profiles` text (a YAML list of profiles, the first one counting) into a
+/// [`RecordedQos`]: integer enums as rosbag2 writes them up to metadata version 8 (reliability RELIABLE=1,
+/// durability TRANSIENT_LOCAL=1) or string enums as from version 9 (`reliable`, `transient_local`); a
+/// missing depth is 1. Returns `None` if it is not understood (not YAML, no reliability or durability).
 pub fn parse_offered_qos(text: &str) -> Option<RecordedQos> {
-    let mut reliable = None;
-    let mut transient_local = None;
-    let mut depth = None;
-    for line in text.lines() {
-        let line = line.trim_start_matches(['-', ' ']);
-        if let Some((key, value)) = line.split_once(':') {
-            let value = value.trim().trim_matches('"').to_ascii_lowercase();
-            match key.trim() {
-                "reliability" => reliable = Some(value == "1" || value == "reliable"),
-                "durability" => transient_local = Some(value == "1" || value == "transient_local"),
-                "depth" => depth = value.parse().ok(),
-                _ => {}
-            }
-            if reliable.is_some() && transient_local.is_some() && depth.is_some() {
-                break;
-            }
-        }
-    }
-    Some(RecordedQos { reliable: reliable?, transient_local: transient_local?, depth: depth.unwrap_or(1) })
+    let doc = YamlLoader::load_from_str(text).ok()?.into_iter().next()?;
+    let profile = match &doc {
+        Yaml::Array(profiles) => profiles.first()?,
+        _ => &doc,
+    };
+    let is = |key: &str, number: i64, name: &str| match &profile[key] {
+        Yaml::Integer(n) => Some(*n == number),
+        Yaml::String(s) => Some(s.eq_ignore_ascii_case(name) || s.trim() == number.to_string()),
+        _ => None,
+    };
+    let depth = match &profile["depth"] {
+        Yaml::Integer(n) => u32::try_from(*n).ok(),
+        Yaml::String(s) => s.trim().parse().ok(),
+        _ => None,
+    };
+    Some(RecordedQos {
+        reliable: is("reliability", 1, "reliable")?,
+        transient_local: is("durability", 1, "transient_local")?,
+        depth: depth.unwrap_or(1),
+    })
 }
 
 /// A YAML double-quoted scalar (JSON string syntax is a subset of YAML's double-quoted style).
@@ -275,6 +289,32 @@ mod tests {
         assert_eq!(parse_ros_distro(&metadata.to_metadata_yaml()).as_deref(), Some("humble"));
         metadata.ros_distro.clear();
         assert_eq!(parse_ros_distro(&metadata.to_yaml_body(0)), None, "rosbag2 writes an empty one without ROS");
+    }
+
+    #[test]
+    fn custom_data_reads_back_whatever_it_holds() {
+        let mut metadata = BagMetadata::default();
+        for (key, value) in [("a: b", "c: d"), ("quote\"s", "new\nline"), ("é", "'single'"), ("n", "42"), ("e", "")] {
+            metadata.custom_data.insert(key.to_string(), value.to_string());
+        }
+        assert_eq!(parse_custom_data(&metadata.to_metadata_yaml()), metadata.custom_data);
+        assert_eq!(parse_custom_data(&metadata.to_yaml_body(0)), metadata.custom_data);
+        metadata.custom_data.clear();
+        assert!(parse_custom_data(&metadata.to_metadata_yaml()).is_empty(), "custom_data: ~");
+        assert!(parse_custom_data("not: [yaml").is_empty());
+    }
+
+    #[test]
+    fn qos_reads_in_any_yaml_form_and_refuses_what_it_cannot_tell() {
+        let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
+        assert_eq!(parse_offered_qos(&offered_qos_profiles_yaml(&latched)), Some(latched));
+        // Flow style, string enums in capitals, depth quoted: YAML all the same.
+        let flow = "- {durability: TRANSIENT_LOCAL, reliability: best_effort, depth: '12'}";
+        let want = RecordedQos { reliable: false, transient_local: true, depth: 12 };
+        assert_eq!(parse_offered_qos(flow), Some(want));
+        assert_eq!(parse_offered_qos("[]"), None, "no profile");
+        assert_eq!(parse_offered_qos("- depth: 3"), None, "no reliability nor durability");
+        assert_eq!(parse_offered_qos("- reliability: [1"), None, "not YAML");
     }
 
     #[test]
