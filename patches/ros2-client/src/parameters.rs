@@ -423,9 +423,7 @@ impl ParameterStore {
       for descriptor in descriptors {
         let name = &descriptor.name;
         let Some(value) = values.get(name) else {
-          return Err(format!(
-            "Descriptor for undeclared parameter '{name}'."
-          ));
+          return Err(format!("Descriptor for undeclared parameter '{name}'."));
         };
         let value_type = value.to_parameter_type();
         if descriptor.param_type != ParameterType::NotSet && descriptor.param_type != value_type {
@@ -936,7 +934,10 @@ mod tests {
     assert_eq!(described[2].param_type, ParameterType::NotSet);
     // The raw message carries the range in the field of its kind.
     let raw: super::raw::ParameterDescriptor = described[0].clone().into();
-    assert_eq!((raw.integer_range.len(), raw.floating_point_range.len()), (1, 0));
+    assert_eq!(
+      (raw.integer_range.len(), raw.floating_point_range.len()),
+      (1, 0)
+    );
     assert_eq!((raw.r#type, raw.integer_range[0].to_value), (2, 9));
     // Undeclaring a parameter forgets its descriptor.
     s.undeclare("n");
@@ -977,11 +978,20 @@ mod tests {
       descriptor("n", ParameterType::Integer, float_range),
       descriptor("n", ParameterType::Integer, reversed),
     ] {
-      assert!(store().with_descriptors(vec![bad.clone()]).is_err(), "{bad:?}");
+      assert!(
+        store().with_descriptors(vec![bad.clone()]).is_err(),
+        "{bad:?}"
+      );
     }
-    assert!(store()
-      .with_descriptors(vec![descriptor("n", ParameterType::Integer, NumericRange::NotSpecified)])
-      .is_ok());
+    assert!(
+      store()
+        .with_descriptors(vec![descriptor(
+          "n",
+          ParameterType::Integer,
+          NumericRange::NotSpecified
+        )])
+        .is_ok()
+    );
   }
 
   #[test]
