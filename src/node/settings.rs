@@ -1,10 +1,11 @@
 //! The node's ROS parameters: names, defaults, validation and which may change while the node runs.
 //!
-//! [`PARAMETERS`] is the one table of them (name, unit, meaning, default, read-only, how a value is checked
-//! and stored); [`NodeSettings`] is the typed view. [`NodeSettings::declarations`] is what the node declares
-//! to ros2-client (so `ros2 param list/get/set/describe` see them) and [`NodeSettings::apply`] is the one
-//! place a value is checked, used for `-p`/`--params-file` overrides at start-up and for `ros2 param set`
-//! later.
+//! [`PARAMETERS`] is the one table of them (name, unit, meaning, default, read-only, numeric range, other
+//! constraints, how a value is checked and stored); [`NodeSettings`] is the typed view. Each parameter is
+//! declared to ros2-client with its value and [`Parameter::descriptor`] (so `ros2 param list/get/set/describe`
+//! see them, `describe` with the range and read-only flag) and [`NodeSettings::apply`] is the one place a
+//! value is checked — against that same range first —, used for `-p`/`--params-file` overrides at start-up
+//! and for `ros2 param set` later.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -794,6 +795,47 @@ mod tests {
             assert_eq!(s, defaults);
         }
         assert_eq!(PARAMETERS.len(), defaults.declarations().len());
+    }
+
+    #[test]
+    fn a_described_range_is_what_apply_checks() {
+        use ros2_client::parameters::{NumericRange, ParameterType};
+        let mut ranged = 0;
+        for p in PARAMETERS {
+            let d = p.descriptor();
+            assert_eq!((d.name.as_str(), d.read_only), (p.name, p.read_only));
+            assert_eq!(d.param_type, p.default_value().to_parameter_type());
+            assert!(d.description.starts_with(p.description) && d.description.contains(p.unit), "{}", p.name);
+            assert_eq!(d.additional_constraints, p.constraints);
+            // Each end accepted unless a constraint excludes it; the next value past an end refused.
+            let (probes, lower_constrained): (Vec<ParameterValue>, bool) = match d.range {
+                NumericRange::IntegerRange { from_value, to_value, step } => {
+                    assert_eq!(step, 0);
+                    let probes = [from_value - 1, from_value, to_value, to_value + 1].map(ParameterValue::Integer);
+                    (probes.to_vec(), !p.constraints.is_empty())
+                }
+                NumericRange::FloatingPointRange { from_value, to_value, step } => {
+                    assert_eq!(step, 0.0);
+                    let ends = [from_value.next_down(), from_value, to_value, to_value.next_up()];
+                    (ends.map(ParameterValue::Double).to_vec(), !p.constraints.is_empty())
+                }
+                NumericRange::NotSpecified => {
+                    let numeric = matches!(d.param_type, ParameterType::Integer | ParameterType::Double);
+                    assert!(!numeric || !p.constraints.is_empty(), "{}: a number with no range or constraint", p.name);
+                    continue;
+                }
+            };
+            ranged += 1;
+            for (value, accepted) in probes.iter().zip([false, !lower_constrained, true, false]) {
+                let result = NodeSettings::default().apply(p.name, value);
+                assert_eq!(result.is_ok(), accepted, "{} = {value:?}: {result:?}", p.name);
+                if let Err(reason) = result {
+                    let named = if accepted || value != &probes[1] { "≤" } else { p.constraints };
+                    assert!(reason.contains(p.name) && reason.contains(named), "{reason}");
+                }
+            }
+        }
+        assert_eq!(ranged, 11, "the numeric parameters with a range");
     }
 
     #[test]
