@@ -109,9 +109,11 @@ fn set_request(replies: &Replies, params: &[(&str, ParameterValue)]) -> Value {
     json!({ "service": "set_parameters", "request": { "parameters": parameters } })
 }
 
+type Ranges<T> = BTreeMap<&'static str, (T, T)>;
+
 /// The ranges the README documents (step 0 = any value in the range), written out here rather than read
 /// from the node's table: integer ranges as (from, to), floating-point ranges as (from, to).
-fn documented_ranges() -> (BTreeMap<&'static str, (i64, i64)>, BTreeMap<&'static str, (f64, f64)>) {
+fn documented_ranges() -> (Ranges<i64>, Ranges<f64>) {
     let integers = BTreeMap::from([
         ("default_modes", (1, 200)),
         ("max_bats", (2, 100_000)),
