@@ -1105,6 +1105,8 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let _ = writeln!(out, "{i2}}}\n");
 
     if has_defaults {
+        // A declared default may equal the type's own (rcl_interfaces' `bool read_only false`).
+        let _ = writeln!(out, "{i2}#[allow(clippy::derivable_impls)]");
         let _ = writeln!(out, "{i2}impl ::core::default::Default for {name} {{");
         let _ = writeln!(out, "{i3}fn default() -> Self {{");
         let _ = writeln!(out, "{i3}    Self {{");

@@ -74,8 +74,8 @@
 //!
 //! # Parameters
 //!
-//! See [`settings::PARAMETERS`] (name, unit, meaning, default); the read-only ones
-//! ([`settings::is_read_only`]) are refused by `ros2 param set` on a running node.
+//! See [`settings::PARAMETERS`] (name, unit, meaning, default, range: what `ros2 param describe` shows); the
+//! read-only ones ([`settings::is_read_only`]) are refused by `ros2 param set` on a running node.
 
 pub mod convert;
 mod live_settings;

@@ -261,7 +261,8 @@ fn announce(
     ));
 }
 
-/// Parameters: declared with the start-up values, validated on every set, read-only ones refused later;
+/// Parameters: declared with the start-up values and their descriptors (range, read-only, description, for
+/// `ros2 param describe`), validated on every set, read-only ones refused later;
 /// a set that changes the settings is reported to the receive loop.
 fn node_options(
     settings: &NodeSettings,
@@ -280,8 +281,9 @@ fn node_options(
             }
             Ok(())
         }));
-    for (name, value) in settings.declarations() {
-        options = options.declare_parameter(name, value);
+    for parameter in super::settings::PARAMETERS {
+        let value = parameter.value(settings);
+        options = options.declare_parameter_with_descriptor(parameter.name, value, parameter.descriptor());
     }
     options
 }

@@ -1,14 +1,16 @@
 //! The node's ROS parameters: names, defaults, validation and which may change while the node runs.
 //!
-//! [`PARAMETERS`] is the one table of them (name, unit, meaning, default, read-only, how a value is checked
-//! and stored); [`NodeSettings`] is the typed view. [`NodeSettings::declarations`] is what the node declares
-//! to ros2-client (so `ros2 param list/get/set/describe` see them) and [`NodeSettings::apply`] is the one
-//! place a value is checked, used for `-p`/`--params-file` overrides at start-up and for `ros2 param set`
-//! later.
+//! [`PARAMETERS`] is the one table of them (name, unit, meaning, default, read-only, numeric range, other
+//! constraints, how a value is checked and stored); [`NodeSettings`] is the typed view. Each parameter is
+//! declared to ros2-client with its value and [`Parameter::descriptor`] (so `ros2 param list/get/set/describe`
+//! see them, `describe` with the range and read-only flag) and [`NodeSettings::apply`] is the one place a
+//! value is checked — against that same range first —, used for `-p`/`--params-file` overrides at start-up
+//! and for `ros2 param set` later.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+use ros2_client::parameters::{NumericRange, ParameterDescriptor};
 use ros2_client::ParameterValue;
 
 use crate::model::settings::ModelSettings;
@@ -72,15 +74,20 @@ pub struct Parameter {
     pub description: &'static str,
     /// Only takes effect at start-up: setting it on a running node is refused.
     pub read_only: bool,
+    /// What a value must satisfy beyond its type and range, in words (empty if nothing); the descriptor's
+    /// `additional_constraints`.
+    pub constraints: &'static str,
     rule: Rule,
     get: fn(&NodeSettings) -> ParameterValue,
 }
 
-/// A parameter's type, default, and how a value of that type is checked and stored.
+/// A parameter's type, default, and how a value of that type is checked and stored. A numeric `range` (both
+/// ends allowed) is checked before `set` runs and is what `ros2 param describe` shows; `set` checks what a
+/// range cannot say, named in the parameter's `constraints`.
 enum Rule {
     Text { default: &'static str, set: fn(&mut NodeSettings, &str) -> Checked },
-    Integer { default: i64, set: fn(&mut NodeSettings, i64) -> Checked },
-    Double { default: f64, set: fn(&mut NodeSettings, f64) -> Checked },
+    Integer { default: i64, range: Option<(i64, i64)>, set: fn(&mut NodeSettings, i64) -> Checked },
+    Double { default: f64, range: Option<(f64, f64)>, set: fn(&mut NodeSettings, f64) -> Checked },
     Boolean { default: bool, set: fn(&mut NodeSettings, bool) -> Checked },
 }
 
@@ -106,6 +113,11 @@ fn within(ok: bool, allowed: &str) -> Result<(), Refusal> {
 
 const STORED: Checked = Ok(SettingEffect::None);
 
+// Constraints a range cannot say: the descriptor's text and the refusal's expectation.
+const REFERENCE_BALL_SPEED_POSITIVE: &str = "reference_ball_speed > 0 m/s";
+const SPLIT_SIZE: &str = "0 (never split) or ≥ 4096 bytes";
+const SPLIT_DURATION: &str = "0 (never split) or a positive number of seconds";
+
 /// Every parameter of the node, in declaration order.
 pub static PARAMETERS: &[Parameter] = &[
     Parameter {
@@ -113,6 +125,7 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "",
         description: "bat_id used by swings with an empty bat_id before any BatParams arrived (a preset name)",
         read_only: false,
+        constraints: "",
         rule: Rule::Text {
             default: "r161",
             set: |s, v| {
@@ -131,12 +144,13 @@ pub static PARAMETERS: &[Parameter] = &[
     Parameter {
         name: "default_modes",
         unit: "",
-        description: "vibrational modes integrated when BatParams.max_modes is 0 (1..=200)",
+        description: "vibrational modes integrated when BatParams.max_modes is 0",
         read_only: false,
+        constraints: "",
         rule: Rule::Integer {
             default: 18,
+            range: Some((1, 200)),
             set: |s, n| {
-                within((1..=200).contains(&n), "1 ≤ default_modes ≤ 200")?;
                 let changed = s.model.default_modes != n as usize;
                 s.model.default_modes = n as usize;
                 Ok(if changed { SettingEffect::ModesChanged } else { SettingEffect::None })
@@ -147,12 +161,13 @@ pub static PARAMETERS: &[Parameter] = &[
     Parameter {
         name: "time_step",
         unit: "s",
-        description: "RK4 time step of every collision (1e-8..=1e-4)",
+        description: "RK4 time step of every collision",
         read_only: false,
+        constraints: "",
         rule: Rule::Double {
             default: 5e-6,
+            range: Some((1e-8, 1e-4)),
             set: |s, x| {
-                within(x.is_finite() && (1e-8..=1e-4).contains(&x), "1e-8 ≤ time_step ≤ 1e-4 s")?;
                 s.model.time_step = x;
                 Ok(SettingEffect::SweetSpotsChanged)
             },
@@ -164,12 +179,14 @@ pub static PARAMETERS: &[Parameter] = &[
     Parameter {
         name: "reference_ball_speed",
         unit: "m/s",
-        description: "ball speed of the reference swing used for SweetSpot (> 0)",
+        description: "ball speed of the reference swing used for SweetSpot",
         read_only: false,
+        constraints: REFERENCE_BALL_SPEED_POSITIVE,
         rule: Rule::Double {
             default: 40.0,
+            range: Some((0.0, 100.0)),
             set: |s, x| {
-                within(x.is_finite() && x > 0.0 && x <= 100.0, "0 < reference_ball_speed ≤ 100 m/s")?;
+                within(x > 0.0, REFERENCE_BALL_SPEED_POSITIVE)?;
                 s.reference_ball_speed = x;
                 Ok(SettingEffect::SweetSpotsChanged)
             },
@@ -179,12 +196,13 @@ pub static PARAMETERS: &[Parameter] = &[
     Parameter {
         name: "reference_bat_cm_speed",
         unit: "m/s",
-        description: "bat centre-of-mass speed of the reference swing (>= 0)",
+        description: "bat centre-of-mass speed of the reference swing",
         read_only: false,
+        constraints: "",
         rule: Rule::Double {
             default: 20.0,
+            range: Some((0.0, 100.0)),
             set: |s, x| {
-                within(x.is_finite() && (0.0..=100.0).contains(&x), "0 ≤ reference_bat_cm_speed ≤ 100 m/s")?;
                 s.reference_bat_cm_speed = x;
                 Ok(SettingEffect::SweetSpotsChanged)
             },
@@ -196,10 +214,11 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "rad/s",
         description: "bat angular speed of the reference swing",
         read_only: false,
+        constraints: "",
         rule: Rule::Double {
             default: 50.0,
+            range: Some((-500.0, 500.0)),
             set: |s, x| {
-                within(x.is_finite() && x.abs() <= 500.0, "|reference_bat_angular_speed| ≤ 500 rad/s")?;
                 s.reference_bat_angular_speed = x;
                 Ok(SettingEffect::SweetSpotsChanged)
             },
@@ -211,14 +230,15 @@ pub static PARAMETERS: &[Parameter] = &[
     Parameter {
         name: "max_bats",
         unit: "",
-        description: "bats kept with their solved modes (2..=100000); beyond it the least recently used is forgotten \
+        description: "bats kept with their solved modes; beyond it the least recently used is forgotten \
                       (never the latest received); a swing naming a forgotten bat is REJECTED until its BatParams \
                       is sent again, a preset is re-solved on demand",
         read_only: false,
+        constraints: "",
         rule: Rule::Integer {
             default: 64,
+            range: Some((2, 100_000)),
             set: |s, n| {
-                within((2..=100_000).contains(&n), "2 ≤ max_bats ≤ 100000")?;
                 s.model.max_bats = n as usize;
                 STORED
             },
@@ -229,13 +249,14 @@ pub static PARAMETERS: &[Parameter] = &[
     Parameter {
         name: "max_balls",
         unit: "",
-        description: "balls kept (2..=100000); beyond it the least recently used is forgotten (never the latest \
+        description: "balls kept; beyond it the least recently used is forgotten (never the latest \
                       received); a swing naming a forgotten ball is REJECTED until its BallParams is sent again",
         read_only: false,
+        constraints: "",
         rule: Rule::Integer {
             default: 1024,
+            range: Some((2, 100_000)),
             set: |s, n| {
-                within((2..=100_000).contains(&n), "2 ≤ max_balls ≤ 100000")?;
                 s.model.max_balls = n as usize;
                 STORED
             },
@@ -245,14 +266,14 @@ pub static PARAMETERS: &[Parameter] = &[
     Parameter {
         name: "max_bat_slices",
         unit: "",
-        description: "largest slice count (bat length / slice_length) a BatParams may ask for (100..=4000); finer \
+        description: "largest slice count (bat length / slice_length) a BatParams may ask for; finer \
                       bats are REJECTED before their modes are solved",
         read_only: false,
+        constraints: "",
         rule: Rule::Integer {
             default: crate::model::settings::DEFAULT_MAX_BAT_SLICES as i64,
+            range: Some((100, crate::physics::bat::SLICE_COUNT_RANGE.1 as i64)),
             set: |s, n| {
-                let physics_max = crate::physics::bat::SLICE_COUNT_RANGE.1 as i64;
-                within((100..=physics_max).contains(&n), &format!("100 ≤ max_bat_slices ≤ {physics_max}"))?;
                 s.model.max_bat_slices = n as usize;
                 STORED
             },
@@ -266,10 +287,11 @@ pub static PARAMETERS: &[Parameter] = &[
         description: "swings in flight (queued, computing or awaiting in-order publication) before new ones are \
                       dropped",
         read_only: true,
+        constraints: "",
         rule: Rule::Integer {
             default: 16_384,
+            range: Some((1, 1_000_000)),
             set: |s, n| {
-                within((1..=1_000_000).contains(&n), "1 ≤ queue_capacity ≤ 1000000")?;
                 s.queue_capacity = n as usize;
                 STORED
             },
@@ -281,10 +303,11 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "",
         description: "collision worker threads; 0 = one per CPU core",
         read_only: true,
+        constraints: "",
         rule: Rule::Integer {
             default: 0,
+            range: Some((0, 256)),
             set: |s, n| {
-                within((0..=256).contains(&n), "0 (one per core) ≤ workers ≤ 256")?;
                 s.workers = n as usize;
                 STORED
             },
@@ -296,6 +319,7 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "",
         description: "record every input and output to MCAP",
         read_only: true,
+        constraints: "",
         rule: Rule::Boolean {
             default: true,
             set: |s, b| {
@@ -310,6 +334,7 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "",
         description: "also record ~/simulate_swing calls (request and response events on <service>/_service_event)",
         read_only: true,
+        constraints: "",
         rule: Rule::Boolean {
             default: false,
             set: |s, b| {
@@ -324,6 +349,7 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "",
         description: "rosbag2 directory to create; empty = bags/<node>_<UTC time>",
         read_only: true,
+        constraints: "",
         rule: Rule::Text {
             default: "",
             set: |s, v| {
@@ -338,10 +364,12 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "bytes",
         description: "split the bag after this many bytes; 0 = never",
         read_only: true,
+        constraints: SPLIT_SIZE,
         rule: Rule::Integer {
             default: 0,
+            range: None,
             set: |s, n| {
-                within(n == 0 || n >= 4096, "0 (never split) or ≥ 4096 bytes")?;
+                within(n == 0 || n >= 4096, SPLIT_SIZE)?;
                 s.record_max_file_size = n as u64;
                 STORED
             },
@@ -353,10 +381,12 @@ pub static PARAMETERS: &[Parameter] = &[
         unit: "s",
         description: "split the bag after this much time; 0 = never",
         read_only: true,
+        constraints: SPLIT_DURATION,
         rule: Rule::Double {
             default: 0.0,
+            range: None,
             set: |s, x| {
-                within(x.is_finite() && x >= 0.0, "0 (never split) or a positive number of seconds")?;
+                within(x.is_finite() && x >= 0.0, SPLIT_DURATION)?;
                 s.record_max_file_duration = x;
                 STORED
             },
@@ -370,6 +400,7 @@ pub static PARAMETERS: &[Parameter] = &[
                       chunks), fastwrite (no chunks, no indexes, uncompressed), zstd_fast (zstd -5), zstd_small \
                       (zstd 19, 4 MiB chunks); empty = zstd level 1 chunks",
         read_only: true,
+        constraints: "",
         rule: Rule::Text { default: "", set: set_record_storage_preset },
         get: |s| ParameterValue::String(s.record_storage_preset.clone()),
     },
@@ -380,18 +411,20 @@ pub static PARAMETERS: &[Parameter] = &[
                       1..=22), lz4 or none; empty = the preset's (zstd level 1 without one); with fastwrite only \
                       none or empty",
         read_only: true,
+        constraints: "",
         rule: Rule::Text { default: "", set: set_record_compression },
         get: |s| ParameterValue::String(s.record_compression.clone()),
     },
     Parameter {
         name: "diagnostics_period",
         unit: "s",
-        description: "period of /diagnostics (0.1..=60)",
+        description: "period of /diagnostics",
         read_only: true,
+        constraints: "",
         rule: Rule::Double {
             default: 1.0,
+            range: Some((0.1, 60.0)),
             set: |s, x| {
-                within(x.is_finite() && (0.1..=60.0).contains(&x), "0.1 ≤ diagnostics_period ≤ 60 s")?;
                 s.diagnostics_period = x;
                 STORED
             },
@@ -404,6 +437,7 @@ pub static PARAMETERS: &[Parameter] = &[
         description: "serve the session live to Foxglove on [ADDR:]PORT (WebSocket; 127.0.0.1 unless ADDR is \
                       given); empty = off",
         read_only: true,
+        constraints: "",
         rule: Rule::Text {
             default: "",
             set: |s, v| {
@@ -467,13 +501,54 @@ impl Parameter {
         (self.get)(settings)
     }
 
-    /// Checks a value of its type and stores it in `settings`; a value of another type is `Err(None)`.
+    /// What `ros2 param describe` shows: the description (with the unit), the range or constraints, and
+    /// whether it is fixed at start-up. The range is the one [`NodeSettings::apply`] checks.
+    pub fn descriptor(&self) -> ParameterDescriptor {
+        let range = match self.rule {
+            Rule::Integer { range: Some((from_value, to_value)), .. } => {
+                NumericRange::IntegerRange { from_value, to_value, step: 0 }
+            }
+            Rule::Double { range: Some((from_value, to_value)), .. } => {
+                NumericRange::FloatingPointRange { from_value, to_value, step: 0.0 }
+            }
+            _ => NumericRange::NotSpecified,
+        };
+        let description = match self.unit {
+            "" => self.description.to_string(),
+            unit => format!("{} [{unit}]", self.description),
+        };
+        ParameterDescriptor {
+            description,
+            additional_constraints: self.constraints.to_string(),
+            read_only: self.read_only,
+            range,
+            ..ParameterDescriptor::from_value(self.name, &self.default_value())
+        }
+    }
+
+    /// "lo ≤ name ≤ hi unit" for a value outside `range`, `None` inside it (NaN is outside any range).
+    fn outside<T: PartialOrd + std::fmt::Display>(&self, range: Option<(T, T)>, x: T) -> Option<Refusal> {
+        let (lo, hi) = range?;
+        let unit = if self.unit.is_empty() { String::new() } else { format!(" {}", self.unit) };
+        (!(lo <= x && x <= hi)).then(|| Refusal::OutOfRange(format!("{lo} ≤ {} ≤ {hi}{unit}", self.name)))
+    }
+
+    /// Checks a value of its type (its range first) and stores it in `settings`; a value of another type is
+    /// `Err(None)`.
     fn set(&self, settings: &mut NodeSettings, value: &ParameterValue) -> Result<SettingEffect, Option<Refusal>> {
         use ParameterValue as V;
         match (&self.rule, value) {
             (Rule::Text { set, .. }, V::String(v)) => set(settings, v).map_err(Some),
-            (Rule::Integer { set, .. }, V::Integer(n)) => set(settings, *n).map_err(Some),
-            (Rule::Double { set, .. }, V::Double(x)) => set(settings, *x).map_err(Some),
+            (Rule::Integer { range, set, .. }, V::Integer(n)) => match self.outside(*range, *n) {
+                Some(refusal) => Err(Some(refusal)),
+                None => set(settings, *n).map_err(Some),
+            },
+            (Rule::Double { range, set, .. }, V::Double(x)) => {
+                match self.outside(range.map(|(lo, hi)| (Short(lo), Short(hi))), Short(*x)) {
+                    Some(refusal) => Err(Some(refusal)),
+                    None => set(settings, *x).map_err(Some),
+                }
+            }
             (Rule::Boolean { set, .. }, V::Boolean(b)) => set(settings, *b).map_err(Some),
             _ => Err(None),
         }
@@ -591,6 +666,21 @@ impl NodeSettings {
             crate::bag::default_bag_dir(std::path::Path::new("bags"), node_name, started.into())
         } else {
             PathBuf::from(&self.record_path)
+        }
+    }
+}
+
+/// A double as a range end in messages: `1e-8` rather than `0.00000001`, `100` rather than `100.0`.
+#[derive(Clone, Copy, PartialEq, PartialOrd)]
+struct Short(f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
+            write!(f, "{x:e}")
+        } else {
+            write!(f, "{x}")
         }
     }
 }
@@ -723,6 +813,47 @@ mod tests {
             assert_eq!(s, defaults);
         }
         assert_eq!(PARAMETERS.len(), defaults.declarations().len());
+    }
+
+    #[test]
+    fn a_described_range_is_what_apply_checks() {
+        use ros2_client::parameters::{NumericRange, ParameterType};
+        let mut ranged = 0;
+        for p in PARAMETERS {
+            let d = p.descriptor();
+            assert_eq!((d.name.as_str(), d.read_only), (p.name, p.read_only));
+            assert_eq!(d.param_type, p.default_value().to_parameter_type());
+            assert!(d.description.starts_with(p.description) && d.description.contains(p.unit), "{}", p.name);
+            assert_eq!(d.additional_constraints, p.constraints);
+            // Each end accepted unless a constraint excludes it; the next value past an end refused.
+            let (probes, lower_constrained): (Vec<ParameterValue>, bool) = match d.range {
+                NumericRange::IntegerRange { from_value, to_value, step } => {
+                    assert_eq!(step, 0);
+                    let probes = [from_value - 1, from_value, to_value, to_value + 1].map(ParameterValue::Integer);
+                    (probes.to_vec(), !p.constraints.is_empty())
+                }
+                NumericRange::FloatingPointRange { from_value, to_value, step } => {
+                    assert_eq!(step, 0.0);
+                    let ends = [from_value.next_down(), from_value, to_value, to_value.next_up()];
+                    (ends.map(ParameterValue::Double).to_vec(), !p.constraints.is_empty())
+                }
+                NumericRange::NotSpecified => {
+                    let numeric = matches!(d.param_type, ParameterType::Integer | ParameterType::Double);
+                    assert!(!numeric || !p.constraints.is_empty(), "{}: a number with no range or constraint", p.name);
+                    continue;
+                }
+            };
+            ranged += 1;
+            for (value, accepted) in probes.iter().zip([false, !lower_constrained, true, false]) {
+                let result = NodeSettings::default().apply(p.name, value);
+                assert_eq!(result.is_ok(), accepted, "{} = {value:?}: {result:?}", p.name);
+                if let Err(reason) = result {
+                    let named = if accepted || value != &probes[1] { "≤" } else { p.constraints };
+                    assert!(reason.contains(p.name) && reason.contains(named), "{reason}");
+                }
+            }
+        }
+        assert_eq!(ranged, 11, "the numeric parameters with a range");
     }
 
     #[test]
