@@ -16,6 +16,7 @@ const TOPICS: &[(&str, &str)] = &[
     ("/exit_velocity", "sweetspot_msgs/ExitVelocity"),
     ("/modal_energies", "sweetspot_msgs/ModalEnergies"),
     ("/sweet_spot", "sweetspot_msgs/SweetSpot"),
+    ("/swing_scene", "visualization_msgs/MarkerArray"),
     ("/diagnostics", "diagnostic_msgs/DiagnosticArray"),
     ("/rosout", "rcl_interfaces/Log"),
 ];
@@ -118,12 +119,21 @@ fn the_layout_references_only_served_topics_and_existing_fields() {
             check_path(path["value"].as_str().unwrap()).unwrap_or_else(|e| panic!("{id}: {e}"));
             checked += 1;
         }
+        // A 3D panel's topics, and the frame it follows: the one the scene's markers are drawn in.
+        for topic in config.get("topics").and_then(Value::as_object).into_iter().flat_map(|t| t.keys()) {
+            assert!(TOPICS.iter().any(|(t, _)| t == topic), "{id}: topic {topic}");
+            checked += 1;
+        }
+        if let Some(frame) = config.get("followTf").and_then(Value::as_str) {
+            assert_eq!(frame, sweetspot::model::scene::FRAME_ID, "{id}");
+        }
         if let Some(topic) = config.get("topicToRender").and_then(Value::as_str) {
             assert!(TOPICS.iter().any(|(t, _)| *t == topic), "{id}: topic {topic}");
             checked += 1;
         }
     }
     assert!(checked >= 10, "{checked} references checked");
+    assert!(configs.values().any(|c| c["topics"]["/swing_scene"]["visible"] == true), "a 3D panel shows the scene");
 
     // The checker itself rejects what it must.
     assert!(check_path("/exit_velocity.exit_sped").is_err());
@@ -131,4 +141,6 @@ fn the_layout_references_only_served_topics_and_existing_fields() {
     assert!(check_path("/exit_speed.exit_speed").is_err());
     assert!(check_path("/exit_velocity.header.stamp.nanosec").is_ok());
     assert!(check_path("/exit_velocity.header.stamp.nsec").is_err());
+    assert!(check_path("/swing_scene.markers[0].pose.position.z").is_ok(), "nested types of other packages");
+    assert!(check_path("/swing_scene.markers[0].pose.position.w").is_err());
 }

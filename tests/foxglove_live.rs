@@ -4,7 +4,8 @@
 //! namespace of scripts/test (the node binds 127.0.0.1, the swings arrive over DDS on loopback):
 //! - every ExitVelocity the client decodes equals, field for field, the one the node recorded in its bag, in
 //!   order, with none missing; modal energies decode too, and the latched SweetSpot reaches a client that
-//!   connects after it was published;
+//!   connects after it was published; every OK swing's scene (`swing_scene`, served without the DDS-side
+//!   parameter) decodes with its arrow at the decoded answer's launch angle and the R161's outline;
 //! - a client that subscribes and then stops reading changes no answer and loses no swing;
 //! - `/diagnostics` is served (live only; it is not recorded), with the server's own counters (clients,
 //!   subscriptions, messages served);
@@ -86,6 +87,40 @@ fn same(a: &Value, b: &Value) -> bool {
     }
 }
 
+/// The R161's radii from its data file (diameter in mm per 1-cm slice), m.
+fn r161_radii() -> Vec<f64> {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/physics/data/r161.dat"))
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.split_whitespace().nth(1).and_then(|d| d.parse::<f64>().ok()))
+        .map(|d| d / 2000.0)
+        .collect()
+}
+
+/// The i-th decoded scene is drawn for the i-th decoded answer (both go out in swing order, the scene first):
+/// it names that swing, draws its arrow at the answer's launch angle and the ball at its impact_z, and outlines
+/// the default bat (R161) at its data file's radii.
+fn check_scenes(scenes: &[Value], answers: &[Value]) {
+    assert_eq!(scenes.len(), answers.len(), "one scene per answer");
+    let radii = r161_radii();
+    let num = |v: &Value| v.as_f64().unwrap_or_else(|| panic!("{v}"));
+    for (scene, answer) in scenes.iter().zip(answers) {
+        let markers = scene["markers"].as_array().unwrap();
+        let find = |ns: &str| markers.iter().find(|m| m["ns"] == ns).unwrap_or_else(|| panic!("no {ns}: {scene}"));
+        assert_eq!(markers[0]["header"]["stamp"], answer["header"]["stamp"]);
+        assert_eq!(markers[0]["header"]["frame_id"], "bat");
+        let label = find("label")["text"].as_str().unwrap().to_string();
+        assert!(label.starts_with(&format!("swing {} ", answer["swing_id"])), "{label}");
+        let arrow = find("exit_velocity")["points"].as_array().unwrap();
+        let angle = (num(&arrow[1]["y"]) - num(&arrow[0]["y"])).atan2(num(&arrow[1]["x"]) - num(&arrow[0]["x"]));
+        assert!((angle - num(&answer["launch_angle"])).abs() < 1e-12, "{angle} vs {}", answer["launch_angle"]);
+        assert_eq!(num(&find("ball")["pose"]["position"]["z"]), num(&answer["impact_z"]));
+        let outline: Vec<f64> =
+            find("bat_outline")["points"].as_array().unwrap()[1..=radii.len()].iter().map(|p| num(&p["x"])).collect();
+        assert_eq!(outline, radii);
+    }
+}
+
 #[test]
 fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_nothing() {
     let domain = domain(91);
@@ -108,7 +143,9 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     let url = format!("ws://127.0.0.1:{PORT}");
 
     // 1. A client that connects after the default bat's SweetSpot was published and reads everything.
-    let (mut reader, mut out) = client(&[&url, &LIVE.to_string(), "/exit_velocity", "/modal_energies", "/sweet_spot"]);
+    let count = LIVE.to_string();
+    let (mut reader, mut out) =
+        client(&[&url, &count, "/exit_velocity", "/modal_energies", "/sweet_spot", "/swing_scene"]);
     wait_subscribed(&mut out);
     for id in 1..=LIVE {
         swing_pub.publish(swing(id)).unwrap();
@@ -117,6 +154,7 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     assert_eq!(over_dds.iter().map(|ev| ev.swing_id).collect::<Vec<_>>(), (1..=LIVE).collect::<Vec<_>>());
     let mut live: Vec<Value> = Vec::new();
     let (mut energies, mut sweet_spots) = (0, 0);
+    let mut scenes: Vec<Value> = Vec::new();
     for line in out.lines() {
         let line = line.unwrap();
         let v: Value = serde_json::from_str(&line).unwrap_or_else(|e| panic!("{e}: {line}"));
@@ -127,9 +165,11 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
                 energies += 1;
             }
             Some("/sweet_spot") => sweet_spots += 1,
+            Some("/swing_scene") => scenes.push(v["message"].clone()),
             _ => panic!("unexpected line {line}"),
         }
     }
+    check_scenes(&scenes, &live);
     assert!(reader.wait().unwrap().success(), "the client did not get {LIVE} ExitVelocity");
     assert!(sweet_spots >= 1, "the latched SweetSpot did not reach a client that connected after it");
     assert!(energies >= 1, "no ModalEnergies decoded");

@@ -175,3 +175,49 @@ fn the_nodes_writers_and_readers_announce_their_type_hash_in_user_data_as_jazzy_
         assert_eq!(seen["user_data"], format!("typehash={hash};"), "{topic}: {seen}");
     }
 }
+
+/// The standard messages swing_scene needs (visualization_msgs/MarkerArray and everything it references) hash
+/// as rosbags' own copy of the ROS 2 Humble and Jazzy definitions does (rosbags computes RIHS01 from its
+/// bundled type store, not from our .msg files), and every field is there under the same name and type.
+#[test]
+fn the_marker_messages_hash_as_rosbags_humble_and_jazzy_type_stores_do() {
+    use sweetspot::msgs::geometry_msgs::msg::{Point, Pose, Quaternion, Vector3};
+    use sweetspot::msgs::sensor_msgs::msg::CompressedImage;
+    use sweetspot::msgs::std_msgs::msg::ColorRGBA;
+    use sweetspot::msgs::visualization_msgs::msg::{Marker, MarkerArray, MeshFile, UVCoordinate};
+    let ours = [
+        ("visualization_msgs/msg/MarkerArray", MarkerArray::TYPE_HASH),
+        ("visualization_msgs/msg/Marker", Marker::TYPE_HASH),
+        ("visualization_msgs/msg/UVCoordinate", UVCoordinate::TYPE_HASH),
+        ("visualization_msgs/msg/MeshFile", MeshFile::TYPE_HASH),
+        ("sensor_msgs/msg/CompressedImage", CompressedImage::TYPE_HASH),
+        ("std_msgs/msg/ColorRGBA", ColorRGBA::TYPE_HASH),
+        ("geometry_msgs/msg/Pose", Pose::TYPE_HASH),
+        ("geometry_msgs/msg/Point", Point::TYPE_HASH),
+        ("geometry_msgs/msg/Quaternion", Quaternion::TYPE_HASH),
+        ("geometry_msgs/msg/Vector3", Vector3::TYPE_HASH),
+        ("builtin_interfaces/msg/Duration", Duration::TYPE_HASH),
+    ];
+    let script = r#"
+import json, sys
+from rosbags.typesys import Stores, get_typestore
+names = json.loads(sys.argv[1])
+print(json.dumps({store.name: {n: get_typestore(store).hash_rihs01(n) for n in names}
+                  for store in (Stores.ROS2_HUMBLE, Stores.ROS2_JAZZY)}))
+"#;
+    let names: Vec<&str> = ours.iter().map(|(n, _)| *n).collect();
+    let out = std::process::Command::new(support::python())
+        .args(["-c", script, &serde_json::to_string(&names).unwrap()])
+        .output()
+        .expect("run python");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let hashes: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for store in ["ROS2_HUMBLE", "ROS2_JAZZY"] {
+        for (name, hash) in ours {
+            assert_eq!(hashes[store][name], hash, "{name} in rosbags' {store}");
+        }
+    }
+    // The identity quaternion is the default, as geometry_msgs/Quaternion's `float64 w 1` says.
+    assert_eq!(Quaternion::default().w, 1.0);
+    assert_eq!(MarkerArray::TYPE_NAME, "visualization_msgs/msg/MarkerArray");
+}

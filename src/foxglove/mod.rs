@@ -229,6 +229,11 @@ impl LiveServer {
         channel.log_with_meta(cdr, PartialMetadata { log_time: Some(log_time_ns) });
     }
 
+    /// Whether any client subscribes to topic `index` now.
+    pub fn has_subscribers(&self, index: usize) -> bool {
+        self.channels.get(index).is_some_and(|channel| channel.has_sinks())
+    }
+
     /// Tells every client the current time (ns since the Unix epoch; the bag's time in `bag play`).
     pub fn broadcast_time(&self, time_ns: u64) {
         if let Some(handle) = self.handle.lock().ok().as_ref().and_then(|h| h.as_ref()) {

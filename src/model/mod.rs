@@ -11,6 +11,7 @@
 //! - [`limits`]: the longest strings and profiles a peer may send, what rejection texts quote of them, the
 //!   physical limits of a ball's compression and a measured speed, and how numbers are printed;
 //! - [`time`]: ROS `Time` ↔ Unix nanoseconds; [`topics`]: the node's topic names.
+//! - [`scene`]: the swing drawn (a `visualization_msgs/MarkerArray` for Foxglove's 3D panel).
 //!
 //! Used by the node (live), `bag replay` and `bag export` (recorded), `calibrate` (fitting recorded swings),
 //! the rig (its BatParams) and the fuzz targets, so that none of them can decide differently. It imports only
@@ -20,6 +21,7 @@ pub mod convert;
 pub mod engine;
 pub mod limits;
 pub mod lru;
+pub mod scene;
 pub mod settings;
 pub mod time;
 pub mod topics;

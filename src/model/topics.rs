@@ -12,6 +12,8 @@ pub const SWING: &str = "swing";
 pub const EXIT_VELOCITY: &str = "exit_velocity";
 /// ModalEnergies out.
 pub const MODAL_ENERGIES: &str = "modal_energies";
+/// visualization_msgs/MarkerArray out: the swing drawn (DDS with the `swing_scene` parameter; Foxglove always).
+pub const SWING_SCENE: &str = "swing_scene";
 /// SweetSpot out (latched).
 pub const SWEET_SPOT: &str = "sweet_spot";
 /// DiagnosticArray out.

@@ -20,6 +20,7 @@
 //! | `exit_velocity`  | sweetspot_msgs/ExitVelocity        | out       | reliable; one per swing taken, in swing order; REJECTED + reason for bad input; DROPPED (at once) when the queue is full |
 //! | `modal_energies` | sweetspot_msgs/ModalEnergies       | out       | reliable; one per OK swing, published while a subscription is matched, always recorded |
 //! | `sweet_spot`     | sweetspot_msgs/SweetSpot           | out       | reliable, transient-local; on every bat change |
+//! | `swing_scene`    | visualization_msgs/MarkerArray     | out       | reliable; one per OK swing ([`crate::model::scene`]); DDS and recorded with `swing_scene:=true`, Foxglove always |
 //! | `/diagnostics`   | diagnostic_msgs/DiagnosticArray    | out       | 1 Hz (`diagnostics_period`)                   |
 //! | `/rosout`        | rcl_interfaces/Log                 | out       | ros2-client's rosout (and the Foxglove server's, with `foxglove_port`) |
 //!

@@ -14,6 +14,7 @@ use ros2_client::{NodeLoggingHandle, Publisher};
 use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use crate::msgs::rcl_interfaces::msg::Log as RosoutLine;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use crate::msgs::visualization_msgs::msg::MarkerArray;
 
 use super::pipeline::{Outcome, ResultSink};
 use super::recording::{Recorded, Tape};
@@ -27,6 +28,8 @@ pub struct Outputs {
     pub modal_energies: Arc<Publisher<ModalEnergies>>,
     /// Whether `modal_energies` has a listener.
     pub energies_listeners: EnergiesListeners,
+    /// swing_scene out, with the `swing_scene` parameter only.
+    pub swing_scene: Option<Arc<Publisher<MarkerArray>>>,
     /// SweetSpot out.
     pub sweet_spot: Publisher<SweetSpot>,
     /// DiagnosticArray out.
@@ -40,6 +43,7 @@ impl Outputs {
             exit_velocity: Arc::clone(&self.exit_velocity),
             modal_energies: Arc::clone(&self.modal_energies),
             energies_listened: Arc::clone(&self.energies_listeners.flag),
+            swing_scene: self.swing_scene.clone(),
             failures: failures.clone(),
         };
         DdsSink { out, tape: Arc::clone(tape), stats: Arc::clone(stats) }
@@ -165,6 +169,14 @@ pub trait AnswerOut: Send + 'static {
     fn publish_answer(&self, message: ExitVelocity) -> Result<(), ros2_client::WriteError<()>>;
     /// Reports (rate-limited) that `what` could not be published.
     fn report_failure(&self, what: &str, error: &ros2_client::WriteError<()>);
+    /// Whether swing scenes go out over DDS (the `swing_scene` parameter).
+    fn scenes_published(&self) -> bool {
+        false
+    }
+    /// Publishes a swing's scene.
+    fn publish_scene(&self, _message: MarkerArray) -> Result<(), ros2_client::WriteError<()>> {
+        Ok(())
+    }
 }
 
 /// The node's answer publishers.
@@ -175,6 +187,8 @@ pub struct DdsAnswers {
     modal_energies: Arc<Publisher<ModalEnergies>>,
     /// Whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
     energies_listened: Arc<AtomicBool>,
+    /// swing_scene out, with the `swing_scene` parameter only.
+    swing_scene: Option<Arc<Publisher<MarkerArray>>>,
     /// Where failed publishes are reported.
     failures: PublishFailures,
 }
@@ -194,6 +208,17 @@ impl AnswerOut for DdsAnswers {
 
     fn report_failure(&self, what: &str, error: &ros2_client::WriteError<()>) {
         self.failures.report(what, error);
+    }
+
+    fn scenes_published(&self) -> bool {
+        self.swing_scene.is_some()
+    }
+
+    fn publish_scene(&self, message: MarkerArray) -> Result<(), ros2_client::WriteError<()>> {
+        match &self.swing_scene {
+            Some(publisher) => publisher.publish(message).map_err(ros2_client::WriteError::forget_data),
+            None => Ok(()),
+        }
     }
 }
 
@@ -220,6 +245,7 @@ impl<O: AnswerOut> ResultSink<Swing> for DdsSink<O> {
             // Always recorded; published only when someone listens: a DDS write wakes RustDDS's event
             // loop thread even with no reader, which costs every answer latency for nothing.
             self.tape.record(Recorded::ModalEnergies, &me, crate::model::time::now_ns(), stamp_ns);
+            self.draw(outcome, &ev, &me, stamp_ns);
             if self.out.energies_listened() {
                 match self.out.publish_energies(me) {
                     Ok(()) => NodeStats::bump(&self.stats.modal_energies_published),
@@ -237,6 +263,36 @@ impl<O: AnswerOut> ResultSink<Swing> for DdsSink<O> {
             Err(e) => {
                 self.out.report_failure(&format!("the ExitVelocity of swing {}", swing.swing_id), &e);
                 false
+            }
+        }
+    }
+}
+
+impl<O: AnswerOut> DdsSink<O> {
+    /// The swing's scene ([`crate::model::scene`]), built only when it goes somewhere: over DDS (the
+    /// `swing_scene` parameter, which also records it) or to a Foxglove client subscribed to it. A scene that
+    /// could not be published is reported; the swing is still answered.
+    fn draw(&self, outcome: &Outcome<Swing>, ev: &ExitVelocity, me: &ModalEnergies, stamp: u64) {
+        let published = self.out.scenes_published();
+        if !(published || self.tape.wants(Recorded::SwingScene)) {
+            return;
+        }
+        let Some((bat, ball_radius)) = &outcome.drawn_from else { return };
+        let Ok(modes) = bat.modes(&()) else { return };
+        let swing = &outcome.payload;
+        let scene = crate::model::scene::swing_scene(&crate::model::scene::SceneInput {
+            answer: ev,
+            energies: me,
+            bat: &bat.bat,
+            modes: &modes,
+            ball_radius: *ball_radius,
+            undercut: swing.undercut,
+            attack_angle: swing.attack_angle,
+        });
+        self.tape.record(Recorded::SwingScene, &scene, crate::model::time::now_ns(), stamp);
+        if published {
+            if let Err(e) = self.out.publish_scene(scene) {
+                self.out.report_failure(&format!("the swing_scene of swing {}", swing.swing_id), &e);
             }
         }
     }
@@ -284,6 +340,7 @@ mod tests {
     struct Fake {
         energies_fail: bool,
         answer_fails: bool,
+        scenes: bool,
         sent: Arc<Mutex<Vec<String>>>,
     }
 
@@ -308,6 +365,14 @@ mod tests {
         fn report_failure(&self, what: &str, _: &ros2_client::WriteError<()>) {
             self.sent.lock().unwrap().push(format!("failed: {what}"));
         }
+        fn scenes_published(&self) -> bool {
+            self.scenes
+        }
+        fn publish_scene(&self, m: MarkerArray) -> Result<(), ros2_client::WriteError<()>> {
+            let ns: Vec<&str> = m.markers.iter().map(|m| m.ns.as_str()).collect();
+            self.sent.lock().unwrap().push(format!("MarkerArray {}", ns.join(",")));
+            Ok(())
+        }
     }
 
     /// An OK outcome of swing 7 on the built-in default bat and ball (a real, coarse collision).
@@ -327,7 +392,11 @@ mod tests {
         let result = engine::compute(&plan, &());
         assert!(result.is_ok(), "{result:?}");
         let (bat_id, ball_id) = (plan.bat_id().to_string(), plan.ball_id().to_string());
-        Outcome { seq: 0, received: Instant::now(), bat_id, ball_id, result, payload: swing }
+        let drawn_from = match &plan {
+            engine::Plan::Collide { bat, ball, .. } => Some((Arc::clone(bat), ball.radius)),
+            engine::Plan::Reject { .. } => None,
+        };
+        Outcome { seq: 0, received: Instant::now(), bat_id, ball_id, result, drawn_from, payload: swing }
     }
 
     #[test]
@@ -340,6 +409,26 @@ mod tests {
         assert_eq!(*sent.lock().unwrap(), ["failed: the ModalEnergies of swing 7", "ExitVelocity 7"]);
         let s = stats.snapshot(0);
         assert_eq!((s.modal_energies_unsent, s.modal_energies_published), (1, 0));
+    }
+
+    #[test]
+    fn a_scene_is_drawn_only_when_it_goes_somewhere_and_before_the_answer() {
+        for scenes in [false, true] {
+            let out = Fake { scenes, ..Fake::default() };
+            let sent = Arc::clone(&out.sent);
+            let mut sink = DdsSink { out, tape: Arc::new(Tape::off()), stats: Arc::new(NodeStats::new()) };
+            assert!(sink.deliver(&ok_outcome()));
+            let mut want = vec!["ModalEnergies 7", "ExitVelocity 7"];
+            if scenes {
+                want.insert(0, "MarkerArray bat_outline,bat_outline,ball,exit_velocity,deflection x20,label");
+            }
+            assert_eq!(*sent.lock().unwrap(), want);
+            // A rejection is not drawn.
+            let rejected = Outcome { result: Err("no".into()), drawn_from: None, ..ok_outcome() };
+            sent.lock().unwrap().clear();
+            assert!(sink.deliver(&rejected));
+            assert_eq!(*sent.lock().unwrap(), ["ExitVelocity 7"]);
+        }
     }
 
     #[test]

@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use crossbeam_channel::{Receiver, RecvTimeoutError, Sender};
 
 use super::stats::NodeStats;
-use crate::model::engine::{compute, Computed, Plan};
+use crate::model::engine::{compute, BatEntry, Computed, Plan};
 
 /// One swing on its way through the pipeline; `payload` is carried along untouched (the swing message).
 #[derive(Debug)]
@@ -48,6 +48,9 @@ pub struct Outcome<T> {
     pub ball_id: String,
     /// The result, or why the swing was rejected.
     pub result: Result<Computed, String>,
+    /// The bat (with its solved modes) and the ball's radius, m, of a computed swing: what its scene is
+    /// drawn from ([`crate::model::scene`]); `None` for a rejection.
+    pub drawn_from: Option<(Arc<BatEntry>, f64)>,
     /// The swing as received.
     pub payload: T,
 }
@@ -235,6 +238,10 @@ fn run_job<T>(job: Job<T>, stats: &NodeStats) -> Outcome<T> {
         bat_id: job.plan.bat_id().to_string(),
         ball_id: job.plan.ball_id().to_string(),
         result,
+        drawn_from: match &job.plan {
+            Plan::Collide { bat, ball, .. } => Some((Arc::clone(bat), ball.radius)),
+            Plan::Reject { .. } => None,
+        },
         payload: job.payload,
     }
 }

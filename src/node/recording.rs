@@ -42,13 +42,16 @@ pub enum Recorded {
     ModalEnergies = 4,
     /// Output `sweet_spot`.
     SweetSpot = 5,
+    /// Output `swing_scene`: recorded with the `swing_scene` parameter (registered last then), served live
+    /// always.
+    SwingScene = 6,
     /// Output `/diagnostics`: served live only, not recorded.
-    Diagnostics = 6,
+    Diagnostics = 7,
     /// Output `/rosout` (the node's log lines): served live only, not recorded.
-    Rosout = 7,
+    Rosout = 8,
     /// `~/simulate_swing/_service_event`: the service's calls, recorded only with `record_services`
-    /// ([`Tape::add_topic`]).
-    ServiceEvent = 8,
+    /// ([`Tape::add_topic`]); not served live.
+    ServiceEvent = 9,
 }
 
 /// The node's recorder: a backend plus the ids of its topics, or nothing when recording is off or failed.
@@ -129,6 +132,12 @@ impl Tape {
             final_stats: Mutex::new(None),
             live: None,
         }
+    }
+
+    /// Whether a message of `topic` would go anywhere now: the bag records it, or a live client subscribes to it.
+    pub fn wants(&self, topic: Recorded) -> bool {
+        self.ids.get(topic as usize).copied().flatten().is_some()
+            || self.live.as_ref().is_some_and(|live| live.has_subscribers(topic as usize))
     }
 
     /// Records one message: CDR-encoded now, logged at `log_time_ns`, published at `publish_time_ns`.

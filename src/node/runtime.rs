@@ -17,6 +17,7 @@ use tokio::task::JoinHandle;
 
 use crate::bag::{RecorderConfig, TopicInfo};
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
+use crate::msgs::visualization_msgs::msg::MarkerArray;
 use crate::ros::edge::{publisher, subscription};
 use crate::ros::{diagnostics_qos, params_qos, results_qos, sweet_spot_qos as latched_results_qos, swing_qos};
 
@@ -110,6 +111,7 @@ impl TopicNames {
             topics::EXIT_VELOCITY,
             topics::MODAL_ENERGIES,
             topics::SWEET_SPOT,
+            topics::SWING_SCENE,
             topics::DIAGNOSTICS,
         ];
         TopicNames(all.into_iter().map(|t| (t, names.resolve(t))).collect())
@@ -152,7 +154,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         "" => tape,
         bind => {
             let bind = crate::foxglove::Bind::parse(bind).map_err(|e| anyhow::anyhow!("foxglove_port: {e}"))?;
-            let mut served = recorded_topics(&topic_names);
+            let mut served = recorded_topics(&topic_names, false);
+            // The scene is always served: built only while a client subscribes to it.
+            served.push(swing_scene_topic(&topic_names));
             served.push(TopicInfo::of::<crate::msgs::diagnostic_msgs::msg::DiagnosticArray>(
                 topic_names.get(topics::DIAGNOSTICS),
                 recorded_qos(&diagnostics_qos()),
@@ -323,6 +327,11 @@ fn endpoints(
         sweet_spot: publisher(node, topic_names.get(topics::SWEET_SPOT), &latched_results_qos(), None)?,
         diagnostics: publisher(node, topic_names.get(topics::DIAGNOSTICS), &diagnostics_qos(), None)?,
         energies_listeners: EnergiesListeners::default(),
+        swing_scene: if settings.swing_scene {
+            Some(Arc::new(publisher(node, topic_names.get(topics::SWING_SCENE), &results_qos(), Some(results_qos()))?))
+        } else {
+            None
+        },
     };
     Ok((inputs, outputs))
 }
@@ -386,7 +395,7 @@ fn start_tape(
         flush_interval: Duration::from_secs(1),
         queue_capacity: 65_536,
     };
-    let topics = recorded_topics(topic_names);
+    let topics = recorded_topics(topic_names, settings.swing_scene);
     // record_storage_preset, then record_compression over it (rosbag2's order). apply() refused any
     // combination that does not go together, so the error arm is for settings built some other way.
     let storage = settings.storage_options().map_err(|e| {
@@ -414,14 +423,23 @@ fn start_tape(
 }
 
 /// The topics the node records and serves live, in [`super::recording::Recorded`] order: name, type, schema
-/// and the QoS they are offered with.
-fn recorded_topics(topic_names: &TopicNames) -> Vec<TopicInfo> {
-    vec![
+/// and the QoS they are offered with; `swing_scene` only with `scene`.
+fn recorded_topics(topic_names: &TopicNames, scene: bool) -> Vec<TopicInfo> {
+    let mut topics = vec![
         TopicInfo::of::<BatParams>(topic_names.get(topics::BAT_PARAMS), recorded_qos(&params_qos())),
         TopicInfo::of::<BallParams>(topic_names.get(topics::BALL_PARAMS), recorded_qos(&params_qos())),
         TopicInfo::of::<Swing>(topic_names.get(topics::SWING), recorded_qos(&swing_qos())),
         TopicInfo::of::<ExitVelocity>(topic_names.get(topics::EXIT_VELOCITY), recorded_qos(&results_qos())),
         TopicInfo::of::<ModalEnergies>(topic_names.get(topics::MODAL_ENERGIES), recorded_qos(&results_qos())),
         TopicInfo::of::<SweetSpot>(topic_names.get(topics::SWEET_SPOT), recorded_qos(&latched_results_qos())),
-    ]
+    ];
+    if scene {
+        topics.push(swing_scene_topic(topic_names));
+    }
+    topics
+}
+
+/// `swing_scene` ([`super::recording::Recorded::SwingScene`]), offered with the answers' QoS.
+fn swing_scene_topic(topic_names: &TopicNames) -> TopicInfo {
+    TopicInfo::of::<MarkerArray>(topic_names.get(topics::SWING_SCENE), recorded_qos(&results_qos()))
 }

@@ -51,6 +51,8 @@ pub struct NodeSettings {
     pub diagnostics_period: f64,
     /// Foxglove WebSocket server, `[ADDR:]PORT` (address 127.0.0.1 unless given); empty = off.
     pub foxglove_port: String,
+    /// Publish (and record) each answered swing's scene on `swing_scene` over DDS.
+    pub swing_scene: bool,
 }
 
 /// What changing a parameter on a running node requires of the engine.
@@ -451,6 +453,24 @@ pub static PARAMETERS: &[Parameter] = &[
         },
         get: |s| ParameterValue::String(s.foxglove_port.clone()),
     },
+    // Off by default: a scene is ~45 times an answer's bytes (the bat's outline and deflection), which a
+    // node answering tens of thousands of swings a second should not write unasked.
+    Parameter {
+        name: "swing_scene",
+        unit: "",
+        description: "publish and record each answered swing drawn (visualization_msgs/MarkerArray on \
+                      swing_scene, frame bat); the Foxglove server serves it to its subscribers either way",
+        read_only: true,
+        constraints: "",
+        rule: Rule::Boolean {
+            default: false,
+            set: |s, b| {
+                s.swing_scene = b;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Boolean(s.swing_scene),
+    },
 ];
 
 fn set_record_storage_preset(s: &mut NodeSettings, preset: &str) -> Checked {
@@ -594,6 +614,7 @@ impl Default for NodeSettings {
             record_compression: String::new(),
             diagnostics_period: 0.0,
             foxglove_port: String::new(),
+            swing_scene: false,
         };
         for parameter in PARAMETERS {
             let stored = parameter.set(&mut settings, &parameter.default_value());
@@ -881,6 +902,7 @@ mod tests {
             ("record_compression", String("".into()), true),
             ("diagnostics_period", Double(1.0), true),
             ("foxglove_port", String("".into()), true),
+            ("swing_scene", Boolean(false), true),
         ];
         let declared = NodeSettings::default().declarations();
         assert_eq!(declared.len(), documented.len());
