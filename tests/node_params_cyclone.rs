@@ -128,6 +128,7 @@ fn documented_ranges() -> (Ranges<i64>, Ranges<f64>) {
         ("reference_bat_cm_speed", (0.0, 100.0)),
         ("reference_bat_angular_speed", (-500.0, 500.0)),
         ("diagnostics_period", (0.1, 60.0)),
+        ("swing_scene_live_hz", (0.0, 1000.0)),
     ]);
     (integers, doubles)
 }

@@ -38,7 +38,13 @@ pub struct Outputs {
 
 impl Outputs {
     /// The sink that publishes answers (and records them on `tape`) for the pipeline.
-    pub fn sink(&self, tape: &Arc<Tape>, stats: &Arc<NodeStats>, failures: &PublishFailures) -> DdsSink {
+    pub fn sink(
+        &self,
+        tape: &Arc<Tape>,
+        stats: &Arc<NodeStats>,
+        failures: &PublishFailures,
+        live_scene_hz: f64,
+    ) -> DdsSink {
         let out = DdsAnswers {
             exit_velocity: Arc::clone(&self.exit_velocity),
             modal_energies: Arc::clone(&self.modal_energies),
@@ -46,7 +52,12 @@ impl Outputs {
             swing_scene: self.swing_scene.clone(),
             failures: failures.clone(),
         };
-        DdsSink { out, tape: Arc::clone(tape), stats: Arc::clone(stats) }
+        DdsSink {
+            out,
+            tape: Arc::clone(tape),
+            stats: Arc::clone(stats),
+            live_scenes: SceneThrottle::per_second(live_scene_hz),
+        }
     }
 
     /// Re-checks whether `modal_energies` has a matched subscription (see [`EnergiesListeners`]).
@@ -231,6 +242,37 @@ pub struct DdsSink<O: AnswerOut = DdsAnswers> {
     tape: Arc<Tape>,
     /// The node's counters.
     stats: Arc<NodeStats>,
+    /// When a scene is next due to live clients.
+    live_scenes: SceneThrottle,
+}
+
+/// At most one event per period: the live view's scenes (`swing_scene_live_hz`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SceneThrottle {
+    /// None: every event.
+    period: Option<Duration>,
+    /// When the last one went out.
+    last: Option<Instant>,
+}
+
+impl SceneThrottle {
+    /// At most `hz` events per second; 0 (or anything not positive and finite) = every event.
+    pub fn per_second(hz: f64) -> SceneThrottle {
+        let period = (hz.is_finite() && hz > 0.0).then(|| Duration::from_secs_f64(1.0 / hz));
+        SceneThrottle { period, last: None }
+    }
+
+    /// Whether an event at `now` may go out; if so, it counts as the last one.
+    pub fn due(&mut self, now: Instant) -> bool {
+        let due = match (self.period, self.last) {
+            (Some(period), Some(last)) => now.saturating_duration_since(last) >= period,
+            _ => true,
+        };
+        if due {
+            self.last = Some(now);
+        }
+        due
+    }
 }
 
 impl<O: AnswerOut> ResultSink<Swing> for DdsSink<O> {
@@ -270,11 +312,17 @@ impl<O: AnswerOut> ResultSink<Swing> for DdsSink<O> {
 
 impl<O: AnswerOut> DdsSink<O> {
     /// The swing's scene ([`crate::model::scene`]), built only when it goes somewhere: over DDS (the
-    /// `swing_scene` parameter, which also records it) or to a Foxglove client subscribed to it. A scene that
-    /// could not be published is reported; the swing is still answered.
-    fn draw(&self, outcome: &Outcome<Swing>, ev: &ExitVelocity, me: &ModalEnergies, stamp: u64) {
+    /// `swing_scene` parameter, which also records it) or to a Foxglove client subscribed to it, at most
+    /// `swing_scene_live_hz` times a second there. A scene that could not be published is reported; the swing
+    /// is still answered.
+    fn draw(&mut self, outcome: &Outcome<Swing>, ev: &ExitVelocity, me: &ModalEnergies, stamp: u64) {
         let published = self.out.scenes_published();
-        if !(published || self.tape.wants(Recorded::SwingScene)) {
+        let recorded = self.tape.records(Recorded::SwingScene);
+        // Only a drawable (OK) swing takes the live view's turn.
+        let live = outcome.drawn_from.is_some()
+            && self.tape.serves(Recorded::SwingScene)
+            && self.live_scenes.due(Instant::now());
+        if !(published || recorded || live) {
             return;
         }
         let Some((bat, ball_radius)) = &outcome.drawn_from else { return };
@@ -289,7 +337,7 @@ impl<O: AnswerOut> DdsSink<O> {
             undercut: swing.undercut,
             attack_angle: swing.attack_angle,
         });
-        self.tape.record(Recorded::SwingScene, &scene, crate::model::time::now_ns(), stamp);
+        self.tape.record_to(Recorded::SwingScene, &scene, crate::model::time::now_ns(), stamp, live);
         if published {
             if let Err(e) = self.out.publish_scene(scene) {
                 self.out.report_failure(&format!("the swing_scene of swing {}", swing.swing_id), &e);
@@ -404,7 +452,12 @@ mod tests {
         let stats = Arc::new(NodeStats::new());
         let out = Fake { energies_fail: true, ..Fake::default() };
         let sent = Arc::clone(&out.sent);
-        let mut sink = DdsSink { out, tape: Arc::new(Tape::off()), stats: Arc::clone(&stats) };
+        let mut sink = DdsSink {
+            out,
+            tape: Arc::new(Tape::off()),
+            stats: Arc::clone(&stats),
+            live_scenes: SceneThrottle::default(),
+        };
         assert!(sink.deliver(&ok_outcome()), "the ExitVelocity went out: the swing is answered");
         assert_eq!(*sent.lock().unwrap(), ["failed: the ModalEnergies of swing 7", "ExitVelocity 7"]);
         let s = stats.snapshot(0);
@@ -416,7 +469,12 @@ mod tests {
         for scenes in [false, true] {
             let out = Fake { scenes, ..Fake::default() };
             let sent = Arc::clone(&out.sent);
-            let mut sink = DdsSink { out, tape: Arc::new(Tape::off()), stats: Arc::new(NodeStats::new()) };
+            let mut sink = DdsSink {
+                out,
+                tape: Arc::new(Tape::off()),
+                stats: Arc::new(NodeStats::new()),
+                live_scenes: SceneThrottle::default(),
+            };
             assert!(sink.deliver(&ok_outcome()));
             let mut want = vec!["ModalEnergies 7", "ExitVelocity 7"];
             if scenes {
@@ -432,11 +490,31 @@ mod tests {
     }
 
     #[test]
+    fn the_live_scene_throttle_lets_one_through_per_period_and_zero_means_every_one() {
+        let t0 = Instant::now();
+        let ms = |n: u64| t0 + Duration::from_millis(n);
+        // 30 Hz: a period of 33.3 ms. A burst at 0–10 ms lets the first through; 33 ms is still early, 34 is due
+        // (counted from the last one that went out, not from the ones held back).
+        let mut throttle = SceneThrottle::per_second(30.0);
+        let went: Vec<u64> = [0, 1, 5, 10, 33, 34, 40, 67, 68].into_iter().filter(|&n| throttle.due(ms(n))).collect();
+        assert_eq!(went, [0, 34, 68]);
+        for every in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let mut throttle = SceneThrottle::per_second(every);
+            assert!((0..100).all(|n| throttle.due(ms(n / 10))), "{every}");
+        }
+    }
+
+    #[test]
     fn an_exit_velocity_failure_is_the_swing_unsent() {
         let stats = Arc::new(NodeStats::new());
         let out = Fake { answer_fails: true, ..Fake::default() };
         let sent = Arc::clone(&out.sent);
-        let mut sink = DdsSink { out, tape: Arc::new(Tape::off()), stats: Arc::clone(&stats) };
+        let mut sink = DdsSink {
+            out,
+            tape: Arc::new(Tape::off()),
+            stats: Arc::clone(&stats),
+            live_scenes: SceneThrottle::default(),
+        };
         assert!(!sink.deliver(&ok_outcome()));
         assert_eq!(*sent.lock().unwrap(), ["ModalEnergies 7", "failed: the ExitVelocity of swing 7"]);
         let s = stats.snapshot(0);

@@ -134,16 +134,33 @@ impl Tape {
         }
     }
 
-    /// Whether a message of `topic` would go anywhere now: the bag records it, or a live client subscribes to it.
-    pub fn wants(&self, topic: Recorded) -> bool {
+    /// Whether the bag records `topic`.
+    pub fn records(&self, topic: Recorded) -> bool {
         self.ids.get(topic as usize).copied().flatten().is_some()
-            || self.live.as_ref().is_some_and(|live| live.has_subscribers(topic as usize))
+    }
+
+    /// Whether a live client subscribes to `topic` now.
+    pub fn serves(&self, topic: Recorded) -> bool {
+        self.live.as_ref().is_some_and(|live| live.has_subscribers(topic as usize))
     }
 
     /// Records one message: CDR-encoded now, logged at `log_time_ns`, published at `publish_time_ns`.
     pub fn record<M: RosMessage>(&self, topic: Recorded, message: &M, log_time_ns: u64, publish_time_ns: u64) {
+        self.record_to(topic, message, log_time_ns, publish_time_ns, true);
+    }
+
+    /// [`Tape::record`], served to live clients only if `serve_live` (a rate-limited live view).
+    pub fn record_to<M: RosMessage>(
+        &self,
+        topic: Recorded,
+        message: &M,
+        log_time_ns: u64,
+        publish_time_ns: u64,
+        serve_live: bool,
+    ) {
         let id = self.ids.get(topic as usize).copied().flatten();
-        if id.is_none() && self.live.is_none() {
+        let live = self.live.as_ref().filter(|_| serve_live);
+        if id.is_none() && live.is_none() {
             return;
         }
         let cdr = match encode_cdr(message) {
@@ -156,7 +173,7 @@ impl Tape {
             }
         };
         // Live clients get the bytes the bag gets; enqueueing never waits for a client.
-        if let Some(live) = &self.live {
+        if let Some(live) = live {
             live.send(topic as usize, &cdr, log_time_ns);
         }
         let Some(id) = id else { return };

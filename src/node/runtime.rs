@@ -179,7 +179,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     tape.note_settings(&settings);
     let stats = Arc::new(NodeStats::new());
     let publish_failures = PublishFailures::new(log.clone());
-    let sink = outputs.sink(&tape, &stats, &publish_failures);
+    let sink = outputs.sink(&tape, &stats, &publish_failures, settings.swing_scene_live_hz);
     let pipeline = Pipeline::start(settings.worker_count(), settings.queue_capacity, Arc::clone(&stats), sink)
         .context("starting the worker threads")?;
     let calls = super::service::ServiceCalls::start(

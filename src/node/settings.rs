@@ -53,6 +53,8 @@ pub struct NodeSettings {
     pub foxglove_port: String,
     /// Publish (and record) each answered swing's scene on `swing_scene` over DDS.
     pub swing_scene: bool,
+    /// Most scenes per second served to Foxglove clients, Hz (0 = every answered swing).
+    pub swing_scene_live_hz: f64,
 }
 
 /// What changing a parameter on a running node requires of the engine.
@@ -471,6 +473,27 @@ pub static PARAMETERS: &[Parameter] = &[
         },
         get: |s| ParameterValue::Boolean(s.swing_scene),
     },
+    // A scene is ~11.5 KB and costs the node its drawing: at tens of thousands of swings a second a Foxglove
+    // client subscribed to it would cost more than the answers (measured: the sustained rate fell from
+    // 40,000 to 20,000/s). A 3D panel redraws at display rate, so the live view is rate-limited; DDS and the
+    // bag (`swing_scene`) still get every scene.
+    Parameter {
+        name: "swing_scene_live_hz",
+        unit: "Hz",
+        description: "most swing scenes per second served to Foxglove clients (the newest answered swing when one \
+                      is due); 0 = every answered swing; DDS and the bag (swing_scene) get every one",
+        read_only: true,
+        constraints: "",
+        rule: Rule::Double {
+            default: 30.0,
+            range: Some((0.0, 1000.0)),
+            set: |s, x| {
+                s.swing_scene_live_hz = x;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Double(s.swing_scene_live_hz),
+    },
 ];
 
 fn set_record_storage_preset(s: &mut NodeSettings, preset: &str) -> Checked {
@@ -615,6 +638,7 @@ impl Default for NodeSettings {
             diagnostics_period: 0.0,
             foxglove_port: String::new(),
             swing_scene: false,
+            swing_scene_live_hz: 30.0,
         };
         for parameter in PARAMETERS {
             let stored = parameter.set(&mut settings, &parameter.default_value());
@@ -874,7 +898,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(ranged, 11, "the numeric parameters with a range");
+        assert_eq!(ranged, 12, "the numeric parameters with a range");
     }
 
     #[test]
@@ -903,6 +927,7 @@ mod tests {
             ("diagnostics_period", Double(1.0), true),
             ("foxglove_port", String("".into()), true),
             ("swing_scene", Boolean(false), true),
+            ("swing_scene_live_hz", Double(30.0), true),
         ];
         let declared = NodeSettings::default().declarations();
         assert_eq!(declared.len(), documented.len());
