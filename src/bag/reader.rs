@@ -36,6 +36,7 @@ use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 use mcap::records::{op, Record};
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use super::rosbag2::parse_offered_qos;
 use super::{BagError, McapLayout, RecordedQos, TopicInfo};
@@ -53,7 +54,8 @@ pub const MAX_CHUNK_EXPANSION: u64 = 1024;
 /// Largest top-level record other than a chunk or an attachment (a schema, channel, metadata record, message
 /// of an unchunked file, or summary record) read into memory, bytes. Attachments are skipped unread.
 pub const MAX_RECORD_SIZE: u64 = 256 * 1024 * 1024;
-/// Largest zstd window the decoder accepts, as a power of two (zstd's own decoding default: 128 MiB).
+/// Largest zstd window the decoder accepts, as a power of two: the `mcap` crate's zstd decoder keeps zstd's own
+/// decoding default (`ZSTD_WINDOWLOG_LIMIT_DEFAULT`, 128 MiB), which this names.
 pub const ZSTD_WINDOW_LOG_MAX: u32 = 27;
 /// The MCAP magic, at the start and the end of every MCAP file.
 pub const MCAP_MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
@@ -1067,7 +1069,6 @@ impl FileReader {
         }
         self.src.read_exact(&mut head)?;
         let uncompressed_size = u64::from_le_bytes(head[16..24].try_into().unwrap_or([0; 8]));
-        let stored_crc = u32::from_le_bytes(head[24..28].try_into().unwrap_or([0; 4]));
         let name_len = u64::from(u32::from_le_bytes(head[28..32].try_into().unwrap_or([0; 4])));
         if name_len > 255 || fixed + name_len > length {
             self.src.skip(length - 32)?;
@@ -1106,33 +1107,61 @@ impl FileReader {
         self.chunk.clear();
         self.spans.clear();
         self.next_span = 0;
-        let decoded = {
-            let mut take = Read::by_ref(&mut self.src).take(records_len);
-            let decoded = match compression.as_str() {
-                "" => fill_chunk(&mut take, uncompressed_size, &mut self.chunk, &mut self.spans),
-                "zstd" => match zstd::stream::read::Decoder::new(&mut take) {
-                    Ok(mut decoder) => match decoder.window_log_max(ZSTD_WINDOW_LOG_MAX) {
-                        Ok(()) => fill_chunk(&mut decoder, uncompressed_size, &mut self.chunk, &mut self.spans),
-                        Err(e) => Err(format!("zstd: {e}")),
-                    },
-                    Err(e) => Err(format!("zstd: {e}")),
-                },
-                _ => match lz4::Decoder::new(&mut take) {
-                    Ok(mut decoder) => fill_chunk(&mut decoder, uncompressed_size, &mut self.chunk, &mut self.spans),
-                    Err(e) => Err(format!("lz4: {e}")),
-                },
-            };
-            std::io::copy(&mut take, &mut std::io::sink())?;
-            decoded
+        // The crate decodes the chunk (decompression, record framing, CRC), fed the record as it comes from
+        // the file; records are taken in one by one, so a bomb of zeros or garbage stops at its first bad one.
+        // The record length limit bounds what a lying record inside the chunk can make it allocate.
+        let mut prefix = vec![op::CHUNK];
+        prefix.extend_from_slice(&length.to_le_bytes());
+        prefix.extend_from_slice(&head);
+        prefix.extend_from_slice(&name);
+        prefix.extend_from_slice(&records_len.to_le_bytes());
+        let limit = usize::try_from(uncompressed_size.max(length)).unwrap_or(usize::MAX);
+        let options = LinearReaderOptions::default()
+            .with_skip_start_magic(true)
+            .with_skip_end_magic(true)
+            .with_validate_chunk_crcs(true)
+            .with_record_length_limit(limit);
+        let mut decoder = LinearReader::new_with_options(options);
+        let mut prefix = &prefix[..];
+        let mut take = Read::by_ref(&mut self.src).take(records_len);
+        let verdict = loop {
+            match decoder.next_event() {
+                None => break Ok(()),
+                Some(Err(mcap::McapError::BadChunkCrc { saved, calculated })) => {
+                    break Err(DamageKind::ChunkCrc { stored: saved, computed: calculated })
+                }
+                Some(Err(e)) => break Err(fail(e.to_string())),
+                Some(Ok(LinearReadEvent::ReadRequest(n))) => {
+                    let buf = decoder.insert(n);
+                    let got = if prefix.is_empty() {
+                        read_up_to(&mut take, buf)?
+                    } else {
+                        let got = n.min(prefix.len());
+                        buf[..got].copy_from_slice(&prefix[..got]);
+                        prefix = &prefix[got..];
+                        got
+                    };
+                    decoder.notify_read(got);
+                }
+                Some(Ok(LinearReadEvent::Record { data, opcode })) => {
+                    if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
+                        break Err(fail(format!(
+                            "byte {} of its records starts a record with opcode {opcode:#04x} (a chunk holds only \
+                             schemas, channels and messages)",
+                            self.chunk.len() + FRAME as usize * self.spans.len()
+                        )));
+                    }
+                    let start = self.chunk.len();
+                    self.chunk.extend_from_slice(data);
+                    self.spans.push((opcode, start, self.chunk.len()));
+                }
+            }
         };
+        std::io::copy(&mut take, &mut std::io::sink())?;
         if self.src.pos != end {
             return Err(std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "file shorter than its records"));
         }
-        let verdict = decoded.map_err(fail).and_then(|()| {
-            let computed = crc32fast::hash(&self.chunk);
-            if stored_crc != 0 && stored_crc != computed {
-                return Err(DamageKind::ChunkCrc { stored: stored_crc, computed });
-            }
+        let verdict = verdict.and_then(|()| {
             for (i, &(opcode, s, e)) in self.spans.iter().enumerate() {
                 if let Err(err) = mcap::parse_record(opcode, &self.chunk[s..e]) {
                     return Err(fail(format!("record {i} (opcode {opcode:#04x}) does not parse: {err}")));
@@ -1216,55 +1245,6 @@ impl FileReader {
 /// The most uncompressed bytes a chunk of `compressed_size` bytes may claim (see the limits above).
 pub fn chunk_size_limit(compressed_size: u64) -> u64 {
     MAX_CHUNK_UNCOMPRESSED_SIZE.min(CHUNK_EXPANSION_FREE_SIZE.max(compressed_size.saturating_mul(MAX_CHUNK_EXPANSION)))
-}
-
-/// Decompressed chunk records into `out`, each record checked as it arrives so that a bomb of zeros or
-/// garbage stops at its first bad record: only Schema, Channel and Message records, none past the size the
-/// chunk claims, and exactly that many bytes in all.
-fn fill_chunk(
-    reader: &mut impl Read,
-    claimed: u64,
-    out: &mut Vec<u8>,
-    spans: &mut Vec<(u8, usize, usize)>,
-) -> Result<(), String> {
-    let claimed = usize::try_from(claimed).map_err(|_| "too large for this machine".to_string())?;
-    let io = |e: std::io::Error| format!("{e}");
-    while out.len() < claimed {
-        let at = out.len();
-        if claimed - at < FRAME as usize {
-            return Err(format!("{} stray bytes at the end of its records", claimed - at));
-        }
-        let mut frame = [0u8; FRAME as usize];
-        let n = read_up_to(reader, &mut frame).map_err(io)?;
-        if n < frame.len() {
-            return Err(format!("it decompresses to {} bytes, not the {claimed} it claims", at + n));
-        }
-        let opcode = frame[0];
-        if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
-            return Err(format!(
-                "byte {at} of its records starts a record with opcode {opcode:#04x} (a chunk holds only schemas, \
-                 channels and messages)"
-            ));
-        }
-        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
-        let room = (claimed - at - FRAME as usize) as u64;
-        if length > room {
-            return Err(format!("the record at byte {at} claims {length} bytes, past the chunk's end"));
-        }
-        out.extend_from_slice(&frame);
-        let body_start = out.len();
-        out.resize(body_start + length as usize, 0);
-        let n = read_up_to(reader, &mut out[body_start..]).map_err(io)?;
-        if n < length as usize {
-            return Err(format!("it decompresses to {} bytes, not the {claimed} it claims", body_start + n));
-        }
-        spans.push((opcode, body_start, out.len()));
-    }
-    let mut extra = [0u8; 1];
-    if read_up_to(reader, &mut extra).map_err(io)? > 0 {
-        return Err(format!("it decompresses to more than the {claimed} bytes it claims"));
-    }
-    Ok(())
 }
 
 /// What an intact summary section tells the reader.
