@@ -2,7 +2,7 @@
 //! chunk in memory at a time, so finished files and files cut off by a crash (no summary, no footer) are read
 //! the same way, and a bag of any size is read in bounded memory.
 //!
-//! Nothing is hidden. Every chunk is checked (its CRC, its decompressed size against what it claims, every
+//! Nothing is hidden. Every chunk is checked (its CRC, its records against the size it claims, every
 //! record inside it) before any of its messages is handed on; a chunk that fails is skipped and recorded as
 //! [`Damage`] naming the file, the chunk (index and offset) and how many messages it held (from the message
 //! indexes that follow it, or the summary's chunk index). A finished file is checked against its own
@@ -19,8 +19,13 @@
 //! with the MCAP magic. Limits on what a file may make the reader hold are the constants below
 //! (docs/file-formats.md, "MCAP reading limits").
 //!
+//! Chunks are decoded (decompression, record framing, CRC) by the `mcap` crate's `sans_io::LinearReader`,
+//! after the chunk header has passed the limits below (the crate has no expansion ratio: its one record
+//! length limit is set to the chunk's claimed size).
+//!
 //! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
-//! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4), one top-level record (at most
+//! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4) and the crate's buffer for the record
+//! being decoded, one top-level record (at most
 //! [`MAX_RECORD_SIZE`]), the channels (twice: the data section's and the summary's), and 24 bytes per chunk
 //! of the summary's chunk index. For the bags sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever
 //! the bag's size.
