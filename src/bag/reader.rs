@@ -677,7 +677,6 @@ impl FileReader {
             if &tail[29..] == MCAP_MAGIC {
                 let le64 = |at: usize| u64::from_le_bytes(tail[at..at + 8].try_into().unwrap_or([0; 8]));
                 let summary_start = le64(9);
-                let summary_crc = u32::from_le_bytes(tail[25..29].try_into().unwrap_or([0; 4]));
                 let footer_ok = tail[0] == op::FOOTER
                     && le64(1) == 20
                     && (summary_start == 0 || (8..=footer_at).contains(&summary_start));
@@ -685,7 +684,7 @@ impl FileReader {
                     scan.complete = true;
                     data_end = if summary_start == 0 { footer_at } else { summary_start };
                     if summary_start != 0 {
-                        match read_summary(&mut file, summary_start, footer_at, &tail[..25], summary_crc) {
+                        match read_summary(&mut file, summary_start, footer_at, &tail) {
                             Ok(Ok(summary)) => {
                                 indexed_chunks = summary.chunks;
                                 statistics = summary.statistics;
@@ -1262,70 +1261,72 @@ struct SummaryContents {
     channels: BTreeMap<u16, ChannelInfo>,
 }
 
-/// Reads and checks the summary section `[start, footer_at)`. Ok(Err(reason)) when the summary is damaged.
+/// Reads and checks the summary section `[start, footer_at)` and the footer record and magic after it
+/// (`footer`), through the `mcap` crate's `LinearReader` (record framing, the record size limit, the summary
+/// CRC). Ok(Err(reason)) when the summary is damaged.
 fn read_summary(
     file: &mut File,
     start: u64,
     footer_at: u64,
-    footer_prefix: &[u8],
-    stored_crc: u32,
+    footer: &[u8],
 ) -> std::io::Result<Result<SummaryContents, String>> {
     file.seek(SeekFrom::Start(start))?;
-    let mut reader = BufReader::with_capacity(64 * 1024, Read::by_ref(file).take(footer_at - start));
-    let mut crc = crc32fast::Hasher::new();
+    // A Data End record (CRC 0: not checked) in front makes the crate start the summary's CRC where it starts.
+    let mut data_end = vec![op::DATA_END];
+    data_end.extend_from_slice(&4u64.to_le_bytes());
+    data_end.extend_from_slice(&0u32.to_le_bytes());
+    let mut input =
+        data_end.chain(BufReader::with_capacity(64 * 1024, Read::by_ref(file).take(footer_at - start))).chain(footer);
+    let options = LinearReaderOptions::default()
+        .with_skip_start_magic(true)
+        .with_validate_summary_section_crc(true)
+        .with_record_length_limit(usize::try_from(MAX_RECORD_SIZE).unwrap_or(usize::MAX));
+    let mut reader = LinearReader::new_with_options(options);
     let mut chunks = Vec::new();
     let mut statistics = None;
     // The summary's Schema and Channel records, taken in as the data section's are.
     let mut definitions = FileScan::default();
     let mut schemas = BTreeMap::new();
-    let mut pos = start;
-    let mut body = Vec::new();
     let mut problem = None;
-    while pos < footer_at {
-        let mut frame = [0u8; FRAME as usize];
-        if footer_at - pos < FRAME {
-            problem = Some(format!("{} stray bytes before the footer", footer_at - pos));
-            break;
-        }
-        reader.read_exact(&mut frame)?;
-        let opcode = frame[0];
-        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
-        if length > footer_at - pos - FRAME || length > MAX_RECORD_SIZE {
-            problem = Some(format!("a record at offset {pos} claims {length} bytes"));
-            break;
-        }
-        crc.update(&frame);
-        body.clear();
-        body.resize(length as usize, 0);
-        reader.read_exact(&mut body)?;
-        crc.update(&body);
-        match mcap::parse_record(opcode, &body) {
-            Ok(Record::ChunkIndex(index)) => {
-                let channels = index.message_index_offsets.len() as u64;
-                let framing = (FRAME + 6) * channels;
-                let messages = index
-                    .message_index_length
-                    .checked_sub(framing)
-                    .filter(|bytes| bytes % 16 == 0)
-                    .map(|bytes| bytes / 16);
-                chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
+    // Where the next record starts (the crate reports no offsets; every record is 9 bytes of frame + body).
+    let mut pos = start;
+    while let Some(event) = reader.next_event() {
+        match event {
+            Ok(LinearReadEvent::ReadRequest(n)) => {
+                let got = read_up_to(&mut input, reader.insert(n))?;
+                reader.notify_read(got);
             }
-            Ok(Record::Statistics(stats)) => statistics = Some(stats.message_count),
-            Ok(record @ (Record::Schema { .. } | Record::Channel(_))) => {
-                take_definition(record, &mut definitions, &mut schemas);
+            Ok(LinearReadEvent::Record { opcode: op::DATA_END, .. }) => {}
+            Ok(LinearReadEvent::Record { data, opcode }) => {
+                let at = pos;
+                pos += FRAME + data.len() as u64;
+                match mcap::parse_record(opcode, data) {
+                    Ok(Record::ChunkIndex(index)) => {
+                        let channels = index.message_index_offsets.len() as u64;
+                        let framing = (FRAME + 6) * channels;
+                        let messages = index
+                            .message_index_length
+                            .checked_sub(framing)
+                            .filter(|bytes| bytes % 16 == 0)
+                            .map(|bytes| bytes / 16);
+                        chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
+                    }
+                    Ok(Record::Statistics(stats)) => statistics = Some(stats.message_count),
+                    Ok(record @ (Record::Schema { .. } | Record::Channel(_))) => {
+                        take_definition(record, &mut definitions, &mut schemas);
+                    }
+                    Ok(_) => {}
+                    Err(e) => {
+                        problem.get_or_insert(format!(
+                            "a record (opcode {opcode:#04x}) at offset {at} does not parse: {e}"
+                        ));
+                    }
+                }
             }
-            Ok(_) => {}
             Err(e) => {
-                problem.get_or_insert(format!("a record (opcode {opcode:#04x}) at offset {pos} does not parse: {e}"));
+                problem = Some(e.to_string());
+                break;
             }
-        }
-        pos += FRAME + length;
-    }
-    if problem.is_none() {
-        crc.update(footer_prefix);
-        let computed = crc.finalize();
-        if stored_crc != 0 && stored_crc != computed {
-            problem = Some(format!("CRC mismatch: stored {stored_crc:#010x}, computed {computed:#010x}"));
         }
     }
     if let Some(reason) = problem {
