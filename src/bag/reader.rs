@@ -21,7 +21,9 @@
 //!
 //! Chunks are decoded (decompression, record framing, CRC) by the `mcap` crate's `sans_io::LinearReader`,
 //! after the chunk header has passed the limits below (the crate has no expansion ratio: its one record
-//! length limit is set to the chunk's claimed size).
+//! length limit is set to the chunk's claimed size); so is the summary section (framing, summary CRC). The
+//! data section's top-level records are still framed here: the crate stops at the first error and reports
+//! no offsets, and the reader goes on past damage and says where it is.
 //!
 //! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
 //! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4) and the crate's buffer for the record
