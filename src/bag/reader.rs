@@ -2,7 +2,7 @@
 //! chunk in memory at a time, so finished files and files cut off by a crash (no summary, no footer) are read
 //! the same way, and a bag of any size is read in bounded memory.
 //!
-//! Nothing is hidden. Every chunk is checked (its CRC, its decompressed size against what it claims, every
+//! Nothing is hidden. Every chunk is checked (its CRC, its records against the size it claims, every
 //! record inside it) before any of its messages is handed on; a chunk that fails is skipped and recorded as
 //! [`Damage`] naming the file, the chunk (index and offset) and how many messages it held (from the message
 //! indexes that follow it, or the summary's chunk index). A finished file is checked against its own
@@ -19,8 +19,15 @@
 //! with the MCAP magic. Limits on what a file may make the reader hold are the constants below
 //! (docs/file-formats.md, "MCAP reading limits").
 //!
+//! Chunks are decoded (decompression, record framing, CRC) by the `mcap` crate's `sans_io::LinearReader`,
+//! after the chunk header has passed the limits below (the crate has no expansion ratio: its one record
+//! length limit is set to the chunk's claimed size); so is the summary section (framing, summary CRC). The
+//! data section's top-level records are still framed here: the crate stops at the first error and reports
+//! no offsets, and the reader goes on past damage and says where it is.
+//!
 //! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
-//! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4), one top-level record (at most
+//! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4) and the crate's buffer for the record
+//! being decoded, one top-level record (at most
 //! [`MAX_RECORD_SIZE`]), the channels (twice: the data section's and the summary's), and 24 bytes per chunk
 //! of the summary's chunk index. For the bags sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever
 //! the bag's size.
@@ -36,6 +43,7 @@ use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 use mcap::records::{op, Record};
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use super::rosbag2::parse_offered_qos;
 use super::{BagError, McapLayout, RecordedQos, TopicInfo};
@@ -53,7 +61,8 @@ pub const MAX_CHUNK_EXPANSION: u64 = 1024;
 /// Largest top-level record other than a chunk or an attachment (a schema, channel, metadata record, message
 /// of an unchunked file, or summary record) read into memory, bytes. Attachments are skipped unread.
 pub const MAX_RECORD_SIZE: u64 = 256 * 1024 * 1024;
-/// Largest zstd window the decoder accepts, as a power of two (zstd's own decoding default: 128 MiB).
+/// Largest zstd window the decoder accepts, as a power of two: the `mcap` crate's zstd decoder keeps zstd's own
+/// decoding default (`ZSTD_WINDOWLOG_LIMIT_DEFAULT`, 128 MiB), which this names.
 pub const ZSTD_WINDOW_LOG_MAX: u32 = 27;
 /// The MCAP magic, at the start and the end of every MCAP file.
 pub const MCAP_MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
@@ -670,7 +679,6 @@ impl FileReader {
             if &tail[29..] == MCAP_MAGIC {
                 let le64 = |at: usize| u64::from_le_bytes(tail[at..at + 8].try_into().unwrap_or([0; 8]));
                 let summary_start = le64(9);
-                let summary_crc = u32::from_le_bytes(tail[25..29].try_into().unwrap_or([0; 4]));
                 let footer_ok = tail[0] == op::FOOTER
                     && le64(1) == 20
                     && (summary_start == 0 || (8..=footer_at).contains(&summary_start));
@@ -678,7 +686,7 @@ impl FileReader {
                     scan.complete = true;
                     data_end = if summary_start == 0 { footer_at } else { summary_start };
                     if summary_start != 0 {
-                        match read_summary(&mut file, summary_start, footer_at, &tail[..25], summary_crc) {
+                        match read_summary(&mut file, summary_start, footer_at, &tail) {
                             Ok(Ok(summary)) => {
                                 indexed_chunks = summary.chunks;
                                 statistics = summary.statistics;
@@ -1067,7 +1075,6 @@ impl FileReader {
         }
         self.src.read_exact(&mut head)?;
         let uncompressed_size = u64::from_le_bytes(head[16..24].try_into().unwrap_or([0; 8]));
-        let stored_crc = u32::from_le_bytes(head[24..28].try_into().unwrap_or([0; 4]));
         let name_len = u64::from(u32::from_le_bytes(head[28..32].try_into().unwrap_or([0; 4])));
         if name_len > 255 || fixed + name_len > length {
             self.src.skip(length - 32)?;
@@ -1106,33 +1113,61 @@ impl FileReader {
         self.chunk.clear();
         self.spans.clear();
         self.next_span = 0;
-        let decoded = {
-            let mut take = Read::by_ref(&mut self.src).take(records_len);
-            let decoded = match compression.as_str() {
-                "" => fill_chunk(&mut take, uncompressed_size, &mut self.chunk, &mut self.spans),
-                "zstd" => match zstd::stream::read::Decoder::new(&mut take) {
-                    Ok(mut decoder) => match decoder.window_log_max(ZSTD_WINDOW_LOG_MAX) {
-                        Ok(()) => fill_chunk(&mut decoder, uncompressed_size, &mut self.chunk, &mut self.spans),
-                        Err(e) => Err(format!("zstd: {e}")),
-                    },
-                    Err(e) => Err(format!("zstd: {e}")),
-                },
-                _ => match lz4::Decoder::new(&mut take) {
-                    Ok(mut decoder) => fill_chunk(&mut decoder, uncompressed_size, &mut self.chunk, &mut self.spans),
-                    Err(e) => Err(format!("lz4: {e}")),
-                },
-            };
-            std::io::copy(&mut take, &mut std::io::sink())?;
-            decoded
+        // The crate decodes the chunk (decompression, record framing, CRC), fed the record as it comes from
+        // the file; records are taken in one by one, so a bomb of zeros or garbage stops at its first bad one.
+        // The record length limit bounds what a lying record inside the chunk can make it allocate.
+        let mut prefix = vec![op::CHUNK];
+        prefix.extend_from_slice(&length.to_le_bytes());
+        prefix.extend_from_slice(&head);
+        prefix.extend_from_slice(&name);
+        prefix.extend_from_slice(&records_len.to_le_bytes());
+        let limit = usize::try_from(uncompressed_size.max(length)).unwrap_or(usize::MAX);
+        let options = LinearReaderOptions::default()
+            .with_skip_start_magic(true)
+            .with_skip_end_magic(true)
+            .with_validate_chunk_crcs(true)
+            .with_record_length_limit(limit);
+        let mut decoder = LinearReader::new_with_options(options);
+        let mut prefix = &prefix[..];
+        let mut take = Read::by_ref(&mut self.src).take(records_len);
+        let verdict = loop {
+            match decoder.next_event() {
+                None => break Ok(()),
+                Some(Err(mcap::McapError::BadChunkCrc { saved, calculated })) => {
+                    break Err(DamageKind::ChunkCrc { stored: saved, computed: calculated })
+                }
+                Some(Err(e)) => break Err(fail(e.to_string())),
+                Some(Ok(LinearReadEvent::ReadRequest(n))) => {
+                    let buf = decoder.insert(n);
+                    let got = if prefix.is_empty() {
+                        read_up_to(&mut take, buf)?
+                    } else {
+                        let got = n.min(prefix.len());
+                        buf[..got].copy_from_slice(&prefix[..got]);
+                        prefix = &prefix[got..];
+                        got
+                    };
+                    decoder.notify_read(got);
+                }
+                Some(Ok(LinearReadEvent::Record { data, opcode })) => {
+                    if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
+                        break Err(fail(format!(
+                            "byte {} of its records starts a record with opcode {opcode:#04x} (a chunk holds only \
+                             schemas, channels and messages)",
+                            self.chunk.len() + FRAME as usize * self.spans.len()
+                        )));
+                    }
+                    let start = self.chunk.len();
+                    self.chunk.extend_from_slice(data);
+                    self.spans.push((opcode, start, self.chunk.len()));
+                }
+            }
         };
+        std::io::copy(&mut take, &mut std::io::sink())?;
         if self.src.pos != end {
             return Err(std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "file shorter than its records"));
         }
-        let verdict = decoded.map_err(fail).and_then(|()| {
-            let computed = crc32fast::hash(&self.chunk);
-            if stored_crc != 0 && stored_crc != computed {
-                return Err(DamageKind::ChunkCrc { stored: stored_crc, computed });
-            }
+        let verdict = verdict.and_then(|()| {
             for (i, &(opcode, s, e)) in self.spans.iter().enumerate() {
                 if let Err(err) = mcap::parse_record(opcode, &self.chunk[s..e]) {
                     return Err(fail(format!("record {i} (opcode {opcode:#04x}) does not parse: {err}")));
@@ -1218,55 +1253,6 @@ pub fn chunk_size_limit(compressed_size: u64) -> u64 {
     MAX_CHUNK_UNCOMPRESSED_SIZE.min(CHUNK_EXPANSION_FREE_SIZE.max(compressed_size.saturating_mul(MAX_CHUNK_EXPANSION)))
 }
 
-/// Decompressed chunk records into `out`, each record checked as it arrives so that a bomb of zeros or
-/// garbage stops at its first bad record: only Schema, Channel and Message records, none past the size the
-/// chunk claims, and exactly that many bytes in all.
-fn fill_chunk(
-    reader: &mut impl Read,
-    claimed: u64,
-    out: &mut Vec<u8>,
-    spans: &mut Vec<(u8, usize, usize)>,
-) -> Result<(), String> {
-    let claimed = usize::try_from(claimed).map_err(|_| "too large for this machine".to_string())?;
-    let io = |e: std::io::Error| format!("{e}");
-    while out.len() < claimed {
-        let at = out.len();
-        if claimed - at < FRAME as usize {
-            return Err(format!("{} stray bytes at the end of its records", claimed - at));
-        }
-        let mut frame = [0u8; FRAME as usize];
-        let n = read_up_to(reader, &mut frame).map_err(io)?;
-        if n < frame.len() {
-            return Err(format!("it decompresses to {} bytes, not the {claimed} it claims", at + n));
-        }
-        let opcode = frame[0];
-        if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
-            return Err(format!(
-                "byte {at} of its records starts a record with opcode {opcode:#04x} (a chunk holds only schemas, \
-                 channels and messages)"
-            ));
-        }
-        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
-        let room = (claimed - at - FRAME as usize) as u64;
-        if length > room {
-            return Err(format!("the record at byte {at} claims {length} bytes, past the chunk's end"));
-        }
-        out.extend_from_slice(&frame);
-        let body_start = out.len();
-        out.resize(body_start + length as usize, 0);
-        let n = read_up_to(reader, &mut out[body_start..]).map_err(io)?;
-        if n < length as usize {
-            return Err(format!("it decompresses to {} bytes, not the {claimed} it claims", body_start + n));
-        }
-        spans.push((opcode, body_start, out.len()));
-    }
-    let mut extra = [0u8; 1];
-    if read_up_to(reader, &mut extra).map_err(io)? > 0 {
-        return Err(format!("it decompresses to more than the {claimed} bytes it claims"));
-    }
-    Ok(())
-}
-
 /// What an intact summary section tells the reader.
 struct SummaryContents {
     /// The chunk index, by offset.
@@ -1277,70 +1263,72 @@ struct SummaryContents {
     channels: BTreeMap<u16, ChannelInfo>,
 }
 
-/// Reads and checks the summary section `[start, footer_at)`. Ok(Err(reason)) when the summary is damaged.
+/// Reads and checks the summary section `[start, footer_at)` and the footer record and magic after it
+/// (`footer`), through the `mcap` crate's `LinearReader` (record framing, the record size limit, the summary
+/// CRC). Ok(Err(reason)) when the summary is damaged.
 fn read_summary(
     file: &mut File,
     start: u64,
     footer_at: u64,
-    footer_prefix: &[u8],
-    stored_crc: u32,
+    footer: &[u8],
 ) -> std::io::Result<Result<SummaryContents, String>> {
     file.seek(SeekFrom::Start(start))?;
-    let mut reader = BufReader::with_capacity(64 * 1024, Read::by_ref(file).take(footer_at - start));
-    let mut crc = crc32fast::Hasher::new();
+    // A Data End record (CRC 0: not checked) in front makes the crate start the summary's CRC where it starts.
+    let mut data_end = vec![op::DATA_END];
+    data_end.extend_from_slice(&4u64.to_le_bytes());
+    data_end.extend_from_slice(&0u32.to_le_bytes());
+    let mut input =
+        data_end.chain(BufReader::with_capacity(64 * 1024, Read::by_ref(file).take(footer_at - start))).chain(footer);
+    let options = LinearReaderOptions::default()
+        .with_skip_start_magic(true)
+        .with_validate_summary_section_crc(true)
+        .with_record_length_limit(usize::try_from(MAX_RECORD_SIZE).unwrap_or(usize::MAX));
+    let mut reader = LinearReader::new_with_options(options);
     let mut chunks = Vec::new();
     let mut statistics = None;
     // The summary's Schema and Channel records, taken in as the data section's are.
     let mut definitions = FileScan::default();
     let mut schemas = BTreeMap::new();
-    let mut pos = start;
-    let mut body = Vec::new();
     let mut problem = None;
-    while pos < footer_at {
-        let mut frame = [0u8; FRAME as usize];
-        if footer_at - pos < FRAME {
-            problem = Some(format!("{} stray bytes before the footer", footer_at - pos));
-            break;
-        }
-        reader.read_exact(&mut frame)?;
-        let opcode = frame[0];
-        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
-        if length > footer_at - pos - FRAME || length > MAX_RECORD_SIZE {
-            problem = Some(format!("a record at offset {pos} claims {length} bytes"));
-            break;
-        }
-        crc.update(&frame);
-        body.clear();
-        body.resize(length as usize, 0);
-        reader.read_exact(&mut body)?;
-        crc.update(&body);
-        match mcap::parse_record(opcode, &body) {
-            Ok(Record::ChunkIndex(index)) => {
-                let channels = index.message_index_offsets.len() as u64;
-                let framing = (FRAME + 6) * channels;
-                let messages = index
-                    .message_index_length
-                    .checked_sub(framing)
-                    .filter(|bytes| bytes % 16 == 0)
-                    .map(|bytes| bytes / 16);
-                chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
+    // Where the next record starts (the crate reports no offsets; every record is 9 bytes of frame + body).
+    let mut pos = start;
+    while let Some(event) = reader.next_event() {
+        match event {
+            Ok(LinearReadEvent::ReadRequest(n)) => {
+                let got = read_up_to(&mut input, reader.insert(n))?;
+                reader.notify_read(got);
             }
-            Ok(Record::Statistics(stats)) => statistics = Some(stats.message_count),
-            Ok(record @ (Record::Schema { .. } | Record::Channel(_))) => {
-                take_definition(record, &mut definitions, &mut schemas);
+            Ok(LinearReadEvent::Record { opcode: op::DATA_END, .. }) => {}
+            Ok(LinearReadEvent::Record { data, opcode }) => {
+                let at = pos;
+                pos += FRAME + data.len() as u64;
+                match mcap::parse_record(opcode, data) {
+                    Ok(Record::ChunkIndex(index)) => {
+                        let channels = index.message_index_offsets.len() as u64;
+                        let framing = (FRAME + 6) * channels;
+                        let messages = index
+                            .message_index_length
+                            .checked_sub(framing)
+                            .filter(|bytes| bytes % 16 == 0)
+                            .map(|bytes| bytes / 16);
+                        chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
+                    }
+                    Ok(Record::Statistics(stats)) => statistics = Some(stats.message_count),
+                    Ok(record @ (Record::Schema { .. } | Record::Channel(_))) => {
+                        take_definition(record, &mut definitions, &mut schemas);
+                    }
+                    Ok(_) => {}
+                    Err(e) => {
+                        problem.get_or_insert(format!(
+                            "a record (opcode {opcode:#04x}) at offset {at} does not parse: {e}"
+                        ));
+                    }
+                }
             }
-            Ok(_) => {}
             Err(e) => {
-                problem.get_or_insert(format!("a record (opcode {opcode:#04x}) at offset {pos} does not parse: {e}"));
+                problem = Some(e.to_string());
+                break;
             }
-        }
-        pos += FRAME + length;
-    }
-    if problem.is_none() {
-        crc.update(footer_prefix);
-        let computed = crc.finalize();
-        if stored_crc != 0 && stored_crc != computed {
-            problem = Some(format!("CRC mismatch: stored {stored_crc:#010x}, computed {computed:#010x}"));
         }
     }
     if let Some(reason) = problem {
