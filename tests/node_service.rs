@@ -335,3 +335,25 @@ fn record_services_records_each_call_as_rosbag2_records_a_service_and_only_then(
     let info = sweetspot::bag::info::bag_info(&bag).expect("bag info");
     assert!(info.topics.iter().all(|t| t.name != "/exit_velocity" || t.count == 0), "{info:?}");
 }
+
+#[test]
+fn the_readme_call_runs_as_written() {
+    support::node::require_isolated_network();
+    let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
+    let line = readme.lines().find(|l| l.starts_with("sweetspot call ")).expect("a `sweetspot call` line in README.md");
+    let (command, rest) = line.split_once(" '").expect("the request in single quotes");
+    let request = rest.strip_suffix('\'').expect("the line ends with the request's closing quote");
+    let words: Vec<&str> = command.split_whitespace().skip(1).collect();
+    assert_eq!(words, ["call", "simulate_swing"], "{line}");
+    let domain = domain(31);
+    let dir = tempfile::tempdir().unwrap();
+    let node = NodeProcess::spawn(domain, dir.path(), &["--ros-args", "-p", "record:=false"]);
+    node.wait_for_log("up on ROS_DOMAIN_ID", Duration::from_secs(60));
+    let mut cmd = sweetspot(domain, &words);
+    let out = cmd.arg(request).stdin(Stdio::null()).output().expect("sweetspot call");
+    assert!(out.status.success(), "{line}: {out:?}");
+    let answer = &lines(&out, "the README's sweetspot call")[0];
+    assert_eq!(answer["exit_velocity"]["swing_id"], json!(1), "{answer}");
+    assert_eq!(answer["exit_velocity"]["status"], json!(0), "OK: {answer}");
+    drop(node);
+}
