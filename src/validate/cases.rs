@@ -316,6 +316,23 @@ impl Lab {
         pitch_angle: f64,
         pitch_spin: f64,
     ) -> Result<Curve, ValidateError> {
+        let points = self.oblique_points(case, modes, ball, impact, barrel_radius, attack, pitch_angle, pitch_spin)?;
+        Ok(points.into_iter().map(|(launch, spin, _)| (launch, spin)).collect())
+    }
+
+    /// [`Lab::oblique_scan`] with each point's exit speed: (launch deg, spin rpm, exit speed mph).
+    #[allow(clippy::too_many_arguments)]
+    fn oblique_points(
+        &self,
+        case: &str,
+        modes: &ModeSet,
+        ball: &Ball,
+        impact: Impact,
+        barrel_radius: f64,
+        attack: f64,
+        pitch_angle: f64,
+        pitch_spin: f64,
+    ) -> Result<Vec<(f64, f64, f64)>, ValidateError> {
         let reach = ball.radius + barrel_radius;
         linspace(0.0, 0.95 * reach, 77)
             .par_iter()
@@ -328,7 +345,7 @@ impl Lab {
                     ..ObliqueImpact::head_on(impact, barrel_radius)
                 };
                 collide_oblique(modes, ball, &oblique, &TangentialContact::default(), &self.options)
-                    .map(|r| (r.launch_angle_deg(), r.spin_rpm()))
+                    .map(|r| (r.launch_angle_deg(), r.spin_rpm(), r.exit_speed / MPH))
                     .map_err(physics(case))
             })
             .collect()
@@ -447,23 +464,16 @@ impl Lab {
             bat_angular_speed: scale * typical.bat_angular_speed,
             ..typical
         };
-        let barrel_radius = b.radii_at(impact.impact_z).0;
-        let reach = ball.radius + barrel_radius;
-        let scan: Vec<(f64, f64, f64)> = linspace(0.0, 0.95 * reach, 77)
-            .par_iter()
-            .map(|&undercut| {
-                let oblique = ObliqueImpact {
-                    undercut,
-                    attack_angle: attack_deg.to_radians(),
-                    pitch_angle: (-pitch.vert_appr_angle_deg).to_radians(),
-                    pitch_spin: rpm_to_rad_per_s(pitch.spin_rpm),
-                    ..ObliqueImpact::head_on(impact, barrel_radius)
-                };
-                collide_oblique(&modes, &ball, &oblique, &TangentialContact::default(), &self.options)
-                    .map(|r| (r.launch_angle_deg(), r.spin_rpm(), r.exit_speed / MPH))
-                    .map_err(physics(case))
-            })
-            .collect::<Result<_, _>>()?;
+        let scan = self.oblique_points(
+            case,
+            &modes,
+            &ball,
+            impact,
+            b.radii_at(impact.impact_z).0,
+            attack_deg.to_radians(),
+            (-pitch.vert_appr_angle_deg).to_radians(),
+            rpm_to_rad_per_s(pitch.spin_rpm),
+        )?;
         Ok(scan.windows(2).find_map(|w| {
             let ((l0, s0, e0), (l1, s1, e1)) = (w[0], w[1]);
             ((l0 - launch) * (l1 - launch) <= 0.0 && l1 != l0).then(|| {
