@@ -141,3 +141,30 @@ fn a_bat_sensor_joined_through_a_map_gives_measured_bat_speeds_and_a_batter_file
     assert!(text.contains("mean of 2 measured bat speeds") && text.contains("bat_speed = 31.5"), "{text}");
     assert!(!tmp.path().join("batters/batter_Batter_02.toml").exists());
 }
+
+/// A record that is not UTF-8 text (here a batter's name, field 28, in Latin-1: "Pe\xf1a") is refused as a
+/// row, named by the line an editor shows (LF and CRLF files alike); the rows around it are still imported.
+#[test]
+fn a_record_that_is_not_utf8_is_refused_alone_on_its_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let session = std::fs::read(data("hittrax_session.csv")).unwrap();
+    let latin1 = String::from_utf8(session).unwrap().replacen(" Batter 01,, R,, Machine", " Pe\u{1}a,, R,, Machine", 1);
+    let mut bytes = latin1.into_bytes();
+    let at = bytes.iter().position(|&b| b == 1).expect("marker");
+    bytes[at] = 0xf1;
+    let crlf: Vec<u8> = bytes.iter().flat_map(|&b| if b == b'\n' { vec![b'\r', b'\n'] } else { vec![b] }).collect();
+    for (name, text) in [("lf.csv", bytes), ("crlf.csv", crlf)] {
+        let file = tmp.path().join(name);
+        std::fs::write(&file, text).unwrap();
+        let bag = tmp.path().join(format!("{name}.bag"));
+        let report = import_files(&[file], &bag, &options()).unwrap();
+        assert_eq!(report.files[0].rows, 7, "{name}: every record is a row, the broken one too");
+        assert_eq!(report.swings, 1, "{name}: line 3 (AB 2) refused, line 5 (AB 4) imported");
+        assert_eq!(report.skipped.get("record not UTF-8 text (refused)"), Some(&1), "{name}");
+        let refused = report.refused.join("\n");
+        assert!(refused.contains(", line 3: the record's field 28 is not UTF-8 text"), "{name}: {refused}");
+        assert_eq!(report.skipped.values().sum::<u64>() + report.swings, 7, "{name}: every row accounted for");
+        let rows = std::fs::read_to_string(bag.join(ROWS_TABLE)).unwrap();
+        assert!(rows.lines().nth(1).unwrap().contains(",5,hittrax,\"Batter 01, Jr.\","), "{name}: {rows}");
+    }
+}

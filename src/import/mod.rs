@@ -30,8 +30,9 @@
 //! # Rows that are not swings
 //! A row is skipped, and counted by reason, when the bat did not hit the ball (the tracker's call), when the
 //! pitch speed is missing, when a cell is not a number, or when a value is out of range (a negative or
-//! absurd speed, which is also what a column in other units looks like): those are *refused* with the file
-//! and line. Nothing is guessed silently.
+//! absurd speed, which is also what a column in other units looks like), or when the record is not UTF-8
+//! text: those are *refused* with the file and line (the line an editor shows, LF or CRLF), and reading goes
+//! on with the next row. Nothing is guessed silently.
 
 pub mod hittrax;
 pub mod mapped;
@@ -253,6 +254,11 @@ pub enum Skip {
         /// What is allowed.
         allowed: &'static str,
     },
+    /// The record is not text the reader can read (not UTF-8).
+    Unreadable {
+        /// What is wrong with it.
+        why: String,
+    },
 }
 
 impl Skip {
@@ -263,12 +269,13 @@ impl Skip {
             Skip::Missing { column } => format!("{column} not measured"),
             Skip::NotANumber { column, .. } => format!("{column} not a number (refused)"),
             Skip::Refused { column, .. } => format!("{column} out of range (refused)"),
+            Skip::Unreadable { .. } => "record not UTF-8 text (refused)".to_string(),
         }
     }
 
     /// Whether the row was refused as bad input (as opposed to simply not being a swing).
     pub fn is_refusal(&self) -> bool {
-        matches!(self, Skip::NotANumber { .. } | Skip::Refused { .. })
+        matches!(self, Skip::NotANumber { .. } | Skip::Refused { .. } | Skip::Unreadable { .. })
     }
 }
 
@@ -279,6 +286,7 @@ impl std::fmt::Display for Skip {
             Skip::Refused { column, value, allowed } => {
                 write!(f, "{column} gives {value:.6} (SI units), out of range: expected {allowed}")
             }
+            Skip::Unreadable { why } => write!(f, "the record's {why}"),
             other => f.write_str(&other.reason()),
         }
     }
@@ -671,6 +679,9 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
             file_report.rows += 1;
             let row = table.row();
             let tracked = match &columns {
+                _ if row.unreadable().is_some() => {
+                    Err(Skip::Unreadable { why: row.unreadable().unwrap_or_default().to_string() })
+                }
                 FormatColumns::TrackMan(cols) => trackman::read(&row, cols),
                 FormatColumns::Statcast(cols) => statcast::read(&row, cols),
                 FormatColumns::HitTrax(cols) => hittrax::read(&row, cols),

@@ -118,6 +118,8 @@ pub struct Table {
     record: csv::StringRecord,
     line: u64,
     breaks: Rc<RefCell<Breaks>>,
+    /// Why the current record could not be read (it is then empty).
+    unreadable: Option<String>,
 }
 
 impl Table {
@@ -135,7 +137,7 @@ impl Table {
         let mut reader = csv::ReaderBuilder::new().has_headers(true).flexible(true).from_reader(capped);
         let headers: Vec<String> = reader
             .headers()
-            .map_err(|e| csv_error(path, e))?
+            .map_err(|e| csv_error(path, &breaks, e))?
             .iter()
             .enumerate()
             .map(|(i, h)| if i == 0 { h.trim_start_matches('\u{feff}') } else { h }.trim().to_string())
@@ -153,6 +155,7 @@ impl Table {
             record: csv::StringRecord::new(),
             line: 1,
             breaks,
+            unreadable: None,
         })
     }
 
@@ -166,8 +169,11 @@ impl Table {
         self.index.get(name).copied()
     }
 
-    /// Advances to the next record; false at the end of the file.
+    /// Advances to the next record; false at the end of the file. A record that is not UTF-8 text is a row
+    /// of its own, empty and [`Row::unreadable`], so the rows around it are still read; other errors (I/O, a
+    /// line past [`MAX_LINE_BYTES`]) end the file.
     pub fn next_row(&mut self) -> Result<bool, ImportError> {
+        self.unreadable = None;
         match self.reader.read_record(&mut self.record) {
             Ok(more) => {
                 if let Some(position) = self.record.position() {
@@ -175,19 +181,38 @@ impl Table {
                 }
                 Ok(more)
             }
-            Err(e) => Err(csv_error(&self.path, e)),
+            Err(e) => match csv_error(&self.path, &self.breaks, e) {
+                ImportError::Csv { line: Some(line), message, .. } if message.contains(NOT_UTF8) => {
+                    self.record.clear();
+                    self.line = line;
+                    self.unreadable = Some(message);
+                    Ok(true)
+                }
+                other => Err(other),
+            },
         }
     }
 
     /// The current record.
     pub fn row(&self) -> Row<'_> {
-        Row { record: &self.record, line: self.line }
+        Row { record: &self.record, line: self.line, unreadable: self.unreadable.as_deref() }
     }
 }
 
-fn csv_error(path: &Path, e: csv::Error) -> ImportError {
-    let line = e.position().map(|p| p.line());
-    ImportError::Csv { path: path.to_path_buf(), line, message: e.to_string() }
+/// How a record that is not UTF-8 text is described.
+const NOT_UTF8: &str = "is not UTF-8 text (tracker exports are)";
+
+/// A record the csv crate could not read, on the line an editor shows (the crate's own is one short on CRLF
+/// files, see [`Breaks`]).
+fn csv_error(path: &Path, breaks: &RefCell<Breaks>, e: csv::Error) -> ImportError {
+    let line = e.position().map(|p| breaks.borrow_mut().line_at(p.byte()));
+    let message = match e.kind() {
+        csv::ErrorKind::Utf8 { err, .. } => {
+            format!("field {} {NOT_UTF8}", err.field() + 1)
+        }
+        _ => e.to_string(),
+    };
+    ImportError::Csv { path: path.to_path_buf(), line, message }
 }
 
 /// Why a cell could not be read as a number.
@@ -202,9 +227,15 @@ pub struct CellError {
 pub struct Row<'a> {
     record: &'a csv::StringRecord,
     line: u64,
+    unreadable: Option<&'a str>,
 }
 
 impl<'a> Row<'a> {
+    /// Why the record could not be read, if it could not (its cells are then all absent).
+    pub fn unreadable(&self) -> Option<&'a str> {
+        self.unreadable
+    }
+
     /// The line of the file the record starts on (the header is line 1).
     pub fn line(&self) -> u64 {
         self.line
@@ -271,6 +302,25 @@ mod tests {
         assert_eq!(lines("\u{feff}h1,h2\r\n1,2\r\n3,4\r\n\r\n5,6"), [2, 3, 5]);
         assert_eq!(lines("h1,h2\n\"a\nb\",2\n3,4\n"), [2, 4]);
         assert_eq!(lines("h1,h2\r\n\"a\r\nb\",2\r\n3,4\r\n"), [2, 4]);
+    }
+
+    /// A record that is not UTF-8 is a row of its own, unreadable, on the line an editor shows (CRLF or LF),
+    /// and the rows after it are still read.
+    #[test]
+    fn an_unreadable_record_is_named_by_its_editor_line_and_reading_goes_on() {
+        for text in [&b"h1,h2\r\n1,2\r\n3,\xff\r\n5,6\r\n"[..], &b"h1,h2\n1,2\n3,\xff\n5,6\n"[..]] {
+            let mut t = Table::from_reader(Path::new("t.csv"), Box::new(std::io::Cursor::new(text.to_vec()))).unwrap();
+            assert!(t.next_row().unwrap());
+            assert_eq!(t.row().unreadable(), None);
+            assert!(t.next_row().unwrap());
+            let (line, why) = (t.row().line(), t.row().unreadable().expect("unreadable"));
+            assert_eq!(line, 3, "{why}");
+            assert!(why.starts_with("field 2 "), "{why}");
+            assert_eq!(t.row().text(Some(0)), "", "no cell of a broken record is read");
+            assert!(t.next_row().unwrap());
+            assert_eq!((t.row().line(), t.row().text(Some(1)), t.row().unreadable()), (4, "6", None));
+            assert!(!t.next_row().unwrap());
+        }
     }
 
     #[test]
