@@ -29,6 +29,7 @@ fn options() -> ImportOptions {
         batter,
         undercut: 0.0,
         map: None,
+        tee: false,
     }
 }
 

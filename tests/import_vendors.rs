@@ -168,3 +168,33 @@ fn a_record_that_is_not_utf8_is_refused_alone_on_its_line() {
         assert!(rows.lines().nth(1).unwrap().contains(",5,hittrax,\"Batter 01, Jr.\","), "{name}: {rows}");
     }
 }
+
+/// `--tee`: HitTrax's Pitch 0 (written for a tee and for a speed nobody entered) is a ball at rest, so the
+/// real export's row (line 2: Pitch 0, Velo 52.9, LA 21) becomes a swing off a tee, with no pitch assumed.
+#[test]
+fn a_tee_session_turns_pitch_zero_into_a_ball_at_rest() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bag = tmp.path().join("tee");
+    let out = Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+        .args(["import", "hittrax"])
+        .arg(data("hittrax_session.csv"))
+        .arg("--tee")
+        .arg("-o")
+        .arg(&bag)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["swings"], 3, "lines 2, 3 and 5: {json}");
+    assert!(json["skipped"].get("Pitch not measured").is_none(), "{json}");
+    // Only line 2 is at rest: pitch angle and spin are assumed for the two pitched rows alone.
+    assert_eq!((json["assumed"]["pitch_angle"].as_u64(), json["assumed"]["pitch_spin"].as_u64()), (Some(2), Some(2)));
+    let inputs = read_inputs(&bag).unwrap();
+    let tee = &inputs.swings[0].1;
+    assert_eq!((tee.ball_speed, tee.pitch_angle, tee.pitch_spin), (0.0, 0.0, 0.0));
+    // 52.9 mph × 0.44704 = 23.648416 m/s; 21° = 0.3665191429 rad.
+    assert!(close(tee.measured_exit_speed, 23.648416, 1e-12), "{}", tee.measured_exit_speed);
+    assert!(close(tee.measured_launch_angle, 0.3665191429, 1e-10));
+    assert!(close(inputs.swings[1].1.ball_speed, 24.5872, 1e-12), "line 3 keeps its 55.0 mph pitch");
+}

@@ -1,7 +1,8 @@
 //! README "Bringing your rig's data": every command line of its `sh` block runs as written (trailing
 //! `# comment` dropped) with the built `sweetspot` first on PATH, in a fresh directory holding `game.csv` (the
 //! real TrackMan rows of tests/data), `savant.csv` (the Statcast fixture), `session.csv` with its map
-//! `my-tracker.toml` (the column-map fixture) and `cage.csv` (the HitTrax fixture).
+//! `my-tracker.toml` (the column-map fixture), `cage.csv` and `tee.csv` (the HitTrax fixture both: its first row,
+//! from a real export, has Pitch 0).
 
 use std::path::Path;
 use std::process::Command;
@@ -32,6 +33,7 @@ fn the_import_section_runs_as_written() {
     std::fs::copy(repo.join("tests/data/mapped_session.csv"), dir.path().join("session.csv")).unwrap();
     std::fs::copy(repo.join("tests/data/mapped_session.toml"), dir.path().join("my-tracker.toml")).unwrap();
     std::fs::copy(repo.join("tests/data/hittrax_session.csv"), dir.path().join("cage.csv")).unwrap();
+    std::fs::copy(repo.join("tests/data/hittrax_session.csv"), dir.path().join("tee.csv")).unwrap();
     let bin_dir = Path::new(env!("CARGO_BIN_EXE_sweetspot")).parent().unwrap().to_path_buf();
     let path = format!("{}:{}", bin_dir.display(), std::env::var("PATH").unwrap_or_default());
     let mut outputs = Vec::new();
@@ -48,6 +50,7 @@ fn the_import_section_runs_as_written() {
     // The real TrackMan rows: two with spin are tried for bat speed, the others say why they were not.
     assert!(outputs[7].contains("bat speed fitted for") && outputs[7].contains("no spin measured"), "{}", outputs[7]);
     assert!(outputs[8].contains("2 swings written to bags/cage"), "{}", outputs[8]);
+    assert!(outputs[9].contains("3 swings written to bags/tee"), "the Pitch 0 row off the tee too: {}", outputs[9]);
     let figure = std::fs::read_to_string(dir.path().join("located.svg")).expect("locate --figure wrote its file");
     assert!(figure.contains("<svg") && figure.contains("Located impact points"), "not the figure: {figure:.200}");
 }

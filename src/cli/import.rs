@@ -25,6 +25,7 @@ use crate::physics::{Ball, Bat};
   sweetspot import trackman game.csv --pub                   # to a running node, at the recorded pace
   sweetspot import trackman game.csv --pub --rate 2 -o bags/game   # 2 swings/s, and keep the bag
   sweetspot import trackman game.csv --pub --ns /rig3        # to the node of namespace /rig3
+  sweetspot import hittrax tee_work.csv --tee -o bags/tee    # a HitTrax session off a tee (Pitch 0)
 
 Rows the bat did not hit, or without a pitch speed, are skipped and counted by reason; rows with a value
 out of range (a negative or absurd speed, or a column in other units) are refused with file and line.
@@ -57,6 +58,10 @@ pub struct ImportArgs {
     /// `calibrate --fit-tangential` (the node and `bag replay` then refuse the swings).
     #[arg(long, value_name = "M", default_value_t = 0.0, allow_negative_numbers = true)]
     pub undercut: f64,
+    /// The session was hit off a tee: a pitch speed of 0 is a ball at rest (no spin), not a speed nobody
+    /// entered (HitTrax writes 0 for both; without --tee those rows are skipped as not measured).
+    #[arg(long)]
+    pub tee: bool,
     /// Column map (TOML) for an export of another tracker (Rapsodo, …): which column holds
     /// pitch_speed, exit_speed, launch_angle, spin, bat_speed, attack_angle, pitch_angle, time, batter, and
     /// their units (see `crate::import::mapped`).
@@ -142,7 +147,8 @@ pub fn run(args: ImportArgs) -> Result<()> {
     if map.is_some() && format.is_some() {
         bail!("--map reads every file through the map: give no format with it");
     }
-    let options = ImportOptions { format, bat, bat_params, ball_params, batter, undercut: args.undercut, map };
+    let options =
+        ImportOptions { format, bat, bat_params, ball_params, batter, undercut: args.undercut, map, tee: args.tee };
     let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
     let report = import_files(&paths, &output, &options).map_err(|e| anyhow!("{e}"))?;
     if let Some(dir) = &args.batter_out {

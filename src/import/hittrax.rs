@@ -20,7 +20,7 @@
 //!
 //! | column | becomes | conversion |
 //! |---|---|---|
-//! | `Pitch` | `Swing.ball_speed` | mph → m/s; 0 (a tee, or no pitch speed entered: HitTrax writes 0 for both) is *not measured*, so the row is skipped and counted |
+//! | `Pitch` | `Swing.ball_speed` | mph → m/s; 0 (a tee, or no pitch speed entered: HitTrax writes 0 for both) is *not measured*, so the row is skipped and counted — unless `--tee` ([`super::ImportOptions::tee`]) says it is a ball on a tee: then ball speed, pitch angle and pitch spin are 0 |
 //! | `Velo` | `measured_exit_speed` | mph → m/s; blank or 0 = the bat missed the ball (no contact) |
 //! | `LA` | `measured_launch_angle` | deg → rad |
 //! | `Res` | the call (side table) | e.g. `4-3`, the fielded result |
@@ -97,8 +97,9 @@ pub fn read(row: &Row<'_>, cols: &Columns) -> Result<TrackedRow, Skip> {
         // A blank or zero Velo is a swing that missed (HitTrax writes 0 where nothing was tracked).
         contact: velo.is_finite() && velo != 0.0,
         call: if call.is_empty() { "no result".into() } else { call },
-        // 0 is what HitTrax writes for a tee and for a pitch speed nobody entered: not measured.
-        pitch_speed: if pitch == 0.0 { f64::NAN } else { mph(pitch) },
+        // 0 is what HitTrax writes for a tee and for a pitch speed nobody entered: kept as 0, which the
+        // swing builder counts as not measured unless `--tee` says the session was off a tee.
+        pitch_speed: mph(pitch),
         pitch_speed_column: "Pitch",
         pitch_angle: f64::NAN,
         pitch_spin: f64::NAN,

@@ -309,6 +309,9 @@ pub struct ImportOptions {
     pub undercut: f64,
     /// A user's column map: every file is read through it (`format` must then be None).
     pub map: Option<mapped::ColumnMap>,
+    /// A pitch speed of exactly 0 is a ball on a tee (at rest, no spin) rather than "not measured": HitTrax
+    /// writes 0 for both, so only the user can say which.
+    pub tee: bool,
 }
 
 /// Fields filled in rather than measured, per swing.
@@ -357,6 +360,7 @@ pub struct SwingBuilder {
     pivot_z: f64,
     impact_z: f64,
     undercut: f64,
+    tee: bool,
 }
 
 impl SwingBuilder {
@@ -388,6 +392,7 @@ impl SwingBuilder {
             pivot_z,
             impact_z: prediction.impact_z,
             undercut: options.undercut,
+            tee: options.tee,
         })
     }
 
@@ -418,11 +423,18 @@ impl SwingBuilder {
                 Err(Skip::Refused { column, value, allowed })
             }
         };
-        if row.pitch_speed.is_nan() {
+        // A pitch speed of 0 is no pitch: a ball on a tee (with `tee`), else a speed nobody entered.
+        let on_tee = row.pitch_speed == 0.0;
+        if row.pitch_speed.is_nan() || (on_tee && !self.tee) {
             return Err(Skip::Missing { column: row.pitch_speed_column });
         }
         let v = row.pitch_speed;
-        range(row.pitch_speed_column, v, v > 0.0 && v <= MAX_PITCH_SPEED, "0 < pitch speed ≤ 53.6 m/s (120 mph)")?;
+        range(
+            row.pitch_speed_column,
+            v,
+            on_tee || (v > 0.0 && v <= MAX_PITCH_SPEED),
+            "0 < pitch speed ≤ 53.6 m/s (120 mph)",
+        )?;
         let e = row.exit_speed;
         range("exit speed", e, e > 0.0 && e <= MAX_EXIT_SPEED, "0 < exit speed ≤ 67.1 m/s (150 mph)")?;
         let b = row.bat_speed;
@@ -455,8 +467,9 @@ impl SwingBuilder {
             }
         };
         let attack_angle = or_zero(row.attack_angle, &mut assumed.attack_angle);
-        let pitch_angle = or_zero(row.pitch_angle, &mut assumed.pitch_angle);
-        let pitch_spin = or_zero(row.pitch_spin, &mut assumed.pitch_spin);
+        // A ball at rest has no approach angle and no spin: known, not assumed.
+        let pitch_angle = if on_tee { 0.0 } else { or_zero(row.pitch_angle, &mut assumed.pitch_angle) };
+        let pitch_spin = if on_tee { 0.0 } else { or_zero(row.pitch_spin, &mut assumed.pitch_spin) };
         let swing = Swing {
             header: Header { stamp, frame_id: String::new() },
             swing_id: id,
@@ -811,6 +824,7 @@ mod tests {
             batter: Batter::typical(mp).unwrap(),
             undercut: 0.0,
             map: None,
+            tee: false,
         }
     }
 
@@ -861,7 +875,16 @@ mod tests {
         assert!(builder.swing(&negative, 1, t.clone()).unwrap_err().is_refusal());
         let kmh = TrackedRow { pitch_speed: mph(150.0), ..row.clone() };
         assert!(builder.swing(&kmh, 1, t.clone()).unwrap_err().is_refusal());
-        let missing = TrackedRow { pitch_speed: f64::NAN, ..row };
-        assert_eq!(builder.swing(&missing, 1, t).unwrap_err(), Skip::Missing { column: "ZoneSpeed" });
+        let missing = TrackedRow { pitch_speed: f64::NAN, ..row.clone() };
+        assert_eq!(builder.swing(&missing, 1, t.clone()).unwrap_err(), Skip::Missing { column: "ZoneSpeed" });
+        // 0 is no pitch: not measured, unless the session is off a tee; a negative speed is refused either way.
+        let zero = TrackedRow { pitch_speed: 0.0, ..row.clone() };
+        assert_eq!(builder.swing(&zero, 1, t.clone()).unwrap_err(), Skip::Missing { column: "ZoneSpeed" });
+        let tee = SwingBuilder::new(&ImportOptions { tee: true, ..options() }).unwrap();
+        let (on_tee, assumed) = tee.swing(&zero, 1, t.clone()).unwrap();
+        assert_eq!((on_tee.ball_speed, on_tee.pitch_angle, on_tee.pitch_spin), (0.0, 0.0, 0.0));
+        assert_eq!(assumed.names(), ["bat_speed", "impact_z", "undercut", "attack_angle"], "at rest: no pitch assumed");
+        let backwards = TrackedRow { pitch_speed: -1.0, ..row };
+        assert!(tee.swing(&backwards, 1, t).unwrap_err().is_refusal());
     }
 }

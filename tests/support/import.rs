@@ -27,5 +27,6 @@ pub fn options() -> ImportOptions {
         batter,
         undercut: 0.0,
         map: None,
+        tee: false,
     }
 }
