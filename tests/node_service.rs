@@ -357,3 +357,70 @@ fn the_readme_call_runs_as_written() {
     assert_eq!(answer["exit_velocity"]["status"], json!(0), "OK: {answer}");
     drop(node);
 }
+
+/// A node started with `service_mapping:=cyclone` serves clients on rmw_cyclonedds_cpp: the Cyclone peer puts
+/// that RMW's request header `{uint64 guid; int64 seq}` in front of each request and keeps a reply only if the
+/// node echoed both (exit status 3 otherwise). The answers equal `simulate --json`; the recorded service events
+/// (read by rosbags) carry the client's own sequence numbers — one past 2^32, so the two 32-bit halves of the
+/// int64 must not be swapped — and its id in the last 8 bytes of client_gid; `sweetspot call --mapping cyclone`
+/// gets its answer too.
+#[test]
+fn a_node_on_the_cyclone_mapping_answers_rmw_cyclonedds_style_clients() {
+    support::node::require_isolated_network();
+    let domain = domain(32);
+    let dir = tempfile::tempdir().unwrap();
+    let bag = dir.path().join("cyclone");
+    let record_path = format!("record_path:={}", bag.display());
+    let args = ["--ros-args", "-p", "service_mapping:=cyclone", "-p", "record_services:=true", "-p", &record_path];
+    let node = NodeProcess::spawn(domain, dir.path(), &args);
+    node.wait_for_log("up on ROS_DOMAIN_ID", Duration::from_secs(60));
+
+    let all = cases();
+    let picked = [all[0], all[all.len() / 2], all[all.len() - 1]];
+    let requests: Vec<Value> = picked.iter().enumerate().map(|(k, c)| request(41 + k as u64, c)).collect();
+    let guid: u64 = 0x5EE7_5907_0000_0001;
+    let first_seq: i64 = (1 << 32) + 5;
+    let out = cyclone_call(
+        domain,
+        &[
+            "--json",
+            &Value::Array(requests).to_string(),
+            "--mapping",
+            "cyclone",
+            "--guid",
+            &guid.to_string(),
+            "--first-seq",
+            &first_seq.to_string(),
+            "--timeout",
+            "60",
+        ],
+    );
+    assert!(out.status.success(), "{out:?}");
+    let answers = lines(&out, "cyclone_service.py --mapping cyclone");
+    assert_eq!(answers.len(), picked.len());
+    for (answer, c) in answers.iter().zip(&picked) {
+        assert_same_as_simulate(answer, c, &simulate(c));
+    }
+    let mut cmd = sweetspot(domain, &["call", "simulate_swing", &request(44, &picked[0]).to_string()]);
+    let out = cmd.args(["--mapping", "cyclone", "--timeout", "60"]).stdin(Stdio::null()).output().unwrap();
+    assert_eq!(lines(&out, "sweetspot call --mapping cyclone")[0]["exit_velocity"]["swing_id"], json!(44));
+    let (status, _, log) = node.stop_with(libc::SIGINT);
+    assert!(status.success(), "{log}");
+
+    let out = Command::new(python())
+        .arg(repo().join("tests/python/service_events.py"))
+        .arg(&bag)
+        .arg("/sweetspot/simulate_swing/_service_event")
+        .output()
+        .expect("service_events.py");
+    let events = lines(&out, "service_events.py")[0]["events"].as_array().unwrap().clone();
+    assert_eq!(events.len(), 8, "request and response of 4 calls");
+    let guid_bytes: Vec<Value> = guid.to_le_bytes().iter().map(|&b| json!(b)).collect();
+    for (k, seq) in (0..3).map(|k| (k, first_seq + k as i64)) {
+        for event in &events[2 * k..2 * k + 2] {
+            assert_eq!(event["info"]["sequence_number"], json!(seq), "{event}");
+            let gid = event["info"]["client_gid"].as_array().unwrap();
+            assert_eq!(gid[8..], guid_bytes[..], "the client's id in the last 8 bytes: {event}");
+        }
+    }
+}

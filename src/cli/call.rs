@@ -33,6 +33,10 @@ pub struct CallArgs {
     /// Give up after this many seconds without an answer (waiting for the service included).
     #[arg(long, value_name = "SECS", default_value = "10", value_parser = super::common::seconds_at_least_zero)]
     pub timeout: f64,
+    /// The service's request/reply mapping, as the node's `service_mapping` parameter: `enhanced` (the
+    /// node's default, rmw_fastrtps's) or `cyclone` (rmw_cyclonedds_cpp's).
+    #[arg(long, value_name = "MAPPING", default_value = "enhanced", value_parser = ["enhanced", "cyclone"])]
+    pub mapping: String,
 }
 
 /// Resolves the service, sends the request, prints the response.
@@ -47,7 +51,9 @@ pub fn run(args: CallArgs) -> anyhow::Result<()> {
         .enable_all()
         .build()
         .context("starting the async runtime")?;
-    let response = runtime.block_on(call(&config, &fq_name, request, args.timeout))?;
+    let mapping = crate::node::settings::service_mapping(&args.mapping)
+        .ok_or_else(|| anyhow!("--mapping {}: expected enhanced or cyclone", args.mapping))?;
+    let response = runtime.block_on(call(&config, &fq_name, request, args.timeout, mapping))?;
     println!("{}", response.to_json());
     let ev = &response.exit_velocity;
     match ev.status {
@@ -76,6 +82,7 @@ async fn call(
     fq_name: &str,
     request: SimulateSwing_Request,
     timeout: f64,
+    mapping: ros2_client::ServiceMapping,
 ) -> anyhow::Result<SimulateSwing_Response> {
     let context = ros::context(config)?;
     let node_name = ros2_client::NodeName::new("/", &format!("sweetspot_call_{}", std::process::id()))
@@ -87,7 +94,7 @@ async fn call(
     let service_type = ros2_client::ServiceTypeName::new("sweetspot_msgs", "SimulateSwing");
     let client = node
         .create_client::<SimulateSwing_Request, SimulateSwing_Response>(
-            ros2_client::ServiceMapping::Enhanced,
+            mapping,
             &name,
             &service_type,
             ros::swing_qos(),

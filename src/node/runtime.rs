@@ -278,6 +278,7 @@ fn node_options(
     let mut options = NodeOptions::new()
         .enable_rosout(rosout)
         .start_parameter_services(true)
+        .parameter_service_mapping(mapping_of(settings))
         .parameter_validator(Box::new(move |name, value| validator.validate(name, value)))
         .parameter_set_action(Box::new(move |name, value| {
             if let Some(effect) = action.set(name, value)? {
@@ -290,6 +291,11 @@ fn node_options(
         options = options.declare_parameter_with_descriptor(parameter.name, value, parameter.descriptor());
     }
     options
+}
+
+/// The request/reply mapping of the node's services (`service_mapping`, checked when it was set).
+fn mapping_of(settings: &NodeSettings) -> ros2_client::ServiceMapping {
+    super::settings::service_mapping(&settings.service_mapping).unwrap_or(ros2_client::ServiceMapping::Enhanced)
 }
 
 /// The node's subscriptions and publishers, with the project's QoS.
@@ -349,7 +355,7 @@ fn simulate_swing_server(
     let service_type = ros2_client::ServiceTypeName::new("sweetspot_msgs", "SimulateSwing");
     let requests = swing_qos().history(History::KeepLast { depth: settings.queue_capacity.max(10_000) });
     let replies = results_qos();
-    node.create_server(ros2_client::ServiceMapping::Enhanced, &name, &service_type, requests, replies)
+    node.create_server(mapping_of(settings), &name, &service_type, requests, replies)
         .map_err(|e| anyhow::anyhow!("service {fq_name}: {e:?}"))
 }
 

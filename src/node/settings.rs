@@ -35,6 +35,9 @@ pub struct NodeSettings {
     pub record: bool,
     /// Also record `~/simulate_swing` calls (as rosbag2 records services: `<service>/_service_event`).
     pub record_services: bool,
+    /// Request/reply mapping of the node's services: `enhanced` (rmw_fastrtps, Jazzy's default) or `cyclone`
+    /// (clients on rmw_cyclonedds_cpp).
+    pub service_mapping: String,
     /// Bag directory; empty = `bags/<node>_<UTC time>`.
     pub record_path: String,
     /// Split size, bytes; 0 = never.
@@ -348,6 +351,19 @@ pub static PARAMETERS: &[Parameter] = &[
         },
         get: |s| ParameterValue::Boolean(s.record_services),
     },
+    // A ROS 2 service is not interoperable across RMW vendors: rmw_fastrtps (and ros2-client) use RPC over
+    // DDS's "enhanced" mapping (no header in the data), rmw_cyclonedds_cpp puts its own header in front of
+    // the request. One mapping per node, chosen at start-up for all its services, parameters included.
+    Parameter {
+        name: "service_mapping",
+        unit: "",
+        description: "request/reply wire mapping of ~/simulate_swing and the parameter services: enhanced \
+                      (rmw_fastrtps, Jazzy's default; ros2-client) or cyclone (clients on rmw_cyclonedds_cpp)",
+        read_only: true,
+        constraints: "enhanced or cyclone",
+        rule: Rule::Text { default: "enhanced", set: set_service_mapping },
+        get: |s| ParameterValue::String(s.service_mapping.clone()),
+    },
     Parameter {
         name: "record_path",
         unit: "",
@@ -496,6 +512,23 @@ pub static PARAMETERS: &[Parameter] = &[
     },
 ];
 
+fn set_service_mapping(s: &mut NodeSettings, mapping: &str) -> Checked {
+    if service_mapping(mapping).is_none() {
+        return Err(Refusal::Refused(format!("service_mapping = {mapping:?}: expected enhanced or cyclone")));
+    }
+    s.service_mapping = mapping.to_string();
+    STORED
+}
+
+/// The ros2-client mapping a `service_mapping` value names (None for anything else).
+pub fn service_mapping(name: &str) -> Option<ros2_client::ServiceMapping> {
+    match name {
+        "enhanced" => Some(ros2_client::ServiceMapping::Enhanced),
+        "cyclone" => Some(ros2_client::ServiceMapping::Cyclone),
+        _ => None,
+    }
+}
+
 fn set_record_storage_preset(s: &mut NodeSettings, preset: &str) -> Checked {
     if !preset.is_empty() {
         if let Err(err) = preset.parse::<crate::bag::StoragePreset>() {
@@ -630,6 +663,7 @@ impl Default for NodeSettings {
             workers: 0,
             record: false,
             record_services: false,
+            service_mapping: "enhanced".to_string(),
             record_path: String::new(),
             record_max_file_size: 0,
             record_max_file_duration: 0.0,
@@ -919,6 +953,7 @@ mod tests {
             ("workers", Integer(0), true),
             ("record", Boolean(true), true),
             ("record_services", Boolean(false), true),
+            ("service_mapping", String("enhanced".into()), true),
             ("record_path", String("".into()), true),
             ("record_max_file_size", Integer(0), true),
             ("record_max_file_duration", Double(0.0), true),

@@ -8,6 +8,12 @@ cyclone_peer.py's TypeSystem. Requests go to 'rq<service>Request', replies come 
 client cannot write or read the related-sample-identity parameter, so it matches each reply to its request by
 exit_velocity.swing_id (every request it sends has its own).
 
+With --mapping cyclone it speaks as a client on rmw_cyclonedds_cpp does (its rmw_node.cpp and serdata.cpp):
+every request and reply starts with `cdds_request_header_t { uint64_t guid; int64_t seq; }` in the same CDR
+stream as the message's fields; the client puts its own id (--guid) and a sequence number (--first-seq, then
+one more per request) in the request, and keeps a reply only if the server echoed both. A reply whose header
+is not the request's makes the exit status 3.
+
   cyclone_service.py call --service /sweetspot/simulate_swing --json '[{request}, ...]' [--timeout S]
       prints one JSON line per request, in request order: the response (NaN as null)
   cyclone_service.py call ... --json '{request}' --repeat N [--summary]
@@ -27,7 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from cyclone_peer import TypeSystem, loopback_config, parse_msg, wait_matched  # noqa: E402
+from cyclone_peer import Field, TypeSystem, loopback_config, parse_msg, wait_matched  # noqa: E402
 
 from cyclonedds.core import Policy, Qos  # noqa: E402
 from cyclonedds.domain import DomainParticipant  # noqa: E402
@@ -40,15 +46,21 @@ from cyclonedds.util import duration  # noqa: E402
 PKG, SRV = "sweetspot_msgs", "SimulateSwing"
 
 
-def add_service_types(ts, msgs_dir):
-    """Registers SimulateSwing_Request and _Response in `ts` (keys 'sweetspot_msgs/SimulateSwing_Request')."""
+# rmw_cyclonedds_cpp's request header, in front of the fields of every request and reply.
+CYCLONE_HEADER = [Field("cdds_guid", "uint64", None, None, None), Field("cdds_seq", "int64", None, None, None)]
+
+
+def add_service_types(ts, msgs_dir, mapping="enhanced"):
+    """Registers SimulateSwing_Request and _Response in `ts` (keys 'sweetspot_msgs/SimulateSwing_Request'),
+    with rmw_cyclonedds_cpp's header fields first for the cyclone mapping."""
     lines = (Path(msgs_dir) / PKG / "srv" / f"{SRV}.srv").read_text().splitlines()
     sep = lines.index("---")
     halves = {"Request": lines[:sep], "Response": lines[sep + 1:]}
     for suffix, body in halves.items():
         name = f"{SRV}_{suffix}"
         key = f"{PKG}/{name}"
-        ts.specs[key] = parse_msg("\n".join(body), PKG)
+        header = CYCLONE_HEADER if mapping == "cyclone" else []
+        ts.specs[key] = header + parse_msg("\n".join(body), PKG)
         layout = {f.name + "_": ts.field_type(f) for f in ts.specs[key]}
         cls = pytypes.new_class(f"{name}_", (IdlStruct,), {"typename": f"{PKG}::srv::dds_::{name}_"},
                                 lambda ns, layout=layout: ns.update({"__annotations__": layout}))
@@ -73,13 +85,17 @@ def main():
     c.add_argument("--repeat", type=int, default=0)
     c.add_argument("--summary", action="store_true")
     c.add_argument("--timeout", type=float, default=60.0)
+    c.add_argument("--mapping", choices=["enhanced", "cyclone"], default="enhanced")
+    c.add_argument("--guid", type=int, default=0x5EE7_5907_0000_0001, help="cyclone: the client's id (uint64)")
+    c.add_argument("--first-seq", type=int, default=1, help="cyclone: the first request's sequence number")
     args = ap.parse_args()
     if args.loopback:
         os.environ.setdefault("CYCLONEDDS_URI", loopback_config())
     domain = int(os.environ.get("ROS_DOMAIN_ID", "0") or 0)
 
     ts = TypeSystem(args.msgs)
-    req_type, resp_type = add_service_types(ts, args.msgs)
+    req_type, resp_type = add_service_types(ts, args.msgs, args.mapping)
+    cyclone = args.mapping == "cyclone"
     data = json.loads(args.json)
     if args.repeat:
         requests = []
@@ -93,6 +109,11 @@ def main():
     if len(set(ids)) != len(ids):
         print("every request needs its own swing.swing_id (replies are matched by it)", file=sys.stderr)
         return 2
+    sent_header = {}
+    if cyclone:
+        for k, r in enumerate(requests):
+            r["cdds_guid"], r["cdds_seq"] = args.guid, args.first_seq + k
+            sent_header[ids[k]] = (args.guid, args.first_seq + k)
     samples = [ts.from_json(req_type, r) for r in requests]
 
     dp = DomainParticipant(domain)
@@ -106,7 +127,7 @@ def main():
     for s in samples:
         writer.write(s)
 
-    replies, duplicates, unknown = {}, 0, 0
+    replies, duplicates, unknown, wrong_header = {}, 0, 0, 0
     wanted = set(ids)
     deadline = time.monotonic() + args.timeout
     while len(replies) < len(wanted) and time.monotonic() < deadline:
@@ -115,6 +136,13 @@ def main():
                 continue
             response = ts.to_json(resp_type, sample)
             swing_id = response["exit_velocity"]["swing_id"]
+            if cyclone:
+                header = (response.pop("cdds_guid"), response.pop("cdds_seq"))
+                if header[0] != args.guid:
+                    continue  # another client's reply, as rmw_cyclonedds_cpp filters them
+                if sent_header.get(swing_id) != header:
+                    wrong_header += 1
+                    continue
             if swing_id not in wanted:
                 unknown += 1
             elif swing_id in replies:
@@ -136,6 +164,9 @@ def main():
         for i in ids:
             if i in replies:
                 print(json.dumps(replies[i]), flush=True)
+    if wrong_header:
+        print(f"{wrong_header} replies carried a header that is not their request's", file=sys.stderr)
+        return 3
     if len(replies) < len(wanted):
         print(f"{len(wanted) - len(replies)} of {len(wanted)} requests got no reply within {args.timeout} s",
               file=sys.stderr)

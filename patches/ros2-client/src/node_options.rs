@@ -38,6 +38,7 @@ pub struct NodeOptions {
   pub(crate) allow_undeclared_parameters: bool,
   pub(crate) parameter_validator: Option<Box<ParameterFunc>>,
   pub(crate) parameter_set_action: Option<Box<ParameterFunc>>,
+  pub(crate) parameter_service_mapping: crate::ServiceMapping,
 }
 
 impl NodeOptions {
@@ -54,6 +55,16 @@ impl NodeOptions {
       allow_undeclared_parameters: false,
       parameter_validator: None,
       parameter_set_action: None,
+      parameter_service_mapping: crate::ServiceMapping::Enhanced,
+    }
+  }
+
+  /// The request/reply mapping of the parameter services (`Enhanced` by
+  /// default, as rmw_fastrtps; `Cyclone` for clients on rmw_cyclonedds_cpp).
+  pub fn parameter_service_mapping(self, mapping: crate::ServiceMapping) -> NodeOptions {
+    NodeOptions {
+      parameter_service_mapping: mapping,
+      ..self
     }
   }
   pub fn enable_rosout(self, enable_rosout: bool) -> NodeOptions {
