@@ -949,12 +949,6 @@ impl FileReader {
             }
             op::ATTACHMENT => {}
             op::DATA_END | op::FOOTER => self.end_of_data(),
-            _ if length > MAX_RECORD_SIZE => {
-                let reason =
-                    format!("a record (opcode {opcode:#04x}) of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
-                let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
-                self.damage(start, None, kind, None);
-            }
             op::MESSAGE => {
                 if mcap::parse_record(opcode, &self.record).is_ok() {
                     if self.take_message(false, 0, self.record.len()) {
@@ -1021,12 +1015,8 @@ impl FileReader {
             // Over the limit: skipped unread (they are not needed to read the messages).
             op::ATTACHMENT | op::MESSAGE_INDEX => {}
             op::CHUNK => {
-                let mut head = vec![0; CHUNK_HEADER_MAX.min(length) as usize];
-                self.file.get_ref().read_exact_at(&mut head, start + FRAME)?;
-                let fault = check_chunk_header(&head, length).err().unwrap_or_else(|| DamageKind::ChunkUndecodable {
-                    reason: format!("a chunk record of {length} bytes, more than the {TOP_LEVEL_LIMIT} read at most"),
-                });
-                self.take_chunk(start, Err(fault));
+                let reason = format!("a chunk record of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
+                self.take_chunk(start, Err(DamageKind::ChunkUndecodable { reason }));
             }
             _ => {
                 let reason = if length > MAX_RECORD_SIZE {
@@ -1152,12 +1142,6 @@ pub fn chunk_size_limit(compressed_size: u64) -> u64 {
     MAX_CHUNK_UNCOMPRESSED_SIZE.min(CHUNK_EXPANSION_FREE_SIZE.max(compressed_size.saturating_mul(MAX_CHUNK_EXPANSION)))
 }
 
-/// Most a top-level record may be for the crate to read it into memory: [`MAX_RECORD_SIZE`], with room for a
-/// chunk of [`MAX_CHUNK_UNCOMPRESSED_SIZE`] stored uncompressed (or incompressible) and its header.
-const TOP_LEVEL_LIMIT: usize = (MAX_RECORD_SIZE + (1 << 20)) as usize;
-/// A chunk record's header at most: the fixed fields (40 bytes) and a compression name of 255 bytes.
-const CHUNK_HEADER_MAX: u64 = 40 + 255;
-
 /// The crate's reader of the data section's top-level records, from the file's start (magic and data-section
 /// CRC checked) or from a record after a jump.
 fn top_level_reader(from_start: bool) -> LinearReader {
@@ -1167,30 +1151,23 @@ fn top_level_reader(from_start: bool) -> LinearReader {
             .with_validate_data_section_crc(from_start)
             .with_emit_chunks(true)
             .with_skip_end_magic(true)
-            .with_record_length_limit(TOP_LEVEL_LIMIT),
+            .with_record_length_limit(usize::try_from(MAX_RECORD_SIZE).unwrap_or(usize::MAX)),
     )
 }
 
-/// Checks the header of a chunk record of `length` bytes (`record` holds at least its header) against the
-/// limits, before anything is decompressed: Ok(compression, uncompressed size) if it may be decoded.
-fn check_chunk_header(record: &[u8], length: u64) -> Result<(String, u64), DamageKind> {
+/// Checks the header of the chunk record `record` (its body) against the limits, before anything is
+/// decompressed: Ok(compression, uncompressed size) if it may be decoded.
+fn check_chunk_header(record: &[u8]) -> Result<(String, u64), DamageKind> {
     let fail = |reason: String| DamageKind::ChunkUndecodable { reason };
-    let le64 = |at: usize| record.get(at..at + 8).and_then(|b| b.try_into().ok()).map_or(0, u64::from_le_bytes);
-    // message_start_time, message_end_time, uncompressed_size, uncompressed_crc, compression, records length.
-    let fixed = 32 + 8;
-    if length < fixed {
-        return Err(fail(format!("a chunk record of only {length} bytes")));
-    }
-    let uncompressed_size = le64(16);
-    let name_len = record.get(28..32).and_then(|b| b.try_into().ok()).map_or(0, u32::from_le_bytes);
-    let name_len = u64::from(name_len);
-    if name_len > 255 || fixed + name_len > length {
-        return Err(fail(format!("a compression name of {name_len} bytes")));
-    }
-    let name_end = 32 + name_len as usize;
-    let compression = String::from_utf8_lossy(record.get(32..name_end).unwrap_or_default()).into_owned();
-    let records_len = le64(name_end);
-    let body_left = length - fixed - name_len;
+    let header = match mcap::parse_record(op::CHUNK, record) {
+        Ok(Record::Chunk { header, .. }) => header,
+        Ok(_) => return Err(fail("not a chunk".to_string())),
+        Err(e) => return Err(fail(format!("its header does not parse: {e}"))),
+    };
+    let (compression, uncompressed_size, records_len) =
+        (header.compression, header.uncompressed_size, header.compressed_size);
+    // 40 bytes of fixed fields, then the compression name, then the records.
+    let body_left = (record.len() - 40 - compression.len()) as u64;
     if records_len != body_left {
         return Err(fail(format!("its records claim {records_len} bytes where the record holds {body_left}")));
     }
@@ -1218,7 +1195,7 @@ fn decode_chunk(
     spans: &mut Vec<(u8, usize, usize)>,
 ) -> Result<String, DamageKind> {
     let length = record.len() as u64;
-    let (compression, uncompressed_size) = check_chunk_header(record, length)?;
+    let (compression, uncompressed_size) = check_chunk_header(record)?;
     let fail = |reason: String| DamageKind::ChunkUndecodable { reason };
     chunk.clear();
     spans.clear();
@@ -1499,4 +1476,117 @@ pub fn read_bag(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Resu
         on_message(message);
     }
     reader.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    /// A record as the MCAP specification frames it: opcode, u64 length, body.
+    fn record(opcode: u8, body: &[u8]) -> Vec<u8> {
+        let mut out = vec![opcode];
+        out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+        out.extend_from_slice(body);
+        out
+    }
+
+    fn string(s: &str) -> Vec<u8> {
+        let mut out = (s.len() as u32).to_le_bytes().to_vec();
+        out.extend_from_slice(s.as_bytes());
+        out
+    }
+
+    fn message(sequence: u32, data: &[u8]) -> Vec<u8> {
+        let mut body = 1u16.to_le_bytes().to_vec();
+        body.extend_from_slice(&sequence.to_le_bytes());
+        body.extend_from_slice(&u64::from(sequence).to_le_bytes());
+        body.extend_from_slice(&u64::from(sequence).to_le_bytes());
+        body.extend_from_slice(data);
+        record(op::MESSAGE, &body)
+    }
+
+    #[test]
+    fn attachments_are_skipped_and_every_message_around_them_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        for chunked in [true, false] {
+            let path = dir.path().join(format!("{chunked}.mcap"));
+            let file = std::io::BufWriter::new(File::create(&path).unwrap());
+            let mut w = mcap::WriteOptions::new().use_chunks(chunked).chunk_size(Some(2048)).create(file).unwrap();
+            let schema = w.add_schema("std_msgs/msg/String", "ros2msg", b"string data\n").unwrap();
+            let channel = w.add_channel(schema, "/t", "cdr", &BTreeMap::new()).unwrap();
+            for i in 0..400u32 {
+                if i % 100 == 50 {
+                    let data = std::borrow::Cow::Owned(vec![7; 100_000]);
+                    let name = format!("a{i}");
+                    let media_type = "application/octet-stream".to_string();
+                    w.attach(&mcap::Attachment { log_time: 0, create_time: 0, name, media_type, data }).unwrap();
+                }
+                let header = mcap::records::MessageHeader {
+                    channel_id: channel,
+                    sequence: i,
+                    log_time: u64::from(i),
+                    publish_time: u64::from(i),
+                };
+                w.write_to_known_channel(&header, &i.to_le_bytes().repeat(50)).unwrap();
+            }
+            w.finish().unwrap();
+            drop(w);
+            let mut seen = Vec::new();
+            let scan = scan_file(&path, |m| seen.push((m.sequence, m.log_time_ns, m.data.to_vec()))).unwrap();
+            assert!(scan.damage.is_empty() && scan.complete, "{:?}", scan.damage);
+            let written: Vec<_> = (0..400u32).map(|i| (i, u64::from(i), i.to_le_bytes().repeat(50))).collect();
+            assert_eq!(seen, written);
+            assert_eq!(scan.expected_messages, Some(400));
+            if chunked {
+                assert!(scan.chunks > 10, "{}", scan.chunks);
+            } else {
+                assert_eq!((scan.chunks, scan.unchunked_messages), (0, 400));
+            }
+        }
+    }
+
+    #[test]
+    fn records_over_the_size_limit_are_skipped_unread_and_named_unless_attachments() {
+        // An unfinished file (no summary) written by hand: an attachment and a metadata record that claim 300 MiB
+        // each (a hole in a sparse file) between three messages.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big.mcap");
+        let mut file = File::create(&path).unwrap();
+        let huge = 300u64 << 20;
+        let mut head = MCAP_MAGIC.to_vec();
+        head.extend(record(op::HEADER, &[string("ros2"), string("hand")].concat()));
+        let schema = [&1u16.to_le_bytes()[..], &string("std_msgs/msg/String"), &string("ros2msg"), &string("")];
+        head.extend(record(op::SCHEMA, &schema.concat()));
+        let channel =
+            [&1u16.to_le_bytes()[..], &1u16.to_le_bytes(), &string("/t"), &string("cdr"), &0u32.to_le_bytes()];
+        head.extend(record(op::CHANNEL, &channel.concat()));
+        head.extend(message(0, b"zero"));
+        let metadata_at = head.len() as u64;
+        for (i, opcode) in [op::ATTACHMENT, op::METADATA].into_iter().enumerate() {
+            file.write_all(&head).unwrap();
+            file.write_all(&[opcode]).unwrap();
+            file.write_all(&huge.to_le_bytes()).unwrap();
+            file.seek(SeekFrom::Current(huge as i64)).unwrap();
+            head = message(i as u32 + 1, b"after");
+        }
+        file.write_all(&head).unwrap();
+        drop(file);
+        let mut seen = Vec::new();
+        let scan = scan_file(&path, |m| seen.push((m.sequence, m.data.to_vec()))).unwrap();
+        assert_eq!(seen, vec![(0, b"zero".to_vec()), (1, b"after".to_vec()), (2, b"after".to_vec())]);
+        assert_eq!((scan.complete, scan.truncated_bytes, scan.profile.as_str()), (false, 0, "ros2"));
+        // Only the metadata record is damage: where it was, what it claimed, where reading went on.
+        let metadata_at = metadata_at + FRAME + huge + message(1, b"after").len() as u64;
+        assert_eq!(scan.damage.len(), 1, "{:?}", scan.damage);
+        let damage = &scan.damage[0];
+        assert_eq!(damage.offset, metadata_at);
+        match &damage.kind {
+            DamageKind::Unparsable { reason, resumed_at, chunks_skipped: 0 } => {
+                assert!(reason.contains(&format!("of {huge} bytes, over the")), "{reason}");
+                assert_eq!(*resumed_at, Some(metadata_at + FRAME + huge));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 }
