@@ -19,18 +19,26 @@
 //! with the MCAP magic. Limits on what a file may make the reader hold are the constants below
 //! (docs/file-formats.md, "MCAP reading limits").
 //!
-//! Chunks are decoded (decompression, record framing, CRC) by the `mcap` crate's `sans_io::LinearReader`,
-//! after the chunk header has passed the limits below (the crate has no expansion ratio: its one record
-//! length limit is set to the chunk's claimed size); so is the summary section (framing, summary CRC). The
-//! data section's top-level records are still framed here: the crate stops at the first error and reports
-//! no offsets, and the reader goes on past damage and says where it is.
+//! MCAP parsing, but for the footer read to find the summary, is the `mcap` crate's
+//! `sans_io::LinearReader`: one frames the data section's top-level
+//! records (fed the file up to the end of the data section, whole chunk records included, the data-section
+//! CRC checked from the magic on), another decodes each chunk (decompression, CRC checked over the whole
+//! chunk before any record is taken, record framing; kept from chunk to chunk), a third reads the summary
+//! section (framing, summary CRC). What the crate lacks is here: it reports no offsets (every record is 9
+//! bytes of frame and its body, so the reader counts them) and stops at the first error, so where it stops
+//! the record's frame is read from the file to say what is wrong (cut off by the end of the file, claiming
+//! more than the data section, an invalid opcode, over the size limit) and reading goes on with a new
+//! reader after the record, or at the next chunk the summary knows (the data-section CRC is then no longer
+//! checked); and the chunk limits below are checked on the chunk header before the chunk is decoded (the
+//! crate has no expansion ratio).
 //!
-//! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
-//! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4) and the crate's buffer for the record
-//! being decoded, one top-level record (at most
-//! [`MAX_RECORD_SIZE`]), the channels (twice: the data section's and the summary's), and 24 bytes per chunk
-//! of the summary's chunk index. For the bags sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever
-//! the bag's size.
+//! Memory: one top-level record (at most [`MAX_RECORD_SIZE`]: a chunk's compressed records, an attachment,
+//! which is read and dropped, or an unchunked message) held by the framing reader; for a chunk, the
+//! decoder's copy of it, the decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) twice (the
+//! decoder's and the reader's, whose messages are handed out) and the decompressor's window (at most
+//! 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4); the channels (twice: the data section's and the
+//! summary's), and 24 bytes per chunk of the summary's chunk index. For the bags sweetspot writes (chunks of
+//! 1–4 MiB) that is a few MiB whatever the bag's size.
 //!
 //! Order: messages come in file order, files in the order `metadata.yaml` lists them (split order). File
 //! order is the order in which the recorder received them (inputs) or published them (outputs); in the node's
@@ -59,8 +67,9 @@ pub const CHUNK_EXPANSION_FREE_SIZE: u64 = 16 * 1024 * 1024;
 /// a decompression bomb, refused before anything is allocated (zstd and LZ4 reach ~10× on CDR; a chunk of a
 /// few MiB of identical images may reach more and stays under the free size).
 pub const MAX_CHUNK_EXPANSION: u64 = 1024;
-/// Largest top-level record other than a chunk or an attachment (a schema, channel, metadata record, message
-/// of an unchunked file, or summary record) read into memory, bytes. Attachments are skipped unread.
+/// Largest top-level record (a chunk, schema, channel, metadata record, attachment, message of an unchunked
+/// file, or summary record) read into memory, bytes. Attachments and message indexes over it are skipped
+/// unread; a chunk over it is a damaged chunk, anything else damage read around.
 pub const MAX_RECORD_SIZE: u64 = 256 * 1024 * 1024;
 /// Largest zstd window the decoder accepts, as a power of two: the `mcap` crate's zstd decoder keeps zstd's own
 /// decoding default (`ZSTD_WINDOWLOG_LIMIT_DEFAULT`, 128 MiB), which this names.
@@ -638,6 +647,10 @@ impl FileReader {
         let mut summary_channels = BTreeMap::new();
         let mut summary_offset = 0;
         let mut data_end = size;
+        let summary_damage = |offset, reason| {
+            let kind = DamageKind::Summary { reason };
+            Damage { file: path.to_path_buf(), offset, chunk: None, kind, lost_messages: None }
+        };
         if size >= 8 + FOOTER_AND_MAGIC {
             let footer_at = size - FOOTER_AND_MAGIC;
             let mut tail = [0u8; FOOTER_AND_MAGIC as usize];
@@ -660,24 +673,12 @@ impl FileReader {
                                 summary_channels = summary.channels;
                                 summary_offset = summary_start;
                             }
-                            Ok(Err(reason)) => scan.damage.push(Damage {
-                                file: path.to_path_buf(),
-                                offset: summary_start,
-                                chunk: None,
-                                kind: DamageKind::Summary { reason },
-                                lost_messages: None,
-                            }),
+                            Ok(Err(reason)) => scan.damage.push(summary_damage(summary_start, reason)),
                             Err(e) => return Err(io(e)),
                         }
                     }
                 } else {
-                    scan.damage.push(Damage {
-                        file: path.to_path_buf(),
-                        offset: footer_at,
-                        chunk: None,
-                        kind: DamageKind::Summary { reason: "the footer record does not parse".to_string() },
-                        lost_messages: None,
-                    });
+                    scan.damage.push(summary_damage(footer_at, "the footer record does not parse".to_string()));
                 }
             }
         }
