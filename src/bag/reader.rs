@@ -19,18 +19,26 @@
 //! with the MCAP magic. Limits on what a file may make the reader hold are the constants below
 //! (docs/file-formats.md, "MCAP reading limits").
 //!
-//! Chunks are decoded (decompression, record framing, CRC) by the `mcap` crate's `sans_io::LinearReader`,
-//! after the chunk header has passed the limits below (the crate has no expansion ratio: its one record
-//! length limit is set to the chunk's claimed size); so is the summary section (framing, summary CRC). The
-//! data section's top-level records are still framed here: the crate stops at the first error and reports
-//! no offsets, and the reader goes on past damage and says where it is.
+//! MCAP parsing, but for the footer read to find the summary, is the `mcap` crate's
+//! `sans_io::LinearReader`: one frames the data section's top-level
+//! records (fed the file up to the end of the data section, whole chunk records included, the data-section
+//! CRC checked from the magic on), another decodes each chunk (decompression, CRC checked over the whole
+//! chunk before any record is taken, record framing; kept from chunk to chunk), a third reads the summary
+//! section (framing, summary CRC). What the crate lacks is here: it reports no offsets (every record is 9
+//! bytes of frame and its body, so the reader counts them) and stops at the first error, so where it stops
+//! the record's frame is read from the file to say what is wrong (cut off by the end of the file, claiming
+//! more than the data section, an invalid opcode, over the size limit) and reading goes on with a new
+//! reader after the record, or at the next chunk the summary knows (the data-section CRC is then no longer
+//! checked); and the chunk limits below are checked on the chunk header before the chunk is decoded (the
+//! crate has no expansion ratio).
 //!
-//! Memory: one decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) plus the decompressor's window
-//! (at most 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4) and the crate's buffer for the record
-//! being decoded, one top-level record (at most
-//! [`MAX_RECORD_SIZE`]), the channels (twice: the data section's and the summary's), and 24 bytes per chunk
-//! of the summary's chunk index. For the bags sweetspot writes (chunks of 1–4 MiB) that is a few MiB whatever
-//! the bag's size.
+//! Memory: one top-level record (at most [`MAX_RECORD_SIZE`]: a chunk's compressed records, an attachment,
+//! which is read and dropped, or an unchunked message) held by the framing reader; for a chunk, the
+//! decoder's copy of it, the decompressed chunk (at most [`MAX_CHUNK_UNCOMPRESSED_SIZE`]) twice (the
+//! decoder's and the reader's, whose messages are handed out) and the decompressor's window (at most
+//! 2^[`ZSTD_WINDOW_LOG_MAX`] bytes for zstd, 4 MiB for LZ4); the channels (twice: the data section's and the
+//! summary's), and 24 bytes per chunk of the summary's chunk index. For the bags sweetspot writes (chunks of
+//! 1–4 MiB) that is a few MiB whatever the bag's size.
 //!
 //! Order: messages come in file order, files in the order `metadata.yaml` lists them (split order). File
 //! order is the order in which the recorder received them (inputs) or published them (outputs); in the node's
@@ -40,6 +48,7 @@
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 
 use mcap::records::{op, Record};
@@ -58,8 +67,9 @@ pub const CHUNK_EXPANSION_FREE_SIZE: u64 = 16 * 1024 * 1024;
 /// a decompression bomb, refused before anything is allocated (zstd and LZ4 reach ~10× on CDR; a chunk of a
 /// few MiB of identical images may reach more and stays under the free size).
 pub const MAX_CHUNK_EXPANSION: u64 = 1024;
-/// Largest top-level record other than a chunk or an attachment (a schema, channel, metadata record, message
-/// of an unchunked file, or summary record) read into memory, bytes. Attachments are skipped unread.
+/// Largest top-level record (a chunk, schema, channel, metadata record, attachment, message of an unchunked
+/// file, or summary record) read into memory, bytes. Attachments and message indexes over it are skipped
+/// unread; a chunk over it is a damaged chunk, anything else damage read around.
 pub const MAX_RECORD_SIZE: u64 = 256 * 1024 * 1024;
 /// Largest zstd window the decoder accepts, as a power of two: the `mcap` crate's zstd decoder keeps zstd's own
 /// decoding default (`ZSTD_WINDOWLOG_LIMIT_DEFAULT`, 128 MiB), which this names.
@@ -552,49 +562,6 @@ fn read_up_to(reader: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> 
     Ok(filled)
 }
 
-/// The file read front to back, hashing what passes (the data-section CRC) and counting the offset.
-struct Source {
-    file: BufReader<File>,
-    pos: u64,
-    crc: Option<crc32fast::Hasher>,
-}
-
-impl Read for Source {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.file.read(buf)?;
-        if let Some(crc) = &mut self.crc {
-            crc.update(&buf[..n]);
-        }
-        self.pos += n as u64;
-        Ok(n)
-    }
-}
-
-impl Source {
-    /// Jumps to `pos`; the data-section CRC can no longer be computed.
-    fn seek_to(&mut self, pos: u64) -> std::io::Result<()> {
-        self.file.seek(SeekFrom::Start(pos))?;
-        self.pos = pos;
-        self.crc = None;
-        Ok(())
-    }
-
-    /// Reads and drops `n` bytes (hashed as they pass).
-    fn skip(&mut self, n: u64) -> std::io::Result<()> {
-        let copied = std::io::copy(&mut Read::by_ref(self).take(n), &mut std::io::sink())?;
-        if copied < n {
-            return Err(std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "file shorter than its records"));
-        }
-        Ok(())
-    }
-
-    fn u64(&mut self) -> std::io::Result<u64> {
-        let mut b = [0u8; 8];
-        self.read_exact(&mut b)?;
-        Ok(u64::from_le_bytes(b))
-    }
-}
-
 /// A chunk listed in the summary's chunk index.
 #[derive(Debug, Clone, Copy)]
 struct IndexedChunk {
@@ -630,7 +597,16 @@ struct Current {
 /// A streaming reader of one MCAP file: [`FileReader::advance`] moves to the next message,
 /// [`FileReader::message`] borrows it, [`FileReader::finish`] returns what the scan found.
 pub struct FileReader {
-    src: Source,
+    file: BufReader<File>,
+    /// The crate's framing of the data section's top-level records (whole chunk records included), fed the
+    /// file from `fed` up to `data_end`; `at` is where the next record it yields starts (it reports no
+    /// offsets: every record is 9 bytes of frame and its body, in file order).
+    top: LinearReader,
+    fed: u64,
+    at: u64,
+    /// The chunk decoder, kept from chunk to chunk (and its zstd context with it) while their sizes round up
+    /// to the same power of two, which is its record length limit; dropped after a chunk it fails on.
+    decoder: Option<(usize, LinearReader)>,
     scan: FileScan,
     schemas: BTreeMap<u16, (String, String, String)>,
     /// End of the data section: the summary's start, the footer, or the end of an unfinished file.
@@ -671,6 +647,10 @@ impl FileReader {
         let mut summary_channels = BTreeMap::new();
         let mut summary_offset = 0;
         let mut data_end = size;
+        let summary_damage = |offset, reason| {
+            let kind = DamageKind::Summary { reason };
+            Damage { file: path.to_path_buf(), offset, chunk: None, kind, lost_messages: None }
+        };
         if size >= 8 + FOOTER_AND_MAGIC {
             let footer_at = size - FOOTER_AND_MAGIC;
             let mut tail = [0u8; FOOTER_AND_MAGIC as usize];
@@ -693,33 +673,23 @@ impl FileReader {
                                 summary_channels = summary.channels;
                                 summary_offset = summary_start;
                             }
-                            Ok(Err(reason)) => scan.damage.push(Damage {
-                                file: path.to_path_buf(),
-                                offset: summary_start,
-                                chunk: None,
-                                kind: DamageKind::Summary { reason },
-                                lost_messages: None,
-                            }),
+                            Ok(Err(reason)) => scan.damage.push(summary_damage(summary_start, reason)),
                             Err(e) => return Err(io(e)),
                         }
                     }
                 } else {
-                    scan.damage.push(Damage {
-                        file: path.to_path_buf(),
-                        offset: footer_at,
-                        chunk: None,
-                        kind: DamageKind::Summary { reason: "the footer record does not parse".to_string() },
-                        lost_messages: None,
-                    });
+                    scan.damage.push(summary_damage(footer_at, "the footer record does not parse".to_string()));
                 }
             }
         }
         file.seek(SeekFrom::Start(0)).map_err(io)?;
-        let mut src = Source { file: BufReader::with_capacity(64 * 1024, file), pos: 0, crc: Some(Default::default()) };
-        src.skip(8).map_err(io)?;
         scan.expected_messages = statistics;
         Ok(FileReader {
-            src,
+            file: BufReader::with_capacity(64 * 1024, file),
+            top: top_level_reader(true),
+            fed: 0,
+            at: 8,
+            decoder: None,
             scan,
             schemas: BTreeMap::new(),
             data_end,
@@ -814,7 +784,7 @@ impl FileReader {
                     self.from_summary.push(channel_id);
                 }
                 None => {
-                    let offset = self.pending.as_ref().map_or(self.src.pos, |p| p.offset);
+                    let offset = self.pending.as_ref().map_or(self.at, |p| p.offset);
                     self.unknown_channels.entry(channel_id).or_insert((offset, 0)).1 += 1;
                     return false;
                 }
@@ -891,7 +861,7 @@ impl FileReader {
                 self.scan.corrupt_chunks += skipped.len() as u64;
                 self.damage(at, chunk, kind, lost);
                 self.next_chunk = next as u64;
-                self.src.seek_to(resume)
+                self.restart(resume)
             }
             _ => {
                 let skipped = self.indexed_chunks.iter().filter(|c| c.offset >= at).count() as u64;
@@ -918,20 +888,108 @@ impl FileReader {
     fn read_top_level(&mut self) -> std::io::Result<bool> {
         self.spans.clear();
         self.next_span = 0;
-        let start = self.src.pos;
-        let crc_before = self.src.crc.clone();
-        if start >= self.data_end {
-            self.end_of_data();
+        let start = self.at;
+        let (opcode, length, chunk) = loop {
+            match self.top.next_event() {
+                None => {
+                    self.consumed = start;
+                    self.end_of_data();
+                    return Ok(false);
+                }
+                Some(Ok(LinearReadEvent::ReadRequest(n))) => {
+                    // Never past the data section: a record that claims more is cut off there (0 = end).
+                    let left = usize::try_from(self.data_end.saturating_sub(self.fed)).unwrap_or(usize::MAX);
+                    let got = read_up_to(&mut self.file, self.top.insert(n.min(left)))?;
+                    self.top.notify_read(got);
+                    self.fed += got as u64;
+                }
+                Some(Ok(LinearReadEvent::Record { opcode, data })) => {
+                    let chunk = if opcode == op::CHUNK {
+                        Some(decode_chunk(&mut self.decoder, data, &mut self.chunk, &mut self.spans))
+                    } else {
+                        self.record.clear();
+                        self.record.extend_from_slice(data);
+                        None
+                    };
+                    break (opcode, data.len() as u64, chunk);
+                }
+                Some(Err(mcap::McapError::BadDataCrc { saved, calculated })) => {
+                    let kind = DamageKind::DataSectionCrc { stored: saved, computed: calculated };
+                    self.damage(start, None, kind, None);
+                    self.consumed = start + FRAME + self.frame_at(start)?.map_or(0, |(_, length)| length);
+                    self.end_of_data();
+                    return Ok(false);
+                }
+                Some(Err(e)) => return self.broken(start, e),
+            }
+        };
+        let end = start + FRAME + length;
+        self.at = end;
+        if opcode == 0 || (op::DATA_END < opcode && opcode < 0x80) {
+            self.lose_framing(start, format!("a record with the invalid opcode {opcode:#04x}"))?;
             return Ok(false);
         }
-        let remaining = self.data_end - start;
-        if remaining < FRAME {
-            return self.cut_off(start, remaining, None);
+        self.consumed = end;
+        if opcode != op::MESSAGE_INDEX {
+            self.settle_pending_chunk();
         }
-        let mut frame = [0u8; FRAME as usize];
-        self.src.read_exact(&mut frame)?;
-        let opcode = frame[0];
-        let length = u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]));
+        match opcode {
+            op::CHUNK => {
+                if let Some(decoded) = chunk {
+                    self.take_chunk(start, decoded);
+                }
+            }
+            op::MESSAGE_INDEX => {
+                let head = self.record.get(2..6).and_then(|b| b.try_into().ok()).map(u32::from_le_bytes);
+                if let (Some(chunk), Some(bytes)) = (&mut self.pending, head) {
+                    let bytes = u64::from(bytes);
+                    if bytes + 6 == length && bytes % 16 == 0 {
+                        *chunk.indexed.get_or_insert(0) += bytes / 16;
+                    }
+                }
+            }
+            op::ATTACHMENT => {}
+            op::DATA_END | op::FOOTER => self.end_of_data(),
+            op::MESSAGE => {
+                if mcap::parse_record(opcode, &self.record).is_ok() {
+                    if self.take_message(false, 0, self.record.len()) {
+                        self.scan.unchunked_messages += 1;
+                        return Ok(true);
+                    }
+                } else {
+                    let reason = "a message record does not parse".to_string();
+                    let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
+                    self.damage(start, None, kind, Some(1));
+                }
+            }
+            _ => {
+                let problem = match mcap::parse_record(opcode, &self.record) {
+                    Ok(Record::Header(h)) => {
+                        self.scan.profile = h.profile;
+                        self.scan.library = h.library;
+                        None
+                    }
+                    Ok(record) => {
+                        take_definition(record, &mut self.scan, &mut self.schemas);
+                        None
+                    }
+                    Err(e) => Some(format!("a record (opcode {opcode:#04x}) does not parse: {e}")),
+                };
+                if let Some(reason) = problem {
+                    let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
+                    self.damage(start, None, kind, None);
+                }
+            }
+        }
+        Ok(false)
+    }
+
+    /// The crate stopped at the record at `start` (`error`): says why from its frame, as the file has it, and
+    /// goes on after it where the file allows.
+    fn broken(&mut self, start: u64, error: mcap::McapError) -> std::io::Result<bool> {
+        let remaining = self.data_end.saturating_sub(start);
+        let frame = if remaining >= FRAME { self.frame_at(start)? } else { None };
+        let Some((opcode, length)) = frame else { return self.cut_off(start, remaining, None) };
         if opcode == 0 || (op::DATA_END < opcode && opcode < 0x80) {
             self.lose_framing(start, format!("a record with the invalid opcode {opcode:#04x}"))?;
             return Ok(false);
@@ -940,112 +998,59 @@ impl FileReader {
             if !self.scan.complete {
                 return self.cut_off(start, remaining, Some(opcode));
             }
-            self.lose_framing(
-                start,
-                format!("a record (opcode {opcode:#04x}) claims {length} bytes, past the data section"),
-            )?;
+            let reason = format!("a record (opcode {opcode:#04x}) claims {length} bytes, past the data section");
+            self.lose_framing(start, reason)?;
             return Ok(false);
         }
         if opcode != op::MESSAGE_INDEX {
             self.settle_pending_chunk();
         }
         let end = start + FRAME + length;
+        self.consumed = end;
         match opcode {
-            op::CHUNK => self.read_chunk(start, length)?,
-            op::MESSAGE_INDEX => {
-                if length >= 6 {
-                    let mut head = [0u8; 6];
-                    self.src.read_exact(&mut head)?;
-                    self.src.skip(length - 6)?;
-                    let bytes = u64::from(u32::from_le_bytes(head[2..6].try_into().unwrap_or([0; 4])));
-                    if let Some(chunk) = &mut self.pending {
-                        if bytes + 6 == length && bytes % 16 == 0 {
-                            *chunk.indexed.get_or_insert(0) += bytes / 16;
-                        }
-                    }
-                } else {
-                    self.src.skip(length)?;
-                }
-            }
-            op::ATTACHMENT => self.src.skip(length)?,
-            op::DATA_END => {
-                let mut stored = [0u8; 4];
-                let present = length.min(4);
-                self.src.read_exact(&mut stored[..present as usize])?;
-                self.src.skip(length - present)?;
-                if let (Some(crc), true) = (crc_before, present == 4) {
-                    let stored = u32::from_le_bytes(stored);
-                    let computed = crc.finalize();
-                    if stored != 0 && stored != computed {
-                        self.damage(start, None, DamageKind::DataSectionCrc { stored, computed }, None);
-                    }
-                }
-                self.consumed = end;
+            // A Data End or Footer record too short for its fields: the data section ends all the same.
+            op::DATA_END | op::FOOTER => {
                 self.end_of_data();
                 return Ok(false);
             }
-            op::FOOTER => {
-                self.src.skip(length)?;
-                self.consumed = end;
-                self.end_of_data();
-                return Ok(false);
-            }
-            _ if length > MAX_RECORD_SIZE => {
-                self.src.skip(length)?;
-                let reason =
-                    format!("a record (opcode {opcode:#04x}) of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
-                self.damage(
-                    start,
-                    None,
-                    DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 },
-                    None,
-                );
+            // Over the limit: skipped unread (they are not needed to read the messages).
+            op::ATTACHMENT | op::MESSAGE_INDEX => {}
+            op::CHUNK => {
+                let reason = format!("a chunk record of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
+                self.take_chunk(start, Err(DamageKind::ChunkUndecodable { reason }));
             }
             _ => {
-                self.record.clear();
-                self.record.resize(length as usize, 0);
-                self.src.read_exact(&mut self.record)?;
-                self.consumed = end;
-                match opcode {
-                    op::MESSAGE => {
-                        if mcap::parse_record(opcode, &self.record).is_ok() {
-                            if self.take_message(false, 0, self.record.len()) {
-                                self.scan.unchunked_messages += 1;
-                                return Ok(true);
-                            }
-                        } else {
-                            let reason = "a message record does not parse".to_string();
-                            self.damage(
-                                start,
-                                None,
-                                DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 },
-                                Some(1),
-                            );
-                        }
-                    }
-                    _ => {
-                        let problem = match mcap::parse_record(opcode, &self.record) {
-                            Ok(Record::Header(h)) => {
-                                self.scan.profile = h.profile;
-                                self.scan.library = h.library;
-                                None
-                            }
-                            Ok(record) => {
-                                take_definition(record, &mut self.scan, &mut self.schemas);
-                                None
-                            }
-                            Err(e) => Some(format!("a record (opcode {opcode:#04x}) does not parse: {e}")),
-                        };
-                        if let Some(reason) = problem {
-                            let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
-                            self.damage(start, None, kind, None);
-                        }
-                    }
-                }
+                let reason = if length > MAX_RECORD_SIZE {
+                    format!("a record (opcode {opcode:#04x}) of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit")
+                } else {
+                    format!("a record (opcode {opcode:#04x}) does not read: {error}")
+                };
+                let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
+                self.damage(start, None, kind, None);
             }
         }
-        self.consumed = end;
+        self.restart(end)?;
         Ok(false)
+    }
+
+    /// The opcode and length of the record at `offset`, read from the file; None if the file ends first.
+    fn frame_at(&self, offset: u64) -> std::io::Result<Option<(u8, u64)>> {
+        let mut frame = [0u8; FRAME as usize];
+        match self.file.get_ref().read_exact_at(&mut frame, offset) {
+            Ok(()) => Ok(Some((frame[0], u64::from_le_bytes(frame[1..9].try_into().unwrap_or([0; 8]))))),
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Goes on reading top-level records at `offset`, with a new reader: the data-section CRC can no longer be
+    /// computed.
+    fn restart(&mut self, offset: u64) -> std::io::Result<()> {
+        self.file.seek(SeekFrom::Start(offset))?;
+        self.top = top_level_reader(false);
+        self.fed = offset;
+        self.at = offset;
+        Ok(())
     }
 
     /// The file ends inside the record at `start` (of type `opcode`, if its frame is there).
@@ -1057,126 +1062,13 @@ impl FileReader {
         Ok(false)
     }
 
-    /// Reads the chunk record of `length` bytes at `start` (its frame already read).
-    fn read_chunk(&mut self, start: u64, length: u64) -> std::io::Result<()> {
+    /// Takes in the chunk record at `start`, decoded into `chunk` and `spans` (Ok: its compression) or not.
+    fn take_chunk(&mut self, start: u64, decoded: Result<String, DamageKind>) {
         let index = self.chunk_index_at(start);
         self.next_chunk = index + 1;
         let mut pending = PendingChunk { index, offset: start, fault: None, messages: 0, indexed: None };
-        let end = start + FRAME + length;
-        // message_start_time, message_end_time, uncompressed_size, uncompressed_crc, compression length.
-        let mut head = [0u8; 32];
-        let fixed = 32 + 8;
-        let fail = |reason: String| DamageKind::ChunkUndecodable { reason };
-        if length < fixed {
-            self.src.skip(length)?;
-            pending.fault = Some(fail(format!("a chunk record of only {length} bytes")));
-            self.pending = Some(pending);
-            return Ok(());
-        }
-        self.src.read_exact(&mut head)?;
-        let uncompressed_size = u64::from_le_bytes(head[16..24].try_into().unwrap_or([0; 8]));
-        let name_len = u64::from(u32::from_le_bytes(head[28..32].try_into().unwrap_or([0; 4])));
-        if name_len > 255 || fixed + name_len > length {
-            self.src.skip(length - 32)?;
-            pending.fault = Some(fail(format!("a compression name of {name_len} bytes")));
-            self.pending = Some(pending);
-            return Ok(());
-        }
-        let mut name = vec![0u8; name_len as usize];
-        self.src.read_exact(&mut name)?;
-        let compression = String::from_utf8_lossy(&name).into_owned();
-        let records_len = self.src.u64()?;
-        let body_left = length - fixed - name_len;
-        if records_len != body_left {
-            self.src.skip(body_left)?;
-            pending.fault =
-                Some(fail(format!("its records claim {records_len} bytes where the record holds {body_left}")));
-            self.pending = Some(pending);
-            return Ok(());
-        }
-        let limit = chunk_size_limit(records_len);
-        let refusal = if uncompressed_size > limit {
-            Some(DamageKind::ChunkTooLarge { uncompressed_size, compressed_size: records_len, limit })
-        } else if compression.is_empty() && uncompressed_size != records_len {
-            Some(fail(format!("an uncompressed chunk of {records_len} bytes that claims {uncompressed_size}")))
-        } else if !matches!(compression.as_str(), "" | "zstd" | "lz4") {
-            Some(fail(format!("unsupported compression {compression:?}")))
-        } else {
-            None
-        };
-        if let Some(kind) = refusal {
-            self.src.skip(records_len)?;
-            pending.fault = Some(kind);
-            self.pending = Some(pending);
-            return Ok(());
-        }
-        self.chunk.clear();
-        self.spans.clear();
-        self.next_span = 0;
-        // The crate decodes the chunk (decompression, record framing, CRC), fed the record as it comes from
-        // the file; records are taken in one by one, so a bomb of zeros or garbage stops at its first bad one.
-        // The record length limit bounds what a lying record inside the chunk can make it allocate.
-        let mut prefix = vec![op::CHUNK];
-        prefix.extend_from_slice(&length.to_le_bytes());
-        prefix.extend_from_slice(&head);
-        prefix.extend_from_slice(&name);
-        prefix.extend_from_slice(&records_len.to_le_bytes());
-        let limit = usize::try_from(uncompressed_size.max(length)).unwrap_or(usize::MAX);
-        let options = LinearReaderOptions::default()
-            .with_skip_start_magic(true)
-            .with_skip_end_magic(true)
-            .with_validate_chunk_crcs(true)
-            .with_record_length_limit(limit);
-        let mut decoder = LinearReader::new_with_options(options);
-        let mut prefix = &prefix[..];
-        let mut take = Read::by_ref(&mut self.src).take(records_len);
-        let verdict = loop {
-            match decoder.next_event() {
-                None => break Ok(()),
-                Some(Err(mcap::McapError::BadChunkCrc { saved, calculated })) => {
-                    break Err(DamageKind::ChunkCrc { stored: saved, computed: calculated })
-                }
-                Some(Err(e)) => break Err(fail(e.to_string())),
-                Some(Ok(LinearReadEvent::ReadRequest(n))) => {
-                    let buf = decoder.insert(n);
-                    let got = if prefix.is_empty() {
-                        read_up_to(&mut take, buf)?
-                    } else {
-                        let got = n.min(prefix.len());
-                        buf[..got].copy_from_slice(&prefix[..got]);
-                        prefix = &prefix[got..];
-                        got
-                    };
-                    decoder.notify_read(got);
-                }
-                Some(Ok(LinearReadEvent::Record { data, opcode })) => {
-                    if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
-                        break Err(fail(format!(
-                            "byte {} of its records starts a record with opcode {opcode:#04x} (a chunk holds only \
-                             schemas, channels and messages)",
-                            self.chunk.len() + FRAME as usize * self.spans.len()
-                        )));
-                    }
-                    let start = self.chunk.len();
-                    self.chunk.extend_from_slice(data);
-                    self.spans.push((opcode, start, self.chunk.len()));
-                }
-            }
-        };
-        std::io::copy(&mut take, &mut std::io::sink())?;
-        if self.src.pos != end {
-            return Err(std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "file shorter than its records"));
-        }
-        let verdict = verdict.and_then(|()| {
-            for (i, &(opcode, s, e)) in self.spans.iter().enumerate() {
-                if let Err(err) = mcap::parse_record(opcode, &self.chunk[s..e]) {
-                    return Err(fail(format!("record {i} (opcode {opcode:#04x}) does not parse: {err}")));
-                }
-            }
-            Ok(())
-        });
-        match verdict {
-            Ok(()) => {
+        match decoded {
+            Ok(compression) => {
                 pending.messages = self.spans.iter().filter(|s| s.0 == op::MESSAGE).count() as u64;
                 self.scan.chunks += 1;
                 if !compression.is_empty() && !self.scan.compressions.contains(&compression) {
@@ -1189,9 +1081,7 @@ impl FileReader {
                 pending.fault = Some(kind);
             }
         }
-        self.consumed = end;
         self.pending = Some(pending);
-        Ok(())
     }
 
     /// The data section is over: settle what is pending and check the counts against the statistics.
@@ -1251,6 +1141,122 @@ impl FileReader {
 /// The most uncompressed bytes a chunk of `compressed_size` bytes may claim (see the limits above).
 pub fn chunk_size_limit(compressed_size: u64) -> u64 {
     MAX_CHUNK_UNCOMPRESSED_SIZE.min(CHUNK_EXPANSION_FREE_SIZE.max(compressed_size.saturating_mul(MAX_CHUNK_EXPANSION)))
+}
+
+/// The crate's reader of the data section's top-level records, from the file's start (magic and data-section
+/// CRC checked) or from a record after a jump.
+fn top_level_reader(from_start: bool) -> LinearReader {
+    LinearReader::new_with_options(
+        LinearReaderOptions::default()
+            .with_skip_start_magic(!from_start)
+            .with_validate_data_section_crc(from_start)
+            .with_emit_chunks(true)
+            .with_skip_end_magic(true)
+            .with_record_length_limit(usize::try_from(MAX_RECORD_SIZE).unwrap_or(usize::MAX)),
+    )
+}
+
+/// Checks the header of the chunk record `record` (its body) against the limits, before anything is
+/// decompressed: Ok(compression, uncompressed size) if it may be decoded.
+fn check_chunk_header(record: &[u8]) -> Result<(String, u64), DamageKind> {
+    let fail = |reason: String| DamageKind::ChunkUndecodable { reason };
+    let header = match mcap::parse_record(op::CHUNK, record) {
+        Ok(Record::Chunk { header, .. }) => header,
+        Ok(_) => return Err(fail("not a chunk".to_string())),
+        Err(e) => return Err(fail(format!("its header does not parse: {e}"))),
+    };
+    let (compression, uncompressed_size, records_len) =
+        (header.compression, header.uncompressed_size, header.compressed_size);
+    // 40 bytes of fixed fields, then the compression name, then the records.
+    let body_left = (record.len() - 40 - compression.len()) as u64;
+    if records_len != body_left {
+        return Err(fail(format!("its records claim {records_len} bytes where the record holds {body_left}")));
+    }
+    let limit = chunk_size_limit(records_len);
+    if uncompressed_size > limit {
+        return Err(DamageKind::ChunkTooLarge { uncompressed_size, compressed_size: records_len, limit });
+    }
+    if compression.is_empty() && uncompressed_size != records_len {
+        return Err(fail(format!("an uncompressed chunk of {records_len} bytes that claims {uncompressed_size}")));
+    }
+    if !matches!(compression.as_str(), "" | "zstd" | "lz4") {
+        return Err(fail(format!("unsupported compression {compression:?}")));
+    }
+    Ok((compression, uncompressed_size))
+}
+
+/// Decodes the chunk record `record` (its body) into `chunk`, with (opcode, body start, body end) of each of its
+/// records in `spans`, once its header has passed [`check_chunk_header`]: decompression, CRC and record
+/// framing by the crate (the whole chunk is decompressed and its CRC checked before any record is taken), every
+/// record checked to parse. Ok: its compression.
+fn decode_chunk(
+    decoder: &mut Option<(usize, LinearReader)>,
+    record: &[u8],
+    chunk: &mut Vec<u8>,
+    spans: &mut Vec<(u8, usize, usize)>,
+) -> Result<String, DamageKind> {
+    let length = record.len() as u64;
+    let (compression, uncompressed_size) = check_chunk_header(record)?;
+    let fail = |reason: String| DamageKind::ChunkUndecodable { reason };
+    chunk.clear();
+    spans.clear();
+    // The record length limit bounds what a lying record inside the chunk can make the crate allocate.
+    let class = usize::try_from(uncompressed_size.max(length)).unwrap_or(usize::MAX).checked_next_power_of_two();
+    let class = class.unwrap_or(usize::MAX);
+    if decoder.as_ref().is_none_or(|(c, _)| *c != class) {
+        let options = LinearReaderOptions::default()
+            .with_skip_start_magic(true)
+            .with_skip_end_magic(true)
+            .with_prevalidate_chunk_crcs(true)
+            .with_record_length_limit(class);
+        *decoder = Some((class, LinearReader::new_with_options(options)));
+    }
+    let Some((_, reader)) = decoder.as_mut() else { return Err(fail("no decoder".to_string())) };
+    let framed = record.len() + FRAME as usize;
+    let buf = &mut reader.insert(framed)[..framed];
+    buf[0] = op::CHUNK;
+    buf[1..FRAME as usize].copy_from_slice(&length.to_le_bytes());
+    buf[FRAME as usize..].copy_from_slice(record);
+    reader.notify_read(framed);
+    let verdict = loop {
+        match reader.next_event() {
+            // The whole record was given: asking for more means the chunk is read.
+            None | Some(Ok(LinearReadEvent::ReadRequest(_))) => break Ok(()),
+            Some(Err(mcap::McapError::BadChunkCrc { saved, calculated })) => {
+                break Err(DamageKind::ChunkCrc { stored: saved, computed: calculated })
+            }
+            Some(Err(e)) => break Err(fail(e.to_string())),
+            Some(Ok(LinearReadEvent::Record { data, opcode })) => {
+                if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
+                    break Err(fail(format!(
+                        "byte {} of its records starts a record with opcode {opcode:#04x} (a chunk holds only \
+                         schemas, channels and messages)",
+                        chunk.len() + FRAME as usize * spans.len()
+                    )));
+                }
+                let start = chunk.len();
+                chunk.extend_from_slice(data);
+                spans.push((opcode, start, chunk.len()));
+            }
+        }
+    };
+    let read = (chunk.len() + FRAME as usize * spans.len()) as u64;
+    let verdict = verdict.and_then(|()| {
+        if read != uncompressed_size {
+            return Err(fail(format!("its records end after {read} of its {uncompressed_size} bytes")));
+        }
+        for (i, &(opcode, s, e)) in spans.iter().enumerate() {
+            if let Err(err) = mcap::parse_record(opcode, &chunk[s..e]) {
+                return Err(fail(format!("record {i} (opcode {opcode:#04x}) does not parse: {err}")));
+            }
+        }
+        Ok(compression)
+    });
+    if verdict.is_err() {
+        // Left in the middle of a chunk: the next one gets a new decoder.
+        *decoder = None;
+    }
+    verdict
 }
 
 /// What an intact summary section tells the reader.
@@ -1471,4 +1477,117 @@ pub fn read_bag(path: &Path, mut on_message: impl FnMut(MessageRef<'_>)) -> Resu
         on_message(message);
     }
     reader.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    /// A record as the MCAP specification frames it: opcode, u64 length, body.
+    fn record(opcode: u8, body: &[u8]) -> Vec<u8> {
+        let mut out = vec![opcode];
+        out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+        out.extend_from_slice(body);
+        out
+    }
+
+    fn string(s: &str) -> Vec<u8> {
+        let mut out = (s.len() as u32).to_le_bytes().to_vec();
+        out.extend_from_slice(s.as_bytes());
+        out
+    }
+
+    fn message(sequence: u32, data: &[u8]) -> Vec<u8> {
+        let mut body = 1u16.to_le_bytes().to_vec();
+        body.extend_from_slice(&sequence.to_le_bytes());
+        body.extend_from_slice(&u64::from(sequence).to_le_bytes());
+        body.extend_from_slice(&u64::from(sequence).to_le_bytes());
+        body.extend_from_slice(data);
+        record(op::MESSAGE, &body)
+    }
+
+    #[test]
+    fn attachments_are_skipped_and_every_message_around_them_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        for chunked in [true, false] {
+            let path = dir.path().join(format!("{chunked}.mcap"));
+            let file = std::io::BufWriter::new(File::create(&path).unwrap());
+            let mut w = mcap::WriteOptions::new().use_chunks(chunked).chunk_size(Some(2048)).create(file).unwrap();
+            let schema = w.add_schema("std_msgs/msg/String", "ros2msg", b"string data\n").unwrap();
+            let channel = w.add_channel(schema, "/t", "cdr", &BTreeMap::new()).unwrap();
+            for i in 0..400u32 {
+                if i % 100 == 50 {
+                    let data = std::borrow::Cow::Owned(vec![7; 100_000]);
+                    let name = format!("a{i}");
+                    let media_type = "application/octet-stream".to_string();
+                    w.attach(&mcap::Attachment { log_time: 0, create_time: 0, name, media_type, data }).unwrap();
+                }
+                let header = mcap::records::MessageHeader {
+                    channel_id: channel,
+                    sequence: i,
+                    log_time: u64::from(i),
+                    publish_time: u64::from(i),
+                };
+                w.write_to_known_channel(&header, &i.to_le_bytes().repeat(50)).unwrap();
+            }
+            w.finish().unwrap();
+            drop(w);
+            let mut seen = Vec::new();
+            let scan = scan_file(&path, |m| seen.push((m.sequence, m.log_time_ns, m.data.to_vec()))).unwrap();
+            assert!(scan.damage.is_empty() && scan.complete, "{:?}", scan.damage);
+            let written: Vec<_> = (0..400u32).map(|i| (i, u64::from(i), i.to_le_bytes().repeat(50))).collect();
+            assert_eq!(seen, written);
+            assert_eq!(scan.expected_messages, Some(400));
+            if chunked {
+                assert!(scan.chunks > 10, "{}", scan.chunks);
+            } else {
+                assert_eq!((scan.chunks, scan.unchunked_messages), (0, 400));
+            }
+        }
+    }
+
+    #[test]
+    fn records_over_the_size_limit_are_skipped_unread_and_named_unless_attachments() {
+        // An unfinished file (no summary) written by hand: an attachment and a metadata record that claim 300 MiB
+        // each (a hole in a sparse file) between three messages.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big.mcap");
+        let mut file = File::create(&path).unwrap();
+        let huge = 300u64 << 20;
+        let mut head = MCAP_MAGIC.to_vec();
+        head.extend(record(op::HEADER, &[string("ros2"), string("hand")].concat()));
+        let schema = [&1u16.to_le_bytes()[..], &string("std_msgs/msg/String"), &string("ros2msg"), &string("")];
+        head.extend(record(op::SCHEMA, &schema.concat()));
+        let channel =
+            [&1u16.to_le_bytes()[..], &1u16.to_le_bytes(), &string("/t"), &string("cdr"), &0u32.to_le_bytes()];
+        head.extend(record(op::CHANNEL, &channel.concat()));
+        head.extend(message(0, b"zero"));
+        let metadata_at = head.len() as u64;
+        for (i, opcode) in [op::ATTACHMENT, op::METADATA].into_iter().enumerate() {
+            file.write_all(&head).unwrap();
+            file.write_all(&[opcode]).unwrap();
+            file.write_all(&huge.to_le_bytes()).unwrap();
+            file.seek(SeekFrom::Current(huge as i64)).unwrap();
+            head = message(i as u32 + 1, b"after");
+        }
+        file.write_all(&head).unwrap();
+        drop(file);
+        let mut seen = Vec::new();
+        let scan = scan_file(&path, |m| seen.push((m.sequence, m.data.to_vec()))).unwrap();
+        assert_eq!(seen, vec![(0, b"zero".to_vec()), (1, b"after".to_vec()), (2, b"after".to_vec())]);
+        assert_eq!((scan.complete, scan.truncated_bytes, scan.profile.as_str()), (false, 0, "ros2"));
+        // Only the metadata record is damage: where it was, what it claimed, where reading went on.
+        let metadata_at = metadata_at + FRAME + huge + message(1, b"after").len() as u64;
+        assert_eq!(scan.damage.len(), 1, "{:?}", scan.damage);
+        let damage = &scan.damage[0];
+        assert_eq!(damage.offset, metadata_at);
+        match &damage.kind {
+            DamageKind::Unparsable { reason, resumed_at, chunks_skipped: 0 } => {
+                assert!(reason.contains(&format!("of {huge} bytes, over the")), "{reason}");
+                assert_eq!(*resumed_at, Some(metadata_at + FRAME + huge));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 }
