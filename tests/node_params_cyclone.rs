@@ -35,6 +35,11 @@ impl Replies {
 
 /// Makes `calls` (a JSON list of {"service", "request"}) to the node `/sweetspot` on `domain`, one at a time.
 fn call(domain: u16, calls: Value) -> Replies {
+    call_mapped(domain, calls, "enhanced")
+}
+
+/// [`call`] in the request/reply `mapping` (`enhanced` or `cyclone`, rmw_cyclonedds_cpp's header).
+fn call_mapped(domain: u16, calls: Value, mapping: &str) -> Replies {
     let mut c = Command::new(support::python());
     c.arg(support::repo().join("tests/python/cyclone_params.py")).arg("--loopback").args([
         "call",
@@ -44,6 +49,8 @@ fn call(domain: u16, calls: Value) -> Replies {
         &calls.to_string(),
         "--timeout",
         "60",
+        "--mapping",
+        mapping,
     ]);
     support::dds_env(&mut c, domain);
     let out = c.output().expect("run cyclone_params.py");
@@ -339,5 +346,32 @@ fn set_parameters_accepts_the_described_range_and_refuses_past_it_with_the_reaso
         ],
         "the valid value is set, every refused one left as it was"
     );
+    drop(node);
+}
+
+/// A node started with `service_mapping:=cyclone` serves its parameters to clients on rmw_cyclonedds_cpp too: the
+/// Cyclone peer sends that RMW's `{guid, seq}` header in front of each request and accepts only replies that
+/// echo it; the node lists its parameters and reads `service_mapping` back as `cyclone`.
+#[test]
+fn parameter_services_follow_the_cyclone_mapping() {
+    support::require_isolated_network();
+    let domain = domain(59);
+    let dir = tempfile::tempdir().unwrap();
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record", "--ros-args", "-p", "service_mapping:=cyclone"]);
+    node.wait_for_log("/sweetspot up", WAIT);
+    let replies = call_mapped(
+        domain,
+        json!([
+            { "service": "list_parameters", "request": { "prefixes": [], "depth": 0 } },
+            { "service": "get_parameters", "request": { "names": ["service_mapping", "queue_capacity"] } },
+        ]),
+        "cyclone",
+    );
+    let [list, values] = &replies.responses[..] else { unreachable!() };
+    let listed: Vec<&str> = list["result"]["names"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+    assert!(listed.contains(&"service_mapping") && listed.contains(&"default_bat"), "{list}");
+    let got = values["values"].as_array().unwrap();
+    assert_eq!(got[0]["string_value"], json!("cyclone"), "{values}");
+    assert_eq!(got[1]["integer_value"], json!(16384), "{values}");
     drop(node);
 }

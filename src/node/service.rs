@@ -21,8 +21,9 @@
 //!   "enhanced" request/reply mapping of RTI's RPC over DDS (rmw_fastrtps, Jazzy's default, and ros2-client's
 //!   own parameter services): no header in the data; the reply names the request by its sample identity. A
 //!   client that cannot send or read that identity (plain DDS, such as the Cyclone peer of the tests)
-//!   matches replies by `exit_velocity.swing_id`. rmw_cyclonedds_cpp puts a header in the data instead and
-//!   cannot call this service.
+//!   matches replies by `exit_velocity.swing_id`. rmw_cyclonedds_cpp puts a `{uint64 guid; int64 seq}` header
+//!   in the data instead: with `service_mapping:=cyclone` the node serves that mapping (ros2-client's
+//!   `ServiceMapping::Cyclone`, its sequence number fixed in patches/ros2-client), and echoes the header.
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;

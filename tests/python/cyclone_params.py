@@ -10,7 +10,9 @@ Each service `S` of the node `/ns/name` is a pair of DDS topics, as ROS 2 names 
 '..._Response_' (S in CamelCase for the type, as in the .srv file name). Requests go out as the plain request
 struct (the "enhanced" request/reply mapping of DDS-RPC, which the node's ros2-client server uses: no header in the
 payload; the request is identified by its sample identity). The calls are made one after the other, each waiting
-for its reply, so a reply belongs to the one request in flight.
+for its reply, so a reply belongs to the one request in flight. With --mapping cyclone the requests and replies
+carry rmw_cyclonedds_cpp's header `{uint64 guid; int64 seq}` in front of their fields, as a client on that RMW
+sends them (cyclone_service.py says more); a reply whose header is not its request's makes the exit status 3.
 
 Output, one JSON object per line: first {"constants": {"rcl_interfaces/ParameterType": {"PARAMETER_BOOL": 1, ...},
 ...}} (the constants of every .msg/.srv read, from their text), then for each call
@@ -30,6 +32,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from cyclone_peer import TypeSystem, loopback_config, parse_msg, strip_comment, wait_matched  # noqa: E402
+from cyclone_service import CYCLONE_HEADER  # noqa: E402
 
 from cyclonedds.core import Policy, Qos  # noqa: E402
 from cyclonedds.domain import DomainParticipant  # noqa: E402
@@ -63,9 +66,10 @@ class ServiceTypes(TypeSystem):
     """cyclone_peer's TypeSystem plus the request and response of every srv/*.srv, named '<pkg>/<Srv>_Request'
     and '<pkg>/<Srv>_Response' with the DDS names '<pkg>::srv::dds_::<Srv>_Request_' / '..._Response_'."""
 
-    def __init__(self, msgs_dir):
+    def __init__(self, msgs_dir, mapping="enhanced"):
         super().__init__(msgs_dir)
         self.srv_keys = set()
+        header = CYCLONE_HEADER if mapping == "cyclone" else []
         self.constants = {}
         for path in sorted(Path(msgs_dir).glob("**/msg/*.msg")):
             found = constants(path.read_text())
@@ -78,7 +82,7 @@ class ServiceTypes(TypeSystem):
                 raise ValueError(f"{path}: no '---' between request and response")
             for half, suffix in zip(halves, ("Request", "Response")):
                 key = f"{pkg}/{path.stem}_{suffix}"
-                self.specs[key] = parse_msg(half, pkg)
+                self.specs[key] = header + parse_msg(half, pkg)
                 self.srv_keys.add(key)
                 found = constants(half)
                 if found:
@@ -125,15 +129,24 @@ class ServiceClient:
                 and wait_matched(self.writer.get_matched_subscriptions, 1, timeout,
                                  f"request readers of {self.service}"))
 
-    def call(self, request, timeout):
-        self.writer.write(self.ts.from_json(self.request_type, request))
+    def call(self, request, timeout, header=None):
+        """The response to `request`; with `header` (guid, seq) the cyclone header is sent and must come back."""
+        sent = dict(request, cdds_guid=header[0], cdds_seq=header[1]) if header else request
+        self.writer.write(self.ts.from_json(self.request_type, sent))
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             for sample in self.reader.take(N=1):
                 if not getattr(sample, "sample_info", None) or sample.sample_info.valid_data:
-                    return self.ts.to_json(self.response_type, sample)
+                    response = self.ts.to_json(self.response_type, sample)
+                    if header and (response.pop("cdds_guid"), response.pop("cdds_seq")) != header:
+                        raise HeaderMismatch(f"{self.service}: a reply without the request's header {header}")
+                    return response
             time.sleep(0.005)
         return None
+
+
+class HeaderMismatch(Exception):
+    pass
 
 
 def main():
@@ -145,12 +158,13 @@ def main():
     c.add_argument("--node", required=True, help="fully qualified node name, e.g. /sweetspot")
     c.add_argument("--calls", required=True, help="JSON list of {\"service\", \"request\"}")
     c.add_argument("--timeout", type=float, default=30.0)
+    c.add_argument("--mapping", choices=["enhanced", "cyclone"], default="enhanced")
     args = ap.parse_args()
     if args.loopback:
         os.environ.setdefault("CYCLONEDDS_URI", loopback_config())
     domain = int(os.environ.get("ROS_DOMAIN_ID", "0") or 0)
 
-    ts = ServiceTypes(args.msgs)
+    ts = ServiceTypes(args.msgs, args.mapping)
     print(json.dumps({"constants": ts.constants}), flush=True)
     calls = json.loads(args.calls)
     dp = DomainParticipant(domain)
@@ -161,9 +175,15 @@ def main():
     for client in clients.values():
         if not client.wait_matched(args.timeout):
             return 2
-    for call in calls:
+    guid = 0x5EE7_5907_0000_0002
+    for k, call in enumerate(calls):
         request = call.get("request", {})
-        response = clients[call["service"]].call(request, args.timeout)
+        header = (guid, (1 << 32) + 1 + k) if args.mapping == "cyclone" else None
+        try:
+            response = clients[call["service"]].call(request, args.timeout, header)
+        except HeaderMismatch as e:
+            print(e, file=sys.stderr)
+            return 3
         if response is None:
             print(f"no reply from {call['service']} within {args.timeout} s", file=sys.stderr)
             return 1
