@@ -619,6 +619,12 @@ fn read_interfaces(root: &Path, shown: &Path) -> Result<Interfaces, Vec<String>>
     for names in by_pkg.values_mut() {
         names.sort();
     }
+    // The crate keeps one of two packages of the same name (the other's files are left unread here).
+    errors.extend(
+        scanned
+            .keys()
+            .map(|path| format!("{}: not read by roslibrust_codegen (package name taken twice?)", show(path))),
+    );
     // Every nested type must be here (roslibrust_codegen would only give up after many rounds).
     for spec in specs.values() {
         for f in &spec.fields {

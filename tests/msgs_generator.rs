@@ -129,3 +129,23 @@ fn msgs_generator_refuses_a_line_roslibrust_reads_otherwise() {
     // with a default. The two readings must agree, or the build fails at that line.
     expect_error("int32 a\nstring s \"x=y\"\n", 2, "does not read `s` as a field");
 }
+
+#[test]
+fn msgs_generator_refuses_two_packages_of_one_name() {
+    // roslibrust_codegen keeps one of them; the files of the other must not silently disappear.
+    let dir = tempfile::tempdir().unwrap();
+    for folder in ["a_msgs", "b_msgs"] {
+        let pkg = dir.path().join(folder);
+        std::fs::create_dir_all(pkg.join("msg")).unwrap();
+        std::fs::write(
+            pkg.join("msg").join(format!("{}.msg", folder.replace("_msgs", "").to_uppercase())),
+            "int32 a\n",
+        )
+        .unwrap();
+        let xml =
+            "<package format=\"3\"><name>demo_msgs</name><buildtool_depend>ament_cmake</buildtool_depend></package>";
+        std::fs::write(pkg.join("package.xml"), xml).unwrap();
+    }
+    let errors = build_script::generate(dir.path()).expect_err("one name, two packages").join("\n");
+    assert!(errors.contains("package name taken twice"), "{errors}");
+}
