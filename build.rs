@@ -1,19 +1,26 @@
-//! Generates the Rust message types from the `.msg` files under `msgs/` — the one source of truth.
+//! Generates the Rust message types from the `.msg` and `.srv` files under `msgs/` — the one source of truth.
 //!
-//! Every `msgs/<pkg>/msg/*.msg` and `msgs/ros_interfaces/<pkg>/msg/*.msg` becomes a struct in
-//! `sweetspot::msgs::<pkg>::msg`, with its full `ros2msg` schema text (the message's own text followed by every
-//! dependency, depth-first, each once, exactly as rosbag2's `LocalMessageDefinitionSource` concatenates them)
-//! and its RIHS01 type hash (REP-2011; see `type_hash`). The hand-written hash follows
-//! rosidl_generator_type_description line by line: the crates that compute RIHS01 need their own type-description
-//! structs filled from a parsed `.msg` anyway, and checking it against rosidl's published hashes
-//! (tests/type_hashes.rs) is what makes it trustworthy either way.
-//! Every `msgs/<pkg>/srv/*.srv` is split at its `---` line into `<Name>_Request` and `<Name>_Response`, generated
-//! in `sweetspot::msgs::<pkg>::srv` as ROS 2 names them (`pkg/srv/Name_Request`, DDS
-//! `pkg::srv::dds_::Name_Request_`), with the `<Name>_Event` rosidl adds (what rosbag2 records a call as) and a
-//! `<Name>` marker carrying the service's RIHS01 hash (the service described with its request, response and
-//! event types; `service_msgs/ServiceEventInfo` must be under `msgs/`).
-//! Output is deterministic (sorted inputs, no hash maps, no timestamps). A malformed `.msg` fails the build with
-//! `file:line: reason`.
+//! **What `roslibrust_codegen` does and what is sweetspot's own.** The crate (a build-dependency, with the two
+//! fixes carried in `patches/roslibrust_codegen`, see patches/README.md) finds the packages, parses every
+//! `.msg`/`.srv` (types, arrays and bounds, defaults, constants, the `.srv` halves), resolves the dependencies
+//! and computes the RIHS01 type hashes (REP-2011) of every message, service, `Name_Request`, `Name_Response` and
+//! `Name_Event`; tests/type_hashes.rs and tests/srv_hashes.rs check them against hashes rosidl published. Its
+//! parser throws comments and line numbers away, so build.rs keeps one small line scanner of its own (`scan`):
+//! the comment blocks (the generated docs, and the `absent:` rule below) and the line of every member (so a
+//! malformed `.msg` fails the build with `file:line: reason`); each scanned member is paired with the crate's
+//! reading of the same line, and any disagreement is an error. The crate takes a package's name and ROS
+//! version from its `package.xml` (the vendored packages under `msgs/ros_interfaces/` carry a minimal one), and
+//! its crawl stops at `COLCON_IGNORE`, so each package directory is handed to it as a search path of its own.
+//!
+//! What build.rs generates is sweetspot's: every `msgs/<pkg>/msg/*.msg` and `msgs/ros_interfaces/<pkg>/msg/*.msg`
+//! becomes a struct in `sweetspot::msgs::<pkg>::msg`, with its full `ros2msg` schema text (the message's own text
+//! followed by every dependency, depth-first, each once, exactly as rosbag2's `LocalMessageDefinitionSource`
+//! concatenates them), its type hash, `Default`, the JSON conversions and the checks of the `.msg` grammar.
+//! Every `msgs/<pkg>/srv/*.srv` becomes `<Name>_Request` and `<Name>_Response` in `sweetspot::msgs::<pkg>::srv`
+//! as ROS 2 names them (`pkg/srv/Name_Request`, DDS `pkg::srv::dds_::Name_Request_`), with the `<Name>_Event`
+//! rosidl adds (what rosbag2 records a call as; `service_msgs/ServiceEventInfo` must be under `msgs/`) and a
+//! `<Name>` marker carrying the service's hash.
+//! Output is deterministic (sorted inputs, no hash maps, no timestamps).
 //!
 //! **Appended fields.** A field whose comment block has a line `absent: VALUE` (`0`, `NaN`, any literal of its
 //! type) was appended to the message after data had been recorded without it. Such fields must be the
@@ -27,6 +34,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::fs;
 use std::path::{Path, PathBuf};
+
+use roslibrust_codegen::{ArrayType, ConstantInfo, FieldInfo};
 
 fn main() {
     let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
@@ -56,7 +65,7 @@ fn main() {
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// Model
+// Model: a message as the generator needs it (from roslibrust_codegen's reading plus the comments `scan` keeps)
 
 #[derive(Debug, Clone, PartialEq)]
 enum Base {
@@ -101,7 +110,7 @@ struct Constant {
 #[derive(Debug, Clone)]
 struct MsgSpec {
     pkg: String,
-    /// `msg`, or `srv` for the request and response halves of a `.srv` (and the types only hashed).
+    /// `msg`, or `srv` for the request and response halves of a `.srv` and its event.
     kind: &'static str,
     name: String,
     path: PathBuf,
@@ -145,52 +154,153 @@ fn rust_prim(p: &str) -> &'static str {
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// Discovery
+// Reading: roslibrust_codegen parses and hashes; `scan` keeps the comments and line numbers it drops
 
-fn discover(msgs_dir: &Path) -> Result<Vec<(String, PathBuf)>, Vec<String>> {
-    let mut found = Vec::new();
-    let mut pkg_dirs = Vec::new();
-    let read = |dir: &Path| -> Result<Vec<PathBuf>, String> {
+/// The package directories under `root`, sorted: `root/<pkg>` and, one level down, the vendored
+/// `root/ros_interfaces/<pkg>` (a folder with `msg/` or `srv/` is a package). Each is handed to
+/// roslibrust_codegen as a search path of its own: its crawl stops at a `COLCON_IGNORE`, which the folder of
+/// vendored packages has (they are not to be built by colcon).
+fn package_dirs(root: &Path) -> Result<Vec<PathBuf>, Vec<String>> {
+    let read = |dir: &Path| -> Result<Vec<PathBuf>, Vec<String>> {
         let mut v: Vec<PathBuf> = fs::read_dir(dir)
-            .map_err(|e| format!("{}: {e}", dir.display()))?
+            .map_err(|e| vec![format!("{}: {e}", dir.display())])?
             .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.is_dir())
             .collect();
         v.sort();
         Ok(v)
     };
-    for entry in read(msgs_dir).map_err(|e| vec![e])? {
-        if !entry.is_dir() {
-            continue;
-        }
-        if entry.join("msg").is_dir() || entry.join("srv").is_dir() {
-            pkg_dirs.push(entry.clone());
+    let is_pkg = |dir: &Path| dir.join("msg").is_dir() || dir.join("srv").is_dir();
+    let mut pkg_dirs = Vec::new();
+    for entry in read(root)? {
+        if is_pkg(&entry) {
+            pkg_dirs.push(entry);
         } else {
-            // A folder of vendored packages (msgs/ros_interfaces/<pkg>/msg).
-            for sub in read(&entry).map_err(|e| vec![e])? {
-                if sub.join("msg").is_dir() || sub.join("srv").is_dir() {
-                    pkg_dirs.push(sub);
-                }
-            }
+            pkg_dirs.extend(read(&entry)?.into_iter().filter(|sub| is_pkg(sub)));
         }
     }
-    for pkg_dir in pkg_dirs {
-        let pkg = pkg_dir.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
-        for kind in ["msg", "srv"] {
-            if !pkg_dir.join(kind).is_dir() {
-                continue;
-            }
-            for f in read(&pkg_dir.join(kind)).map_err(|e| vec![e])? {
-                if f.extension().and_then(|e| e.to_str()) == Some(kind) {
-                    found.push((pkg.clone(), f));
-                }
-            }
-        }
+    let missing: Vec<String> = pkg_dirs
+        .iter()
+        .filter(|dir| !dir.join("package.xml").is_file())
+        .map(|dir| format!("{}: no package.xml (roslibrust_codegen reads a package's name from it)", dir.display()))
+        .collect();
+    if missing.is_empty() {
+        Ok(pkg_dirs)
+    } else {
+        Err(missing)
     }
-    Ok(found)
 }
 
-// ---------------------------------------------------------------------------------------------------------------
-// Parsing
+/// A member line (field or constant) as `scan` sees it: what roslibrust_codegen does not keep.
+struct Member {
+    line: usize,
+    type_tok: String,
+    name: String,
+    constant: bool,
+    doc: Vec<String>,
+}
+
+/// The comments and member lines of one `.msg`, or of one half of a `.srv`.
+struct Scanned {
+    /// The first comment block, when a blank line separates it from the rest: it documents the message.
+    doc: Vec<String>,
+    members: Vec<Member>,
+}
+
+/// Splits off a trailing `# comment` that is not inside a quoted string.
+fn split_comment(s: &str) -> (&str, Option<&str>) {
+    let mut quote: Option<char> = None;
+    let mut escaped = false;
+    for (i, c) in s.char_indices() {
+        if escaped {
+            escaped = false;
+            continue;
+        }
+        match (quote, c) {
+            (Some(_), '\\') => escaped = true,
+            (Some(q), c) if c == q => quote = None,
+            (None, '"') | (None, '\'') => quote = Some(c),
+            (None, '#') => return (&s[..i], Some(s[i + 1..].trim())),
+            _ => {}
+        }
+    }
+    (s, None)
+}
+
+/// The comment blocks and member lines of `lines` (numbered from `first_line`): a member's doc is the comment
+/// block right above it plus its trailing comment. Only a line without `<type> <name>` or with a malformed
+/// array bracket is refused here (roslibrust_codegen would refuse it without saying where).
+fn scan(lines: &[&str], first_line: usize, file: &str) -> Result<Scanned, Vec<String>> {
+    let mut errors = Vec::new();
+    let mut members = Vec::new();
+    let mut pending_doc: Vec<String> = Vec::new();
+    let mut file_doc: Vec<String> = Vec::new();
+    let mut file_doc_closed = false;
+    for (idx, raw) in lines.iter().enumerate() {
+        let line = first_line + idx;
+        let trimmed = raw.trim();
+        if trimmed.is_empty() {
+            if members.is_empty() && !file_doc_closed && !pending_doc.is_empty() {
+                // The first comment block of a file, separated by a blank line, documents the message.
+                file_doc.append(&mut pending_doc);
+                file_doc_closed = true;
+            } else if !pending_doc.is_empty() {
+                pending_doc.push(String::new());
+            }
+            continue;
+        }
+        if let Some(c) = trimmed.strip_prefix('#') {
+            pending_doc.push(c.trim_start_matches('#').trim().to_string());
+            continue;
+        }
+        let (code, trailing) = split_comment(trimmed);
+        let code = code.trim();
+        let mut doc: Vec<String> = std::mem::take(&mut pending_doc);
+        while doc.last().is_some_and(|l| l.is_empty()) {
+            doc.pop();
+        }
+        if let Some(t) = trailing.filter(|t| !t.is_empty()) {
+            doc.push(t.to_string());
+        }
+        let Some((type_tok, rest)) = code.split_once(char::is_whitespace) else {
+            errors.push(format!("{file}:{line}: expected `<type> <name>`, found `{code}`"));
+            continue;
+        };
+        if type_tok.contains('[') && !type_tok.ends_with(']') {
+            errors.push(format!("{file}:{line}: bad array type `{type_tok}`"));
+            continue;
+        }
+        // Constant: NAME=VALUE (the name may be followed by spaces before '=').
+        let rest = rest.trim_start();
+        let name_end = rest.find(|c: char| c.is_whitespace() || c == '=').unwrap_or(rest.len());
+        let constant = rest[name_end..].trim_start().starts_with('=');
+        members.push(Member {
+            line,
+            type_tok: type_tok.to_string(),
+            name: rest[..name_end].to_string(),
+            constant,
+            doc,
+        });
+    }
+    if errors.is_empty() {
+        Ok(Scanned { doc: file_doc, members })
+    } else {
+        Err(errors)
+    }
+}
+
+/// A `.srv`'s two halves as rosidl_adapter splits it: at the one line that is exactly `---`.
+fn split_srv<'a>(text: &'a str, file: &str) -> Result<[(usize, Vec<&'a str>); 2], Vec<String>> {
+    let lines: Vec<&str> = text.lines().collect();
+    let separators: Vec<usize> = lines.iter().enumerate().filter(|(_, l)| **l == "---").map(|(i, _)| i).collect();
+    let [sep] = separators.as_slice() else {
+        return Err(vec![format!(
+            "{file}: a .srv needs exactly one `---` line between request and response, found {}",
+            separators.len()
+        )]);
+    };
+    Ok([(1, lines[..*sep].to_vec()), (sep + 2, lines[sep + 1..].to_vec())])
+}
 
 fn is_valid_field_name(s: &str) -> bool {
     let b = s.as_bytes();
@@ -222,74 +332,35 @@ fn is_valid_pkg_name(s: &str) -> bool {
         && b.iter().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
 }
 
-fn parse_type(tok: &str, pkg: &str) -> Result<FieldType, String> {
-    let (base_str, array) = match tok.find('[') {
-        Some(i) => {
-            if !tok.ends_with(']') {
-                return Err(format!("bad array type `{tok}`"));
-            }
-            let inner = &tok[i + 1..tok.len() - 1];
-            let array = if inner.is_empty() {
-                Array::Unbounded
-            } else if let Some(n) = inner.strip_prefix("<=") {
-                Array::Bounded(n.parse().map_err(|_| format!("bad array bound in `{tok}`"))?)
-            } else {
-                Array::Fixed(inner.parse().map_err(|_| format!("bad array size in `{tok}`"))?)
-            };
-            (&tok[..i], array)
+/// A field type as roslibrust_codegen parsed it, in the generator's terms; refuses what the generator does not
+/// support (`tok` is the type as written, for the message).
+fn field_type(t: &roslibrust_codegen::FieldType, tok: &str) -> Result<FieldType, String> {
+    let array = match t.array_info {
+        ArrayType::NotArray => Array::None,
+        ArrayType::Unbounded => Array::Unbounded,
+        ArrayType::Bounded(n) => Array::Bounded(n),
+        ArrayType::FixedLength(0) => return Err(format!("fixed array of size 0 in `{tok}`")),
+        ArrayType::FixedLength(n) if n > 32 => {
+            return Err(format!("fixed arrays longer than 32 are not supported by sweetspot's generator (`{tok}`)"))
         }
-        None => (tok, Array::None),
+        ArrayType::FixedLength(n) => Array::Fixed(n),
     };
-    let base = if let Some(p) = PRIMITIVES.iter().find(|p| **p == base_str) {
-        Base::Prim(p)
-    } else if base_str == "string" {
-        Base::String { bound: None }
-    } else if let Some(n) = base_str.strip_prefix("string<=") {
-        Base::String { bound: Some(n.parse().map_err(|_| format!("bad string bound in `{tok}`"))?) }
-    } else if base_str == "wstring" || base_str.starts_with("wstring<=") {
-        return Err("wstring is not supported by sweetspot's generator (use string)".into());
-    } else {
-        let parts: Vec<&str> = base_str.split('/').collect();
-        let (p, n) = match parts.as_slice() {
-            [n] => (pkg, *n),
-            [p, n] => (*p, *n),
-            [p, "msg", n] => (*p, *n),
-            _ => return Err(format!("bad type `{base_str}`")),
-        };
-        if !is_valid_pkg_name(p) || !is_valid_type_name(n) {
-            return Err(format!("bad type `{base_str}` (expected a primitive, `Type` or `pkg/Type`)"));
+    let base = match (t.package_name.as_deref(), t.field_type.as_str()) {
+        (None, "string") => Base::String { bound: t.string_capacity },
+        (None, "wstring") => return Err("wstring is not supported by sweetspot's generator (use string)".into()),
+        (None, p) => match PRIMITIVES.iter().find(|q| **q == p) {
+            Some(q) => Base::Prim(q),
+            None => return Err(format!("bad type `{p}` (not a ROS 2 primitive)")),
+        },
+        (Some(pkg), name) if is_valid_pkg_name(pkg) && is_valid_type_name(name) => {
+            Base::Nested { pkg: pkg.to_string(), name: name.to_string() }
         }
-        Base::Nested { pkg: p.to_string(), name: n.to_string() }
+        (Some(_), _) => {
+            let base = tok.split('[').next().unwrap_or(tok);
+            return Err(format!("bad type `{base}` (expected a primitive, `Type` or `pkg/Type`)"));
+        }
     };
-    if let Array::Fixed(n) = array {
-        if n == 0 {
-            return Err(format!("fixed array of size 0 in `{tok}`"));
-        }
-        if n > 32 {
-            return Err(format!("fixed arrays longer than 32 are not supported by sweetspot's generator (`{tok}`)"));
-        }
-    }
     Ok(FieldType { base, array })
-}
-
-/// Splits off a trailing `# comment` that is not inside a quoted string.
-fn split_comment(s: &str) -> (&str, Option<&str>) {
-    let mut quote: Option<char> = None;
-    let mut escaped = false;
-    for (i, c) in s.char_indices() {
-        if escaped {
-            escaped = false;
-            continue;
-        }
-        match (quote, c) {
-            (Some(_), '\\') => escaped = true,
-            (Some(q), c) if c == q => quote = None,
-            (None, '"') | (None, '\'') => quote = Some(c),
-            (None, '#') => return (&s[..i], Some(s[i + 1..].trim())),
-            _ => {}
-        }
-    }
-    (s, None)
 }
 
 /// The `absent: VALUE` line of a field's comment block, if any.
@@ -297,77 +368,52 @@ fn absent_value(doc: &[String]) -> Option<String> {
     doc.iter().find_map(|l| l.strip_prefix("absent:").map(|v| v.trim().to_string()))
 }
 
-fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, Vec<String>> {
+/// One message (or `.srv` half) from roslibrust_codegen's fields and constants and `scan`'s comments and lines,
+/// checked as the generator needs it. A scanned member and the crate's reading of the same line must agree.
+fn build_spec(
+    (pkg, name, kind): (&str, String, &'static str),
+    file: &str,
+    text: &str,
+    fields: &[FieldInfo],
+    constants: &[ConstantInfo],
+    scanned: Scanned,
+) -> Result<MsgSpec, Vec<String>> {
     let mut errors = Vec::new();
-    let mut fields: Vec<Field> = Vec::new();
-    let mut constants: Vec<Constant> = Vec::new();
-    let mut pending_doc: Vec<String> = Vec::new();
-    let mut file_doc: Vec<String> = Vec::new();
-    let mut seen_member = false;
-    let mut file_doc_closed = false;
+    let mut out_fields: Vec<Field> = Vec::new();
+    let mut out_constants: Vec<Constant> = Vec::new();
     let mut names = BTreeSet::new();
-    let file = path.display().to_string();
-
-    for (idx, raw) in text.lines().enumerate() {
-        let line_no = idx + 1;
-        let trimmed = raw.trim();
-        if trimmed.is_empty() {
-            if !seen_member && !file_doc_closed && !pending_doc.is_empty() {
-                // The first comment block of a file, separated by a blank line, documents the message.
-                file_doc.append(&mut pending_doc);
-                file_doc_closed = true;
-            } else if !pending_doc.is_empty() {
-                pending_doc.push(String::new());
-            }
-            continue;
-        }
-        if let Some(c) = trimmed.strip_prefix('#') {
-            pending_doc.push(c.trim_start_matches('#').trim().to_string());
-            continue;
-        }
-        let (code, trailing) = split_comment(trimmed);
-        let code = code.trim();
-        let mut doc: Vec<String> = std::mem::take(&mut pending_doc);
-        while doc.last().is_some_and(|l| l.is_empty()) {
-            doc.pop();
-        }
-        if let Some(t) = trailing {
-            if !t.is_empty() {
-                doc.push(t.to_string());
-            }
-        }
-        seen_member = true;
-        let err = |m: String| format!("{file}:{line_no}: {m}");
-
-        let (type_tok, rest) = match code.split_once(char::is_whitespace) {
-            Some((t, r)) => (t, r.trim_start()),
-            None => {
-                errors.push(err(format!("expected `<type> <name>`, found `{code}`")));
-                continue;
-            }
-        };
-        let ty = match parse_type(type_tok, pkg) {
-            Ok(t) => t,
-            Err(m) => {
-                errors.push(err(m));
-                continue;
-            }
-        };
-        // Constant: NAME=VALUE (the name may be followed by spaces before '=').
-        let name_end = rest.find(|c: char| c.is_whitespace() || c == '=').unwrap_or(rest.len());
-        let member = &rest[..name_end];
-        let after = rest[name_end..].trim_start();
-        if let Some(value) = after.strip_prefix('=') {
-            // For strings the value is the rest of the raw line (a '#' inside quotes belongs to it).
-            let value = value.trim();
+    let (mut fields_left, mut constants_left) = (fields.iter(), constants.iter());
+    for m in scanned.members {
+        let err = |msg: String| format!("{file}:{}: {msg}", m.line);
+        let member = m.name.as_str();
+        if m.constant {
+            let Some(c) = constants_left.next().filter(|c| c.constant_name == member) else {
+                errors.push(err(format!("roslibrust_codegen does not read `{member}` as a constant")));
+                break;
+            };
             if !is_valid_constant_name(member) {
                 errors.push(err(format!("constant name `{member}` must be UPPER_CASE")));
                 continue;
             }
-            if ty.array != Array::None || matches!(ty.base, Base::Nested { .. }) {
-                errors.push(err(format!("constant `{member}` must have a primitive or string type")));
+            // roslibrust_codegen keeps a constant's base type only (no array, no string bound).
+            let base = match c.constant_type.as_str() {
+                "string" => Base::String { bound: None },
+                t => match PRIMITIVES.iter().find(|p| **p == t) {
+                    Some(p) => Base::Prim(p),
+                    None => Base::Nested { pkg: String::new(), name: t.to_string() },
+                },
+            };
+            if m.type_tok != c.constant_type || matches!(base, Base::Nested { .. }) {
+                errors.push(err(format!("constant `{member}` must have a primitive or unbounded string type")));
                 continue;
             }
+            let ty = FieldType { base, array: Array::None };
+            // roslibrust_codegen keeps a string constant's whole line (ROS 1's rule); a `#` after the closing
+            // quote starts a comment, as `scan` read it.
+            let value = match ty.base {
+                Base::String { .. } => split_comment(&c.constant_value.inner).0.trim(),
+                _ => c.constant_value.inner.trim(),
+            };
             if value.is_empty() {
                 errors.push(err(format!("constant `{member}` has no value")));
                 continue;
@@ -380,9 +426,20 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
                 errors.push(err(format!("duplicate name `{member}`")));
                 continue;
             }
-            constants.push(Constant { name: member.to_string(), ty, value: value.to_string(), doc });
+            out_constants.push(Constant { name: member.to_string(), ty, value: value.to_string(), doc: m.doc });
             continue;
         }
+        let Some(f) = fields_left.next().filter(|f| f.field_name == member) else {
+            errors.push(err(format!("roslibrust_codegen does not read `{member}` as a field")));
+            break;
+        };
+        let ty = match field_type(&f.field_type, &m.type_tok) {
+            Ok(t) => t,
+            Err(m) => {
+                errors.push(err(m));
+                continue;
+            }
+        };
         if !is_valid_field_name(member) {
             errors.push(err(format!(
                 "field name `{member}` must be lower_snake_case (letters, digits, single underscores)"
@@ -393,7 +450,7 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
             errors.push(err(format!("field name `{member}` cannot be used in Rust")));
             continue;
         }
-        let default = if after.is_empty() { None } else { Some(after.to_string()) };
+        let default = f.default.as_ref().map(|d| d.inner.clone());
         if let Some(d) = &default {
             if matches!(ty.base, Base::Nested { .. }) {
                 errors.push(err(format!("field `{member}`: nested types cannot have default values")));
@@ -408,7 +465,7 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
             errors.push(err(format!("duplicate name `{member}`")));
             continue;
         }
-        let absent = match absent_value(&doc) {
+        let absent = match absent_value(&m.doc) {
             None => None,
             Some(v) => {
                 let numeric = matches!(ty.base, Base::Prim(p) if p != "bool") && ty.array == Array::None;
@@ -436,27 +493,218 @@ fn parse_msg(pkg: &str, name: &str, path: &Path, text: &str) -> Result<MsgSpec, 
                 Some(literal)
             }
         };
-        if absent.is_none() && fields.last().is_some_and(|f: &Field| f.absent.is_some()) {
+        if absent.is_none() && out_fields.last().is_some_and(|f: &Field| f.absent.is_some()) {
             errors.push(err(format!(
                 "field `{member}` follows appended fields: it needs an `absent:` value too (appended fields come last)"
             )));
             continue;
         }
-        fields.push(Field { name: member.to_string(), ty, default, absent, doc, line: line_no });
+        out_fields.push(Field { name: member.to_string(), ty, default, absent, doc: m.doc, line: m.line });
+    }
+    if errors.is_empty() && (fields_left.next().is_some() || constants_left.next().is_some()) {
+        errors.push(format!("{file}: roslibrust_codegen reads members that sweetspot's scan does not see"));
     }
     if !errors.is_empty() {
         return Err(errors);
     }
     Ok(MsgSpec {
         pkg: pkg.to_string(),
-        kind: "msg",
-        name: name.to_string(),
-        path: path.to_path_buf(),
+        kind,
+        name,
+        path: PathBuf::from(file),
         text: text.to_string(),
-        doc: file_doc,
-        fields,
-        constants,
+        doc: scanned.doc,
+        fields: out_fields,
+        constants: out_constants,
     })
+}
+
+/// Everything read from a tree of packages: the message specs (`.srv` halves and events included, keyed
+/// `pkg/Name`), the services by package as `(name, .srv text)`, and the RIHS01 hash of every spec and service.
+struct Interfaces {
+    specs: BTreeMap<String, MsgSpec>,
+    services: BTreeMap<String, Vec<(String, String)>>,
+    hashes: BTreeMap<String, String>,
+}
+
+/// Reads every package under `root` (see `package_dirs`); file names in errors are shown relative to `shown`.
+fn read_interfaces(root: &Path, shown: &Path) -> Result<Interfaces, Vec<String>> {
+    let root = root.canonicalize().map_err(|e| vec![format!("{}: {e}", root.display())])?;
+    let shown = shown.canonicalize().unwrap_or_else(|_| shown.to_path_buf());
+    let show = |p: &Path| p.strip_prefix(&shown).unwrap_or(p).display().to_string();
+    let pkg_dirs = package_dirs(&root)?;
+
+    // Scan first: a line roslibrust_codegen cannot parse is reported here with its file and line.
+    let mut errors = Vec::new();
+    let mut scanned: BTreeMap<PathBuf, Vec<Scanned>> = BTreeMap::new();
+    for dir in &pkg_dirs {
+        for kind in ["msg", "srv"] {
+            let Ok(entries) = fs::read_dir(dir.join(kind)) else { continue };
+            let mut files: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+            files.sort();
+            for path in files.into_iter().filter(|f| f.extension().and_then(|e| e.to_str()) == Some(kind)) {
+                let file = show(&path);
+                let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
+                if !is_valid_type_name(name) {
+                    errors.push(format!("{file}: message name `{name}` must be CamelCase"));
+                    continue;
+                }
+                let text = match fs::read_to_string(&path) {
+                    Ok(t) => t,
+                    Err(e) => {
+                        errors.push(format!("{file}: {e}"));
+                        continue;
+                    }
+                };
+                let halves = if kind == "srv" {
+                    split_srv(&text, &file).and_then(|halves| {
+                        let [req, resp] = halves.map(|(first, lines)| scan(&lines, first, &file));
+                        Ok(vec![req?, resp?])
+                    })
+                } else {
+                    let lines: Vec<&str> = text.lines().collect();
+                    scan(&lines, 1, &file).map(|s| vec![s])
+                };
+                match halves {
+                    Ok(h) => {
+                        scanned.insert(path, h);
+                    }
+                    Err(mut e) => errors.append(&mut e),
+                }
+            }
+        }
+    }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+
+    let (messages, services, actions) = roslibrust_codegen::find_and_parse_ros_messages(&pkg_dirs)
+        .map_err(|e| vec![format!("roslibrust_codegen: {e}")])?;
+    if let Some(action) = actions.first() {
+        return Err(vec![format!("{}: sweetspot generates no .action types", show(&action.path))]);
+    }
+    let mut specs: BTreeMap<String, MsgSpec> = BTreeMap::new();
+    let mut by_pkg: BTreeMap<String, Vec<(String, String)>> = BTreeMap::new();
+    let mut add = |spec: Result<MsgSpec, Vec<String>>, errors: &mut Vec<String>| match spec {
+        Ok(spec) => {
+            if let Some(prev) = specs.insert(spec.key(), spec) {
+                errors.push(format!("{}: `{}` defined twice", prev.path.display(), prev.key()));
+            }
+        }
+        Err(mut e) => errors.append(&mut e),
+    };
+    let unscanned = |path: &Path| format!("{}: not in a package's msg/ or srv/ folder", show(path));
+    for m in &messages {
+        let Some([s]) = scanned.remove(&m.path).and_then(|s| <[Scanned; 1]>::try_from(s).ok()) else {
+            errors.push(unscanned(&m.path));
+            continue;
+        };
+        let spec =
+            build_spec((&m.package, m.name.clone(), "msg"), &show(&m.path), &m.source, &m.fields, &m.constants, s);
+        add(spec, &mut errors);
+    }
+    for s in &services {
+        let Some([req, resp]) = scanned.remove(&s.path).and_then(|s| <[Scanned; 2]>::try_from(s).ok()) else {
+            errors.push(unscanned(&s.path));
+            continue;
+        };
+        let file = show(&s.path);
+        for (half, scan, suffix) in [(&s.request_type, req, "Request"), (&s.response_type, resp, "Response")] {
+            let id = (s.package.as_str(), format!("{}_{suffix}", s.name), "srv");
+            add(build_spec(id, &file, &half.source, &half.fields, &half.constants, scan), &mut errors);
+        }
+        by_pkg.entry(s.package.clone()).or_default().push((s.name.clone(), s.source.clone()));
+        add(Ok(event_spec(&s.package, &s.name, &file)), &mut errors);
+    }
+    for names in by_pkg.values_mut() {
+        names.sort();
+    }
+    // The crate keeps one of two packages of the same name (the other's files are left unread here).
+    errors.extend(
+        scanned
+            .keys()
+            .map(|path| format!("{}: not read by roslibrust_codegen (package name taken twice?)", show(path))),
+    );
+    // Every nested type must be here (roslibrust_codegen would only give up after many rounds).
+    for spec in specs.values() {
+        for f in &spec.fields {
+            if let Base::Nested { pkg, name } = &f.ty.base {
+                if !specs.contains_key(&format!("{pkg}/{name}")) {
+                    let line = if f.line > 0 { format!(":{}", f.line) } else { String::new() };
+                    errors.push(format!(
+                        "{}{line}: unknown type `{pkg}/{name}` (add its .msg under msgs/)",
+                        spec.path.display()
+                    ));
+                }
+            }
+        }
+    }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+
+    let (resolved, resolved_services) = roslibrust_codegen::resolve_dependency_graph(messages, services)
+        .map_err(|e| vec![format!("roslibrust_codegen: {e}")])?;
+    let mut hashes = BTreeMap::new();
+    for m in &resolved {
+        hashes.insert(m.get_full_name(), m.ros2_hash.to_hash_string());
+    }
+    for s in &resolved_services {
+        let key = s.get_full_name();
+        hashes.insert(format!("{key}_Request"), s.request().ros2_hash.to_hash_string());
+        hashes.insert(format!("{key}_Response"), s.response().ros2_hash.to_hash_string());
+        hashes.insert(format!("{key}_Event"), s.get_event_ros2_hash().to_hash_string());
+        hashes.insert(key, s.get_ros2_hash().to_hash_string());
+    }
+    Ok(Interfaces { specs, services: by_pkg, hashes })
+}
+
+/// The RIHS01 hashes of a set of `.msg` texts given as `(package, type name, text)`, keyed `pkg/msg/Type`; every
+/// referenced type must be in the set. For checking the hashes against published ones of messages that are not
+/// under `msgs/`.
+#[allow(dead_code)]
+pub fn type_hashes_of(messages: &[(&str, &str, &str)]) -> Result<BTreeMap<String, String>, Vec<String>> {
+    interface_hashes_of(messages, &[])
+}
+
+/// [`type_hashes_of`] with `.srv` texts too: each service adds `pkg/srv/Name`, `pkg/srv/Name_Request`,
+/// `pkg/srv/Name_Response` and `pkg/srv/Name_Event` (which needs `service_msgs/ServiceEventInfo` among the
+/// messages, as rosidl's does). The texts are written as packages into a temporary folder for
+/// roslibrust_codegen, which reads files only.
+#[allow(dead_code)]
+pub fn interface_hashes_of(
+    messages: &[(&str, &str, &str)],
+    services: &[(&str, &str, &str)],
+) -> Result<BTreeMap<String, String>, Vec<String>> {
+    static COUNT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("sweetspot-interfaces-{}-{n}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    let write = |pkg: &str, kind: &str, name: &str, text: &str| -> std::io::Result<()> {
+        let pkg_dir = dir.join(pkg);
+        fs::create_dir_all(pkg_dir.join(kind))?;
+        fs::write(pkg_dir.join(kind).join(format!("{name}.{kind}")), text)?;
+        let xml = format!(
+            "<package format=\"3\"><name>{pkg}</name><buildtool_depend>ament_cmake</buildtool_depend></package>\n"
+        );
+        fs::write(pkg_dir.join("package.xml"), xml)
+    };
+    let written: std::io::Result<()> = messages
+        .iter()
+        .map(|(pkg, name, text)| write(pkg, "msg", name, text))
+        .chain(services.iter().map(|(pkg, name, text)| write(pkg, "srv", name, text)))
+        .collect();
+    let read = written.map_err(|e| vec![format!("{}: {e}", dir.display())]).and_then(|()| read_interfaces(&dir, &dir));
+    let _ = fs::remove_dir_all(&dir);
+    let read = read?;
+    let mut out: BTreeMap<String, String> =
+        read.specs.values().map(|spec| (spec.full_name(), read.hashes[&spec.key()].clone())).collect();
+    for (pkg, names) in &read.services {
+        for (name, _) in names {
+            out.insert(format!("{pkg}/srv/{name}"), read.hashes[&format!("{pkg}/{name}")].clone());
+        }
+    }
+    Ok(out)
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -692,211 +940,12 @@ fn full_text(root: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// Type hashes (REP-2011, RIHS01)
-
-/// rosidl's `type_description_interfaces/msg/FieldType` id of a field type: the value type's id plus 48 for a
-/// fixed array, 96 for a bounded sequence, 144 for an unbounded one (rosidl_generator_type_description's
-/// `FIELD_TYPE_NAME_TO_ID`). A `.msg` `char` is an IDL `uint8` and `byte` an `octet`, as rosidl_adapter maps them.
-fn field_type_id(ty: &FieldType) -> u32 {
-    let value = match &ty.base {
-        Base::Nested { .. } => 1,
-        Base::Prim(p) => match *p {
-            "int8" => 2,
-            "uint8" | "char" => 3,
-            "int16" => 4,
-            "uint16" => 5,
-            "int32" => 6,
-            "uint32" => 7,
-            "int64" => 8,
-            "uint64" => 9,
-            "float32" => 10,
-            "float64" => 11,
-            "bool" => 15,
-            "byte" => 16,
-            _ => unreachable!("not a primitive: {p}"),
-        },
-        Base::String { bound: None } => 17,
-        Base::String { bound: Some(_) } => 21,
-    };
-    value
-        + match ty.array {
-            Array::None => 0,
-            Array::Fixed(_) => 48,
-            Array::Bounded(_) => 96,
-            Array::Unbounded => 144,
-        }
-}
-
-/// A JSON string as Python's `json.dumps(ensure_ascii=True)` writes it.
-fn json_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\r' => out.push_str("\\r"),
-            '\t' => out.push_str("\\t"),
-            c if c.is_ascii() && !c.is_ascii_control() => out.push(c),
-            c => {
-                let mut units = [0u16; 2];
-                for unit in c.encode_utf16(&mut units) {
-                    let _ = write!(out, "\\u{unit:04x}");
-                }
-            }
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// One `IndividualTypeDescription` without default values, in rosidl's key order and with Python's
-/// `separators=(', ', ': ')`. An empty message has the one `uint8` member rosidl_adapter gives it in the IDL.
-fn individual_type_description_json(spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec>) -> String {
-    let placeholder = Field {
-        name: "structure_needs_at_least_one_member".into(),
-        ty: FieldType { base: Base::Prim("uint8"), array: Array::None },
-        default: None,
-        absent: None,
-        doc: Vec::new(),
-        line: 0,
-    };
-    let fields: Vec<&Field> = if spec.fields.is_empty() { vec![&placeholder] } else { spec.fields.iter().collect() };
-    let fields: Vec<String> = fields
-        .iter()
-        .map(|f| {
-            let capacity = match f.ty.array {
-                Array::Fixed(n) | Array::Bounded(n) => n,
-                Array::None | Array::Unbounded => 0,
-            };
-            let string_capacity = match f.ty.base {
-                Base::String { bound: Some(n) } => n,
-                _ => 0,
-            };
-            let nested = match &f.ty.base {
-                Base::Nested { pkg, name } => specs
-                    .get(&format!("{pkg}/{name}"))
-                    .map(MsgSpec::full_name)
-                    .unwrap_or_else(|| format!("{pkg}/msg/{name}")),
-                _ => String::new(),
-            };
-            format!(
-                "{{\"name\": {}, \"type\": {{\"type_id\": {}, \"capacity\": {capacity}, \"string_capacity\": \
-                 {string_capacity}, \"nested_type_name\": {}}}}}",
-                json_string(&f.name),
-                field_type_id(&f.ty),
-                json_string(&nested)
-            )
-        })
-        .collect();
-    format!("{{\"type_name\": {}, \"fields\": [{}]}}", json_string(&spec.full_name()), fields.join(", "))
-}
-
-/// The RIHS01 hash of a message (REP-2011): SHA-256 of the JSON of its `TypeDescription` — its own description
-/// then every type it references directly or indirectly, sorted by name — as
-/// `rosidl_generator_type_description.calculate_type_hash` writes it (default values and constants left out,
-/// comments never part of it), as `RIHS01_` and 64 lower-case hex digits.
-fn type_hash(key: &str, specs: &BTreeMap<String, MsgSpec>) -> String {
-    use sha2::Digest as _;
-    let mut referenced = BTreeSet::new();
-    let mut queue: Vec<String> = deps_of(&specs[key]).into_iter().collect();
-    while let Some(dep) = queue.pop() {
-        if referenced.insert(dep.clone()) {
-            queue.extend(deps_of(&specs[&dep]));
-        }
-    }
-    // Sorted by full type name (`pkg/msg/Type`, `pkg/srv/Type_Request`), as rosidl sorts them.
-    let mut referenced: Vec<(String, &MsgSpec)> =
-        referenced.iter().map(|k| (specs[k].full_name(), &specs[k])).collect();
-    referenced.sort_by(|a, b| a.0.cmp(&b.0));
-    let referenced: Vec<String> =
-        referenced.iter().map(|(_, spec)| individual_type_description_json(spec, specs)).collect();
-    let json = format!(
-        "{{\"type_description\": {}, \"referenced_type_descriptions\": [{}]}}",
-        individual_type_description_json(&specs[key], specs),
-        referenced.join(", ")
-    );
-    let digest = sha2::Sha256::digest(json.as_bytes());
-    let mut out = String::from("RIHS01_");
-    for byte in digest.iter() {
-        let _ = write!(out, "{byte:02x}");
-    }
-    out
-}
-
-/// The RIHS01 hashes of a set of `.msg` texts given as `(package, type name, text)`, keyed `pkg/msg/Type`; every
-/// referenced type must be in the set. For checking the algorithm against published hashes of messages that
-/// are not under `msgs/`.
-#[allow(dead_code)]
-pub fn type_hashes_of(messages: &[(&str, &str, &str)]) -> Result<BTreeMap<String, String>, Vec<String>> {
-    interface_hashes_of(messages, &[])
-}
-
-/// [`type_hashes_of`] with `.srv` texts too: each service adds `pkg/srv/Name`, `pkg/srv/Name_Request`,
-/// `pkg/srv/Name_Response` and `pkg/srv/Name_Event` (which needs `service_msgs/ServiceEventInfo` among the
-/// messages, as rosidl's does).
-#[allow(dead_code)]
-pub fn interface_hashes_of(
-    messages: &[(&str, &str, &str)],
-    services: &[(&str, &str, &str)],
-) -> Result<BTreeMap<String, String>, Vec<String>> {
-    let mut specs = BTreeMap::new();
-    for (pkg, name, text) in messages {
-        let spec = parse_msg(pkg, name, Path::new(&format!("{pkg}/msg/{name}.msg")), text)?;
-        specs.insert(spec.key(), spec);
-    }
-    for (pkg, name, text) in services {
-        for spec in parse_srv(pkg, name, Path::new(&format!("{pkg}/srv/{name}.srv")), text)? {
-            specs.insert(spec.key(), spec);
-        }
-    }
-    for (pkg, name, _) in services {
-        for spec in service_hash_only_specs(pkg, name) {
-            specs.insert(spec.key(), spec);
-        }
-    }
-    for spec in specs.values() {
-        for dep in deps_of(spec) {
-            if !specs.contains_key(&dep) {
-                return Err(vec![format!("{}: unknown type `{dep}`", spec.key())]);
-            }
-        }
-    }
-    Ok(specs.keys().map(|k| (specs[k].full_name(), type_hash(k, &specs))).collect())
-}
-
-// ---------------------------------------------------------------------------------------------------------------
 // Services
 
-/// A `.srv` split as rosidl_adapter splits it (at the one line that is exactly `---`) into its request and
-/// response messages, `pkg/srv/Name_Request` and `pkg/srv/Name_Response`; each half is parsed as a `.msg`.
-fn parse_srv(pkg: &str, name: &str, path: &Path, text: &str) -> Result<[MsgSpec; 2], Vec<String>> {
-    let lines: Vec<&str> = text.lines().collect();
-    let separators: Vec<usize> = lines.iter().enumerate().filter(|(_, l)| **l == "---").map(|(i, _)| i).collect();
-    let [sep] = separators.as_slice() else {
-        return Err(vec![format!(
-            "{}: a .srv needs exactly one `---` line between request and response, found {}",
-            path.display(),
-            separators.len()
-        )]);
-    };
-    let half = |from: usize, to: usize, suffix: &str| -> Result<MsgSpec, Vec<String>> {
-        let own: String = lines[from..to].iter().map(|l| format!("{l}\n")).collect();
-        // Blank lines in front keep the error messages' line numbers those of the .srv file.
-        let padded = format!("{}{own}", "\n".repeat(from));
-        let mut spec = parse_msg(pkg, &format!("{name}_{suffix}"), path, &padded)?;
-        spec.kind = "srv";
-        spec.text = own;
-        Ok(spec)
-    };
-    Ok([half(0, *sep, "Request")?, half(sep + 1, lines.len(), "Response")?])
-}
-
-/// The two types rosidl adds to a service (sweetspot generates Rust for the event only, which rosbag2 records
-/// service calls as): `pkg/srv/Name_Event` (`service_msgs/ServiceEventInfo info`, the request and the response as
-/// bounded sequences of at most one) and the service `pkg/srv/Name` itself (`request_message`,
-/// `response_message`, `event_message`), as rosidl_generator_type_description describes them.
-fn service_hash_only_specs(pkg: &str, name: &str) -> [MsgSpec; 2] {
+/// The `pkg/srv/Name_Event` type rosidl adds to a service (and rosbag2 records service calls as):
+/// `service_msgs/ServiceEventInfo info` and the request and the response as bounded sequences of at most one.
+/// roslibrust_codegen hashes it; sweetspot generates its Rust type and schema text.
+fn event_spec(pkg: &str, name: &str, file: &str) -> MsgSpec {
     let field = |field: &str, type_pkg: &str, type_name: String, array: Array| Field {
         name: field.to_string(),
         ty: FieldType { base: Base::Nested { pkg: type_pkg.to_string(), name: type_name }, array },
@@ -905,129 +954,33 @@ fn service_hash_only_specs(pkg: &str, name: &str) -> [MsgSpec; 2] {
         doc: Vec::new(),
         line: 0,
     };
-    let spec = |type_name: String, fields: Vec<Field>| MsgSpec {
+    MsgSpec {
         pkg: pkg.to_string(),
         kind: "srv",
-        name: type_name,
-        path: PathBuf::from(format!("{pkg}/srv/{name}.srv")),
-        text: String::new(),
+        name: format!("{name}_Event"),
+        path: PathBuf::from(file),
+        // rosidl's event has no text of its own; this one lets bag readers decode the recorded events.
+        text: format!(
+            "service_msgs/ServiceEventInfo info\n{pkg}/{name}_Request[<=1] request\n{pkg}/{name}_Response[<=1] response\n"
+        ),
         doc: Vec::new(),
-        fields,
-        constants: Vec::new(),
-    };
-    let mut event = spec(
-        format!("{name}_Event"),
-        vec![
+        fields: vec![
             field("info", "service_msgs", "ServiceEventInfo".into(), Array::None),
             field("request", pkg, format!("{name}_Request"), Array::Bounded(1)),
             field("response", pkg, format!("{name}_Response"), Array::Bounded(1)),
         ],
-    );
-    // rosidl's event has no text of its own; this one lets bag readers decode the recorded events.
-    event.text = format!(
-        "service_msgs/ServiceEventInfo info\n{pkg}/{name}_Request[<=1] request\n{pkg}/{name}_Response[<=1] response\n"
-    );
-    let service = spec(
-        name.to_string(),
-        vec![
-            field("request_message", pkg, format!("{name}_Request"), Array::None),
-            field("response_message", pkg, format!("{name}_Response"), Array::None),
-            field("event_message", pkg, format!("{name}_Event"), Array::None),
-        ],
-    );
-    [event, service]
+        constants: Vec::new(),
+    }
 }
 
 pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
-    let files = discover(msgs_dir)?;
-    let mut errors = Vec::new();
-    let mut specs: BTreeMap<String, MsgSpec> = BTreeMap::new();
-    // Services by package: (name, .srv text).
-    let mut services: BTreeMap<String, Vec<(String, String)>> = BTreeMap::new();
-    for (pkg, path) in files {
-        let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default().to_string();
-        if !is_valid_pkg_name(&pkg) {
-            errors.push(format!("{}: package name `{pkg}` is not a valid ROS package name", path.display()));
-            continue;
-        }
-        if !is_valid_type_name(&name) {
-            errors.push(format!("{}: message name `{name}` must be CamelCase", path.display()));
-            continue;
-        }
-        let text = match fs::read_to_string(&path) {
-            Ok(t) => t,
-            Err(e) => {
-                errors.push(format!("{}: {e}", path.display()));
-                continue;
-            }
-        };
-        let parsed = if path.extension().and_then(|e| e.to_str()) == Some("srv") {
-            services.entry(pkg.clone()).or_default().push((name.clone(), text.clone()));
-            parse_srv(&pkg, &name, &path, &text).map(Vec::from)
-        } else {
-            parse_msg(&pkg, &name, &path, &text).map(|spec| vec![spec])
-        };
-        match parsed {
-            Ok(parsed) => {
-                for spec in parsed {
-                    if let Some(prev) = specs.insert(spec.key(), spec) {
-                        errors.push(format!("{}: `{}` defined twice", prev.path.display(), prev.key()));
-                    }
-                }
-            }
-            Err(mut e) => errors.append(&mut e),
-        }
-    }
-    if !services.is_empty() && !specs.contains_key("service_msgs/ServiceEventInfo") {
-        errors.push("a .srv's type hash needs service_msgs/msg/ServiceEventInfo.msg under msgs/".into());
-    }
-    // Every nested type must exist; the type graph must be acyclic.
-    for spec in specs.values() {
-        for f in &spec.fields {
-            if let Base::Nested { pkg, name } = &f.ty.base {
-                if !specs.contains_key(&format!("{pkg}/{name}")) {
-                    let hint = if name == "Header" { "; ROS 2 needs `std_msgs/Header`" } else { "" };
-                    errors.push(format!(
-                        "{}:{}: unknown type `{pkg}/{name}` (add its .msg under msgs/{hint})",
-                        spec.path.display(),
-                        f.line
-                    ));
-                }
-            }
-        }
-    }
-    if errors.is_empty() {
-        for key in specs.keys() {
-            let mut stack = vec![(key.clone(), 0u32)];
-            while let Some((k, d)) = stack.pop() {
-                if d > 40 {
-                    errors.push(format!("{}: recursive message definition", specs[key].path.display()));
-                    break;
-                }
-                for dep in deps_of(&specs[&k]) {
-                    stack.push((dep, d + 1));
-                }
-            }
-        }
-    }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+    let Interfaces { specs, services, hashes } = read_interfaces(msgs_dir, msgs_dir.parent().unwrap_or(msgs_dir))?;
 
     let mut out = String::new();
     out.push_str("// @generated by build.rs from msgs/**/*.msg — do not edit.\n\n");
     let mut by_pkg: BTreeMap<&str, Vec<&MsgSpec>> = BTreeMap::new();
     for s in specs.values() {
         by_pkg.entry(&s.pkg).or_default().push(s);
-    }
-    // The hashes see the types rosidl adds to every service (its Event and the service itself) too.
-    let mut hashed = specs.clone();
-    for (pkg, names) in &services {
-        for (name, _) in names {
-            for spec in service_hash_only_specs(pkg, name) {
-                hashed.insert(spec.key(), spec);
-            }
-        }
     }
     let mut registry = Vec::new();
     for (pkg, msgs) in &by_pkg {
@@ -1036,7 +989,7 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
         let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/msg/*`."));
         let _ = writeln!(out, "    pub mod msg {{");
         for spec in msgs.iter().filter(|s| s.kind == "msg") {
-            gen_struct(&mut out, spec, &hashed);
+            gen_struct(&mut out, spec, &specs, &hashes);
             registry.push(format!("crate::msgs::{pkg}::msg::{}", spec.name));
         }
         out.push_str("    }\n");
@@ -1045,9 +998,9 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
             let _ = writeln!(out, "    pub mod srv {{");
             for (name, text) in names {
                 for suffix in ["Request", "Response", "Event"] {
-                    gen_struct(&mut out, &hashed[&format!("{pkg}/{name}_{suffix}")], &hashed);
+                    gen_struct(&mut out, &specs[&format!("{pkg}/{name}_{suffix}")], &specs, &hashes);
                 }
-                gen_service(&mut out, pkg, name, text, &hashed);
+                gen_service(&mut out, pkg, name, text, &hashes);
             }
             out.push_str("    }\n");
         }
@@ -1062,7 +1015,7 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     Ok(out)
 }
 
-fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec>) {
+fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec>, hashes: &BTreeMap<String, String>) {
     let i2 = "        ";
     let i3 = "            ";
     let name = &spec.name;
@@ -1156,7 +1109,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let _ = writeln!(out, "{i3}const DDS_TYPE_NAME: &'static str = {:?};", format!("{pkg}::{kind}::dds_::{name}_"));
     let _ = writeln!(out, "{i3}const SCHEMA_TEXT: &'static str = {schema:?};");
     let _ = writeln!(out, "{i3}const MSG_TEXT: &'static str = {:?};", spec.text);
-    let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", type_hash(&key, specs));
+    let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", hashes[&key]);
     let _ = writeln!(out, "{i2}}}\n");
     let _ = writeln!(out, "{i2}impl ::ros2_client::Message for {name} {{}}\n");
 
@@ -1221,7 +1174,7 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
 
 /// A service's marker type: its names, `.srv` text and RIHS01 hash (the hash ROS 2 advertises on both of its
 /// DDS topics), with its request and response types.
-fn gen_service(out: &mut String, pkg: &str, name: &str, text: &str, hashed: &BTreeMap<String, MsgSpec>) {
+fn gen_service(out: &mut String, pkg: &str, name: &str, text: &str, hashes: &BTreeMap<String, String>) {
     let (i2, i3) = ("        ", "            ");
     doc_attrs(out, i2, &[format!("The service `{pkg}/srv/{name}`, generated from `{pkg}/srv/{name}.srv`.")]);
     let _ = writeln!(out, "{i2}#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]");
@@ -1232,7 +1185,7 @@ fn gen_service(out: &mut String, pkg: &str, name: &str, text: &str, hashed: &BTr
     let _ = writeln!(out, "{i3}type Event = {name}_Event;");
     let _ = writeln!(out, "{i3}const TYPE_NAME: &'static str = {:?};", format!("{pkg}/srv/{name}"));
     let _ = writeln!(out, "{i3}const SRV_TEXT: &'static str = {text:?};");
-    let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", type_hash(&format!("{pkg}/{name}"), hashed));
+    let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", hashes[&format!("{pkg}/{name}")]);
     let _ = writeln!(out, "{i2}}}\n");
 }
 

@@ -4,6 +4,14 @@
 #[path = "../build.rs"]
 mod build_script;
 
+/// The package.xml roslibrust_codegen (build.rs's parser) reads a package's name and ROS version from.
+fn package_xml(pkg_dir: &std::path::Path) {
+    let name = pkg_dir.file_name().unwrap().to_str().unwrap();
+    let xml =
+        format!("<package format=\"3\"><name>{name}</name><buildtool_depend>ament_cmake</buildtool_depend></package>");
+    std::fs::write(pkg_dir.join("package.xml"), xml).unwrap();
+}
+
 fn parse(text: &str) -> Result<String, Vec<String>> {
     let dir = tempfile::tempdir().unwrap();
     let msg_dir = dir.path().join("demo_msgs/msg");
@@ -12,6 +20,8 @@ fn parse(text: &str) -> Result<String, Vec<String>> {
     let vendored = dir.path().join("ros_interfaces/builtin_interfaces/msg");
     std::fs::create_dir_all(&vendored).unwrap();
     std::fs::write(vendored.join("Time.msg"), "int32 sec\nuint32 nanosec\n").unwrap();
+    package_xml(msg_dir.parent().unwrap());
+    package_xml(vendored.parent().unwrap());
     build_script::generate(dir.path())
 }
 
@@ -49,6 +59,8 @@ string[2] n [\"a\", \"b,c\"]
     let v = dir.path().join("ros_interfaces/builtin_interfaces/msg");
     std::fs::create_dir_all(&v).unwrap();
     std::fs::write(v.join("Time.msg"), "int32 sec\nuint32 nanosec\n").unwrap();
+    package_xml(msg_dir.parent().unwrap());
+    package_xml(v.parent().unwrap());
     let code = build_script::generate(dir.path()).expect("valid grammar");
     for needle in [
         "pub const ANSWER: i32 = 42_i32;",
@@ -99,4 +111,41 @@ fn msgs_generator_reports_errors_with_file_and_line() {
     expect_error("wstring w\n", 1, "wstring");
     expect_error("string<=2 s \"long\"\n", 1, "bound");
     expect_error("int32[2] a [1, 2, 3]\n", 1, "expected 2 elements");
+}
+
+#[test]
+fn msgs_generator_refuses_a_package_without_package_xml() {
+    let dir = tempfile::tempdir().unwrap();
+    let msg_dir = dir.path().join("demo_msgs/msg");
+    std::fs::create_dir_all(&msg_dir).unwrap();
+    std::fs::write(msg_dir.join("Thing.msg"), "int32 a\n").unwrap();
+    let errors = build_script::generate(dir.path()).expect_err("no package.xml").join("\n");
+    assert!(errors.contains("demo_msgs: no package.xml"), "{errors}");
+}
+
+#[test]
+fn msgs_generator_refuses_a_line_roslibrust_reads_otherwise() {
+    // roslibrust_codegen takes any line with `=` after the type for a constant; sweetspot's scan reads a field
+    // with a default. The two readings must agree, or the build fails at that line.
+    expect_error("int32 a\nstring s \"x=y\"\n", 2, "does not read `s` as a field");
+}
+
+#[test]
+fn msgs_generator_refuses_two_packages_of_one_name() {
+    // roslibrust_codegen keeps one of them; the files of the other must not silently disappear.
+    let dir = tempfile::tempdir().unwrap();
+    for folder in ["a_msgs", "b_msgs"] {
+        let pkg = dir.path().join(folder);
+        std::fs::create_dir_all(pkg.join("msg")).unwrap();
+        std::fs::write(
+            pkg.join("msg").join(format!("{}.msg", folder.replace("_msgs", "").to_uppercase())),
+            "int32 a\n",
+        )
+        .unwrap();
+        let xml =
+            "<package format=\"3\"><name>demo_msgs</name><buildtool_depend>ament_cmake</buildtool_depend></package>";
+        std::fs::write(pkg.join("package.xml"), xml).unwrap();
+    }
+    let errors = build_script::generate(dir.path()).expect_err("one name, two packages").join("\n");
+    assert!(errors.contains("package name taken twice"), "{errors}");
 }
