@@ -30,6 +30,18 @@ fn lines(out: &Output, what: &str) -> Vec<Value> {
     support::json_lines(out, what)
 }
 
+/// The service events recorded in `bag`, decoded by rosbags with the definition stored in the bag
+/// (tests/python/service_events.py): {"type", "count", "metadata_count", "events"}.
+fn service_events(bag: &Path) -> Value {
+    let out = Command::new(python())
+        .arg(repo().join("tests/python/service_events.py"))
+        .arg(bag)
+        .arg("/sweetspot/simulate_swing/_service_event")
+        .output()
+        .expect("service_events.py");
+    lines(&out, "service_events.py").swap_remove(0)
+}
+
 /// One swing of the 19: a preset, an impact point, speeds, and (oblique) undercut m, attack angle deg,
 /// pitch spin rpm.
 #[derive(Clone, Copy)]
@@ -308,14 +320,7 @@ fn record_services_records_each_call_as_rosbag2_records_a_service_and_only_then(
     let (status, _, log) = node.stop_with(libc::SIGINT);
     assert!(status.success(), "{log}");
 
-    // rosbags decodes the events with the definition stored in the bag (tests/python/service_events.py).
-    let out = Command::new(python())
-        .arg(repo().join("tests/python/service_events.py"))
-        .arg(&bag)
-        .arg("/sweetspot/simulate_swing/_service_event")
-        .output()
-        .expect("service_events.py");
-    let read = &lines(&out, "service_events.py")[0];
+    let read = &service_events(&bag);
     assert_eq!(read["type"], json!("sweetspot_msgs/srv/SimulateSwing_Event"), "{read}");
     assert_eq!(read["count"], json!(4), "request and response of 2 calls: {read}");
     assert_eq!(read["metadata_count"], json!(4), "metadata.yaml agrees");
@@ -407,13 +412,7 @@ fn a_node_on_the_cyclone_mapping_answers_rmw_cyclonedds_style_clients() {
     let (status, _, log) = node.stop_with(libc::SIGINT);
     assert!(status.success(), "{log}");
 
-    let out = Command::new(python())
-        .arg(repo().join("tests/python/service_events.py"))
-        .arg(&bag)
-        .arg("/sweetspot/simulate_swing/_service_event")
-        .output()
-        .expect("service_events.py");
-    let events = lines(&out, "service_events.py")[0]["events"].as_array().unwrap().clone();
+    let events = service_events(&bag)["events"].as_array().unwrap().clone();
     assert_eq!(events.len(), 8, "request and response of 4 calls");
     let guid_bytes: Vec<Value> = guid.to_le_bytes().iter().map(|&b| json!(b)).collect();
     // The three calls were in flight together: their events interleave, so each is matched by its swing_id.
