@@ -113,11 +113,16 @@ async fn call(
     })
     .await;
     spinning.abort();
+    // The two mappings share topic names, so a node on the other one matches but never answers.
+    let other = match mapping {
+        ros2_client::ServiceMapping::Cyclone => "a node on the default mapping is called without --mapping",
+        _ => "a node started with -p service_mapping:=cyclone is called with --mapping cyclone",
+    };
     match outcome {
         Ok(result) => result,
         Err(_) => bail!(
             "no answer from {fq_name} within {:.1} s (ROS_DOMAIN_ID {}, discovery {}): is a node serving it? \
-             (`sweetspot node`; --node / --ns name another node; raise --timeout)",
+             (`sweetspot node`; --node / --ns name another node; raise --timeout; {other})",
             started.elapsed().as_secs_f64(),
             config.domain_id,
             config.range
