@@ -100,3 +100,35 @@ fn besr_is_collision_efficiency_plus_one_half_at_the_protocol_point() {
     let flexible = metrics::besr(&m, &ball, &CollisionOptions::default()).expect("besr");
     assert!(flexible.besr < rigid_besr.besr && flexible.besr > 0.5);
 }
+
+#[test]
+fn besr_scan_of_a_rigid_bat_is_the_brody_maximum_over_three_to_nine_inches() {
+    // Textbook rigid bat (Brody): a free bat of mass M and moment I_cm about its centre of mass recoils with
+    // r = m/M + m (z − z_cm)²/I_cm, and v_out = [(e − r) v + (1 + e) V_z]/(1 + r) for a ball at v into the bat
+    // point moving at V_z. In the BESR test the bat turns about the 6-in pivot with V = 66 mph at the point 6 in
+    // from the barrel end, so V_z = V (z − pivot)/(L − 6 in − pivot).
+    let m = modes("r161");
+    let ball = Ball::bbcor_protocol();
+    let mp = m.mass_properties();
+    let (mph, inch, length) = (0.44704, 0.0254, m.length());
+    let (v, big_v) = (70.0 * mph, 66.0 * mph);
+    let v_out = |z: f64| {
+        let r = ball.mass / mp.mass + ball.mass * (z - mp.center_of_mass).powi(2) / mp.moment_of_inertia;
+        let v_z = big_v * (z - PIVOT_Z) / (length - 6.0 * inch - PIVOT_Z);
+        ((ball.cor - r) * v + (1.0 + ball.cor) * v_z) / (1.0 + r)
+    };
+    let (z_best, best) = linspace(length - 9.0 * inch, length - 3.0 * inch, 60_001)
+        .into_iter()
+        .map(|z| (z, v_out(z)))
+        .fold((0.0, f64::NEG_INFINITY), |acc, p| if p.1 > acc.1 { p } else { acc });
+    let rigid = metrics::besr_scan(&m, &ball, &CollisionOptions { modes: 0, ..CollisionOptions::default() })
+        .expect("besr scan");
+    assert!((rigid.exit_speed - best).abs() < 2e-3, "{} vs {best} m/s", rigid.exit_speed);
+    assert!((rigid.impact_z - z_best).abs() < 2e-3, "{} vs {z_best} m", rigid.impact_z);
+    assert!((rigid.besr - (best - 0.5 * (big_v - v)) / (big_v + v)).abs() < 1e-4);
+    // The bat's vibrations take energy: the flexible bat's best is lower, and at least the 6-in point's.
+    let flexible = metrics::besr_scan(&m, &ball, &CollisionOptions::default()).expect("besr scan");
+    let at_six = metrics::besr(&m, &ball, &CollisionOptions::default()).expect("besr");
+    assert!(flexible.exit_speed < rigid.exit_speed);
+    assert!(flexible.exit_speed >= at_six.exit_speed - 1e-9, "{} < {}", flexible.exit_speed, at_six.exit_speed);
+}

@@ -37,6 +37,7 @@ const RED: &[&str] = &[
     "cage-metal-minus-wood",
     "sweet-spot-same-distance",
     "contact-time-game",
+    "besr-wood-max-exit",
 ];
 
 /// (id, low, high) as the sources state them (see validation/measurements.toml); `None`: no bound that side.
@@ -57,6 +58,7 @@ const BOUNDS: &[(&str, Option<f64>, Option<f64>)] = &[
     ("cage-metal-minus-wood", Some(5.0), Some(9.0)),
     ("sweet-spot-same-distance", Some(-1.0), Some(1.0)),
     ("contact-time-game", Some(0.6), Some(0.8)),
+    ("besr-wood-max-exit", None, Some(97.0)),
 ];
 
 fn opt(v: &Value) -> Option<f64> {

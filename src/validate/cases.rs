@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rayon::prelude::*;
 
 use crate::physics::batter::{Batter, ReferenceSwing};
-use crate::physics::metrics::{bbcor_report, linspace, sweep, sweet_spots};
+use crate::physics::metrics::{bbcor_report, besr_scan, linspace, sweep, sweet_spots};
 use crate::physics::oblique::{rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
 use crate::physics::{
     collide, collide_oblique, Ball, Bat, CollisionOptions, CollisionResult, Impact, Material, ModeSet, PhysicsError,
@@ -257,6 +257,23 @@ impl Lab {
             detail: format!(
                 "{bat}, `{ball}` ball, best spot {:.2} in from the end",
                 (modes.length() - r.impact_z) / INCH
+            ),
+        })
+    }
+
+    /// Largest exit speed (mph) of `bat` in the NCAA's BESR test with the `ball` preset ([`besr_scan`]).
+    pub fn besr_max_exit_mph(&self, bat: &str, ball: &str) -> Result<CaseValue, ValidateError> {
+        let case = "besr_max_exit_mph";
+        let (_, modes) = self.bat(case, bat)?;
+        let b = self.ball(case, ball)?;
+        let r = besr_scan(&modes, &b, &self.options).map_err(physics(case))?;
+        Ok(CaseValue {
+            value: Some(r.exit_speed / MPH),
+            detail: format!(
+                "{bat}, `{ball}` ball at 70 mph, bat 66 mph 6 in from the end about the 6-in pivot, best point {:.2} in \
+                 from the end, BESR {:.4}",
+                (modes.length() - r.impact_z) / INCH,
+                r.besr
             ),
         })
     }
