@@ -5,7 +5,7 @@ mod support;
 
 use serde_json::Value;
 use support::cli::{json, num};
-use sweetspot::physics::metrics::{bbcor_report, besr, sweep, sweet_spots};
+use sweetspot::physics::metrics::{bbcor_report, besr, besr_scan, sweep, sweet_spots};
 use sweetspot::physics::{collide, Ball, Bat, CollisionOptions, Impact, ModeSet};
 
 const BAT_FIELDS: &[&str] = &[
@@ -276,7 +276,21 @@ fn bbcor_json_matches_the_library() {
             "search_to_z",
         ],
     );
-    has_exactly(&doc, "/besr", &["besr", "impact_z", "exit_speed", "ball_speed", "bat_speed", "pivot_z"]);
+    has_exactly(
+        &doc,
+        "/besr",
+        &[
+            "besr",
+            "impact_z",
+            "exit_speed",
+            "ball_speed",
+            "bat_speed",
+            "pivot_z",
+            "best_besr",
+            "best_impact_z",
+            "best_exit_speed",
+        ],
+    );
     let bat = Bat::preset("r161").unwrap();
     let options = CollisionOptions { modes: 12, ..CollisionOptions::default() };
     let modes = ModeSet::compute(&bat, 12).unwrap();
@@ -288,6 +302,11 @@ fn bbcor_json_matches_the_library() {
     let b = besr(&modes, &ball, &options).unwrap();
     assert_eq!(num(&doc, "/besr/besr"), b.besr);
     assert_eq!(num(&doc, "/besr/exit_speed"), b.exit_speed);
+    let best = besr_scan(&modes, &ball, &options).unwrap();
+    assert_eq!(num(&doc, "/besr/best_besr"), best.besr);
+    assert_eq!(num(&doc, "/besr/best_impact_z"), best.impact_z);
+    assert_eq!(num(&doc, "/besr/best_exit_speed"), best.exit_speed);
+    assert!(best.exit_speed >= b.exit_speed, "the scan includes the 6-in point's neighbourhood");
     assert_eq!(num(&doc, "/ball/cor"), ball.cor);
 }
 

@@ -6,7 +6,9 @@ use clap::Args;
 use serde::Serialize;
 
 use super::common::{emit, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs};
-use crate::physics::metrics::{bbcor_report, besr, BBCOR_BALL_SPEED, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z};
+use crate::physics::metrics::{
+    bbcor_report, besr, besr_scan, BBCOR_BALL_SPEED, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z,
+};
 use crate::physics::{Ball, Bat, CollisionOptions, ModeSet};
 use crate::report::json::{BallJson, BatJson, OptionsJson};
 use crate::report::table::{num, Table};
@@ -66,6 +68,13 @@ pub struct BesrJson {
     pub bat_speed: f64,
     /// Pivot, m from the knob.
     pub pivot_z: f64,
+    /// BESR at the point of largest exit speed 3–9 in from the barrel end, the bat turning as above so the
+    /// point 6 in from the end moves at 66 mph: the value the certification test judged.
+    pub best_besr: f64,
+    /// Where that largest exit speed was found, m from the knob.
+    pub best_impact_z: f64,
+    /// That largest exit speed, m/s.
+    pub best_exit_speed: f64,
 }
 
 /// The JSON document of `sweetspot bbcor --json`.
@@ -89,6 +98,7 @@ pub fn bbcor_document(bat: &Bat, ball: &Ball, options: &CollisionOptions) -> Res
     let props = modes.mass_properties();
     let b = bbcor_report(&modes, ball, options).context("BBCOR")?;
     let e = besr(&modes, ball, options).context("BESR")?;
+    let best = besr_scan(&modes, ball, options).context("BESR over the barrel")?;
     Ok(BbcorJson {
         bat: BatJson::new(&bat.name, &props),
         ball: ball.into(),
@@ -110,6 +120,9 @@ pub fn bbcor_document(bat: &Bat, ball: &Ball, options: &CollisionOptions) -> Res
             ball_speed: BESR_BALL_SPEED,
             bat_speed: BESR_BAT_SPEED,
             pivot_z: PIVOT_Z,
+            best_besr: best.besr,
+            best_impact_z: best.impact_z,
+            best_exit_speed: best.exit_speed,
         },
     })
 }
@@ -159,6 +172,19 @@ pub fn run(args: BbcorArgs) -> Result<()> {
     t.row([
         "bat speed at impact (m/s)".to_string(),
         format!("{} (66 mph, turning about {} m from the knob)", num(e.bat_speed, 4), num(e.pivot_z, 4)),
+    ]);
+    t.row(["largest BESR, 9 in … 3 in from the end".to_string(), num(e.best_besr, 4)]);
+    t.row([
+        "  exit speed there (m/s)".to_string(),
+        format!("{} ({} mph)", num(e.best_exit_speed, 4), num(e.best_exit_speed / MPH, 4)),
+    ]);
+    t.row([
+        "  at impact point (m from knob)".to_string(),
+        format!(
+            "{} ({} in from the barrel end)",
+            num(e.best_impact_z, 4),
+            num((doc.bat.length - e.best_impact_z) / INCH, 3)
+        ),
     ]);
     out.push_str(&t.render());
     emit(&out)
