@@ -503,19 +503,37 @@ struct GroupCoeffs {
     cpq: Lanes,
 }
 
+/// The powers of one step length h that the step's forced part uses, computed once per step length rather
+/// than per step (four divisions off the step's critical path, but on the divider it needs).
+#[derive(Clone, Copy, Default)]
+struct StepPowers {
+    h: f64,
+    /// h/6, h²/6, h³/12 and h⁴/24, each by the expression the step used to evaluate.
+    h_6: f64,
+    h2_6: f64,
+    h3_12: f64,
+    h4_24: f64,
+}
+
+impl StepPowers {
+    fn new(h: f64) -> StepPowers {
+        StepPowers { h, h_6: h / 6.0, h2_6: h * h / 6.0, h3_12: h * h * h / 12.0, h4_24: h * h * h * h / 24.0 }
+    }
+}
+
 /// Per-mode RK4 propagation coefficients for one step length h.
 struct StepCoeffs {
-    h: f64,
+    powers: StepPowers,
     groups: Vec<GroupCoeffs>,
 }
 
 impl StepCoeffs {
     fn new(groups: usize) -> StepCoeffs {
-        StepCoeffs { h: 0.0, groups: vec![GroupCoeffs::default(); groups] }
+        StepCoeffs { powers: StepPowers::default(), groups: vec![GroupCoeffs::default(); groups] }
     }
 
     fn set(&mut self, h: f64, modes: &[ModeGroup]) {
-        self.h = h;
+        self.powers = StepPowers::new(h);
         let (half_h2, h3_6, h4_24) = (0.5 * h * h, h * h * h / 6.0, h * h * h * h / 24.0);
         // The p–p coefficient equals the q–q one.
         for (c, m) in self.groups.iter_mut().zip(modes) {
@@ -731,7 +749,7 @@ impl Work {
         (self.hoop.q[self.current], self.hoop.p[self.current])
     }
 
-    /// One classical RK4 step of length `partial.h` (if `use_partial`) or the full step, from the current
+    /// One classical RK4 step of the `partial` length (if `use_partial`) or the full step, from the current
     /// state; returns the new scalars and the force at the start.
     ///
     /// The modal equations are linear between force evaluations, so RK4's four stages are written out in
@@ -761,7 +779,8 @@ impl Work {
         let pending = self.pending[self.current];
         let [h0, h1, h2, h3] = free_propagation::<V>(c, &self.modes, from, pending, to);
 
-        let h = c.h;
+        let powers = c.powers;
+        let h = powers.h;
         let a = 0.5 * h;
         let (s, v) = (sc.s, sc.v);
         // Contact compliance per unit force: the bat at the impact point (Σφ²) plus the ball (1/m).
@@ -771,7 +790,7 @@ impl Work {
         let d0 = a0 - s;
         let e0 = b0 - v;
         if HOOP {
-            return self.step_with_hoop(h, sc, law, inv_mass, [h0, h1, h2, h3]);
+            return self.step_with_hoop(powers, sc, law, inv_mass, [h0, h1, h2, h3]);
         }
         // Stages 1 and 2: compressions independent of the forces.
         let u1 = d0;
@@ -788,12 +807,12 @@ impl Work {
 
         // Per-mode forcing: q gets φ·fq + φω²·gq, p gets φ·fp + φω²·gp with
         // fq = −h²/6 (F1+F2+F3), fp = −h/6 (F1+2F2+2F3+F4), gq = h⁴/24 F1, gp = h³/12 (F1+F2).
-        let (h2_6, h_6) = (h * h / 6.0, h / 6.0);
+        let (h2_6, h_6) = (powers.h2_6, powers.h_6);
         let f12 = f1 + f2;
         let fq = -h2_6 * f12 - h2_6 * f3;
         let fp = -h_6 * (f12 + f2) - h_6 * (2.0 * f3 + f4);
-        let gq = h * h * h * h / 24.0 * f1;
-        let gp = h * h * h / 12.0 * f12;
+        let gq = powers.h4_24 * f1;
+        let gp = powers.h3_12 * f12;
         self.proj_next = [
             (h0 + gq * c1 - h2_6 * c0 * f12) - h2_6 * c0 * f3,
             (h1 + gp * c1 - h_6 * c0 * (f12 + f2)) - h_6 * c0 * (2.0 * f3 + f4),
@@ -808,19 +827,20 @@ impl Work {
         (next, f1)
     }
 
-    /// [`Work::step`] with the wall's hoop mode, for a step of length `h` whose force-free projections are
-    /// `free`. The beam's approach δ at each stage comes from the same closed form, driven by the beam's
+    /// [`Work::step`] with the wall's hoop mode, for a step of length `powers.h` whose force-free projections
+    /// are `free`. The beam's approach δ at each stage comes from the same closed form, driven by the beam's
     /// force F·g; the hoop mode takes the classical RK4 stages of q̈_h = −ω_h² q_h − F·g·ψ/√m_h; the
     /// compression at each stage solves u = δ + ψ(u)·q_h/√m_h (see the module docs).
     #[inline(always)]
     fn step_with_hoop(
         &mut self,
-        h: f64,
+        powers: StepPowers,
         sc: &Scalars,
         law: &ForceLaw,
         inv_mass: f64,
         [h0, h1, h2, h3]: [f64; 4],
     ) -> (Scalars, f64) {
+        let h = powers.h;
         let [a0, b0, a1, b1] = self.proj;
         let (c0, c1, c2) = (self.c0, self.c1, self.c2);
         let a = 0.5 * h;
@@ -854,17 +874,17 @@ impl Work {
         let acc3 = -w2h * q3 - f3 * psi3 * r;
         let p4 = ph + h * acc3;
         let acc4 = -w2h * q4 - f4 * psi4 * r;
-        let h_6 = h / 6.0;
+        let h_6 = powers.h_6;
         self.hoop.q[1 - cur] = qh + h_6 * (ph + 2.0 * p2 + 2.0 * p3 + p4);
         self.hoop.p[1 - cur] = ph + h_6 * (acc1 + 2.0 * acc2 + 2.0 * acc3 + acc4);
 
         // The beam and the ball, as in `step`, with the beam's forces F·g.
-        let h2_6 = h * h / 6.0;
+        let h2_6 = powers.h2_6;
         let f12 = f1 + f2;
         let fq = -h2_6 * f12 - h2_6 * f3;
         let fp = -h_6 * (f12 + f2) - h_6 * (2.0 * f3 + f4);
-        let gq = h * h * h * h / 24.0 * f1;
-        let gp = h * h * h / 12.0 * f12;
+        let gq = powers.h4_24 * f1;
+        let gp = powers.h3_12 * f12;
         self.proj_next = [
             (h0 + gq * c1 - h2_6 * c0 * f12) - h2_6 * c0 * f3,
             (h1 + gp * c1 - h_6 * c0 * (f12 + f2)) - h_6 * c0 * (2.0 * f3 + f4),
