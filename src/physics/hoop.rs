@@ -335,9 +335,8 @@ impl PatchLaw {
         previous[0] = 1.0;
         current[1] = 1.0;
         for k in 0..n {
-            let c: f64 = (0..n).map(|j| values[j] * cosines[k][j]).sum::<f64>()
-                * if k == 0 { 1.0 } else { 2.0 }
-                / n as f64;
+            let c: f64 =
+                (0..n).map(|j| values[j] * cosines[k][j]).sum::<f64>() * if k == 0 { 1.0 } else { 2.0 } / n as f64;
             let t_k = if k == 0 { previous } else { current };
             for (a, b) in coeffs.iter_mut().zip(t_k) {
                 *a += c * b;
