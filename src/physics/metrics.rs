@@ -221,23 +221,22 @@ pub fn bbcor_report(modes: &ModeSet, ball: &Ball, options: &CollisionOptions) ->
 
 /// BESR of `modes` with `ball` (see the module docs for the protocol).
 pub fn besr(modes: &ModeSet, ball: &Ball, options: &CollisionOptions) -> Result<BesrReport, PhysicsError> {
+    let impact_z = modes.length() - 6.0 * INCH;
+    let r = collide(modes, ball, &besr_swing(modes)?(impact_z), options)?;
+    Ok(BesrReport { besr: r.collision_efficiency + 0.5, impact_z, exit_speed: r.exit_speed })
+}
+
+/// The BESR test's swing of `modes`' bat: turning about the 6-in pivot so that the point 6 in from the barrel
+/// end moves at 66 mph, into a 70-mph ball; gives the impact at `impact_z` (m from the knob).
+fn besr_swing(modes: &ModeSet) -> Result<impl Fn(f64) -> Impact, PhysicsError> {
     let length = modes.length();
-    let impact_z = length - 6.0 * INCH;
-    let mp = modes.mass_properties();
-    let arm = impact_z - PIVOT_Z;
+    let arm = length - 6.0 * INCH - PIVOT_Z;
     if !(arm > 0.0) {
         return Err(PhysicsError::out_of_range("bat length", length, "> 12 in (0.3048 m) for the BESR protocol"));
     }
-    // Rotation about the pivot: the impact point moves at 66 mph.
     let omega = BESR_BAT_SPEED / arm;
-    let impact = Impact {
-        ball_speed: BESR_BALL_SPEED,
-        bat_cm_speed: omega * (mp.center_of_mass - PIVOT_Z),
-        bat_angular_speed: omega,
-        impact_z,
-    };
-    let r = collide(modes, ball, &impact, options)?;
-    Ok(BesrReport { besr: r.collision_efficiency + 0.5, impact_z, exit_speed: r.exit_speed })
+    let bat_cm_speed = omega * (modes.mass_properties().center_of_mass - PIVOT_Z);
+    Ok(move |impact_z| Impact { ball_speed: BESR_BALL_SPEED, bat_cm_speed, bat_angular_speed: omega, impact_z })
 }
 
 /// BESR as the certification test ran it: the bat turning about the 6-in pivot so that the point 6 in from
@@ -245,20 +244,12 @@ pub fn besr(modes: &ModeSet, ball: &Ball, options: &CollisionOptions) -> Result<
 /// end (0.5-in steps, then golden-section); the largest is reported with its BESR and impact point.
 pub fn besr_scan(modes: &ModeSet, ball: &Ball, options: &CollisionOptions) -> Result<BesrReport, PhysicsError> {
     let length = modes.length();
-    let arm = length - 6.0 * INCH - PIVOT_Z;
-    if !(arm > 0.0) {
-        return Err(PhysicsError::out_of_range("bat length", length, "> 12 in (0.3048 m) for the BESR protocol"));
-    }
-    let omega = BESR_BAT_SPEED / arm;
-    let cm_speed = omega * (modes.mass_properties().center_of_mass - PIVOT_Z);
+    let swing = besr_swing(modes)?;
     let zs: Vec<f64> = (0..13).map(|i| length - (9.0 - 0.5 * i as f64) * INCH).filter(|&z| z > PIVOT_Z).collect();
     if zs.len() < 2 {
         return Err(PhysicsError::out_of_range("bat length", length, "> 15 in (0.381 m) for the BESR scan"));
     }
-    let at = |impact_z: f64| {
-        let impact = Impact { ball_speed: BESR_BALL_SPEED, bat_cm_speed: cm_speed, bat_angular_speed: omega, impact_z };
-        collide(modes, ball, &impact, options)
-    };
+    let at = |impact_z: f64| collide(modes, ball, &swing(impact_z), options);
     let (impact_z, exit_speed) = maximise_over(&zs, |z| at(z).map(|r| r.exit_speed))?;
     let besr = (exit_speed - 0.5 * (BESR_BAT_SPEED - BESR_BALL_SPEED)) / (BESR_BAT_SPEED + BESR_BALL_SPEED);
     Ok(BesrReport { besr, impact_z, exit_speed })
