@@ -268,7 +268,7 @@ fn run_block(block: &Block, dir: &Path, bin: &Path) -> Vec<String> {
         Kind::Console => {
             for (command, shown_failing) in &block.commands {
                 let result = Running::start(&as_run(command), dir, bin).finish();
-                match (result, shown_failing) {
+                match (result, *shown_failing) {
                     (Ok(_), false) => {}
                     (Err(e), true) if !e.contains("panicked") && !e.contains("still running") => {}
                     (Ok(text), true) => failures.push(format!("{at}: `{command}` is shown failing but succeeded:\n{text}")),
