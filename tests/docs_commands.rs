@@ -79,7 +79,8 @@ fn blocks(page: &str, text: &str) -> Result<Vec<Block>, String> {
         let Some(info) = line.trim_start().strip_prefix("```") else { continue };
         let info = info.trim();
         let (lang, tag) = info.split_once(char::is_whitespace).unwrap_or((info, ""));
-        let body: Vec<&str> = lines.by_ref().map(|(_, l)| l).take_while(|l| !l.trim_start().starts_with("```")).collect();
+        let body: Vec<&str> =
+            lines.by_ref().map(|(_, l)| l).take_while(|l| !l.trim_start().starts_with("```")).collect();
         let at = format!("{page}:{}", i + 1);
         let kind = match (lang, tag.trim()) {
             ("sh" | "bash" | "shell", "") => Kind::Shell,
@@ -271,7 +272,9 @@ fn run_block(block: &Block, dir: &Path, bin: &Path) -> Vec<String> {
                 match (result, *shown_failing) {
                     (Ok(_), false) => {}
                     (Err(e), true) if !e.contains("panicked") && !e.contains("still running") => {}
-                    (Ok(text), true) => failures.push(format!("{at}: `{command}` is shown failing but succeeded:\n{text}")),
+                    (Ok(text), true) => {
+                        failures.push(format!("{at}: `{command}` is shown failing but succeeded:\n{text}"))
+                    }
                     (Err(e), false) | (Err(e), true) => failures.push(format!("{at}: {e}")),
                 }
             }
