@@ -189,7 +189,6 @@ fn shell(line: &str, dir: &Path, bin: &Path) -> Command {
     let mut c = Command::new("bash");
     c.args(["-o", "pipefail", "-c", line]).current_dir(dir).env("PATH", std::env::join_paths(dirs).expect("PATH"));
     support::dds_env(&mut c, DOMAIN);
-    c.env("RUST_LOG", "warn").env_remove("RUST_BACKTRACE");
     c.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).process_group(0);
     c
 }
