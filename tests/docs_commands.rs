@@ -11,7 +11,8 @@
 //! a shell block without a reason, or an unfenced-language block that holds `sweetspot` commands, fails.
 //!
 //! What stands in for what: the built (debug) `sweetspot` is first on PATH, and `cargo run --release -- ARGS`
-//! is run as `sweetspot ARGS` (a release build inside the suite would cost CI minutes); every line runs on this
+//! is run as `sweetspot ARGS` (a release build inside the suite would cost CI minutes); the one line never run
+//! is `bash scripts/test`, the suite that runs this test; every line runs on this
 //! test's DDS domain with loopback-only discovery, inside the private network namespace `scripts/test` makes.
 //! The copy holds the repository's files as a fresh clone would (git's tracked and not-ignored files), so an
 //! input a page names must ship with the repository. Any non-zero exit, a hang (no line may take more than
@@ -139,6 +140,9 @@ fn as_run(line: &str) -> String {
         None => line.to_string(),
     }
 }
+
+/// The README's second line: the whole test suite, which runs this test (so it is not run from here).
+const THE_SUITE: &str = "bash scripts/test";
 
 /// Whether a line is a long-running command started in a terminal of its own.
 fn until_ctrl_c(line: &str) -> bool {
@@ -282,6 +286,9 @@ fn run_block(block: &Block, dir: &Path, bin: &Path) -> Vec<String> {
             let mut background: Vec<Running> = Vec::new();
             let mut last_started = Instant::now();
             for (line, _) in &block.commands {
+                if split_comment(line).0 == THE_SUITE {
+                    continue;
+                }
                 let run = as_run(line);
                 if until_ctrl_c(line) {
                     background.push(Running::start(&run, dir, bin));
