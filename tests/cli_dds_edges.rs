@@ -1,5 +1,5 @@
-//! The DDS commands at their edges, each in the private network namespace (scripts/test): the README's
-//! calibration block exactly as written (demo → calibrate `bags/demo_*/` → compare), Ctrl-C on `demo` (a
+//! The DDS commands at their edges, each in the private network namespace (scripts/test) (the documented
+//! blocks, the README's calibration among them, run in tests/docs_commands.rs): Ctrl-C on `demo` (a
 //! partial report and status 130), duration flags at 1e300 / inf and a node told to split every 1e300 s (no
 //! panic: they run until interrupted), `| head -1` on every DDS command that prints, and non-regular files
 //! given to `pub --file` and `bag record --qos-profile-overrides-path` (a clear error, no endless read).
@@ -77,27 +77,6 @@ fn interrupt_after(line: &str, dir: &Path, for_how_long: Duration) -> (Option<i3
 fn no_panic(line: &str, code: Option<i32>, stderr: &str) {
     assert_ne!(code, Some(101), "{line}: exit 101\n{stderr}");
     assert!(!stderr.contains("panicked"), "{line}: {stderr}");
-}
-
-/// The README's calibration block, line by line as written, in a fresh directory.
-#[test]
-fn the_readme_calibration_block_runs_as_written() {
-    support::require_isolated_network();
-    let _domain = domain();
-    let readme = std::fs::read_to_string(support::repo().join("README.md")).expect("README");
-    let start = readme.find("`calibrate --fit-batter` fits the batter instead").expect("the calibration section");
-    let block = &readme[start..];
-    let block = &block[block.find("```sh").expect("its sh block") + 5..];
-    let block = &block[..block.find("```").expect("block end")];
-    let lines: Vec<&str> = block.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
-    assert!(lines.iter().any(|l| l.contains("calibrate bags/demo_*/")), "{lines:?}");
-    let dir = tempfile::tempdir().expect("tempdir");
-    for line in lines {
-        let command = line.split("  #").next().unwrap_or(line).trim();
-        let (code, out, err) = run(command, dir.path());
-        assert_eq!(code, Some(0), "README line `{command}` failed:\n{err}\n{out}");
-    }
-    assert!(dir.path().join("my-batter.toml").is_file());
 }
 
 /// Ctrl-C on `demo` (to its process group, node included, as a terminal sends it) stops the session with a

@@ -2,8 +2,8 @@
 //! `sh -c` (with the built `sweetspot` first on PATH, in a fresh directory that has the repository's
 //! `examples/`), and the lines shown after it must appear in its output (stdout then stderr) in that order; a
 //! `…` line stands for any number of lines. An example shown failing (`error: …`) must fail; the others must
-//! succeed. (The `sh` block of `pub`/`echo` needs DDS and a node; `tests/ros_pubsub_cli.rs` covers those
-//! forms.) A doc example whose numbers went stale fails here.
+//! succeed. (The `sh` block of `pub`/`echo` needs DDS and a node: `tests/docs_commands.rs` runs it, and
+//! `tests/ros_pubsub_cli.rs` covers those forms.) A doc example whose numbers went stale fails here.
 
 mod support;
 

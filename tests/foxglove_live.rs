@@ -143,10 +143,9 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     let mut peer = Peer::new(domain, "foxglove_peer");
     let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
     let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
-    // The README's command line ("Watching a session"), with the bag put in the test's directory.
-    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
-    let section = readme.split("## Watching a session").nth(1).expect("a README section 'Watching a session'");
-    let line = section.lines().find(|l| l.starts_with("sweetspot node")).expect("a node command line");
+    // The command line of docs/foxglove.md, with the bag put in the test's directory.
+    let page = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/foxglove.md")).unwrap();
+    let line = page.lines().find(|l| l.starts_with("sweetspot node")).expect("a node command line");
     let line = line.split('#').next().unwrap().trim();
     assert_eq!(line, format!("sweetspot node --foxglove {PORT}"));
     let mut args: Vec<String> = line.split_whitespace().skip(2).map(String::from).collect();
