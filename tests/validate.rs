@@ -125,6 +125,18 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
         if verdict != "N/A" {
             assert!(opt(&r["model"]).is_some(), "{id} judged without a model number");
         }
+        // The verdict follows the bounds, judged here from the JSON alone: a model number outside them is FAIL.
+        if let Some(m) = opt(&r["model"]) {
+            let (lo, hi) = (opt(&r["low"]), opt(&r["high"]));
+            let expected = match r["rule"].as_str().expect("rule") {
+                "range" | "within" | "trackman_iqr" => lo.zip(hi).map(|(lo, hi)| lo <= m && m <= hi),
+                "at_most" => hi.map(|hi| m <= hi),
+                "at_least" => lo.map(|lo| m >= lo),
+                other => panic!("{id}: unknown rule {other}"),
+            };
+            let expected = expected.map_or("N/A", |inside| if inside { "PASS" } else { "FAIL" });
+            assert_eq!(verdict, expected, "{id}: model {m} against {lo:?}–{hi:?}");
+        }
         for key in ["quantity", "source", "read_from", "tolerance", "conditions"] {
             assert!(!r[key].as_str().unwrap_or("").is_empty(), "{id}: empty {key}");
         }
@@ -141,6 +153,7 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
     }
     for id in verdicts.keys() {
         let joined = id.starts_with("ball-cor")
+            || id.starts_with("statcast-q/")
             || rows.iter().any(|r| r["id"] == id.as_str() && r["note"] == "from validation/ball_cor.toml");
         assert!(joined || GREEN.contains(&id.as_str()) || RED.contains(&id.as_str()), "row {id} is in neither list");
     }
@@ -150,6 +163,29 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
         assert_eq!(opt(&r["low"]), *low, "{id}: low bound changed");
         assert_eq!(opt(&r["high"]), *high, "{id}: high bound changed");
     }
+    // The Statcast q rows: one per season bin of the batter's median bat speed and of the plate pitch speed,
+    // bounded by the bin's 97th and 99.8th percentiles as the table states them (read here with plain string
+    // splitting), and all inside with the game ball fitted to the odd half of the season.
+    let table = std::fs::read_to_string(support::repo().join("validation/statcast_q.csv")).unwrap();
+    let mut lines = table.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let mut statcast_rows = 0;
+    for line in lines {
+        let c: Vec<&str> = line.split(',').collect();
+        if c[col("half")] != "all" || !["batter_median_bat", "plate_pitch"].contains(&c[col("by")]) {
+            continue;
+        }
+        let id = format!("statcast-q/{}-{}-{}", c[col("by")].replace('_', "-"), c[col("low")], c[col("high")]);
+        let r = rows.iter().find(|r| r["id"] == id.as_str()).unwrap_or_else(|| panic!("no row {id}"));
+        let p = |name: &str| c[col(name)].parse::<f64>().unwrap();
+        assert_eq!(opt(&r["low"]), Some(p("q_p97")), "{id}: low bound");
+        assert_eq!(opt(&r["high"]), Some(p("q_p99_8")), "{id}: high bound");
+        assert_eq!(r["verdict"], "PASS", "{id}: {r}");
+        statcast_rows += 1;
+    }
+    assert_eq!(statcast_rows, 11);
+    assert_eq!(rows.iter().filter(|r| r["id"].as_str().is_some_and(|i| i.starts_with("statcast-q/"))).count(), 11);
     // The four figures were drawn.
     for name in ["validate-cor-vs-speed", "validate-spin-vs-launch", "validate-bpf-vs-hoop", "validate-exit-vs-impact"]
     {
@@ -324,5 +360,44 @@ fn the_readme_commands_run_as_written() {
         } else {
             assert!(stdout.contains("rows:"), "{line}: {stdout}");
         }
+    }
+}
+
+/// Every rule judged at, inside and beyond its bounds: on a bound is PASS, a hair outside is FAIL, on either
+/// side (catches `lo <= m && m <= hi` turned into `||`, and a bound compared the wrong way).
+#[test]
+fn every_rule_is_judged_on_and_beyond_its_bounds() {
+    use sweetspot::validate::{judge, Rule, Verdict};
+    let (lo, hi) = (2.0, 3.0);
+    let eps = 1e-9;
+    for rule in [Rule::Range, Rule::Within, Rule::TrackmanIqr] {
+        for (m, v) in [
+            (lo, Verdict::Pass),
+            (hi, Verdict::Pass),
+            (2.5, Verdict::Pass),
+            (lo - eps, Verdict::Fail),
+            (hi + eps, Verdict::Fail),
+            (-10.0, Verdict::Fail),
+            (10.0, Verdict::Fail),
+        ] {
+            assert_eq!(judge(rule, Some(m), Some(lo), Some(hi)), v, "{rule:?} at {m}");
+        }
+        assert_eq!(judge(rule, Some(2.5), None, Some(hi)), Verdict::NotApplicable, "{rule:?} without low");
+        assert_eq!(judge(rule, Some(2.5), Some(lo), None), Verdict::NotApplicable, "{rule:?} without high");
+    }
+    for (m, v) in [(hi, Verdict::Pass), (hi - 1.0, Verdict::Pass), (hi + eps, Verdict::Fail), (1e9, Verdict::Fail)] {
+        assert_eq!(judge(Rule::AtMost, Some(m), None, Some(hi)), v, "at_most at {m}");
+        // A low bound does not matter to at_most.
+        assert_eq!(judge(Rule::AtMost, Some(m), Some(hi + 100.0), Some(hi)), v, "at_most at {m} with a low");
+    }
+    assert_eq!(judge(Rule::AtMost, Some(1.0), Some(0.0), None), Verdict::NotApplicable);
+    for (m, v) in [(lo, Verdict::Pass), (lo + 1.0, Verdict::Pass), (lo - eps, Verdict::Fail), (-1e9, Verdict::Fail)] {
+        assert_eq!(judge(Rule::AtLeast, Some(m), None, Some(lo)).label(), "N/A");
+        assert_eq!(judge(Rule::AtLeast, Some(m), Some(lo), None), v, "at_least at {m}");
+        assert_eq!(judge(Rule::AtLeast, Some(m), Some(lo), Some(lo - 100.0)), v, "at_least at {m} with a high");
+    }
+    // No model number, or not a finite one: N/A, whatever the bounds.
+    for m in [None, Some(f64::NAN), Some(f64::INFINITY)] {
+        assert_eq!(judge(Rule::Range, m, Some(lo), Some(hi)), Verdict::NotApplicable);
     }
 }

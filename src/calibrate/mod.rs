@@ -23,6 +23,7 @@
 pub mod batter;
 pub mod cor_speed;
 mod lm;
+pub mod statcast;
 pub mod tangential;
 
 use std::collections::BTreeMap;

@@ -129,7 +129,8 @@ pub struct BallArgs {
     /// Ball loading exponent α [default 1.84].
     #[arg(long, value_name = "ALPHA", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_exponent: Option<f64>,
-    /// A built-in ball to start from (baseball, bbcor, mlb); the other --ball-* flags override its fields.
+    /// A built-in ball to start from (baseball, bbcor, mlb, mlb2024); the other --ball-* flags override its
+    /// fields.
     #[arg(long = "ball", value_name = "NAME")]
     pub ball_preset: Option<String>,
     /// Exponent p of e0 ∝ v^(−p) in the normal approach speed v, 0..=1 (0 = constant COR) [default 0].

@@ -11,8 +11,8 @@ use crate::validate::{evaluate, figures, read_inputs, render};
 /// Arguments of `sweetspot validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
-    /// Directory of the suite's data (measurements.toml, trackman_spin.csv, ball_cor.toml if present)
-    /// [default: ./validation, else the source tree's validation/].
+    /// Directory of the suite's data (measurements.toml, trackman_spin.csv; ball_cor.toml, statcast_q.csv and
+    /// statcast_attack.csv if present) [default: ./validation, else the source tree's validation/].
     #[arg(long, value_name = "DIR")]
     pub data: Option<PathBuf>,
     /// Draw the figures (COR vs speed, spin vs launch angle, BPF vs hoop frequency, exit speed vs impact

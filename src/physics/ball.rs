@@ -68,6 +68,12 @@ pub const MLB_COR_SPEED: f64 = 85.0 * FT_PER_S;
 pub const GAME_BALL_COR: (f64, f64) = (1.0, 0.66);
 /// Nathan's high-speed case: e0 = 0.50 near 60 m/s (same source).
 pub const GAME_BALL_COR_HIGH: (f64, f64) = (60.0, 0.50);
+/// The game ball `mlb2024`: e0 at [`MLB_COR_SPEED`], fitted to the odd half of the 2024 season.
+pub const MLB2024_COR: f64 = 0.5327;
+/// The game ball `mlb2024`: exponent p of e0 ∝ v^(−p), fitted with [`MLB2024_COR`].
+pub const MLB2024_COR_SPEED_EXPONENT: f64 = 0.0487;
+/// The preset name of the game ball: the ball every game swing is simulated with unless another is named.
+pub const GAME_BALL: &str = "mlb2024";
 
 impl Default for Ball {
     /// A regulation baseball: 0.145 kg, 0.0366 m, k1 = 6.53e7 N/m^α, α = 1.84, e0 = 0.53.
@@ -87,16 +93,17 @@ impl Default for Ball {
 impl Ball {
     /// Names of the built-in balls.
     pub fn preset_names() -> &'static [&'static str] {
-        &["baseball", "bbcor", "mlb"]
+        &["baseball", "bbcor", "mlb", "mlb2024"]
     }
 
-    /// A built-in ball by name: `baseball` ([`Ball::default`]), `bbcor` ([`Ball::bbcor_protocol`]) or `mlb`
-    /// ([`Ball::mlb`]).
+    /// A built-in ball by name: `baseball` ([`Ball::default`]), `bbcor` ([`Ball::bbcor_protocol`]), `mlb`
+    /// ([`Ball::mlb`]) or `mlb2024` ([`Ball::mlb2024`], the game ball).
     pub fn preset(name: &str) -> Result<Ball, PhysicsError> {
         match name {
             "baseball" => Ok(Ball::default()),
             "bbcor" => Ok(Ball::bbcor_protocol()),
             "mlb" => Ok(Ball::mlb()),
+            "mlb2024" => Ok(Ball::mlb2024()),
             _ => {
                 Err(PhysicsError::UnknownBallPreset { name: name.to_string(), known: Ball::preset_names().join(", ") })
             }
@@ -137,6 +144,21 @@ impl Ball {
             cor: e1,
             cor_speed_exponent: (e1 / e2).ln() / (v2 / v1).ln(),
             cor_reference_speed: v1,
+            ..Ball::default()
+        }
+    }
+
+    /// `mlb2024`, the game ball: e0(v) fitted to real games — the upper envelope (99th percentile) of Statcast's
+    /// collision efficiency q in the odd-`game_pk` half of the 2024 MLB season, binned on the batter's
+    /// season-median bat speed and on the plate pitch speed (`validation/statcast_q.csv`,
+    /// `calibrate::statcast`, docs/statcast.md), the R161 swung about its knob. e0 = [`MLB2024_COR`] at MLB's
+    /// specification speed 85 ft/s, falling as v^(−[`MLB2024_COR_SPEED_EXPONENT`]); mass, radius and force law
+    /// are the default ball's. The even half is the held-out check (tests/calibrate_statcast.rs).
+    pub fn mlb2024() -> Ball {
+        Ball {
+            cor: MLB2024_COR,
+            cor_speed_exponent: MLB2024_COR_SPEED_EXPONENT,
+            cor_reference_speed: MLB_COR_SPEED,
             ..Ball::default()
         }
     }
@@ -263,7 +285,8 @@ mod tests {
             assert!(e.contains(field), "{e}");
         }
         assert!(Ball::mlb().validate().is_ok());
-        assert_eq!(Ball::preset_names().len(), 3);
+        assert_eq!(Ball::preset_names().len(), 4);
+        assert!(Ball::preset_names().contains(&GAME_BALL));
         for name in Ball::preset_names() {
             assert!(Ball::preset(name).unwrap().validate().is_ok(), "{name}");
         }

@@ -223,6 +223,38 @@ impl Lab {
         Ok(CaseValue { value: Some(q), detail: best.detail(bat, " (Statcast's point)") })
     }
 
+    /// Statcast's q at the point of largest exit speed of the R161 swung about its knob at `bat_speed` m/s 6 in
+    /// from the head (where Statcast measures it) against a pitch of `pitch_speed` m/s, with `ball`:
+    /// q = (v_exit − v_bat)/(v_pitch + v_bat), and the point's distance from the barrel end, m.
+    pub fn statcast_q_max_with(
+        &self,
+        ball: &Ball,
+        bat_speed: f64,
+        pitch_speed: f64,
+    ) -> Result<(f64, f64), ValidateError> {
+        let case = "statcast_q_envelope";
+        let (_, modes) = self.bat(case, "r161")?;
+        crate::calibrate::statcast::statcast_q_max(&modes, ball, bat_speed, pitch_speed, &self.options)
+            .map_err(physics(case))
+    }
+
+    /// [`Lab::statcast_q_max_with`] with the game ball.
+    pub fn statcast_q_max(&self, bat_speed: f64, pitch_speed: f64) -> Result<CaseValue, ValidateError> {
+        let ball = self.ball("statcast_q_envelope", &self.game_ball)?;
+        let (q, from_end) = self.statcast_q_max_with(&ball, bat_speed, pitch_speed)?;
+        Ok(CaseValue {
+            value: Some(q),
+            detail: format!(
+                "R161 about the knob at {:.1} mph 6 in from the head, `{}` ball, pitch {:.1} mph, best point {:.2} in \
+                 from the end",
+                bat_speed / MPH,
+                self.game_ball,
+                pitch_speed / MPH,
+                from_end / INCH
+            ),
+        })
+    }
+
     /// The average MLB swing of `bat` at a pitch of `pitch_speed` m/s, struck at its point of largest exit speed.
     fn best_point_swing(&self, case: &str, bat: &str, pitch_speed: f64) -> Result<BestPoint, ValidateError> {
         let (_, modes) = self.bat(case, bat)?;
