@@ -56,8 +56,12 @@ fn doc(out: &Output, what: &str) -> Value {
 fn rosidl_json(type_name: &str) -> Value {
     let rel = type_name.replacen('/', "/", 1);
     let (pkg, rest) = rel.split_once('/').unwrap();
-    let path: PathBuf =
-        support::repo().join("target/ros2/jazzy/install").join(pkg).join("share").join(pkg).join(format!("{rest}.json"));
+    let path: PathBuf = support::repo()
+        .join("target/ros2/jazzy/install")
+        .join(pkg)
+        .join("share")
+        .join(pkg)
+        .join(format!("{rest}.json"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_json::from_str(&text).unwrap()
 }
@@ -110,7 +114,8 @@ fn simulate(bat: &str, z: f64, ball_speed: f64, bat_cm_speed: f64, bat_angular_s
 /// An answer (ExitVelocity as rclpy decoded it) equals simulate's numbers bit for bit.
 fn assert_same_as_simulate(ev: &Value, sim: &Value, what: &str) {
     assert_eq!(ev["status"], json!(0), "{what}: {ev}");
-    for key in ["exit_speed", "rigid_exit_speed", "effective_cor", "collision_efficiency", "contact_time", "peak_force"] {
+    for key in ["exit_speed", "rigid_exit_speed", "effective_cor", "collision_efficiency", "contact_time", "peak_force"]
+    {
         assert_eq!(f(&ev[key]).to_bits(), f(&sim[key]).to_bits(), "{what}: {key}");
     }
 }
@@ -290,11 +295,14 @@ fn a_late_node_gets_the_rigs_latched_bat_and_a_restarted_node_answers_the_same_r
     let bat = json!({"bat_id": "late bat", "preset": "torpedo"});
     let swings = json!([swing(1, "late bat", 0.64), swing(2, "late bat", 0.7)]);
     let rig = |timeout: &str| -> Child {
-        peer(domain, &["--timeout", timeout, "swings", "--bat-first", "--bat", &bat.to_string(), "--json", &swings.to_string()])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("rclpy rig")
+        peer(
+            domain,
+            &["--timeout", timeout, "swings", "--bat-first", "--bat", &bat.to_string(), "--json", &swings.to_string()],
+        )
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("rclpy rig")
     };
     let check = |out: Output, what: &str| {
         let answers = support::json_lines(&out, what);
@@ -341,7 +349,10 @@ fn a_burst_of_calls_is_answered_in_full_with_a_deep_enough_client_history() {
     assert_eq!(deep["answered"], json!(50), "keep-last 100: {deep}");
     assert_eq!(deep["status_counts"]["0"], json!(50), "{deep}");
     let default = burst("10");
-    eprintln!("50 calls at once: keep-last 10 client got {}, keep-last 100 got {}", default["answered"], deep["answered"]);
+    eprintln!(
+        "50 calls at once: keep-last 10 client got {}, keep-last 100 got {}",
+        default["answered"], deep["answered"]
+    );
     assert!(f(&default["answered"]) >= 10.0, "{default}");
     let _ = node.stop_with(2);
 }

@@ -216,11 +216,8 @@ fn listing(entries: &BTreeMap<String, BTreeSet<String>>, show_types: bool) -> St
 /// Every message and service type sweetspot was built with.
 fn known_types() -> Vec<String> {
     use crate::msgs::RosService;
-    let mut names: Vec<String> = crate::msgs::ALL_TYPES
-        .iter()
-        .map(|t| t.type_name.to_string())
-        .filter(|n| !n.contains("/srv/"))
-        .collect();
+    let mut names: Vec<String> =
+        crate::msgs::ALL_TYPES.iter().map(|t| t.type_name.to_string()).filter(|n| !n.contains("/srv/")).collect();
     names.push(crate::msgs::sweetspot_msgs::srv::SimulateSwing::TYPE_NAME.to_string());
     names.push(crate::msgs::type_description_interfaces::srv::GetTypeDescription::TYPE_NAME.to_string());
     names.sort();
@@ -256,15 +253,20 @@ mod tests {
     #[test]
     fn dds_type_names_read_as_ros_names() {
         assert_eq!(ros_type_name("sweetspot_msgs::msg::dds_::Swing_"), "sweetspot_msgs/msg/Swing");
-        assert_eq!(ros_type_name("rcl_interfaces::srv::dds_::SetParameters_Request_"), "rcl_interfaces/srv/SetParameters_Request");
+        assert_eq!(
+            ros_type_name("rcl_interfaces::srv::dds_::SetParameters_Request_"),
+            "rcl_interfaces/srv/SetParameters_Request"
+        );
     }
 
     #[test]
     fn show_prints_the_definition_files() {
-        let swing = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/msgs/sweetspot_msgs/msg/Swing.msg")).unwrap();
+        let swing =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/msgs/sweetspot_msgs/msg/Swing.msg")).unwrap();
         assert_eq!(show("sweetspot_msgs/msg/Swing").unwrap(), swing);
-        let srv = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/msgs/sweetspot_msgs/srv/SimulateSwing.srv"))
-            .unwrap();
+        let srv =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/msgs/sweetspot_msgs/srv/SimulateSwing.srv"))
+                .unwrap();
         assert_eq!(show("sweetspot_msgs/srv/SimulateSwing").unwrap(), srv);
         assert!(show("nav_msgs/msg/Odometry").is_err());
     }

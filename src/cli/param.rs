@@ -254,7 +254,13 @@ fn plain(value: &ParameterValue) -> String {
 /// Python's `repr` of a float: the shortest round-trip digits, exponent form below 1e-4 and from 1e16.
 fn python_float(x: f64) -> String {
     if !x.is_finite() {
-        return if x.is_nan() { "nan".into() } else if x > 0.0 { "inf".into() } else { "-inf".into() };
+        return if x.is_nan() {
+            "nan".into()
+        } else if x > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        };
     }
     let a = x.abs();
     if a != 0.0 && !(1e-4..1e16).contains(&a) {
@@ -292,7 +298,10 @@ fn describe(d: &raw::ParameterDescriptor) -> String {
     if !d.description.is_empty() {
         out += &format!("  Description: {}\n", d.description);
     }
-    if d.read_only || !d.additional_constraints.is_empty() || !d.integer_range.is_empty() || !d.floating_point_range.is_empty()
+    if d.read_only
+        || !d.additional_constraints.is_empty()
+        || !d.integer_range.is_empty()
+        || !d.floating_point_range.is_empty()
     {
         out += "  Constraints:\n";
         if d.read_only {
@@ -308,7 +317,11 @@ fn describe(d: &raw::ParameterDescriptor) -> String {
             }
         }
         for r in &d.floating_point_range {
-            out += &format!("    Min value: {}\n    Max value: {}\n", python_float(r.from_value), python_float(r.to_value));
+            out += &format!(
+                "    Min value: {}\n    Max value: {}\n",
+                python_float(r.from_value),
+                python_float(r.to_value)
+            );
             if r.step != 0.0 {
                 out += &format!("    Step: {}\n", python_float(r.step));
             }

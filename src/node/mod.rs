@@ -88,6 +88,6 @@ pub mod recording;
 pub use crate::ros::args as ros_args;
 pub mod runtime;
 pub mod service;
-pub mod type_description;
 pub mod settings;
 pub mod stats;
+pub mod type_description;

@@ -157,7 +157,11 @@ fn individual(name: &str) -> Result<IndividualTypeDescription, DescribeError> {
     if let Some((service, _, _)) = services().into_iter().find(|(n, _, _)| *n == name) {
         let nested = |field: &str, suffix: &str| Field {
             name: field.to_string(),
-            r#type: FieldType { type_id: NESTED, nested_type_name: format!("{service}_{suffix}"), ..Default::default() },
+            r#type: FieldType {
+                type_id: NESTED,
+                nested_type_name: format!("{service}_{suffix}"),
+                ..Default::default()
+            },
             default_value: String::new(),
         };
         return Ok(IndividualTypeDescription {
