@@ -54,8 +54,7 @@ fn doc(out: &Output, what: &str) -> Value {
 
 /// The workspace's rosidl-generated type description of `pkg/kind/Name` (colcon install).
 fn rosidl_json(type_name: &str) -> Value {
-    let rel = type_name.replacen('/', "/", 1);
-    let (pkg, rest) = rel.split_once('/').unwrap();
+    let (pkg, rest) = type_name.split_once('/').unwrap();
     let path: PathBuf = support::repo()
         .join("target/ros2/jazzy/install")
         .join(pkg)
