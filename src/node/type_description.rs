@@ -127,8 +127,20 @@ fn hash_of(name: &str) -> &'static str {
     services().into_iter().find(|(n, _, _)| *n == name).map_or("", |(_, _, hash)| hash)
 }
 
+/// The request and response halves of the services, which [`crate::msgs::ALL_TYPES`] does not list.
+static SERVICE_HALVES: [TypeInfo; 4] = {
+    use crate::msgs::sweetspot_msgs::srv::{SimulateSwing_Request, SimulateSwing_Response};
+    use crate::msgs::RosMessage;
+    [
+        SimulateSwing_Request::INFO,
+        SimulateSwing_Response::INFO,
+        GetTypeDescription_Request::INFO,
+        GetTypeDescription_Response::INFO,
+    ]
+};
+
 fn info(name: &str) -> Option<&'static TypeInfo> {
-    crate::msgs::ALL_TYPES.iter().find(|t| t.type_name == name)
+    crate::msgs::ALL_TYPES.iter().chain(SERVICE_HALVES.iter()).find(|t| t.type_name == name)
 }
 
 /// The REP-2011 description of `name` (`pkg/msg/Type`, `pkg/srv/Name_Request`, `pkg/srv/Name`): its own fields
