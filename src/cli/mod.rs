@@ -15,10 +15,12 @@ pub mod common;
 pub mod compare;
 pub mod demo;
 pub mod figures;
+pub mod graph;
 pub mod import;
 pub mod locate;
 pub mod modes;
 pub mod node;
+pub mod param;
 pub mod pubsub;
 pub mod rig;
 pub mod simulate;
@@ -46,6 +48,20 @@ pub enum Command {
     Echo(pubsub::EchoArgs),
     /// Call a node's service (`simulate_swing`), as `ros2 service call`.
     Call(call::CallArgs),
+    /// A running node's parameters: list, get, set, describe, dump, as `ros2 param`.
+    #[command(subcommand)]
+    Param(param::ParamCommand),
+    /// The topics in the ROS graph, as `ros2 topic list [-t]`.
+    #[command(subcommand)]
+    Topic(graph::TopicCommand),
+    /// The services in the ROS graph, as `ros2 service list [-t]`.
+    #[command(subcommand)]
+    Service(graph::ServiceCommand),
+    /// The nodes in the ROS graph, as `ros2 node list` (`sweetspot node list` works too).
+    Nodes(graph::NodesArgs),
+    /// Message and service definitions sweetspot knows, as `ros2 interface show|list`.
+    #[command(subcommand)]
+    Interface(graph::InterfaceCommand),
     /// Record, inspect, replay, play, recover and export bags.
     #[command(subcommand)]
     Bag(bag::BagCommand),
@@ -77,12 +93,22 @@ pub enum Command {
 
 /// Parses the process arguments and runs the chosen subcommand; errors are printed with context.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // `ros2 node list`'s spelling: `sweetspot node list` is `sweetspot nodes` (`node` alone runs the node).
+    let mut argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if argv.get(1).is_some_and(|a| a == "node") && argv.get(2).is_some_and(|a| a == "list") {
+        argv.splice(1..3, [std::ffi::OsString::from("nodes")]);
+    }
+    let cli = Cli::parse_from(argv);
     let outcome = match cli.command {
         Command::Node(args) => node::run(args),
         Command::Pub(args) => pubsub::run_pub(args),
         Command::Echo(args) => pubsub::run_echo(args),
         Command::Call(args) => call::run(args),
+        Command::Param(cmd) => param::run(cmd),
+        Command::Topic(cmd) => graph::run_topic(cmd),
+        Command::Service(cmd) => graph::run_service(cmd),
+        Command::Nodes(args) => graph::run_nodes(args),
+        Command::Interface(cmd) => graph::run_interface(cmd),
         Command::Bag(cmd) => bag::run(cmd),
         Command::Modes(args) => modes::run(args),
         Command::Simulate(args) => simulate::run(args),

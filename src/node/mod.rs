@@ -90,3 +90,4 @@ pub mod runtime;
 pub mod service;
 pub mod settings;
 pub mod stats;
+pub mod type_description;

@@ -138,6 +138,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let topic_names = TopicNames::resolve(&names);
     let (inputs, outputs) = endpoints(&context, &mut node, &topic_names, &settings, &names)?;
     let (spinning, graph_events) = spin(&mut node)?;
+    let type_descriptions = super::type_description::start(&mut node, &names, mapping_of(&settings))?;
     outputs.refresh_energies_listeners(&node);
 
     // Recording: every input as received and every output as published.
@@ -224,6 +225,8 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     // Entities before the participant: dropping the node stops the spinner, which must drop its parameter
     // services while `context` still holds the participant. `finish` already dropped the log handle (a
     // rosout writer clone) and the liveness probe (a context clone), so `context` is the last holder.
+    type_descriptions.abort();
+    let _ = type_descriptions.await;
     drop(inputs);
     drop(node);
     let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;

@@ -1,0 +1,273 @@
+//! The ROS graph as `ros2` lists it, for a user without ROS: `sweetspot topic list [-t]`, `sweetspot service
+//! list [-t]`, `sweetspot nodes` (`ros2 node list`), and `sweetspot interface show TYPE` for the types
+//! sweetspot knows.
+//!
+//! The lists come from DDS discovery (every participant on `ROS_DOMAIN_ID`, with `ROS_AUTOMATIC_DISCOVERY_RANGE`
+//! / `ROS_LOCALHOST_ONLY` as for the other DDS commands), gathered for `--spin-time` seconds as `ros2 …
+//! --no-daemon --spin-time` does: topics are the `rt/…` endpoints, services the `rq/…Request` readers of their
+//! servers, nodes what each participant announces on `ros_discovery_info`. This command's own participant is
+//! left out. Output as `ros2`'s: one name a line, sorted, `-t` adding `[pkg/msg/Type]`.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use anyhow::{anyhow, bail, Context as _};
+
+use crate::ros::{self, DdsConfig};
+
+/// `sweetspot topic`.
+#[derive(Debug, clap::Subcommand)]
+pub enum TopicCommand {
+    /// Every topic with a publisher or a subscriber, as `ros2 topic list`.
+    List(ListArgs),
+}
+
+/// `sweetspot service`.
+#[derive(Debug, clap::Subcommand)]
+pub enum ServiceCommand {
+    /// Every service with a server, as `ros2 service list`.
+    List(ListArgs),
+}
+
+/// `sweetspot interface`.
+#[derive(Debug, clap::Subcommand)]
+pub enum InterfaceCommand {
+    /// A message or service definition sweetspot knows (`pkg/msg/Type`, `pkg/srv/Type`), as `ros2 interface
+    /// show`.
+    Show {
+        /// The type, e.g. `sweetspot_msgs/msg/Swing` or `sweetspot_msgs/srv/SimulateSwing`.
+        type_name: String,
+    },
+    /// Every type sweetspot knows, as `ros2 interface list`.
+    List,
+}
+
+/// How to list.
+#[derive(Debug, clap::Args)]
+pub struct ListArgs {
+    /// Show each one's type(s) too.
+    #[arg(short = 't', long = "show-types")]
+    pub show_types: bool,
+    /// Seconds to listen to discovery before listing.
+    #[arg(long, value_name = "SECS", default_value = "2", value_parser = super::common::seconds_at_least_zero)]
+    pub spin_time: f64,
+}
+
+/// How to list nodes.
+#[derive(Debug, clap::Args)]
+pub struct NodesArgs {
+    /// Seconds to listen to discovery before listing.
+    #[arg(long, value_name = "SECS", default_value = "2", value_parser = super::common::seconds_at_least_zero)]
+    pub spin_time: f64,
+}
+
+/// Runs `sweetspot topic …`.
+pub fn run_topic(command: TopicCommand) -> anyhow::Result<()> {
+    let TopicCommand::List(args) = command;
+    let graph = discover(args.spin_time)?;
+    print!("{}", listing(&graph.topics, args.show_types));
+    Ok(())
+}
+
+/// Runs `sweetspot service …`.
+pub fn run_service(command: ServiceCommand) -> anyhow::Result<()> {
+    let ServiceCommand::List(args) = command;
+    let graph = discover(args.spin_time)?;
+    print!("{}", listing(&graph.services, args.show_types));
+    Ok(())
+}
+
+/// Runs `sweetspot nodes`.
+pub fn run_nodes(args: NodesArgs) -> anyhow::Result<()> {
+    let graph = discover(args.spin_time)?;
+    for node in graph.nodes {
+        println!("{node}");
+    }
+    Ok(())
+}
+
+/// Runs `sweetspot interface …`.
+pub fn run_interface(command: InterfaceCommand) -> anyhow::Result<()> {
+    match command {
+        InterfaceCommand::Show { type_name } => {
+            print!("{}", show(&type_name)?);
+            Ok(())
+        }
+        InterfaceCommand::List => {
+            for name in known_types() {
+                println!("    {name}");
+            }
+            Ok(())
+        }
+    }
+}
+
+/// One discovery snapshot: topics and services with their types, and node names.
+#[derive(Debug, Default)]
+struct Graph {
+    topics: BTreeMap<String, BTreeSet<String>>,
+    services: BTreeMap<String, BTreeSet<String>>,
+    nodes: BTreeSet<String>,
+}
+
+fn discover(spin_time: f64) -> anyhow::Result<Graph> {
+    let config = DdsConfig::from_env()?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    runtime.block_on(async {
+        let context = ros::context(&config)?;
+        let node_name = ros2_client::NodeName::new("/", &format!("_sweetspot_graph_{}", std::process::id()))
+            .map_err(|e| anyhow!("node name: {e:?}"))?;
+        let mut node = context
+            .new_node(node_name, ros2_client::NodeOptions::new().enable_rosout(false))
+            .map_err(|e| anyhow!("creating the DDS node: {e:?}"))?;
+        let participants = participants_reader(&context, &mut node)?;
+        tokio::time::sleep(crate::model::time::saturating_secs(spin_time)).await;
+
+        let participant = context.domain_participant();
+        let own = rustdds::RTPSEntity::guid(&participant).prefix;
+        let mut graph = Graph::default();
+        let mut endpoints: Vec<(String, String)> = Vec::new();
+        for w in participant.discovered_writers() {
+            if w.writer_proxy.remote_writer_guid.prefix != own {
+                let t = &w.publication_topic_data;
+                endpoints.push((t.topic_name.clone(), t.type_name.clone()));
+            }
+        }
+        let mut servers: Vec<(String, String)> = Vec::new();
+        for r in participant.discovered_readers() {
+            if r.reader_proxy.remote_reader_guid.prefix != own {
+                let t = &r.subscription_topic_data;
+                endpoints.push((t.topic_name().clone(), t.type_name().clone()));
+                servers.push((t.topic_name().clone(), t.type_name().clone()));
+            }
+        }
+        for (topic, dds_type) in endpoints {
+            if let Some(name) = topic.strip_prefix("rt/") {
+                graph.topics.entry(format!("/{name}")).or_default().insert(ros_type_name(&dds_type));
+            }
+        }
+        for (topic, dds_type) in servers {
+            if let Some(name) = topic.strip_prefix("rq/").and_then(|n| n.strip_suffix("Request")) {
+                let service_type = ros_type_name(&dds_type);
+                let service_type = service_type.strip_suffix("_Request").unwrap_or(&service_type).to_string();
+                graph.services.entry(format!("/{name}")).or_default().insert(service_type);
+            }
+        }
+        let own_gid = context.participant_entities_info().gid();
+        let mut latest: BTreeMap<ros2_client::Gid, Vec<String>> = BTreeMap::new();
+        while let Ok(Some((info, _))) = participants.take() {
+            if info.gid() != own_gid {
+                latest.insert(info.gid(), info.nodes().iter().map(|n| n.fully_qualified_name()).collect());
+            }
+        }
+        graph.nodes = latest.into_values().flatten().collect();
+        drop(participant);
+        drop(participants);
+        drop(node);
+        Ok(graph)
+    })
+}
+
+/// A reader of `ros_discovery_info` with the writers' QoS (reliable, transient-local: every participant's
+/// latest announcement arrives at once).
+fn participants_reader(
+    context: &ros2_client::Context,
+    node: &mut ros2_client::Node,
+) -> anyhow::Result<ros2_client::Subscription<ros2_client::entities_info::ParticipantEntitiesInfo>> {
+    use ros2_client::builtin_topics::ros_discovery;
+    let participant = context.domain_participant();
+    let topic = participant.create_topic(
+        ros_discovery::TOPIC_NAME.to_string(),
+        ros_discovery::TYPE_NAME.to_string(),
+        &ros_discovery::QOS_PUB,
+        rustdds::TopicKind::NoKey,
+    );
+    drop(participant);
+    let topic = topic.map_err(|e| anyhow!("topic {}: {e:?}", ros_discovery::TOPIC_NAME))?;
+    let qos = ros2_client::QosProfile::publisher_default()
+        .durability(ros2_client::qos::Durability::TransientLocal)
+        .history(ros2_client::qos::History::KeepLast { depth: 1024 });
+    node.create_subscription(&topic, Some(qos)).map_err(|e| anyhow!("reader of {}: {e:?}", ros_discovery::TOPIC_NAME))
+}
+
+/// `pkg::msg::dds_::Type_` → `pkg/msg/Type` (anything else unchanged).
+fn ros_type_name(dds: &str) -> String {
+    let parts: Vec<&str> = dds.split("::").collect();
+    match parts.as_slice() {
+        [pkg, kind, "dds_", name] => format!("{pkg}/{kind}/{}", name.strip_suffix('_').unwrap_or(name)),
+        _ => dds.to_string(),
+    }
+}
+
+fn listing(entries: &BTreeMap<String, BTreeSet<String>>, show_types: bool) -> String {
+    let mut out = String::new();
+    for (name, types) in entries {
+        match show_types {
+            true => out += &format!("{name} [{}]\n", types.iter().cloned().collect::<Vec<_>>().join(", ")),
+            false => out += &format!("{name}\n"),
+        }
+    }
+    out
+}
+
+/// Every message and service type sweetspot was built with.
+fn known_types() -> Vec<String> {
+    use crate::msgs::RosService;
+    let mut names: Vec<String> =
+        crate::msgs::ALL_TYPES.iter().map(|t| t.type_name.to_string()).filter(|n| !n.contains("/srv/")).collect();
+    names.push(crate::msgs::sweetspot_msgs::srv::SimulateSwing::TYPE_NAME.to_string());
+    names.push(crate::msgs::type_description_interfaces::srv::GetTypeDescription::TYPE_NAME.to_string());
+    names.sort();
+    names
+}
+
+/// The definition of a known type, as its `.msg`/`.srv` file has it.
+fn show(type_name: &str) -> anyhow::Result<String> {
+    use crate::msgs::RosService;
+    let services = [
+        (
+            crate::msgs::sweetspot_msgs::srv::SimulateSwing::TYPE_NAME,
+            crate::msgs::sweetspot_msgs::srv::SimulateSwing::SRV_TEXT,
+        ),
+        (
+            crate::msgs::type_description_interfaces::srv::GetTypeDescription::TYPE_NAME,
+            crate::msgs::type_description_interfaces::srv::GetTypeDescription::SRV_TEXT,
+        ),
+    ];
+    if let Some((_, text)) = services.iter().find(|(name, _)| *name == type_name) {
+        return Ok(text.to_string());
+    }
+    match crate::msgs::type_info(type_name) {
+        Some(info) if info.type_name == type_name || !type_name.contains("/srv/") => Ok(info.msg_text.to_string()),
+        _ => bail!("Unknown interface '{type_name}' (sweetspot knows: `sweetspot interface list`)"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dds_type_names_read_as_ros_names() {
+        assert_eq!(ros_type_name("sweetspot_msgs::msg::dds_::Swing_"), "sweetspot_msgs/msg/Swing");
+        assert_eq!(
+            ros_type_name("rcl_interfaces::srv::dds_::SetParameters_Request_"),
+            "rcl_interfaces/srv/SetParameters_Request"
+        );
+    }
+
+    #[test]
+    fn show_prints_the_definition_files() {
+        let swing =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/msgs/sweetspot_msgs/msg/Swing.msg")).unwrap();
+        assert_eq!(show("sweetspot_msgs/msg/Swing").unwrap(), swing);
+        let srv =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/msgs/sweetspot_msgs/srv/SimulateSwing.srv"))
+                .unwrap();
+        assert_eq!(show("sweetspot_msgs/srv/SimulateSwing").unwrap(), srv);
+        assert!(show("nav_msgs/msg/Odometry").is_err());
+    }
+}
