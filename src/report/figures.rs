@@ -10,7 +10,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use super::plot::{draw_panels, ImageFormat, LineChart, LineKind, Series, VerticalMarker};
+use super::plot::{draw_panels, ImageFormat, LegendAt, LineChart, LineKind, Series, VerticalMarker};
 use super::sweep::{impact_points, SweepJson};
 use super::table::num;
 use crate::physics::batter::{
@@ -729,14 +729,10 @@ pub fn exit_speed_chart(doc: &SweepJson) -> LineChart {
     ];
     let spot = &doc.sweet_spots;
     if within(&spot.max_exit_speed_z) {
-        let label = format!(
-            "sweet spot: max exit speed {} m/s at {} m",
-            num(spot.max_exit_speed, 4),
-            num(spot.max_exit_speed_z, 3)
-        );
-        markers.push(marker(spot.max_exit_speed_z, &label, 6, false));
+        let line = format!("sweet spot ({} m)", num(spot.max_exit_speed_z, 3));
+        markers.push(marker(spot.max_exit_speed_z, &line, 6, false));
         series.push(Series {
-            label,
+            label: format!("max exit speed {} m/s", num(spot.max_exit_speed, 4)),
             points: vec![(spot.max_exit_speed_z, spot.max_exit_speed)],
             color: 6,
             kind: LineKind::Markers { radius: 7, filled: false },
@@ -754,6 +750,8 @@ pub fn exit_speed_chart(doc: &SweepJson) -> LineChart {
         y_label: EXIT_SPEED_LABEL.into(),
         series,
         markers,
+        // The curves leave the bottom middle free (they rise to the sweet spot and fall beyond it).
+        legend: LegendAt::LowerMiddle,
         notes: vec![E0_NOTE.into(), RIGID_NOTE.into()],
         ..Default::default()
     }

@@ -159,6 +159,8 @@ pub enum LegendAt {
     UpperLeft,
     /// Lower left corner.
     LowerLeft,
+    /// Bottom, centred.
+    LowerMiddle,
 }
 
 /// A line chart: title, axis labels (with units), series and vertical markers.
@@ -530,6 +532,7 @@ where
                 LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
                 LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
                 LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
+                LegendAt::LowerMiddle => SeriesLabelPosition::LowerMiddle,
             })
             .draw()
             .map_err(plot_err)?;
