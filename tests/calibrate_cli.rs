@@ -242,3 +242,37 @@ fn oblique_flags_are_refused_in_their_own_units_at_the_nodes_limit() {
         assert!(!run.stderr.contains("rad"), "{}", run.stderr);
     }
 }
+
+/// An imported session's impact points and bat speeds are the batter model's, not measurements: calibrate says
+/// so beside its COR ± σ (and lists them in JSON), and `bag replay` shows the measured exit speeds against the
+/// model's. A recorded session with measured swings gets no such warning.
+#[test]
+fn an_imported_session_warns_what_was_assumed_and_replay_shows_measured_against_model() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bag = tmp.path().join("game");
+    let csv = support::repo().join("tests/data/trackman_game.csv");
+    let out =
+        Command::new(env!("CARGO_BIN_EXE_sweetspot")).arg("import").arg(&csv).arg("-o").arg(&bag).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let run = sweetspot(&["calibrate", s(&bag), "--max-iterations", "5", "--force"]);
+    assert!(run.stderr.contains("warning: imported session"), "{}", run.stderr);
+    assert!(run.stderr.contains("the impact point") && run.stderr.contains("the bat speed"), "{}", run.stderr);
+    assert!(run.stderr.contains("for 5 swings"), "five swings were imported: {}", run.stderr);
+    let doc = sweetspot(&["calibrate", s(&bag), "--json", "--max-iterations", "5", "--force"]);
+    let doc: serde_json::Value = serde_json::from_str(&doc.stdout).unwrap();
+    assert_eq!(doc["assumed"]["impact_z"], 5);
+    assert_eq!(doc["assumed"]["bat_speed"], 5);
+
+    // The four measured exit speeds of the export (ExitSpeed mph × 0.44704, by hand) beside the model's.
+    let replay = sweetspot(&["bag", "replay", s(&bag)]);
+    assert!(replay.status_ok, "{}", replay.stderr);
+    assert!(replay.stdout.contains("measured v_f") && replay.stdout.contains("meas − model"), "{}", replay.stdout);
+    for measured in ["40.419", "42.488", "40.215", "37.430"] {
+        assert!(replay.stdout.contains(measured), "{measured} missing:\n{}", replay.stdout);
+    }
+    assert!(replay.stdout.contains("measured against model: 4 measured swings"), "{}", replay.stdout);
+
+    let recorded = session(tmp.path(), 8);
+    let run = sweetspot(&["calibrate", s(&recorded), "--max-iterations", "5", "--force"]);
+    assert!(!run.stderr.contains("imported session"), "{}", run.stderr);
+}

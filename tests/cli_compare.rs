@@ -84,3 +84,15 @@ fn text_table_and_bad_inputs() {
     std::fs::write(&file, "bat_speed = -1.0\n").expect("write");
     assert!(fails(&["compare", "--batter", s(&file)]).contains("speed"));
 }
+
+/// A fitted exponent (as `calibrate --batter-out` writes it, all 17 digits) prints as the report's other
+/// numbers do, with 4 significant digits.
+#[test]
+fn a_fitted_exponent_prints_in_four_digits() {
+    let dir = tempfile::tempdir().unwrap();
+    let batter = dir.path().join("batter.toml");
+    std::fs::write(&batter, "exponent = 0.27378123456789012\n").unwrap();
+    let out = ok(&["compare", "--modes", "4", "--bats", "r161,aluminum", "--batter", s(&batter)]);
+    assert!(out.contains("n = 0.2738,"), "{out}");
+    assert!(!out.contains("0.273781"), "{out}");
+}

@@ -161,3 +161,81 @@ fn library_charts_for_the_demo_draw_several_bats() {
     assert_svg(&shapes);
     assert!(draw_panels(&dir.path().join("empty.svg"), &[], 1, None).is_err());
 }
+
+/// The plot box of a plotters SVG (the extent of its major grid lines, stroke #DADADA) and every series
+/// polyline (stroke from the palette), in pixels.
+fn plot_box_and_lines(svg: &str) -> ((f64, f64, f64, f64), Vec<Vec<(f64, f64)>>) {
+    use quick_xml::events::Event;
+    let mut reader = quick_xml::Reader::from_str(svg);
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let mut lines = Vec::new();
+    loop {
+        match reader.read_event().expect("well-formed SVG") {
+            Event::Start(e) | Event::Empty(e) => {
+                let attr =
+                    |key: &str| e.attributes().flatten().find(|a| a.key.as_ref() == key).map(|a| a.value.to_string());
+                let num = |key: &str| attr(key).and_then(|v| v.parse::<f64>().ok());
+                let stroke = attr("stroke").unwrap_or_default().to_ascii_uppercase();
+                match e.name().as_ref() {
+                    "line" if stroke == "#DADADA" => {
+                        for (x, y) in [(num("x1"), num("y1")), (num("x2"), num("y2"))] {
+                            let (x, y) = (x.unwrap(), y.unwrap());
+                            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+                        }
+                    }
+                    "polyline" if !["#DADADA", "#F4F4F4", "#000000", ""].contains(&stroke.as_str()) => {
+                        let points = attr("points").unwrap_or_default();
+                        lines.push(
+                            points
+                                .split_whitespace()
+                                .filter_map(|p| p.split_once(','))
+                                .map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap()))
+                                .collect(),
+                        );
+                    }
+                    _ => {}
+                }
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    ((x0, y0, x1, y1), lines)
+}
+
+/// A curve leaving the plot ends where it crosses the edge: no point outside the box and no stretch drawn
+/// along its edge (plotters alone pins the points beyond to the edge, a false vertical or horizontal line).
+#[test]
+fn curves_leaving_the_plot_are_clipped_at_its_edge() {
+    use sweetspot::report::plot::{draw_line_chart, LineChart, Series};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("clipped.svg");
+    // y = x², past the top at x = 2, and a line below the bottom from the start.
+    let parabola: Vec<(f64, f64)> = (0..=40).map(|k| k as f64 * 0.1).map(|x| (x, x * x)).collect();
+    let low: Vec<(f64, f64)> = (0..=40).map(|k| k as f64 * 0.1).map(|x| (x, x - 2.0)).collect();
+    let chart = LineChart {
+        series: vec![Series::solid("parabola", 0, parabola), Series::dashed("line", 1, low)],
+        x_range: Some((0.0, 3.0)),
+        y_range: Some((0.0, 4.0)),
+        ..Default::default()
+    };
+    draw_line_chart(&path, &chart).unwrap();
+    let svg = std::fs::read_to_string(&path).unwrap();
+    let ((x0, y0, x1, y1), lines) = plot_box_and_lines(&svg);
+    assert!(x1 > x0 && y1 > y0, "no plot box found");
+    assert!(!lines.is_empty(), "no series drawn");
+    let on_edge = |p: &(f64, f64)| {
+        (p.0 - x0).abs() < 1.0 || (p.0 - x1).abs() < 1.0 || (p.1 - y0).abs() < 1.0 || (p.1 - y1).abs() < 1.0
+    };
+    for line in &lines {
+        for p in line {
+            assert!(p.0 >= x0 - 1.0 && p.0 <= x1 + 1.0 && p.1 >= y0 - 1.0 && p.1 <= y1 + 1.0, "{p:?} outside the plot");
+        }
+        for w in line.windows(2) {
+            assert!(
+                !(on_edge(&w[0]) && on_edge(&w[1]) && w[0] != w[1] && (w[0].0 == w[1].0 || w[0].1 == w[1].1)),
+                "a stretch along the edge: {w:?}"
+            );
+        }
+    }
+}

@@ -278,6 +278,11 @@ fn sweetspot_call_prints_the_answer_and_says_by_its_exit_status_what_happened() 
     // The fully-qualified form, as `ros2 service call` takes it.
     let out = call(&["/rig3/sweetspot/simulate_swing", &request(8, &c).to_string(), "--timeout", "60"]);
     assert_eq!(lines(&out, "sweetspot call /rig3/…")[0]["exit_velocity"]["swing_id"], json!(8));
+    // YAML, as `ros2 service call` takes it.
+    let yaml = "{swing: {swing_id: 9, bat_id: r161, ball_speed: 40, bat_cm_speed: 25, impact_z: 0.7}}";
+    let out = call(&["simulate_swing", yaml, "--ns", "/rig3", "--timeout", "60"]);
+    let answer = &lines(&out, "sweetspot call YAML")[0];
+    assert_eq!((&answer["exit_velocity"]["swing_id"], &answer["exit_velocity"]["status"]), (&json!(9), &json!(0)));
 
     // REJECTED: the answer on stdout, the reason on stderr, exit status 1.
     let out = call(&["simulate_swing", r#"{"swing": {"bat_id": "no-such-bat"}}"#, "--ns", "/rig3", "--timeout", "60"]);

@@ -408,3 +408,58 @@ fn ros_cli_node_refuses_a_bad_default_bat_or_record_path_at_start_up() {
     assert!(error[0].contains("record_path") && error[0].contains("/proc/nope"), "{stderr}");
     assert!(!stderr.contains("recording /proc/nope"), "{stderr}");
 }
+
+/// `bag play --clock` publishes rosgraph_msgs/msg/Clock on /clock; `echo /clock` decodes it. The golden bag's
+/// time span is its metadata.yaml's (starting_time 1795256853.359 s, duration 3.645 s).
+#[test]
+fn ros_cli_echo_decodes_the_clock_bag_play_publishes() {
+    guard();
+    let domain = 158;
+    let golden = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("bags/golden/sweetspot_golden");
+    let echo = support::spawn_piped(cmd(domain, &["echo", "/clock", "--count", "3", "--timeout", "60"]));
+    // A quarter speed and 20 Hz: some 20 s of ticks, time enough for discovery, and --no-wait as ros2 bag play.
+    let play = support::spawn_piped(cmd(
+        domain,
+        &[
+            "bag",
+            "play",
+            "-q",
+            "--no-wait",
+            golden.to_str().unwrap(),
+            "-r",
+            "0.25",
+            "--clock",
+            "20",
+            "--topics",
+            "/golden/swing",
+        ],
+    ));
+    let out = finish(echo);
+    let _ = Command::new("kill").args(["-INT", &play.id().to_string()]).status();
+    let _ = finish(play);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    let secs: Vec<i64> = text
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("sec: "))
+        .map(|s| s.parse().unwrap_or_else(|_| panic!("{text}")))
+        .collect();
+    assert_eq!(secs.len(), 3, "{text}");
+    assert!(secs.iter().all(|s| (1_795_256_853..=1_795_256_857).contains(s)), "bag time, not wall time: {text}");
+    assert!(text.starts_with("clock:\n  sec: "), "{text}");
+}
+
+/// The readable form names a constant's value (`status: 1 (REJECTED)`); --json keeps the bare number.
+#[test]
+fn ros_cli_echo_names_status_constants_and_json_keeps_numbers() {
+    guard();
+    let domain = 159;
+    let message = r#"{swing_id: 4, bat_id: r161, status: 1, message: "impact_z: 2 m is beyond the bat"}"#;
+    let readable = support::spawn_piped(cmd(domain, &["echo", "exit_velocity", "--count", "1", "--timeout", "60"]));
+    let json = start_echo(domain, "exit_velocity", 1, &[]);
+    run_ok(cmd(domain, &["pub", "exit_velocity", message, "--wait-subscribers", "2", "--timeout", "60", "-q"]));
+    let text = String::from_utf8_lossy(&finish(readable).stdout).into_owned();
+    assert!(text.contains("\nstatus: 1 (REJECTED)\n"), "{text}");
+    let got = json_lines(&finish(json));
+    assert_eq!(got[0]["status"], json!(1));
+}

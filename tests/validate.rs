@@ -282,6 +282,11 @@ ball = "bbcor"
     let (ok, doc, stderr) = run_json(&["validate", "--json", "--modes", "4", "--data", s(red.path())]);
     assert!(!ok, "a FAIL row must make the exit status non-zero");
     assert!(stderr.contains("1 of 2 rows outside their stated tolerance"), "{stderr}");
+    // The last line says what a red row means, so a new user does not read it as a broken install.
+    assert!(
+        stderr.contains("disagrees with a published measurement") && stderr.contains("The install works"),
+        "{stderr}"
+    );
     let rows = doc["rows"].as_array().unwrap();
     assert_eq!(rows[0]["verdict"], "FAIL");
     assert_eq!(rows.len(), 2, "a point without a value is not a COR row");
@@ -304,6 +309,11 @@ fn the_table_names_every_row_with_its_verdict() {
         assert!(line.contains("PASS") || line.contains("FAIL") || line.contains("N/A"), "{line}");
     }
     assert!(run.stdout.contains("rows:"), "{}", run.stdout);
+    // Two rows of one range (MLB's 0.514–0.578) divide by different stated values, a sample's mean and the
+    // spec's centre: the measured column shows each, so their ratios differ visibly for a reason.
+    let line = |id: &str| run.stdout.lines().find(|l| l.starts_with(id)).unwrap_or_default().to_string();
+    assert!(line("mlb-ball-cor-58mph ").contains("0.5500 (0.5140–0.5780)"), "{}", line("mlb-ball-cor-58mph "));
+    assert!(line("ball-cor/mlb-spec ").contains("0.5460 (0.5140–0.5780)"), "{}", line("ball-cor/mlb-spec "));
 }
 
 /// The `sh` lines of the README section "Validation against measurement", trailing `# comment` dropped.

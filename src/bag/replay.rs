@@ -88,6 +88,8 @@ pub struct ReplayRow {
     pub recorded_exit_speed: f64,
     /// Replayed exit speed, m/s (NaN if rejected).
     pub replayed_exit_speed: f64,
+    /// The swing's measured exit speed (a tracker's, an import's), m/s (NaN if not measured).
+    pub measured_exit_speed: f64,
     /// Replayed status (0 OK, 1 REJECTED).
     pub replayed_status: u8,
     /// Fields beyond tolerance.
@@ -117,6 +119,23 @@ pub struct ReplayReport {
 }
 
 impl ReplayReport {
+    /// The measured exit speeds against the model's (replayed, OK) ones: (swings, mean and RMS of measured −
+    /// model, m/s); None when no replayed swing was measured.
+    pub fn measured_against_model(&self) -> Option<(usize, f64, f64)> {
+        let residuals: Vec<f64> = self
+            .rows
+            .iter()
+            .filter(|r| r.replayed_status == ExitVelocity::STATUS_OK)
+            .map(|r| r.measured_exit_speed - r.replayed_exit_speed)
+            .filter(|d| d.is_finite())
+            .collect();
+        let n = residuals.len();
+        (n > 0).then(|| {
+            let mean = residuals.iter().sum::<f64>() / n as f64;
+            (n, mean, (residuals.iter().map(|d| d * d).sum::<f64>() / n as f64).sqrt())
+        })
+    }
+
     /// Swings per verdict: (match, differs, not recorded).
     pub fn tally(&self) -> (usize, usize, usize) {
         let count = |v| self.rows.iter().filter(|r| r.verdict == v).count();
@@ -387,6 +406,7 @@ pub fn replay(
                     ball_id: plan.ball_id().to_string(),
                     recorded_exit_speed: row.exit_velocity.as_ref().map_or(f64::NAN, |e| e.exit_speed),
                     replayed_exit_speed: ev.exit_speed,
+                    measured_exit_speed: swing.measured_exit_speed,
                     replayed_status: ev.status,
                     differences,
                     worst_relative: worst,

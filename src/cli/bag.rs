@@ -56,11 +56,11 @@ pub enum BagCommand {
         /// Relative tolerance |replayed − recorded| / max(|replayed|, |recorded|); 0 = bit-exact.
         #[arg(long, default_value_t = 0.0)]
         tolerance: f64,
-        /// What if: use this preset bat for every swing.
-        #[arg(long)]
+        /// What if: use this preset bat for every swing (r161, r161-corked, aluminum, torpedo).
+        #[arg(long, value_name = "PRESET")]
         bat: Option<String>,
-        /// What if: use this preset ball for every swing.
-        #[arg(long)]
+        /// What if: use this preset ball for every swing (baseball, bbcor, mlb).
+        #[arg(long, value_name = "PRESET")]
         ball: Option<String>,
         /// What if: integrate this many modes for every bat.
         #[arg(long)]
@@ -566,8 +566,14 @@ fn replay(
         crate::outln!("{}", serde_json::to_string_pretty(&report)?)?;
     } else {
         let show_all = all || report.rows.len() <= 40;
+        // An imported or tracked session: its measurements against the model, beside replay's own check.
+        let measured = report.measured_against_model();
+        let measured_header = match measured {
+            Some(_) => format!(" {:>12} {:>12}", "measured v_f", "meas − model"),
+            None => String::new(),
+        };
         crate::outln!(
-            "{:<10} {:>9} {:<12} {:<10} {:>14} {:>14} {:>12} {:>10}  verdict",
+            "{:<10} {:>9} {:<12} {:<10} {:>14} {:>14} {:>12} {:>10}{measured_header}  verdict",
             "namespace",
             "swing_id",
             "bat",
@@ -600,8 +606,16 @@ fn replay(
                     )
                 }
             };
+            let measured_cells = match measured {
+                Some(_) => format!(
+                    " {:>12.3} {:>12.3}",
+                    row.measured_exit_speed,
+                    row.measured_exit_speed - row.replayed_exit_speed
+                ),
+                None => String::new(),
+            };
             crate::outln!(
-                "{:<10} {:>9} {:<12} {:<10} {:>14.6} {:>14.6} {:>12.3e} {:>10.2e}  {verdict}",
+                "{:<10} {:>9} {:<12} {:<10} {:>14.6} {:>14.6} {:>12.3e} {:>10.2e}{measured_cells}  {verdict}",
                 row.namespace,
                 row.swing_id,
                 row.bat_id,
@@ -629,6 +643,13 @@ fn replay(
             s.max_bat_slices,
             report.recorded_by
         )?;
+        if let Some((n, mean, rms)) = measured {
+            crate::outln!(
+                "measured against model: {n} measured swings, measured − model exit speed mean {mean:+.2} m/s, RMS \
+                 {rms:.2} m/s (for an imported session the model's inputs include assumed ones: `sweetspot calibrate` \
+                 fits the ball to them, `sweetspot locate` the impact points)"
+            )?;
+        }
     }
     if report.what_if {
         crate::outln!("what-if replay (--bat/--ball/--modes): differences are the answer, not a failure")?;

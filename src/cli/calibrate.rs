@@ -24,11 +24,11 @@ use crate::report::table::{num, Table};
 /// Arguments of `sweetspot calibrate`.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
-  sweetspot calibrate bags/demo_20261121T050000Z
-  sweetspot calibrate bags/demo_20261121T050000Z --fit-youngs --write fitted.jsonl
+  sweetspot calibrate bags/demo_2026_11_21-05_00_00
+  sweetspot calibrate bags/demo_2026_11_21-05_00_00 --fit-youngs --write fitted.jsonl
   sweetspot pub ball --file fitted.jsonl        # send the fitted ball to a running node
-  sweetspot calibrate bags/demo_20261121T050000Z --fit-tangential --write fitted.jsonl   # e_T in tangential_cor
-  sweetspot calibrate bags/demo_20261121T050000Z --batter-out batter.toml
+  sweetspot calibrate bags/demo_2026_11_21-05_00_00 --fit-tangential --write fitted.jsonl   # e_T in tangential_cor
+  sweetspot calibrate bags/demo_2026_11_21-05_00_00 --batter-out batter.toml
   sweetspot compare --batter batter.toml        # the bats as the fitted batter swings them")]
 pub struct CalibrateArgs {
     /// The recorded session: a rosbag2 directory (or one .mcap file) with Swing messages whose
@@ -111,6 +111,10 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
     let problem = problem_from_bag(&args.bag, args.ball.as_deref())
         .map_err(flat)
         .with_context(|| format!("calibrating from '{}'", args.bag.display()))?;
+    let assumed = assumed_inputs(&args.bag)?;
+    if let Some(warning) = assumed_warning(&assumed, problem.observations.len(), &args.bag) {
+        eprintln!("{warning}");
+    }
     let options =
         FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations, ..FitOptions::default() };
     let result = fit(&problem, &options).map_err(flat).context("fitting")?;
@@ -144,6 +148,7 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
             "bag": args.bag,
             "ball_id": problem.ball_id,
             "swings": problem.observations.len(),
+            "assumed": assumed.iter().map(|(k, n)| (k.clone(), json!(n))).collect::<serde_json::Map<_, _>>(),
             "skipped": problem.skipped,
             "parameters": result.parameters,
             "rms_before": result.rms_before,
@@ -193,6 +198,51 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// What the swings of an imported session did not measure: `sweetspot import` writes it into the bag's
+/// custom_data (`sweetspot/import/assumed`, field:swings), in its order; empty for a recorded session.
+fn assumed_inputs(bag: &Path) -> Result<Vec<(String, u64)>> {
+    let scans = crate::bag::reader::read_bag(bag, |_| {}).with_context(|| format!("reading '{}'", bag.display()))?;
+    let custom = crate::bag::info::custom_data_of(&scans);
+    let Some(list) = custom.get("sweetspot/import/assumed") else { return Ok(Vec::new()) };
+    Ok(list
+        .split(',')
+        .filter_map(|item| {
+            let (field, n) = item.split_once(':')?;
+            Some((field.trim().to_string(), n.trim().parse().ok()?))
+        })
+        .filter(|(_, n)| *n > 0)
+        .collect())
+}
+
+/// The warning a fit to assumed inputs must carry: which inputs, for how many swings, and what σ does not cover.
+fn assumed_warning(assumed: &[(String, u64)], swings: usize, bag: &Path) -> Option<String> {
+    let what = |field: &str| match field {
+        "impact_z" => "the impact point (the batter's usual one)".to_string(),
+        "bat_speed" => "the bat speed (the batter model's swing)".to_string(),
+        other => other.replace('_', " "),
+    };
+    // The two that set the COR's answer first: an exit speed is as much the bat's speed and where it met the ball.
+    let rank = |field: &str| match field {
+        "impact_z" => 0,
+        "bat_speed" => 1,
+        _ => 2,
+    };
+    let mut items: Vec<&(String, u64)> = assumed.iter().collect();
+    items.sort_by_key(|(field, _)| rank(field));
+    if !items.iter().any(|(field, _)| rank(field) < 2) {
+        return None;
+    }
+    let list: Vec<String> = items.iter().map(|(field, n)| format!("{} for {n} swings", what(field))).collect();
+    Some(format!(
+        "warning: imported session: the fit's inputs were assumed, not measured: {} (of {swings} fitted). The COR \
+         and its ± σ below hold only as far as those assumptions do: σ is the scatter of the measured exit speeds, \
+         not the uncertainty of what was assumed. `sweetspot locate {}` estimates each impact point from the \
+         measured launch angle and spin.",
+        list.join(", "),
+        bag.display()
+    ))
 }
 
 /// Refuses an output of `calibrate` that is a file of the bag being read, or a new file in its directory.

@@ -1,9 +1,9 @@
 //! `sweetspot call simulate_swing '{…}'`: one call of a node's `~/simulate_swing` service, as
 //! `ros2 service call /sweetspot/simulate_swing sweetspot_msgs/srv/SimulateSwing '{…}'` makes it.
 //!
-//! The request is JSON in the form `sweetspot pub` takes (fields left out keep their defaults, `null` is NaN):
-//! `{"swing": {…}, "bat": [BatParams], "ball": [BallParams]}`. The response is printed as one JSON object
-//! (NaN as null). Exit status: 0 for an OK answer; 1 when the request is not valid JSON for the type, no node
+//! The request is YAML or JSON in the form `sweetspot pub` takes (fields left out keep their defaults, `null`
+//! and `.nan` are NaN): `{swing: {…}, bat: [BatParams], ball: [BallParams]}`. The response is printed as one
+//! JSON object (NaN as null). Exit status: 0 for an OK answer; 1 when the request does not fit the type, no node
 //! serves the service within `--timeout`, or the node answered REJECTED or DROPPED (the answer is still
 //! printed, and its message repeated on stderr). DDS discovery honours `ROS_DOMAIN_ID`,
 //! `ROS_AUTOMATIC_DISCOVERY_RANGE` and `ROS_LOCALHOST_ONLY` as the other DDS commands do.
@@ -17,12 +17,21 @@ use crate::ros::{self, DdsConfig};
 
 /// `sweetspot call`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "\
+Examples:
+  sweetspot call simulate_swing '{swing: {bat_id: r161, ball_speed: 40, bat_cm_speed: 25, impact_z: 0.7}}'
+  sweetspot call simulate_swing '{\"swing\": {\"bat_id\": \"r161\", \"ball_speed\": 40, \"impact_z\": 0.7}}'
+  sweetspot call /rig3/sweetspot/simulate_swing '{swing: {bat_id: aluminum, impact_z: 0.6}}' --timeout 30
+
+The REQUEST is YAML (flow `{a: 1}` or block `a: 1`, as `ros2 service call` takes it) or JSON. Fields left out
+keep their defaults; floats accept null/nan/.nan.")]
 pub struct CallArgs {
     /// The service: `simulate_swing` (the node's `~/simulate_swing`, see --node and --ns) or its
     /// fully-qualified name, e.g. `/rig3/sweetspot/simulate_swing`.
     pub service: String,
-    /// The request as JSON, e.g. '{"swing": {"bat_id": "r161", "ball_speed": 40, "bat_cm_speed": 25,
-    /// "bat_angular_speed": 45, "impact_z": 0.7}}'.
+    /// The request as YAML (as `ros2 service call` takes it) or JSON: `swing` (a Swing), and optionally
+    /// `bat` / `ball` (a list of at most one BatParams / BallParams, for this call only), e.g.
+    /// '{swing: {bat_id: r161, ball_speed: 40, bat_cm_speed: 25, bat_angular_speed: 45, impact_z: 0.7}}'.
     pub request: String,
     /// The node serving it (its name, for `simulate_swing`).
     #[arg(long, value_name = "NAME", default_value = crate::node::runtime::DEFAULT_NODE_NAME)]
@@ -42,8 +51,7 @@ pub struct CallArgs {
 /// Resolves the service, sends the request, prints the response.
 pub fn run(args: CallArgs) -> anyhow::Result<()> {
     let fq_name = service_name(&args.service, &args.ns, &args.node)?;
-    let value: serde_json::Value =
-        serde_json::from_str(&args.request).with_context(|| format!("the request is not JSON: {}", args.request))?;
+    let value = super::pubsub::parse_values(&args.request).with_context(|| format!("the request {}", args.request))?;
     let request = SimulateSwing_Request::from_json(&value, "request").map_err(|e| anyhow!("{e}"))?;
     let config = DdsConfig::from_env()?;
     let runtime = tokio::runtime::Builder::new_multi_thread()

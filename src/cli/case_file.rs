@@ -1,10 +1,11 @@
-//! The case file of `sweetspot simulate --case FILE.json`: one bat, one ball, one swing, one or more impact
-//! points. Missing fields take the command's defaults; unknown fields are an error naming them.
+//! The case file of `sweetspot simulate --case FILE`: one bat, one ball, one swing, one or more impact
+//! points, as JSON or YAML (the same fields; a `.yaml`/`.yml` file, or any file that is not JSON). Missing
+//! fields take the command's defaults; unknown fields are an error naming them.
 //!
 //! ```json
 //! {
 //!   "bat": "r161",
-//!   "ball": {"cor": 0.5},
+//!   "ball": {"preset": "mlb", "cor": 0.5},
 //!   "ball_speed": 40.0,
 //!   "bat_cm_speed": 25.0,
 //!   "bat_angular_speed": 45.0,
@@ -19,7 +20,12 @@
 //! horizontal, degrees), `pitch_angle_deg` (pitch descent below the horizontal, degrees), `pitch_spin_rpm`
 //! (rpm, backspin positive), and the tangential contact overrides `tangential_cor` (e_T) and `friction` (μ).
 //!
-//! `bat` is a preset name, a path to a bat file (relative to the case file), or a bat object with the
+//! `ball` is a preset name (`"mlb"`; baseball, bbcor, mlb) or an object of overrides (`mass`, `radius`,
+//! `stiffness`, `exponent`, `cor`, `cor_speed_exponent`, `cor_reference_speed`) over the ball `preset` it names
+//! (default baseball).
+//!
+//! `bat` is a preset name (r161, r161-corked, aluminum, torpedo), a path to a bat file (relative to the case
+//! file), or a bat object with the
 //! fields of the bat file format (`name`, `slice_length`, `shell`, optional `core`, and `station` as a list
 //! of `{z, outer_radius, inner_radius}`, or `profile` naming a CSV relative to the case file).
 
@@ -41,9 +47,9 @@ pub struct CaseSpec {
     /// Preset name, bat file path, or bat object.
     #[serde(default)]
     pub bat: Option<serde_json::Value>,
-    /// Ball overrides.
+    /// Ball preset name, or ball object (a preset and overrides).
     #[serde(default)]
-    pub ball: Option<BallSpec>,
+    pub ball: Option<serde_json::Value>,
     /// m/s toward the bat.
     #[serde(default)]
     pub ball_speed: Option<f64>,
@@ -82,10 +88,12 @@ pub struct CaseSpec {
     pub friction: Option<f64>,
 }
 
-/// Ball fields, each optional.
-#[derive(Debug, Clone, Copy, Default, Deserialize)]
+/// Ball fields, each optional, over a preset.
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BallSpec {
+    /// The preset the other fields override (baseball, bbcor, mlb) [default baseball].
+    pub preset: Option<String>,
     /// kg.
     pub mass: Option<f64>,
     /// m.
@@ -119,10 +127,10 @@ pub struct Case {
     pub options: CollisionOptions,
 }
 
-/// Parses and resolves a case from its JSON text; relative bat paths are resolved against `base`.
+/// Parses and resolves a case from its JSON or YAML text; relative bat paths are resolved against `base`.
 pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
-    let mut deserializer = serde_json::Deserializer::from_str(text);
-    let spec: CaseSpec = serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
+    let value = super::pubsub::parse_document(text, "the case")?;
+    let spec: CaseSpec = serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         if path.is_empty() || path == "." {
             anyhow!("{}", e.inner())
@@ -144,8 +152,20 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
         }
         Some(other) => bail!("field `bat`: expected a preset name, a bat file path or a bat object, found {other}"),
     };
-    let overrides = spec.ball.unwrap_or_default();
-    let default = Ball::default();
+    let overrides = match spec.ball {
+        None => BallSpec::default(),
+        Some(serde_json::Value::String(name)) => BallSpec { preset: Some(name), ..BallSpec::default() },
+        Some(value @ serde_json::Value::Object(_)) => {
+            serde_json::from_value(value).map_err(|e| anyhow!("field `ball`: {e}"))?
+        }
+        Some(other) => {
+            bail!("field `ball`: expected a preset name (baseball, bbcor, mlb) or a ball object, found {other}")
+        }
+    };
+    let default = match &overrides.preset {
+        None => Ball::default(),
+        Some(name) => Ball::preset(name).context("field `ball`")?,
+    };
     let ball = Ball {
         mass: overrides.mass.unwrap_or(default.mass),
         radius: overrides.radius.unwrap_or(default.radius),
@@ -251,5 +271,35 @@ mod tests {
         assert_eq!(case.oblique.contact.friction, 0.3);
         let err = parse_case(r#"{"tangential_cor": 2}"#, Path::new(".")).unwrap_err();
         assert!(format!("{err:#}").contains("tangential_cor"), "{err:#}");
+    }
+
+    #[test]
+    fn a_ball_is_named_by_preset_or_given_inline_over_one() {
+        // "ball": "mlb" once failed with "expected struct BallSpec".
+        let case =
+            parse_case(r#"{"ball": "mlb", "bat": "aluminum"}"#, Path::new(".")).unwrap_or_else(|e| panic!("{e:#}"));
+        assert_eq!(case.ball, Ball::mlb());
+        assert_eq!(case.bat.name, "aluminum");
+        let case = parse_case(r#"{"ball": {"preset": "bbcor", "cor": 0.5}}"#, Path::new(".")).unwrap();
+        assert_eq!(case.ball, Ball { cor: 0.5, ..Ball::bbcor_protocol() });
+        let case = parse_case(r#"{"ball": {"cor": 0.5}}"#, Path::new(".")).unwrap();
+        assert_eq!(case.ball, Ball { cor: 0.5, ..Ball::default() });
+        let err = format!("{:#}", parse_case(r#"{"ball": "softball"}"#, Path::new(".")).unwrap_err());
+        assert!(err.contains("softball") && err.contains("mlb"), "{err}");
+        let err = format!("{:#}", parse_case(r#"{"ball": 3}"#, Path::new(".")).unwrap_err());
+        assert!(err.contains("preset name"), "{err}");
+    }
+
+    #[test]
+    fn a_yaml_case_reads_as_its_json_twin() {
+        let yaml = "bat: torpedo\nball: mlb\nball_speed: 38.5\nimpact_z: [0.65, 0.7]\nmodes: 6\ntime_step: 5.0e-6\n";
+        let json = r#"{"bat": "torpedo", "ball": "mlb", "ball_speed": 38.5, "impact_z": [0.65, 0.7], "modes": 6,
+            "time_step": 5e-6}"#;
+        let (a, b) = (parse_case(yaml, Path::new(".")).unwrap(), parse_case(json, Path::new(".")).unwrap());
+        assert_eq!((a.bat.name.as_str(), a.ball, a.impact_zs.clone()), ("torpedo", Ball::mlb(), vec![0.65, 0.7]));
+        assert_eq!((a.swing.ball_speed, a.options.modes, a.options.time_step), (38.5, 6, 5e-6));
+        assert_eq!((a.ball, a.swing.ball_speed, a.impact_zs), (b.ball, b.swing.ball_speed, b.impact_zs));
+        let err = format!("{:#}", parse_case("ball_speeed: 40\n", Path::new(".")).unwrap_err());
+        assert!(err.contains("ball_speeed"), "{err}");
     }
 }

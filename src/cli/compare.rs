@@ -52,7 +52,8 @@ pub const FIGURE_POINTS: usize = 100;
 /// Arguments of `sweetspot compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
-    /// Comma-separated bats (presets or bat files); the first is the baseline of the reaction time gained.
+    /// Comma-separated bats (presets r161, r161-corked, aluminum, torpedo, or bat files); the first is the
+    /// baseline of the reaction time gained.
     #[arg(long, value_name = "BAT,BAT,...", default_value = DEFAULT_BATS)]
     pub bats: String,
     /// Batter file (TOML, every key optional): reference_bat, bat_speed, impact_from_barrel_end, pivot_z,
@@ -227,7 +228,7 @@ pub fn write_figure(
     let title = format!(
         "Exit speed along the barrel at equal batter effort (pitch {} m/s, n = {})",
         num(pitch_speed, 3),
-        batter.exponent
+        num(batter.exponent, 4)
     );
     draw_line_chart(path, &equal_effort_chart(&title, &curves))
         .with_context(|| format!("--figure '{}'", path.display()))
@@ -357,7 +358,7 @@ pub fn render(doc: &CompareJson) -> String {
         b.reference_bat,
         num(b.reference_swing_weight, 4),
         num(b.swing_weight_pivot_z, 4),
-        b.exponent,
+        num(b.exponent, 4),
         num(b.swing_length, 4),
         match b.shape {
             SwingShape::SamePivot => "same-pivot",

@@ -44,7 +44,7 @@ pub struct ImportArgs {
     /// Force the format (trackman, statcast, hittrax) instead of detecting it from each header.
     #[arg(long, value_name = "FORMAT")]
     pub format: Option<String>,
-    /// The bat the swings were made with: a preset or a bat file.
+    /// The bat the swings were made with: a preset (r161, r161-corked, aluminum, torpedo) or a bat file (.toml).
     #[arg(long, value_name = "PRESET|FILE", default_value = "r161")]
     pub bat: String,
     /// The ball: a preset (baseball, bbcor).
@@ -62,9 +62,10 @@ pub struct ImportArgs {
     /// entered (HitTrax writes 0 for both; without --tee those rows are skipped as not measured).
     #[arg(long)]
     pub tee: bool,
-    /// Column map (TOML) for an export of another tracker (Rapsodo, …): which column holds
-    /// pitch_speed, exit_speed, launch_angle, spin, bat_speed, attack_angle, pitch_angle, time, batter, and
-    /// their units (see `crate::import::mapped`).
+    /// A mapping file (TOML) for a CSV of any other tracker (Rapsodo, …): `name = "…"`, a `[columns]` table
+    /// naming the export's column for each of pitch_speed and exit_speed (required), launch_angle, spin,
+    /// bat_speed, attack_angle, pitch_angle, time, batter, and an optional `[units]` table (speeds mph, km/h,
+    /// m/s, ft/s; angles deg, rad; spin rpm, rad/s). docs/file-formats.md shows a whole file.
     #[arg(long, value_name = "FILE", conflicts_with = "format")]
     pub map: Option<PathBuf>,
     /// Write one batter file per batter with measured bat speeds (Statcast bat tracking) into DIR, as

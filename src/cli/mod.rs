@@ -85,7 +85,7 @@ pub enum Command {
     Calibrate(calibrate::CalibrateArgs),
     /// The model against published measurements: model vs measured, ratio and verdict per row, figures.
     Validate(validate::ValidateArgs),
-    /// Tracker exports (TrackMan, Statcast CSV) into a bag of swings.
+    /// Tracker exports (TrackMan, Statcast, HitTrax CSV, or any CSV through a --map file) into a bag of swings.
     Import(import::ImportArgs),
     /// Where on the bat each ball of a bag was hit, from its measured exit speed, launch angle and spin.
     Locate(locate::LocateArgs),

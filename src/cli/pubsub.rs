@@ -13,9 +13,10 @@ use serde_json::{Map, Value};
 
 use crate::model::time::{period_of, saturating_secs};
 use crate::msgs::builtin_interfaces::msg::Time;
-use crate::msgs::diagnostic_msgs::msg::DiagnosticArray;
+use crate::msgs::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus};
 use crate::msgs::json::ToJson;
 use crate::msgs::rcl_interfaces::msg::Log;
+use crate::msgs::rosgraph_msgs::msg::Clock;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::msgs::RosMessage;
 use crate::ros::args::{NameResolver, NodeIdentity};
@@ -107,12 +108,13 @@ Examples:
   sweetspot echo /rig3/modal_energies --json --count 10 --timeout 30
   sweetspot echo /lab/thing sweetspot_msgs/msg/Swing --qos-reliability best_effort
   sweetspot echo /diagnostics
+  sweetspot echo /clock --once                # the bag time `bag play --clock` publishes
 
 When nothing publishes on the topic after a few seconds, echo says so on stderr and names the topics (and so
 the namespaces) where that message type is published, then keeps listening.")]
 pub struct EchoArgs {
     /// Topic to print (relative names are resolved in the namespace), or a message kind (bat, ball, swing,
-    /// exit_velocity, modal_energies, sweet_spot, diagnostics, rosout) for its default topic.
+    /// exit_velocity, modal_energies, sweet_spot, diagnostics, rosout, clock) for its default topic.
     pub topic: String,
     /// Message type (the `ros2 topic echo TOPIC TYPE` form), same as --type.
     #[arg(value_name = "TYPE")]
@@ -187,6 +189,9 @@ impl QosArgs {
     }
 }
 
+/// `/clock`: absolute, as rclcpp's time source subscribes it.
+const CLOCK_TOPIC: &str = "/clock";
+
 /// The message types `pub` and `echo` know.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
@@ -206,9 +211,11 @@ pub enum Kind {
     Diagnostics,
     /// `rcl_interfaces/msg/Log` on `/rosout`.
     Rosout,
+    /// `rosgraph_msgs/msg/Clock` on `/clock` (what `bag play --clock` publishes).
+    Clock,
 }
 
-const ALL_KINDS: [Kind; 8] = [
+const ALL_KINDS: [Kind; 9] = [
     Kind::BatParams,
     Kind::BallParams,
     Kind::Swing,
@@ -217,6 +224,7 @@ const ALL_KINDS: [Kind; 8] = [
     Kind::SweetSpot,
     Kind::Diagnostics,
     Kind::Rosout,
+    Kind::Clock,
 ];
 
 /// Runs `$body` with `$T` bound to the message type of `$kind`.
@@ -255,6 +263,10 @@ macro_rules! with_type {
                 type $T = Log;
                 $body
             }
+            Kind::Clock => {
+                type $T = Clock;
+                $body
+            }
         }
     };
 }
@@ -276,6 +288,7 @@ impl Kind {
             Kind::SweetSpot => topics::SWEET_SPOT,
             Kind::Diagnostics => topics::DIAGNOSTICS,
             Kind::Rosout => topics::ROSOUT,
+            Kind::Clock => CLOCK_TOPIC,
         }
     }
 
@@ -288,6 +301,42 @@ impl Kind {
             Kind::SweetSpot => ros::sweet_spot_qos(),
             Kind::Diagnostics => ros::diagnostics_qos(),
             Kind::Rosout => ros::rosout_qos(),
+            Kind::Clock => crate::play::clock_qos(),
+        }
+    }
+
+    /// The names of the constants a field's value stands for, field by field (the readable form of `echo`
+    /// shows `status: 0 (OK)`).
+    pub fn constant_names(self) -> &'static [(&'static str, &'static [(u64, &'static str)])] {
+        match self {
+            Kind::ExitVelocity => &[(
+                "status",
+                &[
+                    (ExitVelocity::STATUS_OK as u64, "OK"),
+                    (ExitVelocity::STATUS_REJECTED as u64, "REJECTED"),
+                    (ExitVelocity::STATUS_DROPPED as u64, "DROPPED"),
+                ],
+            )],
+            Kind::Diagnostics => &[(
+                "level",
+                &[
+                    (DiagnosticStatus::OK as u64, "OK"),
+                    (DiagnosticStatus::WARN as u64, "WARN"),
+                    (DiagnosticStatus::ERROR as u64, "ERROR"),
+                    (DiagnosticStatus::STALE as u64, "STALE"),
+                ],
+            )],
+            Kind::Rosout => &[(
+                "level",
+                &[
+                    (Log::DEBUG as u64, "DEBUG"),
+                    (Log::INFO as u64, "INFO"),
+                    (Log::WARN as u64, "WARN"),
+                    (Log::ERROR as u64, "ERROR"),
+                    (Log::FATAL as u64, "FATAL"),
+                ],
+            )],
+            _ => &[],
         }
     }
 
@@ -304,6 +353,7 @@ impl Kind {
             "ball" | "ball_params" => return Some(Kind::BallParams),
             "diagnostics" => return Some(Kind::Diagnostics),
             "rosout" | "log" => return Some(Kind::Rosout),
+            "clock" => return Some(Kind::Clock),
             _ => w,
         };
         ALL_KINDS.iter().copied().find(|k| {
@@ -429,17 +479,22 @@ fn read_inputs(message: Option<&str>, args: &PubArgs) -> anyhow::Result<Vec<(Str
     Ok(out)
 }
 
-/// A message given on the command line: JSON, else YAML (flow `{a: 1, b: x}` or block `a: 1`), as
+/// A message given on the command line (`pub`, `call`) or a case file: JSON, else YAML (flow `{a: 1, b: x}` or block `a: 1`), as
 /// `ros2 topic pub` takes it. JSON goes first so that its numbers (e.g. a u64 above i64) keep their exact value.
-fn parse_values(text: &str) -> anyhow::Result<Value> {
+pub(crate) fn parse_values(text: &str) -> anyhow::Result<Value> {
+    parse_document(text, "the message")
+}
+
+/// `text` as JSON, else YAML; `what` names it in errors ("the message", "the case").
+pub(crate) fn parse_document(text: &str, what: &str) -> anyhow::Result<Value> {
     if let Ok(v) = serde_json::from_str::<Value>(text) {
         return Ok(v);
     }
-    let docs = yaml_rust2::YamlLoader::load_from_str(text)
-        .map_err(|e| anyhow!("the message is not valid JSON or YAML: {e}"))?;
+    let docs =
+        yaml_rust2::YamlLoader::load_from_str(text).map_err(|e| anyhow!("{what} is not valid JSON or YAML: {e}"))?;
     match docs.len() {
-        0 => bail!("the message is empty"),
-        1 => yaml_to_json(&docs[0]).map_err(|e| anyhow!("the message: {e}")),
+        0 => bail!("{what} is empty"),
+        1 => yaml_to_json(&docs[0]).map_err(|e| anyhow!("{what}: {e}")),
         _ => Ok(Value::Array(docs.iter().map(yaml_to_json).collect::<Result<_, _>>()?)),
     }
 }
@@ -825,7 +880,7 @@ fn echo<T: RosMessage>(kind: Kind, args: &EchoArgs, fq_topic: &str) -> anyhow::R
             if json_output {
                 writeln!(out, "{json}")?;
             } else {
-                writeln!(out, "{}---", crate::msgs::json::to_readable(&json))?;
+                writeln!(out, "{}---", crate::msgs::json::to_readable_named(&json, kind.constant_names()))?;
             }
             out.flush()?;
         }

@@ -20,8 +20,9 @@ pub const DEFAULT_IMPACT_FROM_TIP: f64 = 0.15;
 /// Arguments of `sweetspot simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
-    /// A case file (JSON, see docs/file-formats.md) instead of the bat, ball and swing flags.
-    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["bat", "ball_mass", "ball_radius", "ball_cor",
+    /// A case file (JSON or YAML; bat and ball by preset name or inline, see docs/file-formats.md) instead of
+    /// the bat, ball and swing flags.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["bat", "ball_preset", "ball_mass", "ball_radius", "ball_cor",
         "ball_stiffness", "ball_exponent", "ball_speed", "bat_cm_speed", "bat_angular_speed", "impact_z", "modes", "dt",
         "undercut", "attack_angle", "pitch_angle", "pitch_spin", "tangential_cor", "friction"])]
     pub case: Option<PathBuf>,

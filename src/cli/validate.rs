@@ -59,7 +59,14 @@ pub fn run(args: ValidateArgs) -> Result<()> {
         }
     }
     if report.fail > 0 {
-        bail!("{} of {} rows outside their stated tolerance", report.fail, report.rows.len());
+        // Red rows are findings about the model, not faults of the install: say so where a new user reads it.
+        bail!(
+            "{} of {} rows outside their stated tolerance: FAIL rows are where the model disagrees with a published \
+             measurement (its known limits; `sweetspot validate --json` gives each row's note and source). The \
+             install works; the exit status is 1 so that scripts notice a change in the verdicts.",
+            report.fail,
+            report.rows.len()
+        );
     }
     Ok(())
 }

@@ -10,7 +10,7 @@ use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
 use crate::physics::metrics::{linspace, sweep};
 use crate::physics::Impact;
 use crate::report::figures::{write_figures, FigureSettings, EXIT_SPEED_LABEL, Z_LABEL};
-use crate::report::plot::{draw_panels, ImageFormat, LineChart, LineKind, Series, VerticalMarker};
+use crate::report::plot::{draw_panels, ImageFormat, LegendAt, LineChart, LineKind, Series, VerticalMarker};
 use crate::rig::{RigSwing, SessionGenerator, MPH};
 
 /// Where the figures of the bag `bag` go: `figures/<bag's name>` beside it, so a glob for the bags
@@ -86,6 +86,7 @@ pub fn write_demo_figures(
                     curve.iter().map(|p| (p.impact_z, p.result.exit_speed)).collect(),
                 ),
             ],
+            legend: LegendAt::UpperLeft,
             ..Default::default()
         };
         if let Some(s) = answers.sweet_spots.get(&b.bat_id) {
@@ -98,6 +99,7 @@ pub fn write_demo_figures(
         }
         panels.push(chart);
     }
+    share_y_range(&mut panels);
     let mut files = Vec::new();
     if !panels.is_empty() {
         let file = format!("demo-exit-speed-vs-impact.{ext}");
@@ -116,4 +118,18 @@ pub fn write_demo_figures(
     let entries = write_figures(dir, &settings).map_err(|e| anyhow!("seed figures: {e:#}"))?;
     files.extend(entries.into_iter().map(|e| e.file));
     Ok(files)
+}
+
+/// One y range for every panel (the bats' exit speeds are read against each other), with room above the data
+/// for the legend, so it hides no curve.
+fn share_y_range(panels: &mut [LineChart]) {
+    let ys = panels.iter().flat_map(|c| c.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
+    let (lo, hi) =
+        ys.filter(|y| y.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
+    if lo < hi {
+        let span = hi - lo;
+        for chart in panels.iter_mut() {
+            chart.y_range = Some((lo - 0.05 * span, hi + 0.45 * span));
+        }
+    }
 }

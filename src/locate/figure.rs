@@ -1,10 +1,12 @@
-//! `locate --figure FILE`: the located impact points on the bat's outline, one panel per batter.
+//! `locate --figure FILE`: the located impact points, two panels per batter, one above the other on the same z
+//! axis (m from the knob).
 //!
-//! Each panel draws the bat's outline (outer radius ±r(z) against z from the knob, the bat most of the
-//! panel's swings used), every located solution at (impact_z, −undercut) — the line of the ball's centre,
-//! below the bat's axis for a positive undercut — the favoured solution (or the only one) filled and the
-//! others hollow, the sweet spot (the median of the panel's solutions' sweet spots at their undercuts) dashed,
-//! and the "squared up" band ±[`SQUARED_UP`] around it shaded. Batters come from the side table
+//! The upper panel is the bat: its outline (outer radius ±r(z) in mm, the bat most of the batter's swings
+//! used) and each located impact point on its axis with its ± σ along the bat. The lower panel is the
+//! undercut D (mm) of every solution at its impact point, with its ± σ: the favoured solution (or the only
+//! one) filled, the others hollow. Both show the sweet spot (the median of the solutions' sweet spots at their
+//! undercuts) dashed and the "squared up" band ±[`SQUARED_UP`] around it shaded; the legends sit over the
+//! handle, where no ball is located. Batters come from the side table
 //! [`ROWS_TABLE`] that `sweetspot import` writes into the bag; a bag without it (recorded from a rig) is drawn
 //! per bat id. At most [`MAX_PANELS`] panels: the batters with the most located swings.
 
@@ -15,7 +17,7 @@ use anyhow::{Context, Result};
 
 use super::{LocateReport, Outcome, SQUARED_UP};
 use crate::import::ROWS_TABLE;
-use crate::report::plot::{draw_panels, Band, LineChart, LineKind, Series, VerticalMarker};
+use crate::report::plot::{draw_panels, Band, ErrorBars, LegendAt, LineChart, LineKind, Series, VerticalMarker};
 
 /// Most panels in one figure.
 pub const MAX_PANELS: usize = 12;
@@ -66,14 +68,17 @@ pub fn batters_of(bag: &Path) -> Result<Option<BTreeMap<u64, String>>> {
     Ok(Some(batters))
 }
 
-/// One panel's content.
+/// One batter's content: solutions as (impact_z, σ_z, undercut, σ_D), m.
 #[derive(Default)]
 struct Group {
-    favoured: Vec<(f64, f64)>,
-    others: Vec<(f64, f64)>,
+    favoured: Vec<[f64; 4]>,
+    others: Vec<[f64; 4]>,
     sweet_spots: Vec<f64>,
     bats: BTreeMap<String, usize>,
 }
+
+/// Millimetres in a metre.
+const MM: f64 = 1e3;
 
 /// Draws the figure of `report` into `path` (SVG or PNG by extension); `batters` from [`batters_of`].
 pub fn draw_figure(
@@ -95,7 +100,7 @@ pub fn draw_figure(
         let group = groups.entry(name).or_default();
         *group.bats.entry(swing.bat_id.clone()).or_default() += 1;
         for (i, s) in solutions.iter().enumerate() {
-            let point = (s.impact_z, -s.undercut);
+            let point = [s.impact_z, s.impact_z_sigma, s.undercut, s.undercut_sigma];
             // With no favoured solution every one explains the measurements equally: all drawn hollow.
             if *favoured == Some(i) {
                 group.favoured.push(point);
@@ -112,59 +117,126 @@ pub fn draw_figure(
     let groups_left_out = order.len().saturating_sub(MAX_PANELS);
     order.truncate(MAX_PANELS);
     let mut charts = Vec::new();
+    let mut panels = Vec::new();
     let mut markers = (0, 0);
-    for (name, mut group) in order {
-        let bat_id = group.bats.iter().max_by_key(|(_, n)| **n).map(|(id, _)| id.clone()).unwrap_or_default();
-        let mut series = Vec::new();
-        if let Some(outline) = report.outlines.get(&bat_id) {
-            // One closed path: along the top edge to the end, back along the bottom edge.
-            let mut points: Vec<(f64, f64)> = outline.clone();
-            points.extend(outline.iter().rev().map(|&(z, r)| (z, -r)));
-            points.push(outline[0]);
-            series.push(Series::solid(format!("{bat_id} outline (±radius)"), 6, points));
-        }
-        markers.0 += group.favoured.len();
-        markers.1 += group.others.len();
-        series.push(Series {
-            label: "favoured solution".into(),
-            points: group.favoured,
-            color: 0,
-            kind: LineKind::Markers { radius: MARKER_RADIUS, filled: true },
-        });
-        series.push(Series {
-            label: "other solution".into(),
-            points: group.others,
-            color: 1,
-            kind: LineKind::Markers { radius: MARKER_RADIUS, filled: false },
-        });
-        // The legend goes above the bat: room for it on top of the data's span.
-        let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).filter(|y| y.is_finite());
-        let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y), hi.max(y)));
-        let span = (hi - lo).max(1e-3);
-        group.sweet_spots.sort_by(f64::total_cmp);
-        let sweet = group.sweet_spots[group.sweet_spots.len() / 2];
-        charts.push(LineChart {
-            title: match grouping {
+    let columns = if order.len() > 1 { 2 } else { 1 };
+    // Row-major grid: each row of batters' bat panels above the same batters' undercut panels.
+    for row in order.chunks_mut(columns) {
+        let mut lower = Vec::new();
+        for (name, group) in row.iter_mut() {
+            let bat_id = group.bats.iter().max_by_key(|(_, n)| **n).map(|(id, _)| id.clone()).unwrap_or_default();
+            let title = match grouping {
                 Grouping::Batter => format!("{name}, bat {bat_id}"),
                 Grouping::Bat => format!("bat {name}"),
-            },
-            x_label: "z from the knob (m)".into(),
-            y_label: "−undercut (m); outline ±radius".into(),
-            series,
-            markers: vec![VerticalMarker { x: sweet, label: "sweet spot (median)".into(), color: 2, dashed: true }],
-            bands: vec![Band {
-                from: sweet - SQUARED_UP,
-                to: sweet + SQUARED_UP,
-                label: "squared up (±2 cm)".into(),
-                color: 2,
-            }],
-            y_range: Some((lo - 0.08 * span, hi + 0.65 * span)),
-            legend_upper_right: true,
-            ..Default::default()
-        });
+            };
+            panels.push(title.clone());
+            markers.0 += group.favoured.len();
+            markers.1 += group.others.len();
+            group.sweet_spots.sort_by(f64::total_cmp);
+            let sweet = group.sweet_spots[group.sweet_spots.len() / 2];
+            let (upper_chart, lower_chart) = batter_panels(&title, &bat_id, report.outlines.get(&bat_id), group, sweet);
+            charts.push(upper_chart);
+            lower.push(lower_chart);
+        }
+        // A lone batter in the last row of two columns: an empty cell keeps the grid's rows paired.
+        while lower.len() < columns && charts.len() % columns != 0 {
+            charts.push(LineChart::default());
+        }
+        charts.extend(lower);
     }
-    let panels: Vec<String> = charts.iter().map(|c| c.title.clone()).collect();
-    let columns = if charts.len() > 1 { 2 } else { 1 };
     draw_panels(path, &charts, columns, Some("Located impact points"))?;
     Ok(FigureSummary { grouping, panels, groups_left_out, markers })
+}
+
+/// The two panels of one batter: the bat with the impact points on it, and the undercut at each.
+fn batter_panels(
+    title: &str,
+    bat_id: &str,
+    outline: Option<&Vec<(f64, f64)>>,
+    group: &Group,
+    sweet: f64,
+) -> (LineChart, LineChart) {
+    let all = || group.favoured.iter().chain(&group.others);
+    let x_range = outline.and_then(|o| Some((o.first()?.0, o.last()?.0))).unwrap_or_else(|| {
+        let (lo, hi) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+        (lo - 0.05, hi + 0.05)
+    });
+    let band =
+        || Band { from: sweet - SQUARED_UP, to: sweet + SQUARED_UP, label: "squared up (±2 cm)".into(), color: 2 };
+    let sweet_marker = || VerticalMarker { x: sweet, label: "sweet spot (median)".into(), color: 2, dashed: true };
+    // The bat: outline ±r in mm, impact points on its axis with ± σ along it.
+    let mut bat_series = Vec::new();
+    let mut r_max: f64 = 0.0;
+    if let Some(outline) = outline {
+        // One closed path: along the top edge to the end, back along the bottom edge.
+        let mut points: Vec<(f64, f64)> = outline.iter().map(|&(z, r)| (z, r * MM)).collect();
+        points.extend(outline.iter().rev().map(|&(z, r)| (z, -r * MM)));
+        points.push((outline[0].0, outline[0].1 * MM));
+        r_max = outline.iter().fold(0.0, |m, p| m.max(p.1 * MM));
+        bat_series.push(Series::solid(format!("{bat_id} outline (±radius)"), 6, points));
+    }
+    let r_max = if r_max > 0.0 { r_max } else { 35.0 };
+    bat_series.push(Series {
+        label: "impact point".into(),
+        points: all().map(|p| (p[0], 0.0)).collect(),
+        color: 0,
+        kind: LineKind::Markers { radius: 3, filled: true },
+    });
+    let upper = LineChart {
+        title: title.to_string(),
+        x_label: "z from the knob (m)".into(),
+        y_label: "bat radius (mm)".into(),
+        series: bat_series,
+        markers: vec![sweet_marker()],
+        bands: vec![band()],
+        error_bars: vec![ErrorBars {
+            label: "impact point ± σ".into(),
+            color: 0,
+            bars: all().map(|p| (0.0, p[0] - p[1], p[0] + p[1])).collect(),
+            horizontal: true,
+        }],
+        x_range: Some(x_range),
+        // Room above the barrel for the legend, over the handle.
+        y_range: Some((-1.3 * r_max, 2.6 * r_max)),
+        legend: LegendAt::UpperLeft,
+        ..Default::default()
+    };
+    // The undercut of every solution, with its ± σ.
+    let to_point = |p: &[f64; 4]| (p[0], p[2] * MM);
+    let series = vec![
+        Series {
+            label: "favoured solution".into(),
+            points: group.favoured.iter().map(to_point).collect(),
+            color: 0,
+            kind: LineKind::Markers { radius: MARKER_RADIUS, filled: true },
+        },
+        Series {
+            label: "other solution".into(),
+            points: group.others.iter().map(to_point).collect(),
+            color: 1,
+            kind: LineKind::Markers { radius: MARKER_RADIUS, filled: false },
+        },
+    ];
+    let bars = all().filter(|p| p[3] > 0.0).map(|p| (p[0], (p[2] - p[3]) * MM, (p[2] + p[3]) * MM)).collect();
+    let (lo, hi) = all()
+        .flat_map(|p| [(p[2] - p[3]) * MM, (p[2] + p[3]) * MM])
+        .filter(|y| y.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y), hi.max(y)));
+    let (lo, hi) = if lo.is_finite() { (lo.min(0.0), hi.max(0.0)) } else { (-10.0, 10.0) };
+    let span = (hi - lo).max(2.0);
+    let lower = LineChart {
+        title: format!("{title}: undercut"),
+        x_label: "z from the knob (m)".into(),
+        y_label: "undercut D (mm, ball centre above the bat's path +)".into(),
+        series,
+        markers: vec![sweet_marker()],
+        bands: vec![band()],
+        error_bars: vec![ErrorBars { label: "± σ".into(), color: 0, bars, horizontal: false }],
+        x_range: Some(x_range),
+        y_range: Some((lo - 0.1 * span, hi + 0.9 * span)),
+        zero_line: true,
+        legend: LegendAt::UpperLeft,
+        ..Default::default()
+    };
+    (upper, lower)
 }

@@ -264,9 +264,29 @@ impl<T: ToJson, const N: usize> ToJson for [T; N] {
 
 /// Renders JSON in the indented `key: value` form `ros2 topic echo` prints (NaN shows as `.nan`).
 pub fn to_readable(value: &Value) -> String {
+    to_readable_named(value, &[])
+}
+
+/// [`to_readable`], with the integer value of each field named in `names` followed by its constant's name
+/// (`status: 0 (OK)`; a value no constant has prints bare).
+pub fn to_readable_named(value: &Value, names: &[(&str, &[(u64, &str)])]) -> String {
     let mut out = String::new();
-    write_readable(value, 0, &mut out);
+    write_readable(value, 0, names, &mut out);
     out
+}
+
+/// `scalar` as [`scalar_readable`] prints it, with the name of the constant of field `key` it equals.
+fn named_scalar(key: &str, scalar: &Value, names: &[(&str, &[(u64, &str)])]) -> String {
+    let plain = scalar_readable(scalar);
+    let name = names
+        .iter()
+        .find(|(field, _)| *field == key)
+        .and_then(|(_, consts)| consts.iter().find(|(v, _)| Some(*v) == scalar.as_u64()))
+        .map(|(_, name)| *name);
+    match name {
+        Some(name) => format!("{plain} ({name})"),
+        None => plain,
+    }
 }
 
 fn scalar_readable(v: &Value) -> String {
@@ -293,7 +313,7 @@ fn scalar_readable(v: &Value) -> String {
     }
 }
 
-fn write_readable(value: &Value, indent: usize, out: &mut String) {
+fn write_readable(value: &Value, indent: usize, names: &[(&str, &[(u64, &str)])], out: &mut String) {
     let pad = " ".repeat(indent);
     match value {
         Value::Object(map) => {
@@ -301,7 +321,7 @@ fn write_readable(value: &Value, indent: usize, out: &mut String) {
                 match v {
                     Value::Object(m) if !m.is_empty() => {
                         out.push_str(&format!("{pad}{k}:\n"));
-                        write_readable(v, indent + 2, out);
+                        write_readable(v, indent + 2, names, out);
                     }
                     Value::Array(a) if !a.is_empty() => {
                         if a.iter().all(|e| !e.is_object() && !e.is_array()) {
@@ -313,7 +333,7 @@ fn write_readable(value: &Value, indent: usize, out: &mut String) {
                             out.push_str(&format!("{pad}{k}:\n"));
                             for e in a {
                                 let mut inner = String::new();
-                                write_readable(e, indent + 2, &mut inner);
+                                write_readable(e, indent + 2, names, &mut inner);
                                 // First line of each element gets the list marker.
                                 let inner = inner.replacen(&format!("{pad}  "), &format!("{pad}- "), 1);
                                 out.push_str(&inner);
@@ -322,7 +342,7 @@ fn write_readable(value: &Value, indent: usize, out: &mut String) {
                     }
                     Value::Array(_) => out.push_str(&format!("{pad}{k}: []\n")),
                     Value::Object(_) => out.push_str(&format!("{pad}{k}: {{}}\n")),
-                    scalar => out.push_str(&format!("{pad}{k}: {}\n", scalar_readable(scalar))),
+                    scalar => out.push_str(&format!("{pad}{k}: {}\n", named_scalar(k, scalar, names))),
                 }
             }
         }

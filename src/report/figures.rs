@@ -10,7 +10,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use super::plot::{draw_panels, ImageFormat, LineChart, Series, VerticalMarker};
+use super::plot::{draw_panels, ImageFormat, LegendAt, LineChart, LineKind, Series, VerticalMarker};
 use super::sweep::{impact_points, SweepJson};
 use super::table::num;
 use crate::physics::batter::{
@@ -23,6 +23,15 @@ use crate::physics::{collide, Ball, Bat, CollisionOptions, Impact, MassPropertie
 
 /// Axis label of impact point.
 pub const Z_LABEL: &str = "impact point z (m from the knob)";
+/// What "e0" on a chart means.
+pub const E0_NOTE: &str =
+    "e0: the ball's coefficient of restitution against a rigid wall (what the ball alone returns)";
+/// What a "rigid" curve on a chart is.
+pub const RIGID_NOTE: &str =
+    "rigid (e0): the same bat as one rigid body, the collision losing only the ball's e0; flexible: vibrations too";
+/// What "e_eff" on the seed's panels means.
+pub const E_EFF_NOTE: &str =
+    "e_eff: the seed paper's effective bat-ball COR, one number for the whole collision, as its tables print it";
 /// Axis label of exit speed.
 pub const EXIT_SPEED_LABEL: &str = "ball exit speed (m/s)";
 /// Number of vibrational modes drawn per preset in the mode-shape figure.
@@ -133,6 +142,7 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
     let normal = rigid_seed_bat("seed-table1-normal")?;
     let (r161, r161_modes) = physical_curve(&preset("r161")?, s, &swing, from)?;
     let seed_panel = LineChart {
+        notes: vec![E_EFF_NOTE.into()],
         title: format!("Seed Table 1 bat, rigid, e_eff = {}", normal.effective_cor),
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
@@ -171,6 +181,7 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
     let corked = rigid_seed_bat("seed-table1-corked")?;
     let (r161c, _) = physical_curve(&preset("r161-corked")?, s, &swing, from)?;
     let seed_panel = LineChart {
+        notes: vec![E_EFF_NOTE.into()],
         title: format!("Seed Table 1, rigid, e_eff = {}", normal.effective_cor),
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
@@ -210,6 +221,7 @@ pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>>
         impact_z: f64::NAN,
     };
     let seed_panel = LineChart {
+        notes: vec![E_EFF_NOTE.into()],
         title: "Seed Table 2, rigid, e_eff as printed".into(),
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
@@ -343,6 +355,7 @@ fn write_equal_effort_figures(
     let (normal_curve, _) = physical_curve(&r161, s, &swing, from)?;
     let (corked_curve, _) = physical_curve(&r161c, s, &corked_impact, from)?;
     let seed_panel = LineChart {
+        notes: vec![E_EFF_NOTE.into()],
         title: format!("Seed Table 1, rigid, e_eff = {}, equal effort", normal.effective_cor),
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
@@ -405,6 +418,7 @@ fn write_equal_effort_figures(
     let seed_alu_speed = SEED_FIG6_BAT_SPEED * seed_ratio;
     let alu_speed = SEED_FIG6_BAT_SPEED * ratio;
     let seed_panel = LineChart {
+        notes: vec![E_EFF_NOTE.into()],
         title: "Seed Table 2, rigid, e_eff as printed, equal effort".into(),
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
@@ -686,6 +700,7 @@ fn physical_panel(title: &str, curves: &[(&str, &PhysicalCurve, usize)]) -> Line
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
         series,
+        notes: vec![E0_NOTE.into(), RIGID_NOTE.into()],
         ..Default::default()
     }
 }
@@ -699,20 +714,29 @@ pub fn exit_speed_chart(doc: &SweepJson) -> LineChart {
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p.impact_z), hi.max(p.impact_z)));
     let within = |z: &f64| *z >= lo && *z <= hi;
+    // The sweet spot often lies within a centimetre of the first mode's node: the node is a dashed line, the
+    // sweet spot a solid one and a ring on the curve's maximum, each labelled with its position.
     let mut markers = Vec::new();
     for z in doc.nodes.mode1.iter().filter(|z| within(z)) {
-        markers.push(marker(*z, "node of mode 1", 2, true));
+        markers.push(marker(*z, &format!("node of mode 1 ({} m)", num(*z, 3)), 2, true));
     }
     for z in doc.nodes.mode2.iter().filter(|z| within(z)) {
-        markers.push(marker(*z, "node of mode 2", 3, true));
+        markers.push(marker(*z, &format!("node of mode 2 ({} m)", num(*z, 3)), 3, true));
     }
-    if within(&doc.sweet_spots.max_exit_speed_z) {
-        markers.push(marker(
-            doc.sweet_spots.max_exit_speed_z,
-            &format!("sweet spot (max exit speed, {} m)", num(doc.sweet_spots.max_exit_speed_z, 3)),
-            6,
-            false,
-        ));
+    let mut series = vec![
+        Series::solid(format!("flexible bat ({} modes)", doc.options.modes), 0, flexible),
+        Series::dashed(format!("rigid bat (e0 = {})", doc.ball.cor), 1, rigid),
+    ];
+    let spot = &doc.sweet_spots;
+    if within(&spot.max_exit_speed_z) {
+        let line = format!("sweet spot ({} m)", num(spot.max_exit_speed_z, 3));
+        markers.push(marker(spot.max_exit_speed_z, &line, 6, false));
+        series.push(Series {
+            label: format!("max exit speed {} m/s", num(spot.max_exit_speed, 4)),
+            points: vec![(spot.max_exit_speed_z, spot.max_exit_speed)],
+            color: 6,
+            kind: LineKind::Markers { radius: 7, filled: false },
+        });
     }
     LineChart {
         title: format!(
@@ -724,11 +748,11 @@ pub fn exit_speed_chart(doc: &SweepJson) -> LineChart {
         ),
         x_label: Z_LABEL.into(),
         y_label: EXIT_SPEED_LABEL.into(),
-        series: vec![
-            Series::solid(format!("flexible bat ({} modes)", doc.options.modes), 0, flexible),
-            Series::dashed(format!("rigid bat (e0 = {})", doc.ball.cor), 1, rigid),
-        ],
+        series,
         markers,
+        // The curves leave the bottom middle free (they rise to the sweet spot and fall beyond it).
+        legend: LegendAt::LowerMiddle,
+        notes: vec![E0_NOTE.into(), RIGID_NOTE.into()],
         ..Default::default()
     }
 }

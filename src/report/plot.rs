@@ -133,6 +133,36 @@ pub struct Band {
     pub color: usize,
 }
 
+/// Bars from `low` to `high` (an interquartile range, a ± σ), with caps, in one legend entry: vertical at x,
+/// or horizontal at y.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ErrorBars {
+    /// Legend label.
+    pub label: String,
+    /// Index into [`PALETTE`].
+    pub color: usize,
+    /// (x, low y, high y) of each vertical bar, or (y, low x, high x) of each horizontal one.
+    pub bars: Vec<(f64, f64, f64)>,
+    /// Horizontal bars (an uncertainty in x).
+    pub horizontal: bool,
+}
+
+/// Where the legend sits inside the plot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LegendAt {
+    /// Lower right corner.
+    #[default]
+    LowerRight,
+    /// Upper right corner.
+    UpperRight,
+    /// Upper left corner.
+    UpperLeft,
+    /// Lower left corner.
+    LowerLeft,
+    /// Bottom, centred.
+    LowerMiddle,
+}
+
 /// A line chart: title, axis labels (with units), series and vertical markers.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LineChart {
@@ -154,8 +184,92 @@ pub struct LineChart {
     pub zero_line: bool,
     /// Shaded bands, drawn behind the series.
     pub bands: Vec<Band>,
-    /// Legend in the upper right corner instead of the lower right (leave room for it with `y_range`).
-    pub legend_upper_right: bool,
+    /// The legend's corner (leave room for it with `y_range`).
+    pub legend: LegendAt,
+    /// Error bars, drawn over the series.
+    pub error_bars: Vec<ErrorBars>,
+    /// Lines of explanation printed under the plot (what a label such as "e0" means).
+    pub notes: Vec<String>,
+}
+
+/// Height of one line of [`LineChart::notes`], px.
+const NOTE_LINE: u32 = 20;
+
+/// The parts of the polyline `points` inside the rectangle `x` × `y`: each segment is clipped to it
+/// (Liang–Barsky), so a line leaving the plot ends at its edge where it crossed, instead of running along it;
+/// non-finite points break the line.
+pub fn clip_polyline(points: &[(f64, f64)], x: (f64, f64), y: (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    let mut pieces: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut current: Vec<(f64, f64)> = Vec::new();
+    let finite = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    for pair in points.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let clipped = if finite(&a) && finite(&b) { clip_segment(a, b, x, y) } else { None };
+        match clipped {
+            Some((p, q)) => {
+                if current.last() != Some(&p) {
+                    if !current.is_empty() {
+                        pieces.push(std::mem::take(&mut current));
+                    }
+                    current.push(p);
+                }
+                current.push(q);
+            }
+            None => {
+                if !current.is_empty() {
+                    pieces.push(std::mem::take(&mut current));
+                }
+            }
+        }
+    }
+    if !current.is_empty() {
+        pieces.push(current);
+    }
+    // A lone point inside the plot is still data.
+    if points.len() == 1 && finite(&points[0]) && inside(points[0], x, y) {
+        pieces.push(vec![points[0]]);
+    }
+    pieces
+}
+
+/// Whether `p` is inside the rectangle `x` × `y` (edges included).
+pub fn inside(p: (f64, f64), x: (f64, f64), y: (f64, f64)) -> bool {
+    p.0 >= x.0.min(x.1) && p.0 <= x.0.max(x.1) && p.1 >= y.0.min(y.1) && p.1 <= y.0.max(y.1)
+}
+
+/// The part of segment a–b inside the rectangle, if any (Liang–Barsky).
+fn clip_segment(a: (f64, f64), b: (f64, f64), x: (f64, f64), y: (f64, f64)) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    for (p, q) in
+        [(-dx, a.0 - x.0.min(x.1)), (dx, x.0.max(x.1) - a.0), (-dy, a.1 - y.0.min(y.1)), (dy, y.0.max(y.1) - a.1)]
+    {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+            if t0 > t1 {
+                return None;
+            }
+        }
+    }
+    let at = |t: f64| {
+        if t == 0.0 {
+            a
+        } else if t == 1.0 {
+            b
+        } else {
+            (a.0 + t * dx, a.1 + t * dy)
+        }
+    };
+    Some((at(t0), at(t1)))
 }
 
 fn register_fonts() {
@@ -218,8 +332,10 @@ where
         None => root.clone(),
     };
     let panels = body.split_evenly((rows, columns));
+    // Every panel reserves room for as many note lines as the most-annotated one, so their plots line up.
+    let note_lines = charts.iter().map(|c| c.notes.len()).max().unwrap_or(0);
     for (panel, chart) in panels.iter().zip(charts) {
-        render_chart(panel, chart)?;
+        render_chart(panel, chart, note_lines)?;
     }
     root.present().map_err(plot_err)?;
     Ok(())
@@ -259,10 +375,13 @@ fn tick_label(value: f64, decimals: usize) -> String {
     }
 }
 
-fn render_chart<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, chart: &LineChart) -> Result<()>
+fn render_chart<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, chart: &LineChart, note_lines: usize) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
+    if *chart == LineChart::default() {
+        return Ok(()); // an empty cell of a grid
+    }
     let all_points = || chart.series.iter().flat_map(|s| s.points.iter().copied());
     let x_range = chart
         .x_range
@@ -275,7 +394,14 @@ where
         .y_range
         .or_else(|| padded_range(all_points().map(|p| p.1), 0.08))
         .ok_or_else(|| anyhow!("chart '{}' has no finite data", chart.title))?;
-    let mut ctx = ChartBuilder::on(area)
+    let (_, h) = area.dim_in_pixel();
+    let notes_h = NOTE_LINE * note_lines as u32;
+    let (plot_area, notes_area) = area.split_vertically(h.saturating_sub(notes_h + if notes_h > 0 { 6 } else { 0 }));
+    for (k, note) in chart.notes.iter().enumerate() {
+        let style = ("sans-serif", 14).into_font().color(&RGBColor(80, 80, 80));
+        notes_area.draw(&Text::new(note.as_str(), (14, NOTE_LINE as i32 * k as i32), style)).map_err(plot_err)?;
+    }
+    let mut ctx = ChartBuilder::on(&plot_area)
         .caption(&chart.title, ("sans-serif", 24))
         .margin(14)
         .x_label_area_size(48)
@@ -293,8 +419,11 @@ where
         .y_desc(chart.y_label.as_str())
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 15))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(215, 215, 215))
+        // One faint minor line between major ones: a guide for the eye that does not compete with the data.
+        .x_max_light_lines(1)
+        .y_max_light_lines(1)
+        .light_line_style(RGBColor(244, 244, 244))
+        .bold_line_style(RGBColor(218, 218, 218))
         .draw()
         .map_err(plot_err)?;
 
@@ -318,11 +447,22 @@ where
     for series in &chart.series {
         let color = PALETTE[series.color % PALETTE.len()];
         let style = color.stroke_width(2);
-        let points: Vec<(f64, f64)> =
-            series.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
+        // Lines are clipped to the plot (plotters would pin points beyond it to its edge); markers outside it
+        // are left out.
+        let points: Vec<(f64, f64)> = series
+            .points
+            .iter()
+            .copied()
+            .filter(|&p| p.0.is_finite() && p.1.is_finite() && inside(p, x_range, y_range))
+            .collect();
+        let pieces = clip_polyline(&series.points, x_range, y_range);
         let drawn = match series.kind {
-            LineKind::Solid => ctx.draw_series(LineSeries::new(points, style)).map_err(plot_err)?,
-            LineKind::Dashed => ctx.draw_series(DashedLineSeries::new(points, 9, 6, style)).map_err(plot_err)?,
+            LineKind::Solid => {
+                ctx.draw_series(pieces.into_iter().map(|piece| PathElement::new(piece, style))).map_err(plot_err)?
+            }
+            LineKind::Dashed => ctx
+                .draw_series(pieces.into_iter().flat_map(|piece| DashedLineSeries::new(piece, 9, 6, style)))
+                .map_err(plot_err)?,
             LineKind::Points => {
                 ctx.draw_series(points.into_iter().map(|p| Circle::new(p, 3, color.filled()))).map_err(plot_err)?
             }
@@ -333,6 +473,36 @@ where
         };
         let kind = series.kind;
         drawn.label(series.label.as_str()).legend(move |(x, y)| legend_glyph(x, y, color, kind));
+    }
+
+    for bars in &chart.error_bars {
+        let color = PALETTE[bars.color % PALETTE.len()];
+        let style = color.stroke_width(2);
+        let (xr, yr) = (x_range, y_range);
+        let horizontal = bars.horizontal;
+        // (x, y) of a point given along the bar (`along`) and across it (`across`).
+        let at = move |along: f64, across: f64| if horizontal { (along, across) } else { (across, along) };
+        let cap = 0.006 * if horizontal { (yr.1 - yr.0).abs() * 1.6 } else { (xr.1 - xr.0).abs() };
+        let mut elements: Vec<PathElement<(f64, f64)>> = Vec::new();
+        for &(c, low, high) in &bars.bars {
+            if !(c.is_finite() && low.is_finite() && high.is_finite()) {
+                continue;
+            }
+            for piece in clip_polyline(&[at(low, c), at(high, c)], xr, yr) {
+                elements.push(PathElement::new(piece, style));
+            }
+            for end in [low, high] {
+                for piece in clip_polyline(&[at(end, c - cap), at(end, c + cap)], xr, yr) {
+                    elements.push(PathElement::new(piece, style));
+                }
+            }
+        }
+        ctx.draw_series(elements).map_err(plot_err)?.label(bars.label.as_str()).legend(move |(x, y)| {
+            EmptyElement::at((x, y))
+                + PathElement::new(vec![(12, -6), (12, 6)], style)
+                + PathElement::new(vec![(8, -6), (16, -6)], style)
+                + PathElement::new(vec![(8, 6), (16, 6)], style)
+        });
     }
 
     let mut labelled: Vec<&str> = Vec::new();
@@ -357,10 +527,12 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .label_font(("sans-serif", 15))
-            .position(if chart.legend_upper_right {
-                SeriesLabelPosition::UpperRight
-            } else {
-                SeriesLabelPosition::LowerRight
+            .position(match chart.legend {
+                LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
+                LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
+                LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
+                LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
+                LegendAt::LowerMiddle => SeriesLabelPosition::LowerMiddle,
             })
             .draw()
             .map_err(plot_err)?;
@@ -410,6 +582,22 @@ mod tests {
         assert_eq!(tick_label(-0.5, 1), "-0.5");
         assert_eq!(tick_decimals((0.0, 50.0)), 0);
         assert_eq!(tick_decimals((0.5, 0.84)), 2);
+    }
+
+    #[test]
+    fn lines_are_clipped_where_they_cross_the_edge() {
+        let (x, y) = ((0.0, 10.0), (0.0, 10.0));
+        // Rising through the top edge at x = 5 (y = 2x): the piece ends there, not pinned along the edge.
+        assert_eq!(
+            clip_polyline(&[(0.0, 0.0), (4.0, 8.0), (6.0, 12.0), (8.0, 16.0)], x, y),
+            vec![vec![(0.0, 0.0), (4.0, 8.0), (5.0, 10.0)]]
+        );
+        // Out and back in: two pieces.
+        let pieces = clip_polyline(&[(1.0, 5.0), (3.0, 15.0), (5.0, 5.0)], x, y);
+        assert_eq!(pieces, vec![vec![(1.0, 5.0), (2.0, 10.0)], vec![(4.0, 10.0), (5.0, 5.0)]]);
+        // Wholly outside, and a NaN gap.
+        assert!(clip_polyline(&[(11.0, 1.0), (12.0, 2.0)], x, y).is_empty());
+        assert_eq!(clip_polyline(&[(1.0, 1.0), (2.0, 2.0), (f64::NAN, 3.0), (4.0, 4.0), (5.0, 5.0)], x, y).len(), 2);
     }
 
     #[test]

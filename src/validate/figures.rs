@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use crate::physics::metrics::linspace;
 use crate::physics::Ball;
-use crate::report::plot::{draw_line_chart, draw_panels, LineChart, LineKind, Series, VerticalMarker};
+use crate::report::plot::{draw_line_chart, draw_panels, ErrorBars, LineChart, LineKind, Series, VerticalMarker};
 
 use super::cases::{wall_cor, Lab, MPH};
 use super::{trackman, Inputs, Report, ValidateError};
@@ -102,6 +102,14 @@ pub fn write(
     let medians: Vec<(f64, f64)> =
         report.trackman_bins.iter().filter_map(|b| b.median_rpm.map(|m| (b.launch_deg, m))).collect();
     spin.series.push(points("TrackMan bin medians", 1, medians));
+    let iqr: Vec<(f64, f64, f64)> =
+        report.trackman_bins.iter().filter_map(|b| Some((b.launch_deg, b.q1_rpm?, b.q3_rpm?))).collect();
+    spin.error_bars.push(ErrorBars {
+        label: "TrackMan bin interquartile range".into(),
+        color: 1,
+        bars: iqr,
+        horizontal: false,
+    });
     out.push(draw(dir, "validate-spin-vs-launch", ext, &spin)?);
 
     // BPF against hoop frequency.

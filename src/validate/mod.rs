@@ -689,16 +689,32 @@ pub fn render(report: &Report) -> String {
     let fmt = |v: Option<f64>| v.map(|v| num(v, 4)).unwrap_or_else(|| "—".into());
     let mut t = Table::new(["id", "unit", "model", "measured", "ratio", "verdict"]);
     for r in &report.rows {
-        let measured = match r.rule {
+        let bound = match r.rule {
             Rule::AtMost => format!("≤ {}", fmt(r.high)),
             Rule::AtLeast => format!("≥ {}", fmt(r.low)),
-            Rule::TrackmanIqr => format!("{} (IQR {}–{})", fmt(r.reference), fmt(r.low), fmt(r.high)),
+            Rule::TrackmanIqr => format!("IQR {}–{}", fmt(r.low), fmt(r.high)),
             _ if r.low.is_none() && r.high.is_none() => "—".to_string(),
             _ => format!("{}–{}", fmt(r.low), fmt(r.high)),
+        };
+        // The ratio's reference shows whenever it is not the bound itself (or a range's midpoint): two rows of
+        // one range but different stated values (a sample mean, a spec's centre) have different ratios.
+        let implied = match (r.rule, r.low, r.high) {
+            (Rule::AtMost, _, high) => high,
+            (Rule::AtLeast, low, _) => low,
+            (Rule::TrackmanIqr, _, _) => None,
+            (_, Some(lo), Some(hi)) => Some(0.5 * (lo + hi)),
+            _ => None,
+        };
+        let measured = match r.reference {
+            Some(v) if implied != Some(v) && bound != "—" => format!("{} ({bound})", fmt(Some(v))),
+            _ => bound,
         };
         t.row([r.id.clone(), r.unit.clone(), fmt(r.model), measured, fmt(r.ratio), r.verdict.label().to_string()]);
     }
     let mut out = t.render();
+    out.push_str(
+        "ratio = model / the measured value: the number before the parentheses, else the range's midpoint or bound\n",
+    );
     out.push_str(&format!(
         "\n{} rows: {} PASS, {} FAIL, {} N/A\n",
         report.rows.len(),
