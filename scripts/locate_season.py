@@ -1,7 +1,12 @@
 #!/usr/bin/env python3
 """Summarise `sweetspot locate --json` on a Statcast season (docs/locate-season.md).
 
+    python3 scripts/locate_season.py attack SEASON.csv ATTACK.csv OUT.csv
     python3 scripts/locate_season.py SEASON.csv BAG LOCATED.json [--exit-sigma-mph 1.0]
+
+`attack` writes SEASON.csv with an `attack_angle` column added (2024 files have none): the median attack angle
+of ATTACK.csv (the 2025 sample, ../shared/reference/statcast/batted_balls_attack_angle.csv) in the ball's 5°
+launch-angle bin (bins with fewer than 20 balls borrow the next lower bin's).
 
 SEASON.csv is the Savant CSV the bag was imported from (the import's side table, BAG/import_rows.csv, maps each
 swing to its line there), LOCATED.json the output of `sweetspot locate BAG --json`. Prints, per 5-mph bin of the
@@ -23,7 +28,37 @@ import sys
 MPH = 0.44704
 
 
+def add_attack_angle(season, attack, out):
+    by = collections.defaultdict(list)
+    with open(attack, newline="") as f:
+        for r in csv.DictReader(f):
+            try:
+                by[5 * math.floor(float(r["launch_angle"]) / 5)].append(float(r["attack_angle"]))
+            except ValueError:
+                continue
+    median = {k: statistics.median(v) for k, v in by.items() if len(v) >= 20}
+    keys = sorted(median)
+
+    def at(launch):
+        k = min(max(5 * math.floor(launch / 5), keys[0]), keys[-1])
+        while k not in median:
+            k -= 5
+        return median[k]
+
+    with open(season, newline="") as f, open(out, "w", newline="") as g:
+        reader, writer = csv.reader(f), csv.writer(g)
+        header = next(reader)
+        i = header.index("launch_angle")
+        writer.writerow(header + ["attack_angle"])
+        for row in reader:
+            writer.writerow(row + [f"{at(float(row[i])):.2f}" if row[i] else ""])
+    print(", ".join(f"{k}°: {median[k]:.1f}°" for k in keys))
+    return 0
+
+
 def main():
+    if len(sys.argv) == 5 and sys.argv[1] == "attack":
+        return add_attack_angle(*sys.argv[2:])
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("season")
     ap.add_argument("bag")
