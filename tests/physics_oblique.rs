@@ -620,6 +620,6 @@ fn on_a_fixed_cylinder_the_ball_grips_up_to_about_forty_degrees_of_incidence() {
         let e_n = r.normal_exit_speed / (impact.ball_speed * beta.cos());
         let closed = (contact.friction * (1.0 + e_n) * (1.0 + h) / h).atan().to_degrees();
         assert!((psi_c - closed).abs() < 0.2, "{mph} mph: ψ_c = {psi_c:.2}° against the closed form {closed:.2}°");
-        assert!((36.0..=44.0).contains(&psi_c), "{mph} mph: grips up to {psi_c:.1}°, measured about 40°");
+        assert!((35.0..=45.0).contains(&psi_c), "{mph} mph: grips up to {psi_c:.1}°, measured about 40°");
     }
 }
