@@ -4,6 +4,12 @@
 //!
 //! `SWEETSPOT_LOCATE_SWINGS=N` sets the swings per bag (default 1,000); `SWEETSPOT_LOCATE_BAG=DIR` writes the
 //! bag to DIR and keeps it (for timing `sweetspot locate DIR` as a whole process).
+//!
+//! **A season.** `SWEETSPOT_LOCATE_SEASON=FILE.csv` instead imports a Statcast season (the shared 2024 file,
+//! decompressed; 112,730 swings with bat speed, exit speed and launch angle measured) and times `locate_bag`
+//! on it once per pass, `SWEETSPOT_LOCATE_PASSES` passes (default 3), printing each pass and the located
+//! counts: a minute-long run is not criterion's kind of sample. See docs/locate-season.md.
+//! `SWEETSPOT_LOCATE_SEASON=/tmp/season2024.csv cargo bench --bench locate`
 use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -90,7 +96,35 @@ fn write_export(path: &Path, count: usize) {
     writer.flush().expect("flush");
 }
 
+/// Times `locate_bag` on a Statcast season (see the module docs).
+fn season(csv: &Path) {
+    let passes: usize = std::env::var("SWEETSPOT_LOCATE_PASSES").ok().and_then(|s| s.parse().ok()).unwrap_or(3);
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let bag = tmp.path().join("season");
+    let started = std::time::Instant::now();
+    let import = import_files(&[csv.to_path_buf()], &bag, &options()).expect("import");
+    eprintln!("import: {} swings in {:.1} s", import.swings, started.elapsed().as_secs_f64());
+    let threads = rayon::current_num_threads();
+    for pass in 1..=passes {
+        let started = std::time::Instant::now();
+        let report = locate_bag(&bag, &LocateOptions::default()).expect("locate");
+        let seconds = started.elapsed().as_secs_f64();
+        println!(
+            "locate_season pass {pass}: {} swings in {seconds:.1} s on {threads} threads ({:.0} µs per swing): \
+             {} located, {} too fast",
+            report.swings.len(),
+            seconds * 1e6 / report.swings.len() as f64,
+            report.located,
+            report.too_fast
+        );
+    }
+}
+
 fn benches(c: &mut Criterion) {
+    if let Some(csv) = std::env::var_os("SWEETSPOT_LOCATE_SEASON") {
+        season(Path::new(&csv));
+        return;
+    }
     let count: usize = std::env::var("SWEETSPOT_LOCATE_SWINGS").ok().and_then(|s| s.parse().ok()).unwrap_or(1000);
     let tmp = tempfile::tempdir().expect("tempdir");
     let csv = tmp.path().join("export.csv");

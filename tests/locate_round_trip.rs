@@ -313,7 +313,8 @@ fn a_ball_hit_harder_than_the_sweet_spot_allows_is_reported_with_the_excess() {
 }
 
 /// A 1-mm scan of the barrel with the node's engine finds exactly the roots `locate` reports with only the
-/// exit speed measured (its coarse grid misses none), each within a millimetre.
+/// exit speed measured (its coarse grid misses none), each within a millimetre — including roots in the
+/// grid's first and last cells, at the two ends of the search range.
 #[test]
 fn every_root_a_one_millimetre_scan_finds_is_located_and_no_other() {
     let mp = options().bat.mass_properties();
@@ -337,7 +338,11 @@ fn every_root_a_one_millimetre_scan_finds_is_located_and_no_other() {
     // The search range of `locate` on the r161 (0.8382 m): L/2 … L − 5 mm.
     let scan: Vec<(f64, f64)> = (420..=833).map(|mm| (mm as f64 / 1000.0, speed_at(mm as f64 / 1000.0))).collect();
     let peak = scan.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
-    let targets = [peak - 8.0, peak - 3.0, peak - 1.0, peak - 0.3];
+    // Two speeds whose roots lie in the grid's first and last cells: the exit speed halfway between the scan's
+    // 426 and 427 mm (handle end of the search range) and 825 and 826 mm (8 mm from the barrel end). A grid
+    // that stopped short of either end would bracket neither and lose that solution while still "locating".
+    let between = |mm: usize| 0.5 * (scan[mm - 420].1 + scan[mm + 1 - 420].1);
+    let targets = [peak - 8.0, peak - 3.0, peak - 1.0, peak - 0.3, between(426), between(825)];
     let tmp = tempfile::tempdir().unwrap();
     let mut export = Export::from_fixture("trackman_game.csv", 5);
     let blank = String::new();

@@ -571,3 +571,55 @@ fn no_contact_law_kns_allow_keeps_an_88_mph_tee_shot_under_3500_rpm_up_to_30_deg
     let gross_slip = largest_spin_rpm(&TangentialContact { friction: 0.10, ..TangentialContact::default() }, false);
     assert!(gross_slip < 3500.0, "μ = 0.10: {gross_slip:.0} rpm");
 }
+
+/// Where the default contact law stops gripping on a fixed wooden cylinder: the incidence ψ_c above which
+/// friction can no longer bring the slip to zero (the slip after contact keeps the sign it had before).
+/// Nathan, Cantakos, Kesman, Mathew & Lukash, "Spin of a batted baseball", Procedia Eng. 34, 182 (2012) (a
+/// baseball fired at 85–120 mph onto a fixed 3-in wooden cylinder; secondhand reading, see
+/// ../shared/reference/measurements.md): the ball grips below about 40° of incidence and slides above it, with
+/// μ ≈ 0.15. For a ball without spin on an immovable cylinder the Coulomb law puts that angle at
+/// tan ψ_c = μ (1 + e_n)(1 + h)/h (friction μ J_n = μ m (1 + e_n) v cos ψ against the impulse that stops the
+/// slip, m h/(1 + h) · v sin ψ), with e_n the normal COR the collision itself gives. The scan is the model;
+/// the 40° is the measurement; the closed form ties the two to μ.
+#[test]
+fn on_a_fixed_cylinder_the_ball_grips_up_to_about_forty_degrees_of_incidence() {
+    use sweetspot::physics::{Material, Station};
+    let radius = 1.5 * 0.0254;
+    let heavy = Material { density: 1.0e5, youngs_modulus: 1.0e13, shear_modulus: 1.0e13 };
+    let stations = vec![
+        Station { z: 0.0, outer_radius: radius, inner_radius: 0.0 },
+        Station { z: 0.3, outer_radius: radius, inner_radius: 0.0 },
+    ];
+    let cylinder = Bat::new("fixed cylinder", stations, heavy, None, 0.3 / 20.0).expect("cylinder");
+    let modes = ModeSet::compute(&cylinder, 2).expect("modes");
+    let centre = modes.mass_properties().center_of_mass;
+    let s = Setup {
+        bat: cylinder,
+        modes,
+        ball: Ball::default(),
+        options: CollisionOptions { modes: 0, ..CollisionOptions::default() },
+    };
+    let contact = TangentialContact::default();
+    let h = contact.ball_inertia_ratio;
+    for mph in [85.0, 100.0, 120.0] {
+        let impact = Impact { ball_speed: mph * 0.44704, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: centre };
+        let at = |psi_deg: f64| {
+            let d = psi_deg.to_radians().sin() * (s.ball.radius + radius);
+            run(&s, &oblique(&s, impact, d, 0.0, 0.0, 0.0), &contact)
+        };
+        // First incidence (0.05° steps) where the slip survives the contact.
+        let psi_c = (200..=1200)
+            .map(|i| i as f64 * 0.05)
+            .find(|&psi| {
+                let r = at(psi);
+                r.slip_after * r.slip_before > 0.0
+            })
+            .expect("the ball slides at grazing incidence");
+        let r = at(psi_c);
+        let beta = r.line_of_centres_angle;
+        let e_n = r.normal_exit_speed / (impact.ball_speed * beta.cos());
+        let closed = (contact.friction * (1.0 + e_n) * (1.0 + h) / h).atan().to_degrees();
+        assert!((psi_c - closed).abs() < 0.2, "{mph} mph: ψ_c = {psi_c:.2}° against the closed form {closed:.2}°");
+        assert!((35.0..=45.0).contains(&psi_c), "{mph} mph: grips up to {psi_c:.1}°, measured about 40°");
+    }
+}

@@ -264,7 +264,7 @@ pub struct ObliqueArgs {
     /// Tangential coefficient of restitution e_T, 0..=1 (0 = rolling contact) [default 0.405].
     #[arg(long, value_name = "E_T", value_parser = finite_f64, allow_negative_numbers = true)]
     pub tangential_cor: Option<f64>,
-    /// Coulomb friction coefficient μ between ball and bat, 0..=2 [default 0.20].
+    /// Coulomb friction coefficient μ between ball and bat, 0..=2 [default 0.15].
     #[arg(long, value_name = "MU", value_parser = finite_f64, allow_negative_numbers = true)]
     pub friction: Option<f64>,
 }

@@ -587,6 +587,8 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
         let starts: Vec<f64> = if roots.is_empty() { vec![peak_z] } else { roots.clone() };
         let mut best_v = peak_v;
         let mut best_z = peak_z;
+        // The closest miss (χ², z, D), for the report when nothing reproduces the measurements.
+        let mut closest: Option<(f64, f64, f64)> = None;
         for &z in &starts {
             let start_d = if roots.is_empty() {
                 let reach = model.reach(z);
@@ -613,6 +615,9 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 let chi2 = r.iter().map(|x| x * x).sum::<f64>();
                 // As many unknowns as measurements (or fewer): a solution reproduces them all.
                 let dof_fit = r.len() <= 2;
+                if chi2.is_finite() && closest.is_none_or(|(c, _, _)| chi2 < c) {
+                    closest = Some((chi2, zf, df));
+                }
                 if dof_fit && chi2 > 1e-6 || !chi2.is_finite() {
                     continue;
                 }
@@ -638,8 +643,13 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
             if measured[0] > best_v {
                 return Outcome::TooFast { max_exit_speed: best_v, excess: measured[0] - best_v, sweet_spot_z: best_z };
             }
+            let closest = closest.map_or(String::new(), |(chi2, z, d)| {
+                format!(" (closest: χ² = {chi2:.2} at z = {z:.3} m, D = {:+.1} mm)", d * 1e3)
+            });
             return Outcome::Failed {
-                reason: "no impact point and undercut reproduce the exit speed and launch angle together".into(),
+                reason: format!(
+                    "no impact point and undercut reproduce the exit speed and launch angle together{closest}"
+                ),
             };
         }
     }
