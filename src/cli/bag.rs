@@ -541,8 +541,8 @@ fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> an
         None => bag::export::write_csv(&rows, super::common::Stdout::default()).map_err(flat)?,
     }
     eprintln!(
-        "exported {} swings ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
-        counts.swings, counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
+        "exported {} ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
+        super::import::plural(counts.swings, "swing"), counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
     );
     if let Some(skipped) = skipped {
         eprintln!("skipped (--skip-damaged): {skipped}");
