@@ -11,7 +11,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
 use super::{LocateReport, Outcome, SQUARED_UP};
 use crate::import::ROWS_TABLE;
