@@ -18,14 +18,10 @@ pub const MAX_INPUT_BYTES: u64 = 16 << 20;
 /// Why an input file was refused.
 #[derive(Debug, thiserror::Error)]
 pub enum InputError {
-    /// The file could not be opened or read.
-    #[error("cannot read {what} '{path}': {source}")]
-    Io {
-        what: String,
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// The file could not be opened or read. The OS error is in the message and deliberately not a `source`
+    /// too: an error chain printed whole would say it twice.
+    #[error("cannot read {what} '{path}': {error}")]
+    Io { what: String, path: PathBuf, error: std::io::Error },
     /// Not a regular file (after following symlinks).
     #[error("{what} '{path}' is {kind}, not a regular file: refused")]
     NotRegular { what: String, path: PathBuf, kind: &'static str },
@@ -62,7 +58,7 @@ pub fn not_regular(file_type: std::fs::FileType) -> Option<&'static str> {
 /// and never reads more than `limit + 1` bytes, whatever the file does meanwhile.
 pub fn read_limited(path: &Path, what: &str, limit: u64) -> Result<Vec<u8>, InputError> {
     use std::os::unix::fs::OpenOptionsExt;
-    let io = |source| InputError::Io { what: what.to_string(), path: path.to_path_buf(), source };
+    let io = |error| InputError::Io { what: what.to_string(), path: path.to_path_buf(), error };
     let refuse = |kind| InputError::NotRegular { what: what.to_string(), path: path.to_path_buf(), kind };
     let too_large = |size| InputError::TooLarge { what: what.to_string(), path: path.to_path_buf(), size, limit };
     let meta = std::fs::metadata(path).map_err(io)?;

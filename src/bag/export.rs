@@ -42,6 +42,15 @@ pub struct ExportCounts {
     pub orphan_outputs: u64,
     /// Messages that failed to decode (skipped, never fatal).
     pub undecodable: u64,
+    /// Every topic of the bag as (name, type), first-seen order: what there is when no swing topic is.
+    pub topics: Vec<(String, String)>,
+}
+
+impl ExportCounts {
+    /// Whether the bag has a topic of type `sweetspot_msgs/msg/Swing` (empty or not).
+    pub fn has_swing_topic(&self) -> bool {
+        self.topics.iter().any(|(_, type_name)| type_name == Swing::TYPE_NAME)
+    }
 }
 
 /// The node namespace of a recorded topic: the topic minus the node's relative name for that message type
@@ -121,6 +130,8 @@ pub fn read_run(path: &Path) -> Result<Run, BagError> {
     for channel in scans.iter().flat_map(|s| s.channels.values()) {
         per_type.entry(channel.topic.type_name.clone()).or_default().insert(channel.topic.name.clone());
     }
+    counts.topics =
+        super::info::topics_of(&scans).into_iter().map(|(topic, _)| (topic.name, topic.type_name)).collect();
     let single_node = per_type.values().all(|names| names.len() <= 1);
     let node_ns = per_type
         .get(Swing::TYPE_NAME)

@@ -19,7 +19,7 @@ pub struct TopicSummary {
     pub type_hash: String,
     /// Messages.
     pub count: u64,
-    /// Serialization format (`cdr`).
+    /// Serialization format: the channel's MCAP message encoding as the file has it (`cdr` for ROS 2).
     pub serialization_format: String,
     /// Offered QoS: reliable?
     pub reliable: bool,
@@ -86,6 +86,10 @@ pub struct BagInfo {
     pub messages: u64,
     /// Topics in first-seen order.
     pub topics: Vec<TopicSummary>,
+    /// Attachment records, over all files.
+    pub attachments: u64,
+    /// Metadata records, over all files (rosbag2's own `rosbag2` record included).
+    pub metadata: u64,
     /// Whether any file is damaged (see each file's `damage`).
     pub damaged: bool,
 }
@@ -212,18 +216,30 @@ pub fn info_of(scans: &[FileScan]) -> BagInfo {
         topics: topics_of(scans)
             .into_iter()
             .map(|(t, count)| TopicSummary {
+                serialization_format: message_encoding_of(scans, &t.name),
                 name: t.name,
                 type_name: t.type_name,
                 type_hash: t.type_hash,
                 count,
-                serialization_format: "cdr".to_string(),
                 reliable: t.qos.reliable,
                 transient_local: t.qos.transient_local,
                 depth: t.qos.depth,
             })
             .collect(),
+        attachments: scans.iter().map(|s| s.attachments).sum(),
+        metadata: scans.iter().map(|s| s.metadata).sum(),
         damaged: scans.iter().any(FileScan::damaged),
     }
+}
+
+/// The message encoding of the first channel named `topic` (what the file says, e.g. `cdr`, `json`).
+fn message_encoding_of(scans: &[FileScan], topic: &str) -> String {
+    scans
+        .iter()
+        .flat_map(|s| s.channels.values())
+        .find(|c| c.topic.name == topic)
+        .map(|c| c.message_encoding.clone())
+        .unwrap_or_default()
 }
 
 fn human_size(bytes: u64) -> String {
@@ -278,6 +294,10 @@ impl std::fmt::Display for BagInfo {
         writeln!(f, "Start:             {}", stamp(self.start_ns))?;
         writeln!(f, "End:               {}", stamp(self.end_ns))?;
         writeln!(f, "Messages:          {}", self.messages)?;
+        if self.attachments > 0 || self.metadata > 0 {
+            writeln!(f, "Attachments:       {}", self.attachments)?;
+            writeln!(f, "Metadata records:  {}", self.metadata)?;
+        }
         let width = self.topics.iter().map(|t| t.name.len()).max().unwrap_or(0);
         for (i, t) in self.topics.iter().enumerate() {
             let label = if i == 0 { "Topic information: " } else { "                   " };

@@ -9,6 +9,12 @@
 //! summary: the data-section and summary CRCs, and the message count of its statistics. Records that do not
 //! frame are skipped to the next chunk the summary knows, or end the read where there is none.
 //!
+//! Damage is what contradicts the file, never what it leaves out: every layout the MCAP specification allows
+//! reads (no chunks, chunks without message indexes or without chunk indexes, no statistics, no summary,
+//! padded records; the official conformance corpus is in tests/mcap_conformance.rs). A count the file does
+//! not give is unknown, not 0: a chunk index whose message-index offsets are empty means "no message
+//! indexing available" (the specification), so the chunk's count is then checked against nothing.
+//!
 //! Channels are defined by the Schema and Channel records of the data section, which a file cut off by a crash
 //! has alone. When those are damaged in a finished file, the intact summary's copies define the channels
 //! instead, so the messages of intact chunks are still read; the damage report says so
@@ -308,6 +314,10 @@ pub struct FileScan {
     pub time_range: Option<(u64, u64)>,
     /// The last `rosbag2` metadata record's `serialized_metadata`, if any.
     pub rosbag2_metadata: Option<String>,
+    /// Attachment records in the data section (read or, over the size limit, skipped unread).
+    pub attachments: u64,
+    /// Metadata records in the data section (the `rosbag2` one included).
+    pub metadata: u64,
     /// Messages the file's statistics record says it holds (finished files with an intact summary).
     pub expected_messages: Option<u64>,
     /// Every damaged place found, in file order.
@@ -475,10 +485,10 @@ fn read_small_regular_file(path: &Path, limit: u64) -> Result<String, String> {
     use crate::files::InputError;
     match crate::files::read_limited(path, "metadata.yaml", limit) {
         Ok(bytes) => String::from_utf8(bytes).map_err(|_| "is not UTF-8 text".to_string()),
-        Err(InputError::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
+        Err(InputError::Io { error, .. }) if error.kind() == std::io::ErrorKind::NotFound => {
             Err("is missing".to_string())
         }
-        Err(InputError::Io { source, .. }) => Err(format!("cannot be read ({source})")),
+        Err(InputError::Io { error, .. }) => Err(format!("cannot be read ({error})")),
         Err(InputError::NotRegular { kind, .. }) => Err(format!("is {kind}, not a regular file")),
         Err(InputError::TooLarge { size, limit, .. }) => {
             Err(format!("is {size} bytes, more than the {limit} read at most"))
@@ -566,7 +576,8 @@ fn read_up_to(reader: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> 
 #[derive(Debug, Clone, Copy)]
 struct IndexedChunk {
     offset: u64,
-    /// Messages in it (from the length of its message indexes), if that length is consistent.
+    /// Messages in it (from the length of its message indexes); None when the chunk index lists no message
+    /// index (the writer kept none: unknown, not 0) or the length is inconsistent.
     messages: Option<u64>,
 }
 
@@ -948,7 +959,7 @@ impl FileReader {
                     }
                 }
             }
-            op::ATTACHMENT => {}
+            op::ATTACHMENT => self.scan.attachments += 1,
             op::DATA_END | op::FOOTER => self.end_of_data(),
             op::MESSAGE => {
                 if mcap::parse_record(opcode, &self.record).is_ok() {
@@ -970,6 +981,9 @@ impl FileReader {
                         None
                     }
                     Ok(record) => {
+                        if let Record::Metadata(_) = record {
+                            self.scan.metadata += 1;
+                        }
                         take_definition(record, &mut self.scan, &mut self.schemas);
                         None
                     }
@@ -1014,7 +1028,8 @@ impl FileReader {
                 return Ok(false);
             }
             // Over the limit: skipped unread (they are not needed to read the messages).
-            op::ATTACHMENT | op::MESSAGE_INDEX => {}
+            op::ATTACHMENT => self.scan.attachments += 1,
+            op::MESSAGE_INDEX => {}
             op::CHUNK => {
                 let reason = format!("a chunk record of {length} bytes, over the {MAX_RECORD_SIZE}-byte limit");
                 self.take_chunk(start, Err(DamageKind::ChunkUndecodable { reason }));
@@ -1310,12 +1325,14 @@ fn read_summary(
                 pos += FRAME + data.len() as u64;
                 match mcap::parse_record(opcode, data) {
                     Ok(Record::ChunkIndex(index)) => {
+                        // An empty offset map means the writer kept no message index (the specification's "no
+                        // message indexing available"): the chunk's count is unknown, not 0.
                         let channels = index.message_index_offsets.len() as u64;
                         let framing = (FRAME + 6) * channels;
                         let messages = index
                             .message_index_length
                             .checked_sub(framing)
-                            .filter(|bytes| bytes % 16 == 0)
+                            .filter(|bytes| channels > 0 && bytes % 16 == 0)
                             .map(|bytes| bytes / 16);
                         chunks.push(IndexedChunk { offset: index.chunk_start_offset, messages });
                     }

@@ -513,6 +513,26 @@ fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> an
     }
     let (rows, counts) =
         bag::export::swing_rows(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
+    if !counts.has_swing_topic() {
+        let found = if counts.topics.is_empty() {
+            "it has no topics".to_string()
+        } else {
+            let listed: Vec<String> = counts
+                .topics
+                .iter()
+                .map(|(name, type_name)| {
+                    let shown = if type_name.is_empty() { "no schema" } else { type_name.as_str() };
+                    format!("{name} ({shown})")
+                })
+                .collect();
+            format!("its topics: {}", listed.join(", "))
+        };
+        anyhow::bail!(
+            "{}: no swing topics (type {}) to export, nothing written; {found}",
+            path.display(),
+            <crate::msgs::sweetspot_msgs::msg::Swing as crate::msgs::RosMessage>::TYPE_NAME
+        );
+    }
     match &output {
         Some(file) => {
             let out = std::fs::File::create(file).with_context(|| format!("creating {}", file.display()))?;
@@ -521,8 +541,8 @@ fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> an
         None => bag::export::write_csv(&rows, super::common::Stdout::default()).map_err(flat)?,
     }
     eprintln!(
-        "exported {} swings ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
-        counts.swings, counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
+        "exported {} ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
+        super::import::plural(counts.swings, "swing"), counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
     );
     if let Some(skipped) = skipped {
         eprintln!("skipped (--skip-damaged): {skipped}");

@@ -205,6 +205,18 @@ fn write_batters(report: &ImportReport, dir: &std::path::Path, bat: &str, option
     if report.batters.is_empty() {
         bail!("--batter-out: no row has a measured bat speed (Statcast bat_speed), so there is no batter to write");
     }
+    // Every batter gets a file of its own: two ids that spell the same file name are refused before any is
+    // written (one would silently overwrite the other).
+    let mut files: std::collections::BTreeMap<PathBuf, &String> = std::collections::BTreeMap::new();
+    for name in report.batters.keys() {
+        let path = dir.join(batter_file_name(name));
+        if let Some(other) = files.insert(path.clone(), name) {
+            bail!(
+                "--batter-out: batters {other:?} and {name:?} would both be written to {}: refused, nothing written",
+                path.display()
+            );
+        }
+    }
     for (name, stats) in &report.batters {
         let spec = BatterSpec {
             reference_bat: Some(reference_bat.clone()),
@@ -215,51 +227,138 @@ fn write_batters(report: &ImportReport, dir: &std::path::Path, bat: &str, option
             swing_length: stats.swing_length.is_finite().then_some(stats.swing_length),
             shape: Some(options.batter.shape),
         };
-        let safe: String =
-            name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
-        let path = dir.join(format!("batter_{safe}.toml"));
+        let path = dir.join(batter_file_name(name));
+        let inputs: Vec<PathBuf> = report.files.iter().map(|f| f.path.clone()).collect();
+        crate::files::refuse_clobber("--batter-out", &path, &inputs, &[]).map_err(anyhow::Error::msg)?;
+        // The id is a CSV cell: quoted and escaped (a line break in it must not become a line of the file).
         let text = format!(
-            "# {name}: mean of {} measured bat speeds and {} swing lengths (sweetspot import)\n{}",
-            stats.swings,
-            stats.swing_lengths,
+            "# batter {}: mean of {} and {} (sweetspot import)\n{}",
+            escaped(name),
+            plural(stats.swings, "measured bat speed"),
+            plural(stats.swing_lengths, "swing length"),
             toml::to_string(&spec).context("batter file")?
         );
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
-        crate::outln!("batter {name}: {} swings, {:.2} m/s → {}", stats.swings, stats.bat_speed, path.display())?;
+        crate::outln!(
+            "batter {}: {}, {:.2} m/s → {}",
+            escaped(name),
+            plural(stats.swings, "swing"),
+            stats.bat_speed,
+            path.display()
+        )?;
     }
     Ok(())
 }
 
+/// The file a batter's spec is written to: `batter_<id>.toml`, the id's characters other than ASCII letters,
+/// digits, `-` and `_` as `_`.
+fn batter_file_name(name: &str) -> String {
+    let safe: String =
+        name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+    format!("batter_{safe}.toml")
+}
+
+/// A batter id as one quoted line: control characters and quotes escaped.
+fn escaped(name: &str) -> String {
+    format!("{name:?}")
+}
+
+/// `n thing` or `n things`.
+pub(crate) fn plural(n: u64, thing: &str) -> String {
+    if n == 1 {
+        format!("{n} {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
 /// The summary on stdout; `kept` says whether the bag stays (not with --pub alone).
 fn print_report(report: &ImportReport, kept: bool) -> Result<()> {
+    crate::cli::common::emit(&report_text(report, kept))
+}
+
+/// The summary's text; `kept` says whether the bag stays (not with --pub alone).
+fn report_text(report: &ImportReport, kept: bool) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::new();
     for file in &report.files {
-        crate::outln!(
-            "{}: {} export, {} rows, {} swings",
+        let _ = writeln!(
+            out,
+            "{}: {} export, {}, {}",
             file.path.display(),
             file.format.name(),
-            file.rows,
-            file.swings
-        )?;
+            plural(file.rows, "row"),
+            plural(file.swings, "swing")
+        );
     }
     if kept {
-        crate::outln!("{} swings written to {}", report.swings, report.bag.display())?;
+        let _ = writeln!(out, "{} written to {}", plural(report.swings, "swing"), report.bag.display());
     } else {
-        crate::outln!("{} swings imported", report.swings)?;
+        let _ = writeln!(
+            out,
+            "{} imported into a temporary bag, not kept (-o DIR keeps it)",
+            plural(report.swings, "swing")
+        );
     }
     for (reason, count) in &report.skipped {
-        crate::outln!("  skipped {count:>6}: {reason}")?;
+        let _ = writeln!(out, "  skipped {count:>6}: {reason}");
     }
+    let refused: u64 = report.skipped.iter().filter(|(reason, _)| reason.ends_with("(refused)")).map(|(_, n)| n).sum();
     for line in &report.refused {
-        crate::outln!("  refused: {line}")?;
+        let _ = writeln!(out, "  refused: {line}");
+    }
+    if refused > report.refused.len() as u64 {
+        let _ = writeln!(
+            out,
+            "  refused: … {} more not listed (the first {} are)",
+            refused - report.refused.len() as u64,
+            report.refused.len()
+        );
     }
     let assumed: Vec<String> = report.assumed.iter().map(|(k, n)| format!("{k} ({n})")).collect();
     if !assumed.is_empty() {
-        crate::outln!(
-            "assumed, not measured: {} — impact_z = {:.4} m from the knob; `sweetspot locate {}` finds it",
+        let locate = if kept {
+            format!("`sweetspot locate {}` finds it", report.bag.display())
+        } else {
+            "import with -o DIR to keep the bag, then `sweetspot locate DIR` finds it".to_string()
+        };
+        let _ = writeln!(
+            out,
+            "assumed, not measured: {} — impact_z = {:.4} m from the knob; {locate}",
             assumed.join(", "),
-            report.impact_z,
-            if kept { report.bag.display().to_string() } else { "BAG".to_string() }
-        )?;
+            report.impact_z
+        );
     }
-    Ok(())
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::import::FileReport;
+
+    fn report(swings: u64) -> ImportReport {
+        ImportReport {
+            bag: PathBuf::from("bags/game"),
+            files: vec![FileReport { path: PathBuf::from("game.csv"), format: Format::TrackMan, rows: 1, swings }],
+            swings,
+            skipped: Default::default(),
+            refused: Vec::new(),
+            assumed: [("impact_z".to_string(), swings)].into_iter().collect(),
+            impact_z: 0.68,
+            batters: Default::default(),
+        }
+    }
+
+    #[test]
+    fn one_swing_is_one_swing_and_a_bag_not_kept_is_not_offered_to_locate() {
+        let kept = report_text(&report(1), true);
+        assert!(kept.contains("game.csv: trackman export, 1 row, 1 swing\n"), "{kept}");
+        assert!(kept.contains("1 swing written to bags/game\n"), "{kept}");
+        assert!(kept.contains("`sweetspot locate bags/game` finds it"), "{kept}");
+        let gone = report_text(&report(2), false);
+        assert!(gone.contains("2 swings imported into a temporary bag, not kept (-o DIR keeps it)"), "{gone}");
+        assert!(!gone.contains("sweetspot locate bags") && !gone.contains("locate BAG"), "{gone}");
+        assert!(gone.contains("import with -o DIR to keep the bag"), "{gone}");
+    }
 }

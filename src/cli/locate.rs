@@ -69,6 +69,8 @@ pub fn run(args: LocateArgs) -> Result<()> {
     };
     if let Some(path) = &args.figure {
         ImageFormat::from_path(path)?;
+        crate::files::refuse_clobber("--figure", path, &[], std::slice::from_ref(&args.bag))
+            .map_err(anyhow::Error::msg)?;
     }
     let report = locate_bag(&args.bag, &options).map_err(|e| anyhow!("{}: {e}", args.bag.display()))?;
     if let Some(path) = &args.figure {

@@ -85,7 +85,8 @@ fn kind(quantity: &str) -> &'static str {
 impl ColumnMap {
     /// Reads and checks a map file.
     pub fn load(path: &Path) -> Result<ColumnMap, ImportError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ImportError::Io { path: path.into(), source })?;
+        // A regular file of bounded size (a FIFO or /dev/zero is refused, not read for ever).
+        let text = crate::files::read_text(path, "column map").map_err(|e| ImportError::Options(e.to_string()))?;
         let map: ColumnMap =
             toml::from_str(&text).map_err(|e| ImportError::Options(format!("{}: {e}", path.display())))?;
         map.check().map_err(|e| ImportError::Options(format!("{}: {e}", path.display())))?;

@@ -24,14 +24,17 @@
 //! - **Attack angle, pitch angle, pitch spin** when a row lacks them: 0, assumed.
 //!
 //! Every swing's source (file, line, batter, pitcher, pitch id, the tracker's call) and the fields assumed
-//! for it are in the side table `import_rows.csv` inside the bag directory (keyed by `swing_id`); the bag's
+//! for it are in the side table `import_rows.csv` inside the bag directory (keyed by `swing_id`; a cell of
+//! export text starting with `=`, `+`, `-`, `@` is written with a leading `'`, so no spreadsheet runs it as a
+//! formula, see [`spreadsheet_safe`]); the bag's
 //! `custom_data` names the formats, files and assumed fields (`sweetspot/import/*`).
 //!
 //! # Rows that are not swings
 //! A row is skipped, and counted by reason, when the bat did not hit the ball (the tracker's call), when the
 //! pitch speed is missing, when a cell is not a number, or when a value is out of range (a negative or
-//! absurd speed, which is also what a column in other units looks like), or when the record is not UTF-8
-//! text: those are *refused* with the file and line (the line an editor shows, LF or CRLF), and reading goes
+//! absurd speed, which is also what a column in other units looks like), when the record is not UTF-8
+//! text, or when it is malformed (fewer cells than the header, a stray quote): those are *refused* with the
+//! file and line (the line an editor shows, LF or CRLF), and reading goes
 //! on with the next row. Nothing is guessed silently.
 
 pub mod hittrax;
@@ -105,9 +108,10 @@ pub fn backspin(rate: f64, axis_deg: f64) -> f64 {
 /// Errors of an import.
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
-    /// Reading a file failed.
-    #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    /// Reading or writing a file failed (the OS error is in the message, not a `source` too, so a printed
+    /// error chain says it once).
+    #[error("{path}: {error}")]
+    Io { path: PathBuf, error: std::io::Error },
     /// A directory, FIFO or device given as an export.
     #[error("{path}: {what}, not a regular file: refused (an export is a regular CSV file)")]
     NotRegularFile { path: PathBuf, what: String },
@@ -259,6 +263,11 @@ pub enum Skip {
         /// What is wrong with it.
         why: String,
     },
+    /// The record is malformed CSV (cut short, or a stray quote: see [`table::Row::malformed`]).
+    Malformed {
+        /// What is wrong with it.
+        why: String,
+    },
 }
 
 impl Skip {
@@ -270,12 +279,16 @@ impl Skip {
             Skip::NotANumber { column, .. } => format!("{column} not a number (refused)"),
             Skip::Refused { column, .. } => format!("{column} out of range (refused)"),
             Skip::Unreadable { .. } => "record not UTF-8 text (refused)".to_string(),
+            Skip::Malformed { .. } => "record malformed (refused)".to_string(),
         }
     }
 
     /// Whether the row was refused as bad input (as opposed to simply not being a swing).
     pub fn is_refusal(&self) -> bool {
-        matches!(self, Skip::NotANumber { .. } | Skip::Refused { .. } | Skip::Unreadable { .. })
+        matches!(
+            self,
+            Skip::NotANumber { .. } | Skip::Refused { .. } | Skip::Unreadable { .. } | Skip::Malformed { .. }
+        )
     }
 }
 
@@ -287,6 +300,7 @@ impl std::fmt::Display for Skip {
                 write!(f, "{column} gives {value:.6} (SI units), out of range: expected {allowed}")
             }
             Skip::Unreadable { why } => write!(f, "the record's {why}"),
+            Skip::Malformed { why } => write!(f, "malformed record: {why}"),
             other => f.write_str(&other.reason()),
         }
     }
@@ -590,7 +604,7 @@ impl Output {
         writer.write(bat_topic, &encode_cdr(&bat).map_err(encode)?, t, t)?;
         writer.write(ball_topic, &encode_cdr(&ball).map_err(encode)?, t + 1_000, t + 1_000)?;
         let path = dir.join(ROWS_TABLE);
-        let file = std::fs::File::create(&path).map_err(|source| ImportError::Io { path: path.clone(), source })?;
+        let file = std::fs::File::create(&path).map_err(|error| ImportError::Io { path: path.clone(), error })?;
         let mut rows = csv::Writer::from_writer(file);
         rows.write_record([
             "swing_id",
@@ -618,8 +632,39 @@ enum FormatColumns {
 }
 
 /// Imports `files` into a new bag directory `dir` (which must not exist). Each file's format is detected
-/// from its header unless forced; rows stream through one at a time.
+/// from its header unless forced; rows stream through one at a time. An import that fails (a bad file, a
+/// full disk) removes the directory it created, so the same `dir` can be given again.
 pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result<ImportReport, ImportError> {
+    if dir.exists() || dir.is_symlink() {
+        return Err(ImportError::Options(format!("{}: already exists (the bag directory must be new)", dir.display())));
+    }
+    let result = import_into(files, dir, options);
+    if result.is_err() && dir.is_dir() {
+        // Only this import can have made it (it did not exist): a partial bag would block the same -o.
+        let _ = std::fs::remove_dir_all(dir);
+    }
+    result
+}
+
+/// A cell of the side table as a spreadsheet shows it, never as a formula: text from an export that starts
+/// with `=`, `+`, `-`, `@`, a tab or a carriage return gets a leading `'` (OWASP's advice on CSV injection).
+pub fn spreadsheet_safe(cell: &str) -> std::borrow::Cow<'_, str> {
+    if cell.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        std::borrow::Cow::Owned(format!("'{cell}"))
+    } else {
+        std::borrow::Cow::Borrowed(cell)
+    }
+}
+
+/// The text a [`spreadsheet_safe`] cell stood for.
+pub fn spreadsheet_unescaped(cell: &str) -> &str {
+    match cell.strip_prefix('\'') {
+        Some(rest) if rest.starts_with(['=', '+', '-', '@', '\t', '\r']) => rest,
+        _ => cell,
+    }
+}
+
+fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result<ImportReport, ImportError> {
     let builder = SwingBuilder::new(options)?;
     // Every file's header is checked before anything is written.
     let mut tables = Vec::new();
@@ -695,6 +740,9 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
                 _ if row.unreadable().is_some() => {
                     Err(Skip::Unreadable { why: row.unreadable().unwrap_or_default().to_string() })
                 }
+                _ if row.malformed().is_some() => {
+                    Err(Skip::Malformed { why: row.malformed().unwrap_or_default().to_string() })
+                }
                 FormatColumns::TrackMan(cols) => trackman::read(&row, cols),
                 FormatColumns::Statcast(cols) => statcast::read(&row, cols),
                 FormatColumns::HitTrax(cols) => hittrax::read(&row, cols),
@@ -745,13 +793,13 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
             out.rows
                 .write_record([
                     swing.swing_id.to_string().as_str(),
-                    &path.display().to_string(),
+                    &spreadsheet_safe(&path.display().to_string()),
                     &tracked.line.to_string(),
                     format.name(),
-                    &tracked.batter,
-                    &tracked.pitcher,
-                    &tracked.pitch_id,
-                    &tracked.call,
+                    &spreadsheet_safe(&tracked.batter),
+                    &spreadsheet_safe(&tracked.pitcher),
+                    &spreadsheet_safe(&tracked.pitch_id),
+                    &spreadsheet_safe(&tracked.call),
                     &length,
                     &names.join(";"),
                 ])
@@ -765,7 +813,7 @@ pub fn import_files(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> R
         let reasons: Vec<String> = report.skipped.iter().map(|(r, n)| format!("{n} × {r}")).collect();
         return Err(ImportError::NoSwings(if reasons.is_empty() { "no data rows".into() } else { reasons.join(", ") }));
     };
-    out.rows.flush().map_err(|source| ImportError::Io { path: dir.join(ROWS_TABLE), source })?;
+    out.rows.flush().map_err(|error| ImportError::Io { path: dir.join(ROWS_TABLE), error })?;
     let mut custom: BTreeMap<String, String> =
         ModelSettings::default().custom_data().into_iter().map(|(k, v)| (k.to_string(), v)).collect();
     let formats: std::collections::BTreeSet<&str> = report.files.iter().map(|f| f.format.name()).collect();

@@ -3,9 +3,11 @@
 //! row (a UTF-8 byte-order mark stripped, names trimmed) mapped to column indexes, and cells read as
 //! numbers with the trackers' spellings of "not measured" — blank, `NA`, `NULL`, `null`, `NaN`, `-` — as NaN.
 //!
-//! The `csv` crate does the quoting (a quoted field may hold commas, quotes doubled, line breaks), CRLF or
-//! LF line ends and short rows; what is added here is the file check, the line cap, the header map and the
-//! cell rules.
+//! The `csv` crate does the quoting (a quoted field may hold commas, quotes doubled, line breaks) and CRLF or
+//! LF line ends; what is added here is the file check, the line cap, the header map, the cell rules and the
+//! malformed records the crate reads without complaint ([`Row::malformed`]): a record with fewer cells than
+//! the header (cut short), a quote never closed (one stray `"` would make every line after it one cell), and
+//! text after a closing quote (two stray quotes joining the lines between them).
 
 use std::cell::RefCell;
 use std::collections::{HashMap, VecDeque};
@@ -26,7 +28,7 @@ pub const MISSING: &[&str] = &["", "NA", "N/A", "NULL", "null", "NaN", "nan", "-
 /// Opens `path` for reading if it is (or a symlink resolves to) a regular file: a directory, FIFO, device or
 /// socket is refused before it is opened, so a FIFO never blocks the import.
 pub fn open_regular(path: &Path) -> Result<File, ImportError> {
-    let io = |source| ImportError::Io { path: path.to_path_buf(), source };
+    let io = |error| ImportError::Io { path: path.to_path_buf(), error };
     let meta = std::fs::metadata(path).map_err(io)?;
     if let Some(what) = crate::files::not_regular(meta.file_type()) {
         return Err(ImportError::NotRegularFile { path: path.to_path_buf(), what: what.to_string() });
@@ -74,21 +76,71 @@ impl Breaks {
     }
 }
 
+/// Where the reader is in the quoting, as the csv crate reads it (RFC 4180: a quote opens a cell only at its
+/// start; inside, `""` is a quote and a lone `"` closes the cell).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+enum Quoting {
+    /// At the start of a cell.
+    #[default]
+    CellStart,
+    /// In a cell that did not start with a quote.
+    Unquoted,
+    /// In a quoted cell, opened at this byte.
+    Quoted(u64),
+    /// Just after a quote inside a quoted cell opened at this byte (a close, or the first of `""`).
+    QuoteInQuoted(u64),
+}
+
+/// Broken quoting found while reading (byte offsets from the start of the input).
+#[derive(Debug, Default)]
+struct QuoteFaults {
+    state: Quoting,
+    /// Offsets of text after a closing quote (the closing quote was a stray one, or the opening).
+    after_close: VecDeque<u64>,
+    /// The input ended inside a quoted cell opened at this byte.
+    unclosed: Option<u64>,
+}
+
+impl QuoteFaults {
+    fn step(&mut self, at: u64, b: u8) {
+        let end_of_cell = matches!(b, b',' | b'\n' | b'\r');
+        self.state = match self.state {
+            Quoting::CellStart if b == b'"' => Quoting::Quoted(at),
+            Quoting::CellStart | Quoting::Unquoted if end_of_cell => Quoting::CellStart,
+            Quoting::CellStart | Quoting::Unquoted => Quoting::Unquoted,
+            Quoting::Quoted(open) if b == b'"' => Quoting::QuoteInQuoted(open),
+            Quoting::Quoted(open) => Quoting::Quoted(open),
+            Quoting::QuoteInQuoted(open) if b == b'"' => Quoting::Quoted(open),
+            Quoting::QuoteInQuoted(_) if end_of_cell => Quoting::CellStart,
+            Quoting::QuoteInQuoted(_) => {
+                self.after_close.push_back(at);
+                Quoting::Unquoted
+            }
+        };
+    }
+}
+
 /// A reader that fails once a line grows past `max` bytes, so a record can never be larger than that, and
-/// notes where the line breaks are ([`Breaks`]).
+/// notes where the line breaks are ([`Breaks`]) and where the quoting breaks ([`QuoteFaults`]).
 struct LineCap<R> {
     inner: R,
     since_newline: usize,
     max: usize,
     breaks: Rc<RefCell<Breaks>>,
+    quotes: Rc<RefCell<QuoteFaults>>,
 }
 
 impl<R: Read> Read for LineCap<R> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
         let mut breaks = self.breaks.borrow_mut();
+        let mut quotes = self.quotes.borrow_mut();
         let base = breaks.offset;
+        if let (0, false, Quoting::Quoted(open)) = (n, buf.is_empty(), quotes.state) {
+            quotes.unclosed = Some(open);
+        }
         for (i, &b) in buf[..n].iter().enumerate() {
+            quotes.step(base + i as u64, b);
             if b == b'\n' || b == b'\r' {
                 breaks.pending.push_back((base + i as u64, b == b'\n'));
             }
@@ -118,8 +170,11 @@ pub struct Table {
     record: csv::StringRecord,
     line: u64,
     breaks: Rc<RefCell<Breaks>>,
+    quotes: Rc<RefCell<QuoteFaults>>,
     /// Why the current record could not be read (it is then empty).
     unreadable: Option<String>,
+    /// Why the current record is malformed, if it is.
+    malformed: Option<String>,
 }
 
 impl Table {
@@ -132,8 +187,14 @@ impl Table {
     /// Reads the header row of `input`; `path` names it in errors.
     pub fn from_reader(path: &Path, input: Box<dyn Read>) -> Result<Table, ImportError> {
         let breaks = Rc::new(RefCell::new(Breaks::default()));
-        let capped =
-            LineCap { inner: BufReader::new(input), since_newline: 0, max: MAX_LINE_BYTES, breaks: breaks.clone() };
+        let quotes = Rc::new(RefCell::new(QuoteFaults::default()));
+        let capped = LineCap {
+            inner: BufReader::new(input),
+            since_newline: 0,
+            max: MAX_LINE_BYTES,
+            breaks: breaks.clone(),
+            quotes: quotes.clone(),
+        };
         let mut reader = csv::ReaderBuilder::new().has_headers(true).flexible(true).from_reader(capped);
         let headers: Vec<String> = reader
             .headers()
@@ -155,7 +216,9 @@ impl Table {
             record: csv::StringRecord::new(),
             line: 1,
             breaks,
+            quotes,
             unreadable: None,
+            malformed: None,
         })
     }
 
@@ -174,10 +237,14 @@ impl Table {
     /// line past [`MAX_LINE_BYTES`]) end the file.
     pub fn next_row(&mut self) -> Result<bool, ImportError> {
         self.unreadable = None;
+        self.malformed = None;
         match self.reader.read_record(&mut self.record) {
             Ok(more) => {
                 if let Some(position) = self.record.position() {
                     self.line = self.breaks.borrow_mut().line_at(position.byte());
+                }
+                if more {
+                    self.malformed = self.malformation();
                 }
                 Ok(more)
             }
@@ -195,7 +262,45 @@ impl Table {
 
     /// The current record.
     pub fn row(&self) -> Row<'_> {
-        Row { record: &self.record, line: self.line, unreadable: self.unreadable.as_deref() }
+        Row {
+            record: &self.record,
+            line: self.line,
+            unreadable: self.unreadable.as_deref(),
+            malformed: self.malformed.as_deref(),
+        }
+    }
+
+    /// What is wrong with the record just read (between its start and the reader's position), if anything.
+    fn malformation(&mut self) -> Option<String> {
+        let start = self.record.position().map_or(0, csv::Position::byte);
+        let end = self.reader.position().byte();
+        // Line breaks inside the cells (those ending the file are no line of content).
+        let lines = self
+            .record
+            .iter()
+            .map(|cell| cell.trim_end_matches(['\r', '\n']).matches('\n').count() as u64)
+            .sum::<u64>();
+        let span = if lines > 0 {
+            format!(" (lines {}–{} read as one record)", self.line, self.line + lines)
+        } else {
+            String::new()
+        };
+        let mut quotes = self.quotes.borrow_mut();
+        while quotes.after_close.front().is_some_and(|&at| at < start) {
+            quotes.after_close.pop_front();
+        }
+        if let Some(&at) = quotes.after_close.front().filter(|&&at| at < end) {
+            return Some(format!("quoting is broken: text after a closing quote at byte {at}, a stray `\"`{span}"));
+        }
+        // The crate ends a record in an unclosed quote only at the end of the input, which it has then read.
+        if let Some(open) = quotes.unclosed.filter(|&open| open >= start && open < end) {
+            return Some(format!(
+                "quote at byte {open} is never closed: a stray `\"` makes the rest of the file one cell{span}"
+            ));
+        }
+        drop(quotes);
+        let (cells, header) = (self.record.len(), self.headers.len());
+        (cells < header).then(|| format!("has {cells} cells where the header has {header}: cut short{span}"))
     }
 }
 
@@ -228,9 +333,16 @@ pub struct Row<'a> {
     record: &'a csv::StringRecord,
     line: u64,
     unreadable: Option<&'a str>,
+    malformed: Option<&'a str>,
 }
 
 impl<'a> Row<'a> {
+    /// Why the record is malformed, if it is: fewer cells than the header, a quote never closed, or text after
+    /// a closing quote. Its cells are not to be trusted (a row is refused for it, never read half).
+    pub fn malformed(&self) -> Option<&'a str> {
+        self.malformed
+    }
+
     /// Why the record could not be read, if it could not (its cells are then all absent).
     pub fn unreadable(&self) -> Option<&'a str> {
         self.unreadable
@@ -321,6 +433,34 @@ mod tests {
             assert_eq!((t.row().line(), t.row().text(Some(1)), t.row().unreadable()), (4, "6", None));
             assert!(!t.next_row().unwrap());
         }
+    }
+
+    /// Quoted cells over several lines are sound; a quote never closed, text after a closing quote and a row
+    /// with fewer cells than the header are malformed, named with the lines they span.
+    #[test]
+    fn stray_quotes_and_short_rows_are_malformed() {
+        let malformed = |text: &'static str| {
+            let mut t = table(text);
+            let mut out = Vec::new();
+            while t.next_row().unwrap() {
+                out.push((t.row().line(), t.row().malformed().map(str::to_string)));
+            }
+            out
+        };
+        let sound = malformed("a,b\n\"x\ny\",1\n\"q \"\"z\"\"\",2\n");
+        assert_eq!(sound, [(2, None), (4, None)]);
+        let rows = malformed("a,b,c\n1,\"oops,3\n4,5,6\n7,8,9\n");
+        assert_eq!(rows.len(), 1, "{rows:?}");
+        let why = rows[0].1.as_deref().expect("malformed");
+        assert!(why.contains("never closed") && why.contains("lines 2–4 read as one record"), "{why}");
+        let rows = malformed("a,b,c\r\n1,\"oops,3\r\n4,5,6\r\n7,8\"x,9\r\n10,11,12\r\n");
+        assert_eq!(rows.len(), 2, "{rows:?}");
+        let why = rows[0].1.as_deref().expect("malformed");
+        assert!(why.contains("after a closing quote") && why.contains("lines 2–4"), "{why}");
+        assert_eq!(rows[1], (5, None));
+        let rows = malformed("a,b,c\n1,2\n4,5,6\n");
+        assert_eq!(rows[0], (2, Some("has 2 cells where the header has 3: cut short".to_string())));
+        assert_eq!(rows[1], (3, None));
     }
 
     #[test]

@@ -13,7 +13,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
 use super::{LocateReport, Outcome, SQUARED_UP};
 use crate::import::ROWS_TABLE;
@@ -52,21 +52,26 @@ pub fn batters_of(bag: &Path) -> Result<Option<BTreeMap<u64, String>>> {
     if !path.is_file() {
         return Ok(None);
     }
-    let mut reader = csv::Reader::from_path(&path).with_context(|| format!("cannot read '{}'", path.display()))?;
-    let headers = reader.headers().with_context(|| format!("'{}': no header", path.display()))?.clone();
-    let column = |name: &str| headers.iter().position(|h| h == name);
-    let (Some(id_col), Some(batter_col)) = (column("swing_id"), column("batter")) else {
+    // Through the import's own table reader: a regular file, each line at most MAX_LINE_BYTES (a side table
+    // edited to hold a 50 MB name is refused, not read whole).
+    let mut table = crate::import::table::Table::open(&path).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let (Some(id_col), Some(batter_col)) = (table.column("swing_id"), table.column("batter")) else {
         anyhow::bail!("'{}': expected columns swing_id and batter", path.display());
     };
     let mut batters = BTreeMap::new();
-    for (i, record) in reader.records().enumerate() {
-        let record = record.with_context(|| format!("'{}' line {}", path.display(), i + 2))?;
-        let id = record.get(id_col).and_then(|t| t.parse::<u64>().ok());
-        let Some(id) = id else { anyhow::bail!("'{}' line {}: swing_id is not a number", path.display(), i + 2) };
-        batters.insert(id, record.get(batter_col).unwrap_or_default().to_string());
+    while table.next_row().map_err(|e| anyhow::anyhow!("{e}"))? {
+        let row = table.row();
+        let Ok(id) = row.text(Some(id_col)).parse::<u64>() else {
+            anyhow::bail!("'{}' line {}: swing_id is not a number", path.display(), row.line());
+        };
+        let name = crate::import::spreadsheet_unescaped(row.text(Some(batter_col)));
+        batters.insert(id, name.chars().take(MAX_BATTER_NAME_CHARS).collect());
     }
     Ok(Some(batters))
 }
+
+/// Longest batter name shown on a panel, characters (a longer one is cut).
+pub const MAX_BATTER_NAME_CHARS: usize = 80;
 
 /// One batter's content: solutions as (impact_z, σ_z, undercut, σ_D), m.
 #[derive(Default)]
