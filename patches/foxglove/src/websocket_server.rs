@@ -25,9 +25,10 @@ use crate::{AppUrl, ChannelDescriptor, Context, FoxgloveError, runtime::get_runt
 /// ### Buffering
 ///
 /// Logged messages are queued in a channel for each client and delivered in a background task. If a
-/// queue fills, perhaps because of a slow client, then the oldest messages will be dropped. The
-/// queue size is configurable with [`WebSocketServer::message_backlog_size`] when creating the
-/// server.
+/// queue fills, perhaps because of a slow client, or the bytes queued for all clients reach
+/// [`WebSocketServer::total_backlog_bytes`] while the client holds its share of them, the client is
+/// disconnected. The queue size is configurable with [`WebSocketServer::message_backlog_size`]
+/// when creating the server.
 ///
 /// Other protocol messages, including status updates, are delivered from a separate "control"
 /// queue, using the same configured queue size. If the control queue fills, then the slow client is
@@ -185,12 +186,33 @@ impl WebSocketServer {
 
     /// Set the message backlog size.
     ///
-    /// The server buffers outgoing log entries into a queue. If the backlog size is exceeded, the
-    /// oldest entries will be dropped.
+    /// The server buffers outgoing log entries into a queue per client. A client whose queue
+    /// overflows is disconnected as too slow.
     ///
     /// By default, the server will buffer 1024 messages.
     pub fn message_backlog_size(mut self, size: usize) -> Self {
         self.options.message_backlog_size = Some(size);
+        self
+    }
+
+    /// Set the most connections (handshaking or connected) served at once; further connections
+    /// are closed as soon as they are accepted. By default 256.
+    pub fn max_clients(mut self, max: usize) -> Self {
+        self.options.max_clients = Some(max);
+        self
+    }
+
+    /// Set the time a new connection has to complete its handshake before it is closed. By
+    /// default 10 s.
+    pub fn handshake_timeout(mut self, timeout: std::time::Duration) -> Self {
+        self.options.handshake_timeout = Some(timeout);
+        self
+    }
+
+    /// Set the bound on the bytes queued for all clients together: when it is reached, a client
+    /// holding at least its share of it is disconnected as too slow. By default 64 MiB.
+    pub fn total_backlog_bytes(mut self, bytes: usize) -> Self {
+        self.options.total_backlog_bytes = Some(bytes);
         self
     }
 

@@ -1,11 +1,11 @@
 use std::collections::HashSet;
 use std::collections::hash_map::Entry;
 use std::sync::Weak;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::{collections::HashMap, net::SocketAddr, sync::Arc};
 
 use bimap::BiHashMap;
 use flume::TrySendError;
-use send_lossy::SendLossyResult;
 use tokio::net::TcpStream;
 use tokio::sync::oneshot;
 use tokio_tungstenite::WebSocketStream;
@@ -22,7 +22,7 @@ use self::ws_protocol::server::{
 };
 
 use super::handshake::Subprotocol;
-use super::server::Server;
+use super::server::{BacklogBudget, Server};
 use super::service::{self, CallId, ServiceId};
 use super::subscription::{Subscription, SubscriptionId};
 use super::ws_protocol::client::ClientMessage;
@@ -35,11 +35,9 @@ use super::{
 use crate::remote_common::semaphore::Semaphore;
 
 mod poller;
-mod send_lossy;
 
 use poller::Poller;
 
-const MAX_SEND_RETRIES: usize = 10;
 const ADVERTISE_CHANNEL_BATCH_SIZE: usize = 100;
 const DEFAULT_SERVICE_CALLS_PER_CLIENT: usize = 32;
 const DEFAULT_FETCH_ASSET_CALLS_PER_CLIENT: usize = 32;
@@ -54,6 +52,13 @@ pub(super) enum ShutdownReason {
     ServerStopped,
     /// The control plane queue overflowed, and the client must be disconnected.
     ControlPlaneQueueFull,
+    /// The client sent a Close frame; it is answered.
+    ClientClosed,
+    /// Sending to the client failed (it is gone).
+    SendFailed,
+    /// The client did not read its data fast enough (its queue, or its share of the server's
+    /// total backlog, is full).
+    SlowClient,
 }
 
 /// A connected client session with the WebSocket server.
@@ -89,6 +94,23 @@ pub(super) struct ConnectedClient {
     advertised_channels: parking_lot::Mutex<HashMap<ClientChannelId, Arc<ClientChannel>>>,
     server: Weak<Server>,
     shutdown_tx: parking_lot::Mutex<Option<oneshot::Sender<ShutdownReason>>>,
+    /// Bytes queued on this client's data plane.
+    queued_bytes: AtomicUsize,
+    /// The server's bound on all clients' queued bytes.
+    backlog: Arc<BacklogBudget>,
+    /// Set once the client sent a playbackControlRequest: only then does it get playbackState.
+    controls_playback: AtomicBool,
+    /// Set once the client is being disconnected as too slow (said once).
+    slow: AtomicBool,
+}
+
+impl Drop for ConnectedClient {
+    fn drop(&mut self) {
+        // Whatever is still queued leaves the server's total with this client.
+        self.backlog
+            .queued
+            .fetch_sub(*self.queued_bytes.get_mut(), Ordering::AcqRel);
+    }
 }
 
 impl std::fmt::Debug for ConnectedClient {
@@ -116,8 +138,9 @@ impl Sink for ConnectedClient {
             return Ok(());
         };
 
+        drop(subscriptions);
         let message = MessageData::new(subscription_id.into(), metadata.log_time, msg);
-        self.send_data_lossy(&message, MAX_SEND_RETRIES);
+        self.send_data(&message);
         Ok(())
     }
 
@@ -171,6 +194,7 @@ impl ConnectedClient {
         addr: SocketAddr,
         message_backlog_size: usize,
         channel_filter: Option<Arc<dyn SinkChannelFilter>>,
+        backlog: Arc<BacklogBudget>,
     ) -> Arc<Self> {
         let (data_plane_tx, data_plane_rx) = flume::bounded(message_backlog_size);
         let (control_plane_tx, control_plane_rx) = flume::bounded(message_backlog_size);
@@ -201,6 +225,10 @@ impl ConnectedClient {
             advertised_channels: parking_lot::Mutex::default(),
             server: server.clone(),
             shutdown_tx: parking_lot::Mutex::new(Some(shutdown_tx)),
+            queued_bytes: AtomicUsize::new(0),
+            backlog,
+            controls_playback: AtomicBool::new(false),
+            slow: AtomicBool::new(false),
         })
     }
 
@@ -299,15 +327,64 @@ impl ConnectedClient {
         }
     }
 
-    /// Send the message on the data plane, dropping up to retries older messages to make room, if necessary.
-    fn send_data_lossy(&self, message: impl Into<Message>, retries: usize) -> SendLossyResult {
-        send_lossy::send_lossy(
-            &self.addr,
-            &self.data_plane_tx,
-            &self.data_plane_rx,
-            message.into(),
-            retries,
-        )
+    /// Queues the message on the data plane. A client that does not keep up is disconnected
+    /// rather than served at the server's expense: when its queue is full, or when the bytes
+    /// queued for all clients reach the server's bound and this client holds at least its share
+    /// of them (the bound divided by the number of clients). Below its share the message is
+    /// skipped for this client alone.
+    fn send_data(&self, message: impl Into<Message>) {
+        if self.slow.load(Ordering::Relaxed) {
+            return;
+        }
+        let message = message.into();
+        let len = message.len();
+        let total = self.backlog.queued.load(Ordering::Acquire);
+        if total.saturating_add(len) > self.backlog.limit {
+            let clients = self
+                .server
+                .upgrade()
+                .map_or(1, |server| server.client_count())
+                .max(1);
+            let own = self.queued_bytes.load(Ordering::Acquire);
+            if own.saturating_mul(clients) >= self.backlog.limit {
+                self.disconnect_slow(format_args!(
+                    "{own} bytes queued, the server's backlog of {} bytes for {clients} clients is full",
+                    self.backlog.limit
+                ));
+            }
+            return;
+        }
+        match self.data_plane_tx.try_send(message) {
+            Ok(()) => {
+                self.queued_bytes.fetch_add(len, Ordering::AcqRel);
+                self.backlog.queued.fetch_add(len, Ordering::AcqRel);
+            }
+            Err(TrySendError::Full(_)) => self.disconnect_slow(format_args!(
+                "its queue of {} messages is full",
+                self.data_plane_tx.capacity().unwrap_or_default()
+            )),
+            Err(TrySendError::Disconnected(_)) => (),
+        }
+    }
+
+    /// Accounts for a message taken off the data plane (sent, or discarded at disconnection).
+    pub(super) fn data_dequeued(&self, message: &Message) {
+        let len = message.len();
+        self.queued_bytes.fetch_sub(len, Ordering::AcqRel);
+        self.backlog.queued.fetch_sub(len, Ordering::AcqRel);
+    }
+
+    /// Disconnects the client as too slow, saying so once.
+    fn disconnect_slow(&self, why: std::fmt::Arguments<'_>) {
+        if !self.slow.swap(true, Ordering::AcqRel) {
+            tracing::warn!("Disconnecting client {}: it does not keep up ({why})", self.addr);
+            self.shutdown(ShutdownReason::SlowClient);
+        }
+    }
+
+    /// Whether the client has sent a playbackControlRequest (and so knows playbackState).
+    pub(super) fn controls_playback(&self) -> bool {
+        self.controls_playback.load(Ordering::Acquire)
     }
 
     /// Clears this client's schema table and enqueues `serverInfo` while holding the table lock.
@@ -333,6 +410,10 @@ impl ConnectedClient {
 
     /// Called when the server finally drops the connection.
     pub fn on_disconnect(&self) {
+        // Free what is still queued for the client now, not when the last reference goes.
+        while let Ok(message) = self.data_plane_rx.try_recv() {
+            self.data_dequeued(&message);
+        }
         let channel_ids = self.subscriptions.lock().left_values().copied().collect();
         self.unsubscribe_channel_ids(channel_ids);
 
@@ -771,6 +852,7 @@ impl ConnectedClient {
             return;
         }
 
+        self.controls_playback.store(true, Ordering::Release);
         if let Some(handler) = server.listener() {
             let request_id = msg.request_id.clone();
             let Some(mut playback_state) = handler.on_playback_control_request(msg) else {
@@ -815,7 +897,7 @@ impl ConnectedClient {
     pub fn send_status(&self, status: Status) {
         match status.level {
             StatusLevel::Info => {
-                self.send_data_lossy(&status, MAX_SEND_RETRIES);
+                self.send_data(&status);
             }
             _ => {
                 self.send_control_msg(&status);
@@ -841,7 +923,7 @@ impl ConnectedClient {
         }
 
         let sent = match self.subprotocol {
-            Subprotocol::V1 => self.send_control_msg(&message),
+            Subprotocol::V1 | Subprotocol::WebSocketV1 => self.send_control_msg(&message),
             Subprotocol::V1_1 => {
                 // Hold the schema table lock until the message is enqueued, so that concurrent
                 // advertisements cannot reference a schema ID before its definition is sent.

@@ -5,6 +5,9 @@ use tokio_tungstenite::{WebSocketStream, tungstenite};
 
 pub(crate) const SUBPROTOCOL_V1: &str = "foxglove.sdk.v1";
 pub(crate) const SUBPROTOCOL_V1_1: &str = "foxglove.sdk.v1.1";
+/// The v1 protocol's original name, still the only one `@foxglove/ws-protocol`'s `FoxgloveClient` and
+/// Lichtblick up to 1.22 offer; its messages are those of `foxglove.sdk.v1`.
+pub(crate) const SUBPROTOCOL_WEBSOCKET_V1: &str = "foxglove.websocket.v1";
 
 /// The WebSocket subprotocol negotiated with a client.
 ///
@@ -19,6 +22,8 @@ pub(crate) enum Subprotocol {
     V1,
     /// `foxglove.sdk.v1.1`: channel advertisements reference a connection-scoped schema table.
     V1_1,
+    /// `foxglove.websocket.v1`: the v1 protocol under its original name (inline schemas, as `V1`).
+    WebSocketV1,
 }
 
 impl Subprotocol {
@@ -27,6 +32,7 @@ impl Subprotocol {
         match self {
             Subprotocol::V1 => SUBPROTOCOL_V1,
             Subprotocol::V1_1 => SUBPROTOCOL_V1_1,
+            Subprotocol::WebSocketV1 => SUBPROTOCOL_WEBSOCKET_V1,
         }
     }
 
@@ -37,6 +43,7 @@ impl Subprotocol {
         match name {
             SUBPROTOCOL_V1 => Some(Subprotocol::V1),
             SUBPROTOCOL_V1_1 => Some(Subprotocol::V1_1),
+            SUBPROTOCOL_WEBSOCKET_V1 => Some(Subprotocol::WebSocketV1),
             _ => None,
         }
     }
@@ -51,6 +58,7 @@ fn select_subprotocol<'a>(offered: impl IntoIterator<Item = &'a str>) -> Option<
         .into_iter()
         .filter_map(|name| Subprotocol::from_name(name.trim()))
         .max_by_key(|subprotocol| match subprotocol {
+            Subprotocol::WebSocketV1 => 0,
             Subprotocol::V1 => 1,
             Subprotocol::V1_1 => 2,
         })

@@ -1,6 +1,7 @@
 use std::collections::HashSet;
 use std::collections::hash_map::Entry;
 use std::sync::Weak;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use std::{collections::HashMap, net::SocketAddr, sync::Arc};
 
@@ -36,6 +37,15 @@ use super::{
 // Can be overridden by ServerOptions::message_backlog_size.
 const DEFAULT_MESSAGE_BACKLOG_SIZE: usize = 1024;
 
+/// Connections (handshaking or connected) served at once unless ServerOptions::max_clients says otherwise.
+const DEFAULT_MAX_CLIENTS: usize = 256;
+/// Time a new connection has to complete its (TLS and) WebSocket handshake.
+const DEFAULT_HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
+/// Bytes queued for all clients' data planes together before the slowest are disconnected.
+const DEFAULT_TOTAL_BACKLOG_BYTES: usize = 64 * 1024 * 1024;
+/// Longest pause of the accept loop after an accept error (e.g. EMFILE), doubling from 5 ms.
+const MAX_ACCEPT_BACKOFF: Duration = Duration::from_secs(1);
+
 #[derive(Default)]
 pub(crate) struct ServerOptions {
     pub session_id: Option<String>,
@@ -52,6 +62,9 @@ pub(crate) struct ServerOptions {
     pub channel_filter: Option<Arc<dyn SinkChannelFilter>>,
     pub server_info: Option<HashMap<String, String>>,
     pub playback_time_range: Option<(u64, u64)>,
+    pub max_clients: Option<usize>,
+    pub handshake_timeout: Option<Duration>,
+    pub total_backlog_bytes: Option<usize>,
 }
 
 impl std::fmt::Debug for ServerOptions {
@@ -198,6 +211,34 @@ pub(crate) struct Server {
     /// Time range of data being played back, in absolute nanoseconds.
     /// Implies the [`PlaybackControl`](crate::websocket::Capability::PlaybackControl) capability if set.
     playback_time_range: Option<(u64, u64)>,
+    /// Most connections (handshaking or connected) served at once; more are closed at once.
+    max_clients: usize,
+    /// Connections open now (handshaking or connected).
+    connections: Arc<AtomicUsize>,
+    /// Whether connections are being refused now (the refusal is logged when this turns true).
+    refusing: AtomicBool,
+    /// Time a connection has to complete its handshake.
+    handshake_timeout: Duration,
+    /// Bytes queued on all clients' data planes, and the bound on them.
+    pub(super) backlog: Arc<BacklogBudget>,
+}
+
+/// The bytes queued on all clients' data planes, shared by the clients, and their bound.
+#[derive(Debug)]
+pub(crate) struct BacklogBudget {
+    /// Bytes queued now.
+    pub queued: AtomicUsize,
+    /// Bound on `queued`.
+    pub limit: usize,
+}
+
+/// Decrements the open-connection count when a connection's task ends.
+struct ConnectionSlot(Arc<AtomicUsize>);
+
+impl Drop for ConnectionSlot {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::AcqRel);
+    }
 }
 
 impl Server {
@@ -279,6 +320,16 @@ impl Server {
             stream_config,
             server_info: opts.server_info.unwrap_or_default(),
             playback_time_range: opts.playback_time_range,
+            max_clients: opts.max_clients.unwrap_or(DEFAULT_MAX_CLIENTS).max(1),
+            connections: Arc::new(AtomicUsize::new(0)),
+            refusing: AtomicBool::new(false),
+            handshake_timeout: opts.handshake_timeout.unwrap_or(DEFAULT_HANDSHAKE_TIMEOUT),
+            backlog: Arc::new(BacklogBudget {
+                queued: AtomicUsize::new(0),
+                limit: opts
+                    .total_backlog_bytes
+                    .unwrap_or(DEFAULT_TOTAL_BACKLOG_BYTES),
+            }),
         }
     }
 
@@ -350,14 +401,65 @@ impl Server {
     }
 
     /// Accept handler which spawns a new task for each incoming connection.
+    ///
+    /// An accept error never ends the loop: a connection reset before it was accepted is skipped,
+    /// and any other error (EMFILE/ENFILE when file descriptors run out, ENOBUFS, ENOMEM) is logged
+    /// once and retried after a pause that doubles from 5 ms up to [`MAX_ACCEPT_BACKOFF`] while the
+    /// errors last. Beyond `max_clients` open connections, new ones are closed at once; the
+    /// refusal is logged once until a connection is accepted again.
     async fn accept_connections(self: Arc<Self>, listener: TcpListener) {
-        while let Ok((stream, addr)) = listener.accept().await {
+        let mut backoff = Duration::ZERO;
+        loop {
+            let (stream, addr) = match listener.accept().await {
+                Ok(accepted) => {
+                    if !backoff.is_zero() {
+                        tracing::info!("Accepting connections again");
+                        backoff = Duration::ZERO;
+                    }
+                    accepted
+                }
+                Err(err) if is_connection_error(&err) => continue,
+                Err(err) => {
+                    if backoff.is_zero() {
+                        tracing::warn!(
+                            "Cannot accept connections ({err}); retrying with back-off up to {:?}",
+                            MAX_ACCEPT_BACKOFF
+                        );
+                        backoff = Duration::from_millis(5);
+                    } else {
+                        backoff = (backoff * 2).min(MAX_ACCEPT_BACKOFF);
+                    }
+                    tokio::time::sleep(backoff).await;
+                    continue;
+                }
+            };
+            let open = self.connections.fetch_add(1, Ordering::AcqRel);
+            let slot = ConnectionSlot(self.connections.clone());
+            if open >= self.max_clients {
+                if !self.refusing.swap(true, Ordering::AcqRel) {
+                    tracing::warn!(
+                        "Refusing new connections: {open} open, the limit is {} (said once until one is accepted again)",
+                        self.max_clients
+                    );
+                }
+                drop(stream);
+                drop(slot);
+                continue;
+            }
+            if self.refusing.swap(false, Ordering::AcqRel) {
+                tracing::info!("Accepting new connections again");
+            }
             if let Some(tasks) = self.tasks.lock().as_mut() {
-                tasks.spawn(self.clone().handle_connection(stream, addr));
+                tasks.spawn(self.clone().handle_connection(stream, addr, slot));
             } else {
                 break;
             }
         }
+    }
+
+    /// Connections open now (handshaking or connected).
+    pub fn connection_count(&self) -> usize {
+        self.connections.load(Ordering::Acquire)
     }
 
     /// Periodically reaps completed tasks.
@@ -423,8 +525,12 @@ impl Server {
             return;
         }
 
+        // Only to clients that control playback (they sent a playbackControlRequest): others may not
+        // know the message (binary opcode 5; `@foxglove/ws-protocol` 0.8 rejects it).
         for client in self.clients.get().iter() {
-            client.send_control_msg(&playback_state);
+            if client.controls_playback() {
+                client.send_control_msg(&playback_state);
+            }
         }
     }
 
@@ -626,25 +732,48 @@ impl Server {
     /// - Advertise existing channels
     /// - Advertise existing services
     /// - Listen for client messages
-    async fn handle_connection(self: Arc<Self>, stream: TcpStream, addr: SocketAddr) {
-        let stream = match self.stream_config.accept(stream).await {
-            Ok(maybe_tls_stream) => maybe_tls_stream,
-            Err(e) => {
-                tracing::error!("Dropping client {addr}: secure handshake failed: {}", e);
-                return;
+    async fn handle_connection(
+        self: Arc<Self>,
+        stream: TcpStream,
+        addr: SocketAddr,
+        _slot: ConnectionSlot,
+    ) {
+        let handshake = async {
+            let stream = match self.stream_config.accept(stream).await {
+                Ok(maybe_tls_stream) => maybe_tls_stream,
+                Err(e) => {
+                    tracing::debug!("Dropping client {addr}: secure handshake failed: {}", e);
+                    return None;
+                }
+            };
+            match handshake::do_handshake(stream).await {
+                Ok(done) => Some(done),
+                Err(e) => {
+                    tracing::debug!("Dropping client {addr}: handshake failed: {e}");
+                    None
+                }
             }
         };
-
-        let Ok((mut ws_stream, subprotocol)) = handshake::do_handshake(stream).await else {
-            tracing::error!("Dropping client {addr}: handshake failed");
+        // A connection that never completes its handshake (slowloris) is closed after the timeout.
+        let Ok(Some((mut ws_stream, subprotocol))) =
+            tokio::time::timeout(self.handshake_timeout, handshake).await
+        else {
+            tracing::debug!("Dropping client {addr}: no handshake within {:?}", self.handshake_timeout);
             return;
         };
 
         let message = Message::from(&self.server_info());
-        if let Err(err) = ws_stream.send(message).await {
-            // ServerInfo is required; do not store this client.
-            tracing::error!("Failed to send required server info: {err}");
-            return;
+        match tokio::time::timeout(self.handshake_timeout, ws_stream.send(message)).await {
+            Ok(Ok(())) => {}
+            Ok(Err(err)) => {
+                // ServerInfo is required; do not store this client.
+                tracing::info!("Dropping client {addr}: cannot send server info: {err}");
+                return;
+            }
+            Err(_) => {
+                tracing::info!("Dropping client {addr}: server info not taken within {:?}", self.handshake_timeout);
+                return;
+            }
         }
 
         let client = ConnectedClient::new(
@@ -655,6 +784,7 @@ impl Server {
             addr,
             self.message_backlog_size as usize,
             self.channel_filter.clone(),
+            self.backlog.clone(),
         );
         self.register_client_and_advertise(&client);
         client.run().await;
@@ -863,4 +993,17 @@ impl Server {
     pub(crate) fn is_tls_configured(&self) -> bool {
         self.stream_config.accepts_tls()
     }
+}
+
+/// Whether an accept error concerns only the connection being accepted (the listener is fine).
+fn is_connection_error(err: &std::io::Error) -> bool {
+    use std::io::ErrorKind;
+    matches!(
+        err.kind(),
+        ErrorKind::ConnectionRefused
+            | ErrorKind::ConnectionAborted
+            | ErrorKind::ConnectionReset
+            | ErrorKind::Interrupted
+            | ErrorKind::WouldBlock
+    )
 }

@@ -1,3 +1,5 @@
+use std::time::Duration;
+
 use futures_util::{SinkExt, StreamExt};
 use tokio::net::TcpStream;
 use tokio::sync::oneshot;
@@ -8,6 +10,9 @@ use crate::websocket::Status;
 use crate::websocket::streams::ServerStream;
 
 use super::{ConnectedClient, ShutdownReason};
+
+/// Longest time given to the final messages of a connection (a Close reply, a status).
+const CLOSE_TIMEOUT: Duration = Duration::from_secs(1);
 
 /// A poller for a connected client.
 ///
@@ -39,57 +44,89 @@ impl Poller {
     }
 
     /// Runs the main poll loop for a WebSocket connection.
+    ///
+    /// Each connection ends with one log line saying why. A client's Close frame is answered; every
+    /// final message is given at most [`CLOSE_TIMEOUT`], so a client that stopped reading cannot
+    /// hold the connection open.
     pub async fn run(self, client: &ConnectedClient) {
         let addr = client.addr();
         let (mut ws_tx, mut ws_rx) = self.websocket.split();
 
         // Handle messages received from the WebSocket.
         let ws_rx_loop = async {
-            while let Some(msg) = ws_rx.next().await {
-                match msg {
-                    Ok(Message::Close(_)) => break,
-                    Ok(msg) => client.handle_message(msg),
-                    Err(err) => tracing::error!("Error receiving from client {addr}: {err}"),
+            loop {
+                match ws_rx.next().await {
+                    Some(Ok(Message::Close(_))) => {
+                        tracing::info!("Connection closed by client {addr}");
+                        return ShutdownReason::ClientClosed;
+                    }
+                    Some(Ok(msg)) => client.handle_message(msg),
+                    Some(Err(err)) => {
+                        tracing::info!("Connection to client {addr} lost: {err}");
+                        return ShutdownReason::ClientDisconnected;
+                    }
+                    None => {
+                        tracing::info!("Connection closed by client {addr}");
+                        return ShutdownReason::ClientDisconnected;
+                    }
                 }
             }
-            tracing::info!("Connection closed by client {addr}");
-            ShutdownReason::ClientDisconnected
         };
 
         // Send messages from queues to the WebSocket.
         let ws_tx_loop = async {
-            while let Ok(msg) = tokio::select! {
-                msg = self.control_plane_rx.recv_async() => msg,
-                msg = self.data_plane_rx.recv_async() => msg,
-            } {
+            loop {
+                let msg = tokio::select! {
+                    msg = self.control_plane_rx.recv_async() => msg,
+                    msg = self.data_plane_rx.recv_async() => msg.inspect(|msg| client.data_dequeued(msg)),
+                };
+                let Ok(msg) = msg else {
+                    unreachable!("ConnectedClient holds queues");
+                };
                 if let Err(err) = ws_tx.send(msg).await {
-                    tracing::error!("Error sending message to client {addr}: {err}");
+                    // Said once: the connection is over.
+                    tracing::info!("Disconnecting client {addr}: sending failed: {err}");
+                    return ShutdownReason::SendFailed;
                 }
             }
-            unreachable!("ConnectedClient holds queues");
         };
 
         // Run send and receive loops concurrently.
         let reason = tokio::select! {
-            _ = ws_tx_loop => unreachable!("ConnectedClient holds queues"),
+            r = ws_tx_loop => r,
             r = ws_rx_loop => r,
             r = self.shutdown_rx => r.expect("ConnectedClient sends before dropping sender"),
         };
 
         // Send final messages, as appropriate.
-        match reason {
-            ShutdownReason::ClientDisconnected => (),
-            ShutdownReason::ServerStopped => {
-                ws_tx.send(Message::Close(None)).await.ok();
+        let goodbye = async {
+            match reason {
+                ShutdownReason::ClientDisconnected | ShutdownReason::SendFailed => (),
+                ShutdownReason::ClientClosed => {
+                    // Flushes the Close frame the WebSocket queued in reply to the client's.
+                    ws_tx.close().await.ok();
+                }
+                ShutdownReason::ServerStopped => {
+                    ws_tx.send(Message::Close(None)).await.ok();
+                }
+                ShutdownReason::ControlPlaneQueueFull => {
+                    let status = Status::error(
+                        "Disconnected because the message backlog on the server is full. \
+                        The backlog size is configurable in the server setup.",
+                    );
+                    ws_tx.send(Message::from(&status)).await.ok();
+                    ws_tx.send(Message::Close(None)).await.ok();
+                }
+                ShutdownReason::SlowClient => {
+                    let status = Status::error(
+                        "Disconnected because this client did not read its messages as fast as \
+                        they came.",
+                    );
+                    ws_tx.send(Message::from(&status)).await.ok();
+                    ws_tx.send(Message::Close(None)).await.ok();
+                }
             }
-            ShutdownReason::ControlPlaneQueueFull => {
-                let status = Status::error(
-                    "Disconnected because the message backlog on the server is full. \
-                    The backlog size is configurable in the server setup.",
-                );
-                ws_tx.send(Message::from(&status)).await.ok();
-                ws_tx.send(Message::Close(None)).await.ok();
-            }
-        }
+        };
+        tokio::time::timeout(CLOSE_TIMEOUT, goodbye).await.ok();
     }
 }
