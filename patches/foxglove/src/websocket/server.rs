@@ -457,10 +457,6 @@ impl Server {
         }
     }
 
-    /// Connections open now (handshaking or connected).
-    pub fn connection_count(&self) -> usize {
-        self.connections.load(Ordering::Acquire)
-    }
 
     /// Periodically reaps completed tasks.
     async fn reap_completed_tasks(self: Arc<Self>) {
