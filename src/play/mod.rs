@@ -651,3 +651,17 @@ pub fn play(
     std::thread::sleep(Duration::from_millis(500));
     Ok(stats)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_offset_past_the_end_names_the_bags_span() {
+        assert!(check_start_offset(Duration::from_secs(3), Duration::from_secs(3)).is_ok());
+        let refused = check_start_offset(Duration::from_secs(40), Duration::from_millis(2500)).unwrap_err();
+        let text = refused.to_string();
+        assert!(text.contains("--start-offset 40 s is past the bag's end") && text.contains("2.5 s"), "{text}");
+        assert!(!text.contains("bad bag"), "{text}");
+    }
+}
