@@ -128,6 +128,7 @@ fn documented_ranges() -> (Ranges<i64>, Ranges<f64>) {
         ("max_bat_slices", (100, 4000)),
         ("queue_capacity", (1, 1_000_000)),
         ("workers", (0, 256)),
+        ("foxglove_max_clients", (1, 10_000)),
     ]);
     let doubles = BTreeMap::from([
         ("time_step", (1e-8, 1e-4)),

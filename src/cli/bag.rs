@@ -790,17 +790,30 @@ fn play_foxglove(
     let served = ServedBag::read(&path, &options.topics, |topic| options.remapped(topic).to_string())
         .map_err(flat)
         .with_context(|| format!("reading bag {}", path.display()))?;
-    let serve_options =
-        ServeOptions { bind: bind.clone(), playing: dds, rate: options.rate, start_offset: options.start_offset };
+    // The server's own warnings (refused or dropped clients) go to stderr, as the node's do.
+    super::node::init_logging(None);
+    let serve_options = ServeOptions {
+        bind: bind.clone(),
+        playing: dds,
+        rate: options.rate,
+        start_offset: options.start_offset,
+        delay: options.delay,
+        repeat: options.repeat,
+        limits: crate::foxglove::Limits::default(),
+    };
     std::thread::scope(|scope| {
         let server = scope.spawn(|| {
             serve(&served, &serve_options, &stop, |port| {
                 eprintln!(
-                    "Foxglove WebSocket server on ws://{}:{port}: {} messages on {} topics, {} (Ctrl-C to stop)",
-                    bind.host,
+                    "Foxglove WebSocket server on {}: {} messages on {} topics, {} (Ctrl-C to stop)",
+                    bind.url(port),
                     served.messages.len(),
                     served.topics.len(),
-                    if dds { "playing" } else { "paused until a client plays" }
+                    if dds {
+                        "playing"
+                    } else {
+                        "paused until a client plays (or plays by itself 2 s after the first subscription)"
+                    }
                 )
             })
         });

@@ -66,7 +66,7 @@ pub fn run(args: NodeArgs) -> anyhow::Result<()> {
     crate::node::runtime::run(config)
 }
 
-fn init_logging(level: Option<&str>) {
+pub(crate) fn init_logging(level: Option<&str>) {
     use tracing_subscriber::EnvFilter;
     let filter = match level {
         Some(level) => EnvFilter::new(level),

@@ -7,12 +7,21 @@
 //! very CDR bytes the bag holds: the node's [`crate::node::recording::Tape::record`] encodes once and hands the
 //! bytes to both the recorder and this server.
 //!
-//! Serving never blocks the caller: [`LiveServer::send`] only enqueues. The SDK keeps one bounded queue per
-//! client ([`BACKLOG`] messages); when a client falls behind, the oldest queued messages are dropped for that
-//! client alone (the SDK's `send_lossy`). The SDK does not expose how many it dropped (its `SentLossy` count is
-//! crate-private; it logs "outbox for client … full" at most every 30 s), so [`LiveCounters`] holds what the
-//! server can see — clients, subscriptions, messages handed over for subscribers — and the node reports those
-//! on `/diagnostics`. A client whose control queue fills is disconnected by the SDK.
+//! Serving never blocks the caller: [`LiveServer::send`] only enqueues. The SDK (patched, see
+//! `patches/README.md`) keeps one bounded queue per client ([`BACKLOG`] messages) and bounds the bytes queued
+//! for all clients together ([`Limits::total_backlog_bytes`]); a client that does not keep up — its queue
+//! full, or holding its share of a full total — is disconnected, with one log line, rather than served at the
+//! node's expense. [`LiveCounters`] holds what the server can see — clients, subscriptions, messages handed
+//! over for subscribers — and the node reports those on `/diagnostics`.
+//!
+//! Who can connect: anyone who reaches the port. The server has no authentication, and it accepts every
+//! `Origin` (Foxglove's and Lichtblick's web apps are served from many origins, and desktop apps send
+//! none), so the default bind is loopback (127.0.0.1): only this machine's users. Binding `0.0.0.0` serves
+//! every host that can reach the port; put it behind something that authenticates (an SSH tunnel, or a
+//! reverse proxy with TLS and authentication in front of a loopback bind). At most [`Limits::max_clients`]
+//! connections are served at once (more are closed as they arrive, the refusal logged once until one is
+//! accepted again); a connection has [`Limits::handshake_timeout`] to complete its WebSocket handshake; an
+//! accept error (file descriptors exhausted) pauses accepting with a back-off instead of ending it.
 //!
 //! Latched topics (transient-local in DDS: the parameters and SweetSpot) are latched here too: the last
 //! messages (as many as the topic's QoS depth) are replayed to a client when it subscribes, so a client that
@@ -30,8 +39,32 @@ use foxglove::{ChannelBuilder, ChannelId, Context, PartialMetadata, RawChannel, 
 
 use crate::bag::TopicInfo;
 
-/// Messages queued per client before the oldest are dropped for that client (the SDK's default is 1024).
+/// Messages queued per client; a client whose queue is full is disconnected (the SDK's default is 1024).
 pub const BACKLOG: usize = 4096;
+
+/// How many clients the server takes and how long it waits for them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Most connections (handshaking or connected) served at once.
+    pub max_clients: usize,
+    /// Time a connection has to complete its WebSocket handshake, s.
+    pub handshake_timeout: std::time::Duration,
+    /// Bytes queued for all clients together before the slowest are disconnected.
+    pub total_backlog_bytes: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_clients: DEFAULT_MAX_CLIENTS,
+            handshake_timeout: std::time::Duration::from_secs(5),
+            total_backlog_bytes: 64 << 20,
+        }
+    }
+}
+
+/// Connections served at once unless told otherwise (the node's `foxglove_max_clients`).
+pub const DEFAULT_MAX_CLIENTS: usize = 64;
 
 /// Where the server listens: `[ADDR:]PORT`, the address 127.0.0.1 unless given.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -55,6 +88,15 @@ impl Bind {
             return Err(format!("'{text}' has an empty address"));
         }
         Ok(Bind { host: host.to_string(), port })
+    }
+
+    /// The URL a client connects to on `port`: `ws://HOST:PORT`, an IPv6 address in brackets.
+    pub fn url(&self, port: u16) -> String {
+        if self.host.contains(':') {
+            format!("ws://[{}]:{port}", self.host)
+        } else {
+            format!("ws://{}:{port}", self.host)
+        }
     }
 }
 
@@ -147,15 +189,17 @@ pub struct LiveServer {
 impl LiveServer {
     /// Starts serving `topics` (as the recorder registers them) on `bind`, named `name` to clients.
     pub async fn start(name: &str, bind: &Bind, topics: &[TopicInfo]) -> Result<LiveServer, String> {
-        LiveServer::start_with(name, bind, topics, None).await
+        LiveServer::start_with(name, bind, topics, None, Limits::default()).await
     }
 
-    /// [`LiveServer::start`], with playback controls over a fixed time range when `playback` is given.
+    /// [`LiveServer::start`], within `limits`, with playback controls over a fixed time range when
+    /// `playback` is given.
     pub async fn start_with(
         name: &str,
         bind: &Bind,
         topics: &[TopicInfo],
         playback: Option<Playback>,
+        limits: Limits,
     ) -> Result<LiveServer, String> {
         // A context of its own: channels of another server in the same process are not advertised here.
         let context = Context::new();
@@ -186,7 +230,10 @@ impl LiveServer {
             .bind(bind.host.clone(), bind.port)
             .context(&context)
             .listener(as_listener)
-            .message_backlog_size(BACKLOG);
+            .message_backlog_size(BACKLOG)
+            .max_clients(limits.max_clients)
+            .handshake_timeout(limits.handshake_timeout)
+            .total_backlog_bytes(limits.total_backlog_bytes);
         if let Some(playback) = &playback {
             // The time range implies the PlaybackControl capability; Time lets clients follow the position.
             server = server.playback_time_range(playback.range.0, playback.range.1).capabilities([Capability::Time]);
@@ -278,5 +325,12 @@ mod tests {
         assert!(Bind::parse("70000").is_err());
         assert!(Bind::parse(":8765").is_err());
         assert!(Bind::parse("localhost:port").is_err());
+    }
+
+    #[test]
+    fn an_ipv6_url_puts_the_address_in_brackets() {
+        assert_eq!(Bind::parse("[::1]:8768").unwrap().url(8768), "ws://[::1]:8768");
+        assert_eq!(Bind::parse("8765").unwrap().url(8765), "ws://127.0.0.1:8765");
+        assert_eq!(Bind::parse("localhost:0").unwrap().url(40000), "ws://localhost:40000");
     }
 }

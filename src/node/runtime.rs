@@ -168,10 +168,11 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
                 topics::ROSOUT,
                 recorded_qos(&crate::ros::qos::rosout_qos()),
             ));
-            let live = crate::foxglove::LiveServer::start(&fqn, &bind, &served)
+            let limits = crate::foxglove::Limits { max_clients: settings.foxglove_max_clients, ..Default::default() };
+            let live = crate::foxglove::LiveServer::start_with(&fqn, &bind, &served, None, limits)
                 .await
                 .map_err(|e| anyhow::anyhow!("{e} (pass another foxglove_port / --foxglove)"))?;
-            log.info(&format!("Foxglove WebSocket server on ws://{}:{}", bind.host, live.port()));
+            log.info(&format!("Foxglove WebSocket server on {}", bind.url(live.port())));
             tape.with_live(live)
         }
     });

@@ -54,6 +54,8 @@ pub struct NodeSettings {
     pub diagnostics_period: f64,
     /// Foxglove WebSocket server, `[ADDR:]PORT` (address 127.0.0.1 unless given); empty = off.
     pub foxglove_port: String,
+    /// Most Foxglove connections served at once; more are closed as they arrive.
+    pub foxglove_max_clients: usize,
     /// Publish (and record) each answered swing's scene on `swing_scene` over DDS.
     pub swing_scene: bool,
     /// Most scenes per second served to Foxglove clients, Hz (0 = every answered swing).
@@ -471,6 +473,23 @@ pub static PARAMETERS: &[Parameter] = &[
         },
         get: |s| ParameterValue::String(s.foxglove_port.clone()),
     },
+    Parameter {
+        name: "foxglove_max_clients",
+        unit: "",
+        description: "most Foxglove connections served at once (handshaking or connected); more are closed as \
+                      they arrive, the refusal logged once",
+        read_only: true,
+        constraints: "",
+        rule: Rule::Integer {
+            default: crate::foxglove::DEFAULT_MAX_CLIENTS as i64,
+            range: Some((1, 10_000)),
+            set: |s, n| {
+                s.foxglove_max_clients = n as usize;
+                STORED
+            },
+        },
+        get: |s| ParameterValue::Integer(s.foxglove_max_clients as i64),
+    },
     // Off by default: a scene is ~45 times an answer's bytes (the bat's outline and deflection), which a
     // node answering tens of thousands of swings a second should not write unasked.
     Parameter {
@@ -671,6 +690,7 @@ impl Default for NodeSettings {
             record_compression: String::new(),
             diagnostics_period: 0.0,
             foxglove_port: String::new(),
+            foxglove_max_clients: 0,
             swing_scene: false,
             swing_scene_live_hz: 30.0,
         };
@@ -932,7 +952,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(ranged, 12, "the numeric parameters with a range");
+        assert_eq!(ranged, 13, "the numeric parameters with a range");
     }
 
     #[test]
@@ -961,6 +981,7 @@ mod tests {
             ("record_compression", String("".into()), true),
             ("diagnostics_period", Double(1.0), true),
             ("foxglove_port", String("".into()), true),
+            ("foxglove_max_clients", Integer(64), true),
             ("swing_scene", Boolean(false), true),
             ("swing_scene_live_hz", Double(30.0), true),
         ];

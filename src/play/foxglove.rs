@@ -7,6 +7,12 @@
 //! goes on from the first message at or after the seek time, after re-sending, on each latched
 //! (transient-local) topic, its last message before that time, so the bats and balls in force are there.
 //! The position is sent to clients as the server's time (the `time` capability) about 20 times a second.
+//!
+//! Not every client can press play: `@foxglove/ws-protocol`'s client and Lichtblick have no playback
+//! controls. A server started paused therefore starts playing by itself [`AUTOPLAY_AFTER`] after the first
+//! subscription when no client has sent a playback request by then. `--delay` is waited before each pass and
+//! `--loop` starts the bag over when it ends (a seek to the start: the latched topics' messages go out
+//! again), until a client pauses or seeks.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -21,6 +27,10 @@ use crate::foxglove::{Bind, LiveServer, Playback, PlaybackHandler};
 
 /// How often the position goes out as the server's time, and the longest the player sleeps.
 pub const TICK: Duration = Duration::from_millis(50);
+
+/// How long after the first subscription a paused server waits for a client to press play before it plays
+/// by itself (for clients without playback controls).
+pub const AUTOPLAY_AFTER: Duration = Duration::from_secs(2);
 
 /// A bag's messages as served: topics (in first-seen order) and messages in log-time order.
 #[derive(Debug, Clone, PartialEq)]
@@ -158,10 +168,13 @@ impl Timeline {
 struct Controls {
     timeline: Mutex<Timeline>,
     changed: Condvar,
+    /// Set by the first playback request: from then on a client drives playback.
+    driven: AtomicBool,
 }
 
 impl PlaybackHandler for Controls {
     fn on_request(&self, request: PlaybackControlRequest) -> PlaybackState {
+        self.driven.store(true, Ordering::Relaxed);
         let now = Instant::now();
         let state = match self.timeline.lock() {
             Ok(mut timeline) => timeline.apply(&request, now),
@@ -183,6 +196,12 @@ pub struct ServeOptions {
     pub rate: f64,
     /// Start this far (recorded time) after the bag's first message.
     pub start_offset: Duration,
+    /// Wait this long before each pass (`--delay`).
+    pub delay: Duration,
+    /// Start over at the end, until a client pauses or seeks (`--loop`).
+    pub repeat: bool,
+    /// Clients, handshakes and memory the server allows.
+    pub limits: crate::foxglove::Limits,
 }
 
 /// Serves `bag` until `stop` is set; `on_ready` hears the port once the server listens. Returns the number of
@@ -194,11 +213,13 @@ pub fn serve(
     on_ready: impl FnOnce(u16),
 ) -> Result<u64, BagError> {
     let range = bag.range();
+    crate::play::check_start_offset(options.start_offset, Duration::from_nanos(range.1 - range.0))?;
     let offset = u64::try_from(options.start_offset.as_nanos()).unwrap_or(u64::MAX);
     let start = range.0.saturating_add(offset);
     let controls = Arc::new(Controls {
-        timeline: Mutex::new(Timeline::new(range, start, options.playing, options.rate)),
+        timeline: Mutex::new(Timeline::new(range, start, false, options.rate)),
         changed: Condvar::new(),
+        driven: AtomicBool::new(false),
     });
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(1)
@@ -207,16 +228,40 @@ pub fn serve(
         .map_err(|e| BagError::Options(format!("Foxglove server runtime: {e}")))?;
     let playback = Playback { range, handler: controls.clone() };
     let server = runtime
-        .block_on(LiveServer::start_with("sweetspot bag play", &options.bind, &bag.topics, Some(playback)))
+        .block_on(LiveServer::start_with(
+            "sweetspot bag play",
+            &options.bind,
+            &bag.topics,
+            Some(playback),
+            options.limits,
+        ))
         .map_err(BagError::Options)?;
     on_ready(server.port());
     let mut next = 0;
     let mut sent = 0u64;
     let mut last_tick = Instant::now() - TICK;
     let mut ended_said = false;
+    // When the next pass starts playing by itself: at once (after --delay) when playing, else once a
+    // subscription has waited AUTOPLAY_AFTER for a client to press play.
+    let mut autoplay_at = options.playing.then(|| Instant::now() + options.delay);
+    let mut first_subscription: Option<Instant> = None;
     while !stop.load(Ordering::Relaxed) {
         let now = Instant::now();
+        let driven = controls.driven.load(Ordering::Relaxed);
+        if first_subscription.is_none() && server.counters().subscriptions > 0 {
+            first_subscription = Some(now);
+            if autoplay_at.is_none() {
+                autoplay_at = Some(now + AUTOPLAY_AFTER + options.delay);
+            }
+        }
         let Ok(mut timeline) = controls.timeline.lock() else { break };
+        if autoplay_at.is_some_and(|at| now >= at) {
+            autoplay_at = None;
+            if !driven {
+                timeline.playing = true;
+                timeline.anchor_wall = now;
+            }
+        }
         let mut due = Vec::new();
         if let Some(seek) = timeline.seek.take() {
             due.extend(bag.latched_before(seek));
@@ -236,6 +281,17 @@ pub fn serve(
         }
         if timeline.playing && next == bag.messages.len() && position >= range.1 {
             timeline.end(now);
+            if options.repeat && !controls.driven.load(Ordering::Relaxed) {
+                // Over again from the start offset, after --delay, as `bag play -l` over DDS.
+                let span = crate::model::time::scaled(
+                    Duration::from_nanos(range.1 - start.clamp(range.0, range.1)),
+                    1.0 / timeline.speed,
+                );
+                timeline.anchor_bag = start.clamp(range.0, range.1);
+                timeline.seek = Some(timeline.anchor_bag);
+                autoplay_at = Some(now + options.delay + crate::play::MIN_PASS.saturating_sub(span));
+                ended_said = true;
+            }
         }
         if !timeline.playing && position >= range.1 && !ended_said {
             ended_said = true;

@@ -73,9 +73,11 @@ pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Du
     let mut recorded: Vec<PlayItem> = Vec::new();
     let mut seen_topics: Vec<String> = Vec::new();
     let mut bag_start_ns = u64::MAX;
+    let mut bag_end_ns = 0;
     read_bag(path, |m| {
         let topic = &m.channel.topic;
         bag_start_ns = bag_start_ns.min(m.log_time_ns);
+        bag_end_ns = bag_end_ns.max(m.log_time_ns);
         if !seen_topics.contains(&topic.name) {
             seen_topics.push(topic.name.clone());
         }
@@ -115,6 +117,9 @@ pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Du
     recorded.sort_by_key(|i| i.log_time_ns);
     let offset_ns = u64::try_from(start_offset.as_nanos()).unwrap_or(u64::MAX);
     let start_ns = bag_start_ns.saturating_add(offset_ns);
+    if bag_start_ns <= bag_end_ns {
+        check_start_offset(start_offset, Duration::from_nanos(bag_end_ns - bag_start_ns))?;
+    }
     let is_param = |i: &PlayItem| i.type_name != Swing::TYPE_NAME;
     recorded.retain(|i| i.log_time_ns >= start_ns || is_param(i));
     let leading = recorded.iter().take_while(|i| is_param(i)).count();
@@ -135,6 +140,22 @@ pub fn schedule_from(path: &Path, topics: &[String], rate: f64, start_offset: Du
         .collect();
     Ok(Schedule { items, origin_ns })
 }
+
+/// Refuses a `--start-offset` past the end of a bag lasting `span` (first to last message), naming both.
+pub fn check_start_offset(start_offset: Duration, span: Duration) -> Result<(), BagError> {
+    if start_offset > span {
+        return Err(BagError::Options(format!(
+            "--start-offset {} s is past the bag's end: its messages span {} s",
+            start_offset.as_secs_f64(),
+            span.as_secs_f64()
+        )));
+    }
+    Ok(())
+}
+
+/// The shortest pass of `--loop`: a bag whose messages span less (one message, or all at one log time) is
+/// played once per this period instead of over and over without pause.
+pub const MIN_PASS: Duration = Duration::from_secs(1);
 
 /// How to play.
 #[derive(Debug, Clone)]
@@ -607,6 +628,14 @@ pub fn play(
         if !options.repeat {
             break;
         }
+        // The next pass follows the bag's own timing: it starts when this one's span is over, and no sooner
+        // than MIN_PASS after this one started.
+        while pass.elapsed(is_paused()) < MIN_PASS {
+            if stop.load(Ordering::Relaxed) {
+                break 'passes;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
     }
     for (topic, writer, _) in &writers {
         let acked = match writer {
@@ -621,4 +650,18 @@ pub fn play(
     // Readers drop untaken samples of a writer whose participant left: linger a moment (as `pub` does).
     std::thread::sleep(Duration::from_millis(500));
     Ok(stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_offset_past_the_end_names_the_bags_span() {
+        assert!(check_start_offset(Duration::from_secs(3), Duration::from_secs(3)).is_ok());
+        let refused = check_start_offset(Duration::from_secs(40), Duration::from_millis(2500)).unwrap_err();
+        let text = refused.to_string();
+        assert!(text.contains("--start-offset 40 s is past the bag's end") && text.contains("2.5 s"), "{text}");
+        assert!(!text.contains("bad bag"), "{text}");
+    }
 }
