@@ -199,7 +199,8 @@ mod tests {
         let at_limit = "x".repeat(MAX_STRING_BYTES);
         assert_eq!(echo(&at_limit), at_limit.as_str());
         for n in [MAX_STRING_BYTES + 1, 300, 70_000, 10 << 20] {
-            let e = echo(&"é".repeat(n / 2 + 1));
+            let long = "é".repeat(n / 2 + 1);
+            let e = echo(&long);
             assert!(e.len() <= MAX_STRING_BYTES, "{n}: {} bytes", e.len());
             assert!(e.starts_with("éé") && e.ends_with(" bytes)"), "{e}");
         }
