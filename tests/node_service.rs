@@ -443,3 +443,130 @@ fn a_node_on_the_cyclone_mapping_answers_rmw_cyclonedds_style_clients() {
     }
     assert_eq!(checked, 6, "request and response of the Cyclone client's 3 calls");
 }
+
+/// One call whose `header.frame_id` is 70 KB, then one of 10 MB, then a bystander (another participant)
+/// calling normally, on a node serving `mapping`: the attacker's 70 KB call is answered REJECTED naming the
+/// field, echoing at most 256 bytes of it and no ModalEnergies; the bystander is answered OK after both.
+fn a_huge_frame_id_neither_breaks_the_reply_nor_stops_other_clients(mapping: &str, offset: u16) {
+    support::node::require_isolated_network();
+    let domain = domain(offset);
+    let dir = tempfile::tempdir().unwrap();
+    let mapping_arg = format!("service_mapping:={mapping}");
+    let node = NodeProcess::spawn(domain, dir.path(), &["--no-record", "--ros-args", "-p", &mapping_arg]);
+    node.wait_for_log("up on ROS_DOMAIN_ID", Duration::from_secs(60));
+    let c = cases()[0];
+    let call = |id: u64, extra: &[&str], timeout: &str| {
+        let request = request(id, &c).to_string();
+        let mut args = vec!["--json", &request, "--mapping", mapping, "--timeout", timeout];
+        args.extend_from_slice(extra);
+        cyclone_call(domain, &args)
+    };
+    let out = call(1, &["--frame-id-bytes", "70000"], "60");
+    assert!(out.status.success(), "the 70 KB call got no reply: {out:?}\n{}", node.log());
+    let answer = &lines(&out, "the 70 KB call")[0];
+    let ev = &answer["exit_velocity"];
+    assert_eq!(ev["status"], json!(1), "REJECTED: {ev}");
+    assert!(ev["message"].as_str().unwrap().contains("header.frame_id is 70000 bytes long"), "{ev}");
+    let echoed = ev["header"]["frame_id"].as_str().unwrap();
+    assert!(echoed.len() <= 256 && echoed.starts_with("ffff"), "{} bytes echoed", echoed.len());
+    assert_eq!(answer["modal_energies"], json!([]), "one verdict: no ModalEnergies with a REJECTED answer");
+    // 10 MB: whatever becomes of it, it must not stop the service for anyone else.
+    let _ = call(2, &["--frame-id-bytes", "10485760"], "20");
+    let out = call(3, &[], "60");
+    assert!(out.status.success(), "the bystander got no reply after the huge calls: {out:?}\n{}", node.log());
+    let answer = &lines(&out, "the bystander's call")[0];
+    assert_eq!(answer["exit_velocity"]["status"], json!(0), "{answer}");
+    assert_same_as_simulate(answer, &c, &simulate(&c));
+    drop(node);
+}
+
+#[test]
+fn a_huge_frame_id_leaves_the_enhanced_mapping_answering_everyone() {
+    a_huge_frame_id_neither_breaks_the_reply_nor_stops_other_clients("enhanced", 33);
+}
+
+#[test]
+fn a_huge_frame_id_leaves_the_cyclone_mapping_answering_everyone() {
+    a_huge_frame_id_neither_breaks_the_reply_nor_stops_other_clients("cyclone", 34);
+}
+
+/// A call carrying its own 1,200-slice bat (density `density`, so each call's bat is another bat to solve).
+fn inline_bat_request(id: u64, density: f64) -> Value {
+    let mut r = request(id, &cases()[0]);
+    r["swing"]["bat_id"] = json!("");
+    r["bat"] = json!([{
+        "bat_id": "probe", "station_z": [0.0, 0.84], "outer_radius": [0.03, 0.03], "inner_radius": [0.0, 0.0],
+        "density": density, "youngs_modulus": 1.814e10, "shear_modulus": 1.05e9, "slice_length": 0.84 / 1200.0,
+    }]);
+    r
+}
+
+/// Inline bats are solved on the service's workers, not on the receive loop: while 40 calls, each with a
+/// 1,200-slice bat of its own, are being solved, a peer publishing swings one at a time (each after the
+/// previous one's answer) keeps being answered, in order, none lost — no swing waits for the burst: the longest
+/// wait is a small part of the burst's duration (when the loop solved them, one swing waited for nearly all of
+/// it). Then 300 calls with one identical bat solve it once (the summary's mode-cache misses).
+#[test]
+fn topic_swings_keep_flowing_during_a_burst_of_inline_bat_calls_and_identical_bats_are_solved_once() {
+    use support::node::{blocking, dds, keep_all, Peer};
+    use sweetspot::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
+    support::node::require_isolated_network();
+    let domain = domain(36);
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["--no-record", "--ros-args", "-p", "workers:=1"];
+    let node = NodeProcess::spawn(domain, dir.path(), &args);
+    node.wait_for_log("up on ROS_DOMAIN_ID", Duration::from_secs(60));
+    let mut peer = Peer::new(domain, "stall_peer");
+    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
+    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    peer.wait_for_reader(&swing_pub);
+    let swing = |id: u64| Swing {
+        swing_id: id,
+        ball_speed: 40.0,
+        bat_cm_speed: 20.0,
+        bat_angular_speed: 50.0,
+        impact_z: 0.7,
+        measured_exit_speed: f64::NAN,
+        ..Swing::default()
+    };
+    swing_pub.publish(swing(1)).unwrap();
+    assert_eq!(peer.collect(&answers, 1, Duration::from_secs(60))[0].status, ExitVelocity::STATUS_OK);
+
+    let burst: Vec<Value> = (1..=40).map(|k| inline_bat_request(k, 600.0 + k as f64)).collect();
+    let batch = Value::Array(burst).to_string();
+    let started = Instant::now();
+    let calls = std::thread::spawn(move || {
+        let out = cyclone_call(domain, &["--json", &batch, "--timeout", "600"]);
+        (out, Instant::now())
+    });
+    let (mut id, mut longest_wait, mut answered) = (2u64, Duration::ZERO, Vec::new());
+    while !calls.is_finished() {
+        let sent = Instant::now();
+        swing_pub.publish(swing(id)).unwrap();
+        let got = peer.collect(&answers, 1, Duration::from_secs(600));
+        longest_wait = longest_wait.max(sent.elapsed());
+        answered.push(got[0].swing_id);
+        id += 1;
+    }
+    let (out, ended) = calls.join().unwrap();
+    let replies = lines(&out, "40 inline-bat calls");
+    assert_eq!(replies.len(), 40);
+    assert!(replies.iter().all(|r| r["exit_velocity"]["status"] == json!(0)), "{:?}", replies[0]);
+    assert_eq!(answered, (2..id).collect::<Vec<_>>(), "every swing answered, in order");
+    let burst_took = ended - started;
+    println!("{} swings answered during the burst of {burst_took:?}; longest wait {longest_wait:?}", answered.len());
+    assert!(
+        longest_wait * 4 < burst_took,
+        "a swing waited {longest_wait:?} during a burst of {burst_took:?}: the receive loop solved the bats"
+    );
+
+    // 300 calls with one bat: built once, solved once.
+    let same = inline_bat_request(0, 649.0).to_string();
+    let out = cyclone_call(domain, &["--json", &same, "--repeat", "300", "--summary", "--timeout", "600"]);
+    let summary = &lines(&out, "300 identical inline bats")[0];
+    assert_eq!(summary["status_counts"]["0"], json!(300), "{summary}");
+    let (status, _, log) = node.stop_with(libc::SIGINT);
+    assert!(status.success(), "{log}");
+    // The default bat, the 40 bats of the burst, and the one bat of the 300 calls.
+    assert!(log.contains(" hits / 42 misses"), "one solve per distinct bat:\n{log}");
+}

@@ -8,8 +8,8 @@ use crate::physics::bat::SLICE_COUNT_RANGE;
 use crate::physics::oblique::TangentialContact;
 use crate::physics::{Ball, Bat, CoreFill, Impact, Material, PhysicsError, Station};
 
-use super::engine::{BatSummary, Computed, SwingInput};
-use super::limits::{self, check_string, MAX_MESSAGE_BYTES, MAX_STATIONS, MAX_STRING_BYTES};
+use super::engine::{self, BatSummary, Computed, SwingInput};
+use super::limits::{self, check_string, MAX_MESSAGE_BYTES, MAX_STATIONS};
 #[cfg(test)]
 use super::settings::DEFAULT_MAX_BAT_SLICES;
 
@@ -33,7 +33,7 @@ pub fn bat_from_params(p: &BatParams) -> Result<BatFromParams, String> {
 
 /// As [`bat_from_params`], and refuses a bat cut into more than `max_slices` slices before anything costly
 /// (the modes solve grows faster than N²) is done. The error names `slice_length` and the range it may take
-/// for this bat. Strings longer than [`MAX_STRING_BYTES`] and profiles of more than [`MAX_STATIONS`] stations
+/// for this bat. Strings longer than [`limits::MAX_STRING_BYTES`] and profiles of more than [`MAX_STATIONS`] stations
 /// are refused before anything is copied.
 pub fn bat_from_params_capped(p: &BatParams, max_slices: usize) -> Result<BatFromParams, String> {
     check_string("bat_id", &p.bat_id).map_err(|e| format!("BatParams: {e}"))?;
@@ -298,13 +298,29 @@ pub fn swing_input(s: &Swing) -> SwingInput {
     }
 }
 
+/// What a Swing message becomes, decided once before anything is computed or published: REJECTED when
+/// [`limits::check_swing`] refuses its strings or measured speed (a `header.frame_id` over
+/// [`limits::MAX_STRING_BYTES`], say), else [`engine::plan_swing`] with its ids. The second value is a bat created
+/// from a preset on first use.
+pub fn plan_swing_message(
+    registry: &mut engine::Registry,
+    settings: &super::settings::ModelSettings,
+    swing: &Swing,
+) -> (engine::Plan, Option<std::sync::Arc<engine::BatEntry>>) {
+    if let Err(reason) = limits::check_swing(swing) {
+        let (bat_id, ball_id) = (limits::echo(&swing.bat_id).into_owned(), limits::echo(&swing.ball_id).into_owned());
+        return (engine::Plan::Reject { bat_id, ball_id, reason }, None);
+    }
+    engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, swing_input(swing))
+}
+
 /// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers. A
 /// swing whose strings or measured speed [`limits::check_swing`] refuses is REJECTED whatever `result` says;
-/// the strings echoed are cut to [`MAX_STRING_BYTES`] and the message to [`MAX_MESSAGE_BYTES`].
+/// the strings echoed are cut to [`limits::MAX_STRING_BYTES`] and the message to [`MAX_MESSAGE_BYTES`].
 pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result<Computed, String>) -> ExitVelocity {
     let refused = limits::check_swing(swing).err().map(Err);
     let result = refused.as_ref().unwrap_or(result);
-    let frame_id = limits::shorten(&swing.header.frame_id, MAX_STRING_BYTES).into_owned();
+    let frame_id = limits::echo(&swing.header.frame_id).into_owned();
     // ±inf or an absurd measured speed is not echoed: it would make an infinite residual of a valid answer.
     let measured_exit_speed = match limits::check_measured_speed("measured_exit_speed", swing.measured_exit_speed) {
         Ok(()) => swing.measured_exit_speed,
@@ -313,8 +329,8 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
     let mut ev = ExitVelocity {
         header: Header { stamp: swing.header.stamp.clone(), frame_id },
         swing_id: swing.swing_id,
-        bat_id: limits::shorten(bat_id, MAX_STRING_BYTES).into_owned(),
-        ball_id: limits::shorten(ball_id, MAX_STRING_BYTES).into_owned(),
+        bat_id: limits::echo(bat_id).into_owned(),
+        ball_id: limits::echo(ball_id).into_owned(),
         impact_z: swing.impact_z,
         measured_exit_speed,
         ..ExitVelocity::default()
@@ -346,7 +362,7 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
         }
         Err(reason) => {
             ev.status = ExitVelocity::STATUS_REJECTED;
-            ev.message = limits::shorten(reason, MAX_MESSAGE_BYTES).into_owned();
+            ev.message = limits::bounded(reason, MAX_MESSAGE_BYTES).into_owned();
             // NaN, not 0: a rejected swing has no numbers, and 0 m/s would read as a result.
             for x in [
                 &mut ev.exit_speed,
@@ -375,14 +391,16 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
     ev
 }
 
-/// The energy breakdown of a computed swing.
+/// The energy breakdown of a computed swing; the strings echoed are cut to [`limits::MAX_STRING_BYTES`] as in
+/// [`exit_velocity`].
 pub fn modal_energies(swing: &Swing, bat_id: &str, computed: &Computed) -> ModalEnergies {
     let c = &computed.collision;
     let fraction = |e: f64| if computed.collision_energy > 0.0 { e / computed.collision_energy } else { f64::NAN };
+    let frame_id = limits::echo(&swing.header.frame_id).into_owned();
     ModalEnergies {
-        header: swing.header.clone(),
+        header: Header { stamp: swing.header.stamp.clone(), frame_id },
         swing_id: swing.swing_id,
-        bat_id: bat_id.to_string(),
+        bat_id: limits::echo(bat_id).into_owned(),
         frequency: c.mode_energies.iter().map(|m| m.frequency).collect(),
         energy: c.mode_energies.iter().map(|m| m.energy).collect(),
         fraction: c.mode_energies.iter().map(|m| fraction(m.energy)).collect(),

@@ -12,7 +12,7 @@ use crate::physics::{
 };
 
 use super::convert::BallModel;
-use super::limits::{self, quote, MAX_STRING_BYTES};
+use super::limits::{self, quote};
 use super::lru::LruMap;
 use super::settings::ModelSettings;
 
@@ -94,10 +94,18 @@ impl BatEntry {
         stats: &impl ModeCacheStats,
     ) -> Result<BatEntry, String> {
         let entry = BatEntry::new(bat_id, bat, max_modes, settings);
+        entry.check_modes(settings, stats)?;
+        Ok(entry)
+    }
+
+    /// The check of [`BatEntry::new_checked`] on an entry made already: its modes solved (once, cached in the
+    /// entry, counted on `stats`) and resolved by the node's `time_step`. The error starts with `BatParams 'id':`.
+    pub fn check_modes(&self, settings: &ModelSettings, stats: &impl ModeCacheStats) -> Result<(), String> {
+        let entry = self;
         let context = |e: String| format!("BatParams '{}': {e}", entry.bat_id);
         let modes = entry.modes(stats).map_err(|e| context(e.to_string()))?;
         let options = |modes: usize| CollisionOptions { modes, time_step: settings.time_step };
-        let Err(e) = options(entry.max_modes).validate(&modes) else { return Ok(entry) };
+        let Err(e) = options(entry.max_modes).validate(&modes) else { return Ok(()) };
         // Frequencies rise with the mode number: the most modes resolved is the largest count that passes (0
         // modes always passes: the rigid bat needs no step criterion).
         let resolved = (0..entry.max_modes).rev().find(|&k| options(k).validate(&modes).is_ok()).unwrap_or(0);
@@ -394,7 +402,7 @@ impl SwingInput {
     /// and the measured values; the error names the field and its allowed range.
     pub fn validate(&self, ball_radius: f64, barrel_radius: f64) -> Result<(), String> {
         let out = |field: &str, value: f64, allowed: String| {
-            Err(format!("{field} = {value} is out of range: expected {allowed}"))
+            Err(format!("{field} = {} is out of range: expected {allowed}", limits::number(value)))
         };
         let reach = ball_radius + barrel_radius;
         // Without a barrel radius (impact_z not a number) the collision refuses impact_z itself.
@@ -485,8 +493,8 @@ pub fn plan_swing(
 ) -> (Plan, Option<Arc<BatEntry>>) {
     // Over-long ids are refused before any lookup, and the answer carries them cut short.
     if let Err(reason) = limits::check_string("bat_id", bat_id).and_then(|_| limits::check_string("ball_id", ball_id)) {
-        let bat_id = limits::shorten(bat_id, MAX_STRING_BYTES).into_owned();
-        let ball_id = limits::shorten(ball_id, MAX_STRING_BYTES).into_owned();
+        let bat_id = limits::echo(bat_id).into_owned();
+        let ball_id = limits::echo(ball_id).into_owned();
         return (Plan::Reject { bat_id, ball_id, reason }, None);
     }
     let swing: SwingInput = swing.into();
@@ -674,6 +682,25 @@ mod tests {
 
     fn swing(z: f64) -> Impact {
         Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: 50.0, impact_z: z }
+    }
+
+    #[test]
+    fn a_sweet_spot_is_found_for_every_reference_angular_speed_in_the_parameter_s_range() {
+        // reference_bat_angular_speed is −500…500 rad/s: at either end the barrel's inner (or outer) part moves
+        // away from the ball faster than the ball comes, and the SweetSpot used to fail there for every bat.
+        let (settings, stats) = (ModelSettings::default(), ModeCacheCount::default());
+        let entry = BatEntry::new("r161", Bat::preset("r161").unwrap(), None, &settings);
+        let mp = entry.modes(&stats).unwrap().mass_properties();
+        for omega in [-500.0, -200.0, 50.0, 200.0, 500.0] {
+            let reference = Impact { ball_speed: 40.0, bat_cm_speed: 20.0, bat_angular_speed: omega, impact_z: 0.0 };
+            let summary = summarize_bat(&entry, DEFAULT_BALL_ID, &Ball::default(), reference, &settings, &stats)
+                .unwrap_or_else(|e| panic!("ω = {omega}: {e}"));
+            let z = summary.sweet_spots.max_exit_speed_z;
+            // Independent of the scan: where the rigid bat's point meets the ball at a positive closing speed.
+            let closing = 40.0 + 20.0 + omega * (z - mp.center_of_mass);
+            assert!(closing > 0.0 && z >= 0.42 && z < 0.84, "ω = {omega}: z = {z}, closing {closing} m/s");
+            assert!(summary.sweet_spots.max_exit_speed > 0.0, "ω = {omega}");
+        }
     }
 
     #[test]

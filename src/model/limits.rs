@@ -52,6 +52,33 @@ pub fn shorten(s: &str, max_bytes: usize) -> Cow<'_, str> {
     Cow::Owned(format!("{}…({} bytes)", &s[..end], s.len()))
 }
 
+/// A peer's string as an answer echoes it (an id, a `header.frame_id`, a message): at most `max_bytes` bytes
+/// in all, its marker `…(N bytes)` included when it had to be cut (on a character boundary).
+pub fn bounded(s: &str, max_bytes: usize) -> Cow<'_, str> {
+    if s.len() <= max_bytes {
+        return Cow::Borrowed(s);
+    }
+    let marker = format!("…({} bytes)", s.len());
+    let mut end = max_bytes.saturating_sub(marker.len());
+    while !s.is_char_boundary(end) {
+        end -= 1;
+    }
+    if end == 0 && marker.len() > max_bytes {
+        // No room for the marker: the plain prefix.
+        let mut end = max_bytes;
+        while !s.is_char_boundary(end) {
+            end -= 1;
+        }
+        return Cow::Owned(s[..end].to_string());
+    }
+    Cow::Owned(format!("{}{marker}", &s[..end]))
+}
+
+/// An id or `header.frame_id` as an answer echoes it: at most [`MAX_STRING_BYTES`] bytes.
+pub fn echo(s: &str) -> Cow<'_, str> {
+    bounded(s, MAX_STRING_BYTES)
+}
+
 /// A peer's string as a rejection text quotes it: at most [`QUOTED_PREFIX_BYTES`] of it.
 pub fn quote(s: &str) -> Cow<'_, str> {
     shorten(s, QUOTED_PREFIX_BYTES)
@@ -164,6 +191,22 @@ mod tests {
         assert!(e.len() < 200, "{} bytes: {e}", e.len());
         assert_eq!(shorten("abc", 3), "abc");
         assert_eq!(shorten("aé", 2), "a…(3 bytes)");
+    }
+
+    #[test]
+    fn echoed_strings_hold_at_most_their_limit_marker_included() {
+        assert_eq!(echo("rig"), "rig");
+        let at_limit = "x".repeat(MAX_STRING_BYTES);
+        assert_eq!(echo(&at_limit), at_limit.as_str());
+        for n in [MAX_STRING_BYTES + 1, 300, 70_000, 10 << 20] {
+            let long = "é".repeat(n / 2 + 1);
+            let e = echo(&long);
+            assert!(e.len() <= MAX_STRING_BYTES, "{n}: {} bytes", e.len());
+            assert!(e.starts_with("éé") && e.ends_with(" bytes)"), "{e}");
+        }
+        assert_eq!(bounded("abcdef", 3), "abc");
+        assert_eq!(bounded("abcdef", 6), "abcdef");
+        assert!(bounded(&"m".repeat(10_000), MAX_MESSAGE_BYTES).len() <= MAX_MESSAGE_BYTES);
     }
 
     #[test]

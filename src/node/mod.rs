@@ -58,12 +58,20 @@
 //!   is counted (`publish_failures`) and logged, rate-limited, with DDS's reason.
 //! - Bad params are answered by an ExitVelocity REJECTED naming the message, id and field; the previous
 //!   params stay in force. Bad swings get REJECTED with the physics' error text; numbers are NaN.
+//! - One verdict per swing, decided before anything is computed or published
+//!   ([`crate::model::convert::plan_swing_message`]): a swing whose strings or measured speed are refused (a
+//!   `header.frame_id` over 256 bytes, say) is REJECTED, gets no ModalEnergies or scene, on DDS or in the bag,
+//!   and counts as `swings_rejected`. Every id and `frame_id` an answer echoes is at most 256 bytes
+//!   ([`crate::model::limits::echo`]), so no input can make an answer too large to send.
+//! - Latency (p50/p99/max on /diagnostics and in the summary) counts from the last moment the swing reader
+//!   was seen empty (drained, or the loop idle), not from when the loop took the swing: time the receive loop
+//!   spent on other work while a swing waited is in it (an upper bound on the wait, exact when idle).
 //! - Every input (as received) and output (as published) is recorded in-process to a rosbag2 MCAP directory,
 //!   `bags/<node>_<UTC time>/` unless `record_path` is set, off with `--no-record` or `-p record:=false`.
 //!   The default directory gets a suffix (`_2`, `_3`, …) when it already exists, so two nodes started
 //!   within one second never share one ([`recording::start_backend_unique`]).
-//! - SIGINT/SIGTERM: stop taking swings, let queued ones finish for up to 0.6 s, close the bag, print a
-//!   summary (`summary_line`: swings received = answered OK + rejected + dropped + unsent
+//! - SIGINT/SIGTERM: stop taking swings, let queued ones finish for up to 0.6 s, close the bag, print (once,
+//!   whatever the log level; also on /rosout) a summary (`summary_line`: swings received = answered OK + rejected + dropped + unsent
 //!   (publish failed) + still queued at shutdown; lost in transport, latency p50/p99/max, mode-cache
 //!   hits/misses) and exit 0.
 //! - Liveness: every diagnostics tick asks whether the DDS participant's background threads still run

@@ -97,6 +97,11 @@ impl Log {
             LogLevel::Info => tracing::info!("{message}"),
             LogLevel::Debug => tracing::debug!("{message}"),
         }
+        self.to_ros(level, message);
+    }
+
+    /// The line on `/rosout` (and the Foxglove server's) only, not on the terminal.
+    fn to_ros(&self, level: LogLevel, message: &str) {
         let stamp = ros2_client::builtin_interfaces::Time::now();
         let (file, line) = (file!(), line!());
         if let Some(tape) = self.live.get() {
@@ -121,6 +126,12 @@ impl Log {
     /// An info line.
     pub fn info(&self, m: &str) {
         self.log(LogLevel::Info, m)
+    }
+
+    /// An info line for ROS tools only (`/rosout`, the Foxglove server): the caller prints it on the terminal
+    /// itself, once, whatever the log level.
+    pub fn info_to_ros(&self, m: &str) {
+        self.to_ros(LogLevel::Info, m)
     }
 
     /// A warning.

@@ -2,6 +2,7 @@
 //! ball params, swing, parameter change, SweetSpot ready, discovery event, diagnostics tick, shutdown).
 
 use crate::model::time::RosTime;
+use std::future::Future as _;
 use std::pin::pin;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -75,6 +76,21 @@ pub enum Event {
     ParameterChanged(SettingEffect),
     /// A bat's SweetSpot is ready (published only if the bat is still current).
     Summary(Arc<BatEntry>, Box<Result<BatSummary, String>>),
+}
+
+/// What woke the receive loop. One value per wake, moved straight into its handler: not worth boxing.
+#[allow(clippy::large_enum_variant)]
+enum Input {
+    Shutdown(&'static str),
+    Event(Event),
+    Bat(BatSample),
+    Ball(BallSample),
+    Swing(SwingSample),
+    Discovery,
+    Participant(ReadResult<(ParticipantEntitiesInfo, MessageInfo)>),
+    Tick,
+    Call(ReadResult<(ros2_client::service::RmwRequestId, crate::msgs::sweetspot_msgs::srv::SimulateSwing_Request)>),
+    MoreWaiting,
 }
 
 /// The node's subscriptions (borrowed by the loop's streams, so kept apart from [`NodeLoop`]).
@@ -154,6 +170,9 @@ pub struct NodeLoop {
     pub namesakes: std::collections::BTreeSet<ros2_client::Gid>,
     /// The workers of the `~/simulate_swing` service.
     pub calls: super::service::ServiceCalls<super::service::SimulateSwingServer>,
+    /// The last moment the swing reader was seen empty (drained, or the loop idle): a swing taken later
+    /// arrived after it, and its latency counts from it.
+    pub swings_empty_at: Instant,
 }
 
 impl NodeLoop {
@@ -181,34 +200,58 @@ impl NodeLoop {
         // Bat params, ball params and swings taken from their readers but not yet handled.
         let mut arrivals = Arrivals::default();
         loop {
-            tokio::select! {
-                biased;
-                signal = &mut shutdown => {
+            // The select, and the last moment it found nothing to do (every reader empty): a swing taken
+            // afterwards arrived after it.
+            let (input, idle_at) = {
+                let mut select = pin!(async {
+                    tokio::select! {
+                        biased;
+                        signal = &mut shutdown => Input::Shutdown(signal),
+                        Some(event) = self.events.recv() => Input::Event(event),
+                        Some(received) = bats.next() => Input::Bat(received),
+                        Some(received) = balls.next() => Input::Ball(received),
+                        Some(_event) = self.graph_events.next() => Input::Discovery,
+                        Some(received) = participants.next() => Input::Participant(received),
+                        _ = diagnostics.tick() => Input::Tick,
+                        Some(call) = calls.next() => Input::Call(call),
+                        // A reader cut short at the drain cap: the rest of what was waiting, after the other
+                        // inputs had their turn.
+                        _ = std::future::ready(()), if arrivals.waiting() => Input::MoreWaiting,
+                        Some(received) = swings.next() => Input::Swing(received),
+                    }
+                });
+                let mut idle_at = None;
+                let input = std::future::poll_fn(|cx| match select.as_mut().poll(cx) {
+                    std::task::Poll::Pending => {
+                        idle_at = Some(Instant::now());
+                        std::task::Poll::Pending
+                    }
+                    ready => ready,
+                })
+                .await;
+                (input, idle_at)
+            };
+            if let Some(idle_at) = idle_at {
+                self.swings_empty_at = idle_at;
+            }
+            let arrival = matches!(input, Input::Bat(_) | Input::Ball(_) | Input::Swing(_) | Input::MoreWaiting);
+            match input {
+                Input::Shutdown(signal) => {
                     self.on_shutdown(signal);
                     return Ok(());
                 }
-                Some(event) = self.events.recv() => self.on_event(event),
-                Some(received) = bats.next() => {
-                    arrivals.bats.push_back(Timed::of(received));
-                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
-                }
-                Some(received) = balls.next() => {
-                    arrivals.balls.push_back(Timed::of(received));
-                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
-                }
-                Some(_event) = self.graph_events.next() => self.on_discovery(node),
-                Some(received) = participants.next() => self.on_participant_info(received),
-                _ = diagnostics.tick() => self.on_diagnostics_tick()?,
-                Some(call) = calls.next() => self.on_call(call),
-                // A reader cut short at the drain cap: the rest of what was waiting, after the other inputs had
-                // their turn.
-                _ = std::future::ready(()), if arrivals.waiting() => {
-                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
-                }
-                Some(received) = swings.next() => {
-                    arrivals.swings.push_back(Timed::of(received));
-                    self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
-                }
+                Input::Event(event) => self.on_event(event),
+                Input::Bat(received) => arrivals.bats.push_back(Timed::of(received)),
+                Input::Ball(received) => arrivals.balls.push_back(Timed::of(received)),
+                Input::Swing(received) => arrivals.swings.push_back(Timed::of(received)),
+                Input::Discovery => self.on_discovery(node),
+                Input::Participant(received) => self.on_participant_info(received),
+                Input::Tick => self.on_diagnostics_tick()?,
+                Input::Call(call) => self.on_call(call),
+                Input::MoreWaiting => {}
+            }
+            if arrival {
+                self.handle_arrivals(&mut arrivals, &mut bats, &mut balls, &mut swings);
             }
         }
     }
@@ -228,14 +271,20 @@ impl NodeLoop {
         L: futures::Stream<Item = BallSample>,
         S: futures::Stream<Item = SwingSample>,
     {
+        // Every swing taken now arrived after the reader was last seen empty: their latency counts from there,
+        // so a receive loop held up by other work is counted in the latency it reports.
+        let arrived_after = self.swings_empty_at;
         arrivals.more[0] = top_up(&mut arrivals.bats, bats);
         arrivals.more[1] = top_up(&mut arrivals.balls, balls);
         arrivals.more[2] = top_up(&mut arrivals.swings, swings);
+        if !arrivals.more[2] {
+            self.swings_empty_at = Instant::now();
+        }
         while let Some(next) = arrivals.pop_next() {
             match next {
                 Next::Bat(received) => self.on_bat_params(received),
                 Next::Ball(received) => self.on_ball_params(received),
-                Next::Swing(received) => self.on_swing_sample(received),
+                Next::Swing(received) => self.on_swing_sample(received, arrived_after),
             }
         }
     }
@@ -380,7 +429,7 @@ impl NodeLoop {
         now.balls_cached = usage.balls as u64;
         now.balls_evicted = usage.balls_evicted;
         let mut report = health_report(&now, &self.last_report, &self.tape.state());
-        report.values.extend(self.calls.stats.values());
+        report.values.extend(self.calls.values());
         if !self.namesakes.is_empty() {
             flag_namesakes(&mut report, &namesake_warning(&self.fqn, self.namesakes.len()));
         }
@@ -397,7 +446,7 @@ impl NodeLoop {
         liveness
     }
 
-    fn on_swing_sample(&mut self, received: ReadResult<(Swing, MessageInfo)>) {
+    fn on_swing_sample(&mut self, received: ReadResult<(Swing, MessageInfo)>, arrived_after: Instant) {
         let log_time = crate::model::time::now_ns();
         let (swing, info) = match received {
             Ok(sample) => sample,
@@ -412,33 +461,29 @@ impl NodeLoop {
                 ));
             }
         }
-        self.on_swing(swing, log_time);
+        self.on_swing(swing, log_time, arrived_after);
         if self.registry.usage() != self.seen_usage {
             // A preset named by a swing pushed out another bat.
             self.report_evictions();
         }
     }
 
-    fn on_swing(&mut self, swing: Swing, log_time: u64) {
-        let received = Instant::now();
+    /// A swing taken from DDS; `received` is the last moment its reader was seen empty (it arrived after it),
+    /// from which its latency counts.
+    fn on_swing(&mut self, swing: Swing, log_time: u64, received: Instant) {
         NodeStats::bump(&self.stats.swings_received);
         self.tape.record(Recorded::Swing, &swing, log_time, swing.header.stamp.unix_ns());
         // Planned under the read lock instead of cloning the settings (and their strings) for every swing.
         let registry = &mut self.registry;
-        let (plan, new_bat) = self.settings.read(|settings| {
-            engine::plan_swing(
-                registry,
-                &settings.model,
-                &swing.bat_id,
-                &swing.ball_id,
-                crate::model::convert::swing_input(&swing),
-            )
-        });
+        // One verdict per swing, here: a swing the answer would refuse is never computed, so nothing else of
+        // it (ModalEnergies, scene) goes out and it counts as rejected.
+        let (plan, new_bat) =
+            self.settings.read(|settings| crate::model::convert::plan_swing_message(registry, &settings.model, &swing));
         if let Some(entry) = new_bat {
             self.summaries.spawn(entry, &self.registry);
         }
         // Idle and cheap: answered here, without waking a worker and the sequencer (see `Pipeline::answer_inline`).
-        let (plan, swing) = if self.inline_pacing.allows(received) {
+        let (plan, swing) = if self.inline_pacing.allows(Instant::now()) {
             let started = Instant::now();
             match self.pipeline.answer_inline(received, plan, swing) {
                 Ok(_) => {
@@ -474,8 +519,9 @@ impl NodeLoop {
         }
     }
 
-    /// A `~/simulate_swing` call: planned here with the node's registry and settings, computed and answered
-    /// by the service's workers (or answered DROPPED at once when they have `queue_capacity` calls).
+    /// A `~/simulate_swing` call: planned here with the node's registry and settings (an inline bat only as far
+    /// as its ball: the bat is built and solved on a worker), computed and answered by the service's workers
+    /// (or answered DROPPED at once when they have `queue_capacity` calls).
     fn on_call(
         &mut self,
         call: ros2_client::ReadResult<(
@@ -488,9 +534,8 @@ impl NodeLoop {
             Err(e) => return self.unreadable(super::service::SERVICE_NAME, &e),
         };
         let registry = &mut self.registry;
-        let stats = &*self.stats;
         let (plan, new_bat) =
-            self.settings.read(|settings| super::service::plan_call(registry, &settings.model, &request, stats));
+            self.settings.read(|settings| super::service::plan_call(registry, &settings.model, &request));
         if let Some(entry) = new_bat {
             self.summaries.spawn(entry, &self.registry);
         }
@@ -563,7 +608,8 @@ impl NodeLoop {
         .await
         .context("joining the shutdown task")?;
         let summary = summary_line(&fqn, &final_stats, &registry.usage());
-        log.info(&summary);
+        // Printed once on the terminal whatever the log level, and on /rosout for ROS tools.
+        log.info_to_ros(&summary);
         eprintln!("{summary}");
         match bag_result {
             Some(Ok(b)) => eprintln!(

@@ -141,41 +141,9 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let type_descriptions = super::type_description::start(&mut node, &names, mapping_of(&settings))?;
     outputs.refresh_energies_listeners(&node);
 
-    // Recording: every input as received and every output as published.
-    // A node told to record that cannot record stops here rather than pretend to.
-    let mut tape = start_tape(&settings, &identity, started_utc, &topic_names)?;
-    if settings.record_services {
-        // As rosbag2 records a service: its events on `<service>/_service_event`.
-        let topic = format!("{}/_service_event", names.resolve(super::service::SERVICE_NAME));
-        let qos = recorded_qos(&results_qos());
-        tape.add_topic(Recorded::ServiceEvent, TopicInfo::of::<SimulateSwing_Event>(&topic, qos));
-    }
-    // Live view: the same topics, schemas and CDR bytes served to Foxglove clients.
-    let tape = Arc::new(match settings.foxglove_port.as_str() {
-        "" => tape,
-        bind => {
-            let bind = crate::foxglove::Bind::parse(bind).map_err(|e| anyhow::anyhow!("foxglove_port: {e}"))?;
-            let mut served = recorded_topics(&topic_names, false);
-            // The scene is always served: built only while a client subscribes to it.
-            served.push(swing_scene_topic(&topic_names));
-            served.push(TopicInfo::of::<crate::msgs::diagnostic_msgs::msg::DiagnosticArray>(
-                topic_names.get(topics::DIAGNOSTICS),
-                recorded_qos(&diagnostics_qos()),
-            ));
-            // `/rosout` as ros2-client offers it (transient-local, keep-last 1000): a client that connects
-            // later gets the lines logged before it, from the latch.
-            served.push(TopicInfo::of::<crate::msgs::rcl_interfaces::msg::Log>(
-                topics::ROSOUT,
-                recorded_qos(&crate::ros::qos::rosout_qos()),
-            ));
-            let limits = crate::foxglove::Limits { max_clients: settings.foxglove_max_clients, ..Default::default() };
-            let live = crate::foxglove::LiveServer::start_with(&fqn, &bind, &served, None, limits)
-                .await
-                .map_err(|e| anyhow::anyhow!("{e} (pass another foxglove_port / --foxglove)"))?;
-            log.info(&format!("Foxglove WebSocket server on {}", bind.url(live.port())));
-            tape.with_live(live)
-        }
-    });
+    // Recording: every input as received and every output as published, and served live when asked.
+    let tape =
+        Arc::new(start_recording_and_serving(&settings, &identity, started_utc, &topic_names, &names, &log).await?);
     // From here on the node's log lines go to the Foxglove server's `/rosout` too.
     log.serve_on(Arc::clone(&tape));
     tape.note_settings(&settings);
@@ -217,6 +185,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
         own_participant: context.participant_entities_info().gid(),
         namesakes: Default::default(),
         calls,
+        swings_empty_at: std::time::Instant::now(),
     };
     node_loop.start_default_bat();
     let outcome = node_loop.run(&inputs, &node).await;
@@ -233,6 +202,50 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;
     drop(context);
     outcome.map_err(anyhow::Error::from)
+}
+
+/// The recording (every input as received and every output as published; a node told to record that cannot
+/// record stops here rather than pretend to), with the service's events when `record_services`, and the live
+/// Foxglove server on `foxglove_port` serving the same topics, schemas and CDR bytes.
+async fn start_recording_and_serving(
+    settings: &NodeSettings,
+    identity: &NodeIdentity,
+    started_utc: chrono::DateTime<chrono::Utc>,
+    topic_names: &TopicNames,
+    names: &NameResolver,
+    log: &Log,
+) -> anyhow::Result<Tape> {
+    let mut tape = start_tape(settings, identity, started_utc, topic_names)?;
+    if settings.record_services {
+        // As rosbag2 records a service: its events on `<service>/_service_event`.
+        let topic = format!("{}/_service_event", names.resolve(super::service::SERVICE_NAME));
+        let qos = recorded_qos(&results_qos());
+        tape.add_topic(Recorded::ServiceEvent, TopicInfo::of::<SimulateSwing_Event>(&topic, qos));
+    }
+    let bind = match settings.foxglove_port.as_str() {
+        "" => return Ok(tape),
+        bind => crate::foxglove::Bind::parse(bind).map_err(|e| anyhow::anyhow!("foxglove_port: {e}"))?,
+    };
+    let mut served = recorded_topics(topic_names, false);
+    // The scene is always served: built only while a client subscribes to it.
+    served.push(swing_scene_topic(topic_names));
+    served.push(TopicInfo::of::<crate::msgs::diagnostic_msgs::msg::DiagnosticArray>(
+        topic_names.get(topics::DIAGNOSTICS),
+        recorded_qos(&diagnostics_qos()),
+    ));
+    // `/rosout` as ros2-client offers it (transient-local, keep-last 1000): a client that connects later gets
+    // the lines logged before it, from the latch.
+    served.push(TopicInfo::of::<crate::msgs::rcl_interfaces::msg::Log>(
+        topics::ROSOUT,
+        recorded_qos(&crate::ros::qos::rosout_qos()),
+    ));
+    let fqn = identity.fully_qualified_name();
+    let limits = crate::foxglove::Limits { max_clients: settings.foxglove_max_clients, ..Default::default() };
+    let live = crate::foxglove::LiveServer::start_with(&fqn, &bind, &served, None, limits)
+        .await
+        .map_err(|e| anyhow::anyhow!("{e} (pass another foxglove_port / --foxglove)"))?;
+    log.info(&format!("Foxglove WebSocket server on {}", bind.url(live.port())));
+    Ok(tape.with_live(live))
 }
 
 /// Starts the node's spinner (parameter services, discovery) and returns it with the node's discovery events.

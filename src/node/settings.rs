@@ -140,7 +140,8 @@ pub static PARAMETERS: &[Parameter] = &[
             set: |s, v| {
                 if !Bat::preset_names().contains(&v) {
                     return Err(Refusal::Refused(format!(
-                        "default_bat = '{v}' is not a bat preset (presets: {})",
+                        "default_bat = '{}' is not a bat preset (presets: {})",
+                        crate::model::limits::quote(v),
                         Bat::preset_names().join(", ")
                     )));
                 }
@@ -464,8 +465,12 @@ pub static PARAMETERS: &[Parameter] = &[
             default: "",
             set: |s, v| {
                 if !v.is_empty() {
-                    crate::foxglove::Bind::parse(v)
-                        .map_err(|e| Refusal::Refused(format!("foxglove_port = {v:?} is REJECTED: {e}")))?;
+                    crate::foxglove::Bind::parse(v).map_err(|e| {
+                        Refusal::Refused(format!(
+                            "foxglove_port = '{}' is REJECTED: {e}",
+                            crate::model::limits::quote(v)
+                        ))
+                    })?;
                 }
                 s.foxglove_port = v.to_string();
                 STORED
@@ -714,7 +719,7 @@ impl NodeSettings {
     }
 
     /// Defaults overridden by `-p`/`--params-file` values; an integer given for a double parameter is
-    /// accepted as that double (YAML writes `40` for 40.0). Unknown names and bad values are errors.
+    /// accepted as that double (YAML writes `40` for 40.0), and an integer `foxglove_port` as that port. Unknown names and bad values are errors.
     pub fn with_overrides(overrides: &BTreeMap<String, ParameterValue>) -> Result<NodeSettings, String> {
         let mut settings = NodeSettings::default();
         for (name, value) in overrides {
@@ -724,6 +729,10 @@ impl NodeSettings {
             let parameter = parameter(name).ok_or_else(|| unknown_parameter(name))?;
             let value = match (&parameter.rule, value) {
                 (Rule::Double { .. }, ParameterValue::Integer(i)) => ParameterValue::Double(*i as f64),
+                // `-p foxglove_port:=8765` is a YAML integer, as ROS users write a port.
+                (Rule::Text { .. }, ParameterValue::Integer(port)) if name == "foxglove_port" => {
+                    ParameterValue::String(port.to_string())
+                }
                 _ => value.clone(),
             };
             settings.apply(name, &value)?;
@@ -735,9 +744,9 @@ impl NodeSettings {
     pub fn apply(&mut self, name: &str, value: &ParameterValue) -> Result<SettingEffect, String> {
         let parameter = parameter(name).ok_or_else(|| unknown_parameter(name))?;
         parameter.set(self, value).map_err(|refusal| match refusal {
-            None => format!("{name} must be {}, got {}", parameter.type_name(), show(value)),
+            None => format!("{} must be {}, got {}", parameter.name, parameter.type_name(), show(value)),
             Some(Refusal::OutOfRange(allowed)) => {
-                format!("{name} = {} is out of range: expected {allowed}", show(value))
+                format!("{} = {} is out of range: expected {allowed}", parameter.name, show(value))
             }
             Some(Refusal::Refused(message)) => message,
         })
@@ -769,18 +778,15 @@ impl NodeSettings {
     }
 }
 
-/// A double as a range end in messages: `1e-8` rather than `0.00000001`, `100` rather than `100.0`.
+/// A double in messages (a range end, a refused value), printed by the one number formatter of rejection
+/// texts ([`crate::model::limits::number`]): `1e-8` rather than `0.00000001`, `100` rather than `100.0`,
+/// `1e300` rather than 301 digits.
 #[derive(Clone, Copy, PartialEq, PartialOrd)]
 struct Short(f64);
 
 impl std::fmt::Display for Short {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let x = self.0;
-        if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
-            write!(f, "{x:e}")
-        } else {
-            write!(f, "{x}")
-        }
+        f.write_str(&crate::model::limits::number(self.0))
     }
 }
 
@@ -790,7 +796,7 @@ pub fn parameter_names() -> Vec<&'static str> {
 }
 
 fn unknown_parameter(name: &str) -> String {
-    format!("unknown parameter '{name}' (known: {})", parameter_names().join(", "))
+    format!("unknown parameter '{}' (known: {})", crate::model::limits::quote(name), parameter_names().join(", "))
 }
 
 fn show(value: &ParameterValue) -> String {
@@ -798,8 +804,8 @@ fn show(value: &ParameterValue) -> String {
         ParameterValue::NotSet => "<not set>".to_string(),
         ParameterValue::Boolean(b) => b.to_string(),
         ParameterValue::Integer(i) => i.to_string(),
-        ParameterValue::Double(x) => x.to_string(),
-        ParameterValue::String(s) => format!("'{s}'"),
+        ParameterValue::Double(x) => crate::model::limits::number(*x),
+        ParameterValue::String(s) => format!("'{}'", crate::model::limits::quote(s)),
         other => format!("{other:?}"),
     }
 }
@@ -1031,6 +1037,35 @@ mod tests {
         let mut o = BTreeMap::new();
         o.insert("queue_capacity".to_string(), ParameterValue::Integer(0));
         assert!(NodeSettings::with_overrides(&o).is_err());
+    }
+
+    #[test]
+    fn an_integer_foxglove_port_is_the_port_as_ros_users_write_it() {
+        let args = crate::ros::args::RosArgs::parse(&["-p".to_string(), "foxglove_port:=8765".to_string()]);
+        let args = args.expect("--ros-args");
+        let overrides = args.parameter_overrides(&args.identity("sweetspot", "/")).expect("overrides");
+        assert_eq!(overrides.get("foxglove_port"), Some(&ParameterValue::Integer(8765)), "YAML reads a number");
+        assert_eq!(NodeSettings::with_overrides(&overrides).unwrap().foxglove_port, "8765");
+        let mut o = BTreeMap::new();
+        o.insert("foxglove_port".to_string(), ParameterValue::Integer(70000));
+        let e = NodeSettings::with_overrides(&o).unwrap_err();
+        assert!(e.contains("foxglove_port") && e.contains("70000"), "{e}");
+        // Other text parameters still want text.
+        o.clear();
+        o.insert("default_bat".to_string(), ParameterValue::Integer(3));
+        assert!(NodeSettings::with_overrides(&o).unwrap_err().contains("must be a string"));
+    }
+
+    #[test]
+    fn refused_values_print_in_scientific_form_outside_1e_minus_4_to_1e6() {
+        let mut s = NodeSettings::default();
+        let e = s.apply("reference_ball_speed", &ParameterValue::Double(1e300)).unwrap_err();
+        assert!(e.starts_with("reference_ball_speed = 1e300 is out of range"), "{e}");
+        let e = s.apply("reference_ball_speed", &ParameterValue::Double(-5e-324)).unwrap_err();
+        assert!(e.starts_with("reference_ball_speed = -5e-324 is out of range"), "{e}");
+        let e = s.apply("time_step", &ParameterValue::Double(1.0)).unwrap_err();
+        assert!(e.contains("1e-8 ≤ time_step ≤ 0.0001 s"), "{e}");
+        assert!(e.len() < 200, "{e}");
     }
 
     #[test]

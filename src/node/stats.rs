@@ -237,6 +237,27 @@ pub struct HealthReport {
 
 /// Summarises `now` against the previous report `before` (for "since the last report" warnings).
 pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, tape: &TapeState) -> HealthReport {
+    let (mut level, mut message) = since_last_report(now, before);
+    let mut values = counter_values(now);
+    if let Some(live) = &tape.live {
+        // The SDK drops a slow client's oldest queued messages without counting them (see crate::foxglove):
+        // what is reported is what the server sees, and the queue bound that limits what a client can lose.
+        values.push(("foxglove_clients".into(), live.clients.to_string()));
+        values.push(("foxglove_subscriptions".into(), live.subscriptions.to_string()));
+        values.push(("foxglove_messages_served".into(), live.served.to_string()));
+        values.push(("foxglove_client_backlog".into(), live.backlog.to_string()));
+    }
+    if let Some((worse, why)) = recorder_health(&tape.recorder, &mut values) {
+        if worse == Health::Error || level == Health::Ok {
+            (level, message) = (worse, why);
+        }
+    }
+    HealthReport { level, message, values }
+}
+
+/// The level and message of what went wrong since the previous report (drops, losses, unsent results,
+/// unreadable samples, evictions), or OK with the count of swings answered.
+fn since_last_report(now: &StatsSnapshot, before: &StatsSnapshot) -> (Health, String) {
     let new_drops = now.swings_dropped.saturating_sub(before.swings_dropped);
     let new_losses = now.swings_lost_in_transport.saturating_sub(before.swings_lost_in_transport);
     let new_publish_failures = now.publish_failures.saturating_sub(before.publish_failures);
@@ -265,7 +286,12 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, tape: &TapeSta
             format!("since the last report: {evicted}")
         };
     }
-    let mut values: Vec<(String, String)> = vec![
+    (level, message)
+}
+
+/// The counters as `/diagnostics` key/value pairs.
+fn counter_values(now: &StatsSnapshot) -> Vec<(String, String)> {
+    vec![
         ("swings_received".into(), now.swings_received.to_string()),
         ("swings_processed".into(), now.swings_ok.to_string()),
         ("swings_rejected".into(), now.swings_rejected.to_string()),
@@ -289,27 +315,24 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, tape: &TapeSta
         ("balls_cached".into(), now.balls_cached.to_string()),
         ("balls_evicted".into(), now.balls_evicted.to_string()),
         ("uptime_s".into(), format!("{:.1}", now.uptime_s)),
-    ];
-    if let Some(live) = &tape.live {
-        // The SDK drops a slow client's oldest queued messages without counting them (see crate::foxglove):
-        // what is reported is what the server sees, and the queue bound that limits what a client can lose.
-        values.push(("foxglove_clients".into(), live.clients.to_string()));
-        values.push(("foxglove_subscriptions".into(), live.subscriptions.to_string()));
-        values.push(("foxglove_messages_served".into(), live.served.to_string()));
-        values.push(("foxglove_client_backlog".into(), live.backlog.to_string()));
-    }
-    match &tape.recorder {
-        RecorderState::Off => values.push(("recorder_state".into(), "off".into())),
+    ]
+}
+
+/// The recorder's values pushed onto `values`, and the level and message it calls for: WARN when it dropped
+/// messages (only over an OK report), ERROR when it failed.
+fn recorder_health(recorder: &RecorderState, values: &mut Vec<(String, String)>) -> Option<(Health, String)> {
+    match recorder {
+        RecorderState::Off => {
+            values.push(("recorder_state".into(), "off".into()));
+            None
+        }
         RecorderState::Recording { dir, written, dropped, bytes } => {
             values.push(("recorder_state".into(), "recording".into()));
             values.push(("recorder_path".into(), dir.clone()));
             values.push(("recorder_written".into(), written.to_string()));
             values.push(("recorder_dropped".into(), dropped.to_string()));
             values.push(("recorder_bytes".into(), bytes.to_string()));
-            if *dropped > 0 && level == Health::Ok {
-                level = Health::Warn;
-                message = format!("recorder dropped {dropped} messages");
-            }
+            (*dropped > 0).then(|| (Health::Warn, format!("recorder dropped {dropped} messages")))
         }
         RecorderState::Failed { dir, error, written, dropped } => {
             values.push(("recorder_state".into(), "failed".into()));
@@ -317,11 +340,9 @@ pub fn health_report(now: &StatsSnapshot, before: &StatsSnapshot, tape: &TapeSta
             values.push(("recorder_error".into(), error.clone()));
             values.push(("recorder_written".into(), written.to_string()));
             values.push(("recorder_dropped".into(), dropped.to_string()));
-            level = Health::Error;
-            message = format!("recording failed ({error}); still computing and publishing");
+            Some((Health::Error, format!("recording failed ({error}); still computing and publishing")))
         }
     }
-    HealthReport { level, message, values }
 }
 
 /// Raises `report` to at least WARN for another node with our name on the graph, `warning` first in its message.

@@ -22,6 +22,7 @@
 
 use rayon::prelude::*;
 
+use super::bat::MassProperties;
 use super::rigid;
 use super::{collide, Ball, CollisionOptions, CollisionResult, Impact, ModeSet, PhysicsError};
 
@@ -156,11 +157,34 @@ fn maximise_over(
     Ok(if v >= values[best] { (z, v) } else { (zs[best], values[best]) })
 }
 
+/// `[lo, hi]` cut to where ball and bat approach each other, 1 mm inside that stretch (the approach speed
+/// ball_speed + V + ω·(z − z_cm) is linear in z): unchanged when they approach over all of it, m.
+fn approaching(mp: &MassProperties, template: &Impact, lo: f64, hi: f64) -> Result<(f64, f64), PhysicsError> {
+    let at = |z: f64| template.ball_speed + rigid::bat_speed_at(mp, &Impact { impact_z: z, ..*template });
+    if at(lo) > 0.0 && at(hi) > 0.0 {
+        return Ok((lo, hi));
+    }
+    // The point where the approach speed is zero, and 1 mm past it on the approaching side.
+    let omega = template.bat_angular_speed;
+    let zero = mp.center_of_mass - (template.ball_speed + template.bat_cm_speed) / omega;
+    let (lo, hi) = if omega > 0.0 { (lo.max(zero + 1e-3), hi) } else { (lo, hi.min(zero - 1e-3)) };
+    if omega != 0.0 && lo < hi && at(lo) > 0.0 && at(hi) > 0.0 {
+        Ok((lo, hi))
+    } else {
+        Err(PhysicsError::out_of_range(
+            "ball_speed + bat speed over the barrel",
+            at(lo).max(at(hi)),
+            "> 0 m/s somewhere on the barrel half (ball and bat must approach each other)",
+        ))
+    }
+}
+
 /// The sweet-spot set of `modes` for the swing `template`.
 ///
 /// The maximum of the flexible exit speed is searched over the barrel half of the bat (41 points from
-/// L/2 to L − ball radius, then golden-section to 0.1 mm); nodes are those of modes 1 and 2 nearest the
-/// barrel end (NaN-free: the barrel end itself if a mode is not computed).
+/// L/2 to L − ball radius, then golden-section to 0.1 mm), or the part of it where ball and bat approach each
+/// other (a fast-turning swing moves the barrel's inner end away from the ball); nodes are those of modes 1 and
+/// 2 nearest the barrel end (NaN-free: the barrel end itself if a mode is not computed).
 pub fn sweet_spots(
     modes: &ModeSet,
     ball: &Ball,
@@ -168,7 +192,9 @@ pub fn sweet_spots(
     options: &CollisionOptions,
 ) -> Result<SweetSpotSet, PhysicsError> {
     let length = modes.length();
-    let zs = linspace(0.5 * length, length - ball.radius.min(0.25 * length), 41);
+    let (lo, hi) =
+        approaching(&modes.mass_properties(), template, 0.5 * length, length - ball.radius.min(0.25 * length))?;
+    let zs = linspace(lo, hi, 41);
     let (max_z, max_v) = maximise_over(&zs, |impact_z| {
         collide(modes, ball, &Impact { impact_z, ..*template }, options).map(|r| r.exit_speed)
     })?;

@@ -16,6 +16,8 @@ is not the request's makes the exit status 3.
 
   cyclone_service.py call --service /sweetspot/simulate_swing --json '[{request}, ...]' [--timeout S]
       prints one JSON line per request, in request order: the response (NaN as null)
+  cyclone_service.py call ... --frame-id-bytes N
+      every request's swing.header.frame_id made N bytes long (a hostile request no command line can carry)
   cyclone_service.py call ... --json '{request}' --repeat N [--summary]
       sends N copies of the request at once, swing_id 1..N; --summary prints one JSON object instead:
       {"sent", "answered", "status_counts", "without_reason", "duplicates", "unknown"}
@@ -88,6 +90,9 @@ def main():
     c.add_argument("--mapping", choices=["enhanced", "cyclone"], default="enhanced")
     c.add_argument("--guid", type=int, default=0x5EE7_5907_0000_0001, help="cyclone: the client's id (uint64)")
     c.add_argument("--first-seq", type=int, default=1, help="cyclone: the first request's sequence number")
+    c.add_argument("--frame-id-bytes", type=int, default=None,
+                   help="set every request's swing.header.frame_id to this many bytes ('f' repeated): requests "
+                        "too large for a command line")
     args = ap.parse_args()
     if args.loopback:
         os.environ.setdefault("CYCLONEDDS_URI", loopback_config())
@@ -105,6 +110,9 @@ def main():
             requests.append(r)
     else:
         requests = data if isinstance(data, list) else [data]
+    if args.frame_id_bytes is not None:
+        for r in requests:
+            r.setdefault("swing", {}).setdefault("header", {})["frame_id"] = "f" * args.frame_id_bytes
     ids = [r.get("swing", {}).get("swing_id", 0) for r in requests]
     if len(set(ids)) != len(ids):
         print("every request needs its own swing.swing_id (replies are matched by it)", file=sys.stderr)
