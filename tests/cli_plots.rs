@@ -162,9 +162,12 @@ fn library_charts_for_the_demo_draw_several_bats() {
     assert!(draw_panels(&dir.path().join("empty.svg"), &[], 1, None).is_err());
 }
 
+/// A plot box as (x0, y0, x1, y1), pixels.
+type PlotBox = (f64, f64, f64, f64);
+
 /// The plot box of a plotters SVG (the extent of its major grid lines, stroke #DADADA) and every series
 /// polyline (stroke from the palette), in pixels.
-fn plot_box_and_lines(svg: &str) -> ((f64, f64, f64, f64), Vec<Vec<(f64, f64)>>) {
+fn plot_box_and_lines(svg: &str) -> (PlotBox, Vec<Vec<(f64, f64)>>) {
     use quick_xml::events::Event;
     let mut reader = quick_xml::Reader::from_str(svg);
     let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);

@@ -698,7 +698,7 @@ mod tests {
             let z = summary.sweet_spots.max_exit_speed_z;
             // Independent of the scan: where the rigid bat's point meets the ball at a positive closing speed.
             let closing = 40.0 + 20.0 + omega * (z - mp.center_of_mass);
-            assert!(closing > 0.0 && z >= 0.42 && z < 0.84, "ω = {omega}: z = {z}, closing {closing} m/s");
+            assert!(closing > 0.0 && (0.42..0.84).contains(&z), "ω = {omega}: z = {z}, closing {closing} m/s");
             assert!(summary.sweet_spots.max_exit_speed > 0.0, "ω = {omega}");
         }
     }

@@ -194,12 +194,15 @@ pub fn plan_inline_bat(
 /// How many inline bats the service keeps, by content: a rig calling with the same few bats solves each once.
 pub const INLINE_BATS_KEPT: usize = 16;
 
+/// One kept inline bat: its content key and what building it gave (the entry, or the refusal's reason).
+type KeptBat = (Vec<u8>, Result<Arc<BatEntry>, String>);
+
 /// The inline bats of recent calls, by their content (every field of the BatParams but its header, and the
 /// settings a bat entry depends on): identical params give the same entry, so its modes are solved once.
 /// Shared by the service's workers; at most [`INLINE_BATS_KEPT`], least recently used forgotten first.
 pub struct InlineBats {
     hasher: std::collections::hash_map::RandomState,
-    kept: Mutex<LruMap<(Vec<u8>, Result<Arc<BatEntry>, String>)>>,
+    kept: Mutex<LruMap<KeptBat>>,
     /// Inline bats built (not found by content).
     pub built: AtomicU64,
     /// Inline bats found by content.
