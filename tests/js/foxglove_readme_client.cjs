@@ -4,8 +4,9 @@
 //   {"open": "<negotiated subprotocol>"}          when the handshake is done
 //   {"message": TOPIC, "log_time": "<ns>"}        per message
 //   {"error": "..."}                              per client error (e.g. "Unrecognized server opcode: 5")
-//   {"close": CODE}                               the close code the client saw (1000 when its Close is
-//                                                 answered; 1006 when the connection just ends), then exits
+//   {"close": CODE}                               the close code the client saw: its Close carries no code,
+//                                                 so an answered one echoes none (1005, RFC 6455 §7.1.5);
+//                                                 1006 when the connection just ends), then exits
 //
 //   node foxglove_readme_client.cjs URL SECONDS
 const { FoxgloveClient } = require("@foxglove/ws-protocol");
