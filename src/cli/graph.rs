@@ -123,7 +123,7 @@ fn discover(spin_time: f64) -> anyhow::Result<Graph> {
         let mut node = context
             .new_node(node_name, ros2_client::NodeOptions::new().enable_rosout(false))
             .map_err(|e| anyhow!("creating the DDS node: {e:?}"))?;
-        let participants = participants_reader(&context, &mut node)?;
+        let participants = crate::ros::edge::participants_reader(&context, &mut node, 1024)?;
         tokio::time::sleep(crate::model::time::saturating_secs(spin_time)).await;
 
         let participant = context.domain_participant();
@@ -169,28 +169,6 @@ fn discover(spin_time: f64) -> anyhow::Result<Graph> {
         drop(node);
         Ok(graph)
     })
-}
-
-/// A reader of `ros_discovery_info` with the writers' QoS (reliable, transient-local: every participant's
-/// latest announcement arrives at once).
-fn participants_reader(
-    context: &ros2_client::Context,
-    node: &mut ros2_client::Node,
-) -> anyhow::Result<ros2_client::Subscription<ros2_client::entities_info::ParticipantEntitiesInfo>> {
-    use ros2_client::builtin_topics::ros_discovery;
-    let participant = context.domain_participant();
-    let topic = participant.create_topic(
-        ros_discovery::TOPIC_NAME.to_string(),
-        ros_discovery::TYPE_NAME.to_string(),
-        &ros_discovery::QOS_PUB,
-        rustdds::TopicKind::NoKey,
-    );
-    drop(participant);
-    let topic = topic.map_err(|e| anyhow!("topic {}: {e:?}", ros_discovery::TOPIC_NAME))?;
-    let qos = ros2_client::QosProfile::publisher_default()
-        .durability(ros2_client::qos::Durability::TransientLocal)
-        .history(ros2_client::qos::History::KeepLast { depth: 1024 });
-    node.create_subscription(&topic, Some(qos)).map_err(|e| anyhow!("reader of {}: {e:?}", ros_discovery::TOPIC_NAME))
 }
 
 /// `pkg::msg::dds_::Type_` → `pkg/msg/Type` (anything else unchanged).

@@ -330,7 +330,7 @@ fn endpoints(
         bat_params: subscription(node, topic_names.get(topics::BAT_PARAMS), &params_qos(), None)?,
         ball_params: subscription(node, topic_names.get(topics::BALL_PARAMS), &params_qos(), None)?,
         swings: subscription(node, topic_names.get(topics::SWING), &swing_qos(), Some(swing_reader_qos))?,
-        participants: participants_reader(context, node)?,
+        participants: crate::ros::edge::participants_reader(context, node, 64)?,
         simulate_swing: Arc::new(simulate_swing_server(node, names, settings)?),
     };
     // The topics' own QoS (ros::results_qos: deep window, bounded wait) is the writers' QoS.
@@ -374,30 +374,6 @@ fn simulate_swing_server(
     let replies = results_qos();
     node.create_server(mapping_of(settings), &name, &service_type, requests, replies)
         .map_err(|e| anyhow::anyhow!("service {fq_name}: {e:?}"))
-}
-
-/// A reader of ROS 2's `ros_discovery_info` (rmw_dds_common/ParticipantEntitiesInfo: which nodes each
-/// participant hosts), with the writers' QoS (reliable, transient-local: a late joiner gets every
-/// participant's latest) and room for many participants' announcements between two takes.
-fn participants_reader(
-    context: &ros2_client::Context,
-    node: &mut ros2_client::Node,
-) -> anyhow::Result<ros2_client::Subscription<ros2_client::entities_info::ParticipantEntitiesInfo>> {
-    use ros2_client::builtin_topics::ros_discovery;
-    let participant = context.domain_participant();
-    let topic = participant.create_topic(
-        ros_discovery::TOPIC_NAME.to_string(),
-        ros_discovery::TYPE_NAME.to_string(),
-        &ros_discovery::QOS_PUB,
-        rustdds::TopicKind::NoKey,
-    );
-    drop(participant);
-    let topic = topic.map_err(|e| anyhow::anyhow!("topic {}: {e:?}", ros_discovery::TOPIC_NAME))?;
-    let qos = ros2_client::QosProfile::publisher_default()
-        .durability(ros2_client::qos::Durability::TransientLocal)
-        .history(History::KeepLast { depth: 64 });
-    node.create_subscription(&topic, Some(qos))
-        .map_err(|e| anyhow::anyhow!("reader of {}: {e:?}", ros_discovery::TOPIC_NAME))
 }
 
 fn start_tape(

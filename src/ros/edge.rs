@@ -285,3 +285,31 @@ pub fn raw_reader(
         .and_then(|s| s.create_simple_datareader_no_key::<RawCdr, RawCdrAdapter>(&topic, Some(dds_qos.clone())))
         .map_err(|e| RosError::CreateReader { topic: fq_topic.to_string(), reason: e.to_string() })
 }
+
+/// A reader of ROS 2's `ros_discovery_info` (rmw_dds_common/ParticipantEntitiesInfo: which nodes each
+/// participant hosts), with the writers' QoS (reliable, transient-local: a late joiner gets every
+/// participant's latest) and room for `depth` participants' announcements between two takes.
+pub fn participants_reader(
+    context: &ros2_client::Context,
+    node: &mut ros2_client::Node,
+    depth: usize,
+) -> Result<ros2_client::Subscription<ros2_client::entities_info::ParticipantEntitiesInfo>, RosError> {
+    use ros2_client::builtin_topics::ros_discovery;
+    let participant = context.domain_participant();
+    let topic = participant.create_topic(
+        ros_discovery::TOPIC_NAME.to_string(),
+        ros_discovery::TYPE_NAME.to_string(),
+        &ros_discovery::QOS_PUB,
+        rustdds::TopicKind::NoKey,
+    );
+    drop(participant);
+    let topic = topic.map_err(|e| RosError::CreateTopic {
+        topic: ros_discovery::TOPIC_NAME.to_string(),
+        reason: format!("{e:?}"),
+    })?;
+    let qos = QosProfile::publisher_default()
+        .durability(ros2_client::qos::Durability::TransientLocal)
+        .history(ros2_client::qos::History::KeepLast { depth });
+    node.create_subscription(&topic, Some(qos))
+        .map_err(|e| RosError::CreateReader { topic: ros_discovery::TOPIC_NAME.to_string(), reason: format!("{e:?}") })
+}
