@@ -347,10 +347,11 @@ fn record_services_records_each_call_as_rosbag2_records_a_service_and_only_then(
 }
 
 #[test]
-fn the_readme_call_runs_as_written() {
+fn the_documented_call_runs_as_written() {
     support::node::require_isolated_network();
-    let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
-    let line = readme.lines().find(|l| l.starts_with("sweetspot call ")).expect("a `sweetspot call` line in README.md");
+    let page = std::fs::read_to_string(repo().join("docs/node.md")).unwrap();
+    let line =
+        page.lines().find(|l| l.starts_with("sweetspot call ")).expect("a `sweetspot call` line in docs/node.md");
     let (command, rest) = line.split_once(" '").expect("the request in single quotes");
     let request = rest.strip_suffix('\'').expect("the line ends with the request's closing quote");
     let words: Vec<&str> = command.split_whitespace().skip(1).collect();
@@ -362,7 +363,7 @@ fn the_readme_call_runs_as_written() {
     let mut cmd = sweetspot(domain, &words);
     let out = cmd.arg(request).stdin(Stdio::null()).output().expect("sweetspot call");
     assert!(out.status.success(), "{line}: {out:?}");
-    let answer = &lines(&out, "the README's sweetspot call")[0];
+    let answer = &lines(&out, "the documented sweetspot call")[0];
     assert_eq!(answer["exit_velocity"]["swing_id"], json!(1), "{answer}");
     assert_eq!(answer["exit_velocity"]["status"], json!(0), "OK: {answer}");
     drop(node);
