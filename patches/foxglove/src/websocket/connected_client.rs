@@ -374,11 +374,16 @@ impl ConnectedClient {
         self.backlog.queued.fetch_sub(len, Ordering::AcqRel);
     }
 
-    /// Disconnects the client as too slow, saying so once.
+    /// Disconnects the client as too slow, saying so once, and frees what it had queued at once: the
+    /// clients still connected get the room now, not when this one's task has wound down (until then
+    /// they would be below their share with the total full, and skipped for as long as it lasts).
     fn disconnect_slow(&self, why: std::fmt::Arguments<'_>) {
         if !self.slow.swap(true, Ordering::AcqRel) {
             tracing::warn!("Disconnecting client {}: it does not keep up ({why})", self.addr);
             self.shutdown(ShutdownReason::SlowClient);
+            while let Ok(message) = self.data_plane_rx.try_recv() {
+                self.data_dequeued(&message);
+            }
         }
     }
 
