@@ -35,7 +35,7 @@ use rayon::prelude::*;
 use crate::bag::reader::read_bag;
 use crate::bag::BagError;
 use crate::model::convert::{ball_from_params, bat_from_params_capped, swing_input, BallModel};
-use crate::model::engine::{SwingInput, DEFAULT_BALL_ID};
+use crate::model::engine::SwingInput;
 use crate::model::settings::ModelSettings;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use crate::msgs::{decode_cdr, RosMessage};
@@ -422,7 +422,7 @@ pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
 }
 
 /// The fitting problem of recorded inputs: swings with a measured exit speed, resolved to the bat and ball
-/// in force when they were received (empty ids = the latest received, else the default bat and the built-in
+/// in force when they were received (empty ids = the latest received, else the recorded default bat and
 /// ball, as the node does), computed with the recorded settings ([`RecordedInputs::settings`]). Only swings with
 /// `ball_id` (None = the ball most measured swings used) are kept.
 pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Result<Problem, CalibrateError> {
@@ -444,7 +444,12 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
         }
     }
     let mut balls: BTreeMap<String, BallModel> = BTreeMap::new();
-    balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default().into());
+    // The built-in balls answer to their names without params, as in the node.
+    for name in Ball::preset_names() {
+        if let Ok(ball) = Ball::preset(name) {
+            balls.insert(name.to_string(), ball.into());
+        }
+    }
     let mut ball_times: Vec<(u64, String)> = Vec::new();
     for (t, params) in &inputs.balls {
         match ball_from_params(params) {
@@ -468,7 +473,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             s.bat_id.clone()
         };
         let ball = if s.ball_id.is_empty() {
-            latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string())
+            latest(&ball_times, *t).unwrap_or_else(|| settings.default_ball.clone())
         } else {
             s.ball_id.clone()
         };

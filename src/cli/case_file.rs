@@ -20,9 +20,9 @@
 //! horizontal, degrees), `pitch_angle_deg` (pitch descent below the horizontal, degrees), `pitch_spin_rpm`
 //! (rpm, backspin positive), and the tangential contact overrides `tangential_cor` (e_T) and `friction` (μ).
 //!
-//! `ball` is a preset name (`"mlb"`; baseball, bbcor, mlb) or an object of overrides (`mass`, `radius`,
+//! `ball` is a preset name (`"mlb"`; baseball, bbcor, mlb, mlb2024) or an object of overrides (`mass`, `radius`,
 //! `stiffness`, `exponent`, `cor`, `cor_speed_exponent`, `cor_reference_speed`) over the ball `preset` it names
-//! (default baseball).
+//! (default mlb2024, the game ball).
 //!
 //! `bat` is a preset name (r161, r161-corked, aluminum, torpedo), a path to a bat file (relative to the case
 //! file), or a bat object with the
@@ -159,11 +159,14 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
             serde_json::from_value(value).map_err(|e| anyhow!("field `ball`: {e}"))?
         }
         Some(other) => {
-            bail!("field `ball`: expected a preset name (baseball, bbcor, mlb) or a ball object, found {other}")
+            bail!(
+                "field `ball`: expected a preset name ({}) or a ball object, found {other}",
+                Ball::preset_names().join(", ")
+            )
         }
     };
     let default = match &overrides.preset {
-        None => Ball::default(),
+        None => Ball::game(),
         Some(name) => Ball::preset(name).context("field `ball`")?,
     };
     let ball = Ball {

@@ -111,7 +111,7 @@ pub fn resolve_bat(spec: &str, base: Option<&Path>) -> Result<Bat> {
     )
 }
 
-/// Ball overrides; anything not given keeps the regulation default.
+/// Ball overrides; what is not given keeps the command's ball (the game ball `mlb2024` unless `--ball` says).
 #[derive(Debug, Clone, Default, Args)]
 pub struct BallArgs {
     /// Ball mass, kg [default 0.145].
@@ -120,7 +120,7 @@ pub struct BallArgs {
     /// Ball radius, m [default 0.0366].
     #[arg(long, value_name = "M", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_radius: Option<f64>,
-    /// Ball coefficient of restitution e0 against a rigid wall, in (0, 1] [default 0.53].
+    /// Ball coefficient of restitution e0 against a rigid wall, in (0, 1] [default 0.5327, at 85 ft/s].
     #[arg(long, value_name = "E0", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_cor: Option<f64>,
     /// Ball loading stiffness k1, N/m^α [default 6.53e7].
@@ -129,14 +129,14 @@ pub struct BallArgs {
     /// Ball loading exponent α [default 1.84].
     #[arg(long, value_name = "ALPHA", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_exponent: Option<f64>,
-    /// A built-in ball to start from (baseball, bbcor, mlb, mlb2024); the other --ball-* flags override its
-    /// fields.
+    /// A built-in ball to start from (baseball, bbcor, mlb, mlb2024) [default mlb2024, the game ball fitted to
+    /// the 2024 MLB season]; the other --ball-* flags override its fields.
     #[arg(long = "ball", value_name = "NAME")]
     pub ball_preset: Option<String>,
-    /// Exponent p of e0 ∝ v^(−p) in the normal approach speed v, 0..=1 (0 = constant COR) [default 0].
+    /// Exponent p of e0 ∝ v^(−p) in the normal approach speed v, 0..=1 (0 = constant COR) [default 0.0487].
     #[arg(long, value_name = "P", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_cor_exponent: Option<f64>,
-    /// Normal approach speed at which e0 = --ball-cor, m/s (with --ball-cor-exponent) [default 0].
+    /// Normal approach speed at which e0 = --ball-cor, m/s (with --ball-cor-exponent) [default 25.908: 85 ft/s].
     #[arg(long, value_name = "M/S", value_parser = finite_f64, allow_negative_numbers = true)]
     pub ball_cor_speed: Option<f64>,
 }

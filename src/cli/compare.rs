@@ -189,7 +189,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
         batter.exponent = n;
         batter.validate().context("--exponent")?;
     }
-    let ball = args.ball.apply(Ball::default())?;
+    let ball = args.ball.apply(Ball::game())?;
     let options = args.numeric.options()?;
     if !(args.pitch_speed > 0.0) {
         bail!("--pitch-speed = {} m/s is out of range: expected > 0", args.pitch_speed);

@@ -58,7 +58,7 @@ pub fn run(args: FiguresArgs) -> Result<()> {
         format: args.format.into(),
         points: args.points,
         swing: args.swing.impact(f64::NAN),
-        ball: args.ball.apply(Ball::default())?,
+        ball: args.ball.apply(Ball::game())?,
         options: args.numeric.options()?,
     };
     let entries = write_figures(&args.dir, &settings)?;

@@ -47,8 +47,8 @@ pub struct ImportArgs {
     /// The bat the swings were made with: a preset (r161, r161-corked, aluminum, torpedo) or a bat file (.toml).
     #[arg(long, value_name = "PRESET|FILE", default_value = "r161")]
     pub bat: String,
-    /// The ball: a preset (baseball, bbcor).
-    #[arg(long, value_name = "PRESET", default_value = "baseball")]
+    /// The ball: a preset (baseball, bbcor, mlb, mlb2024: the game ball fitted to the 2024 MLB season).
+    #[arg(long, value_name = "PRESET", default_value = crate::physics::ball::GAME_BALL)]
     pub ball: String,
     /// Batter file (as `compare --batter` reads): its swing stands in for a bat speed the tracker did not
     /// measure, and its pivot splits a measured one [default: the Statcast-average batter].

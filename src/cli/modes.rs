@@ -95,7 +95,7 @@ fn hoop_along(set: &ModeSet, count: usize) -> Result<Option<HoopAlongJson>> {
     let defaults = CollisionOptions::default();
     let options = CollisionOptions { modes: count.min(defaults.modes), ..defaults };
     let swing = SwingArgs::defaults().impact(f64::NAN);
-    let spots = sweet_spots(set, &Ball::default(), &swing, &options).context("sweet spot for the hoop frequency")?;
+    let spots = sweet_spots(set, &Ball::game(), &swing, &options).context("sweet spot for the hoop frequency")?;
     Ok(Some(HoopAlongJson { along, sweet_spot: hoop_point(set, spots.max_exit_speed_z) }))
 }
 

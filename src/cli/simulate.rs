@@ -87,7 +87,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         }
         None => Run {
             bat: args.bat.load()?,
-            ball: args.ball.apply(Ball::default())?,
+            ball: args.ball.apply(Ball::game())?,
             swing: args.swing.impact(f64::NAN),
             oblique: args.oblique.inputs()?,
             impact_zs: args.impact_z.clone(),

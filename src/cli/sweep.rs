@@ -88,7 +88,7 @@ pub fn run(args: SweepArgs) -> Result<()> {
         _ => {}
     }
     let bat = args.bat.load()?;
-    let ball = args.ball.apply(Ball::default())?;
+    let ball = args.ball.apply(Ball::game())?;
     let options = args.numeric.options()?;
     let swing = args.swing.impact(f64::NAN);
     let range = SweepRange { from: args.from, to: args.to, step: args.step, points: args.points };

@@ -66,7 +66,7 @@ pub mod figure;
 use crate::calibrate::{problem_bat, read_inputs, CalibrateError};
 use crate::import::ROWS_TABLE;
 use crate::model::convert::{ball_from_params, swing_input, BallModel};
-use crate::model::engine::{SwingInput, DEFAULT_BALL_ID};
+use crate::model::engine::SwingInput;
 use crate::msgs::sweetspot_msgs::msg::Swing;
 use crate::physics::oblique::{collide_oblique, rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
 use crate::physics::{collide, Ball, Bat, CollisionOptions, ModeSet, PhysicsError};
@@ -1035,7 +1035,12 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
         bats.insert(params.bat_id.clone(), prepared);
     }
     let mut balls: BTreeMap<String, BallModel> = BTreeMap::new();
-    balls.insert(DEFAULT_BALL_ID.to_string(), Ball::default().into());
+    // The built-in balls answer to their names without params, as in the node.
+    for name in Ball::preset_names() {
+        if let Ok(ball) = Ball::preset(name) {
+            balls.insert(name.to_string(), ball.into());
+        }
+    }
     for (_, params) in &inputs.balls {
         if let Ok(ball) = ball_from_params(params) {
             balls.insert(params.ball_id.clone(), ball);
@@ -1059,7 +1064,7 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
             bats.insert(bat_id.clone(), prepared);
         }
         let ball_id = if swing.ball_id.is_empty() {
-            latest(&ball_times, *t).unwrap_or(DEFAULT_BALL_ID.to_string())
+            latest(&ball_times, *t).unwrap_or_else(|| settings.default_ball.clone())
         } else {
             swing.ball_id.clone()
         };

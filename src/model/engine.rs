@@ -16,8 +16,9 @@ use super::limits::{self, quote};
 use super::lru::LruMap;
 use super::settings::ModelSettings;
 
-/// ball_id of the built-in regulation baseball ([`Ball::default`]).
-pub const DEFAULT_BALL_ID: &str = "baseball";
+/// ball_id a swing with an empty ball_id uses before any BallParams arrived, unless the node's `default_ball`
+/// names another preset: the game ball ([`crate::physics::ball::GAME_BALL`], fitted to real games).
+pub const DEFAULT_BALL_ID: &str = crate::physics::ball::GAME_BALL;
 
 /// Where mode-cache hits and misses are counted (the node's statistics; [`ModeCacheCount`]; `()` for none).
 pub trait ModeCacheStats {
@@ -158,8 +159,8 @@ impl Default for Registry {
 }
 
 impl Registry {
-    /// The limits of the default settings; bats are created from presets on first use, the built-in ball
-    /// ([`DEFAULT_BALL_ID`]) needs no params.
+    /// The limits of the default settings; bats are created from presets on first use, and the built-in
+    /// balls (`Ball::preset_names`) need no params.
     pub fn new() -> Registry {
         let defaults = ModelSettings::default();
         Registry::with_limits(defaults.max_bats, defaults.max_balls)
@@ -268,8 +269,8 @@ impl Registry {
 
     /// The ball a swing asks for: empty = the latest received (else the default baseball). Does not count as
     /// a use (see [`Registry::use_ball`]).
-    pub fn resolve_ball(&self, requested: &str) -> Result<(String, BallModel), String> {
-        let ball_id = self.effective_ball_id(requested);
+    pub fn resolve_ball(&self, requested: &str, settings: &ModelSettings) -> Result<(String, BallModel), String> {
+        let ball_id = self.effective_ball_id(requested, settings);
         if let Some(ball) = self.balls.peek(&ball_id) {
             return Ok((ball_id, *ball));
         }
@@ -281,12 +282,15 @@ impl Registry {
                 self.balls.capacity()
             ));
         }
-        if ball_id == DEFAULT_BALL_ID {
-            return Ok((ball_id, Ball::default().into()));
+        if let Ok(ball) = Ball::preset(&ball_id) {
+            return Ok((ball_id, ball.into()));
         }
-        let built_in_available =
-            self.balls.peek(DEFAULT_BALL_ID).is_none() && !self.balls.was_forgotten(DEFAULT_BALL_ID);
-        let known = self.balls.iter().map(|(id, _)| id).chain(built_in_available.then_some(DEFAULT_BALL_ID));
+        // The built-in balls still answer to their names unless BallParams under that name came and went.
+        let built_in = Ball::preset_names()
+            .iter()
+            .copied()
+            .filter(|id| self.balls.peek(id).is_none() && !self.balls.was_forgotten(id));
+        let known = self.balls.iter().map(|(id, _)| id).chain(built_in);
         Err(format!(
             "unknown ball_id '{}': no BallParams received for it{} (known balls: [{}])",
             quote(&ball_id),
@@ -297,15 +301,17 @@ impl Registry {
 
     /// As [`Registry::resolve_ball`], and marks the ball as just used (a swing's use keeps it from being
     /// forgotten first).
-    pub fn use_ball(&mut self, requested: &str) -> Result<(String, BallModel), String> {
-        let resolved = self.resolve_ball(requested)?;
+    pub fn use_ball(&mut self, requested: &str, settings: &ModelSettings) -> Result<(String, BallModel), String> {
+        let resolved = self.resolve_ball(requested, settings)?;
         let _ = self.balls.get(&resolved.0);
         Ok(resolved)
     }
 
-    fn effective_ball_id(&self, requested: &str) -> String {
+    /// The ball_id a swing's `requested` one stands for: itself, or for an empty one the latest received,
+    /// else the settings' `default_ball`.
+    pub fn effective_ball_id(&self, requested: &str, settings: &ModelSettings) -> String {
         if requested.is_empty() {
-            self.latest_ball.clone().unwrap_or_else(|| DEFAULT_BALL_ID.to_string())
+            self.latest_ball.clone().unwrap_or_else(|| settings.default_ball.clone())
         } else {
             requested.to_string()
         }
@@ -502,12 +508,13 @@ pub fn plan_swing(
     let (bat, created) = match registry.resolve_bat(bat_id, settings) {
         Ok((bat, created)) => (bat, created.then_some(())),
         Err(reason) => {
-            let ball_id = registry.resolve_ball(ball_id).map(|(id, _)| id).unwrap_or_else(|_| ball_id.to_string());
+            let ball_id =
+                registry.resolve_ball(ball_id, settings).map(|(id, _)| id).unwrap_or_else(|_| ball_id.to_string());
             return (Plan::Reject { bat_id: registry.effective_bat_id(bat_id, settings), ball_id, reason }, None);
         }
     };
     let new_bat = created.map(|_| Arc::clone(&bat));
-    match registry.use_ball(ball_id) {
+    match registry.use_ball(ball_id, settings) {
         Ok((ball_id, BallModel { ball, contact })) => {
             let options = CollisionOptions { modes: bat.max_modes, time_step: settings.time_step };
             // A non-finite impact_z is refused by the collision itself, naming impact_z.
@@ -715,9 +722,9 @@ mod tests {
         assert!(new_bat.is_none());
         assert_eq!(compute(&plan2, &stats).unwrap(), first);
         assert_eq!((stats.misses.load(Ordering::Relaxed), stats.hits.load(Ordering::Relaxed)), (1, 1));
-        // The same numbers as calling the library directly.
+        // The same numbers as calling the library directly with the game ball.
         let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
-        let direct = collide(&modes, &Ball::default(), &swing(0.7), &CollisionOptions::default()).unwrap();
+        let direct = collide(&modes, &Ball::mlb2024(), &swing(0.7), &CollisionOptions::default()).unwrap();
         assert_eq!(first.collision, direct);
         assert!(first.collision_energy > 0.0 && first.collision_energy < direct.energy.initial);
     }
@@ -783,12 +790,15 @@ mod tests {
         for (i, id) in ["x", "y", "z"].into_iter().enumerate() {
             registry.set_ball(id, Ball { cor: 0.4 + 0.01 * i as f64, ..Ball::default() });
         }
-        let e = registry.use_ball("x").unwrap_err();
+        let e = registry.use_ball("x", &settings).unwrap_err();
         assert!(e.contains("unknown ball_id 'x'") && e.contains("evicted") && e.contains("max_balls = 2"), "{e}");
-        assert_eq!(registry.use_ball("").unwrap().0, "z");
-        assert_eq!(registry.use_ball(DEFAULT_BALL_ID).unwrap().1, Ball::default().into());
-        let e = registry.use_ball("never").unwrap_err();
-        assert!(e.contains("no BallParams") && e.contains(DEFAULT_BALL_ID), "{e}");
+        assert_eq!(registry.use_ball("", &settings).unwrap().0, "z");
+        // Every built-in ball answers to its preset name without params.
+        assert_eq!(registry.use_ball("baseball", &settings).unwrap().1, Ball::default().into());
+        assert_eq!(registry.use_ball("bbcor", &settings).unwrap().1, Ball::bbcor_protocol().into());
+        assert_eq!(registry.use_ball(DEFAULT_BALL_ID, &settings).unwrap().1, Ball::mlb2024().into());
+        let e = registry.use_ball("never", &settings).unwrap_err();
+        assert!(e.contains("no BallParams") && e.contains(DEFAULT_BALL_ID) && e.contains("baseball"), "{e}");
         assert_eq!(registry.usage().balls_evicted, 1);
     }
 
@@ -803,7 +813,7 @@ mod tests {
         assert!(Arc::ptr_eq(&resolved, &new) && !created);
         assert_eq!(resolved.max_modes, 18);
         registry.set_ball("soft", Ball { cor: 0.4, ..Ball::default() });
-        assert_eq!(registry.resolve_ball("").unwrap().0, "soft");
+        assert_eq!(registry.resolve_ball("", &settings).unwrap().0, "soft");
         let changed = ModelSettings { default_modes: 10, ..settings };
         let refreshed = registry.refresh_default_modes(&changed);
         assert_eq!(refreshed.len(), 1);
@@ -842,7 +852,7 @@ mod tests {
         // 20 ids of 256 bytes would be 5 KB; each is cut to 32 bytes, the list to 1 KB.
         assert!(e.len() < 1600, "{} bytes: {e}", e.len());
         assert!(e.contains("unknown bat_id 'uuuu") && e.contains("00bbb"), "{e}");
-        let e = registry.resolve_ball(&unknown).unwrap_err();
+        let e = registry.resolve_ball(&unknown, &settings).unwrap_err();
         assert!(e.len() < 1600 && e.contains("more"), "{} bytes: {e}", e.len());
     }
 

@@ -1,5 +1,5 @@
 //! The settings that shape what the model computes (and so travel with a recording in its rosbag2
-//! `custom_data`): time step, default bat and mode count, and the registry's limits.
+//! `custom_data`): time step, default bat, ball and mode count, and the registry's limits.
 
 use std::collections::BTreeMap;
 
@@ -7,6 +7,11 @@ use crate::physics::Bat;
 
 /// rosbag2 `custom_data` key of [`ModelSettings::default_bat`].
 pub const CUSTOM_DATA_DEFAULT_BAT: &str = "sweetspot/default_bat";
+/// rosbag2 `custom_data` key of [`ModelSettings::default_ball`].
+pub const CUSTOM_DATA_DEFAULT_BALL: &str = "sweetspot/default_ball";
+/// The `default_ball` of a recording whose `custom_data` names none: before the setting existed the node's
+/// default ball was always the constant-COR `baseball`, so such a bag replays with it, bit for bit.
+pub const DEFAULT_BALL_BEFORE_SETTING: &str = "baseball";
 /// rosbag2 `custom_data` key of [`ModelSettings::default_modes`].
 pub const CUSTOM_DATA_DEFAULT_MODES: &str = "sweetspot/default_modes";
 /// rosbag2 `custom_data` key of [`ModelSettings::time_step`].
@@ -32,6 +37,8 @@ pub const DEFAULT_MAX_BAT_SLICES: usize = 1200;
 pub struct ModelSettings {
     /// bat_id used by swings with an empty bat_id before any BatParams arrived (a preset name).
     pub default_bat: String,
+    /// ball_id used by swings with an empty ball_id before any BallParams arrived (a ball preset name).
+    pub default_ball: String,
     /// Vibrational modes integrated when a bat's params say 0 (or name a preset).
     pub default_modes: usize,
     /// RK4 time step of every collision, s.
@@ -48,6 +55,7 @@ impl Default for ModelSettings {
     fn default() -> Self {
         ModelSettings {
             default_bat: "r161".to_string(),
+            default_ball: super::engine::DEFAULT_BALL_ID.to_string(),
             default_modes: 18,
             time_step: 5e-6,
             // A lab uses a handful of bats; 64 leaves room for a whole team's and bounds the worst case (each
@@ -71,6 +79,7 @@ impl ModelSettings {
     pub fn custom_data(&self) -> Vec<(&'static str, String)> {
         vec![
             (CUSTOM_DATA_DEFAULT_BAT, self.default_bat.clone()),
+            (CUSTOM_DATA_DEFAULT_BALL, self.default_ball.clone()),
             (CUSTOM_DATA_DEFAULT_MODES, self.default_modes.to_string()),
             // `{:?}` keeps every digit of the f64, so a replay parses back the exact step.
             (CUSTOM_DATA_TIME_STEP, format!("{:?}", self.time_step)),
@@ -81,12 +90,15 @@ impl ModelSettings {
     }
 
     /// The settings a bag's `custom_data` records; a key absent or unreadable keeps its default (a bag
-    /// written before a limit existed replays with today's default).
+    /// written before a limit existed replays with today's default), except `default_ball`: a bag that names
+    /// none was recorded when the default was [`DEFAULT_BALL_BEFORE_SETTING`], and replays with it.
     pub fn from_custom_data(custom: &BTreeMap<String, String>) -> ModelSettings {
         let mut settings = ModelSettings::default();
         if let Some(v) = custom.get(CUSTOM_DATA_DEFAULT_BAT) {
             settings.default_bat = v.clone();
         }
+        settings.default_ball =
+            custom.get(CUSTOM_DATA_DEFAULT_BALL).cloned().unwrap_or_else(|| DEFAULT_BALL_BEFORE_SETTING.to_string());
         let number = |key: &str| custom.get(key).and_then(|v| v.parse::<usize>().ok());
         if let Some(v) = number(CUSTOM_DATA_DEFAULT_MODES) {
             settings.default_modes = v;
@@ -115,6 +127,7 @@ mod tests {
     fn custom_data_round_trips_every_setting_exactly() {
         let settings = ModelSettings {
             default_bat: "torpedo".into(),
+            default_ball: "bbcor".into(),
             default_modes: 7,
             time_step: 1.0 / 3.0 * 1e-5,
             max_bats: 3,
@@ -123,8 +136,10 @@ mod tests {
         };
         let custom: BTreeMap<String, String> =
             settings.custom_data().into_iter().map(|(k, v)| (k.to_string(), v)).collect();
-        assert_eq!(custom.len(), 6);
+        assert_eq!(custom.len(), 7);
         assert_eq!(ModelSettings::from_custom_data(&custom), settings);
-        assert_eq!(ModelSettings::from_custom_data(&BTreeMap::new()), ModelSettings::default());
+        // A bag from before `default_ball` existed was answered with the constant-COR baseball.
+        let before = ModelSettings { default_ball: "baseball".into(), ..ModelSettings::default() };
+        assert_eq!(ModelSettings::from_custom_data(&BTreeMap::new()), before);
     }
 }

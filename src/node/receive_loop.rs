@@ -786,10 +786,10 @@ impl Summaries {
 
     /// Queues the SweetSpot of `entry` against the registry's current ball.
     pub fn spawn(&self, entry: Arc<BatEntry>, registry: &Registry) {
-        let Ok((ball_id, ball)) = registry.resolve_ball("") else {
+        let settings = self.settings.snapshot();
+        let Ok((ball_id, ball)) = registry.resolve_ball("", &settings.model) else {
             return;
         };
-        let settings = self.settings.snapshot();
         let (stats, events, slot) = (Arc::clone(&self.stats), self.events.clone(), Arc::clone(&self.one_at_a_time));
         // Only the registry (and swings in flight) keep the entry alive: a bat replaced or forgotten before
         // its turn comes is not solved for a SweetSpot nobody would publish, so waiting jobs cost no solves.

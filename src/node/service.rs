@@ -137,7 +137,7 @@ pub fn plan_call(
                 Err(reason) => return (reject(&bat_id, &params.ball_id, format!("ball[0]: {reason}")), new_bat),
             }
         }
-        None => match registry.use_ball(&swing.ball_id) {
+        None => match registry.use_ball(&swing.ball_id, settings) {
             Ok(found) => found,
             Err(reason) => return (reject(&bat_id, &swing.ball_id, reason), new_bat),
         },
@@ -600,7 +600,7 @@ mod tests {
         let answer = call(&mut registry, request);
         assert_eq!(answer.exit_velocity.status, ExitVelocity::STATUS_OK, "{}", answer.exit_velocity.message);
         assert_eq!(answer.exit_velocity.ball_id, "soft");
-        assert!(registry.resolve_ball("soft").is_err(), "the node's balls are unchanged");
+        assert!(registry.resolve_ball("soft", &ModelSettings::default()).is_err(), "the node's balls are unchanged");
         let request = SimulateSwing_Request { swing: swing("", "hard"), ball: vec![ball], ..Default::default() };
         let answer = call(&mut registry, request);
         assert_eq!(answer.exit_velocity.status, ExitVelocity::STATUS_REJECTED);

@@ -14,7 +14,7 @@ use ros2_client::parameters::{NumericRange, ParameterDescriptor};
 use ros2_client::ParameterValue;
 
 use crate::model::settings::ModelSettings;
-use crate::physics::Bat;
+use crate::physics::{Ball, Bat};
 
 /// The node's parameters, typed. Defaults are what `sweetspot node` uses without `-p`.
 #[derive(Debug, Clone, PartialEq)]
@@ -150,6 +150,29 @@ pub static PARAMETERS: &[Parameter] = &[
             },
         },
         get: |s| ParameterValue::String(s.model.default_bat.clone()),
+    },
+    Parameter {
+        name: "default_ball",
+        unit: "",
+        description: "ball_id used by swings with an empty ball_id before any BallParams arrived (a ball preset \
+                      name; mlb2024 is the game ball fitted to the 2024 MLB season)",
+        read_only: false,
+        constraints: "",
+        rule: Rule::Text {
+            default: crate::model::engine::DEFAULT_BALL_ID,
+            set: |s, v| {
+                if !Ball::preset_names().contains(&v) {
+                    return Err(Refusal::Refused(format!(
+                        "default_ball = '{}' is not a ball preset (presets: {})",
+                        crate::model::limits::quote(v),
+                        Ball::preset_names().join(", ")
+                    )));
+                }
+                s.model.default_ball = v.to_string();
+                STORED
+            },
+        },
+        get: |s| ParameterValue::String(s.model.default_ball.clone()),
     },
     Parameter {
         name: "default_modes",
@@ -831,6 +854,21 @@ mod tests {
     }
 
     #[test]
+    fn default_ball_must_name_a_preset() {
+        let mut s = NodeSettings::default();
+        assert_eq!(s.model.default_ball, "mlb2024", "the game ball");
+        for preset in ["baseball", "bbcor", "mlb", "mlb2024"] {
+            assert!(s.apply("default_ball", &ParameterValue::String(preset.into())).is_ok(), "{preset}");
+            assert_eq!(s.model.default_ball, preset);
+        }
+        for bad in ["softball", "", "MLB2024"] {
+            let err = s.apply("default_ball", &ParameterValue::String(bad.into())).unwrap_err();
+            assert!(err.starts_with("default_ball") && err.contains("mlb2024"), "{bad}: {err}");
+        }
+        assert_eq!(s.model.default_ball, "mlb2024", "a refused value leaves the last good one");
+    }
+
+    #[test]
     fn record_compression_takes_the_rosbag2_style_names_and_refuses_others() {
         let mut s = NodeSettings::default();
         assert_eq!(s.record_compression, "", "empty: the preset's compression");
@@ -967,6 +1005,7 @@ mod tests {
         // The README's parameter table: name, default, `*` = fixed at start-up.
         let documented = [
             ("default_bat", String("r161".into()), false),
+            ("default_ball", String("mlb2024".into()), false),
             ("default_modes", Integer(18), false),
             ("time_step", Double(5e-6), false),
             ("reference_ball_speed", Double(40.0), false),

@@ -163,6 +163,12 @@ impl Ball {
         }
     }
 
+    /// The ball every tool simulates with unless another is named: the game ball [`GAME_BALL`]
+    /// ([`Ball::mlb2024`]).
+    pub fn game() -> Ball {
+        Ball::mlb2024()
+    }
+
     /// e0 at the normal approach speed `approach_speed` (m/s): `cor` itself for a constant-COR ball, else
     /// cor·(v / cor_reference_speed)^(−cor_speed_exponent) clamped to [0.05, 1].
     pub fn cor_at(&self, approach_speed: f64) -> f64 {

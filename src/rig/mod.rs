@@ -331,7 +331,7 @@ impl Default for RigConfig {
     fn default() -> Self {
         RigConfig {
             bats: Bat::preset_names().iter().map(|s| s.to_string()).collect(),
-            ball: Ball::default(),
+            ball: Ball::game(),
             true_cor: None,
             pitch_speed: (80.0 * MPH, 100.0 * MPH),
             barrel_speed: (60.0 * MPH, 80.0 * MPH),
