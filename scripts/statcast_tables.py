@@ -69,6 +69,16 @@ def quantile(sorted_values, p):
     return sorted_values[lo] + (h - lo) * (sorted_values[hi] - sorted_values[lo])
 
 
+def quantile_ci(sorted_values, p, z=1.96):
+    """Distribution-free confidence interval of the p-quantile of an ascending list: the order statistics whose
+    ranks are n*p -/+ z*sqrt(n*p*(1-p)) (the binomial count of values below the quantile), 1-based j and k."""
+    n = len(sorted_values)
+    centre, spread = n * p, z * math.sqrt(n * p * (1 - p))
+    j = max(1, math.floor(centre - spread))
+    k = min(n, math.ceil(centre + spread) + 1)
+    return sorted_values[j - 1], sorted_values[k - 1]
+
+
 def num(text):
     try:
         v = float(text)
@@ -180,16 +190,20 @@ def undercut_table(rows):
             continue
         ev = sorted(r[1] for r in group)
         bats = sorted(r[2] for r in group)
-        out.append([lo, hi, len(group), fmt(quantile(bats, 0.5), 2)]
-                   + [fmt(quantile(ev, p), 2) for p in PERCENTILES])
-    header = ["low_deg", "high_deg", "count", "median_bat_mph", "exit_p50_mph", "exit_p97_mph", "exit_p99_mph",
-              "exit_p99_8_mph"]
+        attacks = sorted(r[3] for r in group)
+        p99_low, p99_high = quantile_ci(ev, 0.99)
+        out.append([lo, hi, len(group), fmt(quantile(bats, 0.5), 2), fmt(quantile(attacks, 0.5), 2)]
+                   + [fmt(quantile(ev, p), 2) for p in PERCENTILES] + [fmt(p99_low, 2), fmt(p99_high, 2)])
+    header = ["low_deg", "high_deg", "count", "median_bat_mph", "median_attack_deg", "exit_p50_mph", "exit_p97_mph",
+              "exit_p99_mph", "exit_p99_8_mph", "exit_p99_ci_low_mph", "exit_p99_ci_high_mph"]
     notes = [
         f"Derived by scripts/statcast_tables.py from {ATTACK_SOURCE}.",
         f"{len(rows)} balls with launch_angle, launch_speed, bat_speed and attack_angle; a bin holds the balls with "
         "bat 55-85 mph whose launch_angle - attack_angle lies in [low_deg, high_deg) (bins with >= 50 balls).",
         "No pitch speed in this file: the model meets the season's median plate pitch speed (statcast_q.csv).",
-        "Percentiles: linear between order statistics (type 7).",
+        "Percentiles: linear between order statistics (type 7). exit_p99_ci_*: the distribution-free 95% confidence "
+        "interval of the 99th percentile, order statistics j = floor(np - 1.96 sqrt(np(1-p))) and "
+        "k = ceil(np + 1.96 sqrt(np(1-p))) + 1 (1-based, clamped to 1..n).",
     ]
     return notes, header, out
 

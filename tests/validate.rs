@@ -155,6 +155,7 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
     for id in verdicts.keys() {
         let joined = id.starts_with("ball-cor")
             || id.starts_with("statcast-q/")
+            || id.starts_with("statcast-undercut/")
             || rows.iter().any(|r| r["id"] == id.as_str() && r["note"] == "from validation/ball_cor.toml");
         assert!(joined || GREEN.contains(&id.as_str()) || RED.contains(&id.as_str()), "row {id} is in neither list");
     }
@@ -187,6 +188,31 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
     }
     assert_eq!(statcast_rows, 11);
     assert_eq!(rows.iter().filter(|r| r["id"].as_str().is_some_and(|i| i.starts_with("statcast-q/"))).count(), 11);
+    // The exit-speed-against-undercut rows: one per bin of launch − attack angle, bounded by the 95 % interval
+    // of the ratio of 99th percentiles (the bin's interval over the peak bin's, as the table states them), and
+    // inside it everywhere but on the topspin side at −25…−15°, where the model keeps ~2 % too much exit speed
+    // today (docs/statcast.md).
+    let table = std::fs::read_to_string(support::repo().join("validation/statcast_exit_undercut.csv")).unwrap();
+    let mut lines = table.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let bins: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let p = |c: &Vec<&str>, name: &str| c[col(name)].parse::<f64>().unwrap();
+    let peak = bins.iter().max_by(|a, b| p(a, "exit_p99_mph").total_cmp(&p(b, "exit_p99_mph"))).expect("bins");
+    const UNDERCUT_RED: &[&str] = &["statcast-undercut/-25--20", "statcast-undercut/-20--15"];
+    for c in &bins {
+        let id = format!("statcast-undercut/{}-{}", c[col("low_deg")], c[col("high_deg")]);
+        let r = rows.iter().find(|r| r["id"] == id.as_str()).unwrap_or_else(|| panic!("no row {id}"));
+        let low = p(c, "exit_p99_ci_low_mph") / p(peak, "exit_p99_ci_high_mph");
+        let high = p(c, "exit_p99_ci_high_mph") / p(peak, "exit_p99_ci_low_mph");
+        assert!((opt(&r["low"]).unwrap() - low).abs() < 1e-12, "{id}: low bound {} vs {low}", r["low"]);
+        assert!((opt(&r["high"]).unwrap() - high).abs() < 1e-12, "{id}: high bound {} vs {high}", r["high"]);
+        // The red ones may turn green through the model, never through their band.
+        if !UNDERCUT_RED.contains(&id.as_str()) {
+            assert_eq!(r["verdict"], "PASS", "{id}: {r}");
+        }
+    }
+    assert_eq!(bins.len(), 20);
     // The four figures were drawn.
     for name in ["validate-cor-vs-speed", "validate-spin-vs-launch", "validate-bpf-vs-hoop", "validate-exit-vs-impact"]
     {

@@ -255,6 +255,53 @@ impl Lab {
         })
     }
 
+    /// Exit speed against launch − attack angle, as Statcast bins it: the R161 swung about its knob at `bat_speed`
+    /// m/s 6 in from the head along a path rising `attack_deg`, struck at its head-on point of largest exit
+    /// speed by the game ball at `pitch_speed` m/s descending `descent_deg` with `pitch_spin_rpm` of backspin,
+    /// the undercut scanned over ±95 % of the reach (ball + barrel radius). Returns (launch − attack deg, exit
+    /// speed mph) in order of undercut, and the point's distance from the barrel end, m.
+    pub fn undercut_curve(
+        &self,
+        bat_speed: f64,
+        pitch_speed: f64,
+        attack_deg: f64,
+        descent_deg: f64,
+        pitch_spin_rpm: f64,
+    ) -> Result<(Vec<(f64, f64)>, f64), ValidateError> {
+        let case = "statcast_exit_undercut";
+        let (b, modes) = self.bat(case, "r161")?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let z6 = modes.length() - SIX_INCHES;
+        let swing =
+            ReferenceSwing::from_speed_at(modes.mass_properties(), bat_speed, z6, 0.0).map_err(physics(case))?;
+        let template = Impact {
+            ball_speed: pitch_speed,
+            bat_cm_speed: swing.bat_cm_speed,
+            bat_angular_speed: swing.bat_angular_speed,
+            impact_z: z6,
+        };
+        let spots = sweet_spots(&modes, &ball, &template, &self.options).map_err(physics(case))?;
+        let impact = Impact { impact_z: spots.max_exit_speed_z, ..template };
+        let barrel_radius = b.radii_at(impact.impact_z).0;
+        let reach = ball.radius + barrel_radius;
+        let curve = linspace(-0.95 * reach, 0.95 * reach, 97)
+            .par_iter()
+            .map(|&undercut| {
+                let oblique = ObliqueImpact {
+                    undercut,
+                    attack_angle: attack_deg.to_radians(),
+                    pitch_angle: descent_deg.to_radians(),
+                    pitch_spin: rpm_to_rad_per_s(pitch_spin_rpm),
+                    ..ObliqueImpact::head_on(impact, barrel_radius)
+                };
+                collide_oblique(&modes, &ball, &oblique, &TangentialContact::default(), &self.options)
+                    .map(|r| (r.launch_angle_deg() - attack_deg, r.exit_speed / MPH))
+                    .map_err(physics(case))
+            })
+            .collect::<Result<_, _>>()?;
+        Ok((curve, modes.length() - impact.impact_z))
+    }
+
     /// The average MLB swing of `bat` at a pitch of `pitch_speed` m/s, struck at its point of largest exit speed.
     fn best_point_swing(&self, case: &str, bat: &str, pitch_speed: f64) -> Result<BestPoint, ValidateError> {
         let (_, modes) = self.bat(case, bat)?;

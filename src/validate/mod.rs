@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::physics::{CollisionOptions, PhysicsError};
-use cases::{CaseValue, Lab, MPH};
+use cases::{CaseValue, Lab, INCH, MPH};
 
 /// Errors of the validation suite.
 #[derive(Debug, thiserror::Error)]
@@ -584,6 +584,127 @@ fn statcast_q_rows(lab: &Lab, tables: &statcast::Tables) -> Result<Vec<RowResult
         .collect())
 }
 
+/// The largest y of the piecewise-linear curve `points` (x, y), in order, over x in [low, high): its points
+/// inside and where its segments cross either edge; `None` if it never enters the interval.
+pub fn largest_in(points: &[(f64, f64)], low: f64, high: f64) -> Option<f64> {
+    let inside = points.iter().filter(|(x, _)| (low..high).contains(x)).map(|p| p.1);
+    let crossings = points.windows(2).flat_map(|w| {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        [low, high].into_iter().filter_map(move |edge| {
+            ((x0 - edge) * (x1 - edge) <= 0.0 && x1 != x0).then(|| y0 + (y1 - y0) * (edge - x0) / (x1 - x0))
+        })
+    });
+    inside.chain(crossings).fold(None, |best: Option<f64>, y| Some(best.map_or(y, |b| b.max(y))))
+}
+
+/// The exit-speed-against-undercut rows: per 5° bin of launch − attack angle (`statcast_exit_undercut.csv`),
+/// the game ball's largest exit speed in the bin over its head-on peak, against the real balls' 99th
+/// percentile over that of the bin where it is largest. The band is that ratio's 95 % confidence interval: the
+/// bin's distribution-free interval of the 99th percentile over the peak bin's (low over high, high over
+/// low). A ratio needs no pitch speed from the file and cancels the bat-speed spread: it measures how fast the
+/// exit speed falls with undercut, the oblique model's part. The model swings at the bin's median bat speed
+/// and attack angle against the season's median plate pitch for that bat speed (`statcast_q.csv`) with the
+/// TrackMan pitch's descent and spin.
+fn statcast_undercut_rows(
+    lab: &Lab,
+    tables: &statcast::Tables,
+    pitch: Option<&trackman::PitchMedians>,
+) -> Result<Vec<RowResult>, ValidateError> {
+    use rayon::prelude::*;
+    let Some(pitch) = pitch else { return Ok(Vec::new()) };
+    let bins = &tables.undercut;
+    let plate_pitch = |bat_mph: f64| {
+        tables.q_bins("bat", "all").find(|b| (b.low..b.high).contains(&bat_mph)).map(|b| b.median_plate_pitch_mph)
+    };
+    let Some(peak_bin) = bins.iter().max_by(|a, b| a.exit_p99_mph.total_cmp(&b.exit_p99_mph)) else {
+        return Ok(Vec::new());
+    };
+    let curves: Vec<Option<(Vec<(f64, f64)>, f64, f64)>> = bins
+        .par_iter()
+        .map(|b| {
+            let Some(plate) = plate_pitch(b.median_bat_mph) else { return Ok(None) };
+            let (curve, from_end) = lab.undercut_curve(
+                b.median_bat_mph * MPH,
+                plate * MPH,
+                b.median_attack_deg,
+                -pitch.vert_appr_angle_deg,
+                pitch.spin_rpm,
+            )?;
+            Ok(Some((curve, from_end, plate)))
+        })
+        .collect::<Result<_, ValidateError>>()?;
+    Ok(bins
+        .iter()
+        .zip(curves)
+        .map(|(b, curve)| {
+            let reference = b.exit_p99_mph / peak_bin.exit_p99_mph;
+            let low = b.exit_p99_ci_low_mph / peak_bin.exit_p99_ci_high_mph;
+            let high = b.exit_p99_ci_high_mph / peak_bin.exit_p99_ci_low_mph;
+            let (model, detail) = match &curve {
+                Some((points, from_end, plate)) => {
+                    let peak = points.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+                    let best = largest_in(points, b.low_deg, b.high_deg);
+                    let detail = format!(
+                        "R161 about the knob at {:.1} mph 6 in from the head rising {:.2}°, `{}` ball, pitch {:.1} \
+                         mph descending {:.1}° with {:.0} rpm backspin, struck {:.2} in from the end; largest exit \
+                         speed in the bin {} of the head-on peak {peak:.1} mph",
+                        b.median_bat_mph,
+                        b.median_attack_deg,
+                        lab.game_ball,
+                        plate,
+                        -pitch.vert_appr_angle_deg,
+                        pitch.spin_rpm,
+                        from_end / INCH,
+                        best.map(|v| format!("{v:.1} mph")).unwrap_or_else(|| "never reached".into()),
+                    );
+                    (best.map(|v| v / peak), detail)
+                }
+                None => (None, format!("no plate pitch speed for bats at {:.1} mph", b.median_bat_mph)),
+            };
+            RowResult {
+                id: format!("statcast-undercut/{}-{}", b.low_deg, b.high_deg),
+                quantity: format!(
+                    "largest exit speed over the head-on peak, launch − attack angle {}–{}°",
+                    b.low_deg, b.high_deg
+                ),
+                unit: "1".into(),
+                conditions: format!(
+                    "{} MLB balls in play with measured attack angle (bat 55–85 mph), launch − attack in [{}, {})°: \
+                     99th percentile of the exit speed {:.2} mph (95 % interval {:.2}–{:.2}), over the {}–{}° bin's \
+                     {:.2} ({:.2}–{:.2})",
+                    b.count,
+                    b.low_deg,
+                    b.high_deg,
+                    b.exit_p99_mph,
+                    b.exit_p99_ci_low_mph,
+                    b.exit_p99_ci_high_mph,
+                    peak_bin.low_deg,
+                    peak_bin.high_deg,
+                    peak_bin.exit_p99_mph,
+                    peak_bin.exit_p99_ci_low_mph,
+                    peak_bin.exit_p99_ci_high_mph
+                ),
+                rule: Rule::Range,
+                low: Some(low),
+                high: Some(high),
+                reference: Some(reference),
+                model,
+                ratio: ratio(model, Some(reference)),
+                verdict: judge(Rule::Range, model, Some(low), Some(high)),
+                model_detail: detail,
+                tolerance: "inside the 95 % confidence interval of the real ratio (the two bins' distribution-free \
+                            intervals of their 99th percentiles; docs/statcast.md)"
+                    .into(),
+                source: "Baseball Savant bat tracking with attack angle (validation/statcast_exit_undercut.csv, \
+                         derived by scripts/statcast_tables.py)"
+                    .into(),
+                read_from: "data".into(),
+                note: None,
+            }
+        })
+        .collect())
+}
+
 /// Runs every row with collisions under `options`.
 pub fn evaluate(inputs: &Inputs, options: CollisionOptions) -> Result<(Report, Lab), ValidateError> {
     let lab = Lab::new(options, &inputs.measurements.game_ball);
@@ -669,6 +790,8 @@ pub fn evaluate(inputs: &Inputs, options: CollisionOptions) -> Result<(Report, L
         });
     }
     rows.extend(statcast_q_rows(&lab, &inputs.statcast)?);
+    let pitch = trackman::pitch_medians(&inputs.trackman);
+    rows.extend(statcast_undercut_rows(&lab, &inputs.statcast, pitch.as_ref())?);
     let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
     let report = Report {
         pass: count(Verdict::Pass),
@@ -676,7 +799,7 @@ pub fn evaluate(inputs: &Inputs, options: CollisionOptions) -> Result<(Report, L
         not_applicable: count(Verdict::NotApplicable),
         rows,
         trackman_bins: bins,
-        trackman_pitch: trackman::pitch_medians(&inputs.trackman),
+        trackman_pitch: pitch,
         not_found: inputs.measurements.not_found.clone(),
         files: inputs.files.clone(),
     };
@@ -736,4 +859,21 @@ pub fn render(report: &Report) -> String {
         ));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::largest_in;
+
+    #[test]
+    fn the_largest_value_in_an_interval_counts_the_crossings_at_its_edges() {
+        // A tent y = 10 − |x| sampled at the odd integers: over [−2, 2) the peak 10 at 0 lies between samples,
+        // so the largest is where the segments cross the edges, 8; over [2, 6) it is the crossing at 2.
+        let tent: Vec<(f64, f64)> =
+            (-5..=5).filter(|k| k % 2 != 0).map(|k| (k as f64, 10.0 - (k as f64).abs())).collect();
+        assert_eq!(largest_in(&tent, -2.0, 2.0), Some(9.0), "the samples ±1 are inside");
+        assert_eq!(largest_in(&tent, 2.0, 6.0), Some(8.0));
+        assert_eq!(largest_in(&tent, -0.5, 0.5), Some(9.5), "no sample inside: the edges' crossings");
+        assert_eq!(largest_in(&tent, 7.0, 9.0), None, "the curve never gets there");
+    }
 }

@@ -5,8 +5,9 @@
 //! measured bat speed, per 5-mph bin of the swing's bat speed (`bat`), of the plate pitch speed
 //! (`plate_pitch`) and of the batter's season-median bat speed (`batter_median_bat`), for the whole season
 //! (`all`) and its odd and even `game_pk` halves. `statcast_attack.csv`: the attack angle's quartiles by
-//! launch-angle bin. Lines starting with `#` are the provenance. Both files are optional: without them the
-//! suite has no Statcast rows.
+//! launch-angle bin. `statcast_exit_undercut.csv`: the exit speed's percentiles and the median attack angle per
+//! 5° bin of launch angle − attack angle. Lines starting with `#` are the provenance. Every file is optional:
+//! without them the suite has no Statcast rows.
 
 use std::path::Path;
 
@@ -58,6 +59,33 @@ pub struct AttackBin {
     pub attack_q3_deg: f64,
 }
 
+/// One bin of `statcast_exit_undercut.csv`: balls whose launch angle − attack angle lies in [low, high).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UndercutBin {
+    /// Lower edge of launch − attack, deg.
+    pub low_deg: f64,
+    /// Upper edge (exclusive), deg.
+    pub high_deg: f64,
+    /// Balls in the bin.
+    pub count: usize,
+    /// Median bat speed 6 in from the head, mph.
+    pub median_bat_mph: f64,
+    /// Median attack angle, deg.
+    pub median_attack_deg: f64,
+    /// Median exit speed, mph.
+    pub exit_p50_mph: f64,
+    /// 97th percentile of the exit speed, mph.
+    pub exit_p97_mph: f64,
+    /// 99th percentile, mph.
+    pub exit_p99_mph: f64,
+    /// 99.8th percentile, mph.
+    pub exit_p99_8_mph: f64,
+    /// Lower end of the 95 % confidence interval of the 99th percentile (distribution-free), mph.
+    pub exit_p99_ci_low_mph: f64,
+    /// Upper end of that interval, mph.
+    pub exit_p99_ci_high_mph: f64,
+}
+
 /// The Statcast tables (empty when a file is absent).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Tables {
@@ -65,6 +93,8 @@ pub struct Tables {
     pub q: Vec<QBin>,
     /// Attack-angle bins.
     pub attack: Vec<AttackBin>,
+    /// Exit speed by launch − attack bins.
+    pub undercut: Vec<UndercutBin>,
 }
 
 impl Tables {
@@ -167,6 +197,43 @@ pub fn parse_attack(text: &str) -> Result<Vec<AttackBin>, String> {
         .collect()
 }
 
+/// Parses `statcast_exit_undercut.csv`.
+pub fn parse_undercut(text: &str) -> Result<Vec<UndercutBin>, String> {
+    let cols = [
+        "low_deg",
+        "high_deg",
+        "count",
+        "median_bat_mph",
+        "median_attack_deg",
+        "exit_p50_mph",
+        "exit_p97_mph",
+        "exit_p99_mph",
+        "exit_p99_8_mph",
+        "exit_p99_ci_low_mph",
+        "exit_p99_ci_high_mph",
+    ];
+    records(text, &cols)?
+        .into_iter()
+        .enumerate()
+        .map(|(n, r)| {
+            let f = |i: usize| number(&r[i], cols[i], n);
+            Ok(UndercutBin {
+                low_deg: f(0)?,
+                high_deg: f(1)?,
+                count: f(2)? as usize,
+                median_bat_mph: f(3)?,
+                median_attack_deg: f(4)?,
+                exit_p50_mph: f(5)?,
+                exit_p97_mph: f(6)?,
+                exit_p99_mph: f(7)?,
+                exit_p99_8_mph: f(8)?,
+                exit_p99_ci_low_mph: f(9)?,
+                exit_p99_ci_high_mph: f(10)?,
+            })
+        })
+        .collect()
+}
+
 /// Reads the tables present in `dir`; the names of the files read are pushed to `files`.
 pub fn read(dir: &Path, files: &mut Vec<String>) -> Result<Tables, ValidateError> {
     let mut tables = Tables::default();
@@ -181,6 +248,12 @@ pub fn read(dir: &Path, files: &mut Vec<String>) -> Result<Tables, ValidateError
         let text = crate::files::read_text(&a, "validation data file")?;
         tables.attack = parse_attack(&text).map_err(|message| ValidateError::Parse { path: a.clone(), message })?;
         files.push(a.display().to_string());
+    }
+    let u = dir.join("statcast_exit_undercut.csv");
+    if u.exists() {
+        let text = crate::files::read_text(&u, "validation data file")?;
+        tables.undercut = parse_undercut(&text).map_err(|message| ValidateError::Parse { path: u.clone(), message })?;
+        files.push(u.display().to_string());
     }
     Ok(tables)
 }
