@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """A batting rig written the way a ROS 2 lab would write it: an rclpy node that describes its bat once
-(BatParams, reliable and transient-local, so a sweetspot node started later still gets it), sends its swings
-(Swing, NaN for whatever the rig did not measure), and prints the answer to each (ExitVelocity).
+(BatParams, reliable and transient-local, so a sweetspot node started later still gets it), waits until the
+node has taken it (the node's SweetSpot for that bat), sends its swings (Swing, NaN for whatever the rig did
+not measure), and prints the answer to each (ExitVelocity).
 
 Needs sweetspot_msgs built in a ROS 2 workspace (docs/ros2.md; in this repository `bash scripts/ros2-env
 prepare` does it) and a running `sweetspot node`:
@@ -22,7 +23,7 @@ import time
 import rclpy
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from sweetspot_msgs.msg import BatParams, ExitVelocity, Swing
+from sweetspot_msgs.msg import BatParams, ExitVelocity, SweetSpot, Swing
 
 NAN = math.nan
 
@@ -47,6 +48,10 @@ def main():
     )
     answers = {}
     node.create_subscription(ExitVelocity, "exit_velocity", lambda m: answers.setdefault(m.swing_id, m), reliable)
+    # The node answers each new bat with its SweetSpot (latched): the sign that it has the bat. DDS orders
+    # nothing across topics, so a swing sent before that could reach the node first ("unknown bat_id").
+    bats_taken = set()
+    node.create_subscription(SweetSpot, "sweet_spot", lambda m: bats_taken.add(m.bat_id), latched)
     bats = node.create_publisher(BatParams, "bat/params", latched)
     swings = node.create_publisher(Swing, "swing", reliable)
 
@@ -54,11 +59,16 @@ def main():
     bat.header.stamp = node.get_clock().now().to_msg()
     bats.publish(bat)
 
-    # Wait until the node reads swings and answers on exit_velocity, so nothing is sent into the void.
+    # Wait until the node has our bat, reads swings and answers on exit_velocity, so nothing is sent into the
+    # void.
     deadline = time.monotonic() + args.timeout
-    while swings.get_subscription_count() == 0 or node.count_publishers("exit_velocity") == 0:
+    while (
+        args.bat_id not in bats_taken
+        or swings.get_subscription_count() == 0
+        or node.count_publishers("exit_velocity") == 0
+    ):
         if time.monotonic() > deadline:
-            raise SystemExit("rclpy_rig: no sweetspot node found (is `sweetspot node` running?)")
+            raise SystemExit("rclpy_rig: no sweetspot node took the bat (is `sweetspot node` running?)")
         rclpy.spin_once(node, timeout_sec=0.1)
     time.sleep(1.0)  # let its exit_velocity writer match our reader too
 
@@ -66,7 +76,7 @@ def main():
         swing = Swing(
             swing_id=k,
             bat_id=args.bat_id,
-            ball_id="",  # the node's latest ball (the regulation baseball before any BallParams)
+            ball_id="",  # the node's latest ball (its default_ball, the game ball mlb2024, before any BallParams)
             ball_speed=40.0,  # m/s, pitch speed toward the bat
             bat_cm_speed=20.0,  # m/s, the bat's centre of mass
             bat_angular_speed=50.0,  # rad/s

@@ -19,7 +19,9 @@ const BAT_FIELDS: &[&str] = &[
     "moment_about_pivot",
     "center_of_percussion",
 ];
-const BALL_FIELDS: &[&str] = &["mass", "radius", "stiffness", "exponent", "cor"];
+/// The default ball (the game ball) carries its COR's speed law; a constant-COR ball writes only the first five.
+const BALL_FIELDS: &[&str] =
+    &["mass", "radius", "stiffness", "exponent", "cor", "cor_speed_exponent", "cor_reference_speed"];
 const SWING_FIELDS: &[&str] = &["ball_speed", "bat_cm_speed", "bat_angular_speed"];
 const OPTIONS_FIELDS: &[&str] = &["modes", "time_step"];
 const RESULT_FIELDS: &[&str] = &[
@@ -149,7 +151,7 @@ fn simulate_json_has_the_documented_fields_and_the_library_numbers() {
     let bat = Bat::preset("r161-corked").unwrap();
     let options = CollisionOptions { modes: 10, time_step: 4e-6 };
     let modes = ModeSet::compute(&bat, options.modes).unwrap();
-    let ball = Ball { cor: 0.5, ..Ball::default() };
+    let ball = Ball { cor: 0.5, ..Ball::game() };
     let props = modes.mass_properties();
     assert_eq!(num(&doc, "/bat/mass"), props.mass);
     assert_eq!(num(&doc, "/bat/center_of_mass"), props.center_of_mass);
@@ -200,7 +202,7 @@ fn sweep_json_matches_the_library() {
     let bat = Bat::preset("aluminum").unwrap();
     let options = CollisionOptions { modes: 8, ..CollisionOptions::default() };
     let modes = ModeSet::compute(&bat, 8).unwrap();
-    let ball = Ball::default();
+    let ball = Ball::game();
     let swing = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: 0.0 };
     let zs: Vec<f64> = (0..8).map(|i| 0.5 + (0.78 - 0.5) * i as f64 / 7.0).collect();
     let points = sweep(&modes, &ball, &swing, &zs, &options).unwrap();
@@ -351,6 +353,8 @@ fn simulate_json_field_names_are_exactly_the_documented_ones_in_order() {
         "ball.stiffness",
         "ball.exponent",
         "ball.cor",
+        "ball.cor_speed_exponent",
+        "ball.cor_reference_speed",
         "swing.ball_speed",
         "swing.bat_cm_speed",
         "swing.bat_angular_speed",

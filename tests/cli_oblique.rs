@@ -70,7 +70,7 @@ fn simulate_matches_collide_oblique_called_directly() {
         pitch_spin: 2000.0 * 2.0 * std::f64::consts::PI / 60.0,
     };
     let contact = TangentialContact { tangential_cor: 0.3, friction: 0.4, ..TangentialContact::default() };
-    let r = collide_oblique(&modes, &Ball::default(), &oblique, &contact, &options).unwrap();
+    let r = collide_oblique(&modes, &Ball::game(), &oblique, &contact, &options).unwrap();
     let at = |f: &str| num(&doc, &format!("/results/0/oblique/{f}"));
     let close = |a: f64, b: f64, what: &str| assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{what}: {a} vs {b}");
     close(at("launch_angle_deg"), r.launch_angle / degrees, "launch angle");

@@ -325,9 +325,9 @@ fn the_nodes_rosout_and_parameter_events_writers_announce_their_type_hashes() {
 
 /// A rig that published its BatParams before the node started (transient-local: the node is the late
 /// joiner) gets its swings answered with that bat; the node restarted under the same rig answers again.
+/// DDS orders nothing across topics, so the rig waits for the node's SweetSpot for its bat before swinging (a
+/// swing sent earlier once overtook the latched BatParams: "unknown bat_id").
 #[test]
-#[ignore = "flaky: DDS orders nothing across topics, so the rig's first swing can reach the node before the \
-            latched BatParams does (answered 'unknown bat_id'); the rig must wait for the bat to be taken first"]
 fn a_late_node_gets_the_rigs_latched_bat_and_a_restarted_node_answers_the_same_rig() {
     support::require_isolated_network();
     let domain = 146;

@@ -10,7 +10,7 @@ Every command prints JSON (one document, or one line per message) on stdout; NaN
       types, the node's services, and every endpoint of the node's topics (QoS and RIHS01 type hash)
   swings --json '[{Swing fields}, ...]' [--bat '{BatParams fields}' [--bat-first]] [--count N]
       publishes the BatParams (if any; reliable, transient-local; once the node reads them, or with
-      --bat-first at once, for a node that starts later), then the swings (reliable) once the node reads them, and prints the first N (default: as many as swings) ExitVelocity answers, one JSON line each
+      --bat-first at once, for a node that starts later), waits for the node's SweetSpot for that bat, then the swings (reliable) once the node reads them, and prints the first N (default: as many as swings) ExitVelocity answers, one JSON line each
   call --json '{Request fields}' [--repeat N] [--depth D] [--summary]
       calls ~/simulate_swing N times at once from one client whose QoS is the default service QoS (reliable,
       volatile, keep-last D; D=10 is rclpy's default) and prints each response, or with --summary one object
@@ -151,10 +151,18 @@ def cmd_swings(node, args):
     swing_pub = node.create_publisher(Swing, args.prefix + "swing", qos(depth=1000))
     if args.bat:
         BatParams = message_type("sweetspot_msgs/msg/BatParams")
+        SweetSpot = message_type("sweetspot_msgs/msg/SweetSpot")
         bat_pub = node.create_publisher(BatParams, args.prefix + "bat/params", qos(depth=1, transient=True))
+        # The node's SweetSpot for the bat says it has taken it: DDS orders nothing across topics, so a swing
+        # sent earlier could overtake the BatParams (answered "unknown bat_id").
+        taken = set()
+        node.create_subscription(SweetSpot, args.prefix + "sweet_spot", lambda m: taken.add(m.bat_id),
+                                 qos(depth=100, transient=True))
         if not args.bat_first:
             spin_until(node, lambda: bat_pub.get_subscription_count() > 0, args.timeout, "a reader of bat/params")
-        bat_pub.publish(fill(BatParams(), json.loads(args.bat)))
+        bat = json.loads(args.bat)
+        bat_pub.publish(fill(BatParams(), bat))
+        spin_until(node, lambda: bat.get("bat_id", "") in taken, args.timeout, "the node's SweetSpot for the bat")
     spin_until(
         node,
         lambda: swing_pub.get_subscription_count() > 0 and node.count_publishers(args.prefix + "exit_velocity") > 0,
