@@ -323,7 +323,7 @@ fn replay_applies_the_recorded_limits_evictions_and_slice_cap_as_the_node_did() 
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(
         json["settings"],
-        serde_json::json!({"default_bat": "r161", "default_modes": 6, "time_step": 5e-6, "max_bats": 3, "max_balls": 2, "max_bat_slices": 300})
+        serde_json::json!({"default_bat": "r161", "default_ball": "mlb2024", "default_modes": 6, "time_step": 5e-6, "max_bats": 3, "max_balls": 2, "max_bat_slices": 300})
     );
 
     // Without the limits, exactly the swings they decided come out differently.

@@ -11,6 +11,7 @@ use sweetspot::model::time::RosTime;
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::encode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+use sweetspot::physics::Ball;
 use sweetspot::rig::{RigConfig, SensorNoise, SessionGenerator};
 
 const TRUE_COR: f64 = 0.50;
@@ -56,7 +57,8 @@ fn write_session_with(
 fn calibrate_recovers_the_true_cor_from_a_noisy_bag() {
     let tmp = tempfile::tempdir().unwrap();
     let noise = SensorNoise::default();
-    let config = RigConfig { true_cor: Some(TRUE_COR), seed: 11, noise, ..RigConfig::default() };
+    // The constant-COR `baseball` announced (0.53), its true COR another: the fit must find the true one.
+    let config = RigConfig { ball: Ball::default(), true_cor: Some(TRUE_COR), seed: 11, noise, ..RigConfig::default() };
     let bag = write_session(tmp.path(), 48, config);
 
     let problem = problem_from_bag(&bag, None).expect("problem from bag");

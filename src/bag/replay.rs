@@ -6,10 +6,13 @@
 //! replay cannot drift from what the node does. One registry per namespace, like one node per rig.
 //!
 //! Model settings that shape results are not messages; they are read from the bag's rosbag2 `custom_data`
-//! (`sweetspot/default_bat`, `default_modes`, `time_step`, `max_bats`, `max_balls`, `max_bat_slices`; see
-//! [`ModelSettings::from_custom_data`]) when present, else the node defaults (so a bag written before the
-//! limits existed replays with today's, which only matter beyond 64 bats, 1024 balls or 1200-slice bats), and
-//! the first three can be given on the command line.
+//! (`sweetspot/default_bat`, `default_ball`, `default_modes`, `time_step`, `max_bats`, `max_balls`,
+//! `max_bat_slices`; see [`ModelSettings::from_custom_data`]) when present, else the node defaults (so a bag
+//! written before the limits existed replays with today's, which only matter beyond 64 bats, 1024 balls or
+//! 1200-slice bats), and `default_bat`, `default_modes` and `time_step` can be given on the command line. The
+//! default ball of a swing with an empty ball_id is the built-in ball the node's answer names, so a bag
+//! recorded without the setting (before it existed, when it was `baseball`, or by another recorder) replays
+//! bit for bit.
 //! The limits are replayed as the node applies them: the registry forgets the least recently used bats and
 //! balls beyond `max_bats` / `max_balls` (so a swing on a forgotten bat is REJECTED again), and a BatParams
 //! of more than `max_bat_slices` slices is refused (so its bat stays unknown). The bag holds the settings last
@@ -338,7 +341,18 @@ pub fn replay(
                 let mut registry = registry_for(&mut registries, &row.namespace);
                 let swing = &row.swing;
                 let bat_id = override_bat.as_ref().map_or(swing.bat_id.as_str(), |(n, _)| n.as_str());
-                let ball_id = override_ball.as_ref().map_or(swing.ball_id.as_str(), |(n, _)| n.as_str());
+                let mut ball_id = override_ball.as_ref().map_or(swing.ball_id.as_str(), |(n, _)| n.as_str());
+                // An empty ball_id before any BallParams is the node's default_ball, which its answer names. A
+                // bag that does not record the setting (another recorder, or a node from before it existed,
+                // whose default was `baseball`) is replayed with the built-in ball named there; one that does
+                // names the same.
+                let recorded_ball = row.exit_velocity.as_ref().map(|ev| ev.ball_id.as_str()).unwrap_or("");
+                if ball_id.is_empty()
+                    && registry.effective_ball_id("", &settings) == settings.default_ball
+                    && Ball::preset_names().contains(&recorded_ball)
+                {
+                    ball_id = recorded_ball;
+                }
                 let (plan, _) =
                     engine::plan_swing(&mut registry, &settings, bat_id, ball_id, convert::swing_input(swing));
                 registries.insert(row.namespace.clone(), registry);

@@ -653,9 +653,10 @@ fn replay(
         };
         let s = &report.settings;
         crate::outln!(
-            "{} swings: {matched} match, {differ} differ ({tol}), {unrecorded} without recorded output. Settings: default_bat {}, default_modes {}, time_step {} s, max_bats {}, max_balls {}, max_bat_slices {}. Bag written by: {}",
+            "{} swings: {matched} match, {differ} differ ({tol}), {unrecorded} without recorded output. Settings: default_bat {}, default_ball {}, default_modes {}, time_step {} s, max_bats {}, max_balls {}, max_bat_slices {}. Bag written by: {}",
             report.rows.len(),
             s.default_bat,
+            s.default_ball,
             s.default_modes,
             s.time_step,
             s.max_bats,

@@ -285,8 +285,9 @@ mod tests {
         assert_eq!(case.bat.name, "aluminum");
         let case = parse_case(r#"{"ball": {"preset": "bbcor", "cor": 0.5}}"#, Path::new(".")).unwrap();
         assert_eq!(case.ball, Ball { cor: 0.5, ..Ball::bbcor_protocol() });
+        // Without a preset the overrides apply to the game ball, the default of every command.
         let case = parse_case(r#"{"ball": {"cor": 0.5}}"#, Path::new(".")).unwrap();
-        assert_eq!(case.ball, Ball { cor: 0.5, ..Ball::default() });
+        assert_eq!(case.ball, Ball { cor: 0.5, ..Ball::mlb2024() });
         let err = format!("{:#}", parse_case(r#"{"ball": "softball"}"#, Path::new(".")).unwrap_err());
         assert!(err.contains("softball") && err.contains("mlb"), "{err}");
         let err = format!("{:#}", parse_case(r#"{"ball": 3}"#, Path::new(".")).unwrap_err());

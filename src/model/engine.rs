@@ -937,7 +937,7 @@ mod tests {
         let s = swing_msg(0.0, 0.0, 0.0, 0.0);
         let ev = answer(&s);
         let modes = ModeSet::compute(&Bat::preset("r161").unwrap(), 18).unwrap();
-        let direct = collide(&modes, &Ball::default(), &swing(0.7), &CollisionOptions::default()).unwrap();
+        let direct = collide(&modes, &Ball::game(), &swing(0.7), &CollisionOptions::default()).unwrap();
         let pairs = [
             (ev.exit_speed, direct.exit_speed),
             (ev.rigid_exit_speed, direct.rigid_exit_speed),
@@ -976,7 +976,7 @@ mod tests {
         };
         let want = collide_oblique(
             &modes,
-            &Ball::default(),
+            &Ball::game(),
             &oblique,
             &TangentialContact::default(),
             &CollisionOptions::default(),

@@ -9,9 +9,6 @@ use crate::physics::Bat;
 pub const CUSTOM_DATA_DEFAULT_BAT: &str = "sweetspot/default_bat";
 /// rosbag2 `custom_data` key of [`ModelSettings::default_ball`].
 pub const CUSTOM_DATA_DEFAULT_BALL: &str = "sweetspot/default_ball";
-/// The `default_ball` of a recording whose `custom_data` names none: before the setting existed the node's
-/// default ball was always the constant-COR `baseball`, so such a bag replays with it, bit for bit.
-pub const DEFAULT_BALL_BEFORE_SETTING: &str = "baseball";
 /// rosbag2 `custom_data` key of [`ModelSettings::default_modes`].
 pub const CUSTOM_DATA_DEFAULT_MODES: &str = "sweetspot/default_modes";
 /// rosbag2 `custom_data` key of [`ModelSettings::time_step`].
@@ -90,15 +87,16 @@ impl ModelSettings {
     }
 
     /// The settings a bag's `custom_data` records; a key absent or unreadable keeps its default (a bag
-    /// written before a limit existed replays with today's default), except `default_ball`: a bag that names
-    /// none was recorded when the default was [`DEFAULT_BALL_BEFORE_SETTING`], and replays with it.
+    /// written before a limit existed replays with today's default; `bag replay` takes the default ball of
+    /// such a bag from the node's own answers).
     pub fn from_custom_data(custom: &BTreeMap<String, String>) -> ModelSettings {
         let mut settings = ModelSettings::default();
         if let Some(v) = custom.get(CUSTOM_DATA_DEFAULT_BAT) {
             settings.default_bat = v.clone();
         }
-        settings.default_ball =
-            custom.get(CUSTOM_DATA_DEFAULT_BALL).cloned().unwrap_or_else(|| DEFAULT_BALL_BEFORE_SETTING.to_string());
+        if let Some(v) = custom.get(CUSTOM_DATA_DEFAULT_BALL) {
+            settings.default_ball = v.clone();
+        }
         let number = |key: &str| custom.get(key).and_then(|v| v.parse::<usize>().ok());
         if let Some(v) = number(CUSTOM_DATA_DEFAULT_MODES) {
             settings.default_modes = v;
@@ -138,8 +136,6 @@ mod tests {
             settings.custom_data().into_iter().map(|(k, v)| (k.to_string(), v)).collect();
         assert_eq!(custom.len(), 7);
         assert_eq!(ModelSettings::from_custom_data(&custom), settings);
-        // A bag from before `default_ball` existed was answered with the constant-COR baseball.
-        let before = ModelSettings { default_ball: "baseball".into(), ..ModelSettings::default() };
-        assert_eq!(ModelSettings::from_custom_data(&BTreeMap::new()), before);
+        assert_eq!(ModelSettings::from_custom_data(&BTreeMap::new()), ModelSettings::default());
     }
 }

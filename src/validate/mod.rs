@@ -867,13 +867,14 @@ mod tests {
 
     #[test]
     fn the_largest_value_in_an_interval_counts_the_crossings_at_its_edges() {
-        // A tent y = 10 − |x| sampled at the odd integers: over [−2, 2) the peak 10 at 0 lies between samples,
-        // so the largest is where the segments cross the edges, 8; over [2, 6) it is the crossing at 2.
+        // A tent y = 10 − |x| sampled at the odd integers: over [−2, 2) the samples ±1 give 9; over [2, 6) the
+        // largest is where the segment from 1 to 3 crosses 2 (y = 8).
         let tent: Vec<(f64, f64)> =
             (-5..=5).filter(|k| k % 2 != 0).map(|k| (k as f64, 10.0 - (k as f64).abs())).collect();
-        assert_eq!(largest_in(&tent, -2.0, 2.0), Some(9.0), "the samples ±1 are inside");
+        assert_eq!(largest_in(&tent, -2.0, 2.0), Some(9.0));
         assert_eq!(largest_in(&tent, 2.0, 6.0), Some(8.0));
-        assert_eq!(largest_in(&tent, -0.5, 0.5), Some(9.5), "no sample inside: the edges' crossings");
         assert_eq!(largest_in(&tent, 7.0, 9.0), None, "the curve never gets there");
+        // No sample inside [1, 1.5) of the ramp (0, 0)–(2, 4): the crossings at its edges, 2 and 3.
+        assert_eq!(largest_in(&[(0.0, 0.0), (2.0, 4.0), (4.0, 0.0)], 1.0, 1.5), Some(3.0));
     }
 }
