@@ -25,18 +25,21 @@ fn simulate_takes_the_mlb_ball_and_an_explicit_law_alike() {
         json(&[&args[..], &["--ball-cor", "0.66", "--ball-cor-exponent", &p, "--ball-cor-speed", &v]].concat());
     assert_eq!(num(&explicit, "/results/0/exit_speed"), num(&mlb, "/results/0/exit_speed"));
     assert_eq!(num(&mlb, "/ball/cor_speed_exponent"), law.cor_speed_exponent);
-    // The constant default ball: the same fields as before the law existed, and a harder hit.
-    let plain = json(&args);
+    // The constant `baseball`: the same fields as before the law existed, and a harder hit.
+    let plain = json(&[&args[..], &["--ball", "baseball"]].concat());
     assert!(plain["ball"].get("cor_speed_exponent").is_none() && plain["ball"].get("cor_reference_speed").is_none());
     assert!(num(&plain, "/results/0/exit_speed") > num(&mlb, "/results/0/exit_speed"));
-    // The README's comparison at the R161's sweet spot (z = 0.705 m in the default swing): the game ball's
-    // collision efficiency is inside the 0.20–0.23 of MLB wood bats (Statcast's squared-up maximum), the
-    // constant default ball's above it.
+    // The default is the game ball fitted to the 2024 season, with its law.
+    let default = json(&args);
+    assert_eq!(num(&default, "/results/0/exit_speed"), library(&Ball::mlb2024(), 0.705));
+    assert_eq!(num(&default, "/ball/cor_speed_exponent"), Ball::mlb2024().cor_speed_exponent);
+    // docs/physics.md's comparison at the R161's sweet spot (z = 0.705 m in the default swing): the game
+    // balls' collision efficiency is inside the 0.20–0.23 of MLB wood bats (Statcast's squared-up maximum),
+    // the constant `baseball`'s above it.
     let q = |doc: &serde_json::Value| num(doc, "/results/0/collision_efficiency");
     assert!((0.20..=0.23).contains(&q(&mlb)), "q = {}", q(&mlb));
+    assert!((0.20..=0.23).contains(&q(&default)), "q = {}", q(&default));
     assert!(q(&plain) > 0.23, "q = {}", q(&plain));
-    let readme = json(&["simulate", "--ball", "mlb", "--impact-z", "0.705"]);
-    assert_eq!(q(&readme), q(&mlb));
     // The human report names the law.
     assert!(ok(&[&args[..], &["--ball", "mlb"]].concat()).contains("e0 0.6600·(v / 1.000 m/s)^−0.06781"));
 }
@@ -60,5 +63,6 @@ fn case_files_bbcor_and_refusals() {
     assert!((num(&bbcor, "/bbcor/bbcor") - num(&protocol, "/bbcor/bbcor")).abs() < 1e-3);
     assert!(fails(&["simulate", "--ball", "softball"]).contains("unknown ball preset"));
     assert!(fails(&["simulate", "--ball-cor-exponent", "2"]).contains("cor_speed_exponent"));
-    assert!(fails(&["simulate", "--ball-cor-exponent", "0.1"]).contains("cor_reference_speed"));
+    // A law with no speed to refer to is refused (the game ball's own speed is kept otherwise).
+    assert!(fails(&["simulate", "--ball", "baseball", "--ball-cor-exponent", "0.1"]).contains("cor_reference_speed"));
 }

@@ -19,11 +19,12 @@ mod support;
 
 use support::import::{data, options};
 
-/// Exit speed, launch angle and spin the node computes for `input` on the r161 with the default ball.
+/// Exit speed, launch angle and spin the node computes for `input` on the r161 with `baseball`, the ball the
+/// imports here announce (`support::import::options`).
 fn simulate(input: SwingInput) -> [f64; 3] {
     let settings = ModelSettings::default();
     let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
-    let (plan, _) = plan_swing(&mut registry, &settings, "r161", "", input);
+    let (plan, _) = plan_swing(&mut registry, &settings, "r161", "baseball", input);
     let c = compute(&plan, &()).expect("the swing computes");
     [c.launch.exit_speed, c.launch.launch_angle, c.launch.spin]
 }

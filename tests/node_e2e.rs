@@ -197,10 +197,12 @@ fn a_node_started_after_the_params_still_gets_them() {
     swing_pub.publish(s.clone()).unwrap();
     let ev = &peer.collect(&answers, 1, WAIT)[0];
     let me = &peer.collect(&energies, 1, WAIT)[0];
-    let (set, r) = library(&late_bat, 6, &Ball::default(), &s);
+    // No ball named or sent: the node's default_ball, the game ball.
+    let (set, r) = library(&late_bat, 6, &Ball::game(), &s);
     assert_answer_equals(ev, &s, &r);
+    assert_eq!(ev.ball_id, "mlb2024");
     assert_eq!(me.frequency.len(), 6, "max_modes = 6 from the latched params");
-    assert_energies_equal(me, &s, &r, set.mass_properties().mass, &Ball::default());
+    assert_energies_equal(me, &s, &r, set.mass_properties().mass, &Ball::game());
     drop(node);
 }
 
@@ -236,7 +238,7 @@ fn ten_thousand_swings_sent_back_to_back_are_all_answered_in_order() {
     let r161 = Bat::preset("r161").unwrap();
     let set = ModeSet::compute(&r161, 18).unwrap();
     for k in [0usize, 1, 4_999, 9_998, 9_999] {
-        let r = collide(&set, &Ball::default(), &impact(&swings[k]), &CollisionOptions::default()).unwrap();
+        let r = collide(&set, &Ball::game(), &impact(&swings[k]), &CollisionOptions::default()).unwrap();
         assert_answer_equals(&got[k], &swings[k], &r);
     }
     let (status, stop, log) = node.stop_with(15);
@@ -302,7 +304,7 @@ fn bad_params_and_swings_are_rejected_with_reasons_and_the_node_keeps_answering(
         assert!(ev.message.contains(why), "swing {}: '{}' should mention {why}", s.swing_id, ev.message);
         assert!(ev.exit_speed.is_nan());
     }
-    let (_, r) = library(&Bat::preset("r161").unwrap(), 18, &Ball::default(), &good);
+    let (_, r) = library(&Bat::preset("r161").unwrap(), 18, &Ball::game(), &good);
     assert_answer_equals(&got[bad.len()], &good, &r);
     let mut seen = HashMap::new();
     for ev in &got {

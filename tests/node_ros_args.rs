@@ -163,7 +163,8 @@ fn library_energies(modes: usize, time_step: f64, s: &Swing) -> Vec<f64> {
         bat_angular_speed: s.bat_angular_speed,
         impact_z: s.impact_z,
     };
-    let r = collide(&set, &Ball::default(), &impact, &CollisionOptions { modes, time_step }).unwrap();
+    // The swings name no ball: the node's default_ball, the game ball.
+    let r = collide(&set, &Ball::game(), &impact, &CollisionOptions { modes, time_step }).unwrap();
     r.mode_energies.iter().map(|m| m.energy).collect()
 }
 

@@ -195,7 +195,7 @@ fn cyclone_calls_get_simulate_s_numbers_nan_is_rejected_a_flood_is_answered_and_
         assert_eq!(answer["exit_velocity"]["swing_id"], json!(i + 1));
         assert_eq!(answer["exit_velocity"]["header"], requests[i]["swing"]["header"], "the stamp is echoed");
         assert_eq!(answer["exit_velocity"]["bat_id"], json!(c.bat));
-        assert_eq!(answer["exit_velocity"]["ball_id"], json!("baseball"));
+        assert_eq!(answer["exit_velocity"]["ball_id"], json!("mlb2024"), "no ball named: the default_ball");
         assert_same_as_simulate(answer, c, &simulate(c));
     }
 
