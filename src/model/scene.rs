@@ -310,7 +310,7 @@ mod tests {
         let (scene, ev, ..) = scene_of(&swing("r161", 0.0, 0.0), None);
         assert_eq!(ev.launch_angle, 0.0);
         assert!(find(&scene, "label", 0).text.contains("×20"));
-        // What the README says a scene costs on the R161: ~12 KB, some 45 answers.
+        // What docs/node.md says a scene costs on the R161: ~12 KB, some 45 answers.
         let (bytes, answer) =
             (crate::msgs::encode_cdr(&scene).unwrap().len(), crate::msgs::encode_cdr(&ev).unwrap().len());
         assert!((10_000..14_000).contains(&bytes) && (35..55).contains(&(bytes / answer)), "{bytes} B, {answer} B");

@@ -47,7 +47,7 @@
 //!   [`pipeline::InlinePacing`] to half that task's time), which saves two thread wake-ups per answer. Its
 //!   ExitVelocity publish then runs on the receive task. A subscriber that stops acknowledging holds it once
 //!   8,192 results are unacknowledged (RustDDS's reliable window): each publish then waits up to 500 ms and
-//!   fails, counted and logged, until that reader's lease expires (README, "What the node promises").
+//!   fails, counted and logged, until that reader's lease expires (docs/node.md, "What the node promises").
 //! - ModalEnergies are published only while the topic has a matched subscription (re-checked on every
 //!   discovery event; `modal_energies_published` on /diagnostics, and `modal_energies_unsent` apart from the
 //!   swing's answer) and recorded always: a DDS write costs every answer latency even with no reader. A swing

@@ -79,7 +79,7 @@ pub struct Parameter {
     pub name: &'static str,
     /// Its unit (empty for counts, names and switches).
     pub unit: &'static str,
-    /// What it means, for `describe` output and the README table.
+    /// What it means, for `describe` output and docs/node.md's table.
     pub description: &'static str,
     /// Only takes effect at start-up: setting it on a running node is refused.
     pub read_only: bool,
@@ -1002,7 +1002,7 @@ mod tests {
     #[test]
     fn defaults_and_read_only_parameters_are_the_documented_ones() {
         use ParameterValue::*;
-        // The README's parameter table: name, default, `*` = fixed at start-up.
+        // docs/node.md's parameter table: name, default, `*` = fixed at start-up.
         let documented = [
             ("default_bat", String("r161".into()), false),
             ("default_ball", String("mlb2024".into()), false),

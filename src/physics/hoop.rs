@@ -123,7 +123,7 @@
 //! handle wall and an end-cap plug), whole bats swung at equal effort show no such dip: 6 in from the end the
 //! wall adds 1.4 mph over a rigid bat of the same mass properties at 1.62 kHz and 14.4 mph at 1.03 kHz, the
 //! exit speed flat within 0.3 % from 1.8 to 1.6 kHz and rising at every step below, down to about 1 kHz.
-//! The swing losses once seen with thinner walls came from the lighter bat (see the README).
+//! The swing losses once seen with thinner walls came from the lighter bat (see docs/physics.md, hollow bats).
 //!
 //! No constant in this module is tuned: k_h, m_h and f_h follow from a, h, E, G and ρ, ψ(u) from the ball's
 //! radius and the barrel's geometry.
