@@ -299,10 +299,8 @@ fn rclpy_on_fast_dds_sees_the_node_as_a_jazzy_node_and_gets_the_library_numbers(
 }
 
 /// The writers ros2-client creates for every node announce their type hashes too (patches/ros2-client,
-/// `builtin_topics`). Still failing: rclpy reports `INVALID` for the node's `/rosout` writer although the
-/// patched topic QoS carries the USER_DATA; not yet found why (the node's own topics, made the same way, work).
+/// `builtin_topics`; before, rclpy reported `INVALID` for both): the hashes rclpy reads are Jazzy's own.
 #[test]
-#[ignore = "fails: rclpy still sees no type hash on the node's /rosout writer (see the doc comment)"]
 fn the_nodes_rosout_and_parameter_events_writers_announce_their_type_hashes() {
     support::require_isolated_network();
     let domain = 148;
