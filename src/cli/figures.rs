@@ -58,7 +58,8 @@ pub fn run(args: FiguresArgs) -> Result<()> {
         format: args.format.into(),
         points: args.points,
         swing: args.swing.impact(f64::NAN),
-        ball: args.ball.apply(Ball::game())?,
+        // The seed paper's figures keep the paper's ball, Nathan's constant-COR `baseball`, unless --ball says.
+        ball: args.ball.apply(Ball::default())?,
         options: args.numeric.options()?,
     };
     let entries = write_figures(&args.dir, &settings)?;
