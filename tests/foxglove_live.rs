@@ -158,7 +158,7 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     // 1. A client that connects after the default bat's SweetSpot was published and reads everything.
     let count = LIVE.to_string();
     let (mut reader, mut out) =
-        client(&[&url, &count, "/exit_velocity", "/modal_energies", "/sweet_spot", "/swing_scene"]);
+        client(&[&url, &count, "/exit_velocity", "/modal_energies", "/sweet_spot", "/swing_scene", "/bat_frame"]);
     wait_subscribed(&mut out);
     for id in 1..=LIVE {
         swing_pub.publish(swing(id)).unwrap();
@@ -168,10 +168,20 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     let mut live: Vec<Value> = Vec::new();
     let (mut energies, mut sweet_spots) = (0, 0);
     let mut scenes: Vec<Value> = Vec::new();
-    for line in out.lines() {
+    // The scenes' frame, announced on subscription: before any answer, so the 3D panel knows `bat` at once.
+    let mut frames: Vec<(usize, Value)> = Vec::new();
+    let mut first_answer = None;
+    for (n, line) in out.lines().enumerate() {
         let line = line.unwrap();
         let v: Value = serde_json::from_str(&line).unwrap_or_else(|e| panic!("{e}: {line}"));
+        if v["topic"] == "/exit_velocity" && first_answer.is_none() {
+            first_answer = Some(n);
+        }
         match v["topic"].as_str() {
+            Some("/bat_frame") => {
+                assert_eq!(v["type"], "foxglove.FrameTransform", "{line}");
+                frames.push((n, v["message"].clone()));
+            }
             Some("/exit_velocity") => live.push(v["message"].clone()),
             Some("/modal_energies") => {
                 assert!(v["message"]["energy"].as_array().is_some_and(|e| !e.is_empty()), "{line}");
@@ -183,6 +193,12 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
         }
     }
     check_scenes(&scenes, &live);
+    assert_eq!(frames.len(), 1, "one latched frame transform");
+    let (at, frame) = &frames[0];
+    assert!(first_answer.is_some_and(|first| *at < first), "the frame came after the answers: {frames:?}");
+    assert_eq!((frame["parent_frame_id"].as_str(), frame["child_frame_id"].as_str()), (Some("world"), Some("bat")));
+    assert_eq!(frame["rotation"], serde_json::json!({"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}));
+    assert_eq!(frame["translation"], serde_json::json!({"x": 0.0, "y": 0.0, "z": 0.0}));
     assert!(reader.wait().unwrap().success(), "the client did not get {LIVE} ExitVelocity");
     assert!(sweet_spots >= 1, "the latched SweetSpot did not reach a client that connected after it");
     assert!(energies >= 1, "no ModalEnergies decoded");

@@ -27,6 +27,11 @@
 //! messages (as many as the topic's QoS depth) are replayed to a client when it subscribes, so a client that
 //! connects mid-session sees the bats and balls in use.
 //!
+//! Where swing scenes are served (a `visualization_msgs/msg/MarkerArray` topic), the server also serves the
+//! scenes' frame on [`FRAME_TOPIC`]: one `foxglove.FrameTransform` (JSON) placing `bat` at the origin of
+//! `world`, latched, so Foxglove's and Lichtblick's 3D panels know the frame as soon as they subscribe instead
+//! of warning "Frame bat not found" until the first scene arrives.
+//!
 //! With [`Playback`] (`bag play`) the server also declares the bag's time range and answers Foxglove's
 //! playback controls (play, pause, seek, speed) through a [`PlaybackHandler`].
 
@@ -38,6 +43,38 @@ use foxglove::websocket::{Capability, ChannelView, Client, PlaybackControlReques
 use foxglove::{ChannelBuilder, ChannelId, Context, PartialMetadata, RawChannel, Schema, WebSocketServer};
 
 use crate::bag::TopicInfo;
+
+/// The channel that announces the scenes' frame ([`crate::model::scene::FRAME_ID`]) to live clients.
+pub const FRAME_TOPIC: &str = "/bat_frame";
+/// The frame [`FRAME_TOPIC`] places the scenes' frame in, at its origin.
+pub const WORLD_FRAME: &str = "world";
+/// The type of the swing scenes, whose presence among the served topics brings [`FRAME_TOPIC`] with it.
+const SCENE_TYPE: &str = "visualization_msgs/msg/MarkerArray";
+
+/// Foxglove's `foxglove.FrameTransform` as a JSON schema: the fields Foxglove's schema defines, types only.
+const FRAME_TRANSFORM_SCHEMA: &str = r#"{"title":"foxglove.FrameTransform","type":"object","properties":{
+"timestamp":{"type":"object","title":"time","properties":{"sec":{"type":"integer","minimum":0},
+"nsec":{"type":"integer","minimum":0,"maximum":999999999}}},
+"parent_frame_id":{"type":"string"},"child_frame_id":{"type":"string"},
+"translation":{"title":"foxglove.Vector3","type":"object","properties":{"x":{"type":"number"},
+"y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]},
+"rotation":{"title":"foxglove.Quaternion","type":"object","properties":{"x":{"type":"number"},
+"y":{"type":"number"},"z":{"type":"number"},"w":{"type":"number"}},"required":["x","y","z","w"]}},
+"required":["timestamp","parent_frame_id","child_frame_id","translation","rotation"]}"#;
+
+/// The one message of [`FRAME_TOPIC`]: the scenes' frame at the origin of [`WORLD_FRAME`], unrotated, valid
+/// from time 0 on.
+fn frame_transform_json() -> Vec<u8> {
+    serde_json::json!({
+        "timestamp": {"sec": 0, "nsec": 0},
+        "parent_frame_id": WORLD_FRAME,
+        "child_frame_id": crate::model::scene::FRAME_ID,
+        "translation": {"x": 0.0, "y": 0.0, "z": 0.0},
+        "rotation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
+    })
+    .to_string()
+    .into_bytes()
+}
 
 /// Messages queued per client; a client whose queue is full is disconnected (the SDK's default is 1024).
 pub const BACKLOG: usize = 4096;
@@ -178,6 +215,8 @@ impl ServerListener for Listener {
 pub struct LiveServer {
     /// Kept alive: a channel whose context is dropped is closed.
     _context: Arc<Context>,
+    /// [`FRAME_TOPIC`], when scenes are served (kept open; its one message is latched).
+    _frame: Option<Arc<RawChannel>>,
     channels: Vec<Arc<RawChannel>>,
     latched: Vec<bool>,
     listener: Arc<Listener>,
@@ -223,6 +262,21 @@ impl LiveServer {
             latched.push(topic.qos.transient_local);
             channels.push(channel);
         }
+        let frame = if topics.iter().any(|t| t.type_name == SCENE_TYPE) {
+            let schema = Schema::new("foxglove.FrameTransform", "jsonschema", FRAME_TRANSFORM_SCHEMA.as_bytes());
+            let channel = ChannelBuilder::new(FRAME_TOPIC)
+                .message_encoding("json")
+                .schema(schema)
+                .context(&context)
+                .build_raw()
+                .map_err(|e| format!("channel {FRAME_TOPIC}: {e}"))?;
+            let last = VecDeque::from([(frame_transform_json(), 0)]);
+            let latch = Latch { channel: Arc::clone(&channel), depth: 1, last };
+            listener.slots.get_mut().map_err(|_| "latch table poisoned".to_string())?.insert(channel.id(), latch);
+            Some(channel)
+        } else {
+            None
+        };
         let listener = Arc::new(listener);
         let as_listener: Arc<dyn ServerListener> = listener.clone();
         let mut server = WebSocketServer::new()
@@ -243,6 +297,7 @@ impl LiveServer {
         let port = handle.port();
         Ok(LiveServer {
             _context: context,
+            _frame: frame,
             channels,
             latched,
             listener,

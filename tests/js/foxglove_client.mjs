@@ -1,6 +1,7 @@
 // A Foxglove WebSocket client built from Foxglove's own npm packages (independent of sweetspot's Rust code):
 // connects to URL, subscribes to the given topics, decodes every message with the ros2msg schema the
-// server advertises (@foxglove/rosmsg + @foxglove/rosmsg2-serialization) and prints one JSON line per message:
+// server advertises (@foxglove/rosmsg + @foxglove/rosmsg2-serialization; a `json` channel as JSON) and prints
+// one JSON line per message:
 // {"topic": ..., "message": {...}} (uint64 as numbers when exact, else strings; NaN as null; a time's
 // nanoseconds as `nsec`, Foxglove's name for builtin_interfaces/Time's `nanosec`).
 //
@@ -103,11 +104,16 @@ client.on("close", () => {
 client.on("advertise", (channels) => {
   for (const ch of channels) {
     if (!pending.has(ch.topic)) continue;
-    if (ch.encoding !== "cdr" || ch.schemaEncoding !== "ros2msg") {
+    let reader;
+    if (ch.encoding === "cdr" && ch.schemaEncoding === "ros2msg") {
+      reader = new MessageReader(parse(ch.schema, { ros2: true }));
+    } else if (ch.encoding === "json" && ch.schemaEncoding === "jsonschema") {
+      // Foxglove's own schemas in JSON (the scenes' frame): the message is the JSON text.
+      reader = { readMessage: (bytes) => JSON.parse(new TextDecoder().decode(bytes)) };
+    } else {
       console.error(`${ch.topic}: encoding ${ch.encoding}, schema ${ch.schemaEncoding}`);
       process.exit(1);
     }
-    const reader = new MessageReader(parse(ch.schema, { ros2: true }));
     const id = client.subscribe(ch.id);
     readers.set(id, { topic: ch.topic, schemaName: ch.schemaName, reader });
     pending.delete(ch.topic);
