@@ -590,9 +590,10 @@ pub fn largest_in(points: &[(f64, f64)], low: f64, high: f64) -> Option<f64> {
     let inside = points.iter().filter(|(x, _)| (low..high).contains(x)).map(|p| p.1);
     let crossings = points.windows(2).flat_map(|w| {
         let ((x0, y0), (x1, y1)) = (w[0], w[1]);
-        [low, high].into_iter().filter_map(move |edge| {
-            ((x0 - edge) * (x1 - edge) <= 0.0 && x1 != x0).then(|| y0 + (y1 - y0) * (edge - x0) / (x1 - x0))
-        })
+        [low, high]
+            .into_iter()
+            .filter(move |&edge| (x0 - edge) * (x1 - edge) <= 0.0 && x1 != x0)
+            .map(move |edge| y0 + (y1 - y0) * (edge - x0) / (x1 - x0))
     });
     inside.chain(crossings).fold(None, |best: Option<f64>, y| Some(best.map_or(y, |b| b.max(y))))
 }
@@ -619,7 +620,10 @@ fn statcast_undercut_rows(
     let Some(peak_bin) = bins.iter().max_by(|a, b| a.exit_p99_mph.total_cmp(&b.exit_p99_mph)) else {
         return Ok(Vec::new());
     };
-    let curves: Vec<Option<(Vec<(f64, f64)>, f64, f64)>> = bins
+    // Per bin: (launch − attack deg, exit mph) along the undercut, the point's distance from the end (m) and
+    // the plate pitch speed (mph); `None` without a pitch speed for the bin's bat speed.
+    type Curve = (Vec<(f64, f64)>, f64, f64);
+    let curves: Vec<Option<Curve>> = bins
         .par_iter()
         .map(|b| {
             let Some(plate) = plate_pitch(b.median_bat_mph) else { return Ok(None) };
