@@ -5,6 +5,10 @@
 //!
 //! The bag readers apply the same regular-file rule to MCAP files ([`not_regular`]); their size is not capped
 //! (they are read a chunk at a time).
+//!
+//! Every input opened through this module, the bag reader or `import`'s table reader is noted ([`note_input`]),
+//! so [`refuse_clobber`] also refuses an output that is any file the process has read, named on the command line
+//! or not (a bat file's profile CSV, a batter file, a column map).
 
 use std::io::Read;
 use std::os::unix::fs::MetadataExt;
@@ -73,6 +77,7 @@ pub fn read_limited(path: &Path, what: &str, limit: u64) -> Result<Vec<u8>, Inpu
     if let Some(kind) = not_regular(meta.file_type()) {
         return Err(refuse(kind));
     }
+    note_input(path, &meta);
     let mut bytes = Vec::with_capacity(meta.len().min(limit) as usize);
     file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
     if bytes.len() as u64 > limit {
@@ -92,6 +97,25 @@ fn identity(path: &Path) -> Option<(u64, u64)> {
     std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
 }
 
+/// The files this process has opened as inputs: (device, inode) and the path they were opened by.
+static INPUTS_READ: std::sync::Mutex<Vec<((u64, u64), PathBuf)>> = std::sync::Mutex::new(Vec::new());
+
+/// Notes that the file at `path`, whose metadata (of the opened file) is `meta`, is an input of this process:
+/// [`refuse_clobber`] refuses it as an output from now on.
+pub fn note_input(path: &Path, meta: &std::fs::Metadata) {
+    let id = (meta.dev(), meta.ino());
+    let mut read = INPUTS_READ.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if !read.iter().any(|(seen, _)| *seen == id) {
+        read.push((id, path.to_path_buf()));
+    }
+}
+
+/// The input noted by [`note_input`] that is the file `id`, if any.
+fn noted_input(id: (u64, u64)) -> Option<PathBuf> {
+    let read = INPUTS_READ.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    read.iter().find(|(seen, _)| *seen == id).map(|(_, path)| path.clone())
+}
+
 /// The files a bag at `path` is made of: the path itself when it is a file, else every file directly in the
 /// directory (its MCAP files and `metadata.yaml`, and anything else lying there).
 pub fn bag_files(path: &Path) -> Vec<PathBuf> {
@@ -102,15 +126,18 @@ pub fn bag_files(path: &Path) -> Vec<PathBuf> {
 }
 
 /// Refuses `output` (named by `flag`) when it is — under any name, through a symlink or a hard link — one of
-/// `inputs`, or a new file inside a bag directory among `bags` (which would become part of that bag). An
-/// output that does not exist yet cannot be an input file; its directory is compared canonicalised.
+/// `inputs`, a file of a bag among `bags`, or any other file this process has read ([`note_input`]); or a new
+/// file inside a bag directory among `bags` (which would become part of that bag). An output that does not
+/// exist yet cannot be an input file; its directory is compared canonicalised. The one rule of every command
+/// that writes (docs/cli.md, "Files a command writes").
 pub fn refuse_clobber(flag: &str, output: &Path, inputs: &[PathBuf], bags: &[PathBuf]) -> Result<(), String> {
     let mut files: Vec<PathBuf> = inputs.to_vec();
     for bag in bags {
         files.extend(bag_files(bag));
     }
     if let Some(out) = identity(output) {
-        if let Some(input) = files.iter().find(|f| identity(f) == Some(out)) {
+        let input = files.into_iter().find(|f| identity(f) == Some(out)).or_else(|| noted_input(out));
+        if let Some(input) = input {
             return Err(format!(
                 "{flag} '{}' is the input file '{}': refused (it would be overwritten while it is read)",
                 output.display(),
@@ -189,5 +216,21 @@ mod tests {
         let e = refuse_clobber("--write", &bag.join("fitted.jsonl"), &[], &bags).unwrap_err();
         assert!(e.contains("inside the bag directory"), "{e}");
         assert!(refuse_clobber("--write", &dir.path().join("fitted.jsonl"), &[], &bags).is_ok());
+    }
+
+    #[test]
+    fn an_output_is_never_a_file_the_process_has_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let profile = dir.path().join("profile.csv");
+        std::fs::write(&profile, "z_m,outer_radius_m\n").unwrap();
+        let link = dir.path().join("figure.svg");
+        std::os::unix::fs::symlink(&profile, &link).unwrap();
+        // Not read yet, not named as an input: nothing says it is one.
+        assert!(refuse_clobber("--plot", &link, &[], &[]).is_ok());
+        read_text(&profile, "bat profile").unwrap();
+        let e = refuse_clobber("--plot", &link, &[], &[]).unwrap_err();
+        assert!(e.contains("is the input file") && e.contains("profile.csv"), "{e}");
+        // A file the process never read stays writable.
+        assert!(refuse_clobber("--plot", &dir.path().join("other.svg"), &[], &[]).is_ok());
     }
 }

@@ -126,3 +126,132 @@ fn plot_files_need_a_known_extension() {
     let path = dir.path().join("plot.jpg");
     contains_all(&fails(&["sweep", "--points", "3", "--modes", "2", "--plot", s(&path)]), &[".svg", ".png"]);
 }
+
+/// The one output rule (docs/cli.md, "Files a command writes"): `output` (an argument of `args`), a symlink to
+/// `input`, is refused naming `flag`, with exit status 1, and `input` is left as it was.
+fn refuses_to_overwrite(args: &[&str], flag: &str, input: &std::path::Path) {
+    let before = std::fs::read(input).unwrap();
+    let run = support::cli::sweetspot(args);
+    assert_eq!(run.code, Some(1), "{args:?}: {}{}", run.stdout, run.stderr);
+    contains_all(&run.stderr, &[flag, "is the input file", "refused"]);
+    assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+    assert_eq!(std::fs::read(input).unwrap(), before, "{args:?} changed {}", input.display());
+}
+
+/// `link` → `target` (a symlink), returned as a path.
+fn symlink(target: &std::path::Path, link: std::path::PathBuf) -> std::path::PathBuf {
+    std::os::unix::fs::symlink(target, &link).unwrap();
+    link
+}
+
+/// A copy of the golden bag with its MCAP file cut short (recovery has something to write); its MCAP file.
+fn damaged_bag(dir: &std::path::Path) -> (std::path::PathBuf, std::path::PathBuf) {
+    let bag = dir.join("bag");
+    std::fs::create_dir(&bag).unwrap();
+    let golden = support::repo().join("bags/golden/sweetspot_golden");
+    for name in ["metadata.yaml", "sweetspot_golden_0.mcap"] {
+        std::fs::copy(golden.join(name), bag.join(name)).unwrap();
+    }
+    let mcap = bag.join("sweetspot_golden_0.mcap");
+    let bytes = std::fs::read(&mcap).unwrap();
+    std::fs::write(&mcap, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    (bag, mcap)
+}
+
+#[test]
+fn bag_recover_never_writes_onto_the_bag_it_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let (bag, mcap) = damaged_bag(dir.path());
+    let link = symlink(&mcap, dir.path().join("copy.mcap"));
+    refuses_to_overwrite(&["bag", "recover", s(&bag), "-o", s(&link)], "-o/--output", &mcap);
+    refuses_to_overwrite(&["bag", "recover", s(&mcap), "-o", s(&link)], "-o/--output", &mcap);
+    // Elsewhere is fine.
+    let run = support::cli::sweetspot(&["bag", "recover", s(&bag), "-o", s(&dir.path().join("fixed"))]);
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+}
+
+#[test]
+fn import_never_writes_its_bag_or_batters_onto_its_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let export = dir.path().join("session.csv");
+    std::fs::copy(support::repo().join("tests/data/statcast_search.csv"), &export).unwrap();
+    let batter = dir.path().join("batter.toml");
+    std::fs::write(&batter, "exponent = 0.25\n").unwrap();
+    // -o: the bag directory onto the export (or the batter file) it reads.
+    let out = symlink(&export, dir.path().join("out"));
+    refuses_to_overwrite(&["import", s(&export), "-o", s(&out)], "-o/--output", &export);
+    let out = symlink(&batter, dir.path().join("out2"));
+    refuses_to_overwrite(&["import", s(&export), "--batter", s(&batter), "-o", s(&out)], "-o/--output", &batter);
+    // --batter-out: a batter's file onto the batter file read (not one of the exports), and the directory
+    // itself onto the export.
+    let batters = dir.path().join("batters");
+    std::fs::create_dir(&batters).unwrap();
+    symlink(&batter, batters.join("batter_100001.toml"));
+    let (bag1, bag2) = (dir.path().join("bag1"), dir.path().join("bag2"));
+    let args = ["import", s(&export), "--batter", s(&batter), "-o", s(&bag1), "--batter-out", s(&batters)];
+    refuses_to_overwrite(&args, "--batter-out", &batter);
+    let onto_export = symlink(&export, dir.path().join("batters2"));
+    let args = ["import", s(&export), "-o", s(&bag2), "--batter-out", s(&onto_export)];
+    refuses_to_overwrite(&args, "--batter-out", &export);
+}
+
+#[test]
+fn validate_never_draws_a_figure_onto_its_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    std::fs::create_dir(&data).unwrap();
+    for entry in std::fs::read_dir(support::repo().join("validation")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, data.join(path.file_name().unwrap())).unwrap();
+    }
+    let figures = dir.path().join("figures");
+    std::fs::create_dir(&figures).unwrap();
+    let measurements = data.join("measurements.toml");
+    symlink(&measurements, figures.join("validate-cor-vs-speed.svg"));
+    refuses_to_overwrite(&["validate", "--data", s(&data), "--figures", s(&figures)], "--figures", &measurements);
+}
+
+#[test]
+fn a_plot_never_lands_on_a_bat_files_profile() {
+    // The profile CSV is read through the bat file, not named on the command line: it is an input all the same.
+    let dir = tempfile::tempdir().unwrap();
+    let bat = dir.path().join("bat.toml");
+    std::fs::write(
+        &bat,
+        "slice_length = 0.01\nprofile = \"p.csv\"\n[shell]\ndensity = 649.0\nyoungs_modulus = 1.814e10\n\
+         shear_modulus = 1.05e9\n",
+    )
+    .unwrap();
+    let profile = dir.path().join("p.csv");
+    std::fs::write(&profile, "z_m,outer_radius_m\n0.0,0.0135\n0.3,0.015\n0.84,0.033\n").unwrap();
+    support::cli::ok(&["modes", "--bat", s(&bat), "--modes", "2"]);
+    let plot = symlink(&profile, dir.path().join("plot.svg"));
+    let args = ["sweep", "--bat", s(&bat), "--points", "3", "--modes", "2", "--plot", s(&plot)];
+    refuses_to_overwrite(&args, "--plot", &profile);
+    let args = ["compare", "--bats", &format!("r161,{}", s(&bat)), "--modes", "2", "--figure", s(&plot)];
+    refuses_to_overwrite(&args, "--figure", &profile);
+}
+
+/// The commands that start DDS once their checks pass refuse before anything starts; run inside the private
+/// network namespace all the same, should a check ever come too late.
+#[test]
+fn record_demo_and_bench_refuse_their_outputs_before_starting() {
+    support::require_isolated_network();
+    let dir = tempfile::tempdir().unwrap();
+    let overrides = dir.path().join("qos.yaml");
+    std::fs::write(&overrides, "/swing:\n  reliability: reliable\n").unwrap();
+    let out = symlink(&overrides, dir.path().join("out"));
+    let args = ["bag", "record", "-a", "--qos-profile-overrides-path", s(&overrides), "-o", s(&out)];
+    refuses_to_overwrite(&args, "-o/--output", &overrides);
+
+    let batter = dir.path().join("batter.toml");
+    std::fs::write(&batter, "exponent = 0.25\n").unwrap();
+    let out = symlink(&batter, dir.path().join("demo-out"));
+    refuses_to_overwrite(&["demo", "--batter", s(&batter), "--out", s(&out), "--swings", "4"], "--out", &batter);
+
+    let node = dir.path().join("node-exe");
+    std::fs::write(&node, "#!/bin/sh\nexit 3\n").unwrap();
+    let json = symlink(&node, dir.path().join("bench.json"));
+    let args = ["bench", "--quick", "--node-exe", s(&node), "--json", s(&json), "--work-dir", s(dir.path())];
+    refuses_to_overwrite(&args, "--json", &node);
+}

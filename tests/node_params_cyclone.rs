@@ -40,13 +40,24 @@ fn call(domain: u16, calls: Value) -> Replies {
 
 /// [`call`] in the request/reply `mapping` (`enhanced` or `cyclone`, rmw_cyclonedds_cpp's header).
 fn call_mapped(domain: u16, calls: Value, mapping: &str) -> Replies {
+    call_with(domain, &calls, &calls.to_string(), mapping)
+}
+
+/// [`call`] with requests too large for a command line: the calls go to the client in a file.
+fn call_large(domain: u16, calls: Value) -> Replies {
+    let file = tempfile::NamedTempFile::new().unwrap();
+    std::fs::write(file.path(), calls.to_string()).unwrap();
+    call_with(domain, &calls, &format!("@{}", file.path().display()), "enhanced")
+}
+
+fn call_with(domain: u16, calls: &Value, calls_arg: &str, mapping: &str) -> Replies {
     let mut c = Command::new(support::python());
     c.arg(support::repo().join("tests/python/cyclone_params.py")).arg("--loopback").args([
         "call",
         "--node",
         "/sweetspot",
         "--calls",
-        &calls.to_string(),
+        calls_arg,
         "--timeout",
         "60",
         "--mapping",
@@ -374,5 +385,119 @@ fn parameter_services_follow_the_cyclone_mapping() {
     let got = values["values"].as_array().unwrap();
     assert_eq!(got[0]["string_value"], json!("cyclone"), "{values}");
     assert_eq!(got[1]["integer_value"], json!(16384), "{values}");
+    drop(node);
+}
+
+/// Hostile requests to every parameter service — a 1 MiB name or value, 100,000 names, prefixes or parameters —
+/// are each answered, with a small reply: a get, types, describe or list request over the documented bounds
+/// (docs/node.md: at most 1024 names of at most 256 bytes) with an empty list, as rclcpp answers a request naming
+/// an undeclared parameter, and a set with the reason. One warning per refused request names the reason. A
+/// describe at the bounds (1024 unknown 256-byte names) is answered in full: a reply of some 350 KB, sent in
+/// fragments. Afterwards a second client's ordinary calls are answered as before.
+#[test]
+fn huge_parameter_requests_are_answered_small_and_the_node_keeps_answering() {
+    support::require_isolated_network();
+    let domain = domain(60);
+    let dir = tempfile::tempdir().unwrap();
+    let node = start_node(domain, dir.path());
+    let constants = call(domain, json!([{ "service": "list_parameters", "request": {} }]));
+    let string = constants.parameter_type("PARAMETER_STRING");
+    let mib = "x".repeat(1 << 20);
+    let many: Vec<String> = (0..100_000).map(|i| format!("n{i}")).collect();
+    let longest: Vec<String> = (0..1024).map(|i| format!("{i:0>256}")).collect();
+    let set = |name: &str, value: &str| json!({ "name": name, "value": { "type": string, "string_value": value } });
+    let many_sets: Vec<Value> = many.iter().map(|n| set(n, "a")).collect();
+    let hostile = json!([
+        { "service": "get_parameters", "request": { "names": many } },
+        { "service": "get_parameters", "request": { "names": [mib] } },
+        { "service": "get_parameter_types", "request": { "names": many } },
+        { "service": "get_parameter_types", "request": { "names": ["default_bat", mib] } },
+        { "service": "describe_parameters", "request": { "names": many } },
+        { "service": "describe_parameters", "request": { "names": [mib] } },
+        { "service": "describe_parameters", "request": { "names": longest } },
+        { "service": "list_parameters", "request": { "prefixes": many } },
+        { "service": "list_parameters", "request": { "prefixes": [mib] } },
+        { "service": "set_parameters", "request": { "parameters": [set(&mib, "a")] } },
+        { "service": "set_parameters", "request": { "parameters": [set("default_bat", &mib)] } },
+        { "service": "set_parameters", "request": { "parameters": many_sets } },
+    ]);
+    let started = std::time::Instant::now();
+    let replies = call_large(domain, hostile);
+    let took = started.elapsed();
+    let r = &replies.responses;
+
+    let empty = |i: usize, field: &str| {
+        let shown: String = r[i].to_string().chars().take(200).collect();
+        assert_eq!(r[i][field], json!([]), "call {i}: {shown}");
+    };
+    empty(0, "values");
+    empty(1, "values");
+    empty(2, "types");
+    empty(3, "types");
+    empty(4, "descriptors");
+    empty(5, "descriptors");
+    let described = r[6]["descriptors"].as_array().unwrap();
+    assert_eq!(described.len(), 1024, "a describe at the bounds is answered in full");
+    for (d, name) in described.iter().zip(&longest) {
+        assert_eq!(d["name"], json!(name));
+        assert_eq!(d["type"].as_u64(), Some(replies.parameter_type("PARAMETER_NOT_SET")));
+    }
+    assert_eq!(r[7]["result"], json!({ "names": [], "prefixes": [] }));
+    assert_eq!(r[8]["result"], json!({ "names": [], "prefixes": [] }));
+    assert_eq!(
+        r[9]["results"],
+        json!([{ "successful": false, "reason": "a parameter name of 1048576 bytes is over the limit of 256 bytes" }])
+    );
+    assert_eq!(
+        r[10]["results"],
+        json!([{
+            "successful": false,
+            "reason": "the value for 'default_bat' is 1048576 bytes, over the limit of 65536 bytes"
+        }])
+    );
+    assert_eq!(
+        r[11]["results"],
+        json!([{ "successful": false, "reason": "100000 parameters in one request, over the limit of 1024" }]),
+        "too many parameters: one result with the reason"
+    );
+    eprintln!("12 hostile calls answered in {took:?}");
+
+    // A second client, after all that: ordinary calls answered as before, and the refused sets changed nothing.
+    let after = call(
+        domain,
+        json!([
+            { "service": "get_parameters", "request": { "names": ["default_bat", "default_modes"] } },
+            { "service": "set_parameters", "request": { "parameters": [
+                { "name": "default_modes", "value": { "type": replies.parameter_type("PARAMETER_INTEGER"),
+                                                      "integer_value": 12 } }] } },
+            { "service": "list_parameters", "request": { "prefixes": [], "depth": 0 } },
+        ]),
+    );
+    let got = after.responses[0]["values"].as_array().unwrap();
+    assert_eq!(value_of(&after, &got[0]), ParameterValue::String("r161".into()));
+    assert_eq!(
+        value_of(&after, &got[1]),
+        PARAMETERS.iter().find(|p| p.name == "default_modes").unwrap().default_value()
+    );
+    assert_eq!(after.responses[1]["results"], json!([{ "successful": true, "reason": "" }]));
+    assert!(after.responses[2]["result"]["names"].as_array().unwrap().len() > 20);
+
+    // One warning per refused request, with the reason (the valid describe at the bounds is not one).
+    let log = node.log();
+    let refusals: Vec<&str> = log.lines().filter(|l| l.contains("request refused")).collect();
+    assert_eq!(refusals.len(), 11, "{log}");
+    for (service, reason) in [
+        ("get_parameters", "100000 names in one request, over the limit of 1024"),
+        ("get_parameters", "names[0] is 1048576 bytes long, over the limit of 256 bytes"),
+        ("get_parameter_types", "names[1] is 1048576 bytes long"),
+        ("describe_parameters", "100000 names in one request"),
+        ("list_parameters", "100000 prefixes in one request"),
+        ("set_parameters", "a parameter name of 1048576 bytes"),
+        ("set_parameters", "100000 parameters in one request"),
+    ] {
+        let line = format!("/sweetspot: {service} request refused: {reason}");
+        assert!(refusals.iter().any(|l| l.contains("WARN") && l.contains(&line)), "no '{line}' in:\n{log}");
+    }
+    assert!(refusals.iter().all(|l| l.len() < 400), "no line quotes a huge name: {refusals:?}");
     drop(node);
 }

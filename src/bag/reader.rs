@@ -542,6 +542,7 @@ pub fn open_mcap(path: &Path) -> Result<(File, u64), BagError> {
     if let Some(what) = not_regular(meta.file_type()) {
         return Err(refuse(what));
     }
+    crate::files::note_input(path, &meta);
     let size = meta.len();
     let not_mcap = |reason: String| BagError::NotMcap { path: path.to_path_buf(), reason };
     if size == 0 {

@@ -274,6 +274,8 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
                 qos_overrides,
                 polling_interval: std::time::Duration::from_millis(polling_interval),
             };
+            // Before anything starts (the overrides file, read above, is an input).
+            crate::files::refuse_clobber("-o/--output", &options.output, &[], &[]).map_err(anyhow::Error::msg)?;
             record(options)
         }
         BagCommand::Play {
@@ -445,6 +447,10 @@ fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
 }
 
 fn recover(path: PathBuf, output: Option<PathBuf>) -> anyhow::Result<()> {
+    if let Some(out) = &output {
+        crate::files::refuse_clobber("-o/--output", out, &[], std::slice::from_ref(&path))
+            .map_err(anyhow::Error::msg)?;
+    }
     // Recovery reads a directory whatever its metadata.yaml says (rebuilding that is part of its job).
     let files = match bag::reader::bag_listing(&path) {
         Ok(listing) => listing.files.len(),

@@ -95,6 +95,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         return bench::run_echo_server(args.domain, Duration::from_micros(args.echo_work_us));
     }
     let exe = std::env::current_exe().context("locating the sweetspot executable")?;
+    if let Some(json) = &args.json {
+        // Before anything runs: the report never lands on an executable the bench starts.
+        let mut inputs = vec![exe.clone()];
+        inputs.extend(args.node_exe.iter().cloned());
+        inputs.extend(args.compare.iter().map(|(_, exe)| exe.clone()));
+        crate::files::refuse_clobber("--json", json, &inputs, &[]).map_err(anyhow::Error::msg)?;
+    }
     let soak = Duration::from_secs(args.soak.unwrap_or(if args.quick { 10 } else { 60 }));
     // Absolute, because the node children run with the work dir as their current directory and record
     // into a path under it: a relative one would land in <work dir>/<work dir>/ and escape the clean-up.

@@ -311,6 +311,8 @@ pub fn write_batter_file(path: &Path, result: &BatterFit, bag: &Path) -> Result<
         }
     };
     let text = result.batter_toml(&reference, &bag.display().to_string()).map_err(flat).context("--batter-out")?;
+    // Again now that the fit has read its inputs (a reference bat file among them).
+    refuse_onto_the_bag("--batter-out", path, bag)?;
     std::fs::write(path, text).with_context(|| format!("cannot write '{}'", path.display()))?;
     written.push(path.to_path_buf());
     Ok(written)

@@ -65,6 +65,9 @@ pub fn run(args: DemoArgs) -> Result<()> {
         };
         rig.batter = Some(batter);
     }
+    // Before anything starts: the directory the session goes into is no input (the batter file).
+    crate::files::refuse_clobber("--out", &args.out, &args.batter.iter().cloned().collect::<Vec<_>>(), &[])
+        .map_err(anyhow::Error::msg)?;
     crate::demo::run(DemoSettings {
         rig,
         swings_per_bat: args.rig.swings_per_bat,

@@ -141,6 +141,12 @@ pub fn run(args: ImportArgs) -> Result<()> {
             crate::bag::default_bag_dir(std::path::Path::new("bags"), "import", std::time::SystemTime::now())
         }
     };
+    // Every input named here (the exports, the batter file, the column map, a bat file and its profile —
+    // those read above are noted by crate::files) before the bag directory, which must be new.
+    let mut inputs: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
+    inputs.extend(args.batter.iter().cloned());
+    inputs.extend(args.map.iter().cloned());
+    crate::files::refuse_clobber("-o/--output", &output, &inputs, &[]).map_err(anyhow::Error::msg)?;
     if output.exists() {
         bail!("{}: already exists (the bag directory must be new)", output.display());
     }
@@ -189,6 +195,8 @@ pub fn run(args: ImportArgs) -> Result<()> {
 
 /// One batter file per batter of the report.
 fn write_batters(report: &ImportReport, dir: &std::path::Path, bat: &str, options: &ImportOptions) -> Result<()> {
+    let inputs: Vec<PathBuf> = report.files.iter().map(|f| f.path.clone()).collect();
+    crate::files::refuse_clobber("--batter-out", dir, &inputs, &[]).map_err(anyhow::Error::msg)?;
     std::fs::create_dir_all(dir).with_context(|| format!("--batter-out {}", dir.display()))?;
     // The bat is named as given; a bat file is named by its absolute path so the batter file works anywhere.
     let reference_bat = if Bat::preset_names().contains(&bat) {
@@ -228,7 +236,7 @@ fn write_batters(report: &ImportReport, dir: &std::path::Path, bat: &str, option
             shape: Some(options.batter.shape),
         };
         let path = dir.join(batter_file_name(name));
-        let inputs: Vec<PathBuf> = report.files.iter().map(|f| f.path.clone()).collect();
+        // The exports, and (noted by crate::files as they were read) the batter file, the map, the bat file.
         crate::files::refuse_clobber("--batter-out", &path, &inputs, &[]).map_err(anyhow::Error::msg)?;
         // The id is a CSV cell: quoted and escaped (a line break in it must not become a line of the file).
         let text = format!(

@@ -66,13 +66,15 @@ pub fn run(args: NodeArgs) -> anyhow::Result<()> {
     crate::node::runtime::run(config)
 }
 
+/// The node's log filter without `RUST_LOG` or `--log-level`: info, but only errors from the DDS libraries —
+/// except the one warning ros2-client logs per parameter request refused for its size (docs/node.md, Limits).
+pub(crate) const DEFAULT_LOG_FILTER: &str = "info,rustdds=error,ros2_client=error,ros2_client::parameter_services=warn";
+
 pub(crate) fn init_logging(level: Option<&str>) {
     use tracing_subscriber::EnvFilter;
     let filter = match level {
         Some(level) => EnvFilter::new(level),
-        None => {
-            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info,rustdds=error,ros2_client=error"))
-        }
+        None => EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new(DEFAULT_LOG_FILTER)),
     };
     // Another subscriber may already be set (tests); that one wins.
     let _ = tracing_subscriber::fmt()

@@ -71,8 +71,6 @@ pub struct SweepArgs {
 pub fn run(args: SweepArgs) -> Result<()> {
     if let Some(path) = &args.plot {
         ImageFormat::from_path(path).context("--plot")?;
-        let inputs = [PathBuf::from(&args.bat.bat)];
-        crate::files::refuse_clobber("--plot", path, &inputs, &[]).map_err(anyhow::Error::msg)?;
     }
     let oblique = args.oblique.inputs()?;
     match args.over {
@@ -88,6 +86,11 @@ pub fn run(args: SweepArgs) -> Result<()> {
         _ => {}
     }
     let bat = args.bat.load()?;
+    if let Some(path) = &args.plot {
+        // After the bat is read: its profile CSV, read through the bat file, is an input too.
+        let inputs = [PathBuf::from(&args.bat.bat)];
+        crate::files::refuse_clobber("--plot", path, &inputs, &[]).map_err(anyhow::Error::msg)?;
+    }
     let ball = args.ball.apply(Ball::game())?;
     let options = args.numeric.options()?;
     let swing = args.swing.impact(f64::NAN);

@@ -44,6 +44,13 @@ pub fn run(args: ValidateArgs) -> Result<()> {
     let options = args.numeric.options()?;
     let dir = data_dir(args.data);
     let inputs = read_inputs(&dir).with_context(|| format!("validation data in '{}'", dir.display()))?;
+    if let Some(fig_dir) = &args.figures {
+        // Before the suite runs: no figure may land on a data file (every file of the data directory counts).
+        let data_files = crate::files::bag_files(&dir);
+        for path in figures::paths(fig_dir, &args.format) {
+            crate::files::refuse_clobber("--figures", &path, &data_files, &[]).map_err(anyhow::Error::msg)?;
+        }
+    }
     let (report, lab) = evaluate(&inputs, options).context("running the validation cases")?;
     if args.output.json {
         print_json(&report)?;

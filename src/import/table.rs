@@ -33,7 +33,9 @@ pub fn open_regular(path: &Path) -> Result<File, ImportError> {
     if let Some(what) = crate::files::not_regular(meta.file_type()) {
         return Err(ImportError::NotRegularFile { path: path.to_path_buf(), what: what.to_string() });
     }
-    File::open(path).map_err(io)
+    let file = File::open(path).map_err(io)?;
+    crate::files::note_input(path, &file.metadata().map_err(io)?);
+    Ok(file)
 }
 
 /// Where the line breaks are among the bytes read so far, so that a record's line is told exactly.

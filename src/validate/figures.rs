@@ -18,6 +18,15 @@ fn marker(x: f64, label: &str, color: usize) -> VerticalMarker {
     VerticalMarker { x, label: label.into(), color, dashed: true }
 }
 
+/// The figures' file names, without the extension, in the order [`write`] draws them.
+pub const NAMES: [&str; 4] =
+    ["validate-cor-vs-speed", "validate-spin-vs-launch", "validate-bpf-vs-hoop", "validate-exit-vs-impact"];
+
+/// The files [`write`] writes into `dir` (`ext`: `svg` or `png`).
+pub fn paths(dir: &Path, ext: &str) -> Vec<PathBuf> {
+    NAMES.iter().map(|name| dir.join(format!("{name}.{ext}"))).collect()
+}
+
 fn draw(dir: &Path, name: &str, ext: &str, chart: &LineChart) -> Result<PathBuf, ValidateError> {
     let path = dir.join(format!("{name}.{ext}"));
     draw_line_chart(&path, chart)
@@ -77,7 +86,7 @@ pub fn write(
     if !measured.is_empty() {
         cor.series.push(points("measured (validation/ball_cor.toml)", 1, measured));
     }
-    out.push(draw(dir, "validate-cor-vs-speed", ext, &cor)?);
+    out.push(draw(dir, NAMES[0], ext, &cor)?);
 
     // Spin against launch angle: game swing and tee tests of the model, TrackMan balls and bin medians, the tee
     // test's largest measured spin.
@@ -110,7 +119,7 @@ pub fn write(
         bars: iqr,
         horizontal: false,
     });
-    out.push(draw(dir, "validate-spin-vs-launch", ext, &spin)?);
+    out.push(draw(dir, NAMES[1], ext, &spin)?);
 
     // BPF against hoop frequency.
     let ball = inputs
@@ -163,7 +172,7 @@ pub fn write(
         markers: band,
         ..Default::default()
     };
-    let path = dir.join(format!("validate-bpf-vs-hoop.{ext}"));
+    let path = dir.join(format!("{}.{ext}", NAMES[2]));
     draw_panels(&path, &[bpf, field], 1, Some("Alloy barrel, wall varied: lab test and swing"))
         .map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
     out.push(path);
@@ -183,6 +192,6 @@ pub fn write(
         ],
         ..Default::default()
     };
-    out.push(draw(dir, "validate-exit-vs-impact", ext, &exit)?);
+    out.push(draw(dir, NAMES[3], ext, &exit)?);
     Ok(out)
 }

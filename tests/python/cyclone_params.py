@@ -156,7 +156,9 @@ def main():
     sub = ap.add_subparsers(dest="cmd", required=True)
     c = sub.add_parser("call")
     c.add_argument("--node", required=True, help="fully qualified node name, e.g. /sweetspot")
-    c.add_argument("--calls", required=True, help="JSON list of {\"service\", \"request\"}")
+    c.add_argument("--calls", required=True,
+                   help="JSON list of {\"service\", \"request\"}, or @PATH to read it from a file (for requests "
+                        "too large for a command line)")
     c.add_argument("--timeout", type=float, default=30.0)
     c.add_argument("--mapping", choices=["enhanced", "cyclone"], default="enhanced")
     args = ap.parse_args()
@@ -166,7 +168,7 @@ def main():
 
     ts = ServiceTypes(args.msgs, args.mapping)
     print(json.dumps({"constants": ts.constants}), flush=True)
-    calls = json.loads(args.calls)
+    calls = json.loads(Path(args.calls[1:]).read_text() if args.calls.startswith("@") else args.calls)
     dp = DomainParticipant(domain)
     clients = {}
     for call in calls:

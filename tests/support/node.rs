@@ -21,7 +21,7 @@ impl NodeProcess {
             .args(args)
             .current_dir(cwd)
             .env("ROS_DOMAIN_ID", domain.to_string())
-            .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
+            .env("RUST_LOG", "info,rustdds=error,ros2_client=error,ros2_client::parameter_services=warn")
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())

@@ -219,13 +219,9 @@ impl Spinner {
         get_parameters_request = next_if_some(&mut get_parameters_stream_opt).fuse() => {
           match get_parameters_request {
             Ok( (req_id, req) ) => {
-              info!("Get parameter request {req:?}");
-              let values = self.parameters.get_many(&req.names)
-                .into_iter()
-                .map(raw::ParameterValue::from)
-                .collect();
-              info!("Get parameters response: {values:?}");
-
+              debug!("Get parameter request for {} names", req.names.len());
+              let values = self.parameters.answer_get(&req.names)
+                .unwrap_or_else(|reason| self.refused("get_parameters", &reason, Vec::new()));
               // .unwrap() below should be safe, as we would not be here if the Server did not exist
               self.parameter_servers.as_ref().unwrap().get_parameters_server
                 .async_send_response(req_id, rcl_interfaces::GetParametersResponse{ values })
@@ -239,9 +235,9 @@ impl Spinner {
         get_parameter_types_request = next_if_some(&mut get_parameter_types_stream_opt).fuse() => {
           match get_parameter_types_request {
             Ok( (req_id, req) ) => {
-              info!("Get parameter types request {req:?}");
-              let values = self.parameters.get_types(&req.names);
-              info!("Get parameter types response: {values:?}");
+              debug!("Get parameter types request for {} names", req.names.len());
+              let values = self.parameters.answer_get_types(&req.names)
+                .unwrap_or_else(|reason| self.refused("get_parameter_types", &reason, Vec::new()));
               // .unwrap() below should be safe, as we would not be here if the Server did not exist
               self.parameter_servers.as_ref().unwrap().get_parameter_types_server
                 .async_send_response(req_id, rcl_interfaces::GetParameterTypesResponse{ values })
@@ -255,15 +251,8 @@ impl Spinner {
         set_parameters_request = next_if_some(&mut set_parameters_stream_opt).fuse() => {
           match set_parameters_request {
             Ok( (req_id, req) ) => {
-              info!("Set parameter request {req:?}");
-              let results =
-                req.parameter.iter()
-                  .cloned()
-                  .map( Parameter::from ) // convert from "raw::Parameter"
-                  .map( |Parameter{name, value}| self.set_parameter(&name,value))
-                  .map(|r| r.into()) // to "raw" Result for serialization
-                  .collect();
-              info!("Set parameters response: {results:?}");
+              debug!("Set parameter request for {} parameters", req.parameter.len());
+              let results = self.answer_set(req.parameter);
               // .unwrap() below should be safe, as we would not be here if the Server did not exist
               self.parameter_servers.as_ref().unwrap().set_parameters_server
                 .async_send_response(req_id, rcl_interfaces::SetParametersResponse{ results })
@@ -277,11 +266,8 @@ impl Spinner {
         set_parameters_atomically_request = next_if_some(&mut set_parameters_atomically_stream_opt).fuse() => {
           match set_parameters_atomically_request {
             Ok( (req_id, req) ) => {
-              info!("Set parameters atomically request {req:?}");
-              let params: Vec<Parameter> =
-                req.parameter.iter().cloned().map(Parameter::from).collect();
-              let result: raw::SetParametersResult = self.set_parameters_atomically(params).into();
-              info!("Set parameters atomically response: {result:?}");
+              debug!("Set parameters atomically request for {} parameters", req.parameter.len());
+              let result = self.answer_set_atomically(req.parameter);
               // .unwrap() below should be safe, as we would not be here if the Server did not exist
               self.parameter_servers.as_ref().unwrap().set_parameters_atomically_server
                 .async_send_response(req_id, rcl_interfaces::SetParametersAtomicallyResponse{ result })
@@ -295,10 +281,11 @@ impl Spinner {
         list_parameter_request = next_if_some(&mut list_parameter_stream_opt).fuse() => {
           match list_parameter_request {
             Ok( (req_id, req) ) => {
-              info!("List parameters request {req:?}");
-              let result = self.parameters.list(&req.prefixes, req.depth);
+              debug!("List parameters request for {} prefixes", req.prefixes.len());
+              let result = self.parameters.answer_list(&req.prefixes, req.depth)
+                .unwrap_or_else(|reason| self.refused("list_parameters", &reason,
+                  rcl_interfaces::ListParametersResult { names: vec![], prefixes: vec![] }));
               // .unwrap() below should be safe, as we would not be here if the Server did not exist
-              info!("List parameters response: {result:?}");
               self.parameter_servers.as_ref().unwrap().list_parameters_server
                 .async_send_response(req_id, rcl_interfaces::ListParametersResponse{ result })
                 .await
@@ -311,12 +298,9 @@ impl Spinner {
         describe_parameters_request = next_if_some(&mut describe_parameters_stream_opt).fuse() => {
           match describe_parameters_request {
             Ok( (req_id, req) ) => {
-              info!("Describe parameters request {req:?}");
-              let values = self.parameters.describe(&req.names)
-                .into_iter()
-                .map(raw::ParameterDescriptor::from)
-                .collect();
-              info!("Describe parameters response: {values:?}");
+              debug!("Describe parameters request for {} names", req.names.len());
+              let values = self.parameters.answer_describe(&req.names)
+                .unwrap_or_else(|reason| self.refused("describe_parameters", &reason, Vec::new()));
               // .unwrap() below should be safe, as we would not be here if the Server did not exist
               self.parameter_servers.as_ref().unwrap().describe_parameters_server
                 .async_send_response(req_id, rcl_interfaces::DescribeParametersResponse{ values })
@@ -436,6 +420,66 @@ impl Spinner {
     let changes = self.parameters.set_atomically(params)?;
     self.publish_parameter_changes(changes);
     Ok(())
+  }
+
+  /// Logs the one warning for a request to `service` refused with `reason`
+  /// (see [`limits`]) and returns `answer`, what the refusal is answered with.
+  fn refused<T>(&self, service: &str, reason: &str, answer: T) -> T {
+    warn!(
+      target: limits::LOG_TARGET,
+      "{}: {service} request refused: {reason}",
+      self.fully_qualified_node_name
+    );
+    answer
+  }
+
+  /// The answer to `set_parameters`: one result per parameter, each parameter
+  /// over the [`limits`] refused before the node's rules see it; a request
+  /// with too many parameters gets a single result with the reason. Reasons
+  /// are bounded.
+  fn answer_set(&self, parameters: Vec<raw::Parameter>) -> Vec<raw::SetParametersResult> {
+    if let Some(reason) = limits::refuse_count("parameters", parameters.len()) {
+      return vec![
+        self
+          .refused("set_parameters", &reason, Err(reason.clone()))
+          .into(),
+      ];
+    }
+    let mut first_refusal = None;
+    let results = parameters
+      .into_iter()
+      .map(Parameter::from)
+      .map(
+        |Parameter { name, value }| match limits::refuse_parameter(&name, &value) {
+          Some(reason) => {
+            first_refusal.get_or_insert_with(|| reason.clone());
+            Err(reason)
+          }
+          None => self.set_parameter(&name, value),
+        },
+      )
+      .map(|r| r.map_err(limits::bounded_reason).into())
+      .collect();
+    if let Some(reason) = first_refusal {
+      self.refused("set_parameters", &reason, ());
+    }
+    results
+  }
+
+  /// The answer to `set_parameters_atomically`: refused as a whole if any
+  /// parameter is over the [`limits`]; the reason bounded.
+  fn answer_set_atomically(&self, parameters: Vec<raw::Parameter>) -> raw::SetParametersResult {
+    let params: Vec<Parameter> = parameters.into_iter().map(Parameter::from).collect();
+    let refusal = limits::refuse_count("parameters", params.len()).or_else(|| {
+      params
+        .iter()
+        .find_map(|Parameter { name, value }| limits::refuse_parameter(name, value))
+    });
+    let result = match refusal {
+      Some(reason) => self.refused("set_parameters_atomically", &reason, Err(reason.clone())),
+      None => self.set_parameters_atomically(params),
+    };
+    result.map_err(limits::bounded_reason).into()
   }
 
   fn publish_parameter_changes(&self, changes: ParameterChanges) {

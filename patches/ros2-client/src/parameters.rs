@@ -504,6 +504,65 @@ impl ParameterStore {
       .collect()
   }
 
+  /// The answer to `get_parameters`: the values of `names` ([`Self::get_many`]),
+  /// or `Err(reason)` when the request or its reply is over the [`limits`]
+  /// (then the answer is an empty list).
+  pub fn answer_get(&self, names: &[String]) -> Result<Vec<raw::ParameterValue>, String> {
+    if let Some(reason) = limits::refuse_names("names", names.iter().map(String::as_str)) {
+      return Err(reason);
+    }
+    let values: Vec<raw::ParameterValue> = self
+      .get_many(names)
+      .into_iter()
+      .map(raw::ParameterValue::from)
+      .collect();
+    let size = 4 + values.iter().map(limits::raw_value_bytes).sum::<usize>();
+    limits::check_reply("get_parameters", size).map(|()| values)
+  }
+
+  /// The answer to `get_parameter_types` ([`Self::get_types`]), or
+  /// `Err(reason)` when the request is over the [`limits`].
+  pub fn answer_get_types(&self, names: &[String]) -> Result<Vec<u8>, String> {
+    match limits::refuse_names("names", names.iter().map(String::as_str)) {
+      Some(reason) => Err(reason),
+      None => Ok(self.get_types(names)),
+    }
+  }
+
+  /// The answer to `describe_parameters` ([`Self::describe`]), or
+  /// `Err(reason)` when the request or its reply is over the [`limits`].
+  pub fn answer_describe(&self, names: &[String]) -> Result<Vec<raw::ParameterDescriptor>, String> {
+    if let Some(reason) = limits::refuse_names("names", names.iter().map(String::as_str)) {
+      return Err(reason);
+    }
+    let descriptors: Vec<raw::ParameterDescriptor> = self
+      .describe(names)
+      .into_iter()
+      .map(raw::ParameterDescriptor::from)
+      .collect();
+    let size = 4
+      + descriptors
+        .iter()
+        .map(limits::raw_descriptor_bytes)
+        .sum::<usize>();
+    limits::check_reply("describe_parameters", size).map(|()| descriptors)
+  }
+
+  /// The answer to `list_parameters` ([`Self::list`]), or `Err(reason)` when
+  /// the request or its reply is over the [`limits`].
+  pub fn answer_list(
+    &self,
+    prefixes: &[String],
+    depth: u64,
+  ) -> Result<ListParametersResult, String> {
+    if let Some(reason) = limits::refuse_names("prefixes", prefixes.iter().map(String::as_str)) {
+      return Err(reason);
+    }
+    let result = self.list(prefixes, depth);
+    let size = limits::names_bytes(&result.names) + limits::names_bytes(&result.prefixes);
+    limits::check_reply("list_parameters", size).map(|()| result)
+  }
+
   pub fn has(&self, name: &str) -> bool {
     self.values.lock().unwrap().contains_key(name)
   }
@@ -660,6 +719,159 @@ impl ParameterStore {
       }
     }
     Ok(())
+  }
+}
+
+/// Bounds on one request to a node's parameter services (`get_parameters`,
+/// `get_parameter_types`, `describe_parameters`, `list_parameters`,
+/// `set_parameters`, `set_parameters_atomically`), so that every request gets
+/// a reply small enough to send, however large the request.
+///
+/// A get, types, describe or list request over a bound is answered as rclcpp
+/// answers one that names an undeclared parameter: with an empty list. A set
+/// request is answered with the reason in `SetParametersResult.reason`. Either
+/// way the node logs one warning with the reason, at the target
+/// [`limits::LOG_TARGET`].
+pub mod limits {
+  use super::{ParameterValue, raw};
+
+  /// Longest parameter name (or `list_parameters` prefix), in bytes. A longer
+  /// name cannot be set, so no parameter has one.
+  pub const MAX_NAME_BYTES: usize = 256;
+  /// Most names, prefixes or parameters in one request.
+  pub const MAX_NAMES_PER_REQUEST: usize = 1024;
+  /// Largest value a set may carry, in bytes: a string's length, 1 per
+  /// byte or boolean of an array, 8 per integer or double, a string array's
+  /// strings plus 4 each.
+  pub const MAX_VALUE_BYTES: usize = 64 * 1024;
+  /// Longest `SetParametersResult.reason`, in bytes; a longer reason (the
+  /// validator's text) is cut at a character boundary and ends in "…".
+  pub const MAX_REASON_BYTES: usize = 512;
+  /// Largest reply to get, describe or list, in bytes as serialized (CDR,
+  /// counted with every possible padding); a larger one is answered empty.
+  pub const MAX_REPLY_BYTES: usize = 1 << 20;
+  /// The `log` target of the one warning logged per refused request.
+  pub const LOG_TARGET: &str = "ros2_client::parameter_services";
+
+  /// Why a request naming `names` (described as `what`: "names", "prefixes",
+  /// "parameters") is refused as a whole, if it is.
+  pub fn refuse_names<'a>(
+    what: &str,
+    names: impl ExactSizeIterator<Item = &'a str>,
+  ) -> Option<String> {
+    if let Some(reason) = refuse_count(what, names.len()) {
+      return Some(reason);
+    }
+    names
+      .enumerate()
+      .find(|(_, name)| name.len() > MAX_NAME_BYTES)
+      .map(|(i, name)| {
+        format!(
+          "{what}[{i}] is {} bytes long, over the limit of {MAX_NAME_BYTES} bytes for a \
+           parameter name",
+          name.len()
+        )
+      })
+  }
+
+  /// Why a request with `count` names, prefixes or parameters (`what`) is
+  /// refused as a whole, if it is.
+  pub fn refuse_count(what: &str, count: usize) -> Option<String> {
+    (count > MAX_NAMES_PER_REQUEST)
+      .then(|| format!("{count} {what} in one request, over the limit of {MAX_NAMES_PER_REQUEST}"))
+  }
+
+  /// Why setting `name` to `value` is refused before the node's rules see it,
+  /// if it is. The reason never quotes the name or value.
+  pub fn refuse_parameter(name: &str, value: &ParameterValue) -> Option<String> {
+    if name.len() > MAX_NAME_BYTES {
+      return Some(format!(
+        "a parameter name of {} bytes is over the limit of {MAX_NAME_BYTES} bytes",
+        name.len()
+      ));
+    }
+    let size = value_bytes(value);
+    (size > MAX_VALUE_BYTES).then(|| {
+      format!("the value for '{name}' is {size} bytes, over the limit of {MAX_VALUE_BYTES} bytes")
+    })
+  }
+
+  /// The size of `value` as [`MAX_VALUE_BYTES`] counts it.
+  pub fn value_bytes(value: &ParameterValue) -> usize {
+    match value {
+      ParameterValue::NotSet
+      | ParameterValue::Boolean(_)
+      | ParameterValue::Integer(_)
+      | ParameterValue::Double(_) => 8,
+      ParameterValue::String(s) => s.len(),
+      ParameterValue::ByteArray(a) => a.len(),
+      ParameterValue::BooleanArray(a) => a.len(),
+      ParameterValue::IntegerArray(a) => 8 * a.len(),
+      ParameterValue::DoubleArray(a) => 8 * a.len(),
+      ParameterValue::StringArray(a) => a.iter().map(|s| s.len() + 4).sum(),
+    }
+  }
+
+  /// `reason` cut to at most [`MAX_REASON_BYTES`] (at a character boundary,
+  /// ending in "…").
+  pub fn bounded_reason(mut reason: String) -> String {
+    if reason.len() > MAX_REASON_BYTES {
+      let ellipsis = "…";
+      let mut cut = MAX_REASON_BYTES - ellipsis.len();
+      while !reason.is_char_boundary(cut) {
+        cut -= 1;
+      }
+      reason.truncate(cut);
+      reason.push_str(ellipsis);
+    }
+    reason
+  }
+
+  // Upper bounds on CDR sizes: every field with its largest alignment padding.
+  fn string_bytes(s: &str) -> usize {
+    3 + 4 + s.len() + 1
+  }
+  fn sequence_bytes(count: usize, element: usize) -> usize {
+    3 + 4 + 7 + count * element
+  }
+
+  /// At least the serialized size of `value` (CDR, any alignment).
+  pub fn raw_value_bytes(v: &raw::ParameterValue) -> usize {
+    1 + 1 + 7 + 8 + 8 // type, bool, padding, integer, double
+      + string_bytes(&v.string_value)
+      + sequence_bytes(v.byte_array.len(), 1)
+      + sequence_bytes(v.bool_array.len(), 1)
+      + sequence_bytes(v.int_array.len(), 8)
+      + sequence_bytes(v.double_array.len(), 8)
+      + 3 + 4 + v.string_array.iter().map(|s| string_bytes(s)).sum::<usize>()
+  }
+
+  /// At least the serialized size of `d` (CDR, any alignment).
+  pub fn raw_descriptor_bytes(d: &raw::ParameterDescriptor) -> usize {
+    string_bytes(&d.name)
+      + 1
+      + string_bytes(&d.description)
+      + string_bytes(&d.additional_constraints)
+      + 2
+      + sequence_bytes(d.floating_point_range.len(), 24)
+      + sequence_bytes(d.integer_range.len(), 24)
+  }
+
+  /// At least the serialized size of a list of `names`.
+  pub fn names_bytes(names: &[String]) -> usize {
+    3 + 4 + names.iter().map(|n| string_bytes(n)).sum::<usize>()
+  }
+
+  /// `Err(reason)` when a reply of `size` bytes (of the service `what`) is
+  /// over [`MAX_REPLY_BYTES`].
+  pub fn check_reply(what: &str, size: usize) -> Result<(), String> {
+    if size > MAX_REPLY_BYTES {
+      Err(format!(
+        "the {what} reply would be {size} bytes, over the limit of {MAX_REPLY_BYTES} bytes"
+      ))
+    } else {
+      Ok(())
+    }
   }
 }
 
@@ -1025,5 +1237,198 @@ mod tests {
     // The separator after the prefix counts towards depth.
     assert_eq!(names(&["a"], 1).names, ["a"]);
     assert_eq!(names(&["a"], 2).names, ["a", "a.b"]);
+  }
+
+  // The serialized size of `value` as the services send it (CDR, little endian).
+  #[cfg(feature = "dds")]
+  fn cdr_len<T: serde::Serialize>(value: &T) -> usize {
+    let mut bytes = Vec::new();
+    rustdds::serialization::to_writer_with_rep_id(
+      &mut bytes,
+      value,
+      rustdds::RepresentationIdentifier::CDR_LE,
+    )
+    .unwrap();
+    bytes.len()
+  }
+
+  #[cfg(feature = "dds")]
+  #[test]
+  fn reply_sizes_are_never_underestimated() {
+    use super::{limits, raw};
+    let values = [
+      ParameterValue::NotSet,
+      ParameterValue::Boolean(true),
+      ParameterValue::String("x".repeat(1001)),
+      ParameterValue::ByteArray(vec![1; 7]),
+      ParameterValue::BooleanArray(vec![true; 3]),
+      ParameterValue::IntegerArray(vec![1; 5]),
+      ParameterValue::DoubleArray(vec![0.5; 2]),
+      ParameterValue::StringArray(vec!["a".into(), "bcd".into(), String::new()]),
+    ];
+    // Each value after a 1-byte field and alone, as a list element follows
+    // anything.
+    for v in values {
+      let raw = raw::ParameterValue::from(v.clone());
+      let bound = limits::raw_value_bytes(&raw);
+      let actual = cdr_len(&(1u8, &raw)) - 1;
+      assert!(
+        actual <= bound && bound <= actual + 64,
+        "{v:?}: {actual} serialized, {bound} counted"
+      );
+    }
+    let store = ParameterStore::new(
+      vec![param("p", ParameterValue::Integer(1))],
+      false,
+      None,
+      None,
+    )
+    .unwrap();
+    for name in ["p", "unknown", &"n".repeat(256)] {
+      let d = raw::ParameterDescriptor::from(store.describe(&[name.to_string()]).remove(0));
+      let bound = limits::raw_descriptor_bytes(&d);
+      let actual = cdr_len(&(1u8, &d)) - 1;
+      assert!(
+        actual <= bound && bound <= actual + 64,
+        "{name}: {actual} serialized, {bound} counted"
+      );
+    }
+    let names = vec!["a.b".to_string(), "c".repeat(300)];
+    let actual = cdr_len(&(1u8, &names)) - 1;
+    let bound = limits::names_bytes(&names);
+    assert!(
+      actual <= bound && bound <= actual + 32,
+      "names: {actual} serialized, {bound} counted"
+    );
+  }
+
+  #[cfg(feature = "dds")]
+  #[test]
+  fn requests_over_the_limits_are_refused_and_replies_stay_under_a_mebibyte() {
+    use super::limits::{MAX_NAME_BYTES, MAX_NAMES_PER_REQUEST, MAX_REPLY_BYTES, MAX_VALUE_BYTES};
+    use crate::rcl_interfaces::{
+      DescribeParametersResponse, GetParametersResponse, ListParametersResponse,
+    };
+    assert_eq!(
+      (MAX_NAME_BYTES, MAX_NAMES_PER_REQUEST, MAX_REPLY_BYTES),
+      (256, 1024, 1 << 20)
+    );
+    let big = "v".repeat(MAX_VALUE_BYTES);
+    let store = ParameterStore::new(
+      vec![
+        param("p", ParameterValue::Integer(1)),
+        param("big", ParameterValue::String(big)),
+      ],
+      false,
+      None,
+      None,
+    )
+    .unwrap();
+    let longest = "n".repeat(256);
+    let at_limit: Vec<String> = vec![longest.clone(); 1024];
+
+    // At the limits: answered, each entry as for any unknown name, and the reply
+    // (serialized) under a mebibyte.
+    let values = store.answer_get(&at_limit).unwrap();
+    assert_eq!(values.len(), 1024);
+    assert!(values.iter().all(|v| v.ptype == 0));
+    assert!(cdr_len(&GetParametersResponse { values }) < 1 << 20);
+    let descriptors = store.answer_describe(&at_limit).unwrap();
+    assert_eq!(descriptors.len(), 1024);
+    assert!(
+      descriptors
+        .iter()
+        .all(|d| d.name == longest && d.r#type == 0)
+    );
+    let size = cdr_len(&DescribeParametersResponse {
+      values: descriptors,
+    });
+    assert!(size > 256 * 1024 && size < 1 << 20, "{size}");
+    assert_eq!(store.answer_get_types(&at_limit).unwrap(), vec![0; 1024]);
+    let listed = store.answer_list(&at_limit, 0).unwrap();
+    assert!(listed.names.is_empty());
+    assert!(cdr_len(&ListParametersResponse { result: listed }) < 64);
+
+    // One name more, or one byte more in any name: refused, with the reason.
+    let too_many: Vec<String> = vec!["p".to_string(); 1025];
+    let mut too_long = vec!["p".to_string(); 3];
+    too_long[2] = "n".repeat(257);
+    for names in [&too_many, &too_long] {
+      let reasons = [
+        store.answer_get(names).unwrap_err(),
+        store.answer_get_types(names).unwrap_err(),
+        store.answer_describe(names).unwrap_err(),
+        store.answer_list(names, 0).unwrap_err(),
+      ];
+      for reason in reasons {
+        assert!(reason.contains("over the limit of"), "{reason}");
+        assert!(reason.len() < 200, "the reason quotes no name: {reason}");
+      }
+    }
+    assert!(
+      store
+        .answer_get(&too_many)
+        .unwrap_err()
+        .starts_with("1025 names")
+    );
+    assert!(
+      store
+        .answer_get(&too_long)
+        .unwrap_err()
+        .contains("names[2] is 257 bytes")
+    );
+
+    // A reply that would be over a mebibyte: 16 copies of a 64 KiB value.
+    let sixteen = vec!["big".to_string(); 16];
+    let reason = store.answer_get(&sixteen).unwrap_err();
+    assert!(reason.contains("get_parameters reply would be"), "{reason}");
+    let fifteen = vec!["big".to_string(); 15];
+    let values = store.answer_get(&fifteen).unwrap();
+    assert!(cdr_len(&GetParametersResponse { values }) < 1 << 20);
+  }
+
+  #[test]
+  fn a_set_over_the_limits_is_refused_with_a_reason_that_quotes_no_value() {
+    use super::limits::{self, MAX_REASON_BYTES};
+    assert_eq!(
+      limits::refuse_parameter(&"n".repeat(256), &ParameterValue::Integer(1)),
+      None
+    );
+    let reason = limits::refuse_parameter(&"n".repeat(257), &ParameterValue::Integer(1)).unwrap();
+    assert_eq!(
+      reason,
+      "a parameter name of 257 bytes is over the limit of 256 bytes"
+    );
+    let value = |n| ParameterValue::String("v".repeat(n));
+    assert_eq!(limits::refuse_parameter("p", &value(65536)), None);
+    let reason = limits::refuse_parameter("p", &value(65537)).unwrap();
+    assert_eq!(
+      reason,
+      "the value for 'p' is 65537 bytes, over the limit of 65536 bytes"
+    );
+    let doubles = ParameterValue::DoubleArray(vec![0.0; 8193]);
+    assert!(
+      limits::refuse_parameter("p", &doubles).is_some(),
+      "8193 doubles are 65544 bytes"
+    );
+    let strings = ParameterValue::StringArray(vec![String::new(); 16385]);
+    assert!(
+      limits::refuse_parameter("p", &strings).is_some(),
+      "each string counts 4 bytes more"
+    );
+    assert!(limits::refuse_count("parameters", 1024).is_none());
+    assert_eq!(
+      limits::refuse_count("parameters", 1025).unwrap(),
+      "1025 parameters in one request, over the limit of 1024"
+    );
+
+    // A reason longer than the limit is cut at a character boundary.
+    assert_eq!(MAX_REASON_BYTES, 512);
+    let long = "é".repeat(400); // 800 bytes
+    let cut = limits::bounded_reason(long.clone());
+    assert!(cut.len() <= 512 && cut.len() > 500, "{}", cut.len());
+    assert!(cut.ends_with('…'));
+    assert!(long.starts_with(cut.trim_end_matches('…')));
+    assert_eq!(limits::bounded_reason("short".into()), "short");
   }
 }

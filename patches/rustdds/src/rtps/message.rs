@@ -971,6 +971,115 @@ mod tests {
     assert_eq!(generic_multi, fast_multi);
   }
 
+  // A reply too large for one datagram goes out as DATA_FRAGs carrying the
+  // request's identity as inline QoS (PID_RELATED_SAMPLE_IDENTITY, DDS-RPC
+  // 7.8.2.1.1). The inline QoS must follow sampleSize directly (RTPS 2.5
+  // 9.4.5.4: octetsToInlineQos = 28) and the submessage must be exactly as long
+  // as its header says; a stray byte there made the datagram one byte longer
+  // than its submessages (and a peer read neither the QoS nor the payload).
+  #[test]
+  fn a_data_frag_with_inline_qos_is_as_long_as_its_header_says_and_reads_back() {
+    use crate::{
+      dds::with_key::datawriter::WriteOptionsBuilder,
+      messages::submessages::elements::serialized_payload::SerializedPayload,
+      structure::{guid::EntityKind, rpc::SampleIdentity},
+      RepresentationIdentifier,
+    };
+    let request_writer = GUID::new(
+      GuidPrefix::new(&[7; 12]),
+      EntityId::new([1, 2, 3], EntityKind::WRITER_NO_KEY_USER_DEFINED),
+    );
+    let identity = SampleIdentity {
+      writer_guid: request_writer,
+      sequence_number: SequenceNumber::new(5),
+    };
+    let payload: Vec<u8> = (0..997u32).map(|i| (i * 7 % 251) as u8).collect();
+    let cc = CacheChange::new(
+      GUID::dummy_test_guid(EntityKind::WRITER_NO_KEY_USER_DEFINED),
+      SequenceNumber::new(1),
+      WriteOptionsBuilder::new()
+        .related_sample_identity(identity)
+        .build(),
+      DDSData::new(SerializedPayload::new(
+        RepresentationIdentifier::CDR_LE,
+        payload,
+      )),
+    );
+    let sample_size = cc.data_value.payload_size() as u32; // 4-byte encapsulation header + 997
+    let reader = GUID::new(
+      GuidPrefix::new(&[9; 12]),
+      EntityId::new([4, 5, 6], EntityKind::READER_NO_KEY_USER_DEFINED),
+    );
+    // Fragments 2 and 3 of 256 bytes, after INFO_DST and INFO_TS, as the
+    // writer packs them.
+    let msg = MessageBuilder::new()
+      .ts_msg(Endianness::LittleEndian, Some(Timestamp::now()))
+      .dst_submessage(Endianness::LittleEndian, reader.prefix)
+      .data_frag_msg(
+        &cc,
+        reader.entity_id,
+        cc.writer_guid,
+        FragmentNumber::new(2),
+        2,
+        256,
+        sample_size,
+        Endianness::LittleEndian,
+        None,
+      )
+      .add_header_and_build(cc.writer_guid.prefix);
+    let bytes = msg.write_to_vec_fast(Endianness::LittleEndian).unwrap();
+    assert_eq!(
+      bytes,
+      msg.write_to_vec_with_ctx(Endianness::LittleEndian).unwrap()
+    );
+
+    // Walk the datagram by the lengths in its submessage headers: RTPS header
+    // (20), INFO_TS (4 + 8), INFO_DST (4 + 12), then the DATA_FRAG (kind 0x16),
+    // which must end exactly at the end of the datagram.
+    let frag_at = 20 + 12 + 16;
+    assert_eq!(bytes[frag_at], 0x16, "DATA_FRAG submessage id");
+    let content_length = u16::from_le_bytes([bytes[frag_at + 2], bytes[frag_at + 3]]) as usize;
+    assert_eq!(
+      frag_at + 4 + content_length,
+      bytes.len(),
+      "the DATA_FRAG ends where its header says"
+    );
+    let body = &bytes[frag_at + 4..];
+    assert_eq!(
+      u16::from_le_bytes([body[2], body[3]]),
+      28,
+      "octetsToInlineQos"
+    );
+    // The inline QoS starts right after the 28 octets: PID_RELATED_SAMPLE_IDENTITY
+    // (0x0083), length 24, the request writer's GUID prefix.
+    assert_eq!(
+      &body[32..36],
+      &[0x83, 0x00, 24, 0],
+      "first inline QoS parameter"
+    );
+    assert_eq!(&body[36..48], &[7; 12]);
+
+    // And a reader gets the QoS and fragments 2-3 back.
+    let read = Message::read_from_buffer(&Bytes::from(bytes)).unwrap();
+    let frag = read
+      .submessages
+      .iter()
+      .find_map(|s| match &s.body {
+        SubmessageBody::Writer(WriterSubmessage::DataFrag(df, _)) => Some(df.clone()),
+        _ => None,
+      })
+      .expect("a DATA_FRAG");
+    let sent = cc.data_value.bytes_slice(256, 768);
+    assert_eq!(frag.serialized_payload, sent);
+    assert_eq!(frag.data_size, sample_size);
+    let qos = frag.inline_qos.expect("inline QoS");
+    assert_eq!(qos.parameters.len(), 2, "{qos:?}");
+    assert_eq!(
+      qos.parameters[0].parameter_id,
+      ParameterId::PID_RELATED_SAMPLE_IDENTITY
+    );
+  }
+
   #[test]
   fn try_submessage_content_length_rejects_overflow() {
     assert!(try_submessage_content_length(65535).is_ok());

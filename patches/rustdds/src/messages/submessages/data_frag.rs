@@ -87,8 +87,17 @@ impl DataFrag {
     2 + // fragmentsInSubmessage
     2 + // fragmentSize
     4 + // sampleSize
-    self.inline_qos.as_ref().map(|q| q.len_serialized() ).unwrap_or(0) + // QoS ParameterList
+    self.inline_qos_to_write().map(|q| q.len_serialized() ).unwrap_or(0) + // QoS ParameterList
     self.serialized_payload.len()
+  }
+
+  /// The inline QoS as written: only a non-empty list is (the InlineQos flag
+  /// says whether one follows), so `len_serialized` and `write_to` agree.
+  fn inline_qos_to_write(&self) -> Option<&ParameterList> {
+    self
+      .inline_qos
+      .as_ref()
+      .filter(|q| !q.parameters.is_empty())
   }
 
   /// Spec talks about (expected) total number of fragments.
@@ -301,8 +310,11 @@ impl<C: Context> Writable<C> for DataFrag {
     writer.write_value(&self.fragments_in_submessage)?;
     writer.write_value(&self.fragment_size)?;
     writer.write_value(&self.data_size)?;
-    if self.inline_qos.is_some() && !self.inline_qos.as_ref().unwrap().parameters.is_empty() {
-      writer.write_value(&self.inline_qos)?;
+    // The ParameterList itself, not the `Option` around it: speedy writes an
+    // `Option` with a one-byte tag, which put a stray 0x01 in front of the
+    // inline QoS (and made the submessage one byte longer than its header said).
+    if let Some(inline_qos) = self.inline_qos_to_write() {
+      writer.write_value(inline_qos)?;
     }
     writer.write_bytes(&self.serialized_payload)?;
     Ok(())
