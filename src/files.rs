@@ -110,10 +110,11 @@ pub fn note_input(path: &Path, meta: &std::fs::Metadata) {
     }
 }
 
-/// The input noted by [`note_input`] that is the file `id`, if any.
+/// The input noted by [`note_input`] that is the file `id`, if any. Its path must still lead to that file: an
+/// input since deleted can have its inode reused by a new file, which was never read.
 fn noted_input(id: (u64, u64)) -> Option<PathBuf> {
     let read = INPUTS_READ.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    read.iter().find(|(seen, _)| *seen == id).map(|(_, path)| path.clone())
+    read.iter().find(|(seen, path)| *seen == id && identity(path) == Some(id)).map(|(_, path)| path.clone())
 }
 
 /// The files a bag at `path` is made of: the path itself when it is a file, else every file directly in the
@@ -232,5 +233,18 @@ mod tests {
         assert!(e.contains("is the input file") && e.contains("profile.csv"), "{e}");
         // A file the process never read stays writable.
         assert!(refuse_clobber("--plot", &dir.path().join("other.svg"), &[], &[]).is_ok());
+    }
+
+    #[test]
+    fn a_deleted_input_s_inode_reused_by_a_new_file_is_not_an_input() {
+        let dir = tempfile::tempdir().unwrap();
+        let read = dir.path().join("read.csv");
+        std::fs::write(&read, "x\n").unwrap();
+        read_text(&read, "input").unwrap();
+        std::fs::remove_file(&read).unwrap();
+        // Whatever inode the filesystem hands out next (often the one just freed), a new file was never read.
+        let fresh = dir.path().join("fresh.svg");
+        std::fs::write(&fresh, "").unwrap();
+        assert!(refuse_clobber("--plot", &fresh, &[], &[]).is_ok());
     }
 }
