@@ -105,6 +105,8 @@ static INPUTS_READ: std::sync::Mutex<Vec<((u64, u64), PathBuf)>> = std::sync::Mu
 pub fn note_input(path: &Path, meta: &std::fs::Metadata) {
     let id = (meta.dev(), meta.ino());
     let mut read = INPUTS_READ.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    // An entry of the same identity whose path leads elsewhere now was a deleted file's: this one replaces it.
+    read.retain(|(seen, noted)| *seen != id || identity(noted) == Some(id));
     if !read.iter().any(|(seen, _)| *seen == id) {
         read.push((id, path.to_path_buf()));
     }
@@ -246,5 +248,8 @@ mod tests {
         let fresh = dir.path().join("fresh.svg");
         std::fs::write(&fresh, "").unwrap();
         assert!(refuse_clobber("--plot", &fresh, &[], &[]).is_ok());
+        // Read now, it is an input, whatever was noted under its inode before.
+        read_text(&fresh, "input").unwrap();
+        assert!(refuse_clobber("--plot", &fresh, &[], &[]).is_err());
     }
 }
