@@ -102,7 +102,10 @@ fn season(csv: &Path) {
     let tmp = tempfile::tempdir().expect("tempdir");
     let bag = tmp.path().join("season");
     let started = std::time::Instant::now();
-    let import = import_files(&[csv.to_path_buf()], &bag, &options()).expect("import");
+    // As `sweetspot import statcast` does: the game ball.
+    let game =
+        ImportOptions { ball_params: params_from_ball("mlb2024", &Ball::game(), None, Header::default()), ..options() };
+    let import = import_files(&[csv.to_path_buf()], &bag, &game).expect("import");
     eprintln!("import: {} swings in {:.1} s", import.swings, started.elapsed().as_secs_f64());
     let threads = rayon::current_num_threads();
     for pass in 1..=passes {
@@ -111,11 +114,13 @@ fn season(csv: &Path) {
         let seconds = started.elapsed().as_secs_f64();
         println!(
             "locate_season pass {pass}: {} swings in {seconds:.1} s on {threads} threads ({:.0} µs per swing): \
-             {} located, {} too fast",
+             {} located, {} too fast; collisions per swing: {:.1} searching, {:.1} with the node's time step",
             report.swings.len(),
             seconds * 1e6 / report.swings.len() as f64,
             report.located,
-            report.too_fast
+            report.too_fast,
+            report.collisions.0 as f64 / report.swings.len() as f64,
+            report.collisions.1 as f64 / report.swings.len() as f64,
         );
     }
 }

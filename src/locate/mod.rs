@@ -17,8 +17,13 @@
 //! secant steps — by Levenberg–Marquardt on the weighted residuals (v − v_m)/σ_v, (θ − θ_m)/σ_θ and, when
 //! the spin ω is measured, (ω − ω_m)/σ_ω (forward-difference Jacobian).
 //!
-//! **Cost.** A swing takes about 90 collisions with θ and ω measured, 25–45 with v alone; the bat's modes
-//! are solved once per bat, and swings run in parallel (rayon).
+//! **Cost.** With D free, the search runs at up to 4× the node's time step ([`search_options`]: a collision
+//! there costs about half of one at the node's step, and moves the answers by ~10⁻⁴ m/s and ~10⁻⁴ °), and
+//! Levenberg–Marquardt finishes each solution with the node's own options from the search's solution and
+//! Jacobian, so every reported number (solution, χ², covariance at the solution, model values) is the node's
+//! model. A Statcast swing (v and θ measured) takes ~75 search collisions and ~13 at the node's step; with v
+//! alone (z only) the node's options throughout, 25–45 collisions. The bat's modes are solved once per bat,
+//! and swings run in parallel (rayon).
 //!
 //! **Uncertainty.** The trackers' accuracies (default σ_v = 0.45 m/s ≈ 1 mph, σ_θ = 1°, σ_ω = 100 rpm: the
 //! exit radar's noise of `sweetspot rig` and the accuracies `calibrate --fit-tangential` weights by)
@@ -58,6 +63,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -76,9 +82,16 @@ use crate::physics::{collide, Ball, Bat, CollisionOptions, ModeSet, PhysicsError
 pub const GRID_POINTS: usize = 13;
 /// Half-width of the window searched for the sweet spot at another undercut, as a share of the search range.
 const PEAK_WINDOW: f64 = 0.05;
+/// Half-width of the window searched first, m: the sweet spot moves by micrometres per millimetre of
+/// undercut, so it nearly always lies within this of the guess; when the maximum found sits on this window's
+/// edge it lies outside, and [`PEAK_WINDOW`] is searched.
+const NARROW_WINDOW: f64 = 0.005;
 /// The sweet spot is located to about this, m (its place decides the side and "squared up" of a solution at
 /// the millimetre; the exit speed there is flat to 10⁻⁶ of itself over it).
 const PEAK_TOLERANCE: f64 = 2e-5;
+/// The peak at the swing's undercut is located to this when it only brackets roots and guesses where the
+/// sweet spot at the solution's undercut lies, m.
+const GUESS_TOLERANCE: f64 = 2e-4;
 /// Half-width of the "squared up" band around the sweet spot, m.
 pub const SQUARED_UP: f64 = 0.02;
 /// Impact points are searched from this fraction of the bat's length to its end.
@@ -205,6 +218,9 @@ pub struct LocateReport {
     pub bat_speed_fitted: Option<usize>,
     /// Share of located swings squared up (within ±2 cm of the sweet spot), NaN without any.
     pub squared_up_share: f64,
+    /// Collisions run: (with the search's options, with the node's), for the bench.
+    #[serde(skip)]
+    pub collisions: (usize, usize),
     /// Each bat's outline, by bat id: (z from the knob, outer radius) in m, for the figure.
     #[serde(skip)]
     pub outlines: BTreeMap<String, Vec<(f64, f64)>>,
@@ -228,18 +244,80 @@ fn outline(bat: &Bat) -> Vec<(f64, f64)> {
 struct PreparedBat {
     bat: Bat,
     modes: ModeSet,
+    /// The node's collision options: every reported number comes from these.
     options: CollisionOptions,
+    /// The search's: [`search_options`].
+    search: CollisionOptions,
+    /// Collisions run with `search`, and with `options`.
+    counts: [AtomicUsize; 2],
+}
+
+impl PreparedBat {
+    fn new(bat: Bat, modes: ModeSet, options: CollisionOptions) -> PreparedBat {
+        let search = search_options(&bat, &modes, options);
+        PreparedBat { bat, modes, options, search, counts: Default::default() }
+    }
+}
+
+/// Largest factor by which the search lengthens the time step.
+const SEARCH_STEP_FACTOR: usize = 4;
+
+/// The collision options the search for a solution runs with: `options` with the time step lengthened up to
+/// [`SEARCH_STEP_FACTOR`] times, as far as RK4 stays stable for every mode and for the wall's hoop mode over
+/// the barrel half. The search (root brackets, the launch-angle start, Levenberg–Marquardt to near
+/// convergence, the sweet spot at the solution's undercut) makes ~90 % of a swing's collisions, and its
+/// answers only have to lie close to the node's: on the R161 at 4 × 5 µs the exit speed moves by ~10⁻⁴ m/s and
+/// the launch angle by ~10⁻⁴ °, a few ten-thousandths of the trackers' σ, so Levenberg–Marquardt finishes
+/// with `options` in one or two steps and every reported number is the node's model.
+fn search_options(bat: &Bat, modes: &ModeSet, options: CollisionOptions) -> CollisionOptions {
+    let (lo, hi) = (SEARCH_FROM * bat.length(), bat.length() - END_GAP);
+    for factor in (2..=SEARCH_STEP_FACTOR).rev() {
+        let candidate = CollisionOptions { time_step: options.time_step * factor as f64, ..options };
+        let stable = candidate.validate(modes).is_ok()
+            && (0..=64).all(|i| {
+                let z = lo + (hi - lo) * i as f64 / 64.0;
+                modes.hoop_at(z).is_none_or(|hoop| candidate.validate_hoop(&hoop, z).is_ok())
+            });
+        if stable {
+            return candidate;
+        }
+    }
+    options
 }
 
 /// The model of one swing with z and D free.
 struct SwingModel<'a> {
     bat: &'a PreparedBat,
+    /// The collision options this model integrates with (the bat's `options` or its `search`).
+    options: &'a CollisionOptions,
     ball: Ball,
     contact: TangentialContact,
     input: SwingInput,
 }
 
+/// A Levenberg–Marquardt solution: (z, D), Cov(z, D), and the model's exit speed, launch angle and spin there.
+struct Fit {
+    z: f64,
+    d: f64,
+    cov: [[f64; 2]; 2],
+    prediction: [f64; 3],
+    /// Jacobian of the weighted residuals (rows: the measured quantities; columns: z, D) the fit ended with.
+    jacobian: Vec<[f64; 2]>,
+}
+
+/// Levenberg–Marquardt stops the search's fit when χ² falls below this (the residuals at 10⁻⁴ σ): the finish
+/// with the node's options starts there.
+const SEARCH_CHI2: f64 = 1e-8;
+/// …and the finish below this (the residuals at 10⁻⁶ σ, sub-µm/s in exit speed; a solution needs χ² ≤ 10⁻⁶
+/// to count as reproducing the measurements).
+const FINAL_CHI2: f64 = 1e-12;
+
 impl SwingModel<'_> {
+    /// The same swing integrated with the bat's search options.
+    fn searching(&self) -> SwingModel<'_> {
+        SwingModel { options: &self.bat.search, ..*self }
+    }
+
     /// Exit speed, launch angle and spin at impact point `z` and undercut `d`.
     fn predict(&self, z: f64, d: f64) -> Result<[f64; 3], PhysicsError> {
         self.predict_scaled(z, d, 1.0)
@@ -248,6 +326,8 @@ impl SwingModel<'_> {
     /// Exit speed, launch angle and spin at impact point `z`, undercut `d` and the swing's bat speeds (centre
     /// of mass and angular together, so the pivot stays) times `scale`.
     fn predict_scaled(&self, z: f64, d: f64, scale: f64) -> Result<[f64; 3], PhysicsError> {
+        let searching = std::ptr::eq(self.options, &self.bat.search);
+        self.bat.counts[usize::from(!searching)].fetch_add(1, Ordering::Relaxed);
         let mut input = self.input;
         input.impact.impact_z = z;
         input.undercut = d;
@@ -255,7 +335,7 @@ impl SwingModel<'_> {
         input.impact.bat_cm_speed *= scale;
         input.impact.bat_angular_speed *= scale;
         if input.is_head_on() {
-            let r = collide(&self.bat.modes, &self.ball, &input.impact, &self.bat.options)?;
+            let r = collide(&self.bat.modes, &self.ball, &input.impact, self.options)?;
             return Ok([r.exit_speed, 0.0, 0.0]);
         }
         let oblique = ObliqueImpact {
@@ -266,7 +346,7 @@ impl SwingModel<'_> {
             pitch_angle: input.pitch_angle,
             pitch_spin: input.pitch_spin,
         };
-        let r = collide_oblique(&self.bat.modes, &self.ball, &oblique, &self.contact, &self.bat.options)?;
+        let r = collide_oblique(&self.bat.modes, &self.ball, &oblique, &self.contact, self.options)?;
         Ok([r.exit_speed, r.launch_angle, r.spin])
     }
 
@@ -285,19 +365,29 @@ impl SwingModel<'_> {
     }
 
     /// The sweet spot at undercut `d` near `guess` (the sweet spot at a nearby undercut): the maximum of v
-    /// within [`PEAK_WINDOW`] of the search range of it.
+    /// within [`NARROW_WINDOW`] of it, or within [`PEAK_WINDOW`] of the search range when it lies outside.
     fn sweet_spot_near(&self, d: f64, guess: f64) -> (f64, f64) {
         let (lo, hi) = self.range();
-        let h = PEAK_WINDOW * (hi - lo);
-        let (a, b) = ((guess - h).max(lo), (guess + h).min(hi));
-        let start = guess.clamp(a, b);
-        self.brent_max(a, b, (start, self.speed(start, d)), d)
+        let window = |h: f64| ((guess - h).max(lo), (guess + h).min(hi));
+        let start = guess.clamp(lo, hi);
+        let start = (start, self.speed(start, d));
+        let (a, b) = window(NARROW_WINDOW);
+        let narrow = self.brent_max(a, b, start, d, PEAK_TOLERANCE);
+        // Brent's last point lies within about 2 tolerances of an edge only when the maximum is beyond it (or
+        // the edge is the search range's own, where the wide window ends too).
+        let edge = 3.0 * PEAK_TOLERANCE;
+        if (narrow.0 - a > edge || a == lo) && (b - narrow.0 > edge || b == hi) {
+            return narrow;
+        }
+        let (a, b) = window(PEAK_WINDOW * (hi - lo));
+        self.brent_max(a, b, start, d, PEAK_TOLERANCE)
     }
 
     /// The maximum of v(·, d) on [a, b] (v unimodal there) from `start` = (z, v(z)) inside, by Brent's method:
     /// parabolic steps through the three best points, golden sections when a parabola misbehaves. A smooth
     /// peak takes about a third of the evaluations golden section alone needs for the same precision.
-    fn brent_max(&self, mut a: f64, mut b: f64, start: (f64, f64), d: f64) -> (f64, f64) {
+    /// `tolerance` (m) is the precision in z.
+    fn brent_max(&self, mut a: f64, mut b: f64, start: (f64, f64), d: f64, tolerance: f64) -> (f64, f64) {
         const GOLD: f64 = 0.381_966_011_250_105_1; // (3 − √5)/2
                                                    // Minimise −v; a failed collision counts as the worst value so the search moves away from it.
         let g = |z: f64| {
@@ -313,7 +403,7 @@ impl SwingModel<'_> {
         let (mut e, mut step) = (0.0f64, 0.0f64);
         for _ in 0..100 {
             let m = 0.5 * (a + b);
-            let tol1 = 1e-10 * x.abs() + PEAK_TOLERANCE;
+            let tol1 = 1e-10 * x.abs() + tolerance;
             let tol2 = 2.0 * tol1;
             if (x - m).abs() <= tol2 - 0.5 * (b - a) {
                 break;
@@ -368,21 +458,21 @@ impl SwingModel<'_> {
         (x, if fx.is_finite() { -fx } else { f64::NAN })
     }
 
-    fn refine_peak(&self, grid: &[f64], speeds: &[f64], d: f64) -> (f64, f64) {
+    fn refine_peak(&self, grid: &[f64], speeds: &[f64], d: f64, tolerance: f64) -> (f64, f64) {
         let best = (0..grid.len()).filter(|&i| speeds[i].is_finite()).max_by(|&a, &b| speeds[a].total_cmp(&speeds[b]));
         let Some(best) = best else { return (f64::NAN, f64::NAN) };
         let (a, b) = (grid[best.saturating_sub(1)], grid[(best + 1).min(grid.len() - 1)]);
-        self.brent_max(a, b, (grid[best], speeds[best]), d)
+        self.brent_max(a, b, (grid[best], speeds[best]), d, tolerance)
     }
 
     /// Every z in the search range with v(z, d) = target, by grid bracketing and regula falsi, each to
-    /// |v − target| < `tolerance` (m/s); with the peak.
-    fn speed_roots(&self, target: f64, d: f64, tolerance: f64) -> (Vec<f64>, (f64, f64)) {
+    /// |v − target| < `tolerance` (m/s); with the peak, located to `peak_tolerance` (m).
+    fn speed_roots(&self, target: f64, d: f64, tolerance: f64, peak_tolerance: f64) -> (Vec<f64>, (f64, f64)) {
         let (lo, hi) = self.range();
         let mut grid: Vec<f64> =
             (0..GRID_POINTS).map(|i| lo + (hi - lo) * i as f64 / (GRID_POINTS - 1) as f64).collect();
         let mut speeds: Vec<f64> = grid.iter().map(|&z| self.speed(z, d)).collect();
-        let peak = self.refine_peak(&grid, &speeds, d);
+        let peak = self.refine_peak(&grid, &speeds, d, peak_tolerance);
         if peak.0.is_finite() {
             let at = grid.partition_point(|&z| z < peak.0);
             grid.insert(at, peak.0);
@@ -463,12 +553,30 @@ impl SwingModel<'_> {
 
     /// Weighted residuals of the measured quantities at (z, d).
     fn residuals(&self, z: f64, d: f64, measured: &[f64; 3], sigma: &[f64; 3]) -> Option<Vec<f64>> {
-        let p = self.predict(z, d).ok()?;
-        Some((0..3).filter(|&k| measured[k].is_finite()).map(|k| (p[k] - measured[k]) / sigma[k]).collect())
+        self.evaluate(z, d, measured, sigma).map(|(r, _)| r)
     }
 
-    /// Levenberg–Marquardt in (z, D) from `start`, z kept in the search range and |D| within reach.
-    fn fit(&self, start: (f64, f64), measured: &[f64; 3], sigma: &[f64; 3]) -> Option<(f64, f64, [[f64; 2]; 2])> {
+    /// Weighted residuals of the measured quantities at (z, d), and the prediction they come from.
+    fn evaluate(&self, z: f64, d: f64, measured: &[f64; 3], sigma: &[f64; 3]) -> Option<(Vec<f64>, [f64; 3])> {
+        let p = self.predict(z, d).ok()?;
+        Some(((0..3).filter(|&k| measured[k].is_finite()).map(|k| (p[k] - measured[k]) / sigma[k]).collect(), p))
+    }
+
+    /// Levenberg–Marquardt in (z, D) from `start`, z kept in the search range and |D| within reach, until χ²
+    /// falls below `converged`, the step below 10 nm, or a step gains less than 10⁻¹⁰ of χ² (the rounding
+    /// floor of a fit with more measurements than unknowns). With `exact_covariance` the covariance is that of
+    /// the Jacobian at the solution, else of the last one computed (at most a step away).
+    /// `jacobian_at_start`, when given, stands in for the first Jacobian (the search's, from its own fit: it
+    /// differs from this model's by ~10⁻⁵ of itself, so one step from the search's solution converges).
+    fn fit(
+        &self,
+        start: (f64, f64),
+        jacobian_at_start: Option<Vec<[f64; 2]>>,
+        measured: &[f64; 3],
+        sigma: &[f64; 3],
+        converged: f64,
+        exact_covariance: bool,
+    ) -> Option<Fit> {
         let (lo, hi) = self.range();
         let clamp = |z: f64, d: f64| {
             let z = z.clamp(lo, hi);
@@ -476,7 +584,7 @@ impl SwingModel<'_> {
             (z, d.clamp(-reach, reach))
         };
         let (mut z, mut d) = clamp(start.0, start.1);
-        let mut r = self.residuals(z, d, measured, sigma)?;
+        let (mut r, mut prediction) = self.evaluate(z, d, measured, sigma)?;
         let cost = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
         let mut lambda = 1e-3;
         let (hz, hd) = (1e-5, 1e-6);
@@ -485,8 +593,19 @@ impl SwingModel<'_> {
             let rd = self.residuals(z, d + hd, measured, sigma)?;
             Some((0..r.len()).map(|i| [(rz[i] - r[i]) / hz, (rd[i] - r[i]) / hd]).collect())
         };
-        let mut jac = jacobian(z, d, &r)?;
+        // Whether `jac` was computed at (z, d).
+        let mut fresh = false;
+        let mut jac = match jacobian_at_start {
+            Some(j) if j.len() == r.len() => j,
+            _ => {
+                fresh = true;
+                jacobian(z, d, &r)?
+            }
+        };
         for _ in 0..100 {
+            if cost(&r) < converged {
+                break;
+            }
             let mut a = [[0.0; 2]; 2];
             let mut g = [0.0; 2];
             for (row, ri) in jac.iter().zip(&r) {
@@ -505,17 +624,21 @@ impl SwingModel<'_> {
             let step_z = -(damped[1][1] * g[0] - damped[0][1] * g[1]) / det;
             let step_d = -(damped[0][0] * g[1] - damped[1][0] * g[0]) / det;
             let (nz, nd) = clamp(z + step_z, d + step_d);
-            match self.residuals(nz, nd, measured, sigma) {
-                Some(nr) if cost(&nr) < cost(&r) => {
+            match self.evaluate(nz, nd, measured, sigma) {
+                Some((nr, np)) if cost(&nr) < cost(&r) => {
                     let moved = (nz - z).abs().max((nd - d).abs());
+                    let gained = cost(&r) - cost(&nr);
                     z = nz;
                     d = nd;
                     r = nr;
+                    prediction = np;
+                    fresh = false;
                     lambda = (lambda * 0.3).max(1e-9);
-                    jac = jacobian(z, d, &r)?;
-                    if moved < 1e-8 || cost(&r) < 1e-20 {
+                    if moved < 1e-8 || cost(&r) < converged || gained <= 1e-10 * cost(&r) {
                         break;
                     }
+                    jac = jacobian(z, d, &r)?;
+                    fresh = true;
                 }
                 _ => {
                     lambda *= 10.0;
@@ -524,6 +647,9 @@ impl SwingModel<'_> {
                     }
                 }
             }
+        }
+        if exact_covariance && !fresh {
+            jac = jacobian(z, d, &r)?;
         }
         let mut a = [[0.0; 2]; 2];
         for row in &jac {
@@ -539,7 +665,7 @@ impl SwingModel<'_> {
         } else {
             [[f64::INFINITY; 2]; 2]
         };
-        Some((z, d, cov))
+        Some(Fit { z, d, cov, prediction, jacobian: jac })
     }
 }
 
@@ -552,10 +678,14 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
     }
     let d0 = if swing.undercut.is_finite() { swing.undercut } else { 0.0 };
     let free_d = measured[1].is_finite();
-    // A root is the answer when only z is free; with D free it is where Levenberg–Marquardt starts, and
-    // 10 µm/s (a few µm in z) is start enough.
-    let tolerance = if free_d { 1e-5 } else { 1e-12 };
-    let (roots, (peak_z, peak_v)) = model.speed_roots(measured[0], d0, tolerance);
+    // A root is the answer when only z is free, found with the node's options; with D free it is where the
+    // search starts (with the search's options), and 1 mm/s (tens of µm in z) is start enough.
+    let search = model.searching();
+    let (roots, (peak_z, peak_v)) = if free_d {
+        search.speed_roots(measured[0], d0, 1e-3, GUESS_TOLERANCE)
+    } else {
+        model.speed_roots(measured[0], d0, 1e-12, PEAK_TOLERANCE)
+    };
     if !peak_v.is_finite() {
         return Outcome::Failed { reason: "the model gives no exit speed anywhere on the barrel".into() };
     }
@@ -585,8 +715,8 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
         // no root at the swing's undercut (faster than its sweet spot), the undercuts across the reach at the
         // sweet spot, which also give the largest exit speed any undercut tried reaches.
         let starts: Vec<f64> = if roots.is_empty() { vec![peak_z] } else { roots.clone() };
-        let mut best_v = peak_v;
-        let mut best_z = peak_z;
+        // The fastest (v, z, D) the search saw, for the report of a ball too fast for any of them.
+        let mut fastest = (peak_v, peak_z, d0);
         // The closest miss (χ², z, D), for the report when nothing reproduces the measurements.
         let mut closest: Option<(f64, f64, f64)> = None;
         for &z in &starts {
@@ -595,10 +725,9 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 let mut best = (f64::INFINITY, d0);
                 for k in 0..=16 {
                     let d = -reach + 2.0 * reach * k as f64 / 16.0;
-                    if let Ok(p) = model.predict(z, d) {
-                        if p[0] > best_v {
-                            best_v = p[0];
-                            best_z = z;
+                    if let Ok(p) = search.predict(z, d) {
+                        if p[0] > fastest.0 {
+                            fastest = (p[0], z, d);
                         }
                         let miss = ((p[1] - measured[1]) / sigma[1]).abs() + ((p[0] - measured[0]) / sigma[0]).abs();
                         if miss < best.0 {
@@ -608,10 +737,20 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 }
                 best.1
             } else {
-                model.undercut_for_launch_angle(z, d0, measured[1])
+                search.undercut_for_launch_angle(z, d0, measured[1])
             };
-            if let Some((zf, df, cov)) = model.fit((z, start_d), &measured, &sigma) {
-                let Some(r) = model.residuals(zf, df, &measured, &sigma) else { continue };
+            // The search's fit, finished with the node's options (from the start itself if the search's failed).
+            let (near, jacobian) = match search.fit((z, start_d), None, &measured, &sigma, SEARCH_CHI2, false) {
+                Some(f) => ((f.z, f.d), Some(f.jacobian)),
+                None => ((z, start_d), None),
+            };
+            if let Some(Fit { z: zf, d: df, cov, prediction, .. }) =
+                model.fit(near, jacobian, &measured, &sigma, FINAL_CHI2, true)
+            {
+                let r: Vec<f64> = (0..3)
+                    .filter(|&k| measured[k].is_finite())
+                    .map(|k| (prediction[k] - measured[k]) / sigma[k])
+                    .collect();
                 let chi2 = r.iter().map(|x| x * x).sum::<f64>();
                 // As many unknowns as measurements (or fewer): a solution reproduces them all.
                 let dof_fit = r.len() <= 2;
@@ -625,7 +764,9 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 {
                     continue;
                 }
-                let (sweet, _) = model.sweet_spot_near(df, peak_z);
+                // The search's sweet spot: its exit speed differs from the node's by a smooth ~10⁻⁴ m/s, which
+                // moves the peak by under a µm, well inside PEAK_TOLERANCE (the unit tests below compare them).
+                let (sweet, _) = search.sweet_spot_near(df, peak_z);
                 solutions.push(Solution {
                     impact_z: zf,
                     impact_z_sigma: cov[0][0].sqrt(),
@@ -635,13 +776,18 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                     side: if zf < sweet { Side::Handle } else { Side::End },
                     sweet_spot_z: sweet,
                     chi2,
-                    model: model.predict(zf, df).unwrap_or([f64::NAN; 3]),
+                    model: prediction,
                 });
             }
         }
         if solutions.is_empty() {
-            if measured[0] > best_v {
-                return Outcome::TooFast { max_exit_speed: best_v, excess: measured[0] - best_v, sweet_spot_z: best_z };
+            // The sweet spot at the fastest undercut the search found, with the node's options (a rare case:
+            // the search's sweet spot is located only to GUESS_TOLERANCE).
+            let (_, guess_z, fastest_d) = fastest;
+            let (max_z, max_v) = model.sweet_spot_near(fastest_d, guess_z);
+            let (max_z, max_v) = if max_v.is_finite() { (max_z, max_v) } else { (guess_z, fastest.0) };
+            if measured[0] > max_v {
+                return Outcome::TooFast { max_exit_speed: max_v, excess: measured[0] - max_v, sweet_spot_z: max_z };
             }
             let closest = closest.map_or(String::new(), |(chi2, z, d)| {
                 format!(" (closest: χ² = {chi2:.2} at z = {z:.3} m, D = {:+.1} mm)", d * 1e3)
@@ -938,7 +1084,7 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
                 let mut input = model.input;
                 input.impact.bat_cm_speed *= x[2];
                 input.impact.bat_angular_speed *= x[2];
-                let scaled = SwingModel { bat: model.bat, ball: model.ball, contact: model.contact, input };
+                let scaled = SwingModel { input, ..*model };
                 let (sweet, _) = scaled.sweet_spot_near(x[1], peak_z);
                 solutions.push(BatSpeedSolution {
                     impact_z: x[0],
@@ -1028,7 +1174,7 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
     let mut bats: BTreeMap<String, Result<PreparedBat, String>> = BTreeMap::new();
     let prepare = |bat: Bat, modes: usize| -> Result<PreparedBat, String> {
         let set = ModeSet::compute(&bat, modes).map_err(|e| e.to_string())?;
-        Ok(PreparedBat { bat, modes: set, options: CollisionOptions { modes, time_step: settings.time_step } })
+        Ok(PreparedBat::new(bat, set, CollisionOptions { modes, time_step: settings.time_step }))
     };
     for (_, params) in &inputs.bats {
         let prepared = problem_bat(params, settings).and_then(|pb| prepare(pb.bat, pb.modes));
@@ -1076,7 +1222,13 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
             let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
             let outcome = match (bats.get(bat_id), balls.get(ball_id)) {
                 (Some(Ok(bat)), Some(ball)) => {
-                    let model = SwingModel { bat, ball: ball.ball, contact: ball.contact, input: swing_input(swing) };
+                    let model = SwingModel {
+                        bat,
+                        options: &bat.options,
+                        ball: ball.ball,
+                        contact: ball.contact,
+                        input: swing_input(swing),
+                    };
                     let outcome = locate_swing(&model, swing, options);
                     let fit = options.fit_bat_speed.then(|| match &assumed {
                         None => BatSpeedFit::NotFitted {
@@ -1108,12 +1260,79 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
     let bat_speed_fitted = options
         .fit_bat_speed
         .then(|| swings.iter().filter(|s| matches!(s.bat_speed_fit, Some(BatSpeedFit::Fitted { .. }))).count());
-    Ok(LocateReport { swings, located, too_fast, bat_speed_fitted, squared_up_share, outlines })
+    let collisions = bats
+        .values()
+        .filter_map(|b| b.as_ref().ok())
+        .fold((0, 0), |(s, f), b| (s + b.counts[0].load(Ordering::Relaxed), f + b.counts[1].load(Ordering::Relaxed)));
+    Ok(LocateReport { swings, located, too_fast, bat_speed_fitted, squared_up_share, collisions, outlines })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::Impact;
+
+    fn prepared(name: &str) -> PreparedBat {
+        let bat = Bat::preset(name).expect("preset");
+        let options = CollisionOptions::default();
+        let modes = ModeSet::compute(&bat, options.modes).expect("modes");
+        PreparedBat::new(bat, modes, options)
+    }
+
+    /// A game swing: 85-mph pitch descending 7°, 70-mph bat path 10° up, backspin on the pitch.
+    fn game_swing(bat: &PreparedBat) -> SwingModel<'_> {
+        let impact = Impact { ball_speed: 38.0, bat_cm_speed: 24.0, bat_angular_speed: 45.0, impact_z: 0.7 };
+        let input = SwingInput {
+            attack_angle: 10f64.to_radians(),
+            pitch_angle: 7f64.to_radians(),
+            pitch_spin: rpm_to_rad_per_s(2000.0),
+            ..SwingInput::from(impact)
+        };
+        SwingModel { bat, options: &bat.options, ball: Ball::game(), contact: TangentialContact::default(), input }
+    }
+
+    #[test]
+    fn the_search_lengthens_the_step_only_as_far_as_rk4_stays_stable() {
+        // R161, 18 modes: mode 18 at 12.7 kHz allows 2.5/ω = 31 µs, so 4 × 5 µs = 20 µs is taken.
+        let r161 = prepared("r161");
+        assert_eq!(r161.search, CollisionOptions { time_step: 2e-5, ..r161.options });
+        // At a 10-µs step, 4× (40 µs) and 3× (30 µs) pass that limit only as 3×: 30 µs ≤ 31 µs.
+        let bat = Bat::preset("r161").expect("preset");
+        let modes = ModeSet::compute(&bat, 18).expect("modes");
+        let coarse = PreparedBat::new(bat, modes, CollisionOptions { modes: 18, time_step: 1e-5 });
+        assert_eq!(coarse.search.time_step, 3.0 * 1e-5);
+        // The aluminum bat's barrel wall has a hoop mode: every search step is checked against it too.
+        let aluminum = prepared("aluminum");
+        let (lo, hi) = (SEARCH_FROM * aluminum.bat.length(), aluminum.bat.length() - END_GAP);
+        assert!(aluminum.search.time_step >= aluminum.options.time_step);
+        assert!(aluminum.search.validate(&aluminum.modes).is_ok());
+        for i in 0..=100 {
+            let z = lo + (hi - lo) * i as f64 / 100.0;
+            if let Some(hoop) = aluminum.modes.hoop_at(z) {
+                assert!(aluminum.search.validate_hoop(&hoop, z).is_ok(), "z = {z}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_searchs_model_lies_within_a_thousandth_of_sigma_of_the_nodes_and_has_the_same_sweet_spot() {
+        let r161 = prepared("r161");
+        let node = game_swing(&r161);
+        let search = node.searching();
+        let sigma = LocateOptions::default();
+        for d in [-0.01, 0.0, 0.01, 0.025] {
+            for z in [0.45, 0.6, 0.7, 0.8, 0.83] {
+                let (a, b) = (node.predict(z, d).expect("node"), search.predict(z, d).expect("search"));
+                assert!((a[0] - b[0]).abs() < 1e-3 * sigma.exit_speed_sigma, "z {z}, D {d}: v {a:?} {b:?}");
+                assert!((a[1] - b[1]).abs() < 1e-3 * sigma.launch_angle_sigma, "z {z}, D {d}: θ {a:?} {b:?}");
+                assert!((a[2] - b[2]).abs() < 1e-3 * sigma.spin_sigma, "z {z}, D {d}: ω {a:?} {b:?}");
+            }
+            // Both peaks to 0.1 µm: the search's sweet spot is the node's within a micrometre.
+            let peak = |m: &SwingModel<'_>| m.brent_max(0.65, 0.75, (0.7, m.speed(0.7, d)), d, 1e-7);
+            let (zn, zs) = (peak(&node).0, peak(&search).0);
+            assert!((zn - zs).abs() < 1e-6, "D {d}: sweet spot {zn} against {zs}");
+        }
+    }
 
     // Index loops read as the matrix algebra they check.
     #[allow(clippy::needless_range_loop)]
