@@ -80,7 +80,6 @@ def main():
     groups = collections.Counter()
     excess_by_bin = collections.defaultdict(list)
     squared = collections.defaultdict(collections.Counter)
-    near_miss = collections.defaultdict(int)
     for s in report["swings"]:
         row = rows[line_of[s["swing_id"]] - 2]
         bat = float(row["bat_speed"])
@@ -90,16 +89,15 @@ def main():
         verdict = s["verdict"]
         if verdict == "too_fast" and s["excess"] <= 2 * sigma:
             verdict = "too_fast_within_2sigma"
-        bins[b][verdict] += 1
-        bins[b]["all"] += 1
-        if verdict == "too_fast":
-            excess_by_bin[b].append(s["excess"] / MPH)
         if verdict == "failed":
             m = re.search(r"χ² = ([0-9.]+)", s.get("reason", ""))
             if m and float(m.group(1)) <= 4.0:
                 # The closest (z, D) misses the two measurements by at most 2σ together.
                 verdict = "failed_within_2sigma"
-                near_miss[b] += 1
+        bins[b][verdict] += 1
+        bins[b]["all"] += 1
+        if verdict == "too_fast":
+            excess_by_bin[b].append(s["excess"] / MPH)
         if verdict == "located":
             squared[b][s["squared_up"]] += 1
             squared[b][("solutions", len(s["solutions"]))] += 1
