@@ -174,8 +174,7 @@ fn chromium_with_foxglove_client_watches_the_live_node() {
     }
     assert!(decoded.iter().all(|(_, m)| m["status"] == ExitVelocity::STATUS_OK), "{decoded:?}");
 
-    let frames: Vec<(usize, &Value)> =
-        events.iter().enumerate().filter(|(_, e)| e["topic"] == "/bat_frame").map(|(n, e)| (n, e)).collect();
+    let frames: Vec<(usize, &Value)> = events.iter().enumerate().filter(|(_, e)| e["topic"] == "/bat_frame").collect();
     assert_eq!(frames.len(), 1, "one latched frame transform: {frames:?}");
     let (at, frame) = frames[0];
     assert_eq!(frame["type"], "foxglove.FrameTransform");
