@@ -115,7 +115,8 @@ fn the_layout_references_only_served_topics_and_existing_fields() {
 
     let mut checked = 0;
     for (id, config) in configs {
-        for path in config["paths"].as_array().into_iter().flatten() {
+        // A plot's series and the path its x axis takes values from (`xAxisPath`, e.g. the modes' frequencies).
+        for path in config["paths"].as_array().into_iter().flatten().chain(config.get("xAxisPath")) {
             check_path(path["value"].as_str().unwrap()).unwrap_or_else(|e| panic!("{id}: {e}"));
             checked += 1;
         }
