@@ -305,12 +305,12 @@ struct Fit {
     jacobian: Vec<[f64; 2]>,
 }
 
-/// Levenberg–Marquardt stops the search's fit when χ² falls below this (the residuals at 10⁻⁴ σ): the finish
-/// with the node's options starts there.
-const SEARCH_CHI2: f64 = 1e-8;
-/// …and the finish below this (the residuals at 10⁻⁶ σ, sub-µm/s in exit speed; a solution needs χ² ≤ 10⁻⁶
+/// Levenberg–Marquardt stops the search's fit when χ² falls below the first (the residuals at 10⁻⁴ σ) or a
+/// step gains less than the second share of χ²: the finish with the node's options starts there.
+const SEARCH_CONVERGED: (f64, f64) = (1e-8, 1e-6);
+/// …and the finish at these (the residuals at 10⁻⁶ σ, sub-µm/s in exit speed; a solution needs χ² ≤ 10⁻⁶
 /// to count as reproducing the measurements).
-const FINAL_CHI2: f64 = 1e-12;
+const FINAL_CONVERGED: (f64, f64) = (1e-12, 1e-8);
 
 impl SwingModel<'_> {
     /// The same swing integrated with the bat's search options.
@@ -563,8 +563,9 @@ impl SwingModel<'_> {
     }
 
     /// Levenberg–Marquardt in (z, D) from `start`, z kept in the search range and |D| within reach, until χ²
-    /// falls below `converged`, the step below 10 nm, or a step gains less than 10⁻¹⁰ of χ² (the rounding
-    /// floor of a fit with more measurements than unknowns). With `exact_covariance` the covariance is that of
+    /// falls below `converged.0`, the step below 10 nm, or a step gains less than `converged.1` of χ² (with
+    /// more measurements than unknowns χ² keeps a minimum above 0; a Gauss–Newton step's gain is about what
+    /// is left to gain before it, and far more than what is left after it). With `exact_covariance` the covariance is that of
     /// the Jacobian at the solution, else of the last one computed (at most a step away).
     /// `jacobian_at_start`, when given, stands in for the first Jacobian (the search's, from its own fit: it
     /// differs from this model's by ~10⁻⁵ of itself, so one step from the search's solution converges).
@@ -574,7 +575,7 @@ impl SwingModel<'_> {
         jacobian_at_start: Option<Vec<[f64; 2]>>,
         measured: &[f64; 3],
         sigma: &[f64; 3],
-        converged: f64,
+        converged: (f64, f64),
         exact_covariance: bool,
     ) -> Option<Fit> {
         let (lo, hi) = self.range();
@@ -603,7 +604,7 @@ impl SwingModel<'_> {
             }
         };
         for _ in 0..100 {
-            if cost(&r) < converged {
+            if cost(&r) < converged.0 {
                 break;
             }
             let mut a = [[0.0; 2]; 2];
@@ -634,7 +635,7 @@ impl SwingModel<'_> {
                     prediction = np;
                     fresh = false;
                     lambda = (lambda * 0.3).max(1e-9);
-                    if moved < 1e-8 || cost(&r) < converged || gained <= 1e-10 * cost(&r) {
+                    if moved < 1e-8 || cost(&r) < converged.0 || gained <= converged.1 * cost(&r) {
                         break;
                     }
                     jac = jacobian(z, d, &r)?;
@@ -740,12 +741,12 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 search.undercut_for_launch_angle(z, d0, measured[1])
             };
             // The search's fit, finished with the node's options (from the start itself if the search's failed).
-            let (near, jacobian) = match search.fit((z, start_d), None, &measured, &sigma, SEARCH_CHI2, false) {
+            let (near, jacobian) = match search.fit((z, start_d), None, &measured, &sigma, SEARCH_CONVERGED, false) {
                 Some(f) => ((f.z, f.d), Some(f.jacobian)),
                 None => ((z, start_d), None),
             };
             if let Some(Fit { z: zf, d: df, cov, prediction, .. }) =
-                model.fit(near, jacobian, &measured, &sigma, FINAL_CHI2, true)
+                model.fit(near, jacobian, &measured, &sigma, FINAL_CONVERGED, true)
             {
                 let r: Vec<f64> = (0..3)
                     .filter(|&k| measured[k].is_finite())
