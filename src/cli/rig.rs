@@ -138,6 +138,9 @@ pub fn run(args: RigArgs) -> Result<()> {
     for p in rig.bat_params(Time::from_unix_ns(now)) {
         publisher.publish_bat(p)?;
     }
+    if args.wait > 0.0 && !publisher.wait_params_acknowledged(Duration::from_secs(5)) {
+        eprintln!("rig: warning: not every subscriber acknowledged the bat and ball params within 5 s");
+    }
     let period = period_of(args.rate);
     let start = Instant::now();
     let mut sent = 0u64;

@@ -58,6 +58,8 @@ pub struct RigPublisher {
     balls: DataWriterCdr<BallParams>,
     swings: DataWriterCdr<Swing>,
     swing_matches: usize,
+    /// Subscriptions matched on the bat and the ball params so far.
+    param_matches: [usize; 2],
     /// Give up a write after this long with a full send window.
     pub write_timeout: Duration,
 }
@@ -72,6 +74,7 @@ impl RigPublisher {
             swings: writer(ctx, &names.swing, &ros::swing_qos())?,
             names,
             swing_matches: 0,
+            param_matches: [0, 0],
             write_timeout: Duration::from_secs(10),
         })
     }
@@ -82,8 +85,10 @@ impl RigPublisher {
         self.swing_matches
     }
 
-    /// Waits until at least `count` subscriptions matched on `swing`, checking `abort` (e.g. "the node
-    /// process died") every 20 ms.
+    /// Waits until at least `count` subscriptions matched on `swing` and as many on the bat and the ball
+    /// params (a node subscribes to all three, and discovery matches each on its own: a swing may otherwise reach
+    /// a node whose params reader is not yet matched, and be answered "unknown ball_id"), checking `abort`
+    /// (e.g. "the node process died") every 20 ms.
     pub fn wait_for_subscribers(
         &mut self,
         count: usize,
@@ -91,7 +96,14 @@ impl RigPublisher {
         mut abort: impl FnMut() -> Option<String>,
     ) -> Result<()> {
         let start = Instant::now();
-        while self.swing_subscribers() < count {
+        loop {
+            self.param_matches = [
+                matched_subscriptions(&self.bats, self.param_matches[0]),
+                matched_subscriptions(&self.balls, self.param_matches[1]),
+            ];
+            if self.swing_subscribers() >= count && self.param_matches.iter().all(|&m| m >= count) {
+                break;
+            }
             if let Some(reason) = abort() {
                 bail!("{reason}");
             }
@@ -121,6 +133,14 @@ impl RigPublisher {
     /// Publishes one swing.
     pub fn publish_swing(&self, msg: Swing) -> Result<()> {
         Ok(write_reliably(&self.swings, msg, self.write_timeout, &interrupt_flag())?)
+    }
+
+    /// Waits until every matched subscription acknowledged the bat and ball params written; false on timeout.
+    /// Sent before the first swing, so a node has its params before any swing that names them.
+    pub fn wait_params_acknowledged(&self, timeout: Duration) -> bool {
+        [self.bats.wait_for_acknowledgments(timeout), self.balls.wait_for_acknowledgments(timeout)]
+            .into_iter()
+            .all(|r| matches!(r, Ok(true)))
     }
 
     /// Waits until every matched subscription acknowledged everything written; false on timeout.
