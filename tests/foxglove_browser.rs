@@ -22,6 +22,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command, Stdio};
 use std::time::Duration;
+use support::same_json as same;
 
 use serde_json::Value;
 use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
@@ -85,21 +86,6 @@ fn check_end(events: &[Value]) {
     let close = events.last().filter(|e| e.get("close").is_some());
     let close = close.unwrap_or_else(|| panic!("no close: {}", text(events)));
     assert_eq!((&close["close"], &close["clean"]), (&Value::from(1005), &Value::from(true)), "{}", text(events));
-}
-
-/// Numbers compared as f64 (JSON from JavaScript writes 5.0 as 5), everything else exactly.
-fn same(a: &Value, b: &Value) -> bool {
-    match (a, b) {
-        (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
-        (Value::Object(x), Value::Object(y)) => {
-            // Foxglove's decoders name builtin_interfaces/Time's `nanosec` `nsec`.
-            let key = |k: &str| if k == "nsec" { "nanosec".to_string() } else { k.to_string() };
-            x.len() == y.len() && x.iter().all(|(k, v)| y.get(&key(k)).is_some_and(|w| same(v, w)))
-        }
-        (Value::Array(x), Value::Array(y)) => x.len() == y.len() && x.iter().zip(y).all(|(v, w)| same(v, w)),
-        // NaN (a measurement not given) is null in JSON on both sides.
-        _ => a == b,
-    }
 }
 
 #[test]

@@ -19,6 +19,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command, Stdio};
 use std::time::Duration;
+use support::same_json as same;
 
 use serde_json::Value;
 use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
@@ -71,20 +72,6 @@ fn wait_subscribed(out: &mut BufReader<ChildStdout>) {
         if line.contains("\"subscribed\"") {
             return;
         }
-    }
-}
-
-/// Numbers compared as f64 (JSON from JavaScript writes 5.0 as 5), everything else exactly.
-fn same(a: &Value, b: &Value) -> bool {
-    match (a, b) {
-        (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
-        (Value::Object(x), Value::Object(y)) => {
-            // Foxglove's decoders name builtin_interfaces/Time's `nanosec` `nsec`.
-            let key = |k: &str| if k == "nsec" { "nanosec".to_string() } else { k.to_string() };
-            x.len() == y.len() && x.iter().all(|(k, v)| y.get(&key(k)).is_some_and(|w| same(v, w)))
-        }
-        (Value::Array(x), Value::Array(y)) => x.len() == y.len() && x.iter().zip(y).all(|(v, w)| same(v, w)),
-        _ => a == b,
     }
 }
 

@@ -16,6 +16,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{ChildStderr, Command, Stdio};
 use std::time::{Duration, Instant};
+use support::same_json as same;
 
 use serde_json::Value;
 use sweetspot::msgs::decode_cdr;
@@ -40,20 +41,6 @@ fn as_json(type_name: &str, cdr: &[u8]) -> Value {
         "sweetspot_msgs/msg/ModalEnergies" => j::<ModalEnergies>(cdr),
         "sweetspot_msgs/msg/SweetSpot" => j::<SweetSpot>(cdr),
         other => panic!("unexpected type {other}"),
-    }
-}
-
-/// Numbers compared as f64 (JSON from JavaScript writes 5.0 as 5), everything else exactly.
-fn same(a: &Value, b: &Value) -> bool {
-    match (a, b) {
-        (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
-        (Value::Object(x), Value::Object(y)) => {
-            // Foxglove's decoders name builtin_interfaces/Time's `nanosec` `nsec`.
-            let key = |k: &str| if k == "nsec" { "nanosec".to_string() } else { k.to_string() };
-            x.len() == y.len() && x.iter().all(|(k, v)| y.get(&key(k)).is_some_and(|w| same(v, w)))
-        }
-        (Value::Array(x), Value::Array(y)) => x.len() == y.len() && x.iter().zip(y).all(|(v, w)| same(v, w)),
-        _ => a == b,
     }
 }
 

@@ -119,3 +119,19 @@ pub fn assert_json_fields(got: &Value, expected: &Value, what: &str) {
         _ => assert_eq!(got, expected, "{what}"),
     }
 }
+
+/// Two JSON documents equal as Foxglove's decoders give them: numbers compared as f64 (JavaScript writes 5.0 as 5),
+/// `nsec` taken for `nanosec`, everything else exactly.
+pub fn same_json(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
+        (Value::Object(x), Value::Object(y)) => {
+            // Foxglove's decoders name builtin_interfaces/Time's `nanosec` `nsec`.
+            let key = |k: &str| if k == "nsec" { "nanosec".to_string() } else { k.to_string() };
+            x.len() == y.len() && x.iter().all(|(k, v)| y.get(&key(k)).is_some_and(|w| same_json(v, w)))
+        }
+        (Value::Array(x), Value::Array(y)) => x.len() == y.len() && x.iter().zip(y).all(|(v, w)| same_json(v, w)),
+        // NaN (a measurement not given) is null in JSON on both sides.
+        _ => a == b,
+    }
+}
