@@ -110,7 +110,9 @@ fn chromium_with_foxglove_client_watches_the_live_node() {
     let mut events = Vec::new();
     for line in out.lines() {
         let e = event(&line.unwrap());
-        if e.get("subscribed").is_some() {
+        // The page subscribes to /exit_velocity, then to /bat_frame; the server handles a client's
+        // subscriptions in order, so the latched frame's arrival means answers now reach the browser.
+        if e["topic"] == "/bat_frame" && events.iter().all(|e: &Value| e["topic"] != "/bat_frame") {
             for id in 1..=SWINGS {
                 let swing = Swing {
                     swing_id: id,

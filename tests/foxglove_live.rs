@@ -63,6 +63,24 @@ fn client(args: &[&str]) -> (Child, BufReader<ChildStdout>) {
     (child, out)
 }
 
+/// Reads lines until the first message on `latched`, the client's last topic, and returns the message lines
+/// read (that one included): the client subscribes in the order given and the server handles a client's
+/// subscriptions in order, so from then on every subscription is in effect.
+fn wait_latched(out: &mut BufReader<ChildStdout>, latched: &str) -> Vec<String> {
+    let (mut lines, mut line) = (Vec::new(), String::new());
+    let topic = format!("\"topic\":\"{latched}\"");
+    loop {
+        line.clear();
+        assert!(out.read_line(&mut line).unwrap() > 0, "the client exited before {latched} arrived");
+        if !line.contains("\"subscribed\"") {
+            lines.push(line.trim_end().to_string());
+        }
+        if line.contains(&topic) {
+            return lines;
+        }
+    }
+}
+
 /// Reads lines until the client says it subscribed to everything; panics if it exits first.
 fn wait_subscribed(out: &mut BufReader<ChildStdout>) {
     let mut line = String::new();
@@ -146,7 +164,7 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     let count = LIVE.to_string();
     let (mut reader, mut out) =
         client(&[&url, &count, "/exit_velocity", "/modal_energies", "/sweet_spot", "/swing_scene", "/bat_frame"]);
-    wait_subscribed(&mut out);
+    let latched = wait_latched(&mut out, "/bat_frame");
     for id in 1..=LIVE {
         swing_pub.publish(swing(id)).unwrap();
     }
@@ -158,8 +176,7 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
     // The scenes' frame, announced on subscription: before any answer, so the 3D panel knows `bat` at once.
     let mut frames: Vec<(usize, Value)> = Vec::new();
     let mut first_answer = None;
-    for (n, line) in out.lines().enumerate() {
-        let line = line.unwrap();
+    for (n, line) in latched.into_iter().chain(out.lines().map(Result::unwrap)).enumerate() {
         let v: Value = serde_json::from_str(&line).unwrap_or_else(|e| panic!("{e}: {line}"));
         if v["topic"] == "/exit_velocity" && first_answer.is_none() {
             first_answer = Some(n);

@@ -101,9 +101,16 @@ client.on("close", () => {
     process.exit(1);
   }
 });
+const wanted = new Map(); // topic -> channel, until every wanted topic is advertised
 client.on("advertise", (channels) => {
+  if (pending.size === 0) return;
   for (const ch of channels) {
-    if (!pending.has(ch.topic)) continue;
+    if (pending.delete(ch.topic)) wanted.set(ch.topic, ch);
+  }
+  // In the order given, once all are advertised: the server handles one client's subscriptions in order, so
+  // the first message on the last topic (a latched one) tells the caller every earlier subscription holds.
+  for (const topic of pending.size === 0 ? topics : []) {
+    const ch = wanted.get(topic);
     let reader;
     if (ch.encoding === "cdr" && ch.schemaEncoding === "ros2msg") {
       reader = new MessageReader(parse(ch.schema, { ros2: true }));
@@ -116,7 +123,6 @@ client.on("advertise", (channels) => {
     }
     const id = client.subscribe(ch.id);
     readers.set(id, { topic: ch.topic, schemaName: ch.schemaName, reader });
-    pending.delete(ch.topic);
   }
   if (pending.size === 0) {
     console.log(JSON.stringify({ subscribed: topics }));

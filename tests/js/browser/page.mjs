@@ -38,23 +38,32 @@ window.sweetspotRun = ({ url, topics, count, linger }) => {
   client.on("open", () => report({ open: ws.protocol }));
   client.on("error", (error) => report({ error: String(error && error.message ? error.message : error) }));
   client.on("close", (event) => report({ close: event.code, clean: event.wasClean }));
+  const subscribe = (ch) => {
+    let reader;
+    if (ch.encoding === "cdr" && ch.schemaEncoding === "ros2msg") {
+      reader = new MessageReader(parse(ch.schema, { ros2: true }));
+    } else if (ch.encoding === "json") {
+      reader = { readMessage: (bytes) => JSON.parse(new TextDecoder().decode(bytes)) };
+    } else {
+      report({ error: `${ch.topic}: encoding ${ch.encoding}, schema ${ch.schemaEncoding}` });
+      return;
+    }
+    readers.set(client.subscribe(ch.id), { topic: ch.topic, type: ch.schemaName, reader });
+  };
+  const wanted = new Map(); // topic -> channel, until every wanted topic is advertised
   client.on("advertise", (channels) => {
     report({ advertised: channels.map((ch) => ch.topic) });
-    for (const ch of channels) {
-      if (topics.length > 0 && !pending.has(ch.topic)) continue;
-      let reader;
-      if (ch.encoding === "cdr" && ch.schemaEncoding === "ros2msg") {
-        reader = new MessageReader(parse(ch.schema, { ros2: true }));
-      } else if (ch.encoding === "json") {
-        reader = { readMessage: (bytes) => JSON.parse(new TextDecoder().decode(bytes)) };
-      } else {
-        report({ error: `${ch.topic}: encoding ${ch.encoding}, schema ${ch.schemaEncoding}` });
-        continue;
-      }
-      readers.set(client.subscribe(ch.id), { topic: ch.topic, type: ch.schemaName, reader });
-      pending.delete(ch.topic);
+    if (topics.length === 0) {
+      channels.forEach(subscribe);
+      return;
     }
-    if (topics.length > 0 && pending.size === 0 && !announced) {
+    for (const ch of channels) {
+      if (pending.delete(ch.topic)) wanted.set(ch.topic, ch);
+    }
+    if (pending.size === 0 && !announced) {
+      // In the order given: the server handles one client's subscriptions in order, so the first message on
+      // the last topic (a latched one) tells the caller that every earlier subscription is in effect.
+      for (const topic of topics) subscribe(wanted.get(topic));
       announced = true;
       report({ subscribed: topics });
     }
