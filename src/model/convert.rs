@@ -230,6 +230,7 @@ pub fn ball_from_params(p: &BallParams) -> Result<BallModel, String> {
         tangential_cor: or_default(p.tangential_cor, defaults.tangential_cor),
         friction: or_default(p.friction, defaults.friction),
         ball_inertia_ratio: inertia_ratio,
+        ..defaults
     };
     contact.validate().map_err(|e| context(&e))?;
     Ok(BallModel { ball, contact })

@@ -339,6 +339,17 @@ impl ForceLaw {
         k2
     }
 
+    /// The force (N) and the contact stiffness dF/du (N/m) at compression `u` on the loading branch
+    /// (`loading`) or the unloading one, evaluated exactly; both 0 out of contact.
+    fn force_and_stiffness(&self, u: f64, loading: bool) -> (f64, f64) {
+        if !(u > 0.0) {
+            return (0.0, 0.0);
+        }
+        let (k, exponent) = if loading { (self.k1, self.alpha) } else { (self.k2(), self.beta) };
+        let force = k * (exponent * u.ln()).exp();
+        (force, exponent * force / u)
+    }
+
     /// The force at compression `u`, N, evaluated exactly.
     #[inline(always)]
     fn force(&self, u: f64) -> f64 {
@@ -1079,45 +1090,48 @@ struct Contact {
 /// results; only the lane operations of the per-mode update get wider. With `HOOP` the loop also books the
 /// hoop mode's energy in `meter` after every accepted step (reading the state only, so the trajectory is the
 /// same); without it the meter is untouched and the loop is exactly that of a bat without a hoop mode.
-fn integrate<const HOOP: bool>(
+fn integrate<const HOOP: bool, O: ContactObserver>(
     work: &mut Work,
     law: &mut ForceLaw,
     ball: &Ball,
     ball_speed: f64,
     h: f64,
     meter: &mut HoopMeter,
+    observer: &mut O,
 ) -> Result<Contact, PhysicsError> {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU supports AVX2 (checked just above), the only requirement of `integrate_avx2`.
-        return unsafe { integrate_avx2::<HOOP>(work, law, ball, ball_speed, h, meter) };
+        return unsafe { integrate_avx2::<HOOP, O>(work, law, ball, ball_speed, h, meter, observer) };
     }
-    integrate_loop::<Portable, HOOP>(work, law, ball, ball_speed, h, meter)
+    integrate_loop::<Portable, HOOP, O>(work, law, ball, ball_speed, h, meter, observer)
 }
 
 /// [`integrate_loop`] compiled with AVX2 enabled, its per-mode update on 256-bit registers.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn integrate_avx2<const HOOP: bool>(
+fn integrate_avx2<const HOOP: bool, O: ContactObserver>(
     work: &mut Work,
     law: &mut ForceLaw,
     ball: &Ball,
     ball_speed: f64,
     h: f64,
     meter: &mut HoopMeter,
+    observer: &mut O,
 ) -> Result<Contact, PhysicsError> {
-    integrate_loop::<Avx, HOOP>(work, law, ball, ball_speed, h, meter)
+    integrate_loop::<Avx, HOOP, O>(work, law, ball, ball_speed, h, meter, observer)
 }
 
 /// The fixed-step RK4 loop from first contact to separation (see the module docs).
 #[inline(always)]
-fn integrate_loop<V: Lane4, const HOOP: bool>(
+fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
     work: &mut Work,
     law: &mut ForceLaw,
     ball: &Ball,
     ball_speed: f64,
     h: f64,
     meter: &mut HoopMeter,
+    observer: &mut O,
 ) -> Result<Contact, PhysicsError> {
     let inv_mass = 1.0 / ball.mass;
     let mut sc = Scalars { s: 0.0, v: -ball_speed };
@@ -1130,6 +1144,7 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
         let (u0, ud0) = work.u_and_rate::<HOOP>(&sc);
         let loading = u0 >= law.um && ud0 > 0.0 && !just_peaked;
         just_peaked = false;
+        let observed_start = if O::ACTIVE { law.force_and_stiffness(u0, loading) } else { (0.0, 0.0) };
         let start = sc;
         let (next, f_start) = work.step::<V, HOOP>(&start, false, law, inv_mass);
         peak_force = peak_force.max(f_start);
@@ -1141,6 +1156,9 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
             // Maximum compression inside this step: stop exactly there and switch to unloading.
             let (tau, sc_peak) = locate::<V, HOOP>(work, &start, h, law, inv_mass, Event::Peak, ud0, ud1);
             let (u_peak, _) = work.next_u_and_rate::<HOOP>(&sc_peak);
+            if O::ACTIVE {
+                observer.step(tau, observed_start, law.force_and_stiffness(u_peak, true));
+            }
             work.accept();
             if HOOP {
                 meter.update(work);
@@ -1158,6 +1176,9 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
         if u1 <= 0.0 && law.um > 0.0 {
             // Separation inside this step (u̇ < 0 here, so u crossed zero from above).
             let (tau, sc_sep) = locate::<V, HOOP>(work, &start, h, law, inv_mass, Event::Separation, u0, u1);
+            if O::ACTIVE {
+                observer.step(tau, observed_start, (0.0, 0.0));
+            }
             work.accept();
             if HOOP {
                 meter.update(work);
@@ -1166,6 +1187,9 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
             sc = sc_sep;
             separated = true;
             break;
+        }
+        if O::ACTIVE {
+            observer.step(h, observed_start, law.force_and_stiffness(u1, loading));
         }
         work.accept();
         if HOOP {
@@ -1179,6 +1203,27 @@ fn integrate_loop<V: Lane4, const HOOP: bool>(
         }
     }
     Ok(Contact { scalars: sc, time: t, peak_force, separated })
+}
+
+/// Watches the normal contact as the step loop integrates it, for a model that rides along with it (the
+/// compliant tangential contact of [`crate::physics::oblique`]). The loop calls [`ContactObserver::step`] once
+/// per step it accepts, partial steps ending at the peak compression or at separation included, with the
+/// contact force and stiffness at both ends of the step on the branch (loading or unloading) the step was on.
+pub trait ContactObserver {
+    /// False for an observer that does nothing: the loop then skips evaluating what it would be given, and
+    /// runs exactly the arithmetic, and gives exactly the bits, of an unobserved collision.
+    const ACTIVE: bool = true;
+
+    /// One step of `dt` s; `start` and `end` are (contact force N, contact stiffness dF/du N/m).
+    fn step(&mut self, dt: f64, start: (f64, f64), end: (f64, f64));
+}
+
+/// No observer.
+impl ContactObserver for () {
+    const ACTIVE: bool = false;
+
+    #[inline(always)]
+    fn step(&mut self, _dt: f64, _start: (f64, f64), _end: (f64, f64)) {}
 }
 
 /// The step loop's buffers for `impact` on `modes` (validated) with `options`: mode shapes at the impact
@@ -1215,9 +1260,21 @@ pub fn collide(
     impact: &Impact,
     options: &CollisionOptions,
 ) -> Result<CollisionResult, PhysicsError> {
+    collide_observed(modes, ball, impact, options, &mut ())
+}
+
+/// [`collide`] with `observer` watching the contact step by step (see [`ContactObserver`]); the collision's
+/// result is the same, bit for bit.
+pub fn collide_observed<O: ContactObserver>(
+    modes: &ModeSet,
+    ball: &Ball,
+    impact: &Impact,
+    options: &CollisionOptions,
+    observer: &mut O,
+) -> Result<CollisionResult, PhysicsError> {
     impact.validate(modes)?;
     let section = modes.hoop_at(impact.impact_z);
-    collide_with_patch(modes, ball, impact, options, section.as_ref())
+    run_with_patch(modes, ball, impact, options, section.as_ref(), observer)
 }
 
 /// Runs one collision of `ball` with the bat described by `modes` and the wall section's hoop mode `section`
@@ -1233,12 +1290,24 @@ pub fn collide_with_patch(
     options: &CollisionOptions,
     section: Option<&HoopMode>,
 ) -> Result<CollisionResult, PhysicsError> {
+    run_with_patch(modes, ball, impact, options, section, &mut ())
+}
+
+/// [`collide_with_patch`] with an observer.
+fn run_with_patch<O: ContactObserver>(
+    modes: &ModeSet,
+    ball: &Ball,
+    impact: &Impact,
+    options: &CollisionOptions,
+    section: Option<&HoopMode>,
+    observer: &mut O,
+) -> Result<CollisionResult, PhysicsError> {
     impact.validate(modes)?;
     let hoop = section.map(|mode| {
         let range = PATCH_RANGE_FACTOR * reference_compression_at(modes, ball, impact);
         (mode, PatchLaw::following(mode, ball.radius, range.min(ball.radius)))
     });
-    run(modes, ball, impact, options, hoop)
+    run(modes, ball, impact, options, hoop, observer)
 }
 
 /// The patch's coupling is interpolated over compressions up to this multiple of the reference compression
@@ -1275,16 +1344,17 @@ pub fn collide_with_hoop(
     options: &CollisionOptions,
     hoop: Option<&HoopMode>,
 ) -> Result<CollisionResult, PhysicsError> {
-    run(modes, ball, impact, options, hoop.map(|mode| (mode, PatchLaw::constant(mode.coupling))))
+    run(modes, ball, impact, options, hoop.map(|mode| (mode, PatchLaw::constant(mode.coupling))), &mut ())
 }
 
 /// One collision with the wall's hoop mode `hoop` and its coupling law, if any (see [`collide_with_hoop`]).
-fn run(
+fn run<O: ContactObserver>(
     modes: &ModeSet,
     ball: &Ball,
     impact: &Impact,
     options: &CollisionOptions,
     hoop: Option<(&HoopMode, PatchLaw)>,
+    observer: &mut O,
 ) -> Result<CollisionResult, PhysicsError> {
     ball.validate()?;
     impact.validate(modes)?;
@@ -1311,8 +1381,8 @@ fn run(
 
     let mut meter = HoopMeter { w2: hoop.map_or(0.0, |(m, _)| m.stiffness / m.effective_mass), ..HoopMeter::default() };
     let contact = match hoop {
-        Some(_) => integrate::<true>(&mut work, &mut law, ball, impact.ball_speed, h, &mut meter)?,
-        None => integrate::<false>(&mut work, &mut law, ball, impact.ball_speed, h, &mut meter)?,
+        Some(_) => integrate::<true, O>(&mut work, &mut law, ball, impact.ball_speed, h, &mut meter, observer)?,
+        None => integrate::<false, O>(&mut work, &mut law, ball, impact.ball_speed, h, &mut meter, observer)?,
     };
     let Contact { scalars: sc, time: t, peak_force, separated } = contact;
     if !separated {
@@ -1427,12 +1497,12 @@ mod tests {
             {
                 assert!(std::is_x86_feature_detected!("avx2"));
                 // SAFETY: AVX2 was detected just above.
-                unsafe { integrate_avx2::<false>(&mut work, law, ball, impact.ball_speed, h, &mut meter) }
+                unsafe { integrate_avx2::<false, ()>(&mut work, law, ball, impact.ball_speed, h, &mut meter, &mut ()) }
             }
             #[cfg(not(target_arch = "x86_64"))]
             unreachable!()
         } else {
-            integrate_loop::<Portable, false>(&mut work, law, ball, impact.ball_speed, h, &mut meter)
+            integrate_loop::<Portable, false, ()>(&mut work, law, ball, impact.ball_speed, h, &mut meter, &mut ())
         };
         let contact = contact.expect("integrates");
         assert!(contact.separated);
@@ -1600,7 +1670,8 @@ mod tests {
             };
             let mut law = ForceLaw::new(&ball);
             let mut meter = HoopMeter { w2: k_h / m_h, ..HoopMeter::default() };
-            let contact = integrate::<true>(&mut work, &mut law, &ball, v, h, &mut meter).expect("integrates");
+            let contact =
+                integrate::<true, ()>(&mut work, &mut law, &ball, v, h, &mut meter, &mut ()).expect("integrates");
             assert!(contact.separated);
             let (t_sep, v_sep) = two_mass_closed_form(ball.mass, k_b, m_h, k_h, v);
             assert!(((contact.time - t_sep) / t_sep).abs() < 1e-8, "contact {} vs {t_sep} s", contact.time);

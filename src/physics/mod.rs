@@ -115,8 +115,8 @@ pub mod rigid;
 pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};
 pub use collision::{
-    collide, collide_with_hoop, collide_with_patch, hoop_under_ball, CollisionOptions, CollisionResult, EnergyBudget,
-    Impact, ModeEnergy,
+    collide, collide_observed, collide_with_hoop, collide_with_patch, hoop_under_ball, CollisionOptions,
+    CollisionResult, ContactObserver, EnergyBudget, Impact, ModeEnergy,
 };
 pub use error::PhysicsError;
 pub use hoop::{HoopMode, PatchLaw};

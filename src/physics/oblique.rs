@@ -68,6 +68,15 @@
 //! on e_T (and inherits the incoming spin one for one). For the R161 with the defaults this happens beyond a
 //! line-of-centres angle of roughly 30° (the slip itself is stopped up to about 40°: see μ below).
 //!
+//! **The compliant law** (optional, [`TangentialContact::stiffness_ratio`]) — instead of a constant e_T, the
+//! lumped-parameter contact of Maw, Barber & Fawcett that KNS used to interpret their data: a tangential
+//! spring k_t = (dF_n/du)/η² at the contact (dF_n/du the ball's contact stiffness on the loading or unloading
+//! branch in use), capped by μ F_n, integrated step by step alongside the modal collision
+//! ([`CompliantTangent`], a [`ContactObserver`] of [`collide_observed`]). e_T then follows from the contact:
+//! it falls as the incidence grows (0.43 at 20° and 0.26 at 30° for the game ball on a fixed cylinder with
+//! η² = 4.75). Against the rows it does not close the game's spin gap at 30° and breaks the spin-transfer
+//! row (docs/physics-spin.md), so it is not the default.
+//!
 //! # Parameters ([`TangentialContact`]) and their sources
 //! The primary texts of the three papers were not available to this project; their abstracts were. The
 //! values below are as summarised from KNS 2017 in secondary, public notes, and agree with what the abstracts
@@ -103,9 +112,9 @@
 //!   early or late: that needs the bat's axis out of the impact plane).
 //! - The bat is rigid tangentially: the tangential impulse excites the bat's bending across t̂ too, which is
 //!   not modelled (it is small: |J_t| ≤ μ J_n).
-//! - e_T is taken constant; KNS found it independent of the impact conditions within their scatter, over bat
-//!   speeds of 63–88 mph and launch angles of 0–30°. Beyond that range, and near grazing (|D| → R + R_k), the
-//!   single-coefficient model is an extrapolation.
+//! - e_T is taken constant (unless the compliant law is chosen); KNS found it independent of the impact
+//!   conditions within their scatter, over bat speeds of 63–88 mph and launch angles of 0–30°. Beyond that
+//!   range, and near grazing (|D| → R + R_k), the single-coefficient model is an extrapolation.
 //! - Nathan et al. 2012 found the outgoing spin "nearly independent" of the incoming spin for a baseball on a
 //!   fixed cylinder; in this model dΩ_out/d(pitch_spin) = (1 + e_T) μ_t R²/I_ball − 1, which is 0.004 for a
 //!   fixed cylinder with the defaults and about −0.2 for a swinging wood bat (its recoil lowers μ_t).
@@ -200,9 +209,10 @@
 //!   model (+340 rpm at 30° for 2,200 rpm of pitch backspin in the game swing above).
 //!
 //! Cost: one [`collide`] plus a closed-form O(1) tangential step (and an O(N) sum for I_axial over the N
-//! slices, a few hundred nanoseconds against the collision's tens of microseconds).
+//! slices, a few hundred nanoseconds against the collision's tens of microseconds); the compliant law adds
+//! one force-law evaluation and one sin/cos per step of the collision.
 
-use super::collision::{collide, CollisionOptions, CollisionResult, Impact};
+use super::collision::{collide, collide_observed, CollisionOptions, CollisionResult, ContactObserver, Impact};
 use super::{rigid, Ball, ModeSet, PhysicsError};
 
 /// Default tangential coefficient of restitution e_T of a baseball on a bat (KNS 2017, see the module docs).
@@ -227,6 +237,11 @@ pub struct TangentialContact {
     pub friction: f64,
     /// The ball's moment of inertia as a fraction of m R², in (0, 2/3].
     pub ball_inertia_ratio: f64,
+    /// η² = k_n/k_t, 1: with a value, the compliant contact law (a tangential spring k_t = (dF_n/du)/η²
+    /// integrated through the normal contact, capped by μ F_n; e_T then follows from the contact and
+    /// `tangential_cor` is not used); `None`, the default, the constant-e_T law.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_ratio: Option<f64>,
 }
 
 impl Default for TangentialContact {
@@ -236,6 +251,7 @@ impl Default for TangentialContact {
             tangential_cor: DEFAULT_TANGENTIAL_COR,
             friction: DEFAULT_FRICTION,
             ball_inertia_ratio: DEFAULT_BALL_INERTIA_RATIO,
+            stiffness_ratio: None,
         }
     }
 }
@@ -256,6 +272,9 @@ impl TangentialContact {
         check("friction", mu, (0.0..=2.0).contains(&mu), "0 ≤ μ ≤ 2")?;
         let h = self.ball_inertia_ratio;
         check("ball_inertia_ratio", h, h > 0.0 && h <= 2.0 / 3.0, "0 < I/(m R²) ≤ 2/3 (a thin shell)")?;
+        if let Some(eta2) = self.stiffness_ratio {
+            check("stiffness_ratio", eta2, (0.1..=100.0).contains(&eta2), "0.1 ≤ η² = k_n/k_t ≤ 100")?;
+        }
         Ok(())
     }
 }
@@ -417,6 +436,65 @@ pub fn tangential_impulse(
     }
 }
 
+/// The compliant tangential contact (Maw, Barber & Fawcett's lumped form, as KNS 2017 used it), integrated
+/// step by step alongside the normal contact as a [`ContactObserver`]. The contact points' slip s and the
+/// tangential spring's force g (on the ball, opposing positive slip) obey ds/dt = −g/μ_t and, while the
+/// ball grips, dg/dt = k_t s with k_t = k_n/η², k_n = dF_n/du the normal contact's stiffness on the branch
+/// in use; |g| ≤ μ F_n, beyond which the contact slides with |g| = μ F_n.
+#[derive(Debug, Clone, Copy)]
+pub struct CompliantTangent {
+    /// Inverse tangential reduced mass 1/μ_t, 1/kg ([`tangential_inverse_mass`]).
+    pub inverse_mass: f64,
+    /// η² = k_n/k_t, 1.
+    pub stiffness_ratio: f64,
+    /// Coulomb friction coefficient μ, 1.
+    pub friction: f64,
+    /// Slip now, m/s.
+    pub slip: f64,
+    /// Tangential force now, N, opposing positive slip.
+    pub force: f64,
+    /// Whether the ball gripped in any step.
+    pub gripped: bool,
+}
+
+impl CompliantTangent {
+    /// At first contact: slip `slip` m/s, no force.
+    pub fn new(inverse_mass: f64, stiffness_ratio: f64, friction: f64, slip: f64) -> CompliantTangent {
+        CompliantTangent { inverse_mass, stiffness_ratio, friction, slip, force: 0.0, gripped: false }
+    }
+
+    /// The tangential impulse on the ball along t̂ so far, N·s (the sign convention of [`tangential_impulse`]).
+    pub fn impulse(&self, slip_before: f64) -> f64 {
+        (self.slip - slip_before) / self.inverse_mass
+    }
+}
+
+impl ContactObserver for CompliantTangent {
+    fn step(&mut self, dt: f64, start: (f64, f64), end: (f64, f64)) {
+        // Gripping, with k_t held at the step's mean: (s, g) turn at ω² = k_t/μ_t, exactly for that k_t.
+        let k = 0.5 * (start.1 + end.1) / self.stiffness_ratio;
+        let inv = self.inverse_mass;
+        let w = (k * inv).sqrt();
+        let (s0, g0) = (self.slip, self.force);
+        let (s1, g1) = if w * dt > 1e-12 {
+            let (sin, cos) = (w * dt).sin_cos();
+            (s0 * cos - inv * g0 / w * sin, g0 * cos + k * s0 / w * sin)
+        } else {
+            (s0 - inv * g0 * dt, g0 + k * s0 * dt)
+        };
+        let cap = self.friction * end.0;
+        if g1.abs() <= cap {
+            (self.slip, self.force) = (s1, g1);
+            self.gripped = true;
+            return;
+        }
+        // The contact slides: the force is the spring's, held at μ F_n in the direction it pulls, and the
+        // slip changes by the trapezoid of the force from the step's start to its end.
+        let force = cap.copysign(g1);
+        (self.slip, self.force) = (s0 - inv * 0.5 * (g0 + force) * dt, force);
+    }
+}
+
 /// (forward, up) components of a vector with components (`normal`, `tangential`) along n̂ and t̂, where n̂
 /// points `beta` above the horizontal.
 fn rotate(beta: f64, normal: f64, tangential: f64) -> (f64, f64) {
@@ -462,8 +540,6 @@ pub fn collide_oblique(
         }
         normal_impact
     };
-    let normal = collide(modes, ball, &normal_impact, options)?;
-
     let bat_speed = rigid::bat_speed_at(&mp, impact);
     let ball_tangential = impact.ball_speed * incidence.sin();
     let bat_tangential = -bat_speed * phi.sin();
@@ -481,7 +557,18 @@ pub fn collide_oblique(
         oblique.barrel_radius,
         axial_inertia,
     );
-    let (jt, sliding) = tangential_impulse(slip, inverse_mass, normal.impulse, contact);
+    let (normal, jt, sliding) = match contact.stiffness_ratio {
+        None => {
+            let normal = collide(modes, ball, &normal_impact, options)?;
+            let (jt, sliding) = tangential_impulse(slip, inverse_mass, normal.impulse, contact);
+            (normal, jt, sliding)
+        }
+        Some(eta2) => {
+            let mut tangent = CompliantTangent::new(inverse_mass, eta2, contact.friction, slip);
+            let normal = collide_observed(modes, ball, &normal_impact, options, &mut tangent)?;
+            (normal, tangent.impulse(slip), !tangent.gripped)
+        }
+    };
 
     let tangential_exit_speed = ball_tangential + jt / ball.mass;
     let spin = spin_in - ball.radius * jt / ball_inertia;
@@ -514,6 +601,8 @@ pub fn collide_oblique(
 mod tests {
     use super::*;
     use crate::physics::Bat;
+
+    use crate::physics::collision::ContactObserver;
 
     fn contact(e: f64, mu: f64) -> TangentialContact {
         TangentialContact { tangential_cor: e, friction: mu, ..TangentialContact::default() }
@@ -550,6 +639,103 @@ mod tests {
             let expected = (1.0 + e) * s / (r * (1.0 + h));
             assert!((spin - expected).abs() < 1e-9 * expected, "e_T={e}: {spin} vs {expected}");
         }
+    }
+
+    /// Feeds `tangent` a linear normal contact (stiffness `k`, reduced mass `m_n`, approach `v`) of
+    /// `steps` steps, closed form F(t) = v √(k m_n) sin(ω_n t) over half a period; returns ∫F dt = 2 m_n v.
+    fn half_sine_contact(tangent: &mut CompliantTangent, k: f64, m_n: f64, v: f64, steps: usize) -> f64 {
+        let w = (k / m_n).sqrt();
+        let dt = std::f64::consts::PI / w / steps as f64;
+        let force =
+            |i: usize| if i == 0 || i == steps { 0.0 } else { v * (k * m_n).sqrt() * (w * dt * i as f64).sin() };
+        for i in 0..steps {
+            tangent.step(dt, (force(i), k), (force(i + 1), k));
+        }
+        2.0 * m_n * v
+    }
+
+    #[test]
+    fn compliant_grip_turns_the_slip_by_the_frequency_ratio() {
+        // Gripping throughout on linear springs, k_t = k/η²: the slip turns as cos(ω_t t) for half a normal
+        // period π/ω_n, so s'/s = cos(π √(μ_n/(η² μ_t))) (Maw, Barber & Fawcett's no-slip limit).
+        // Each gripping step is exact; the last one, ending at separation where the contact can hold no force,
+        // releases the spring over one step: an error below ω_t dt.
+        let (m_n, inv_t, k, s0, steps) = (0.145, 3.5 / 0.145, 4e6, 2.0, 20_000);
+        for eta2 in [1.2, 3.5, 4.75, 20.0] {
+            let mut tangent = CompliantTangent::new(inv_t, eta2, 1e6, s0);
+            half_sine_contact(&mut tangent, k, m_n, 30.0, steps);
+            let frequency_ratio = (m_n * inv_t / eta2).sqrt();
+            let expected = (std::f64::consts::PI * frequency_ratio).cos();
+            let bound = std::f64::consts::PI * frequency_ratio / steps as f64;
+            let ratio = tangent.slip / s0;
+            assert!((ratio - expected).abs() < bound, "η²={eta2}: {ratio} vs {expected} (±{bound:e})");
+            assert!(tangent.gripped);
+        }
+    }
+
+    #[test]
+    fn compliant_contact_sliding_throughout_takes_mu_times_the_normal_impulse() {
+        let (m_n, inv_t, k, v) = (0.145, 3.5 / 0.145, 4e6, 30.0);
+        let mut tangent = CompliantTangent::new(inv_t, 4.75, 0.05, 40.0);
+        let normal_impulse = half_sine_contact(&mut tangent, k, m_n, v, 2000);
+        let jt = tangent.impulse(40.0);
+        assert!((jt + 0.05 * normal_impulse).abs() < 1e-6 * normal_impulse, "{jt} vs {}", -0.05 * normal_impulse);
+        assert!(!tangent.gripped && tangent.slip > 0.0);
+        // No friction, no tangential force.
+        let mut free = CompliantTangent::new(inv_t, 4.75, 0.0, 3.0);
+        half_sine_contact(&mut free, k, m_n, v, 500);
+        assert_eq!(free.impulse(3.0), 0.0);
+    }
+
+    #[test]
+    fn compliant_grip_through_the_modal_collision_matches_the_linear_closed_form() {
+        // A linear elastic ball (α = 1, e0 = 1) on a massive rigid cylinder: the normal contact is a half
+        // sine of π/ω_n, ω_n² = k/μ_n with 1/μ_n = 1/m + 1/M_eff, so a ball that grips throughout leaves with
+        // s'/s = cos(π √(μ_n/(η² μ_t))).
+        let heavy = crate::physics::Material { density: 1.0e5, youngs_modulus: 1.0e13, shear_modulus: 1.0e13 };
+        let stations = vec![
+            crate::physics::Station { z: 0.0, outer_radius: 0.04, inner_radius: 0.0 },
+            crate::physics::Station { z: 0.3, outer_radius: 0.04, inner_radius: 0.0 },
+        ];
+        let bat = Bat::new("rigid cylinder", stations, heavy, None, 0.015).expect("cylinder");
+        let modes = ModeSet::compute(&bat, 2).expect("modes");
+        let mp = modes.mass_properties();
+        let ball = Ball { exponent: 1.0, cor: 1.0, stiffness: 2e6, cor_speed_exponent: 0.0, ..Ball::default() };
+        let impact =
+            Impact { ball_speed: 20.0, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: mp.center_of_mass };
+        let h = 1e-6;
+        let options = CollisionOptions { modes: 0, time_step: h };
+        let inv_n = 1.0 / ball.mass + 1.0 / mp.effective_mass_at(impact.impact_z);
+        let inv_t = 3.5 / ball.mass;
+        for eta2 in [2.0, 4.75] {
+            // Friction beyond any force the spring reaches: the ball grips throughout.
+            let mut tangent = CompliantTangent::new(inv_t, eta2, 1e6, 1.5);
+            let normal = collide_observed(&modes, &ball, &impact, &options, &mut tangent).expect("collides");
+            assert!((normal.contact_time * (inv_n * ball.stiffness).sqrt() / std::f64::consts::PI - 1.0).abs() < 1e-6);
+            let frequency_ratio = (inv_t / (inv_n * eta2)).sqrt();
+            let expected = (std::f64::consts::PI * frequency_ratio).cos();
+            // The last step releases the spring at separation (see the test above): within ω_t h.
+            let bound = frequency_ratio * (inv_n * ball.stiffness).sqrt() * h;
+            let ratio = tangent.slip / 1.5;
+            assert!((ratio - expected).abs() < bound, "η²={eta2}: s'/s {ratio} vs {expected} (±{bound:e})");
+            assert!(tangent.gripped);
+        }
+    }
+
+    #[test]
+    fn compliant_contact_sliding_on_a_swung_bat_takes_mu_times_the_normal_impulse() {
+        let modes = ModeSet::compute(&Bat::preset("r161").expect("r161"), 12).expect("modes");
+        let impact = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 50.0, impact_z: 0.7 };
+        // A line of centres 60° off the path: far beyond grip.
+        let undercut = (Ball::default().radius + 0.033) * 60f64.to_radians().sin();
+        let oblique = ObliqueImpact { undercut, ..ObliqueImpact::head_on(impact, 0.033) };
+        let compliant = TangentialContact { stiffness_ratio: Some(4.75), ..TangentialContact::default() };
+        let opts = CollisionOptions { modes: 12, time_step: 2e-6 };
+        let r = collide_oblique(&modes, &Ball::default(), &oblique, &compliant, &opts).expect("collides");
+        let bound = compliant.friction * r.normal.impulse;
+        assert!(r.sliding);
+        assert!((r.tangential_impulse.abs() - bound).abs() < 1e-3 * bound, "{} vs {bound}", r.tangential_impulse);
+        assert!(r.tangential_impulse * r.slip_before < 0.0, "friction opposes the slip");
     }
 
     #[test]
