@@ -176,3 +176,43 @@ fn simulate_json_carries_the_wall_for_hollow_bats() {
     assert!(stored > 0.0 && returned > 0.0, "the wall stores and returns energy: {stored} {returned}");
     assert!((stored - returned - left).abs() <= 1e-9 * stored, "stored − returned = left");
 }
+
+#[test]
+fn the_compliant_tangential_law_runs_from_flags_and_case_files_as_in_the_library() {
+    let flags =
+        ["--undercut", "0.015", "--attack-angle", "8", "--pitch-spin", "2000", "--tangential-stiffness-ratio", "4.75"];
+    let doc = json(&with(&flags));
+    assert_eq!(doc["oblique"]["tangential_stiffness_ratio"].as_f64(), Some(4.75));
+    let bat = Bat::preset("r161").unwrap();
+    let modes = ModeSet::compute(&bat, 6).unwrap();
+    let options = CollisionOptions { modes: 6, ..CollisionOptions::default() };
+    let impact = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: 0.7 };
+    let oblique = ObliqueImpact {
+        undercut: 0.015,
+        attack_angle: 8f64.to_radians(),
+        pitch_spin: 2000.0 * std::f64::consts::TAU / 60.0,
+        ..ObliqueImpact::head_on(impact, bat.radii_at(0.7).0)
+    };
+    let compliant = TangentialContact { stiffness_ratio: Some(4.75), ..TangentialContact::default() };
+    let r = collide_oblique(&modes, &Ball::game(), &oblique, &compliant, &options).unwrap();
+    let constant = collide_oblique(&modes, &Ball::game(), &oblique, &TangentialContact::default(), &options).unwrap();
+    let spin = num(&doc, "/results/0/oblique/spin_rpm");
+    assert!((spin - r.spin_rpm()).abs() <= 1e-9 * r.spin_rpm().abs(), "{spin} vs {}", r.spin_rpm());
+    assert!((spin - constant.spin_rpm()).abs() > 10.0, "the law changed nothing: {spin} rpm");
+    // Along the line of centres the collision is the same either way.
+    assert_eq!(r.normal_exit_speed.to_bits(), constant.normal_exit_speed.to_bits());
+
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("case.json");
+    std::fs::write(
+        &case,
+        r#"{"bat": "r161", "impact_z": 0.7, "modes": 6, "undercut": 0.015, "attack_angle_deg": 8,
+            "pitch_spin_rpm": 2000, "tangential_stiffness_ratio": 4.75}"#,
+    )
+    .unwrap();
+    assert_eq!(json(&["simulate", "--case", case.to_str().unwrap()]), json(&with(&flags)));
+
+    let refused = support::cli::sweetspot(&with(&["--undercut", "0.01", "--tangential-stiffness-ratio", "0.01"]));
+    assert!(!refused.status_ok);
+    assert!(refused.stderr.contains("stiffness_ratio"), "{}", refused.stderr);
+}

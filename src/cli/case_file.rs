@@ -18,7 +18,8 @@
 //! The oblique inputs are optional (absent or zero: a head-on swing), in the units their names carry:
 //! `undercut` (m, ball centre above the bat's path positive), `attack_angle_deg` (bat path above the
 //! horizontal, degrees), `pitch_angle_deg` (pitch descent below the horizontal, degrees), `pitch_spin_rpm`
-//! (rpm, backspin positive), and the tangential contact overrides `tangential_cor` (e_T) and `friction` (μ).
+//! (rpm, backspin positive), and the tangential contact overrides `tangential_cor` (e_T), `friction` (μ) and
+//! `tangential_stiffness_ratio` (η², the compliant law instead of a constant e_T).
 //!
 //! `ball` is a preset name (`"mlb"`; baseball, bbcor, mlb, mlb2024) or an object of overrides (`mass`, `radius`,
 //! `stiffness`, `exponent`, `cor`, `cor_speed_exponent`, `cor_reference_speed`) over the ball `preset` it names
@@ -86,6 +87,9 @@ pub struct CaseSpec {
     /// Coulomb friction coefficient μ.
     #[serde(default)]
     pub friction: Option<f64>,
+    /// η² = k_n/k_t of the compliant tangential law.
+    #[serde(default)]
+    pub tangential_stiffness_ratio: Option<f64>,
 }
 
 /// Ball fields, each optional, over a preset.
@@ -201,8 +205,12 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
         spec.pitch_spin_rpm,
         spec.tangential_cor,
         spec.friction,
+        spec.tangential_stiffness_ratio,
     )
-    .context("fields `undercut`/`attack_angle_deg`/`pitch_angle_deg`/`pitch_spin_rpm`/`tangential_cor`/`friction`")?;
+    .context(
+        "fields `undercut`/`attack_angle_deg`/`pitch_angle_deg`/`pitch_spin_rpm`/`tangential_cor`/`friction`/\
+         `tangential_stiffness_ratio`",
+    )?;
     Ok(Case { bat, ball, swing, oblique, impact_zs, options })
 }
 

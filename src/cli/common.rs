@@ -267,6 +267,11 @@ pub struct ObliqueArgs {
     /// Coulomb friction coefficient μ between ball and bat, 0..=2 [default 0.15].
     #[arg(long, value_name = "MU", value_parser = finite_f64, allow_negative_numbers = true)]
     pub friction: Option<f64>,
+    /// The compliant tangential law instead of a constant e_T: a tangential spring of stiffness
+    /// (dF_n/du)/ETA2 through the contact, 0.1..=100 (KNS 2017's baseball: 4.75; docs/physics-spin.md)
+    /// [default: constant e_T].
+    #[arg(long, value_name = "ETA2", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub tangential_stiffness_ratio: Option<f64>,
 }
 
 impl ObliqueArgs {
@@ -279,8 +284,12 @@ impl ObliqueArgs {
             self.pitch_spin,
             self.tangential_cor,
             self.friction,
+            self.tangential_stiffness_ratio,
         )
-        .context("--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction")
+        .context(
+            "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction/\
+             --tangential-stiffness-ratio",
+        )
     }
 }
 
@@ -326,11 +335,13 @@ impl ObliqueInputs {
         pitch_spin_rpm: Option<f64>,
         tangential_cor: Option<f64>,
         friction: Option<f64>,
+        stiffness_ratio: Option<f64>,
     ) -> Result<ObliqueInputs> {
         let defaults = TangentialContact::default();
         let contact = TangentialContact {
             tangential_cor: tangential_cor.unwrap_or(defaults.tangential_cor),
             friction: friction.unwrap_or(defaults.friction),
+            stiffness_ratio,
             ..defaults
         };
         contact.validate()?;
@@ -353,7 +364,10 @@ impl ObliqueInputs {
                 geometry[3]
             );
         }
-        let active = geometry.iter().any(|v| *v != 0.0) || tangential_cor.is_some() || friction.is_some();
+        let active = geometry.iter().any(|v| *v != 0.0)
+            || tangential_cor.is_some()
+            || friction.is_some()
+            || stiffness_ratio.is_some();
         Ok(ObliqueInputs {
             undercut: geometry[0],
             attack_angle: geometry[1].to_radians(),

@@ -6,6 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use super::common::{emit, print_json, NumericArgs, OutputArgs};
+use crate::physics::TangentialContact;
 use crate::validate::{evaluate, figures, read_inputs, render};
 
 /// Arguments of `sweetspot validate`.
@@ -22,6 +23,10 @@ pub struct ValidateArgs {
     /// Figure format: svg or png.
     #[arg(long, value_name = "FMT", default_value = "svg", value_parser = ["svg", "png"])]
     pub format: String,
+    /// Runs the oblique rows with the compliant tangential contact law of stiffness ratio η² = k_n/k_t
+    /// (KNS 2017's baseball: 4.75) instead of the constant e_T (docs/physics-spin.md).
+    #[arg(long, value_name = "ETA2", value_parser = super::common::finite_f64)]
+    pub tangential_stiffness_ratio: Option<f64>,
     #[command(flatten)]
     pub numeric: NumericArgs,
     #[command(flatten)]
@@ -51,7 +56,10 @@ pub fn run(args: ValidateArgs) -> Result<()> {
             crate::files::refuse_clobber("--figures", &path, &data_files, &[]).map_err(anyhow::Error::msg)?;
         }
     }
-    let (report, lab) = evaluate(&inputs, options).context("running the validation cases")?;
+    let contact =
+        TangentialContact { stiffness_ratio: args.tangential_stiffness_ratio, ..TangentialContact::default() };
+    contact.validate().context("--tangential-stiffness-ratio")?;
+    let (report, lab) = evaluate(&inputs, options, contact).context("running the validation cases")?;
     if args.output.json {
         print_json(&report)?;
     } else {

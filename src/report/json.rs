@@ -243,6 +243,9 @@ pub struct ObliqueInputsJson {
     pub friction: f64,
     /// The ball's moment of inertia as a fraction of m R².
     pub ball_inertia_ratio: f64,
+    /// η² = k_n/k_t of the compliant tangential law, when it replaces the constant e_T.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_stiffness_ratio: Option<f64>,
 }
 
 impl ObliqueInputsJson {
@@ -262,6 +265,7 @@ impl ObliqueInputsJson {
             tangential_cor: contact.tangential_cor,
             friction: contact.friction,
             ball_inertia_ratio: contact.ball_inertia_ratio,
+            tangential_stiffness_ratio: contact.stiffness_ratio,
         }
     }
 }

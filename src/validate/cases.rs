@@ -91,6 +91,9 @@ pub struct Lab {
     pub options: CollisionOptions,
     /// The `Ball::preset` of the game ball (every game swing, tee test and the game ball's rows).
     pub game_ball: String,
+    /// The tangential contact law of every oblique row (the default law unless `sweetspot validate` is told
+    /// otherwise).
+    pub contact: TangentialContact,
     bpf: Memo<(String, u64), Vec<BpfPoint>>,
     cage: Memo<(String, String, u64), CageComparison>,
     /// The weight-matched swing curve (takes no arguments, so one result).
@@ -181,6 +184,7 @@ impl Lab {
         Lab {
             options,
             game_ball: game_ball.to_string(),
+            contact: TangentialContact::default(),
             bpf: Memo::default(),
             cage: Memo::default(),
             matched: OnceLock::new(),
@@ -294,7 +298,7 @@ impl Lab {
                     pitch_spin: rpm_to_rad_per_s(pitch_spin_rpm),
                     ..ObliqueImpact::head_on(impact, barrel_radius)
                 };
-                collide_oblique(&modes, &ball, &oblique, &TangentialContact::default(), &self.options)
+                collide_oblique(&modes, &ball, &oblique, &self.contact, &self.options)
                     .map(|r| (r.launch_angle_deg() - attack_deg, r.exit_speed / MPH))
                     .map_err(physics(case))
             })
@@ -440,7 +444,7 @@ impl Lab {
                     pitch_spin,
                     ..ObliqueImpact::head_on(impact, barrel_radius)
                 };
-                collide_oblique(modes, ball, &oblique, &TangentialContact::default(), &self.options)
+                collide_oblique(modes, ball, &oblique, &self.contact, &self.options)
                     .map(|r| (r.launch_angle_deg(), r.spin_rpm(), r.exit_speed / MPH))
                     .map_err(physics(case))
             })
@@ -596,15 +600,9 @@ impl Lab {
         let undercut = (ball.radius + radius) * line_deg.to_radians().sin();
         let spin_out = |pitch_spin: f64| {
             let oblique = ObliqueImpact { undercut, pitch_spin, ..ObliqueImpact::head_on(impact, radius) };
-            collide_oblique(
-                &cylinder,
-                &ball,
-                &oblique,
-                &TangentialContact::default(),
-                &rigid_options(self.options.time_step),
-            )
-            .map(|r| r.spin)
-            .map_err(physics(case))
+            collide_oblique(&cylinder, &ball, &oblique, &self.contact, &rigid_options(self.options.time_step))
+                .map(|r| r.spin)
+                .map_err(physics(case))
         };
         let w = rpm_to_rad_per_s(spin_rpm);
         let slope = (spin_out(w)? - spin_out(-w)?) / (2.0 * w);

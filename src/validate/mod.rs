@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::{CollisionOptions, PhysicsError};
+use crate::physics::{CollisionOptions, PhysicsError, TangentialContact};
 use cases::{CaseValue, Lab, INCH, MPH};
 
 /// Errors of the validation suite.
@@ -709,9 +709,14 @@ fn statcast_undercut_rows(
         .collect())
 }
 
-/// Runs every row with collisions under `options`.
-pub fn evaluate(inputs: &Inputs, options: CollisionOptions) -> Result<(Report, Lab), ValidateError> {
-    let lab = Lab::new(options, &inputs.measurements.game_ball);
+/// Runs every row with collisions under `options`, the oblique rows with the tangential contact `contact`.
+pub fn evaluate(
+    inputs: &Inputs,
+    options: CollisionOptions,
+    contact: TangentialContact,
+) -> Result<(Report, Lab), ValidateError> {
+    let mut lab = Lab::new(options, &inputs.measurements.game_ball);
+    lab.contact = contact;
     let mut rows = Vec::new();
     let mut bins = Vec::new();
     for row in &inputs.measurements.row {
