@@ -194,24 +194,7 @@ fn chromium_with_foxglove_client_gets_a_bag_played_without_playback_control() {
     // Played in about 2 s (it starts 2 s after the first subscription, by itself).
     let rate = ((last - first) as f64 * 1e-9 / 2.0).max(1.0);
 
-    let mut player = Command::new(env!("CARGO_BIN_EXE_sweetspot"))
-        .args(["bag", "play"])
-        .arg(&bag)
-        .args(["--foxglove", "0", "--no-dds", "-r", &rate.to_string()])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stderr = BufReader::new(player.stderr.take().unwrap());
-    let mut line = String::new();
-    let url = loop {
-        line.clear();
-        assert!(stderr.read_line(&mut line).unwrap() > 0, "bag play exited before serving");
-        if let Some(rest) = line.strip_prefix("Foxglove WebSocket server on ") {
-            break rest.split(':').take(3).collect::<Vec<_>>().join(":");
-        }
-    };
-    std::thread::spawn(move || for _ in stderr.lines() {});
+    let (mut player, url) = support::bag::play_to_foxglove(&bag, rate);
 
     // Every channel, closing 1 s after the bag's last message (so a message sent twice would be seen).
     let (mut client, out) = browser(&[&url, &total.to_string()]);

@@ -8,8 +8,9 @@
 //!   "Unrecognized server opcode: 5"): it reports no error at all;
 //! - its Close is answered: it sees close code 1000, not 1006.
 
+mod support;
+
 use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -33,24 +34,7 @@ fn the_readme_client_gets_the_bag_played_without_errors_and_a_clean_close() {
     let span = (last - first) as f64 * 1e-9;
     let rate = (span / 2.0).max(1.0);
 
-    let mut player = Command::new(env!("CARGO_BIN_EXE_sweetspot"))
-        .args(["bag", "play"])
-        .arg(&bag)
-        .args(["--foxglove", "0", "--no-dds", "-r", &rate.to_string()])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stderr = BufReader::new(player.stderr.take().unwrap());
-    let mut line = String::new();
-    let url = loop {
-        line.clear();
-        assert!(stderr.read_line(&mut line).unwrap() > 0, "bag play exited before serving");
-        if let Some(rest) = line.strip_prefix("Foxglove WebSocket server on ") {
-            break rest.split(':').take(3).collect::<Vec<_>>().join(":");
-        }
-    };
-    std::thread::spawn(move || for _ in stderr.lines() {});
+    let (mut player, url) = support::bag::play_to_foxglove(&bag, rate);
 
     assert!(js_dir().join("node_modules/@foxglove/ws-protocol").is_dir(), "run `bash scripts/test` (npm ci)");
     // 2 s until it plays by itself, the bag's span at `rate` (≤ 2 s), and slack.

@@ -62,6 +62,31 @@ pub fn sweetspot_bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_sweetspot"))
 }
 
+/// `sweetspot bag play BAG --foxglove 0 --no-dds -r RATE` started (its stderr read until it names the port,
+/// then drained): the process and the `ws://127.0.0.1:PORT` it serves.
+pub fn play_to_foxglove(bag: &Path, rate: f64) -> (std::process::Child, String) {
+    use std::io::{BufRead, BufReader};
+    let mut player = Command::new(sweetspot_bin())
+        .args(["bag", "play"])
+        .arg(bag)
+        .args(["--foxglove", "0", "--no-dds", "-r", &rate.to_string()])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("starting sweetspot bag play");
+    let mut stderr = BufReader::new(player.stderr.take().expect("piped stderr"));
+    let mut line = String::new();
+    let url = loop {
+        line.clear();
+        assert!(stderr.read_line(&mut line).unwrap_or(0) > 0, "bag play exited before serving");
+        if let Some(rest) = line.strip_prefix("Foxglove WebSocket server on ") {
+            break rest.split(':').take(3).collect::<Vec<_>>().join(":");
+        }
+    };
+    std::thread::spawn(move || for _ in stderr.lines() {});
+    (player, url)
+}
+
 /// One top-level record of an MCAP file (chunks not opened): its opcode, the offset where it ends, and for a
 /// Message record its (log time, channel id, payload).
 pub struct TopLevelRecord {
