@@ -470,6 +470,12 @@ fn the_compliant_contact_law_moves_the_oblique_rows_only_and_does_not_close_the_
     assert_eq!(verdict("game-spin-30deg"), "FAIL");
     assert_eq!(verdict("spin-vs-incoming-spin"), "FAIL");
     assert!(!ok && stderr.contains("outside their stated tolerance"), "{stderr}");
+    // The report says which law it ran.
+    assert_eq!(compliant["contact"]["stiffness_ratio"].as_f64(), Some(4.75));
+    assert!(default["contact"].get("stiffness_ratio").is_none(), "{}", default["contact"]);
+    assert_eq!(default["contact"]["tangential_cor"].as_f64(), Some(0.405));
+    let text = sweetspot(&["validate", "--tangential-stiffness-ratio", "4.75"]).stdout;
+    assert!(text.contains("Tangential contact of the oblique rows: compliant, η² = k_n/k_t = 4.75"), "{text}");
 
     let refused = sweetspot(&["validate", "--tangential-stiffness-ratio", "0"]);
     assert!(!refused.status_ok);

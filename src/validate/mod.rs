@@ -271,6 +271,8 @@ pub struct Report {
     pub not_found: Vec<NotFound>,
     /// Data files read.
     pub files: Vec<String>,
+    /// The tangential contact law of the oblique rows.
+    pub contact: TangentialContact,
 }
 
 /// The unit each case computes in.
@@ -811,6 +813,7 @@ pub fn evaluate(
         trackman_pitch: pitch,
         not_found: inputs.measurements.not_found.clone(),
         files: inputs.files.clone(),
+        contact: lab.contact,
     };
     Ok((report, lab))
 }
@@ -853,6 +856,16 @@ pub fn render(report: &Report) -> String {
         report.pass,
         report.fail,
         report.not_applicable
+    ));
+    let c = &report.contact;
+    let law = match c.stiffness_ratio {
+        None => format!("constant e_T = {}", num(c.tangential_cor, 3)),
+        Some(eta2) => format!("compliant, η² = k_n/k_t = {}", num(eta2, 3)),
+    };
+    out.push_str(&format!(
+        "Tangential contact of the oblique rows: {law}, μ = {}, I/(m R²) = {}\n",
+        num(c.friction, 3),
+        num(c.ball_inertia_ratio, 3)
     ));
     out.push_str("\nHow the model got each number:\n");
     for r in &report.rows {
