@@ -19,8 +19,8 @@ mod support;
 
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
+use std::path::Path;
+use std::process::{Child, ChildStdout};
 use std::time::Duration;
 use support::same_json as same;
 
@@ -34,27 +34,12 @@ const WAIT: Duration = Duration::from_secs(60);
 /// Swings answered while the browser reads.
 const SWINGS: u64 = 20;
 
-fn js_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/js")
-}
-
 /// The browser client (tests/js/foxglove_browser.mjs) with `args`; stdout piped.
 fn browser(args: &[&str]) -> (Child, BufReader<ChildStdout>) {
     // The browser has its own background networking; it is started only where nothing leaves the machine.
     require_isolated_network();
-    let modules = js_dir().join("node_modules/puppeteer-core");
-    assert!(modules.is_dir(), "{} missing: run `bash scripts/test` (it runs npm ci in tests/js)", modules.display());
-    let mut child = Command::new("node")
-        .arg(js_dir().join("foxglove_browser.mjs"))
-        .args(args)
-        // A bound, not a measurement: a page still waiting then closes and the test reports what it missed.
-        .env("DEADLINE", "60")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("starting node (Node.js); scripts/test installs it");
-    let out = BufReader::new(child.stdout.take().unwrap());
-    (child, out)
+    // A bound, not a measurement: a page still waiting then closes and the test reports what it missed.
+    support::node_client("foxglove_browser.mjs", "puppeteer-core", args, &[("DEADLINE", "60")])
 }
 
 /// One event line of the browser client.

@@ -11,14 +11,11 @@
 mod support;
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 
 use serde_json::Value;
-
-fn js_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/js")
-}
+use support::js_dir;
 
 #[test]
 fn the_readme_client_gets_the_bag_played_without_errors_and_a_clean_close() {

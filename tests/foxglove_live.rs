@@ -16,8 +16,8 @@
 mod support;
 
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
+use std::path::Path;
+use std::process::{Child, ChildStdout};
 use std::time::Duration;
 use support::same_json as same;
 
@@ -44,23 +44,9 @@ fn swing(id: u64) -> Swing {
     }
 }
 
-fn js_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/js")
-}
-
 /// The npm client (see tests/js/foxglove_client.mjs) with `args`; stdout piped.
 fn client(args: &[&str]) -> (Child, BufReader<ChildStdout>) {
-    let modules = js_dir().join("node_modules/@foxglove/ws-protocol");
-    assert!(modules.is_dir(), "{} missing: run `bash scripts/test` (it runs npm ci in tests/js)", modules.display());
-    let mut child = Command::new("node")
-        .arg(js_dir().join("foxglove_client.mjs"))
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("starting node (Node.js); scripts/test installs it");
-    let out = BufReader::new(child.stdout.take().unwrap());
-    (child, out)
+    support::node_client("foxglove_client.mjs", "@foxglove/ws-protocol", args, &[])
 }
 
 /// Reads lines until the first message on `latched`, the client's last topic, and returns the message lines

@@ -13,20 +13,17 @@
 mod support;
 
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{ChildStderr, Command, Stdio};
 use std::time::{Duration, Instant};
 use support::same_json as same;
 
 use serde_json::Value;
+use support::js_dir;
 use sweetspot::msgs::decode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 
 const SPEED: f64 = 2.0;
-
-fn js_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/js")
-}
 
 /// A bag message as JSON, decoded by sweetspot's own types.
 fn as_json(type_name: &str, cdr: &[u8]) -> Value {

@@ -19,6 +19,33 @@ use serde_json::Value;
 /// The `sweetspot` binary under test.
 pub const BIN: &str = env!("CARGO_BIN_EXE_sweetspot");
 
+/// The Node.js test clients (tests/js; `scripts/test` runs `npm ci` there).
+pub fn js_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/js")
+}
+
+/// `node tests/js/SCRIPT ARGS` with `env` set, stdout piped and read line by line, stderr inherited; panics
+/// with the fix if the npm package `needs` is not installed.
+pub fn node_client(
+    script: &str,
+    needs: &str,
+    args: &[&str],
+    env: &[(&str, &str)],
+) -> (Child, std::io::BufReader<std::process::ChildStdout>) {
+    let modules = js_dir().join("node_modules").join(needs);
+    assert!(modules.is_dir(), "{} missing: run `bash scripts/test` (it runs npm ci in tests/js)", modules.display());
+    let mut child = Command::new("node")
+        .arg(js_dir().join(script))
+        .args(args)
+        .envs(env.iter().copied())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("starting node (Node.js); scripts/test installs it");
+    let out = std::io::BufReader::new(child.stdout.take().expect("piped stdout"));
+    (child, out)
+}
+
 /// The repository root.
 pub fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
