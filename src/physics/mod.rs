@@ -110,6 +110,7 @@ mod lanes;
 pub mod metrics;
 pub mod modes;
 pub mod oblique;
+pub mod oblique3d;
 pub mod rigid;
 
 pub use ball::Ball;
@@ -123,4 +124,5 @@ pub use hoop::{HoopMode, PatchLaw};
 pub use metrics::{BbcorReport, BesrReport, SweepPoint, SweetSpotSet};
 pub use modes::{BeamMatrices, EigenSolver, LinkRule, Mode, ModeSet};
 pub use oblique::{collide_oblique, ObliqueImpact, ObliqueResult, TangentialContact};
+pub use oblique3d::{collide_spatial, BatterSide, SpatialImpact, SpatialResult};
 pub use rigid::RigidBat;
