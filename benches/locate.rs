@@ -58,19 +58,18 @@ fn write_export(path: &Path, count: usize) {
     writer.write_record(&header).expect("write");
     for _ in 0..count {
         let (z, d, zone) = (rng.gen_range(0.60..0.80), rng.gen_range(-0.005..0.02), rng.gen_range(80.0..95.0));
+        let impact = Impact {
+            ball_speed: mph(zone),
+            bat_cm_speed: prediction.bat_cm_speed,
+            bat_angular_speed: prediction.bat_angular_speed,
+            impact_z: z,
+        };
         let input = SwingInput {
-            impact: Impact {
-                ball_speed: mph(zone),
-                bat_cm_speed: prediction.bat_cm_speed,
-                bat_angular_speed: prediction.bat_angular_speed,
-                impact_z: z,
-            },
             undercut: d,
             attack_angle: 0.0,
             pitch_angle: deg(6.0),
             pitch_spin: backspin(rpm(2300.0), 180.0),
-            measured_launch_angle: f64::NAN,
-            measured_spin: f64::NAN,
+            ..SwingInput::from(impact)
         };
         let (plan, _) = plan_swing(&mut registry, &settings, "r161", "", input);
         let c = compute(&plan, &()).expect("the swing computes");

@@ -1,5 +1,6 @@
 //! Criterion benches of the physics core: R161 modes (both eigen-solver strategies), one collision, an
-//! oblique collision paired with its normal part (the tangential step's cost), a parallel sweep. Run: `cargo bench --bench physics -- --warm-up-time 1 --measurement-time 3`.
+//! oblique collision paired with its normal part (the tangential step's cost), the same swing in three
+//! dimensions, a parallel sweep. Run: `cargo bench --bench physics -- --warm-up-time 1 --measurement-time 3`.
 //!
 //! On a shared machine wall-clock medians include time the thread spent descheduled; with
 //! `SWEETSPOT_BENCH_CPU=1` the bench instead prints the mean per-thread CPU time of each operation
@@ -8,8 +9,8 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use sweetspot::physics::metrics::{linspace, sweep};
 use sweetspot::physics::rigid;
 use sweetspot::physics::{
-    collide, collide_oblique, collide_with_hoop, Ball, Bat, CollisionOptions, EigenSolver, Impact, LinkRule, ModeSet,
-    ObliqueImpact, TangentialContact,
+    collide, collide_oblique, collide_spatial, collide_with_hoop, Ball, Bat, CollisionOptions, EigenSolver, Impact,
+    LinkRule, ModeSet, ObliqueImpact, SpatialImpact, TangentialContact,
 };
 
 fn swing(impact_z: f64) -> Impact {
@@ -98,6 +99,16 @@ fn benches(c: &mut Criterion) {
     });
     c.bench_function("collision_r161_oblique_normal_part_18_modes_5us", |b| {
         b.iter(|| collide(black_box(&modes), &ball, black_box(&normal_part), &options).expect("collide"))
+    });
+    // The same swing in three dimensions (the bat tilted 32°, swung 5° toward the pull side): the pair with the
+    // planar oblique collision is what the third dimension costs.
+    let spatial = SpatialImpact {
+        bat_tilt: 32f64.to_radians(),
+        swing_direction: -5f64.to_radians(),
+        ..SpatialImpact::planar(oblique)
+    };
+    c.bench_function("collision_r161_spatial_18_modes_5us", |b| {
+        b.iter(|| collide_spatial(black_box(&modes), &ball, black_box(&spatial), &contact, &options).expect("spatial"))
     });
     // A hollow barrel: the same collision with the wall's hoop mode as one more integrated mode (compare with
     // collision_r161_18_modes_5us for the hoop's cost; the solid bat's path is unchanged).

@@ -21,6 +21,11 @@ use support::import::{data, options};
 
 /// Exit speed, launch angle and spin the node computes for `input` on the r161 with `baseball`, the ball the
 /// imports here announce (`support::import::options`).
+/// A level swing toward centre field with nothing measured: the fields a planar test leaves alone.
+fn level() -> SwingInput {
+    SwingInput::from(Impact { ball_speed: 0.0, bat_cm_speed: 0.0, bat_angular_speed: 0.0, impact_z: 0.0 })
+}
+
 fn simulate(input: SwingInput) -> [f64; 3] {
     let settings = ModelSettings::default();
     let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
@@ -118,6 +123,7 @@ fn trackman_rows(truths: &[(f64, f64)], noisy: bool, scale: f64, rng: &mut rand:
         pitch_spin: backspin(rpm(spin_rate), 180.0),
         measured_launch_angle: f64::NAN,
         measured_spin: f64::NAN,
+        ..level()
     };
     let unit = Normal::new(0.0, 1.0).unwrap();
     let sigma = LocateOptions::default();
@@ -196,6 +202,7 @@ fn noise_free_statcast_rows_give_back_impact_point_and_undercut_to_a_millimetre(
             pitch_spin: backspin(rpm(2300.0), 180.0),
             measured_launch_angle: f64::NAN,
             measured_spin: f64::NAN,
+            ..level()
         };
         let [v, theta, _] = simulate(input);
         let cell = |x: f64| format!("{x}");
@@ -303,6 +310,7 @@ fn a_ball_hit_harder_than_the_sweet_spot_allows_is_reported_with_the_excess() {
                 pitch_spin: rpm(2300.0),
                 measured_launch_angle: f64::NAN,
                 measured_spin: f64::NAN,
+                ..level()
             };
             (z, simulate(input)[0])
         })
@@ -334,6 +342,7 @@ fn every_root_a_one_millimetre_scan_finds_is_located_and_no_other() {
             pitch_spin: rpm(2300.0),
             measured_launch_angle: f64::NAN,
             measured_spin: f64::NAN,
+            ..level()
         })[0]
     };
     // The search range of `locate` on the r161 (0.8382 m): L/2 … L − 5 mm.

@@ -37,6 +37,11 @@ fn swing() -> Swing {
         pitch_spin: 220.0,
         measured_launch_angle: 0.45,
         measured_spin: f64::NAN,
+        bat_tilt: 0.56,
+        swing_direction: -0.125,
+        batter_side: Swing::BATTER_LEFT,
+        measured_spray_angle: 0.25,
+        measured_spin_axis: f64::NAN,
     }
 }
 
@@ -106,6 +111,13 @@ fn exit_velocity() -> ExitVelocity {
         hoop_frequency: 1650.0,
         hoop_energy_stored: 3.25,
         hoop_energy_returned: 3.0,
+        spray_angle: -0.375,
+        sidespin: 150.5,
+        gyro_spin: -20.0,
+        total_spin: 400.0,
+        spin_axis: 2.5,
+        spray_angle_residual: f64::NAN,
+        spin_axis_residual: 0.125,
     }
 }
 
@@ -251,10 +263,29 @@ fn msgs_cdr_rejects_bad_input_without_panicking() {
     assert!(matches!(decode_cdr::<Swing>(&pl), Err(MsgError::UnsupportedEncapsulation(3))));
 
     // Every strict prefix of every sample is an error, not a panic and not a success — except data that ends
-    // where an appended (`absent:`) field begins (plus at most 3 padding bytes): `tail` 8-byte float64 fields.
-    fn prefixes<T: RosMessage>(m: T, tail: usize) {
+    // where an appended (`absent:`) field begins, just after the field before it (plus at most 3 padding
+    // bytes). `tail`: the byte sizes of the appended fields, in order; each is aligned to its own size within
+    // the CDR body (which starts after the 4-byte encapsulation header).
+    fn prefixes<T: RosMessage>(m: T, tail: &[usize]) {
         let full = encode_cdr(&m).unwrap();
-        let boundaries: Vec<usize> = (0..=tail).map(|k| full.len() - 8 * k).collect();
+        let body_end = full.len() - 4;
+        // Find the body offset where the tail starts: the unique offset from which laying the fields out with
+        // their alignment ends exactly at body_end.
+        // Where data may end: after each field, and where the next field begins once aligned (the padding
+        // between them then reads as trailing padding).
+        let lay = |start: usize| -> Vec<usize> {
+            let mut at = start;
+            let mut ends = vec![start];
+            for &n in tail {
+                at = at.div_ceil(n) * n;
+                ends.push(at);
+                at += n;
+                ends.push(at);
+            }
+            ends
+        };
+        let start = (0..=body_end).rev().find(|&s| *lay(s).last().unwrap() == body_end).expect("tail layout");
+        let boundaries: Vec<usize> = lay(start).iter().map(|e| e + 4).collect();
         for len in 0..full.len() {
             let at_boundary = boundaries.iter().any(|b| len >= *b && len <= b + 3);
             let decoded = decode_cdr::<T>(&full[..len]);
@@ -267,12 +298,14 @@ fn msgs_cdr_rejects_bad_input_without_panicking() {
         padded.extend([0; 5]);
         assert!(matches!(decode_cdr::<T>(&padded), Err(MsgError::TrailingBytes { .. })));
     }
-    prefixes(swing(), 6);
-    prefixes(bat(), 0);
-    prefixes(diagnostics(), 0);
-    prefixes(modal(), 1);
-    prefixes(exit_velocity(), 9);
-    prefixes(sweet_spot(), 2);
+    // Swing: six oblique float64s, then bat_tilt, swing_direction, batter_side (a byte), the measured spray
+    // angle and spin axis; ExitVelocity: nine float64s, then seven more.
+    prefixes(swing(), &[8, 8, 8, 8, 8, 8, 8, 8, 1, 8, 8]);
+    prefixes(bat(), &[]);
+    prefixes(diagnostics(), &[]);
+    prefixes(modal(), &[8]);
+    prefixes(exit_velocity(), &[8; 16]);
+    prefixes(sweet_spot(), &[8, 8]);
 
     // A huge sequence length must fail cleanly (no allocation blow-up, no panic).
     let mut huge = encode_cdr(&ModalEnergies::default()).unwrap();
@@ -418,7 +451,10 @@ fn msgs_cdr_old_format_messages_decode_with_absent_values() {
     assert!(s.measured_exit_speed.is_nan());
     assert_eq!((s.undercut, s.attack_angle, s.pitch_angle, s.pitch_spin), (0.0, 0.0, 0.0, 0.0));
     assert!(s.measured_launch_angle.is_nan() && s.measured_spin.is_nan());
-    assert_eq!(encode_cdr(&s).unwrap().len(), swing_bytes.len() + 6 * 8, "six float64 appended");
+    // Six float64 appended for the oblique swing, then four float64 and a byte (padded to 8) for the 3-D one.
+    assert_eq!(encode_cdr(&s).unwrap().len(), swing_bytes.len() + 6 * 8 + 5 * 8, "eleven fields appended");
+    assert_eq!((s.bat_tilt, s.swing_direction, s.batter_side), (0.0, 0.0, Swing::BATTER_RIGHT));
+    assert!(s.measured_spray_angle.is_nan() && s.measured_spin_axis.is_nan());
 
     let ev: ExitVelocity = decode_cdr(&answer_bytes).unwrap();
     assert_eq!(ev.status, ExitVelocity::STATUS_OK, "{}", ev.message);
@@ -433,6 +469,11 @@ fn msgs_cdr_old_format_messages_decode_with_absent_values() {
         ev.hoop_frequency,
         ev.hoop_energy_stored,
         ev.hoop_energy_returned,
+        ev.spray_angle,
+        ev.sidespin,
+        ev.total_spin,
+        ev.spin_axis,
+        ev.spin_axis_residual,
     ] {
         assert!(v.is_nan(), "an appended output reads as not recorded: {ev:?}");
     }
@@ -444,7 +485,8 @@ fn msgs_cdr_old_format_messages_decode_with_absent_values() {
 #[test]
 fn msgs_cdr_a_partial_tail_keeps_the_fields_present() {
     let full = encode_cdr(&swing()).unwrap();
-    let s: Swing = decode_cdr(&full[..full.len() - 8 * 4]).unwrap();
+    // Cut where pitch_angle begins: four oblique float64s and the 3-D tail (four float64s and a padded byte).
+    let s: Swing = decode_cdr(&full[..full.len() - 8 * 4 - 5 * 8]).unwrap();
     assert_eq!((s.undercut, s.attack_angle), (0.0125, 0.14));
     assert_eq!((s.pitch_angle, s.pitch_spin), (0.0, 0.0));
     assert!(s.measured_launch_angle.is_nan());

@@ -1,4 +1,4 @@
-//! The committed Statcast tables (validation/statcast_*.csv) are what `scripts/statcast_tables.py` derives from
+//! The committed Statcast and radar tables (validation/statcast_*.csv, mlb2018_radar_spin.csv) are what `scripts/statcast_tables.py` derives from
 //! the shared season files: re-derived here when ../shared/reference/statcast/ is present (skipped, saying so,
 //! when it is not), so a hand-edited or stale table fails. The script needs the Python standard library only:
 //! $SWEETSPOT_PYTHON, else `python3` on PATH.
@@ -30,6 +30,28 @@ fn committed_tables_equal_a_fresh_derivation_from_the_season_files() {
     for name in ["statcast_q.csv", "statcast_exit_undercut.csv", "statcast_attack.csv"] {
         assert!(stdout.contains(name), "{name} not checked: {stdout}");
     }
+}
+
+/// The radar table (validation/mlb2018_radar_spin.csv) is what `scripts/radar_tables.py` derives from the shared
+/// TrackMan and Statcast files (skipped, saying so, when they are absent).
+#[test]
+fn committed_radar_table_equals_a_fresh_derivation() {
+    let reference = repo().join("../shared/reference");
+    if !reference.join("trackman/mlb_2018_batted_ball_spin.csv.gz").is_file() {
+        eprintln!("skipped: {} is absent, the radar table cannot be re-derived here", reference.display());
+        return;
+    }
+    let python = std::env::var_os("SWEETSPOT_PYTHON").map(PathBuf::from).unwrap_or_else(|| "python3".into());
+    let out = Command::new(&python)
+        .arg(repo().join("scripts/radar_tables.py"))
+        .arg("--check")
+        .env("SWEETSPOT_REFERENCE_DIR", &reference)
+        .output()
+        .unwrap_or_else(|e| panic!("running {}: {e}", python.display()));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}{stderr}");
+    assert!(stdout.contains("mlb2018_radar_spin.csv matches"), "{stdout}");
 }
 
 /// The q table's own arithmetic, checked without the script: every bin's percentiles are ordered, the halves

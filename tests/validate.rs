@@ -156,6 +156,7 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
         let joined = id.starts_with("ball-cor")
             || id.starts_with("statcast-q/")
             || id.starts_with("statcast-undercut/")
+            || id.starts_with("radar-spin/")
             || rows.iter().any(|r| r["id"] == id.as_str() && r["note"] == "from validation/ball_cor.toml");
         assert!(joined || GREEN.contains(&id.as_str()) || RED.contains(&id.as_str()), "row {id} is in neither list");
     }
@@ -213,9 +214,36 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
         }
     }
     assert_eq!(bins.len(), 20);
+    // The radar rows: one per 5° launch bin from 5° to 45°, bounded by the radar's interquartile range cut to
+    // ±12 % of its median (the table's numbers, read here with plain string splitting). Green today: 5°, 40°
+    // and 45°; red at 10–35°, where the model spins the ball 1.2–1.5× the radar's median (docs/physics-spin.md).
+    let table = std::fs::read_to_string(support::repo().join("validation/mlb2018_radar_spin.csv")).unwrap();
+    let mut lines = table.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let mut radar_rows = 0;
+    for line in lines {
+        let c: Vec<&str> = line.split(',').collect();
+        let p = |name: &str| c[col(name)].parse::<f64>().unwrap();
+        let id = format!("radar-spin/{}deg", c[col("launch_deg")]);
+        let r = rows.iter().find(|r| r["id"] == id.as_str()).unwrap_or_else(|| panic!("no row {id}"));
+        let median = p("spin_median_rpm");
+        assert_eq!(opt(&r["reference"]), Some(median), "{id}: reference");
+        assert_eq!(opt(&r["low"]), Some(p("spin_q1_rpm").max(0.88 * median)), "{id}: low bound");
+        assert_eq!(opt(&r["high"]), Some(p("spin_q3_rpm").min(1.12 * median)), "{id}: high bound");
+        let green = ["radar-spin/5deg", "radar-spin/40deg", "radar-spin/45deg"].contains(&id.as_str());
+        assert_eq!(r["verdict"], if green { "PASS" } else { "FAIL" }, "{id}: {r}");
+        radar_rows += 1;
+    }
+    assert_eq!(radar_rows, 9);
     // The four figures were drawn.
-    for name in ["validate-cor-vs-speed", "validate-spin-vs-launch", "validate-bpf-vs-hoop", "validate-exit-vs-impact"]
-    {
+    for name in [
+        "validate-cor-vs-speed",
+        "validate-spin-vs-launch",
+        "validate-bpf-vs-hoop",
+        "validate-exit-vs-impact",
+        "validate-radar-spin-vs-launch",
+    ] {
         let path = figures.path().join(format!("{name}.svg"));
         let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
         assert!(size > 1000, "{} missing or empty", path.display());
@@ -433,6 +461,7 @@ fn is_oblique(id: &str) -> bool {
     id.starts_with("tee-spin-")
         || id.starts_with("game-spin-")
         || id.starts_with("statcast-undercut/")
+        || id.starts_with("radar-spin/")
         || id == "spin-vs-incoming-spin"
 }
 

@@ -251,6 +251,18 @@ pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
         "hoop_energy_stored",
         "hoop_energy_returned",
         "hoop_energy",
+        "bat_tilt",
+        "swing_direction",
+        "batter_side",
+        "measured_spray_angle",
+        "measured_spin_axis",
+        "spray_angle",
+        "sidespin",
+        "gyro_spin",
+        "total_spin",
+        "spin_axis",
+        "spray_angle_residual",
+        "spin_axis_residual",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -308,6 +320,18 @@ pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
             opt(ev.map(|e| e.hoop_energy_stored)),
             opt(ev.map(|e| e.hoop_energy_returned)),
             opt(me.map(|m| m.hoop_energy)),
+            s.bat_tilt.to_string(),
+            s.swing_direction.to_string(),
+            s.batter_side.to_string(),
+            s.measured_spray_angle.to_string(),
+            s.measured_spin_axis.to_string(),
+            opt(ev.map(|e| e.spray_angle)),
+            opt(ev.map(|e| e.sidespin)),
+            opt(ev.map(|e| e.gyro_spin)),
+            opt(ev.map(|e| e.total_spin)),
+            opt(ev.map(|e| e.spin_axis)),
+            opt(ev.map(|e| e.spray_angle_residual)),
+            opt(ev.map(|e| e.spin_axis_residual)),
         ];
         for k in 0..modes {
             rec.push(opt(me.and_then(|m| m.frequency.get(k).copied())));

@@ -245,6 +245,16 @@ impl Comparer<'_> {
             self.field("ExitVelocity.hoop_energy_stored", rec.hoop_energy_stored, rep.hoop_energy_stored);
             self.field("ExitVelocity.hoop_energy_returned", rec.hoop_energy_returned, rep.hoop_energy_returned);
         }
+        // The three-dimensional tail, likewise: an OK answer carries a total spin (0 head-on), never NaN.
+        if !(rec.total_spin.is_nan() && rec.spray_angle.is_nan()) {
+            self.field("ExitVelocity.spray_angle", rec.spray_angle, rep.spray_angle);
+            self.field("ExitVelocity.sidespin", rec.sidespin, rep.sidespin);
+            self.field("ExitVelocity.gyro_spin", rec.gyro_spin, rep.gyro_spin);
+            self.field("ExitVelocity.total_spin", rec.total_spin, rep.total_spin);
+            self.field("ExitVelocity.spin_axis", rec.spin_axis, rep.spin_axis);
+            self.field("ExitVelocity.spray_angle_residual", rec.spray_angle_residual, rep.spray_angle_residual);
+            self.field("ExitVelocity.spin_axis_residual", rec.spin_axis_residual, rep.spin_axis_residual);
+        }
     }
 
     fn modal_energies(&mut self, rec: &ModalEnergies, rep: &ModalEnergies) {

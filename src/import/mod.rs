@@ -500,6 +500,7 @@ impl SwingBuilder {
             pitch_spin,
             measured_launch_angle: la,
             measured_spin: row.spin,
+            ..Swing::default()
         };
         Ok((swing, assumed))
     }

@@ -6,6 +6,7 @@ use crate::msgs::std_msgs::msg::Header;
 use crate::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, SweetSpot, Swing};
 use crate::physics::bat::SLICE_COUNT_RANGE;
 use crate::physics::oblique::TangentialContact;
+use crate::physics::oblique3d::BatterSide;
 use crate::physics::{Ball, Bat, CoreFill, Impact, Material, PhysicsError, Station};
 
 use super::engine::{self, BatSummary, Computed, SwingInput};
@@ -296,6 +297,19 @@ pub fn swing_input(s: &Swing) -> SwingInput {
         pitch_spin: s.pitch_spin,
         measured_launch_angle: s.measured_launch_angle,
         measured_spin: s.measured_spin,
+        bat_tilt: s.bat_tilt,
+        swing_direction: s.swing_direction,
+        batter_side: if s.batter_side == Swing::BATTER_LEFT { BatterSide::Left } else { BatterSide::Right },
+        measured_spray_angle: s.measured_spray_angle,
+        measured_spin_axis: s.measured_spin_axis,
+    }
+}
+
+/// Refuses a `batter_side` that is neither BATTER_RIGHT nor BATTER_LEFT, naming the field.
+fn check_batter_side(s: &Swing) -> Result<(), String> {
+    match s.batter_side {
+        Swing::BATTER_RIGHT | Swing::BATTER_LEFT => Ok(()),
+        other => Err(format!("batter_side = {other} is out of range: expected BATTER_RIGHT (0) or BATTER_LEFT (1)")),
     }
 }
 
@@ -308,7 +322,7 @@ pub fn plan_swing_message(
     settings: &super::settings::ModelSettings,
     swing: &Swing,
 ) -> (engine::Plan, Option<std::sync::Arc<engine::BatEntry>>) {
-    if let Err(reason) = limits::check_swing(swing) {
+    if let Err(reason) = limits::check_swing(swing).and_then(|_| check_batter_side(swing)) {
         let (bat_id, ball_id) = (limits::echo(&swing.bat_id).into_owned(), limits::echo(&swing.ball_id).into_owned());
         return (engine::Plan::Reject { bat_id, ball_id, reason }, None);
     }
@@ -355,8 +369,16 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
             ev.spin = launch.spin;
             ev.normal_exit_speed = launch.normal_exit_speed;
             ev.tangential_exit_speed = launch.tangential_exit_speed;
+            let input = swing_input(swing);
             ev.launch_angle_residual = swing.measured_launch_angle - launch.launch_angle;
-            ev.spin_residual = swing.measured_spin - launch.spin;
+            ev.spin_residual = input.measured_backspin() - launch.spin;
+            ev.spray_angle = launch.spray_angle;
+            ev.sidespin = launch.sidespin;
+            ev.gyro_spin = launch.gyro_spin;
+            ev.total_spin = launch.total_spin;
+            ev.spin_axis = launch.spin_axis;
+            ev.spray_angle_residual = swing.measured_spray_angle - launch.spray_angle;
+            ev.spin_axis_residual = wrapped_difference(swing.measured_spin_axis, launch.spin_axis);
             ev.hoop_frequency = c.hoop.map_or(0.0, |h| h.frequency_hz());
             ev.hoop_energy_stored = c.energy.hoop_stored;
             ev.hoop_energy_returned = c.energy.hoop_returned;
@@ -384,12 +406,30 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
                 &mut ev.hoop_frequency,
                 &mut ev.hoop_energy_stored,
                 &mut ev.hoop_energy_returned,
+                &mut ev.spray_angle,
+                &mut ev.sidespin,
+                &mut ev.gyro_spin,
+                &mut ev.total_spin,
+                &mut ev.spin_axis,
+                &mut ev.spray_angle_residual,
+                &mut ev.spin_axis_residual,
             ] {
                 *x = f64::NAN;
             }
         }
     }
     ev
+}
+
+/// `measured − model` for two angles, rad, wrapped into (−π, π] (NaN when either is NaN).
+pub fn wrapped_difference(measured: f64, model: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let d = (measured - model).rem_euclid(tau);
+    if d > std::f64::consts::PI {
+        d - tau
+    } else {
+        d
+    }
 }
 
 /// The energy breakdown of a computed swing; the strings echoed are cut to [`limits::MAX_STRING_BYTES`] as in
@@ -495,6 +535,11 @@ mod tests {
                 spin: 0.0,
                 normal_exit_speed: 45.5,
                 tangential_exit_speed: 0.0,
+                spray_angle: 0.0,
+                sidespin: 0.0,
+                gyro_spin: 0.0,
+                total_spin: 0.0,
+                spin_axis: std::f64::consts::PI,
             },
             collision_energy: 200.0,
         }

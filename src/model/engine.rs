@@ -5,7 +5,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 
 use crate::physics::batter::swing_weight;
-use crate::physics::oblique::{collide_oblique, ObliqueImpact, TangentialContact};
+use crate::physics::oblique::{ObliqueImpact, TangentialContact};
+use crate::physics::oblique3d::{collide_spatial, BatterSide, SpatialImpact};
 use crate::physics::{
     collide, metrics, Ball, Bat, CollisionOptions, CollisionResult, Impact, MassProperties, ModeSet, PhysicsError,
     SweetSpotSet,
@@ -380,8 +381,18 @@ pub struct SwingInput {
     pub pitch_spin: f64,
     /// Launch angle measured by the rig, rad; NaN when not measured.
     pub measured_launch_angle: f64,
-    /// Spin measured by the rig, rad/s, backspin positive; NaN when not measured.
+    /// Spin measured by the rig, rad/s: backspin without an axis, total spin with one; NaN when not measured.
     pub measured_spin: f64,
+    /// Tilt of the bat's long axis below the horizontal, rad (barrel below the hands positive).
+    pub bat_tilt: f64,
+    /// Horizontal direction of the bat's path, rad, positive toward right field.
+    pub swing_direction: f64,
+    /// The batter's side.
+    pub batter_side: BatterSide,
+    /// Spray angle measured by the rig, rad; NaN when not measured.
+    pub measured_spray_angle: f64,
+    /// Spin axis measured by the rig (TrackMan's HitSpinAxis), rad; NaN when not measured.
+    pub measured_spin_axis: f64,
 }
 
 impl From<Impact> for SwingInput {
@@ -394,14 +405,32 @@ impl From<Impact> for SwingInput {
             pitch_spin: 0.0,
             measured_launch_angle: f64::NAN,
             measured_spin: f64::NAN,
+            bat_tilt: 0.0,
+            swing_direction: 0.0,
+            batter_side: BatterSide::Right,
+            measured_spray_angle: f64::NAN,
+            measured_spin_axis: f64::NAN,
         }
     }
 }
 
 impl SwingInput {
-    /// True when undercut, both angles and the pitch spin are all 0: the swing is today's head-on collision.
+    /// True when undercut, the angles, the pitch spin, the bat's tilt and the swing's direction are all 0: the
+    /// swing is today's head-on collision.
     pub fn is_head_on(&self) -> bool {
-        [self.undercut, self.attack_angle, self.pitch_angle, self.pitch_spin].iter().all(|v| *v == 0.0)
+        [self.undercut, self.attack_angle, self.pitch_angle, self.pitch_spin, self.bat_tilt, self.swing_direction]
+            .iter()
+            .all(|v| *v == 0.0)
+    }
+
+    /// The backspin the rig measured, rad/s: `measured_spin` itself, or its backspin part −cos(axis) times it
+    /// when the rig measured the spin axis (a radar's total spin); NaN when not measured.
+    pub fn measured_backspin(&self) -> f64 {
+        if self.measured_spin_axis.is_nan() {
+            self.measured_spin
+        } else {
+            -self.measured_spin * self.measured_spin_axis.cos()
+        }
     }
 
     /// Checks the oblique inputs for a ball of radius `ball_radius` on a barrel of radius `barrel_radius` (m)
@@ -430,8 +459,24 @@ impl SwingInput {
         if !(self.pitch_spin.is_finite() && self.pitch_spin.abs() <= MAX_PITCH_SPIN) {
             return out("pitch_spin", self.pitch_spin, format!("|pitch_spin| ≤ {MAX_PITCH_SPIN} rad/s"));
         }
-        for (field, v) in [("measured_launch_angle", self.measured_launch_angle), ("measured_spin", self.measured_spin)]
-        {
+        for (field, v) in [("bat_tilt", self.bat_tilt), ("swing_direction", self.swing_direction)] {
+            if !(v.is_finite() && v.abs() <= MAX_SWING_ANGLE) {
+                return out(field, v, format!("|{field}| ≤ {MAX_SWING_ANGLE:.4} rad (80°)"));
+            }
+        }
+        if self.bat_tilt.abs() + self.attack_angle.abs() >= 0.5 * std::f64::consts::PI - 1e-6 {
+            return out(
+                "bat_tilt",
+                self.bat_tilt,
+                "|bat_tilt| + |attack_angle| < 90° (a bat perpendicular to its path cannot tilt further)".to_string(),
+            );
+        }
+        for (field, v) in [
+            ("measured_launch_angle", self.measured_launch_angle),
+            ("measured_spin", self.measured_spin),
+            ("measured_spray_angle", self.measured_spray_angle),
+            ("measured_spin_axis", self.measured_spin_axis),
+        ] {
             if v.is_infinite() {
                 return out(field, v, "a finite value, or NaN when not measured".to_string());
             }
@@ -456,7 +501,7 @@ pub enum Plan {
         /// Initial conditions along the bat's path.
         impact: Impact,
         /// The oblique geometry, `None` for a head-on swing (today's collision, bit for bit).
-        oblique: Option<Box<ObliqueImpact>>,
+        oblique: Option<Box<SpatialImpact>>,
         /// Mode count and time step.
         options: CollisionOptions,
     },
@@ -524,13 +569,18 @@ pub fn plan_swing(
                 return (Plan::Reject { bat_id: bat.bat_id.clone(), ball_id, reason }, new_bat);
             }
             let oblique = (!swing.is_head_on() && barrel_radius.is_finite()).then(|| {
-                Box::new(ObliqueImpact {
-                    impact,
-                    barrel_radius,
-                    undercut: swing.undercut,
-                    attack_angle: swing.attack_angle,
-                    pitch_angle: swing.pitch_angle,
-                    pitch_spin: swing.pitch_spin,
+                Box::new(SpatialImpact {
+                    oblique: ObliqueImpact {
+                        impact,
+                        barrel_radius,
+                        undercut: swing.undercut,
+                        attack_angle: swing.attack_angle,
+                        pitch_angle: swing.pitch_angle,
+                        pitch_spin: swing.pitch_spin,
+                    },
+                    bat_tilt: swing.bat_tilt,
+                    swing_direction: swing.swing_direction,
+                    batter_side: swing.batter_side,
                 })
             });
             (Plan::Collide { bat, ball_id, ball, contact, impact, oblique, options }, new_bat)
@@ -546,12 +596,22 @@ pub struct Launch {
     pub exit_speed: f64,
     /// Launch angle above the horizontal, rad.
     pub launch_angle: f64,
-    /// Spin about the bat's axis, rad/s, backspin positive.
+    /// Backspin, rad/s (about the horizontal axis across the flight; positive lifts).
     pub spin: f64,
     /// Outgoing velocity along the line of centres, m/s.
     pub normal_exit_speed: f64,
-    /// Outgoing velocity across the line of centres, m/s.
+    /// Outgoing velocity across the line of centres, around the bat, m/s.
     pub tangential_exit_speed: f64,
+    /// Spray angle, rad, positive toward right field.
+    pub spray_angle: f64,
+    /// Sidespin, rad/s, positive toward left field.
+    pub sidespin: f64,
+    /// Gyro spin along the flight, rad/s.
+    pub gyro_spin: f64,
+    /// Total spin, rad/s.
+    pub total_spin: f64,
+    /// Spin axis (TrackMan's HitSpinAxis), rad.
+    pub spin_axis: f64,
 }
 
 impl Launch {
@@ -563,6 +623,11 @@ impl Launch {
             spin: 0.0,
             normal_exit_speed: collision.exit_speed,
             tangential_exit_speed: 0.0,
+            spray_angle: 0.0,
+            sidespin: 0.0,
+            gyro_spin: 0.0,
+            total_spin: 0.0,
+            spin_axis: std::f64::consts::PI,
         }
     }
 }
@@ -590,35 +655,26 @@ pub fn compute(plan: &Plan, stats: &impl ModeCacheStats) -> Result<Computed, Str
             let collision_energy = centre_of_mass_energy(&collision, &modes.mass_properties(), ball, impact);
             Ok(Computed { launch: Launch::head_on(&collision), collision, collision_energy })
         }
-        Plan::Collide { bat, ball_id, ball, contact, oblique: Some(oblique), options, .. } => {
+        Plan::Collide { bat, ball_id, ball, contact, oblique: Some(spatial), options, .. } => {
             let modes = bat.modes(stats).map_err(|e| format!("bat '{}': {e}", bat.bat_id))?;
-            let result = collide_oblique(&modes, ball, oblique, contact, options).map_err(|e| e.to_string())?;
+            let result = collide_spatial(&modes, ball, spatial, contact, options).map_err(|e| e.to_string())?;
             limits::check_compression(ball_id, ball, result.normal.max_compression)?;
             let launch = Launch {
                 exit_speed: result.exit_speed,
                 launch_angle: result.launch_angle,
-                spin: result.spin,
+                spin: result.backspin,
                 normal_exit_speed: result.normal_exit_speed,
                 tangential_exit_speed: result.tangential_exit_speed,
+                spray_angle: result.spray_angle,
+                sidespin: result.sidespin,
+                gyro_spin: result.gyro_spin,
+                total_spin: result.total_spin,
+                spin_axis: result.spin_axis,
             };
-            let normal = normal_impact(oblique, result.line_of_centres_angle);
-            let collision_energy = centre_of_mass_energy(&result.normal, &modes.mass_properties(), ball, &normal);
+            let collision_energy =
+                centre_of_mass_energy(&result.normal, &modes.mass_properties(), ball, &result.normal_impact);
             Ok(Computed { collision: result.normal, launch, collision_energy })
         }
-    }
-}
-
-/// The approach along the line of centres (at `beta` above the horizontal) that
-/// [`crate::physics::oblique`]'s normal collision is driven by: the ball's speed times cos(β − θ), the bat's
-/// motion times cos φ with φ = β − α.
-fn normal_impact(oblique: &ObliqueImpact, beta: f64) -> Impact {
-    let cos_phi = (beta - oblique.attack_angle).cos();
-    let i = &oblique.impact;
-    Impact {
-        ball_speed: i.ball_speed * (beta - oblique.pitch_angle).cos(),
-        bat_cm_speed: i.bat_cm_speed * cos_phi,
-        bat_angular_speed: i.bat_angular_speed * cos_phi,
-        impact_z: i.impact_z,
     }
 }
 

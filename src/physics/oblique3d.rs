@@ -224,13 +224,19 @@ pub struct SpatialResult {
     pub tangential_impulse: [f64; 3],
     /// True when friction bound: the ball slid throughout the contact.
     pub sliding: bool,
+    /// Outgoing ball velocity along the line of centres (away from the bat), m/s.
+    pub normal_exit_speed: f64,
+    /// Outgoing ball velocity along the tangent around the bat t̂, m/s.
+    pub tangential_exit_speed: f64,
+    /// The approach along the line of centres that drove the normal collision.
+    pub normal_impact: Impact,
     /// The normal collision along the line of centres.
     pub normal: CollisionResult,
 }
 
 impl SpatialResult {
-    /// The answer of a planar swing in the field frame (bat axis ê = −ŷ).
-    fn from_planar(planar: &ObliqueResult) -> SpatialResult {
+    /// The answer of the planar swing `oblique` in the field frame (bat axis ê = −ŷ).
+    fn from_planar(planar: &ObliqueResult, oblique: &ObliqueImpact) -> SpatialResult {
         let (forward, up) = planar.velocity();
         let beta = planar.line_of_centres_angle;
         let (sb, cb) = beta.sin_cos();
@@ -250,6 +256,9 @@ impl SpatialResult {
             slip_before: along_t(planar.slip_before),
             tangential_impulse: along_t(planar.tangential_impulse),
             sliding: planar.sliding,
+            normal_exit_speed: planar.normal_exit_speed,
+            tangential_exit_speed: planar.tangential_exit_speed,
+            normal_impact: planar_normal_impact(oblique, beta),
             normal: planar.normal.clone(),
         }
     }
@@ -267,6 +276,19 @@ impl SpatialResult {
         self.gyro_spin = -self.gyro_spin;
         self.spin_axis = wrap_angle(-self.spin_axis);
         self
+    }
+}
+
+/// The approach along the line of centres (at `beta` above the horizontal) that the planar model's normal
+/// collision is driven by: the ball's speed times cos(β − θ), the bat's motion times cos φ with φ = β − α.
+fn planar_normal_impact(oblique: &ObliqueImpact, beta: f64) -> Impact {
+    let cos_phi = (beta - oblique.attack_angle).cos();
+    let i = &oblique.impact;
+    Impact {
+        ball_speed: i.ball_speed * (beta - oblique.pitch_angle).cos(),
+        bat_cm_speed: i.bat_cm_speed * cos_phi,
+        bat_angular_speed: i.bat_angular_speed * cos_phi,
+        impact_z: i.impact_z,
     }
 }
 
@@ -374,7 +396,7 @@ pub fn collide_spatial(
     // A left-handed swing is the right-handed swing reflected: the direction changes sign, the rest stays.
     let direction = if mirrored { -impact.swing_direction } else { impact.swing_direction };
     let result = if impact.bat_tilt == 0.0 && direction == 0.0 {
-        SpatialResult::from_planar(&collide_oblique(modes, ball, oblique, contact, options)?)
+        SpatialResult::from_planar(&collide_oblique(modes, ball, oblique, contact, options)?, oblique)
     } else {
         ball.validate()?;
         oblique.validate(ball.radius)?;
@@ -479,6 +501,9 @@ pub fn collide_vectors(
         slip_before: (t * slip[0] + a * slip[1]).into(),
         tangential_impulse: j.into(),
         sliding,
+        normal_exit_speed: normal.exit_speed,
+        tangential_exit_speed: velocity.dot(&t),
+        normal_impact,
         normal,
     };
     if !(result.exit_speed.is_finite() && result.total_spin.is_finite() && result.spin_axis.is_finite()) {

@@ -14,7 +14,8 @@ use rayon::prelude::*;
 
 use crate::physics::batter::{Batter, ReferenceSwing};
 use crate::physics::metrics::{bbcor_report, besr_scan, linspace, sweep, sweet_spots};
-use crate::physics::oblique::{rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
+use crate::physics::oblique::{rad_per_s_to_rpm, rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
+use crate::physics::oblique3d::{collide_spatial, SpatialImpact};
 use crate::physics::{
     collide, collide_oblique, Ball, Bat, CollisionOptions, CollisionResult, Impact, Material, ModeSet, PhysicsError,
     Station,
@@ -98,6 +99,51 @@ pub struct Lab {
     cage: Memo<(String, String, u64), CageComparison>,
     /// The weight-matched swing curve (takes no arguments, so one result).
     matched: OnceLock<Vec<SwingPoint>>,
+}
+
+/// One spatial game swing at a launch angle: the swing's speed scale and what the ball does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpatialGamePoint {
+    /// The swing's speed as a multiple of the average MLB swing.
+    pub scale: f64,
+    /// Launch angle, deg.
+    pub launch_deg: f64,
+    /// Exit speed, mph.
+    pub exit_speed_mph: f64,
+    /// Total spin, rpm (what a radar reports).
+    pub total_spin_rpm: f64,
+    /// Backspin, rpm.
+    pub backspin_rpm: f64,
+    /// Sidespin, rpm (positive toward the left-field side).
+    pub sidespin_rpm: f64,
+    /// Spray angle, deg (positive toward right field).
+    pub spray_deg: f64,
+    /// The swing's direction, deg (positive toward right field).
+    pub direction_deg: f64,
+}
+
+impl SpatialGamePoint {
+    /// The point at spray angle `spray` deg, interpolated linearly between the points (sorted by spray) that
+    /// bracket it; `None` outside their range.
+    pub fn at_spray(points: &[SpatialGamePoint], spray: f64) -> Option<SpatialGamePoint> {
+        points.windows(2).find_map(|w| {
+            let (p0, p1) = (w[0], w[1]);
+            (p0.spray_deg <= spray && spray <= p1.spray_deg && p1.spray_deg > p0.spray_deg).then(|| {
+                let t = (spray - p0.spray_deg) / (p1.spray_deg - p0.spray_deg);
+                let mix = |a: f64, b: f64| a + (b - a) * t;
+                SpatialGamePoint {
+                    scale: p0.scale,
+                    launch_deg: p0.launch_deg,
+                    exit_speed_mph: mix(p0.exit_speed_mph, p1.exit_speed_mph),
+                    total_spin_rpm: mix(p0.total_spin_rpm, p1.total_spin_rpm),
+                    backspin_rpm: mix(p0.backspin_rpm, p1.backspin_rpm),
+                    sidespin_rpm: mix(p0.sidespin_rpm, p1.sidespin_rpm),
+                    spray_deg: spray,
+                    direction_deg: mix(p0.direction_deg, p1.direction_deg),
+                }
+            })
+        })
+    }
 }
 
 /// The cage comparison of a wood and a metal bat: their best points, then their exit-speed curves.
@@ -579,6 +625,121 @@ impl Lab {
             ((l0 - launch) * (l1 - launch) <= 0.0 && l1 != l0).then(|| {
                 let t = (launch - l0) / (l1 - l0);
                 (s0 + (s1 - s0) * t, e0 + (e1 - e0) * t)
+            })
+        }))
+    }
+
+    /// The game swing in three dimensions launched at `launch` deg, over swing directions: the R161 swung by
+    /// a right-handed batter along a path rising `attack_deg` with the bat tilted `tilt_deg` (barrel below the
+    /// hands), against `pitch`; its speed scaled (centre-of-mass and angular speed alike, as
+    /// [`Lab::game_spin_rpm`]) until the ball launched at `launch` by a swing toward centre field leaves at
+    /// `exit_speed_mph`; then the swing's direction scanned from −50° to 45° (the undercut set each time so
+    /// the ball launches at `launch`). Returns the points in order of spray angle, or `None` if no swing of
+    /// 0.3–1.5× the average launches there at that speed.
+    pub fn spatial_spray_scan(
+        &self,
+        pitch: &PitchMedians,
+        attack_deg: f64,
+        tilt_deg: f64,
+        launch: f64,
+        exit_speed_mph: f64,
+    ) -> Result<Option<Vec<SpatialGamePoint>>, ValidateError> {
+        let (mut lo, mut hi) = (0.3, 1.5);
+        let mut found = None;
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            match self.spatial_game_point(pitch, attack_deg, tilt_deg, 0.0, launch, mid)? {
+                Some(point) => {
+                    if point.exit_speed_mph < exit_speed_mph {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                    found = Some(point);
+                }
+                None => lo = mid,
+            }
+        }
+        let Some(scale) = found.filter(|p| (p.exit_speed_mph - exit_speed_mph).abs() < 0.05).map(|p| p.scale) else {
+            return Ok(None);
+        };
+        let mut points = Vec::new();
+        for direction in linspace(-50.0, 45.0, 39) {
+            if let Some(point) = self.spatial_game_point(pitch, attack_deg, tilt_deg, direction, launch, scale)? {
+                points.push(point);
+            }
+        }
+        points.sort_by(|a, b| a.spray_deg.total_cmp(&b.spray_deg));
+        Ok(Some(points))
+    }
+
+    /// The spatial game swing scaled by `scale`, launched at `launch` deg (interpolated along the undercut
+    /// scan at the first crossing), or `None` if it never launches there.
+    fn spatial_game_point(
+        &self,
+        pitch: &PitchMedians,
+        attack_deg: f64,
+        tilt_deg: f64,
+        direction_deg: f64,
+        launch: f64,
+        scale: f64,
+    ) -> Result<Option<SpatialGamePoint>, ValidateError> {
+        let case = "radar_spin_rpm";
+        let (b, modes) = self.bat(case, "r161")?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let swing = self.typical_swing(case, &modes)?;
+        let typical = swing.impact(pitch.zone_speed_mph * MPH);
+        let impact = Impact {
+            bat_cm_speed: scale * typical.bat_cm_speed,
+            bat_angular_speed: scale * typical.bat_angular_speed,
+            ..typical
+        };
+        let barrel_radius = b.radii_at(impact.impact_z).0;
+        let reach = ball.radius + barrel_radius;
+        let points: Vec<SpatialGamePoint> = linspace(0.0, 0.95 * reach, 77)
+            .par_iter()
+            .map(|&undercut| {
+                let oblique = ObliqueImpact {
+                    undercut,
+                    attack_angle: attack_deg.to_radians(),
+                    pitch_angle: (-pitch.vert_appr_angle_deg).to_radians(),
+                    pitch_spin: rpm_to_rad_per_s(pitch.spin_rpm),
+                    ..ObliqueImpact::head_on(impact, barrel_radius)
+                };
+                let spatial = SpatialImpact {
+                    bat_tilt: tilt_deg.to_radians(),
+                    swing_direction: direction_deg.to_radians(),
+                    ..SpatialImpact::planar(oblique)
+                };
+                collide_spatial(&modes, &ball, &spatial, &self.contact, &self.options)
+                    .map(|r| SpatialGamePoint {
+                        scale,
+                        launch_deg: r.launch_angle.to_degrees(),
+                        exit_speed_mph: r.exit_speed / MPH,
+                        total_spin_rpm: rad_per_s_to_rpm(r.total_spin),
+                        backspin_rpm: rad_per_s_to_rpm(r.backspin),
+                        sidespin_rpm: rad_per_s_to_rpm(r.sidespin),
+                        spray_deg: r.spray_angle.to_degrees(),
+                        direction_deg,
+                    })
+                    .map_err(physics(case))
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(points.windows(2).find_map(|w| {
+            let (p0, p1) = (w[0], w[1]);
+            ((p0.launch_deg - launch) * (p1.launch_deg - launch) <= 0.0 && p1.launch_deg != p0.launch_deg).then(|| {
+                let t = (launch - p0.launch_deg) / (p1.launch_deg - p0.launch_deg);
+                let mix = |a: f64, b: f64| a + (b - a) * t;
+                SpatialGamePoint {
+                    scale,
+                    launch_deg: launch,
+                    exit_speed_mph: mix(p0.exit_speed_mph, p1.exit_speed_mph),
+                    total_spin_rpm: mix(p0.total_spin_rpm, p1.total_spin_rpm),
+                    backspin_rpm: mix(p0.backspin_rpm, p1.backspin_rpm),
+                    sidespin_rpm: mix(p0.sidespin_rpm, p1.sidespin_rpm),
+                    spray_deg: mix(p0.spray_deg, p1.spray_deg),
+                    direction_deg,
+                }
             })
         }))
     }

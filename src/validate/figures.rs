@@ -1,5 +1,5 @@
 //! The suite's figures, where a curve is compared: COR against speed, spin against launch angle, BPF against
-//! hoop frequency, exit speed against impact point. Drawn with the project's charts ([`crate::report::plot`]).
+//! hoop frequency, exit speed against impact point, total spin against launch angle in 3-D over the MLB radar. Drawn with the project's charts ([`crate::report::plot`]).
 
 use std::path::{Path, PathBuf};
 
@@ -19,8 +19,13 @@ fn marker(x: f64, label: &str, color: usize) -> VerticalMarker {
 }
 
 /// The figures' file names, without the extension, in the order [`write`] draws them.
-pub const NAMES: [&str; 4] =
-    ["validate-cor-vs-speed", "validate-spin-vs-launch", "validate-bpf-vs-hoop", "validate-exit-vs-impact"];
+pub const NAMES: [&str; 5] = [
+    "validate-cor-vs-speed",
+    "validate-spin-vs-launch",
+    "validate-bpf-vs-hoop",
+    "validate-exit-vs-impact",
+    "validate-radar-spin-vs-launch",
+];
 
 /// The files [`write`] writes into `dir` (`ext`: `svg` or `png`).
 pub fn paths(dir: &Path, ext: &str) -> Vec<PathBuf> {
@@ -48,7 +53,7 @@ fn param_or(inputs: &Inputs, case: &str, key: &str, default: f64) -> f64 {
         .unwrap_or(default)
 }
 
-/// Draws the four figures into `dir` (`ext`: `svg` or `png`) and returns their paths.
+/// Draws the figures into `dir` (`ext`: `svg` or `png`) and returns their paths.
 pub fn write(
     dir: &Path,
     ext: &str,
@@ -193,5 +198,39 @@ pub fn write(
         ..Default::default()
     };
     out.push(draw(dir, NAMES[3], ext, &exit)?);
+
+    // Total spin against launch angle, the 3-D model over the MLB radar (the `radar-spin/…` rows).
+    if !inputs.radar.is_empty() {
+        let model: Vec<(f64, f64)> = inputs
+            .radar
+            .iter()
+            .filter_map(|b| {
+                let id = format!("radar-spin/{}deg", b.launch_deg);
+                report.rows.iter().find(|r| r.id == id).and_then(|r| r.model).map(|m| (b.launch_deg, m))
+            })
+            .collect();
+        let radar = LineChart {
+            title: "Total spin vs launch angle: 3-D model and MLB radar (80–88 mph)".into(),
+            x_label: "launch angle (deg)".into(),
+            y_label: "total spin (rpm)".into(),
+            x_range: Some((0.0, 50.0)),
+            series: vec![
+                Series::solid("model, median over the bin's sprays (R161, tilted bat)", 0, model),
+                points(
+                    "TrackMan radar, MLB 2018: median",
+                    1,
+                    inputs.radar.iter().map(|b| (b.launch_deg, b.spin_median_rpm)).collect(),
+                ),
+            ],
+            error_bars: vec![ErrorBars {
+                label: "radar interquartile range".into(),
+                color: 1,
+                bars: inputs.radar.iter().map(|b| (b.launch_deg, b.spin_q1_rpm, b.spin_q3_rpm)).collect(),
+                horizontal: false,
+            }],
+            ..Default::default()
+        };
+        out.push(draw(dir, NAMES[4], ext, &radar)?);
+    }
     Ok(out)
 }
