@@ -19,7 +19,8 @@
 //!   test rig publishing swings; [`demo`]: a scripted run of node and rig; [`bench`]: end-to-end benchmarks;
 //!   [`validate`]: the model against published measurements;
 //! - [`files`]: the rules for the files a user names (regular inputs under a size cap; no output onto an
-//!   input), used by every layer that opens one;
+//!   input), used by every layer that opens one; [`yaml`]: every YAML text loaded under a depth and
+//!   alias-expansion budget;
 //! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
 pub mod bag;
 pub mod bench;
@@ -41,3 +42,4 @@ pub mod report;
 pub mod rig;
 pub mod ros;
 pub mod validate;
+pub mod yaml;

@@ -500,8 +500,8 @@ fn read_small_regular_file(path: &Path, limit: u64) -> Result<String, String> {
 /// `relative_file_paths` of a rosbag2 `metadata.yaml`, with each file's `message_count` from `files:` when
 /// given there.
 fn parse_file_list(text: &str) -> Result<Vec<(String, Option<u64>)>, String> {
-    use yaml_rust2::{Yaml, YamlLoader};
-    let docs = YamlLoader::load_from_str(text).map_err(|e| e.to_string())?;
+    use yaml_rust2::Yaml;
+    let docs = crate::yaml::load(text).map_err(|e| e.to_string())?;
     let info = docs
         .first()
         .map(|d| &d["rosbag2_bagfile_information"])

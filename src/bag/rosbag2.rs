@@ -10,13 +10,13 @@
 //!
 //! Reading is another matter: the metadata text and QoS profiles of bags other tools wrote (rosbag2, rosbags,
 //! in their own key order and quoting, QoS enums as integers or as Jazzy's strings) are parsed as YAML with
-//! `yaml-rust2` ([`parse_custom_data`], [`parse_ros_distro`], [`parse_offered_qos`]); only the emitter is
+//! [`crate::yaml`] ([`parse_custom_data`], [`parse_ros_distro`], [`parse_offered_qos`]); only the emitter is
 //! hand-written, for its exact layout.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use yaml_rust2::{Yaml, YamlLoader};
+use yaml_rust2::Yaml;
 
 use super::{RecordedQos, TopicInfo};
 
@@ -170,7 +170,7 @@ impl BagMetadata {
 /// it without the wrapper; sweetspot's [`BagMetadata::to_yaml_body`] too). Any layout, quoting and key order
 /// YAML allows; None if the text is not YAML or holds no mapping.
 fn metadata_body(yaml: &str) -> Option<Yaml> {
-    let doc = YamlLoader::load_from_str(yaml).ok()?.into_iter().next()?;
+    let doc = crate::yaml::load(yaml).ok()?.into_iter().next()?;
     let body = match &doc["rosbag2_bagfile_information"] {
         Yaml::Hash(_) => doc["rosbag2_bagfile_information"].clone(),
         _ => doc,
@@ -223,7 +223,7 @@ pub fn offered_qos_profiles_yaml(qos: &RecordedQos) -> String {
 /// durability TRANSIENT_LOCAL=1) or string enums as from version 9 (`reliable`, `transient_local`); a
 /// missing depth is 1. Returns `None` if it is not understood (not YAML, no reliability or durability).
 pub fn parse_offered_qos(text: &str) -> Option<RecordedQos> {
-    let doc = YamlLoader::load_from_str(text).ok()?.into_iter().next()?;
+    let doc = crate::yaml::load(text).ok()?.into_iter().next()?;
     let profile = match &doc {
         Yaml::Array(profiles) => profiles.first()?,
         _ => &doc,

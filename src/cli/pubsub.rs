@@ -490,8 +490,10 @@ pub(crate) fn parse_document(text: &str, what: &str) -> anyhow::Result<Value> {
     if let Ok(v) = serde_json::from_str::<Value>(text) {
         return Ok(v);
     }
-    let docs =
-        yaml_rust2::YamlLoader::load_from_str(text).map_err(|e| anyhow!("{what} is not valid JSON or YAML: {e}"))?;
+    let docs = crate::yaml::load(text).map_err(|e| match e {
+        e if e.is_syntax() => anyhow!("{what} is not valid JSON or YAML: {e}"),
+        e => anyhow!("{what}: {e}"),
+    })?;
     match docs.len() {
         0 => bail!("{what} is empty"),
         1 => yaml_to_json(&docs[0]).map_err(|e| anyhow!("{what}: {e}")),
@@ -502,8 +504,10 @@ pub(crate) fn parse_document(text: &str, what: &str) -> anyhow::Result<Value> {
 /// A YAML file: one list of messages, or one message per `---` document.
 fn read_yaml_file(path: &Path) -> anyhow::Result<Vec<(String, Value)>> {
     let text = crate::files::read_text(path, "--file")?;
-    let docs =
-        yaml_rust2::YamlLoader::load_from_str(&text).map_err(|e| anyhow!("{}: invalid YAML: {e}", path.display()))?;
+    let docs = crate::yaml::load(&text).map_err(|e| match e {
+        e if e.is_syntax() => anyhow!("{}: invalid YAML: {e}", path.display()),
+        e => anyhow!("{}: {e}", path.display()),
+    })?;
     let mut out = Vec::new();
     for (d, doc) in docs.iter().enumerate() {
         match yaml_to_json(doc).map_err(|e| anyhow!("{}: document {}: {e}", path.display(), d + 1))? {

@@ -17,7 +17,7 @@ use std::path::Path;
 
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::QosProfile;
-use yaml_rust2::{Yaml, YamlLoader};
+use yaml_rust2::Yaml;
 
 /// Keys rosbag2 accepts that do not change what is recorded here.
 const NOT_APPLIED: [&str; 5] =
@@ -65,7 +65,9 @@ impl QosOverrides {
 
     /// Parses the YAML text of a rosbag2 QoS override file.
     pub fn parse(text: &str) -> Result<QosOverrides, String> {
-        let docs = YamlLoader::load_from_str(text).map_err(|e| format!("not YAML: {e}"))?;
+        let docs =
+            crate::yaml::load(text)
+                .map_err(|e| if e.is_syntax() { format!("not YAML: {e}") } else { e.to_string() })?;
         let mut out = QosOverrides::default();
         let Some(doc) = docs.first() else { return Ok(out) };
         let Yaml::Hash(topics) = doc else {

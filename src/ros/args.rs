@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use ros2_client::ParameterValue;
-use yaml_rust2::{Yaml, YamlLoader};
+use yaml_rust2::Yaml;
 
 /// A malformed `--ros-args` section or parameters file.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -314,12 +314,21 @@ fn normalize_namespace(ns: &str) -> Result<String, RosArgsError> {
 
 /// Parses a `-p` value the way rcl does: as a YAML scalar or flow sequence.
 pub fn parse_parameter_value(name: &str, text: &str) -> Result<ParameterValue, RosArgsError> {
-    let docs = YamlLoader::load_from_str(text)
-        .map_err(|e| RosArgsError::BadValue { name: name.to_string(), why: format!("not valid YAML: {e}") })?;
+    let docs =
+        crate::yaml::load(text).map_err(|e| RosArgsError::BadValue { name: name.to_string(), why: yaml_why(&e) })?;
     match docs.into_iter().next() {
         // An empty value is the empty string, as in rcl.
         None => Ok(ParameterValue::String(String::new())),
         Some(doc) => yaml_to_parameter(name, &doc),
+    }
+}
+
+/// Why a YAML text was not read, as the end of an error naming it.
+fn yaml_why(e: &crate::yaml::YamlError) -> String {
+    if e.is_syntax() {
+        format!("not valid YAML: {e}")
+    } else {
+        e.to_string()
     }
 }
 
@@ -379,7 +388,7 @@ pub fn params_file_values(
     node: &NodeIdentity,
 ) -> Result<Vec<(String, ParameterValue)>, RosArgsError> {
     let bad = |why: String| RosArgsError::BadParamsFile { path: path.to_path_buf(), why };
-    let docs = YamlLoader::load_from_str(text).map_err(|e| bad(format!("not valid YAML: {e}")))?;
+    let docs = crate::yaml::load(text).map_err(|e| bad(yaml_why(&e)))?;
     let Some(Yaml::Hash(top)) = docs.into_iter().next() else {
         return Err(bad("expected a mapping `node_name: {ros__parameters: {...}}` at the top".into()));
     };
