@@ -7,15 +7,21 @@
 //! - beyond the client cap (64) further connections are closed at once, the refusal logged once;
 //! - a connection that never sends its handshake is closed after the handshake timeout (5 s);
 //! - a client offering only the classic subprotocol `foxglove.websocket.v1` is accepted under that name;
-//! - a client's Close frame is answered with a Close frame (not a reset: 1006 in a browser).
+//! - a client's Close frame is answered with a Close frame (not a reset: 1006 in a browser);
+//! - 60 clients each holding an unfinished message of 1,000,000 bytes (under the 1 MiB bound of one message)
+//!   hold no more than the server's total for incoming bytes (16 MiB): those holding their share of the full
+//!   total are disconnected, the others stay, and the server's resident memory grows by less than what they sent.
 
-use std::io::{BufRead, BufReader, Read};
+mod support;
+
+use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use support::foxglove::{closed_within, frame_header, rss_mib, BINARY};
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 use tokio_tungstenite::tungstenite::{self, Message};
 
@@ -100,22 +106,6 @@ fn server_info(ws: &mut Ws) -> serde_json::Value {
     }
 }
 
-/// Whether the server closes `stream` (EOF or reset) within `limit`.
-fn closed_within(stream: &mut TcpStream, limit: Duration) -> bool {
-    stream.set_read_timeout(Some(limit)).unwrap();
-    let mut buf = [0u8; 256];
-    loop {
-        match stream.read(&mut buf) {
-            Ok(0) => return true,
-            Ok(_) => continue,
-            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {
-                return false
-            }
-            Err(_) => return true,
-        }
-    }
-}
-
 #[test]
 fn the_listener_survives_running_out_of_file_descriptors() {
     let player = Player::start(Some(48));
@@ -187,4 +177,42 @@ fn the_classic_subprotocol_is_accepted_and_a_close_frame_answered() {
     // Both offered: the newest name wins.
     let (_, chosen) = connect(player.port, "foxglove.websocket.v1, foxglove.sdk.v1").unwrap();
     assert_eq!(chosen.as_deref(), Some("foxglove.sdk.v1"));
+}
+
+#[test]
+fn unfinished_messages_of_many_clients_are_bounded_in_total() {
+    const CLIENTS: usize = 60;
+    const FRAGMENT: usize = 1_000_000;
+    let total = sweetspot::foxglove::Limits::default().total_incoming_bytes;
+    let player = Player::start(None);
+    let mut clients: Vec<Ws> = (0..CLIENTS)
+        .map(|_| {
+            let (mut ws, _) = connect(player.port, "foxglove.sdk.v1").expect("handshake");
+            server_info(&mut ws);
+            ws
+        })
+        .collect();
+    let before = rss_mib(player.child.id());
+    let payload = vec![0u8; FRAGMENT];
+    for ws in &mut clients {
+        let stream = ws.get_mut();
+        stream.set_write_timeout(Some(Duration::from_secs(5))).unwrap();
+        // A refused client may find its connection closed while writing.
+        let _ = stream.write_all(&frame_header(BINARY, false, FRAGMENT)).and_then(|()| stream.write_all(&payload));
+    }
+    std::thread::sleep(Duration::from_secs(1));
+    let after = rss_mib(player.child.id());
+    let refused =
+        clients.iter_mut().map(|ws| closed_within(ws.get_mut(), Duration::from_millis(200))).filter(|&c| c).count();
+    let kept = CLIENTS - refused;
+    eprintln!(
+        "{CLIENTS} clients x {FRAGMENT} B unfinished: {kept} kept, {refused} refused; RSS {before:.0} MiB before, \
+         {after:.0} MiB after ({:+.0} MiB)",
+        after - before
+    );
+    // Those kept hold their whole fragment; all together no more than the total and a read (128 KiB) each.
+    assert!(kept * FRAGMENT <= total + CLIENTS * (128 << 10), "{kept} clients kept holding {FRAGMENT} B each");
+    assert!(kept >= 4, "the total is shared, not refused to everyone: {kept} kept");
+    assert_eq!(player.lines_with(&format!("bound of {total} bytes")), refused, "{}", player.log());
+    assert!(after - before < 64.0, "RSS grew by {:.0} MiB", after - before);
 }

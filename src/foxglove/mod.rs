@@ -21,7 +21,12 @@
 //! reverse proxy with TLS and authentication in front of a loopback bind). At most [`Limits::max_clients`]
 //! connections are served at once (more are closed as they arrive, the refusal logged once until one is
 //! accepted again); a connection has [`Limits::handshake_timeout`] to complete its WebSocket handshake; an
-//! accept error (file descriptors exhausted) pauses accepting with a back-off instead of ending it.
+//! accept error (file descriptors exhausted) pauses accepting with a back-off instead of ending it. What
+//! clients send is bounded as well: a message over [`Limits::max_incoming_message_bytes`] ends its client's
+//! connection as soon as its length is known, and the unfinished messages of all clients together are
+//! bounded by [`Limits::total_incoming_bytes`] (a client holding its share of a full total is disconnected).
+//! A client's bad requests (unknown channel ids, invalid messages) are logged at most once a second per
+//! client, one line per request.
 //!
 //! Latched topics (transient-local in DDS: the parameters and SweetSpot) are latched here too: the last
 //! messages (as many as the topic's QoS depth) are replayed to a client when it subscribes, so a client that
@@ -88,6 +93,11 @@ pub struct Limits {
     pub handshake_timeout: std::time::Duration,
     /// Bytes queued for all clients together before the slowest are disconnected.
     pub total_backlog_bytes: usize,
+    /// Largest message a client may send; a client that sends a larger one is disconnected.
+    pub max_incoming_message_bytes: usize,
+    /// Bytes of unfinished client messages held for all clients together before those holding their
+    /// share are disconnected.
+    pub total_incoming_bytes: usize,
 }
 
 impl Default for Limits {
@@ -96,9 +106,17 @@ impl Default for Limits {
             max_clients: DEFAULT_MAX_CLIENTS,
             handshake_timeout: std::time::Duration::from_secs(5),
             total_backlog_bytes: 64 << 20,
+            max_incoming_message_bytes: MAX_INCOMING_MESSAGE_BYTES,
+            total_incoming_bytes: 16 << 20,
         }
     }
 }
+
+/// Largest message a client may send. A client sends subscriptions and playback controls: a subscription
+/// takes about 40 bytes a channel, so 1 MiB is thousands of times what sweetspot's channels need (tungstenite
+/// allows 64 MiB unless told otherwise). What many clients hold at once is bounded by
+/// [`Limits::total_incoming_bytes`], whatever [`Limits::max_clients`].
+pub const MAX_INCOMING_MESSAGE_BYTES: usize = 1 << 20;
 
 /// Connections served at once unless told otherwise (the node's `foxglove_max_clients`).
 pub const DEFAULT_MAX_CLIENTS: usize = 64;
@@ -287,7 +305,9 @@ impl LiveServer {
             .message_backlog_size(BACKLOG)
             .max_clients(limits.max_clients)
             .handshake_timeout(limits.handshake_timeout)
-            .total_backlog_bytes(limits.total_backlog_bytes);
+            .total_backlog_bytes(limits.total_backlog_bytes)
+            .max_incoming_message_bytes(limits.max_incoming_message_bytes)
+            .total_incoming_bytes(limits.total_incoming_bytes);
         if let Some(playback) = &playback {
             // The time range implies the PlaybackControl capability; Time lets clients follow the position.
             server = server.playback_time_range(playback.range.0, playback.range.1).capabilities([Capability::Time]);

@@ -1,12 +1,13 @@
 //! The one support module of the integration tests (`mod support;`): the repository and Python lookup, the
 //! private-network guard, and running the `sweetspot` binary and the Cyclone DDS peer on one domain of
 //! loopback discovery; [`bag`] (hand-made topics and the Python bag readers), [`cli`] (running the binary for
-//! CLI tests), [`import`] (the import fixtures and default options), [`node`] (the node as a child process and an
+//! CLI tests), [`foxglove`] (raw WebSocket frames, a process's resident memory), [`import`] (the import fixtures and default options), [`node`] (the node as a child process and an
 //! in-test ROS 2 peer) and [`ros2`] (the checks against real ROS 2 from PyPI, per distribution).
 #![allow(dead_code)]
 
 pub mod bag;
 pub mod cli;
+pub mod foxglove;
 pub mod import;
 pub mod node;
 pub mod ros2;

@@ -7,6 +7,7 @@ mod client;
 mod client_channel;
 mod connected_client;
 mod cow_vec;
+mod incoming;
 pub(crate) mod handshake;
 mod server;
 mod server_listener;

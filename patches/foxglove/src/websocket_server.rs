@@ -34,6 +34,10 @@ use crate::{AppUrl, ChannelDescriptor, Context, FoxgloveError, runtime::get_runt
 /// queue, using the same configured queue size. If the control queue fills, then the slow client is
 /// dropped.
 ///
+/// What clients send is bounded too: a message of at most
+/// [`WebSocketServer::max_incoming_message_bytes`], and the unfinished messages of all clients
+/// together at most [`WebSocketServer::total_incoming_bytes`].
+///
 /// [Connecting to data]: https://docs.foxglove.dev/docs/connecting-to-data/introduction
 #[must_use]
 #[derive(Debug)]
@@ -213,6 +217,23 @@ impl WebSocketServer {
     /// holding at least its share of it is disconnected as too slow. By default 64 MiB.
     pub fn total_backlog_bytes(mut self, bytes: usize) -> Self {
         self.options.total_backlog_bytes = Some(bytes);
+        self
+    }
+
+    /// Set the largest message (and frame) a client may send: a client that sends a larger one is
+    /// disconnected, with a Close frame of code 1009 (message too big), as soon as its length is
+    /// known. By default 1 MiB (tungstenite's own default is 64 MiB).
+    pub fn max_incoming_message_bytes(mut self, bytes: usize) -> Self {
+        self.options.max_incoming_message_bytes = Some(bytes);
+        self
+    }
+
+    /// Set the bound on the bytes of unfinished messages (fragments and frames not yet complete)
+    /// held for all clients together: when it is reached, a client holding at least its share of
+    /// it (the bound divided by the open connections) is disconnected, with a Close frame of code
+    /// 1013 (try again later). By default 16 MiB.
+    pub fn total_incoming_bytes(mut self, bytes: usize) -> Self {
+        self.options.total_incoming_bytes = Some(bytes);
         self
     }
 

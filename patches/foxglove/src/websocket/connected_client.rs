@@ -2,18 +2,17 @@ use std::collections::HashSet;
 use std::collections::hash_map::Entry;
 use std::sync::Weak;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
 use std::{collections::HashMap, net::SocketAddr, sync::Arc};
 
 use bimap::BiHashMap;
 use flume::TrySendError;
-use tokio::net::TcpStream;
 use tokio::sync::oneshot;
 use tokio_tungstenite::WebSocketStream;
 use tokio_tungstenite::tungstenite::Message;
 
 use crate::sink_channel_filter::SinkChannelFilter;
 use crate::websocket::PlaybackControlRequest;
-use crate::websocket::streams::ServerStream;
 use crate::{ChannelId, Context, FoxgloveError, Metadata, RawChannel, Sink, SinkId};
 
 use self::ws_protocol::server::advertise_schema_table::SchemaTable;
@@ -22,6 +21,7 @@ use self::ws_protocol::server::{
 };
 
 use super::handshake::Subprotocol;
+use super::incoming::ClientStream;
 use super::server::{BacklogBudget, Server};
 use super::service::{self, CallId, ServiceId};
 use super::subscription::{Subscription, SubscriptionId};
@@ -59,6 +59,10 @@ pub(super) enum ShutdownReason {
     /// The client did not read its data fast enough (its queue, or its share of the server's
     /// total backlog, is full).
     SlowClient,
+    /// The client sent a message (or frame) over the bound of `max` bytes.
+    MessageTooLong { max: usize },
+    /// The client held its share of the server's full bound on unfinished incoming messages.
+    IncomingFull,
 }
 
 /// A connected client session with the WebSocket server.
@@ -102,6 +106,33 @@ pub(super) struct ConnectedClient {
     controls_playback: AtomicBool,
     /// Set once the client is being disconnected as too slow (said once).
     slow: AtomicBool,
+    /// When a line about this client's bad requests was last logged, and how many were not since.
+    complaints: parking_lot::Mutex<Complaints>,
+}
+
+/// Lines logged about one client's bad requests: at most one per [`COMPLAINT_INTERVAL`], so a
+/// client cannot fill the server's log; the lines left out are counted in the next.
+#[derive(Default)]
+struct Complaints {
+    last: Option<Instant>,
+    suppressed: u64,
+}
+
+const COMPLAINT_INTERVAL: Duration = Duration::from_secs(1);
+/// Ids named in one status or log line about a request; the rest are counted.
+const IDS_NAMED: usize = 5;
+
+/// `ids` for a log line or status: their count and the first few.
+fn few<T: std::fmt::Display>(ids: &[T]) -> String {
+    let named: Vec<String> = ids.iter().take(IDS_NAMED).map(T::to_string).collect();
+    match ids.len() {
+        n if n <= IDS_NAMED => named.join(", "),
+        n => format!(
+            "{} and {} more ({n} in all)",
+            named.join(", "),
+            n - IDS_NAMED
+        ),
+    }
 }
 
 impl Drop for ConnectedClient {
@@ -189,7 +220,7 @@ impl ConnectedClient {
     pub fn new(
         context: &Weak<Context>,
         server: &Weak<Server>,
-        websocket: WebSocketStream<ServerStream<TcpStream>>,
+        websocket: WebSocketStream<ClientStream>,
         subprotocol: Subprotocol,
         addr: SocketAddr,
         message_backlog_size: usize,
@@ -229,6 +260,7 @@ impl ConnectedClient {
             backlog,
             controls_playback: AtomicBool::new(false),
             slow: AtomicBool::new(false),
+            complaints: parking_lot::Mutex::default(),
         })
     }
 
@@ -286,7 +318,7 @@ impl ConnectedClient {
                 return;
             }
             Err(err) => {
-                tracing::error!("Invalid message from {}: {err}", self.addr);
+                self.complain(format_args!("sent an invalid message: {err}"));
                 tracing::debug!("Invalid message: {message:?}");
                 self.send_error(format!("Invalid message: {err}"));
                 return;
@@ -379,11 +411,40 @@ impl ConnectedClient {
     /// they would be below their share with the total full, and skipped for as long as it lasts).
     fn disconnect_slow(&self, why: std::fmt::Arguments<'_>) {
         if !self.slow.swap(true, Ordering::AcqRel) {
-            tracing::warn!("Disconnecting client {}: it does not keep up ({why})", self.addr);
+            tracing::warn!(
+                "Disconnecting client {}: it does not keep up ({why})",
+                self.addr
+            );
             self.shutdown(ShutdownReason::SlowClient);
             while let Ok(message) = self.data_plane_rx.try_recv() {
                 self.data_dequeued(&message);
             }
+        }
+    }
+
+    /// Logs a bad request from this client at most once per [`COMPLAINT_INTERVAL`], with the
+    /// number of lines left out since the last.
+    fn complain(&self, what: std::fmt::Arguments<'_>) {
+        let suppressed = {
+            let mut complaints = self.complaints.lock();
+            let now = Instant::now();
+            if complaints
+                .last
+                .is_some_and(|last| now.duration_since(last) < COMPLAINT_INTERVAL)
+            {
+                complaints.suppressed += 1;
+                return;
+            }
+            complaints.last = Some(now);
+            std::mem::take(&mut complaints.suppressed)
+        };
+        if suppressed == 0 {
+            tracing::warn!("Client {} {what}", self.addr);
+        } else {
+            tracing::warn!(
+                "Client {} {what} ({suppressed} more such lines left out since the last)",
+                self.addr
+            );
         }
     }
 
@@ -449,7 +510,9 @@ impl ConnectedClient {
         let client_channel = {
             let advertised_channels = self.advertised_channels.lock();
             let Some(channel) = advertised_channels.get(&channel_id) else {
-                tracing::error!("Received message for unknown channel: {channel_id}");
+                self.complain(format_args!(
+                    "sent a message for unknown channel: {channel_id}"
+                ));
                 self.send_error(format!("Unknown channel ID: {channel_id}"));
                 // Do not forward to server listener
                 return;
@@ -469,6 +532,7 @@ impl ConnectedClient {
             .map(ClientChannelId::new)
             .collect();
         let mut client_channels = Vec::with_capacity(channel_ids.len());
+        let mut not_advertised = Vec::new();
         // Using a limited scope and iterating twice to avoid holding the lock on advertised_channels while calling on_client_unadvertise
         {
             let mut advertised_channels = self.advertised_channels.lock();
@@ -478,14 +542,18 @@ impl ConnectedClient {
                 let Some(channel) = advertised_channels.remove(&id) else {
                     // Remove the channel ID from the list so we don't invoke the on_client_unadvertise callback
                     channel_ids.swap_remove(i);
-                    self.send_warning(format!(
-                        "Client is not advertising channel: {id}; ignoring unadvertisement"
-                    ));
+                    not_advertised.push(id);
                     continue;
                 };
                 client_channels.push(channel.clone());
                 i += 1;
             }
+        }
+        if !not_advertised.is_empty() {
+            self.send_warning(format!(
+                "Client is not advertising channels: {}; ignoring unadvertisement",
+                few(&not_advertised)
+            ));
         }
         // Call the handler after releasing the advertised_channels lock
         if let Some(handler) = server.listener() {
@@ -568,18 +636,14 @@ impl ConnectedClient {
         // First prune out any subscriptions for channels not in the channel map,
         // limiting how long we need to hold the lock.
         let mut subscribed_channels = Vec::with_capacity(subscriptions.len());
+        let mut unknown = Vec::new();
         {
             let channels = self.channels.read();
             let mut i = 0;
             while i < subscriptions.len() {
                 let subscription = &subscriptions[i];
                 let Some(channel) = channels.get(&subscription.channel_id) else {
-                    tracing::error!(
-                        "Client {} attempted to subscribe to unknown channel: {}",
-                        self.addr,
-                        subscription.channel_id
-                    );
-                    self.send_error(format!("Unknown channel ID: {}", subscription.channel_id));
+                    unknown.push(subscription.channel_id);
                     // Remove the subscription from the list so we don't invoke the on_subscribe callback for it
                     subscriptions.swap_remove(i);
                     continue;
@@ -588,7 +652,17 @@ impl ConnectedClient {
                 i += 1
             }
         }
+        if !unknown.is_empty() {
+            // One status and at most one log line per message, however many ids it names.
+            let ids = few(&unknown);
+            self.complain(format_args!(
+                "attempted to subscribe to unknown channels: {ids}"
+            ));
+            self.send_error(format!("Unknown channel IDs: {ids}"));
+        }
 
+        let mut already_subscribed = Vec::new();
+        let mut reused_ids = Vec::new();
         let mut channel_ids = Vec::with_capacity(subscribed_channels.len());
         for (subscription, channel) in subscriptions.into_iter().zip(subscribed_channels) {
             // Using a limited scope here to avoid holding the lock on subscriptions while calling on_subscribe
@@ -599,16 +673,10 @@ impl ConnectedClient {
                     .is_err()
                 {
                     if subscriptions.contains_left(&subscription.channel_id) {
-                        self.send_warning(format!(
-                            "Client is already subscribed to channel: {}; ignoring subscription",
-                            subscription.channel_id
-                        ));
+                        already_subscribed.push(subscription.channel_id);
                     } else {
                         assert!(subscriptions.contains_right(&subscription.id));
-                        self.send_error(format!(
-                            "Subscription ID was already used: {}; ignoring subscription",
-                            subscription.id
-                        ));
+                        reused_ids.push(subscription.id);
                     }
                     continue;
                 }
@@ -631,6 +699,18 @@ impl ConnectedClient {
             if let Some(handler) = server.listener() {
                 handler.on_subscribe(Client::new(self), channel.as_ref().into());
             }
+        }
+        if !already_subscribed.is_empty() {
+            self.send_warning(format!(
+                "Client is already subscribed to channels: {}; ignoring subscriptions",
+                few(&already_subscribed)
+            ));
+        }
+        if !reused_ids.is_empty() {
+            self.send_error(format!(
+                "Subscription IDs were already used: {}; ignoring subscriptions",
+                few(&reused_ids)
+            ));
         }
     }
 

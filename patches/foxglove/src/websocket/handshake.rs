@@ -1,6 +1,7 @@
 use tokio::io::{AsyncRead, AsyncWrite};
 use tokio_tungstenite::tungstenite::handshake::server;
 use tokio_tungstenite::tungstenite::http::HeaderValue;
+use tokio_tungstenite::tungstenite::protocol::WebSocketConfig;
 use tokio_tungstenite::{WebSocketStream, tungstenite};
 
 pub(crate) const SUBPROTOCOL_V1: &str = "foxglove.sdk.v1";
@@ -68,11 +69,19 @@ fn select_subprotocol<'a>(offered: impl IntoIterator<Item = &'a str>) -> Option<
 ///
 /// If the client requests subprotocols which don't include one of ours, or does not include the
 /// expected header, respond with a 400.
+///
+/// A message (or frame) from the client over `max_message_bytes` is refused when its length is
+/// known, before it is read: tungstenite's defaults (64 MiB a message, 16 MiB a frame) let every
+/// connection hold 64 MiB of unfinished message.
 pub(crate) async fn do_handshake<S: AsyncRead + AsyncWrite + Unpin>(
     stream: S,
+    max_message_bytes: usize,
 ) -> Result<(WebSocketStream<S>, Subprotocol), tungstenite::Error> {
     let mut negotiated = None;
-    let stream = tokio_tungstenite::accept_hdr_async(
+    let config = WebSocketConfig::default()
+        .max_message_size(Some(max_message_bytes))
+        .max_frame_size(Some(max_message_bytes));
+    let stream = tokio_tungstenite::accept_hdr_async_with_config(
         stream,
         #[allow(clippy::result_large_err)]
         |req: &server::Request, mut res: server::Response| {
@@ -96,6 +105,7 @@ pub(crate) async fn do_handshake<S: AsyncRead + AsyncWrite + Unpin>(
             negotiated = Some(subprotocol);
             Ok(res)
         },
+        Some(config),
     )
     .await?;
     let subprotocol = negotiated.expect("handshake callback sets the subprotocol on success");

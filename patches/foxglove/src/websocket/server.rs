@@ -23,6 +23,7 @@ use crate::{Context, FoxgloveError};
 
 use super::connected_client::ConnectedClient;
 use super::cow_vec::CowVec;
+use super::incoming::{self, ClientMeter, IncomingBudget, Metered};
 use super::service::{Service, ServiceId, ServiceMap};
 use super::ws_protocol::server::PlaybackState;
 use super::ws_protocol::server::{
@@ -65,6 +66,8 @@ pub(crate) struct ServerOptions {
     pub max_clients: Option<usize>,
     pub handshake_timeout: Option<Duration>,
     pub total_backlog_bytes: Option<usize>,
+    pub max_incoming_message_bytes: Option<usize>,
+    pub total_incoming_bytes: Option<usize>,
 }
 
 impl std::fmt::Debug for ServerOptions {
@@ -221,6 +224,10 @@ pub(crate) struct Server {
     handshake_timeout: Duration,
     /// Bytes queued on all clients' data planes, and the bound on them.
     pub(super) backlog: Arc<BacklogBudget>,
+    /// Largest message (and frame) a client may send; a larger one ends its connection.
+    max_incoming_message_bytes: usize,
+    /// Bytes of unfinished messages held for all clients, and the bound on them.
+    incoming: Arc<IncomingBudget>,
 }
 
 /// The bytes queued on all clients' data planes, shared by the clients, and their bound.
@@ -292,6 +299,12 @@ impl Server {
             capabilities.insert(Capability::Parameters);
         }
 
+        let connections = Arc::new(AtomicUsize::new(0));
+        let incoming = Arc::new(IncomingBudget::new(
+            opts.total_incoming_bytes
+                .unwrap_or(incoming::DEFAULT_TOTAL_INCOMING_BYTES),
+            connections.clone(),
+        ));
         Server {
             weak_self,
             context: Arc::downgrade(ctx),
@@ -321,7 +334,7 @@ impl Server {
             server_info: opts.server_info.unwrap_or_default(),
             playback_time_range: opts.playback_time_range,
             max_clients: opts.max_clients.unwrap_or(DEFAULT_MAX_CLIENTS).max(1),
-            connections: Arc::new(AtomicUsize::new(0)),
+            connections,
             refusing: AtomicBool::new(false),
             handshake_timeout: opts.handshake_timeout.unwrap_or(DEFAULT_HANDSHAKE_TIMEOUT),
             backlog: Arc::new(BacklogBudget {
@@ -330,6 +343,11 @@ impl Server {
                     .total_backlog_bytes
                     .unwrap_or(DEFAULT_TOTAL_BACKLOG_BYTES),
             }),
+            max_incoming_message_bytes: opts
+                .max_incoming_message_bytes
+                .unwrap_or(incoming::DEFAULT_MAX_MESSAGE_BYTES)
+                .max(1),
+            incoming,
         }
     }
 
@@ -742,8 +760,13 @@ impl Server {
                     return None;
                 }
             };
-            match handshake::do_handshake(stream).await {
-                Ok(done) => Some(done),
+            let meter = ClientMeter::new(self.incoming.clone());
+            let stream = Metered::new(stream, meter.clone());
+            match handshake::do_handshake(stream, self.max_incoming_message_bytes).await {
+                Ok(done) => {
+                    meter.clear();
+                    Some(done)
+                }
                 Err(e) => {
                     tracing::debug!("Dropping client {addr}: handshake failed: {e}");
                     None

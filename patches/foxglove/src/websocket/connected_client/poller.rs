@@ -1,13 +1,14 @@
 use std::time::Duration;
 
 use futures_util::{SinkExt, StreamExt};
-use tokio::net::TcpStream;
 use tokio::sync::oneshot;
 use tokio_tungstenite::WebSocketStream;
 use tokio_tungstenite::tungstenite::Message;
+use tokio_tungstenite::tungstenite::protocol::CloseFrame;
+use tokio_tungstenite::tungstenite::protocol::frame::coding::CloseCode;
 
 use crate::websocket::Status;
-use crate::websocket::streams::ServerStream;
+use crate::websocket::incoming::{ClientStream, Excess};
 
 use super::{ConnectedClient, ShutdownReason};
 
@@ -21,7 +22,7 @@ const CLOSE_TIMEOUT: Duration = Duration::from_secs(1);
 /// - Receiving messages from the WebSocket and invoking [`ConnectedClient::handle_message`].
 /// - Waiting for a shutdown signal, and closing the WebSocket.
 pub(super) struct Poller {
-    websocket: WebSocketStream<ServerStream<TcpStream>>,
+    websocket: WebSocketStream<ClientStream>,
     data_plane_rx: flume::Receiver<Message>,
     control_plane_rx: flume::Receiver<Message>,
     shutdown_rx: oneshot::Receiver<ShutdownReason>,
@@ -30,7 +31,7 @@ pub(super) struct Poller {
 impl Poller {
     /// Creates a new poller.
     pub fn new(
-        websocket: WebSocketStream<ServerStream<TcpStream>>,
+        websocket: WebSocketStream<ClientStream>,
         data_plane_rx: flume::Receiver<Message>,
         control_plane_rx: flume::Receiver<Message>,
         shutdown_rx: oneshot::Receiver<ShutdownReason>,
@@ -50,6 +51,7 @@ impl Poller {
     /// hold the connection open.
     pub async fn run(self, client: &ConnectedClient) {
         let addr = client.addr();
+        let meter = self.websocket.get_ref().meter().clone();
         let (mut ws_tx, mut ws_rx) = self.websocket.split();
 
         // Handle messages received from the WebSocket.
@@ -60,8 +62,14 @@ impl Poller {
                         tracing::info!("Connection closed by client {addr}");
                         return ShutdownReason::ClientClosed;
                     }
-                    Some(Ok(msg)) => client.handle_message(msg),
+                    Some(Ok(msg)) => {
+                        meter.delivered(&msg);
+                        client.handle_message(msg)
+                    }
                     Some(Err(err)) => {
+                        if let Some(excess) = Excess::of(&err) {
+                            return refuse(addr, excess);
+                        }
                         tracing::info!("Connection to client {addr} lost: {err}");
                         return ShutdownReason::ClientDisconnected;
                     }
@@ -117,6 +125,17 @@ impl Poller {
                     ws_tx.send(Message::from(&status)).await.ok();
                     ws_tx.send(Message::Close(None)).await.ok();
                 }
+                ShutdownReason::MessageTooLong { max } => {
+                    let why = format!("Disconnected because a message was over {max} bytes.");
+                    goodbye_with(&mut ws_tx, CloseCode::Size, why).await;
+                }
+                ShutdownReason::IncomingFull => {
+                    let why =
+                        "Disconnected because the server holds as much of clients' unfinished \
+                        messages as it takes."
+                            .to_string();
+                    goodbye_with(&mut ws_tx, CloseCode::Again, why).await;
+                }
                 ShutdownReason::SlowClient => {
                     let status = Status::error(
                         "Disconnected because this client did not read its messages as fast as \
@@ -128,5 +147,43 @@ impl Poller {
             }
         };
         tokio::time::timeout(CLOSE_TIMEOUT, goodbye).await.ok();
+    }
+}
+
+/// Sends an error status saying `why`, then a Close frame with `code` (and `why`, cut to what a Close
+/// frame carries).
+async fn goodbye_with<S>(ws_tx: &mut S, code: CloseCode, why: String)
+where
+    S: futures_util::Sink<Message> + Unpin,
+{
+    ws_tx
+        .send(Message::from(&Status::error(why.clone())))
+        .await
+        .ok();
+    let mut reason = why;
+    // A Close frame's reason is at most 123 bytes.
+    while reason.len() > 123 {
+        reason.pop();
+    }
+    let frame = CloseFrame {
+        code,
+        reason: reason.into(),
+    };
+    ws_tx.send(Message::Close(Some(frame))).await.ok();
+}
+
+/// Says once why a client that sent too much is disconnected.
+fn refuse(addr: std::net::SocketAddr, excess: Excess) -> ShutdownReason {
+    match excess {
+        Excess::Message { size, max } => {
+            tracing::warn!(
+                "Disconnecting client {addr}: it sent a message of {size} bytes, over the bound of {max}"
+            );
+            ShutdownReason::MessageTooLong { max }
+        }
+        Excess::Budget(why) => {
+            tracing::warn!("Disconnecting client {addr}: {why}");
+            ShutdownReason::IncomingFull
+        }
     }
 }
