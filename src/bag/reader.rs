@@ -385,13 +385,35 @@ pub struct ListedFile {
 }
 
 /// The files of a bag: what `metadata.yaml`'s `relative_file_paths` lists, in its order (as `ros2 bag`
-/// reads a bag), and the `.mcap` files in the directory it does not list (named, never read).
+/// reads a bag), each file once, and the `.mcap` files in the directory it does not list (named, never read).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct BagListing {
-    /// The listed files, present or not.
+    /// The listed files, present or not, each once (where it is first listed).
     pub files: Vec<ListedFile>,
     /// `.mcap` files in the directory that `metadata.yaml` does not list, sorted.
     pub stray: Vec<PathBuf>,
+    /// Files `metadata.yaml` lists more than once (by name, or by two names of one file): read once.
+    pub duplicates: Vec<DuplicateListing>,
+}
+
+/// A file `metadata.yaml` lists more than once.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DuplicateListing {
+    /// The file as first listed.
+    pub path: PathBuf,
+    /// How many times it is listed in all.
+    pub times: usize,
+}
+
+impl std::fmt::Display for DuplicateListing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: listed {} times in metadata.yaml: read once (its messages counted once)",
+            self.path.display(),
+            self.times
+        )
+    }
 }
 
 impl BagListing {
@@ -407,7 +429,7 @@ pub fn bag_listing(path: &Path) -> Result<BagListing, BagError> {
     let meta = std::fs::metadata(path).map_err(|source| BagError::Io { path: path.to_path_buf(), source })?;
     if !meta.is_dir() {
         let file = ListedFile { path: path.to_path_buf(), present: true, message_count: None };
-        return Ok(BagListing { files: vec![file], stray: Vec::new() });
+        return Ok(BagListing { files: vec![file], ..BagListing::default() });
     }
     let unreadable = |why: String| {
         BagError::Format(format!(
@@ -431,19 +453,54 @@ pub fn bag_listing(path: &Path) -> Result<BagListing, BagError> {
             return Err(unreadable(why));
         }
     };
-    let mut files = Vec::new();
+    let (files, duplicates) = each_file_once(path, listed);
+    let listed: std::collections::HashSet<&Path> = files.iter().map(|f| f.path.as_path()).collect();
+    let stray = mcap_files_in_dir(path)?.into_iter().filter(|file| !listed.contains(file.as_path())).collect();
+    Ok(BagListing { files, stray, duplicates })
+}
+
+/// The listed files of the bag directory `dir`, each once where it is first listed, and those listed more
+/// than once: a file named twice (`a.mcap`, `./a.mcap`) or reached by two names (a link) would otherwise be
+/// read, counted and replayed twice.
+fn each_file_once(dir: &Path, listed: Vec<(String, Option<u64>)>) -> (Vec<ListedFile>, Vec<DuplicateListing>) {
+    use std::collections::hash_map::Entry;
+    use std::os::unix::fs::MetadataExt;
+    let mut files: Vec<ListedFile> = Vec::new();
+    let mut times: Vec<usize> = Vec::new();
+    // Path equality compares components, so `a.mcap` and `./a.mcap` are one key; a link to a listed file is
+    // the same device and inode.
+    let mut by_path: std::collections::HashMap<PathBuf, usize> = std::collections::HashMap::new();
+    let mut by_inode: std::collections::HashMap<(u64, u64), usize> = std::collections::HashMap::new();
     for (relative, message_count) in listed {
-        let file = path.join(&relative);
+        let file = dir.join(&relative);
         let present = std::fs::symlink_metadata(&file).is_ok();
-        files.push(ListedFile { path: file, present, message_count });
-    }
-    let mut stray = Vec::new();
-    for file in mcap_files_in_dir(path)? {
-        if !files.iter().any(|f| f.path == file) {
-            stray.push(file);
+        let inode = std::fs::metadata(&file).ok().map(|m| (m.dev(), m.ino()));
+        let index = match by_path.entry(file.clone()) {
+            Entry::Occupied(seen) => Some(*seen.get()),
+            Entry::Vacant(slot) => {
+                let same_file = inode.and_then(|key| by_inode.get(&key).copied());
+                slot.insert(same_file.unwrap_or(files.len()));
+                same_file
+            }
+        };
+        match index {
+            Some(first) => times[first] += 1,
+            None => {
+                if let Some(key) = inode {
+                    by_inode.insert(key, files.len());
+                }
+                files.push(ListedFile { path: file, present, message_count });
+                times.push(1);
+            }
         }
     }
-    Ok(BagListing { files, stray })
+    let duplicates = files
+        .iter()
+        .zip(times)
+        .filter(|(_, times)| *times > 1)
+        .map(|(file, times)| DuplicateListing { path: file.path.clone(), times })
+        .collect();
+    (files, duplicates)
 }
 
 /// The MCAP files of a bag that exist, in order: a directory's as its `metadata.yaml` lists them, or the
@@ -508,18 +565,24 @@ fn parse_file_list(text: &str) -> Result<Vec<(String, Option<u64>)>, String> {
         .filter(|i| i.as_hash().is_some())
         .ok_or("no rosbag2_bagfile_information mapping")?;
     let paths = info["relative_file_paths"].as_vec().ok_or("no relative_file_paths list")?;
+    // Each file's count looked up once, not by a search of `files:` per listed path (quadratic: 80,000 entries
+    // took minutes). The first entry of a path counts, as a search would have found it.
+    let mut counts: std::collections::HashMap<&str, &Yaml> = std::collections::HashMap::new();
+    for entry in info["files"].as_vec().map(Vec::as_slice).unwrap_or_default() {
+        if let Some(listed) = entry["path"].as_str() {
+            counts.entry(listed).or_insert(&entry["message_count"]);
+        }
+    }
     let mut out = Vec::new();
     for entry in paths {
         let relative = entry.as_str().ok_or("relative_file_paths holds something other than a path")?;
         if relative.is_empty() || Path::new(relative).is_absolute() || relative.split('/').any(|p| p == "..") {
             return Err(format!("relative_file_paths lists {relative:?}, not a file inside the bag directory"));
         }
-        let count = info["files"].as_vec().and_then(|files| {
-            files.iter().find(|f| f["path"].as_str() == Some(relative)).and_then(|f| match &f["message_count"] {
-                Yaml::Integer(n) => u64::try_from(*n).ok(),
-                _ => None,
-            })
-        });
+        let count = match counts.get(relative) {
+            Some(Yaml::Integer(n)) => u64::try_from(*n).ok(),
+            _ => None,
+        };
         out.push((relative.to_string(), count));
     }
     Ok(out)
@@ -1405,6 +1468,7 @@ pub struct BagReader {
     current: Option<FileReader>,
     scans: Vec<FileScan>,
     stray: Vec<PathBuf>,
+    duplicates: Vec<DuplicateListing>,
 }
 
 impl BagReader {
@@ -1415,12 +1479,23 @@ impl BagReader {
         for file in listing.files.iter().filter(|f| f.present) {
             open_mcap(&file.path)?;
         }
-        Ok(BagReader { files: listing.files.into_iter(), current: None, scans: Vec::new(), stray: listing.stray })
+        Ok(BagReader {
+            files: listing.files.into_iter(),
+            current: None,
+            scans: Vec::new(),
+            stray: listing.stray,
+            duplicates: listing.duplicates,
+        })
     }
 
     /// The `.mcap` files of the directory that `metadata.yaml` does not list: left out.
     pub fn stray(&self) -> &[PathBuf] {
         &self.stray
+    }
+
+    /// The files `metadata.yaml` lists more than once: read once.
+    pub fn duplicates(&self) -> &[DuplicateListing] {
+        &self.duplicates
     }
 
     /// The next message in file order (files in split order), or None at the end of the bag.

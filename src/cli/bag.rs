@@ -189,7 +189,8 @@ so every swing meets the bat and ball in force when it was recorded.")]
         /// subscriptions discovery shows have matched, at most --timeout, and warn of topics with none).
         #[arg(long, default_value_t = 0)]
         wait_subscribers: usize,
-        /// Start publishing at once, without waiting for discovered subscribers to match (as `ros2 bag play`).
+        /// Start publishing at once, without waiting for discovered subscribers to match, and exit 0 even when
+        /// nobody listened (as `ros2 bag play`; without it a play no subscriber heard exits 1, as `pub` does).
         #[arg(long, conflicts_with = "wait_subscribers")]
         no_wait: bool,
         /// Seconds to wait for subscribers, and for acknowledgments at the end (inf: no limit).
@@ -369,7 +370,7 @@ pub(crate) fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow
     let bar = progress(listing.files.len() as u64, "checking");
     let mut reader =
         bag::reader::BagReader::open(path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    note_stray(reader.stray());
+    note_listing(&reader);
     let mut seen = 0;
     while reader.next_message().map_err(flat)?.is_some() {
         if reader.scans().len() != seen {
@@ -382,10 +383,14 @@ pub(crate) fn check_damage(path: &std::path::Path, skip_damaged: bool) -> anyhow
     damage_verdict(&scans, skip_damaged)
 }
 
-/// Names the `.mcap` files of a bag directory that its metadata.yaml does not list (they are not read).
-fn note_stray(stray: &[PathBuf]) {
-    for file in stray {
+/// Names the `.mcap` files of a bag directory that its metadata.yaml does not list (they are not read), and
+/// those it lists more than once (read once).
+fn note_listing(reader: &bag::reader::BagReader) {
+    for file in reader.stray() {
         eprintln!("{}: not listed in metadata.yaml: left out (not part of the bag)", file.display());
+    }
+    for duplicate in reader.duplicates() {
+        eprintln!("warning: {duplicate}");
     }
 }
 
@@ -426,7 +431,7 @@ fn info(path: PathBuf, json: bool, skip_damaged: bool) -> anyhow::Result<()> {
     // Every file is checked (regular file, MCAP magic) before any is read.
     let mut reader =
         bag::reader::BagReader::open(&path).map_err(flat).with_context(|| format!("reading bag {}", path.display()))?;
-    note_stray(reader.stray());
+    note_listing(&reader);
     let mut seen = 0;
     while reader.next_message().map_err(flat)?.is_some() {
         if reader.scans().len() != seen {
@@ -864,5 +869,14 @@ pub(crate) fn play(path: PathBuf, mut options: crate::play::PlayOptions, quiet: 
     let stats = stats?;
     bar.finish_and_clear();
     eprintln!("published {} messages in {} pass(es)", stats.published, stats.passes);
+    // As `pub` fails when no subscription appears: a play nobody heard did nothing. --no-wait opts out, as
+    // `pub -w 0` does (fire and forget, as `ros2 bag play`).
+    if options.wait_discovered && !stats.heard && stats.published > 0 {
+        anyhow::bail!(
+            "no subscriber on any played topic: all {} messages went to nobody (start the node first; --no-wait \
+             plays without looking, with status 0)",
+            stats.published
+        );
+    }
     Ok(())
 }

@@ -62,7 +62,7 @@ pub fn run(args: CallArgs) -> anyhow::Result<()> {
     let mapping = crate::node::settings::service_mapping(&args.mapping)
         .ok_or_else(|| anyhow!("--mapping {}: expected enhanced or cyclone", args.mapping))?;
     let response = runtime.block_on(call(&config, &fq_name, request, args.timeout, mapping))?;
-    println!("{}", response.to_json());
+    crate::outln!("{}", response.to_json())?;
     let ev = &response.exit_velocity;
     match ev.status {
         ExitVelocity::STATUS_OK => Ok(()),
@@ -126,6 +126,9 @@ async fn call(
         ros2_client::ServiceMapping::Cyclone => "a node on the default mapping is called without --mapping",
         _ => "a node started with -p service_mapping:=cyclone is called with --mapping cyclone",
     };
+    if outcome.is_ok() {
+        warn_of_namesakes(&context, fq_name);
+    }
     match outcome {
         Ok(result) => result,
         Err(_) => bail!(
@@ -135,5 +138,17 @@ async fn call(
             config.domain_id,
             config.range
         ),
+    }
+}
+
+/// Warns on stderr when more than one node serves `fq_service` (nodes sharing a name): the answer printed is
+/// whichever came first.
+pub(crate) fn warn_of_namesakes(context: &ros2_client::Context, fq_service: &str) {
+    // One warning for a command, however many calls it makes (`param dump` makes two).
+    static WARNED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+    let servers = super::graph::servers_of(context, fq_service);
+    if servers > 1 && !WARNED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+        let node = fq_service.rsplit_once('/').map_or("/", |(node, _)| if node.is_empty() { "/" } else { node });
+        eprintln!("warning: {}", super::graph::namesake_warning(node, servers, &format!("serve {fq_service}")));
     }
 }

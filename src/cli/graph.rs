@@ -6,7 +6,8 @@
 //! / `ROS_LOCALHOST_ONLY` as for the other DDS commands), gathered for `--spin-time` seconds as `ros2 …
 //! --no-daemon --spin-time` does: topics are the `rt/…` endpoints, services the `rq/…Request` readers of their
 //! servers, nodes what each participant announces on `ros_discovery_info`. This command's own participant is
-//! left out. Output as `ros2`'s: one name a line, sorted, `-t` adding `[pkg/msg/Type]`.
+//! left out. Output as `ros2`'s: one name a line, sorted, `-t` adding `[pkg/msg/Type]`; nodes that share a name
+//! are listed once each, with a warning on stderr (as `ros2 node list` warns).
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -64,7 +65,7 @@ pub struct NodesArgs {
 pub fn run_topic(command: TopicCommand) -> anyhow::Result<()> {
     let TopicCommand::List(args) = command;
     let graph = discover(args.spin_time)?;
-    print!("{}", listing(&graph.topics, args.show_types));
+    crate::cli::common::emit(&listing(&graph.topics, args.show_types))?;
     Ok(())
 }
 
@@ -72,15 +73,18 @@ pub fn run_topic(command: TopicCommand) -> anyhow::Result<()> {
 pub fn run_service(command: ServiceCommand) -> anyhow::Result<()> {
     let ServiceCommand::List(args) = command;
     let graph = discover(args.spin_time)?;
-    print!("{}", listing(&graph.services, args.show_types));
+    crate::cli::common::emit(&listing(&graph.services, args.show_types))?;
     Ok(())
 }
 
 /// Runs `sweetspot nodes`.
 pub fn run_nodes(args: NodesArgs) -> anyhow::Result<()> {
     let graph = discover(args.spin_time)?;
-    for node in graph.nodes {
-        println!("{node}");
+    for node in &graph.nodes {
+        crate::outln!("{node}")?;
+    }
+    for (name, count) in namesakes(&graph.nodes) {
+        eprintln!("warning: {}", namesake_warning(&name, count, "are on the graph"));
     }
     Ok(())
 }
@@ -89,12 +93,12 @@ pub fn run_nodes(args: NodesArgs) -> anyhow::Result<()> {
 pub fn run_interface(command: InterfaceCommand) -> anyhow::Result<()> {
     match command {
         InterfaceCommand::Show { type_name } => {
-            print!("{}", show(&type_name)?);
+            crate::cli::common::emit(&show(&type_name)?)?;
             Ok(())
         }
         InterfaceCommand::List => {
             for name in known_types() {
-                println!("    {name}");
+                crate::outln!("    {name}")?;
             }
             Ok(())
         }
@@ -106,7 +110,41 @@ pub fn run_interface(command: InterfaceCommand) -> anyhow::Result<()> {
 struct Graph {
     topics: BTreeMap<String, BTreeSet<String>>,
     services: BTreeMap<String, BTreeSet<String>>,
-    nodes: BTreeSet<String>,
+    /// Sorted, a name once per node that has it (as `ros2 node list` lists namesakes).
+    nodes: Vec<String>,
+}
+
+/// The names more than one node has, with how many have it.
+fn namesakes(sorted_nodes: &[String]) -> Vec<(String, usize)> {
+    sorted_nodes
+        .chunk_by(|a, b| a == b)
+        .filter(|same| same.len() > 1)
+        .map(|same| (same[0].clone(), same.len()))
+        .collect()
+}
+
+/// What a CLI says of `count` nodes named `node` (`what` they do: "answer", "are on the graph"): each gets
+/// every swing and every call, and a client takes whichever answer comes first.
+pub(crate) fn namesake_warning(node: &str, count: usize, what: &str) -> String {
+    format!(
+        "{count} nodes named {node} {what}; each answers every call and swing, and a client takes the first          answer, from either: rename one (--ros-args -r __node:=NAME or -r __ns:=/NS)"
+    )
+}
+
+/// Participants other than this one's that serve `fq_service` (read its `rq/…Request` topic, as both
+/// service mappings name it): two nodes of one name are two servers.
+pub(crate) fn servers_of(context: &ros2_client::Context, fq_service: &str) -> usize {
+    let request_topic = format!("rq{fq_service}Request");
+    let participant = context.domain_participant();
+    let own = rustdds::RTPSEntity::guid(&participant).prefix;
+    let servers: BTreeSet<_> = participant
+        .discovered_readers()
+        .into_iter()
+        .filter(|r| *r.subscription_topic_data.topic_name() == request_topic)
+        .map(|r| r.reader_proxy.remote_reader_guid.prefix)
+        .filter(|prefix| *prefix != own)
+        .collect();
+    servers.len()
 }
 
 fn discover(spin_time: f64) -> anyhow::Result<Graph> {
@@ -164,6 +202,7 @@ fn discover(spin_time: f64) -> anyhow::Result<Graph> {
             }
         }
         graph.nodes = latest.into_values().flatten().collect();
+        graph.nodes.sort();
         drop(participant);
         drop(participants);
         drop(node);

@@ -95,7 +95,7 @@ pub fn run(command: ParamCommand) -> anyhow::Result<()> {
                 let mut names = reply.result.names;
                 names.sort();
                 for name in names {
-                    println!("  {name}");
+                    crate::outln!("  {name}")?;
                 }
                 Ok(())
             }
@@ -105,10 +105,9 @@ pub fn run(command: ParamCommand) -> anyhow::Result<()> {
                     bail!("Parameter not set: {name}");
                 }
                 match hide_type {
-                    true => println!("{}", plain(&value)),
-                    false => println!("{} value is: {}", type_label(&value), plain(&value)),
+                    true => crate::outln!("{}", plain(&value)),
+                    false => crate::outln!("{} value is: {}", type_label(&value), plain(&value)),
                 }
-                Ok(())
             }
             ParamCommand::Set { name, value, .. } => {
                 let parsed = crate::ros::args::parse_parameter_value(&name, &value).map_err(|e| anyhow!("{e}"))?;
@@ -120,17 +119,19 @@ pub fn run(command: ParamCommand) -> anyhow::Result<()> {
                 let reason = if result.reason.is_empty() { String::new() } else { format!(": {}", result.reason) };
                 match result.successful {
                     true => {
-                        println!("Set parameter successful{reason}");
+                        crate::outln!("Set parameter successful{reason}")?;
                         Ok(())
                     }
                     false => bail!("Setting parameter failed{reason}"),
                 }
             }
             ParamCommand::Describe { names, .. } => {
+                let asked = names.len();
                 let reply: DescribeParametersResponse =
                     session.call("describe_parameters", DescribeParametersRequest { names }).await?;
+                answered_all(&fq_node, "described", reply.values.len(), asked)?;
                 for d in reply.values {
-                    print!("{}", describe(&d));
+                    crate::cli::common::emit(&describe(&d))?;
                 }
                 Ok(())
             }
@@ -140,11 +141,25 @@ pub fn run(command: ParamCommand) -> anyhow::Result<()> {
                 let mut names = reply.result.names;
                 names.sort();
                 let values = session.get(&names).await?;
-                print!("{}", dump(&fq_node, &names, &values));
+                answered_all(&fq_node, "gave the values of", values.len(), names.len())?;
+                crate::cli::common::emit(&dump(&fq_node, &names, &values))?;
                 Ok(())
             }
         }
     })
+}
+
+/// Refuses a reply that answers `got` of the `asked` names: a node answers a request it refuses (too many
+/// names, a name too long, an undeclared one for some nodes) with an empty list, and says why only in its log.
+fn answered_all(node: &str, did: &str, got: usize, asked: usize) -> anyhow::Result<()> {
+    if got == asked {
+        return Ok(());
+    }
+    bail!(
+        "{node} {did} {got} of the {asked} parameter(s) asked: it refused the request (its log says why;          sweetspot's node takes at most {} names of at most {} bytes in one request)",
+        ros2_client::parameters::limits::MAX_NAMES_PER_REQUEST,
+        ros2_client::parameters::limits::MAX_NAME_BYTES
+    )
 }
 
 /// `name` as a fully-qualified node name (a leading `/` added).
@@ -196,6 +211,9 @@ impl Session<'_> {
         })
         .await;
         spinning.abort();
+        if outcome.is_ok() {
+            super::call::warn_of_namesakes(&context, &fq_name);
+        }
         match outcome {
             Ok(result) => result,
             Err(_) => bail!(

@@ -682,7 +682,8 @@ fn publish_all<T: RosMessage>(
     let zero = Time::default();
     for (i, (origin, value)) in inputs.iter().enumerate() {
         let v = complete(kind, &template, value, i as u64 + 1, &zero);
-        T::from_json(&v, "").map_err(|e| anyhow!("{origin}: {e}"))?;
+        let message = T::from_json(&v, "").map_err(|e| anyhow!("{origin}: {e}"))?;
+        refuse_undeliverable(kind, &message).map_err(|e| anyhow!("{origin}: {e}; nothing was published"))?;
     }
     let total = match (args.once.then_some(1).or(args.count), args.rate, inputs.len()) {
         (Some(n), _, _) => Some(n),
@@ -771,6 +772,57 @@ fn publish_all<T: RosMessage>(
         eprintln!("published {sent} message(s) to {fq_topic} ({})", T::TYPE_NAME);
     }
     Ok(())
+}
+
+/// Largest message `pub` sends, bytes of CDR. RustDDS sends a larger sample in 256-byte fragments, and a
+/// reader asks again for at most 256 missing fragments (64 KiB) per round trip, so a sample of many megabytes
+/// on a loaded loopback never completes: the subscriber drops it while `pub` would report it published. The
+/// largest message the node takes (a BatParams of 4,096 stations, ~100 KB) fits many times over.
+pub const MAX_SAMPLE_BYTES: usize = 1024 * 1024;
+
+/// Why `message` (a `kind`) cannot be delivered, if it cannot: larger than DDS carries
+/// ([`MAX_SAMPLE_BYTES`]), or over a size bound that the node checks before anything else (strings of
+/// [`crate::model::limits::MAX_STRING_BYTES`], profiles of [`crate::model::limits::MAX_STATIONS`] stations),
+/// so that it would only be refused. Values the node judges (speeds, physics) are its to reject.
+fn refuse_undeliverable<T: RosMessage>(kind: Kind, message: &T) -> Result<(), String> {
+    use crate::model::limits::{check_string, MAX_STATIONS};
+    let cdr = crate::msgs::encode_cdr(message).map_err(|e| e.to_string())?;
+    if cdr.len() > MAX_SAMPLE_BYTES {
+        return Err(format!(
+            "the message is {} bytes serialized, over the {MAX_SAMPLE_BYTES} bytes DDS carries here",
+            cdr.len()
+        ));
+    }
+    let node_refuses = |e: String| format!("{e}: the node refuses it");
+    match kind {
+        Kind::Swing => {
+            let swing: Swing = crate::msgs::decode_cdr(&cdr).map_err(|e| e.to_string())?;
+            check_string("header.frame_id", &swing.header.frame_id)
+                .and_then(|()| check_string("bat_id", &swing.bat_id))
+                .and_then(|()| check_string("ball_id", &swing.ball_id))
+                .map_err(node_refuses)
+        }
+        Kind::BallParams => {
+            let ball: BallParams = crate::msgs::decode_cdr(&cdr).map_err(|e| e.to_string())?;
+            check_string("header.frame_id", &ball.header.frame_id)
+                .and_then(|()| check_string("ball_id", &ball.ball_id))
+                .map_err(node_refuses)
+        }
+        Kind::BatParams => {
+            let bat: BatParams = crate::msgs::decode_cdr(&cdr).map_err(|e| e.to_string())?;
+            check_string("header.frame_id", &bat.header.frame_id)
+                .and_then(|()| check_string("bat_id", &bat.bat_id))
+                .and_then(|()| check_string("preset", &bat.preset))
+                .map_err(node_refuses)?;
+            match bat.station_z.len().max(bat.outer_radius.len()).max(bat.inner_radius.len()) {
+                n if n > MAX_STATIONS => {
+                    Err(node_refuses(format!("the profile has {n} stations, over the limit of {MAX_STATIONS}")))
+                }
+                _ => Ok(()),
+            }
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Matching subscriptions to wait for when `-w` is not given: one, as `ros2 topic pub --once/--times`, except

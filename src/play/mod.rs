@@ -327,6 +327,9 @@ pub struct PlayStats {
     pub published: u64,
     /// Passes completed.
     pub passes: u64,
+    /// Whether any played topic had a matched subscription at some point of the play: if not, every message
+    /// went to nobody.
+    pub heard: bool,
 }
 
 enum Writer {
@@ -370,6 +373,18 @@ fn write_one<T: RosMessage + serde::de::DeserializeOwned + serde::Serialize>(
 
 fn matched<T: RosMessage>(writer: &rustdds::no_key::DataWriterCdr<T>, current: &mut usize) {
     *current = crate::ros::edge::matched_subscriptions(writer, *current);
+}
+
+/// Brings each writer's count of matched subscriptions up to date; whether any has one.
+fn any_matched(writers: &mut [(String, Writer, usize)]) -> bool {
+    for (_, writer, count) in writers.iter_mut() {
+        match writer {
+            Writer::Bat(w) => matched(w, count),
+            Writer::Ball(w) => matched(w, count),
+            Writer::Swing(w) => matched(w, count),
+        }
+    }
+    writers.iter().any(|(_, _, count)| *count > 0)
 }
 
 /// Something `play` wants the user to know, besides each message published.
@@ -587,7 +602,7 @@ pub fn play(
         wait_for_discovered(&ctx, &mut writers, &names, options.timeout, stop, &mut on_event)?;
     }
     let is_paused = || options.paused.as_ref().is_some_and(|p| p.load(Ordering::Relaxed));
-    let mut stats = PlayStats::default();
+    let mut stats = PlayStats { heard: any_matched(&mut writers), ..PlayStats::default() };
     'passes: loop {
         let delay_end = Instant::now() + options.delay;
         while Instant::now() < delay_end {
@@ -622,6 +637,7 @@ pub fn play(
                 Writer::Swing(w) => write_one(w, item, options.timeout, stop)?,
             }
             stats.published += 1;
+            stats.heard = stats.heard || any_matched(&mut writers);
             on_event(PlayEvent::Published(item));
         }
         stats.passes += 1;

@@ -1173,10 +1173,18 @@ impl Drop for DomainParticipantDisc {
       .take()
       .or_else(|| self.discovery_join_handle.try_recv().ok())
     {
-      handle
-        .join()
-        .unwrap_or_else(|e| warn!("Failed to join discovery thread: {e:?}"));
-      debug!("Joined Discovery.");
+      // Discovery upgrades its weak handle while it works (the SPDP timer); if
+      // the application drops its last handle meanwhile, this drop runs on the
+      // Discovery thread itself, where a join fails with EDEADLK and std
+      // panics. That thread stops on its own: it reads StopDiscovery next.
+      if handle.thread().id() == std::thread::current().id() {
+        debug!("Dropped on the Discovery thread: it stops by itself.");
+      } else {
+        handle
+          .join()
+          .unwrap_or_else(|e| warn!("Failed to join discovery thread: {e:?}"));
+        debug!("Joined Discovery.");
+      }
     }
   }
 }
