@@ -166,6 +166,16 @@ pub fn refuse_clobber(flag: &str, output: &Path, inputs: &[PathBuf], bags: &[Pat
     Ok(())
 }
 
+/// Most bytes of a user's input an error or report quotes ([`echo`]): a name, a cell or a number is read
+/// at a glance within it, and a 1-MB cell or a 300-digit number cannot flood the terminal.
+pub const ECHO_BYTES: usize = 80;
+
+/// `text` as an error or report quotes a user's input: at most [`ECHO_BYTES`] bytes (cut on a character
+/// boundary), with `…` and the input's full length when cut.
+pub fn echo(text: &str) -> std::borrow::Cow<'_, str> {
+    crate::model::limits::shorten(text, ECHO_BYTES)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -251,5 +261,20 @@ mod tests {
         // Read now, it is an input, whatever was noted under its inode before.
         read_text(&fresh, "input").unwrap();
         assert!(refuse_clobber("--plot", &fresh, &[], &[]).is_err());
+    }
+
+    #[test]
+    fn an_echoed_input_is_cut_past_its_bound_and_says_how_long_it_was() {
+        let exact = "9".repeat(ECHO_BYTES);
+        assert_eq!(echo(&exact), exact, "{ECHO_BYTES} bytes are quoted whole");
+        let over = "9".repeat(ECHO_BYTES + 1);
+        assert_eq!(echo(&over), format!("{}…({} bytes)", "9".repeat(ECHO_BYTES), ECHO_BYTES + 1));
+        // A 300-digit number, as 1e308 written out, comes back as its first 80 digits.
+        let digits = format!("{:.0}", 1e308);
+        assert_eq!(digits.len(), 309);
+        assert!(echo(&digits).len() < 100);
+        // Never inside a character: 79 ASCII bytes and a 2-byte é at the bound.
+        let accented = format!("{}é{}", "a".repeat(ECHO_BYTES - 1), "b".repeat(10));
+        assert!(echo(&accented).starts_with(&format!("{}…", "a".repeat(ECHO_BYTES - 1))));
     }
 }

@@ -13,13 +13,17 @@
 //! - `locate --figure` through a symlink onto the bag is refused; a side table with a 50 MB name is refused
 //!   by line length, not read whole.
 //! - A missing file's OS error is printed once.
+//! - A map naming one column for two quantities is refused naming both; a column the header repeats is read
+//!   only where its cells agree (Savant's two `pitcher` columns), else the row is refused naming it; a row with
+//!   an extra cell is refused as one cut short is; a refused 1e308 is quoted as `4.4704e307`.
 
 mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use sweetspot::import::{import_files, ImportReport, MAX_REFUSALS_LISTED, ROWS_TABLE};
+use sweetspot::import::mapped::ColumnMap;
+use sweetspot::import::{import_files, ImportOptions, ImportReport, MAX_REFUSALS_LISTED, ROWS_TABLE};
 
 use support::import::{data, options};
 
@@ -283,4 +287,121 @@ fn a_missing_file_is_named_with_its_os_error_once() {
     assert!(!out.status.success());
     assert_eq!(stderr.matches("No such file or directory").count(), 1, "{stderr}");
     assert!(stderr.contains(&missing.display().to_string()), "{stderr}");
+}
+
+/// A map file `text` in `dir`, loaded.
+fn load_map(dir: &Path, text: &str) -> Result<ColumnMap, String> {
+    let path = dir.join("map.toml");
+    std::fs::write(&path, text).unwrap();
+    ColumnMap::load(&path).map_err(|e| e.to_string())
+}
+
+#[test]
+fn a_map_naming_one_column_for_two_quantities_is_refused_naming_both() {
+    let tmp = tempfile::tempdir().unwrap();
+    let error = load_map(tmp.path(), "name = \"t\"\n[columns]\npitch_speed = \"E\"\nexit_speed = \"E\"\n").unwrap_err();
+    assert!(error.contains("exit_speed and pitch_speed") && error.contains("\"E\""), "{error}");
+    let error =
+        load_map(tmp.path(), "name = \"t\"\n[columns]\npitch_speed = \"P\"\nexit_speed = \"E\"\nspin = \"P\"\n")
+            .unwrap_err();
+    assert!(error.contains("pitch_speed and spin") && error.contains("\"P\""), "{error}");
+    // Each quantity in a column of its own: read.
+    load_map(tmp.path(), "name = \"t\"\n[columns]\npitch_speed = \"P\"\nexit_speed = \"E\"\n").unwrap();
+    // Through the command: refused before any bag is written.
+    std::fs::write(tmp.path().join("pe.csv"), "P,E\n80,95\n").unwrap();
+    std::fs::write(tmp.path().join("same.toml"), "name = \"t\"\n[columns]\npitch_speed = \"E\"\nexit_speed = \"E\"\n")
+        .unwrap();
+    let bag = tmp.path().join("bag");
+    let out = Command::new(BIN)
+        .arg("import")
+        .arg("--map")
+        .arg(tmp.path().join("same.toml"))
+        .arg(tmp.path().join("pe.csv"))
+        .arg("-o")
+        .arg(&bag)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("both name the column \"E\""), "{stderr}");
+    assert!(!bag.exists());
+}
+
+#[test]
+fn a_column_the_header_repeats_is_read_only_where_its_cells_agree() {
+    let tmp = tempfile::tempdir().unwrap();
+    let csv = tmp.path().join("dup.csv");
+    // Line 2: the two E cells agree; line 3: they differ; line 4: agree again.
+    std::fs::write(&csv, "P,E,E\n80,95,95\n80,95,100\n81,96, 96 \n").unwrap();
+    let map = load_map(tmp.path(), "name = \"t\"\n[columns]\npitch_speed = \"P\"\nexit_speed = \"E\"\n").unwrap();
+    let mapped = ImportOptions { map: Some(map), ..options() };
+    let report = import_files(&[csv], &tmp.path().join("bag"), &mapped).unwrap();
+    assert_eq!(report.swings, 2, "lines 2 and 4: {:?}", report.refused);
+    assert_eq!(report.refused.len(), 1, "{:?}", report.refused);
+    let refused = &report.refused[0];
+    assert!(refused.contains("line 3:") && refused.contains("column \"E\" appears 2 times"), "{refused}");
+    assert!(refused.contains("\"95\" against \"100\""), "{refused}");
+
+    // Baseball Savant's search CSV names `pitcher` twice, both the pitcher's id: read as before. One row whose
+    // second `pitcher` differs is refused, naming the column; the rest are read.
+    let mut reader = csv::Reader::from_path(data("statcast_search.csv")).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    let at = header.iter().position(|h| h == "pitcher").unwrap();
+    let rows: Vec<Vec<String>> = reader.records().map(|r| r.unwrap().iter().map(String::from).collect()).collect();
+    let write = |name: &str, changed: Option<usize>| {
+        let path = tmp.path().join(name);
+        let mut w = csv::Writer::from_path(&path).unwrap();
+        w.write_record(header.iter().chain(["pitcher".to_string()].iter())).unwrap();
+        for (i, row) in rows.iter().enumerate() {
+            let twin = if Some(i) == changed { "999999".to_string() } else { row[at].clone() };
+            w.write_record(row.iter().chain([twin].iter())).unwrap();
+        }
+        w.flush().unwrap();
+        path
+    };
+    let intact = import_files(&[data("statcast_search.csv")], &tmp.path().join("intact"), &options()).unwrap();
+    let twice = import_files(&[write("twice.csv", None)], &tmp.path().join("twice"), &options()).unwrap();
+    assert_eq!((twice.swings, twice.refused.len()), (intact.swings, 0), "{:?}", twice.refused);
+    let differs = import_files(&[write("differs.csv", Some(0))], &tmp.path().join("differs"), &options()).unwrap();
+    assert_eq!(differs.swings, intact.swings - 1);
+    assert!(
+        differs.refused[0].contains("line 2:") && differs.refused[0].contains("column \"pitcher\""),
+        "{:?}",
+        differs.refused
+    );
+}
+
+#[test]
+fn a_row_with_an_extra_cell_is_refused_as_one_cut_short_is() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lines = trackman_lines();
+    let intact = import_lines(tmp.path(), "intact.csv", &lines);
+    let cells = lines[0].split(',').count();
+    // Line 5 (the first InPlay row) with one cell too many, blank or not, and one too few.
+    for (name, row) in [
+        ("extra.csv", format!("{},x", lines[4])),
+        ("blank.csv", format!("{},", lines[4])),
+        ("short.csv", lines[4].rsplit_once(',').unwrap().0.to_string()),
+    ] {
+        let mut edited = lines.clone();
+        edited[4] = row;
+        let report = import_lines(tmp.path(), name, &edited);
+        assert_eq!(report.skipped.get("record malformed (refused)"), Some(&1), "{name}: {:?}", report.skipped);
+        assert_eq!(report.swings, intact.swings - 1, "{name}: everything else is read");
+        assert!(report.refused[0].contains("line 5: malformed record: has "), "{name}: {:?}", report.refused);
+        assert!(report.refused[0].contains(&format!("where the header has {cells}")), "{name}: {:?}", report.refused);
+    }
+}
+
+#[test]
+fn a_refused_number_is_quoted_readably_never_as_three_hundred_digits() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lines = trackman_lines();
+    let exit = column(&lines, "ExitSpeed");
+    let mut huge = lines.clone();
+    huge[4] = with_cell(&lines[4], exit, "1e308");
+    let report = import_lines(tmp.path(), "huge.csv", &huge);
+    let refused = &report.refused[0];
+    // 1e308 mph × 0.44704 = 4.4704e307 m/s.
+    assert!(refused.contains("exit speed gives 4.4704") && refused.contains("e307 (SI units)"), "{refused}");
+    assert!(refused.len() < 200, "{} bytes: {refused}", refused.len());
 }

@@ -2,15 +2,19 @@
 //! node's own engine, written out as a TrackMan-style and a Statcast-style CSV (the real header layouts of
 //! tests/data), imported, and located: noise-free rows give back the true impact point and undercut to 1 mm,
 //! and with tracker-sized noise the truth lies within the reported uncertainty about as often as a standard
-//! uncertainty promises.
+//! uncertainty promises; balls no impact point reproduces within tracker accuracy, or that the measurements do
+//! not place on the barrel, are not located.
 
 use std::path::Path;
 
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
+use sweetspot::import::mapped::ColumnMap;
 use sweetspot::import::statcast::plate_crossing;
-use sweetspot::import::{backspin, deg, import_files, mph, rpm, SwingBuilder, FOOT, MPH};
-use sweetspot::locate::{locate_bag, BatSpeedFit, BatSpeedSolution, LocateOptions, Outcome, Solution};
+use sweetspot::import::{backspin, deg, import_files, mph, rpm, ImportOptions, SwingBuilder, FOOT, MPH};
+use sweetspot::locate::{
+    locate_bag, BatSpeedFit, BatSpeedSolution, LocateOptions, Outcome, Solution, MAX_CHI2_PER_DOF, MAX_Z_SIGMA_SHARE,
+};
 use sweetspot::model::engine::{compute, plan_swing, Registry, SwingInput};
 use sweetspot::model::settings::ModelSettings;
 use sweetspot::physics::Impact;
@@ -592,4 +596,113 @@ fn a_swing_whose_spin_cannot_tell_bat_speed_from_impact_point_is_reported_not_se
         Some(BatSpeedFit::NotSeparable { reason }) => assert!(reason.contains("σ(bat speed)"), "{reason}"),
         other => panic!("expected not separable, got {other:?}"),
     }
+}
+
+/// A lab sheet imported through a column map: per row pitch speed and exit speed (mph), launch angle (°)
+/// and spin (rpm), NaN for a blank cell; the batter's assumed swing, no pitch angle or spin (assumed 0).
+fn import_sheet(dir: &Path, name: &str, rows: &[[f64; 4]]) -> std::path::PathBuf {
+    let csv = dir.join(format!("{name}.csv"));
+    let cell = |x: f64| if x.is_nan() { String::new() } else { format!("{x}") };
+    let mut text = "P,E,LA,S\n".to_string();
+    for r in rows {
+        text += &format!("{},{},{},{}\n", cell(r[0]), cell(r[1]), cell(r[2]), cell(r[3]));
+    }
+    std::fs::write(&csv, text).unwrap();
+    let columns = [("pitch_speed", "P"), ("exit_speed", "E"), ("launch_angle", "LA"), ("spin", "S")]
+        .into_iter()
+        .map(|(q, c)| (q.to_string(), c.to_string()))
+        .collect();
+    let map = ColumnMap { name: "sheet".into(), columns, units: Default::default() };
+    let bag = dir.join(name);
+    import_files(&[csv], &bag, &ImportOptions { map: Some(map), ..options() }).unwrap();
+    bag
+}
+
+/// The swing a sheet row becomes, at impact point `z` and undercut `d`: the node's engine gives its answer.
+fn sheet_swing(pitch_mph: f64, z: f64, d: f64) -> SwingInput {
+    let prediction = options().batter.predict(&options().bat.mass_properties()).unwrap();
+    SwingInput {
+        impact: Impact {
+            ball_speed: mph(pitch_mph),
+            bat_cm_speed: prediction.bat_cm_speed,
+            bat_angular_speed: prediction.bat_angular_speed,
+            impact_z: z,
+        },
+        undercut: d,
+        attack_angle: 0.0,
+        pitch_angle: 0.0,
+        pitch_spin: 0.0,
+        measured_launch_angle: f64::NAN,
+        measured_spin: f64::NAN,
+    }
+}
+
+/// With spin measured, least squares always finds a closest (z, D): a ball it misses by far more than the
+/// trackers' accuracy is not located. A 140-mph ball off a 40-mph pitch is too fast with its spin as without
+/// it (the same excess); a ball launched at 89.9° with 2,500 rpm is not reproducible, and the node's own
+/// engine at the closest fit misses it by χ² > 9 too.
+#[test]
+fn a_ball_no_impact_point_reproduces_within_tracker_accuracy_is_not_located() {
+    let tmp = tempfile::tempdir().unwrap();
+    let nan = f64::NAN;
+    let rows = [[40.0, 140.0, 20.0, 2500.0], [40.0, 140.0, 20.0, nan], [85.0, 95.0, 89.9, 2500.0]];
+    let bag = import_sheet(tmp.path(), "impossible", &rows);
+    let report = locate_bag(&bag, &LocateOptions::default()).unwrap();
+    assert_eq!((report.located, report.too_fast, report.not_reproducible), (0, 2, 1), "{:#?}", report.swings);
+    assert!(report.squared_up_share.is_nan(), "none located, none squared up");
+    let max = |o: &Outcome| match o {
+        Outcome::TooFast { max_exit_speed, .. } => *max_exit_speed,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(max(&report.swings[0].outcome), max(&report.swings[1].outcome));
+    let Outcome::NotReproducible { reason, solutions } = &report.swings[2].outcome else {
+        panic!("{:?}", report.swings[2].outcome)
+    };
+    assert!(reason.contains("χ² =") && reason.contains("launch angle"), "{reason}");
+    let sigma = LocateOptions::default();
+    let measured = [mph(95.0), deg(89.9), rpm(2500.0)];
+    let sigmas = [sigma.exit_speed_sigma, sigma.launch_angle_sigma, sigma.spin_sigma];
+    for s in solutions {
+        let engine = simulate(sheet_swing(85.0, s.impact_z, s.undercut));
+        let chi2: f64 = (0..3).map(|k| ((engine[k] - measured[k]) / sigmas[k]).powi(2)).sum();
+        assert!(chi2 > MAX_CHI2_PER_DOF, "the engine at z = {}, D = {}: χ² {chi2}", s.impact_z, s.undercut);
+        assert!((chi2 - s.chi2).abs() < 0.01 * chi2, "the engine's χ² {chi2} against the reported {}", s.chi2);
+    }
+}
+
+/// With only the exit speed measured by a coarse tracker (σ_v = 5 m/s, 11 mph), a ball within a millimetre per
+/// second of the sweet spot's best has two roots a fraction of a millimetre either side of it whose
+/// σ_z = σ_v/|dv/dz| (the slope from the node's engine) is more than half the barrel: not placed on the bat.
+/// A metre per second slower, 2–3 cm from the sweet spot, it is located.
+#[test]
+fn a_ball_whose_impact_point_is_uncertain_beyond_half_the_barrel_is_not_located() {
+    let tmp = tempfile::tempdir().unwrap();
+    let nan = f64::NAN;
+    let coarse = LocateOptions { exit_speed_sigma: 5.0, ..LocateOptions::default() };
+    let fast = import_sheet(tmp.path(), "fast", &[[85.0, 150.0, nan, nan]]);
+    let best = match locate_bag(&fast, &coarse).unwrap().swings[0].outcome {
+        Outcome::TooFast { max_exit_speed, .. } => max_exit_speed,
+        ref other => panic!("{other:?}"),
+    };
+    let rows = [[85.0, (best - 1e-3) / MPH, nan, nan], [85.0, (best - 1.0) / MPH, nan, nan]];
+    let bag = import_sheet(tmp.path(), "flat", &rows);
+    let report = locate_bag(&bag, &coarse).unwrap();
+    assert_eq!((report.located, report.not_reproducible), (1, 1), "{:#?}", report.swings);
+    let Outcome::NotReproducible { reason, solutions } = &report.swings[0].outcome else {
+        panic!("{:?}", report.swings[0].outcome)
+    };
+    assert!(reason.contains("uncertain by σ") && reason.contains("half the barrel"), "{reason}");
+    let length = options().bat.length();
+    let bound = MAX_Z_SIGMA_SHARE * (length / 2.0 - 0.005);
+    let sigma_v = coarse.exit_speed_sigma;
+    for s in solutions {
+        let h = 2e-5;
+        let slope = (simulate(sheet_swing(85.0, s.impact_z + h, 0.0))[0]
+            - simulate(sheet_swing(85.0, s.impact_z - h, 0.0))[0])
+            / (2.0 * h);
+        assert!(sigma_v / slope.abs() > bound, "z = {}: the engine's slope {slope} m/s per m", s.impact_z);
+        assert!(s.impact_z_sigma > bound, "{s:?}");
+    }
+    let (located, _) = solutions_of(&report.swings[1].outcome);
+    assert!(located.iter().all(|s| s.impact_z_sigma <= bound), "{located:?}");
 }

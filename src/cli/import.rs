@@ -120,7 +120,7 @@ pub fn run(args: ImportArgs) -> Result<()> {
     } else {
         params_from_bat(&bat.name, &bat, 0, Header::default())
     };
-    let ball = Ball::preset(&args.ball).with_context(|| format!("--ball {}", args.ball))?;
+    let ball = Ball::preset(&args.ball).with_context(|| format!("--ball {}", crate::files::echo(&args.ball)))?;
     let ball_params = params_from_ball(&args.ball, &ball, None, Header::default());
     let (batter, _) = match &args.batter {
         Some(path) => load_batter_file(path)?,

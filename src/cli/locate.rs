@@ -1,13 +1,16 @@
 //! `sweetspot locate BAG`: where on the bat each ball was hit (see [`crate::locate`]).
 
-use std::path::PathBuf;
+use std::io::IsTerminal as _;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Result};
 use clap::Args;
 
 use super::common::{finite_f64, print_json};
 use crate::locate::figure::{batters_of, draw_figure, Grouping};
-use crate::locate::{locate_bag, BatSpeedFit, LocateOptions, Outcome, Side};
+use crate::locate::{locate_bag_with_progress, BatSpeedFit, LocateOptions, LocateReport, Outcome, Side};
 use crate::physics::oblique::rpm_to_rad_per_s;
 use crate::report::plot::ImageFormat;
 
@@ -21,7 +24,10 @@ use crate::report::plot::ImageFormat;
 
 Every impact point (either side of the sweet spot) that reproduces the measured exit speed (and launch angle
 and spin, where measured) is listed with its standard uncertainty; `*` marks the one the other measurements
-favour. A swing faster than the sweet spot allows is reported with the excess. --figure draws the located
+favour. A swing faster than the sweet spot allows is reported with the excess; one whose closest fit misses
+the measurements by more than tracker accuracy (χ² over 9 per degree of freedom) or leaves the impact point
+uncertain by more than half the barrel is NOT REPRODUCIBLE, with the reason, and counted apart. Off a
+terminal a progress line comes every 5 s. --figure draws the located
 points on the bat's outline, one panel per batter (from the import's side table; per bat for a bag without
 it), the favoured solution filled, the others hollow, the sweet spot and its ±2 cm band shaded.
 --fit-bat-speed also fits the bat speed of swings whose bat speed the import assumed and whose spin is
@@ -72,7 +78,7 @@ pub fn run(args: LocateArgs) -> Result<()> {
         crate::files::refuse_clobber("--figure", path, &[], std::slice::from_ref(&args.bag))
             .map_err(anyhow::Error::msg)?;
     }
-    let report = locate_bag(&args.bag, &options).map_err(|e| anyhow!("{}: {e}", args.bag.display()))?;
+    let report = locate_with_progress(&args.bag, &options)?;
     if let Some(path) = &args.figure {
         let batters = batters_of(&args.bag)?;
         let summary = draw_figure(path, &report, batters.as_ref())?;
@@ -126,6 +132,7 @@ pub fn run(args: LocateArgs) -> Result<()> {
             Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => format!(
                 "FASTER than the sweet spot allows by {excess:.2} m/s (max {max_exit_speed:.2} m/s at z = {sweet_spot_z:.3} m)"
             ),
+            Outcome::NotReproducible { reason, .. } => format!("NOT REPRODUCIBLE within tracker accuracy: {reason}"),
             Outcome::NotMeasured => "no exit speed measured".to_string(),
             Outcome::Failed { reason } => format!("not located: {reason}"),
         };
@@ -141,9 +148,11 @@ pub fn run(args: LocateArgs) -> Result<()> {
         }
     }
     crate::outln!(
-        "{} located, {} faster than the sweet spot allows, of {} swings; squared up (±2 cm of the sweet spot): {:.0} %",
+        "{} located, {} faster than the sweet spot allows, {} not reproducible within tracker accuracy, of {} \
+         swings; squared up (±2 cm of the sweet spot): {:.0} % of those located",
         report.located,
         report.too_fast,
+        report.not_reproducible,
         report.swings.len(),
         report.squared_up_share * 100.0
     )?;
@@ -184,5 +193,89 @@ fn bat_speed_text(fit: &BatSpeedFit) -> String {
         BatSpeedFit::NotSeparable { reason } => format!("not separable: {reason}"),
         BatSpeedFit::NotFitted { reason } => format!("not fitted: {reason}"),
         BatSpeedFit::Failed { reason } => format!("failed: {reason}"),
+    }
+}
+
+/// Seconds between progress lines when stderr is not a terminal (a log or a pipe): a season of 10⁵–10⁶
+/// swings takes minutes, and a line this often shows it is alive without filling the log.
+const PROGRESS_LINE_EVERY: Duration = Duration::from_secs(5);
+
+/// Locates the bag with progress on stderr: a bar on a terminal, a line every [`PROGRESS_LINE_EVERY`]
+/// elsewhere (none for a bag done sooner, so scripts and tests of small bags get clean output).
+fn locate_with_progress(bag: &Path, options: &LocateOptions) -> Result<LocateReport> {
+    let on_terminal = std::io::stderr().is_terminal();
+    let bar = super::bag::progress(0, "locating");
+    let lines = Mutex::new(ProgressLines::new(Instant::now(), PROGRESS_LINE_EVERY));
+    let progress = |done: usize, total: usize| {
+        if on_terminal {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        } else if let Ok(mut lines) = lines.try_lock() {
+            // Another worker holds it: the next swing done asks again.
+            if let Some(line) = lines.line(done, total, Instant::now()) {
+                eprintln!("{line}");
+            }
+        }
+    };
+    let report = locate_bag_with_progress(bag, options, &progress).map_err(|e| anyhow!("{}: {e}", bag.display()));
+    bar.finish_and_clear();
+    let lines = lines.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let (Ok(report), true) = (&report, lines.printed) {
+        eprintln!("locate: {} swings in {:.0} s", report.swings.len(), lines.started.elapsed().as_secs_f64());
+    }
+    report
+}
+
+/// When a progress line is due off a terminal, and what it says.
+#[derive(Debug)]
+struct ProgressLines {
+    started: Instant,
+    next: Instant,
+    every: Duration,
+    /// Whether any line was printed (then the run's end is said too).
+    printed: bool,
+}
+
+impl ProgressLines {
+    fn new(started: Instant, every: Duration) -> ProgressLines {
+        ProgressLines { started, next: started + every, every, printed: false }
+    }
+
+    /// The line for `done` of `total` swings at `now`, if one is due (one per `every`, none before the first
+    /// `every` has passed).
+    fn line(&mut self, done: usize, total: usize, now: Instant) -> Option<String> {
+        if now < self.next {
+            return None;
+        }
+        self.next = now + self.every;
+        self.printed = true;
+        let elapsed = now.duration_since(self.started).as_secs_f64();
+        let left = if done > 0 { elapsed * (total - done.min(total)) as f64 / done as f64 } else { f64::NAN };
+        Some(format!(
+            "locate: {done} of {total} swings ({:.0} %), {elapsed:.0} s, about {left:.0} s left",
+            100.0 * done as f64 / total.max(1) as f64
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_progress_line_comes_once_per_interval_and_none_before_the_first() {
+        let start = Instant::now();
+        let every = Duration::from_secs(5);
+        let mut lines = ProgressLines::new(start, every);
+        let at = |s: f64| start + Duration::from_secs_f64(s);
+        assert_eq!(lines.line(100, 1000, at(4.999)), None, "nothing in the first interval");
+        assert!(!lines.printed);
+        let first = lines.line(100, 1000, at(5.0)).expect("due at 5 s");
+        // 100 of 1000 in 5 s: 10 %, 45 s left at that pace.
+        assert_eq!(first, "locate: 100 of 1000 swings (10 %), 5 s, about 45 s left");
+        assert!(lines.printed);
+        assert_eq!(lines.line(150, 1000, at(9.9)), None, "one line per interval");
+        assert!(lines.line(200, 1000, at(10.0)).is_some());
+        assert_eq!(lines.line(201, 1000, at(10.1)), None);
     }
 }

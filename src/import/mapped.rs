@@ -23,6 +23,7 @@
 //!
 //! Every row with a measured exit speed is a swing (the map has no "call" column); the rest is as for the
 //! built-in formats: blank/`NA`/`NULL`/`-` is not measured, out-of-range values are refused with the line.
+//! A map naming one column for two quantities is refused, naming both.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -95,9 +96,10 @@ impl ColumnMap {
 
     /// Names known quantities and units only, and the two a swing needs.
     pub fn check(&self) -> Result<(), String> {
+        let echo = crate::files::echo;
         for q in self.columns.keys().chain(self.units.keys()) {
             if !QUANTITIES.contains(&q.as_str()) {
-                return Err(format!("unknown quantity '{q}': expected one of {}", QUANTITIES.join(", ")));
+                return Err(format!("unknown quantity '{}': expected one of {}", echo(q), QUANTITIES.join(", ")));
             }
         }
         for need in ["pitch_speed", "exit_speed"] {
@@ -105,9 +107,22 @@ impl ColumnMap {
                 return Err(format!("the map must name the column of {need}"));
             }
         }
+        // One column read as two quantities (a pitch speed that is the exit speed) is a slip in the map.
+        let mut quantity_of: BTreeMap<&str, &str> = BTreeMap::new();
+        for (q, column) in &self.columns {
+            if let Some(first) = quantity_of.insert(column, q) {
+                return Err(format!(
+                    "{first} and {q} both name the column \"{}\": each quantity needs a column of its own",
+                    echo(column)
+                ));
+            }
+        }
         for (q, unit) in &self.units {
             if factor(kind(q), unit).is_none() {
-                return Err(format!("unit '{unit}' of {q}: expected one of mph, km/h, m/s, ft/s (speeds), deg, rad (angles), rpm, rad/s (spin)"));
+                return Err(format!(
+                    "unit '{}' of {q}: expected one of mph, km/h, m/s, ft/s (speeds), deg, rad (angles), rpm, rad/s (spin)",
+                    echo(unit)
+                ));
             }
         }
         Ok(())
@@ -115,7 +130,11 @@ impl ColumnMap {
 
     /// The mapped columns this header lacks.
     pub fn missing(&self, headers: &[String]) -> Vec<String> {
-        self.columns.values().filter(|c| !headers.iter().any(|h| h == *c)).cloned().collect()
+        self.columns
+            .values()
+            .filter(|c| !headers.iter().any(|h| h == *c))
+            .map(|c| crate::files::echo(c).into_owned())
+            .collect()
     }
 
     fn scale(&self, quantity: &str) -> f64 {

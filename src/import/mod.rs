@@ -185,7 +185,10 @@ impl std::str::FromStr for Format {
     type Err = ImportError;
     fn from_str(s: &str) -> Result<Format, ImportError> {
         Format::ALL.into_iter().find(|f| f.name() == s.to_ascii_lowercase()).ok_or_else(|| {
-            ImportError::Options(format!("unknown format {s:?}: expected trackman, statcast or hittrax"))
+            ImportError::Options(format!(
+                "unknown format {:?}: expected trackman, statcast or hittrax",
+                crate::files::echo(s)
+            ))
         })
     }
 }
@@ -274,7 +277,7 @@ impl Skip {
     /// The reason rows are counted under.
     pub fn reason(&self) -> String {
         match self {
-            Skip::NoContact { call } => format!("no ball hit (call {call:?})"),
+            Skip::NoContact { call } => format!("no ball hit (call {:?})", crate::files::echo(call)),
             Skip::Missing { column } => format!("{column} not measured"),
             Skip::NotANumber { column, .. } => format!("{column} not a number (refused)"),
             Skip::Refused { column, .. } => format!("{column} out of range (refused)"),
@@ -297,7 +300,9 @@ impl std::fmt::Display for Skip {
         match self {
             Skip::NotANumber { column, text } => write!(f, "{column} = {text:?} is not a number"),
             Skip::Refused { column, value, allowed } => {
-                write!(f, "{column} gives {value:.6} (SI units), out of range: expected {allowed}")
+                // Readable at any size: 1e308 mph is `4.4704e307`, not 300 digits.
+                let value = crate::model::limits::number(*value);
+                write!(f, "{column} gives {value} (SI units), out of range: expected {allowed}")
             }
             Skip::Unreadable { why } => write!(f, "the record's {why}"),
             Skip::Malformed { why } => write!(f, "malformed record: {why}"),

@@ -6,11 +6,18 @@
 //! The `csv` crate does the quoting (a quoted field may hold commas, quotes doubled, line breaks) and CRLF or
 //! LF line ends; what is added here is the file check, the line cap, the header map, the cell rules and the
 //! malformed records the crate reads without complaint ([`Row::malformed`]): a record with fewer cells than
-//! the header (cut short), a quote never closed (one stray `"` would make every line after it one cell), and
-//! text after a closing quote (two stray quotes joining the lines between them).
+//! the header (cut short) or more (an unquoted comma inside a cell shifts every cell after it, and a shifted
+//! row whose last cell was blank ends in an empty extra cell, so extra cells are refused whether blank or
+//! not), a quote never closed (one stray `"` would make every line after it one cell), and text after a
+//! closing quote (two stray quotes joining the lines between them).
+//!
+//! A header may name a column twice (Baseball Savant's search CSV carries `pitcher` twice, both the
+//! pitcher's id). A name read by a format and repeated in the header is read from every place it holds: a
+//! record whose cells there agree is read, one whose cells differ is refused ([`Row::malformed`]) naming the
+//! column and both cells, since which one is meant is unknown.
 
 use std::cell::RefCell;
-use std::collections::{HashMap, VecDeque};
+use std::collections::{BTreeMap, HashMap, VecDeque};
 use std::fs::File;
 use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
@@ -169,6 +176,10 @@ pub struct Table {
     reader: csv::Reader<LineCap<BufReader<Box<dyn Read>>>>,
     headers: Vec<String>,
     index: HashMap<String, usize>,
+    /// Every place of each name the header holds more than once.
+    repeated: HashMap<String, Vec<usize>>,
+    /// Repeated names a format has looked up ([`Table::column`]): each record's cells there must agree.
+    repeated_read: RefCell<BTreeMap<String, Vec<usize>>>,
     record: csv::StringRecord,
     line: u64,
     breaks: Rc<RefCell<Breaks>>,
@@ -206,15 +217,20 @@ impl Table {
             .map(|(i, h)| if i == 0 { h.trim_start_matches('\u{feff}') } else { h }.trim().to_string())
             .collect();
         let mut index = HashMap::new();
+        let mut places: HashMap<String, Vec<usize>> = HashMap::new();
         for (i, h) in headers.iter().enumerate() {
-            // The first of two equal names wins (a later duplicate is ignored, never silently preferred).
+            // A repeated name is read at its first place, once every place agrees (see the module docs).
             index.entry(h.clone()).or_insert(i);
+            places.entry(h.clone()).or_default().push(i);
         }
+        places.retain(|_, at| at.len() > 1);
         Ok(Table {
             path: path.to_path_buf(),
             reader,
             headers,
             index,
+            repeated: places,
+            repeated_read: RefCell::new(BTreeMap::new()),
             record: csv::StringRecord::new(),
             line: 1,
             breaks,
@@ -229,8 +245,12 @@ impl Table {
         &self.headers
     }
 
-    /// The index of column `name`, if the header has it.
+    /// The index of column `name`, if the header has it (its first place when the header repeats it: each
+    /// record is then checked to hold the same text at every place).
     pub fn column(&self, name: &str) -> Option<usize> {
+        if let Some(places) = self.repeated.get(name) {
+            self.repeated_read.borrow_mut().insert(name.to_string(), places.clone());
+        }
         self.index.get(name).copied()
     }
 
@@ -302,7 +322,35 @@ impl Table {
         }
         drop(quotes);
         let (cells, header) = (self.record.len(), self.headers.len());
-        (cells < header).then(|| format!("has {cells} cells where the header has {header}: cut short{span}"))
+        if cells < header {
+            return Some(format!("has {cells} cells where the header has {header}: cut short{span}"));
+        }
+        if cells > header {
+            return Some(format!(
+                "has {cells} cells where the header has {header}: an extra cell (an unquoted comma shifts the cells \
+                 after it){span}"
+            ));
+        }
+        self.disagreement()
+    }
+
+    /// Why the record cannot be read at a repeated column a format reads: its cells there differ.
+    fn disagreement(&self) -> Option<String> {
+        let cell = |i: usize| self.record.get(i).map_or("", str::trim);
+        self.repeated_read.borrow().iter().find_map(|(name, places)| {
+            let first = places[0];
+            let other = places.iter().copied().find(|&i| cell(i) != cell(first))?;
+            Some(format!(
+                "column \"{}\" appears {} times in the header (columns {} and {}) and this record's cells there \
+                 differ ({:?} against {:?}): which one is meant is unknown",
+                crate::files::echo(name),
+                places.len(),
+                first + 1,
+                other + 1,
+                crate::files::echo(cell(first)),
+                crate::files::echo(cell(other))
+            ))
+        })
     }
 }
 
@@ -339,8 +387,9 @@ pub struct Row<'a> {
 }
 
 impl<'a> Row<'a> {
-    /// Why the record is malformed, if it is: fewer cells than the header, a quote never closed, or text after
-    /// a closing quote. Its cells are not to be trusted (a row is refused for it, never read half).
+    /// Why the record is malformed, if it is: fewer or more cells than the header, a quote never closed, text
+    /// after a closing quote, or different cells under one name the header repeats. Its cells are not to be
+    /// trusted (a row is refused for it, never read half).
     pub fn malformed(&self) -> Option<&'a str> {
         self.malformed
     }

@@ -31,6 +31,18 @@
 //! for z alone σ_z = σ_v / |dv/dz|. Near the sweet spot dv/dz → 0 and σ_z grows without bound: the honest
 //! answer there is "somewhere near the sweet spot".
 //!
+//! **Located.** A solution is located only when it reproduces the measurements within the trackers'
+//! accuracy and its impact point is known to better than the barrel: with more measurements than unknowns
+//! (exit speed, launch angle and spin for z and D) its χ² is at most [`MAX_CHI2_PER_DOF`] per degree of
+//! freedom (9: a 3σ miss on the one degree, which tracker noise alone gives 0.27 % of balls), and its σ_z is
+//! at most [`MAX_Z_SIGMA_SHARE`] of the barrel searched (half: a ±1σ interval no wider than the barrel). A
+//! swing none of whose solutions passes is not reproducible ([`Outcome::NotReproducible`]), with the reason
+//! and the closest fit's numbers (model against measured, in σ), unless its exit speed is above the largest
+//! the model gives (too fast, as without spin). Least squares always finds a closest fit; without this check a
+//! 140-mph ball off a 40-mph pitch, with its spin, was "located" at χ² ≈ 1,900 with a model exit speed 19 m/s
+//! short, and a ball launched at 89.9° at z = 0.70 ± 26 m. With as many measurements as unknowns a solution
+//! reproduces them exactly (or is not one) and only σ_z is checked.
+//!
 //! **Side.** Handle or end side of the sweet spot at the solution's undercut, located to about 20 µm: a
 //! solution on the sweet spot itself (a ball hit about as hard as the bat allows) has no meaningful side.
 //!
@@ -58,6 +70,8 @@
 //! rather than as numbers. A swing whose bat speed was measured, or a bag without the side table, is not
 //! fitted, and says so.
 //!
+//! **Progress.** [`locate_bag_with_progress`] reports each swing done, for a progress bar or line.
+//!
 //! **Squared up.** A located swing is squared up when its favoured solution (every solution, when none is
 //! favoured) lies within ±2 cm ([`SQUARED_UP`]) of the sweet spot z* at its undercut.
 
@@ -70,6 +84,7 @@ use rayon::prelude::*;
 pub mod figure;
 
 use crate::calibrate::{problem_bat, read_inputs, CalibrateError};
+use crate::files::echo;
 use crate::import::ROWS_TABLE;
 use crate::model::convert::{ball_from_params, swing_input, BallModel};
 use crate::model::engine::SwingInput;
@@ -178,6 +193,14 @@ pub enum Outcome {
         /// Where the largest is, m from the knob.
         sweet_spot_z: f64,
     },
+    /// The fits found do not reproduce the measurements within tracker accuracy, or do not place the ball on
+    /// the barrel (see the module docs, "Located").
+    NotReproducible {
+        /// Why, with the closest fit's numbers.
+        reason: String,
+        /// The fits found, handle side first: none is located.
+        solutions: Vec<Solution>,
+    },
     /// No exit speed measured.
     NotMeasured,
     /// The swing cannot be simulated (unknown bat, bad inputs) or the search failed.
@@ -213,6 +236,9 @@ pub struct LocateReport {
     pub located: usize,
     /// Swings faster than the sweet spot allows.
     pub too_fast: usize,
+    /// Swings whose fits do not reproduce the measurements within tracker accuracy, or do not place the
+    /// ball on the barrel ([`Outcome::NotReproducible`]).
+    pub not_reproducible: usize,
     /// Swings whose bat speed was fitted, when asked for; absent from JSON otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bat_speed_fitted: Option<usize>,
@@ -670,6 +696,100 @@ impl SwingModel<'_> {
     }
 }
 
+/// Largest χ² per degree of freedom of a located solution, when there are more measurements than unknowns
+/// (exit speed, launch angle and spin for z and D: one degree of freedom). A model that reproduces a ball
+/// within the trackers' accuracy leaves χ² distributed as χ² with that many degrees of freedom, about 1 per
+/// degree; with one, χ² > 9 (a residual past 3σ) happens by tracker noise alone for 0.27 % of balls, so a
+/// larger χ² says the model does not reproduce the ball.
+pub const MAX_CHI2_PER_DOF: f64 = 9.0;
+/// Largest standard uncertainty of a located impact point, as a share of the barrel searched (L/2 to
+/// L − [`END_GAP`], 0.415 m on an 84-cm bat): a ±1σ interval no wider than the barrel itself. A wider one
+/// says nothing the bat's length does not: the measurements do not place the ball on the barrel (a linearised
+/// σ that large is where the exit speed barely changes with z — at the sweet spot — or the undercut barely
+/// changes the launch angle).
+pub const MAX_Z_SIGMA_SHARE: f64 = 0.5;
+
+/// Why `solution` is not located, if it is not: it misses the measurements by more than [`MAX_CHI2_PER_DOF`]
+/// allows (with `unknowns` fitted), or its impact point is uncertain beyond [`MAX_Z_SIGMA_SHARE`] of the barrel.
+fn unreproduced(
+    solution: &Solution,
+    model: &SwingModel<'_>,
+    measured: &[f64; 3],
+    sigma: &[f64; 3],
+    unknowns: usize,
+) -> Option<String> {
+    // With z alone only the exit speed is fitted; with z and D every measured quantity.
+    let used: Vec<usize> = if unknowns == 1 { vec![0] } else { (0..3).filter(|&k| measured[k].is_finite()).collect() };
+    let dof = used.len().saturating_sub(unknowns);
+    let at = format!("z = {:.3} m, D = {:+.1} mm", solution.impact_z, solution.undercut * 1e3);
+    // A NaN χ² or σ is no fit: both tests let only a number within the bound pass.
+    let within = |value: f64, bound: f64| value.is_finite() && value <= bound;
+    if dof > 0 && !within(solution.chi2, MAX_CHI2_PER_DOF * dof as f64) {
+        let names = ["exit speed", "launch angle", "spin"];
+        let show = |k: usize, v: f64| match k {
+            0 => format!("{v:.1} m/s"),
+            1 => format!("{:.1}°", v.to_degrees()),
+            _ => format!("{:.0} rpm", v * 60.0 / (2.0 * std::f64::consts::PI)),
+        };
+        let misses: Vec<String> = used
+            .iter()
+            .map(|&k| {
+                format!(
+                    "{} {} against {} measured ({:+.1}σ)",
+                    names[k],
+                    show(k, solution.model[k]),
+                    show(k, measured[k]),
+                    (solution.model[k] - measured[k]) / sigma[k]
+                )
+            })
+            .collect();
+        return Some(format!(
+            "the closest fit ({at}) misses the measurements by χ² = {:.1} on {dof} degree(s) of freedom, more \
+             than the {:.0} per degree tracker accuracy allows: {}",
+            solution.chi2,
+            MAX_CHI2_PER_DOF,
+            misses.join(", ")
+        ));
+    }
+    let (lo, hi) = model.range();
+    let bound = MAX_Z_SIGMA_SHARE * (hi - lo);
+    if !within(solution.impact_z_sigma, bound) {
+        return Some(format!(
+            "at {at} the impact point is uncertain by σ = {:.3} m, more than half the barrel searched ({bound:.3} \
+             m): the measurements do not place the ball on the bat",
+            solution.impact_z_sigma
+        ));
+    }
+    None
+}
+
+/// The solutions that are located, and for a swing none of whose solutions is, the outcome that says why
+/// (the reason of the closest, every solution listed).
+fn sort_out(
+    solutions: Vec<Solution>,
+    model: &SwingModel<'_>,
+    measured: &[f64; 3],
+    sigma: &[f64; 3],
+    unknowns: usize,
+) -> (Vec<Solution>, Option<Outcome>) {
+    let mut kept = Vec::new();
+    let mut refused: Vec<(Solution, String)> = Vec::new();
+    for s in solutions {
+        match unreproduced(&s, model, measured, sigma, unknowns) {
+            None => kept.push(s),
+            Some(reason) => refused.push((s, reason)),
+        }
+    }
+    if !kept.is_empty() || refused.is_empty() {
+        return (kept, None);
+    }
+    refused.sort_by(|a, b| a.0.chi2.total_cmp(&b.0.chi2));
+    let reason = refused[0].1.clone();
+    let mut solutions: Vec<Solution> = refused.into_iter().map(|(s, _)| s).collect();
+    solutions.sort_by(|a, b| a.impact_z.total_cmp(&b.impact_z));
+    (kept, Some(Outcome::NotReproducible { reason, solutions }))
+}
+
 /// Locates one swing.
 fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) -> Outcome {
     let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
@@ -710,6 +830,11 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 chi2: ((p[0] - measured[0]) / sigma[0]).powi(2),
                 model: p,
             });
+        }
+        let (kept, unreproduced) = sort_out(solutions, model, &measured, &sigma, 1);
+        solutions = kept;
+        if let Some(outcome) = unreproduced {
+            return outcome;
         }
     } else {
         // Starting undercuts: at each root, the one that gives the measured launch angle (secant steps); with
@@ -781,6 +906,8 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 });
             }
         }
+        let (kept, unreproduced) = sort_out(solutions, model, &measured, &sigma, 2);
+        solutions = kept;
         if solutions.is_empty() {
             // The sweet spot at the fastest undercut the search found, with the node's options (a rare case:
             // the search's sweet spot is located only to GUESS_TOLERANCE).
@@ -789,6 +916,9 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
             let (max_z, max_v) = if max_v.is_finite() { (max_z, max_v) } else { (guess_z, fastest.0) };
             if measured[0] > max_v {
                 return Outcome::TooFast { max_exit_speed: max_v, excess: measured[0] - max_v, sweet_spot_z: max_z };
+            }
+            if let Some(outcome) = unreproduced {
+                return outcome;
             }
             let closest = closest.map_or(String::new(), |(chi2, z, d)| {
                 format!(" (closest: χ² = {chi2:.2} at z = {z:.3} m, D = {:+.1} mm)", d * 1e3)
@@ -1011,9 +1141,11 @@ fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, optio
     // the sweet spot, a free fit would wander to the mirror solution and leave its own side unexplored.
     let (lo, hi) = model.range();
     let (starts, peak_z): (Vec<([f64; 3], Side)>, f64) = match outcome {
-        Outcome::Located { solutions, .. } => {
+        // A fit that misses at the assumed bat speed is where a fitted one starts too.
+        Outcome::Located { solutions, .. } | Outcome::NotReproducible { solutions, .. } if !solutions.is_empty() => {
             (solutions.iter().map(|s| ([s.impact_z, s.undercut, 1.0], s.side)).collect(), solutions[0].sweet_spot_z)
         }
+        Outcome::Located { .. } | Outcome::NotReproducible { .. } => return not_fitted("no fit to start from"),
         Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => {
             // Faster than the assumed bat allows: a faster bat, either side of the sweet spot.
             let d = model.undercut_for_launch_angle(*sweet_spot_z, 0.0, measured[1]);
@@ -1164,6 +1296,15 @@ pub fn assumed_bat_speeds(bag: &Path) -> Result<Option<BTreeSet<u64>>, LocateErr
 
 /// Locates every swing of a bag (swings in parallel).
 pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, LocateError> {
+    locate_bag_with_progress(path, options, &|_, _| {})
+}
+
+/// [`locate_bag`], calling `progress(done, total)` as each swing is done (from the worker threads).
+pub fn locate_bag_with_progress(
+    path: &Path,
+    options: &LocateOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<LocateReport, LocateError> {
     let inputs = read_inputs(path)?;
     if inputs.swings.is_empty() {
         return Err(LocateError::NoData(format!("{}: the bag holds no Swing messages", path.display())));
@@ -1217,6 +1358,7 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
         };
         jobs.push((swing, bat_id, ball_id));
     }
+    let done = AtomicUsize::new(0);
     let swings: Vec<Located> = jobs
         .par_iter()
         .map(|(swing, bat_id, ball_id)| {
@@ -1242,19 +1384,21 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
                     });
                     (outcome, fit)
                 }
-                (Some(Err(e)), _) => (Outcome::Failed { reason: format!("bat '{bat_id}': {e}") }, None),
-                (None, _) => (Outcome::Failed { reason: format!("unknown bat '{bat_id}'") }, None),
-                (_, None) => (Outcome::Failed { reason: format!("unknown ball '{ball_id}'") }, None),
+                (Some(Err(e)), _) => (Outcome::Failed { reason: format!("bat '{}': {e}", echo(bat_id)) }, None),
+                (None, _) => (Outcome::Failed { reason: format!("unknown bat '{}'", echo(bat_id)) }, None),
+                (_, None) => (Outcome::Failed { reason: format!("unknown ball '{}'", echo(ball_id)) }, None),
             };
             let (outcome, bat_speed_fit) = outcome;
             let bat_speed_fit = bat_speed_fit.or_else(|| {
                 options.fit_bat_speed.then(|| BatSpeedFit::NotFitted { reason: "the swing cannot be simulated".into() })
             });
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
             Located { swing_id: swing.swing_id, bat_id: bat_id.clone(), measured, outcome, bat_speed_fit }
         })
         .collect();
     let located = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { .. })).count();
     let too_fast = swings.iter().filter(|s| matches!(s.outcome, Outcome::TooFast { .. })).count();
+    let not_reproducible = swings.iter().filter(|s| matches!(s.outcome, Outcome::NotReproducible { .. })).count();
     let squared = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { squared_up: true, .. })).count();
     let squared_up_share = if located > 0 { squared as f64 / located as f64 } else { f64::NAN };
     let outlines = bats.iter().filter_map(|(id, b)| Some((id.clone(), outline(&b.as_ref().ok()?.bat)))).collect();
@@ -1265,7 +1409,16 @@ pub fn locate_bag(path: &Path, options: &LocateOptions) -> Result<LocateReport, 
         .values()
         .filter_map(|b| b.as_ref().ok())
         .fold((0, 0), |(s, f), b| (s + b.counts[0].load(Ordering::Relaxed), f + b.counts[1].load(Ordering::Relaxed)));
-    Ok(LocateReport { swings, located, too_fast, bat_speed_fitted, squared_up_share, collisions, outlines })
+    Ok(LocateReport {
+        swings,
+        located,
+        too_fast,
+        not_reproducible,
+        bat_speed_fitted,
+        squared_up_share,
+        collisions,
+        outlines,
+    })
 }
 
 #[cfg(test)]
@@ -1333,6 +1486,43 @@ mod tests {
             let (zn, zs) = (peak(&node).0, peak(&search).0);
             assert!((zn - zs).abs() < 1e-6, "D {d}: sweet spot {zn} against {zs}");
         }
+    }
+
+    /// The bounds of "located" pinned: χ² = 9 on one degree of freedom passes and the next float above it
+    /// does not; σ_z of half the barrel searched passes and the next float above it does not; with as many
+    /// measurements as unknowns χ² is not judged.
+    #[test]
+    fn located_means_chi2_at_most_nine_per_degree_and_sigma_z_at_most_half_the_barrel() {
+        let r161 = prepared("r161");
+        let model = game_swing(&r161);
+        let sigma = [0.45, 1f64.to_radians(), rpm_to_rad_per_s(100.0)];
+        let measured = [40.0, 0.3, 200.0];
+        let (lo, hi) = model.range();
+        let half = MAX_Z_SIGMA_SHARE * (hi - lo);
+        assert!((half - 0.5 * (0.5 * r161.bat.length() - END_GAP)).abs() < 1e-15);
+        let solution = Solution {
+            impact_z: 0.65,
+            impact_z_sigma: 0.01,
+            undercut: 0.01,
+            undercut_sigma: 0.001,
+            undercut_fitted: true,
+            side: Side::Handle,
+            sweet_spot_z: 0.7,
+            chi2: 9.0,
+            model: [40.0, 0.3, 200.0],
+        };
+        let judge = |s: &Solution, measured: &[f64; 3], unknowns| unreproduced(s, &model, measured, &sigma, unknowns);
+        assert_eq!(judge(&solution, &measured, 2), None);
+        let missed = Solution { chi2: 9f64.next_up(), ..solution.clone() };
+        let why = judge(&missed, &measured, 2).expect("past 3σ");
+        assert!(why.contains("on 1 degree(s) of freedom"), "{why}");
+        // Launch angle and exit speed only: two measurements, two unknowns, no χ² bound.
+        assert_eq!(judge(&Solution { chi2: 1e3, ..solution.clone() }, &[40.0, 0.3, f64::NAN], 2), None);
+        assert_eq!(judge(&Solution { impact_z_sigma: half, ..solution.clone() }, &measured, 2), None);
+        let wide = Solution { impact_z_sigma: half.next_up(), ..solution.clone() };
+        assert!(judge(&wide, &measured, 2).expect("wider than the barrel").contains("uncertain by σ"));
+        let singular = Solution { impact_z_sigma: f64::INFINITY, ..solution };
+        assert!(judge(&singular, &measured, 1).is_some());
     }
 
     // Index loops read as the matrix algebra they check.
