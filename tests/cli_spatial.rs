@@ -250,6 +250,13 @@ fn the_undercut_sweep_runs_the_tilted_swing_point_by_point() {
     assert!(last.get("tangential_exit_speed").is_none());
     let text = ok(&sweep_args);
     assert!(text.contains("spray (deg)") && text.contains("total spin (rpm)"), "{text}");
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("tilted.svg");
+    let mut plot_args = sweep_args.clone();
+    plot_args.extend(["--plot", svg.to_str().unwrap()]);
+    ok(&plot_args);
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawn.contains("total spin") && drawn.contains("backspin"), "the spin panel draws both");
     // A sweep over z is head-on: the angles belong to --over undercut.
     let err = fails(&["sweep", "--bat-tilt", "20"]);
     assert!(err.contains("--bat-tilt"), "{err}");

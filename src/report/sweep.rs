@@ -338,10 +338,17 @@ pub fn undercut_charts(doc: &UndercutSweepJson) -> Vec<LineChart> {
         zero_line: true,
         ..Default::default()
     };
+    let mut spin_chart = chart("spin vs undercut", "spin (rpm, backspin +)", "spin", 2, series(|p| p.spin_rpm));
+    // A three-dimensional swing's spin is more than its backspin: draw the total a radar reports beside it.
+    if doc.points.iter().any(|p| p.tangential_exit_speed.is_none()) {
+        spin_chart.y_label = "spin (rpm)".into();
+        spin_chart.series[0].label = "backspin".into();
+        spin_chart.series.push(Series::solid("total spin", 3, series(|p| p.flight.total_spin_rpm)));
+    }
     vec![
         chart("exit speed vs undercut", "ball exit speed (m/s)", "exit speed", 0, series(|p| p.exit_speed)),
         chart("launch angle vs undercut", "launch angle (deg)", "launch angle", 1, series(|p| p.launch_angle_deg)),
-        chart("spin vs undercut", "spin (rpm, backspin +)", "spin", 2, series(|p| p.spin_rpm)),
+        spin_chart,
     ]
 }
 
