@@ -19,7 +19,9 @@
 //! `undercut` (m, ball centre above the bat's path positive), `attack_angle_deg` (bat path above the
 //! horizontal, degrees), `pitch_angle_deg` (pitch descent below the horizontal, degrees), `pitch_spin_rpm`
 //! (rpm, backspin positive), and the tangential contact overrides `tangential_cor` (e_T), `friction` (μ) and
-//! `tangential_stiffness_ratio` (η², the compliant law instead of a constant e_T).
+//! `tangential_stiffness_ratio` (η², the compliant law instead of a constant e_T). The swing in three
+//! dimensions adds `bat_tilt_deg` (the bat's long axis below the horizontal, barrel below the hands positive),
+//! `swing_direction_deg` (the bat's path, right-field side positive) and `batter_side` (`right` or `left`).
 //!
 //! `ball` is a preset name (`"mlb"`; baseball, bbcor, mlb, mlb2024) or an object of overrides (`mass`, `radius`,
 //! `stiffness`, `exponent`, `cor`, `cor_speed_exponent`, `cor_reference_speed`) over the ball `preset` it names
@@ -39,7 +41,7 @@ use super::bat_file::BatSpec;
 use super::common::{
     check_options, resolve_bat, ObliqueInputs, DEFAULT_BALL_SPEED, DEFAULT_BAT_ANGULAR_SPEED, DEFAULT_BAT_CM_SPEED,
 };
-use crate::physics::{Ball, Bat, CollisionOptions, Impact};
+use crate::physics::{Ball, Bat, BatterSide, CollisionOptions, Impact};
 
 /// The raw JSON document.
 #[derive(Debug, Clone, Deserialize)]
@@ -90,6 +92,15 @@ pub struct CaseSpec {
     /// η² = k_n/k_t of the compliant tangential law.
     #[serde(default)]
     pub tangential_stiffness_ratio: Option<f64>,
+    /// Tilt of the bat's long axis below the horizontal, degrees (barrel below the hands positive).
+    #[serde(default)]
+    pub bat_tilt_deg: Option<f64>,
+    /// Horizontal direction of the bat's path, degrees, positive toward the right-field side.
+    #[serde(default)]
+    pub swing_direction_deg: Option<f64>,
+    /// The batter's side, `right` or `left`.
+    #[serde(default)]
+    pub batter_side: Option<BatterSide>,
 }
 
 /// Ball fields, each optional, over a preset.
@@ -210,7 +221,9 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
     .context(
         "fields `undercut`/`attack_angle_deg`/`pitch_angle_deg`/`pitch_spin_rpm`/`tangential_cor`/`friction`/\
          `tangential_stiffness_ratio`",
-    )?;
+    )?
+    .with_spatial(spec.bat_tilt_deg, spec.swing_direction_deg, spec.batter_side)
+    .context("fields `bat_tilt_deg`/`swing_direction_deg`")?;
     Ok(Case { bat, ball, swing, oblique, impact_zs, options })
 }
 

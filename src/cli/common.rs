@@ -10,7 +10,7 @@ use super::bat_file::load_bat_file;
 use crate::model::limits::{MAX_PITCH_SPIN, MAX_SWING_ANGLE};
 use crate::physics::collision::TIME_STEP_RANGE;
 use crate::physics::oblique::{rad_per_s_to_rpm, rpm_to_rad_per_s, TangentialContact};
-use crate::physics::{Ball, Bat, CollisionOptions, Impact};
+use crate::physics::{Ball, Bat, BatterSide, CollisionOptions, Impact, ObliqueImpact, SpatialImpact};
 use crate::report::table::num;
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
@@ -74,6 +74,15 @@ pub fn time_scale(text: &str) -> std::result::Result<f64, String> {
         Ok(value)
     } else {
         Err(format!("{value} is out of range: expected a finite time scale > 0"))
+    }
+}
+
+/// Parses a batter side (clap value parser): `right` or `left`.
+pub fn batter_side(text: &str) -> std::result::Result<BatterSide, String> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "right" => Ok(BatterSide::Right),
+        "left" => Ok(BatterSide::Left),
+        _ => Err(format!("'{text}' is not a batter side: expected right or left")),
     }
 }
 
@@ -272,6 +281,18 @@ pub struct ObliqueArgs {
     /// [default: constant e_T].
     #[arg(long, value_name = "ETA2", value_parser = finite_f64, allow_negative_numbers = true)]
     pub tangential_stiffness_ratio: Option<f64>,
+    /// Tilt of the bat's long axis below the horizontal at contact, degrees (barrel below the hands
+    /// positive); non-zero makes the collision three-dimensional [default 0].
+    #[arg(long, value_name = "DEG", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub bat_tilt: Option<f64>,
+    /// Horizontal direction of the bat's path at contact, degrees, positive toward the right-field
+    /// (first-base) side; non-zero makes the collision three-dimensional [default 0].
+    #[arg(long, value_name = "DEG", value_parser = finite_f64, allow_negative_numbers = true)]
+    pub swing_direction: Option<f64>,
+    /// The batter's side: right or left (a left-handed swing is the mirror image of a right-handed one, so
+    /// the angles keep their field meaning) [default right].
+    #[arg(long, value_name = "SIDE", value_parser = batter_side)]
+    pub batter_side: Option<BatterSide>,
 }
 
 impl ObliqueArgs {
@@ -289,7 +310,8 @@ impl ObliqueArgs {
         .context(
             "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction/\
              --tangential-stiffness-ratio",
-        )
+        )?
+        .with_spatial(self.bat_tilt, self.swing_direction, self.batter_side)
     }
 }
 
@@ -306,6 +328,12 @@ pub struct ObliqueInputs {
     pub pitch_spin: f64,
     /// The tangential contact law.
     pub contact: TangentialContact,
+    /// Tilt of the bat's long axis below the horizontal, rad (barrel below the hands positive).
+    pub bat_tilt: f64,
+    /// Horizontal direction of the bat's path, rad, positive toward the right-field side.
+    pub swing_direction: f64,
+    /// The batter's side.
+    pub batter_side: BatterSide,
     /// Whether the run is oblique: a geometry input is non-zero or a contact parameter was given. When
     /// false the run is the head-on collision and its output is exactly the head-on one.
     pub active: bool,
@@ -320,6 +348,9 @@ impl Default for ObliqueInputs {
             pitch_angle: 0.0,
             pitch_spin: 0.0,
             contact: TangentialContact::default(),
+            bat_tilt: 0.0,
+            swing_direction: 0.0,
+            batter_side: BatterSide::Right,
             active: false,
         }
     }
@@ -375,7 +406,62 @@ impl ObliqueInputs {
             pitch_spin: rpm_to_rad_per_s(geometry[3]),
             contact,
             active,
+            ..ObliqueInputs::default()
         })
+    }
+
+    /// These inputs with the bat's tilt and the swing's direction (degrees; absent means 0) and the batter's
+    /// side (absent: right). A non-zero angle or a side given makes the run oblique, as a contact override
+    /// does; the limits are the collision's (|angle| ≤ 80°, |tilt| + |attack angle| < 90°).
+    pub fn with_spatial(
+        self,
+        bat_tilt_deg: Option<f64>,
+        swing_direction_deg: Option<f64>,
+        batter_side: Option<BatterSide>,
+    ) -> Result<ObliqueInputs> {
+        let max_angle = MAX_SWING_ANGLE.to_degrees();
+        let [tilt, direction] = [
+            ("--bat-tilt / bat_tilt_deg", bat_tilt_deg.unwrap_or(0.0)),
+            ("--swing-direction / swing_direction_deg", swing_direction_deg.unwrap_or(0.0)),
+        ];
+        for (name, v) in [tilt, direction] {
+            if !(v.is_finite() && v.abs() <= max_angle) {
+                bail!("{name} = {v}° is out of range: expected a finite angle, |angle| ≤ {max_angle:.0}°");
+            }
+        }
+        let (bat_tilt, swing_direction) = (tilt.1.to_radians(), direction.1.to_radians());
+        // The collision's own check of the bat's reach (its rule, quoted here in degrees).
+        let swing = SpatialImpact {
+            oblique: ObliqueImpact {
+                attack_angle: self.attack_angle,
+                ..ObliqueImpact::head_on(SwingArgs::defaults().impact(0.0), 0.0)
+            },
+            bat_tilt,
+            swing_direction,
+            batter_side: BatterSide::Right,
+        };
+        if swing.validate().is_err() {
+            let attack_deg = self.attack_angle.to_degrees();
+            bail!(
+                "{} = {}° with an attack angle of {attack_deg}° is out of range: expected |bat tilt| + |attack angle| \
+                 < 90° (a bat perpendicular to its path cannot be tilted further)",
+                tilt.0,
+                tilt.1
+            );
+        }
+        Ok(ObliqueInputs {
+            bat_tilt,
+            swing_direction,
+            batter_side: batter_side.unwrap_or_default(),
+            active: self.active || tilt.1 != 0.0 || direction.1 != 0.0 || batter_side.is_some(),
+            ..self
+        })
+    }
+
+    /// True when the swing lies in one vertical plane (no tilt, no swing direction): the planar model's case,
+    /// whichever the batter's side.
+    pub fn is_planar(&self) -> bool {
+        self.bat_tilt == 0.0 && self.swing_direction == 0.0
     }
 }
 

@@ -10,7 +10,11 @@ use super::case_file::load_case;
 use super::common::{
     emit, finite_f64, print_json, BallArgs, BatArgs, NumericArgs, ObliqueArgs, ObliqueInputs, OutputArgs, SwingArgs,
 };
-use crate::physics::{collide, collide_oblique, Ball, Bat, CollisionOptions, Impact, ModeSet, ObliqueImpact};
+use crate::physics::BatterSide;
+use crate::physics::{
+    collide, collide_oblique, collide_spatial, Ball, Bat, CollisionOptions, Impact, ModeSet, ObliqueImpact,
+    SpatialImpact,
+};
 use crate::report::json::{BallJson, BatJson, CollisionJson, ObliqueInputsJson, OptionsJson, SwingJson};
 use crate::report::table::{num, Table};
 
@@ -24,7 +28,8 @@ pub struct SimulateArgs {
     /// the bat, ball and swing flags.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["bat", "ball_preset", "ball_mass", "ball_radius", "ball_cor",
         "ball_stiffness", "ball_exponent", "ball_speed", "bat_cm_speed", "bat_angular_speed", "impact_z", "modes", "dt",
-        "undercut", "attack_angle", "pitch_angle", "pitch_spin", "tangential_cor", "friction"])]
+        "undercut", "attack_angle", "pitch_angle", "pitch_spin", "tangential_cor", "friction", "bat_tilt",
+        "swing_direction", "batter_side"])]
     pub case: Option<PathBuf>,
     #[command(flatten)]
     pub bat: BatArgs,
@@ -122,15 +127,17 @@ pub fn simulate(
         let context = || format!("collision at impact_z = {impact_z} m");
         if oblique.active {
             let barrel_radius = bat.radii_at(impact_z).0;
-            let result = collide_oblique(
-                &modes,
-                ball,
-                &oblique_impact(impact, barrel_radius, oblique),
-                &oblique.contact,
-                options,
-            )
-            .with_context(context)?;
-            results.push(CollisionJson::oblique(impact_z, &result, barrel_radius));
+            let planar = oblique_impact(impact, barrel_radius, oblique);
+            // A level square swing is collide_spatial's planar case, answered by collide_oblique itself; its
+            // result also carries the parts defined in the vertical plane.
+            if oblique.is_planar() {
+                let result = collide_oblique(&modes, ball, &planar, &oblique.contact, options).with_context(context)?;
+                results.push(CollisionJson::oblique(impact_z, &result, barrel_radius));
+            } else {
+                let result = collide_spatial(&modes, ball, &spatial_impact(planar, oblique), &oblique.contact, options)
+                    .with_context(context)?;
+                results.push(CollisionJson::spatial(impact_z, &result, barrel_radius));
+            }
         } else {
             let result = collide(&modes, ball, &impact, options).with_context(context)?;
             results.push(CollisionJson::new(impact_z, &result));
@@ -158,6 +165,16 @@ pub fn oblique_impact(impact: Impact, barrel_radius: f64, oblique: &ObliqueInput
     }
 }
 
+/// The three-dimensional swing: `planar` with the bat's tilt, the swing's direction and the batter's side.
+pub fn spatial_impact(planar: ObliqueImpact, oblique: &ObliqueInputs) -> SpatialImpact {
+    SpatialImpact {
+        oblique: planar,
+        bat_tilt: oblique.bat_tilt,
+        swing_direction: oblique.swing_direction,
+        batter_side: oblique.batter_side,
+    }
+}
+
 /// The oblique inputs as documented (degrees, rpm).
 pub fn oblique_inputs_json(oblique: &ObliqueInputs) -> ObliqueInputsJson {
     ObliqueInputsJson::new(
@@ -167,12 +184,28 @@ pub fn oblique_inputs_json(oblique: &ObliqueInputs) -> ObliqueInputsJson {
         oblique.pitch_spin,
         &oblique.contact,
     )
+    .with_spatial(oblique.bat_tilt, oblique.swing_direction, oblique.batter_side)
 }
 
-/// The header line of the oblique inputs.
+/// The header line of the oblique inputs (the bat's tilt, the swing's direction and the batter's side when
+/// any differs from a right-handed level square swing).
 pub fn describe_oblique(o: &ObliqueInputsJson) -> String {
+    let spatial = if o.bat_tilt_deg != 0.0 || o.swing_direction_deg != 0.0 || o.batter_side != BatterSide::Right {
+        let side = match o.batter_side {
+            BatterSide::Right => "right",
+            BatterSide::Left => "left",
+        };
+        format!(
+            ", bat tilt {}°, swing direction {}° (right field +), {side}-handed batter",
+            num(o.bat_tilt_deg, 4),
+            num(o.swing_direction_deg, 4)
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "oblique undercut {} m, attack angle {}°, pitch descent {}°, pitch spin {} rpm; e_T {}, μ {}, I/(mR²) {}\n",
+        "oblique undercut {} m, attack angle {}°, pitch descent {}°, pitch spin {} rpm{spatial}; e_T {}, μ {}, \
+         I/(mR²) {}\n",
         num(o.undercut, 4),
         num(o.attack_angle_deg, 4),
         num(o.pitch_angle_deg, 4),
@@ -227,13 +260,24 @@ pub fn render(doc: &SimulateJson) -> String {
                     .chain(doc.results.iter().map(|r| r.oblique.as_ref().map(f).unwrap_or_default())),
             );
         };
+        let optional = |v: Option<f64>, digits: usize| v.map(|v| num(v, digits)).unwrap_or_default();
         row("exit speed (m/s)", &|o| num(o.exit_speed, 5));
         row("launch angle (deg)", &|o| num(o.launch_angle_deg, 4));
+        row("spray angle (deg, right field +)", &|o| num(o.flight.spray_angle_deg, 4));
         row("spin (rpm, backspin +)", &|o| num(o.spin_rpm, 5));
+        row("sidespin (rpm, hook +)", &|o| num(o.flight.sidespin_rpm, 5));
+        row("total spin (rpm)", &|o| num(o.flight.total_spin_rpm, 5));
+        row("spin axis (deg, 180 = backspin)", &|o| num(o.flight.spin_axis_deg, 4));
         row("normal exit speed (m/s)", &|o| num(o.normal_exit_speed, 5));
-        row("tangential exit speed (m/s)", &|o| num(o.tangential_exit_speed, 4));
+        // The parts defined in a vertical plane: shown when a planar swing is among the results.
+        let planar = doc.results.iter().any(|r| r.oblique.as_ref().is_some_and(|o| o.tangential_exit_speed.is_some()));
+        if planar {
+            row("tangential exit speed (m/s)", &|o| optional(o.tangential_exit_speed, 4));
+        }
         row("sliding", &|o| if o.sliding { "yes" } else { "no" }.to_string());
-        row("line of centres (deg)", &|o| num(o.line_of_centres_angle_deg, 4));
+        if planar {
+            row("line of centres (deg)", &|o| optional(o.line_of_centres_angle_deg, 4));
+        }
         row("barrel radius (m)", &|o| num(o.barrel_radius, 4));
         out.push_str(&t.render());
         out.push_str("\nthe collision along the line of centres\n");

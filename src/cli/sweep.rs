@@ -76,8 +76,8 @@ pub fn run(args: SweepArgs) -> Result<()> {
     match args.over {
         SweepOver::Z if oblique.active || args.impact_z.is_some() => {
             bail!(
-                "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction and --impact-z \
-                 belong to --over undercut (a sweep over z is head-on; `simulate` takes them at chosen points)"
+                "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction/--bat-tilt/\
+                 --swing-direction/--batter-side and --impact-z belong to --over undercut (a sweep over z is head-on; `simulate` takes them at chosen points)"
             )
         }
         SweepOver::Undercut if args.oblique.undercut.is_some() => {
@@ -105,6 +105,9 @@ pub fn run(args: SweepArgs) -> Result<()> {
             pitch_angle: oblique.pitch_angle,
             pitch_spin: oblique.pitch_spin,
             contact: oblique.contact,
+            bat_tilt: oblique.bat_tilt,
+            swing_direction: oblique.swing_direction,
+            batter_side: oblique.batter_side,
         };
         let mut doc = run_undercut_sweep(&bat, &ball, &swing, &swing_oblique, impact_z, range, &options)?;
         if let Some(path) = &args.plot {
@@ -172,7 +175,10 @@ pub fn render_undercut(doc: &UndercutSweepJson) -> String {
         "undercut (mm)",
         "exit speed (m/s)",
         "launch angle (deg)",
+        "spray (deg)",
         "spin (rpm)",
+        "sidespin (rpm)",
+        "total spin (rpm)",
         "normal (m/s)",
         "tangential (m/s)",
         "sliding",
@@ -182,9 +188,12 @@ pub fn render_undercut(doc: &UndercutSweepJson) -> String {
             num(p.undercut * 1e3, 4),
             num(p.exit_speed, 5),
             num(p.launch_angle_deg, 4),
+            num(p.flight.spray_angle_deg, 4),
             num(p.spin_rpm, 5),
+            num(p.flight.sidespin_rpm, 5),
+            num(p.flight.total_spin_rpm, 5),
             num(p.normal_exit_speed, 5),
-            num(p.tangential_exit_speed, 4),
+            p.tangential_exit_speed.map(|v| num(v, 4)).unwrap_or_default(),
             if p.sliding { "yes" } else { "no" }.to_string(),
         ]);
     }

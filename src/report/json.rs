@@ -6,6 +6,7 @@ use serde::Serialize;
 use super::table::{num, Table};
 use crate::physics::hoop::HoopMode;
 use crate::physics::oblique::{rad_per_s_to_rpm, ObliqueResult, TangentialContact};
+use crate::physics::oblique3d::{BatterSide, SpatialResult};
 use crate::physics::{Ball, CollisionOptions, CollisionResult, EnergyBudget, Impact, MassProperties, SweetSpotSet};
 
 /// Pivot used for the moment of inertia and the centre of percussion: 6 in (0.1524 m) from the knob.
@@ -237,6 +238,12 @@ pub struct ObliqueInputsJson {
     pub pitch_angle_deg: f64,
     /// Pitch spin about the bat's axis, rpm, backspin positive.
     pub pitch_spin_rpm: f64,
+    /// Tilt of the bat's long axis below the horizontal, degrees (barrel below the hands positive).
+    pub bat_tilt_deg: f64,
+    /// Horizontal direction of the bat's path, degrees, positive toward the right-field side.
+    pub swing_direction_deg: f64,
+    /// The batter's side.
+    pub batter_side: BatterSide,
     /// Tangential coefficient of restitution e_T.
     pub tangential_cor: f64,
     /// Coulomb friction coefficient μ.
@@ -262,15 +269,81 @@ impl ObliqueInputsJson {
             attack_angle_deg: attack_angle.to_degrees(),
             pitch_angle_deg: pitch_angle.to_degrees(),
             pitch_spin_rpm: rad_per_s_to_rpm(pitch_spin),
+            bat_tilt_deg: 0.0,
+            swing_direction_deg: 0.0,
+            batter_side: BatterSide::Right,
             tangential_cor: contact.tangential_cor,
             friction: contact.friction,
             ball_inertia_ratio: contact.ball_inertia_ratio,
             tangential_stiffness_ratio: contact.stiffness_ratio,
         }
     }
+
+    /// These inputs with the bat's tilt and the swing's direction (rad) and the batter's side.
+    pub fn with_spatial(self, bat_tilt: f64, swing_direction: f64, batter_side: BatterSide) -> ObliqueInputsJson {
+        ObliqueInputsJson {
+            bat_tilt_deg: plus_zero(bat_tilt.to_degrees()),
+            swing_direction_deg: plus_zero(swing_direction.to_degrees()),
+            batter_side,
+            ..self
+        }
+    }
 }
 
-/// The batted ball of an oblique collision: speed, launch angle and spin, and their parts.
+/// `v` with −0 written as 0 (a mirrored zero is no direction).
+fn plus_zero(v: f64) -> f64 {
+    v + 0.0
+}
+
+/// The batted ball's flight as trackers report it: spray angle, spin split along the flight, total spin and
+/// spin axis (conventions in [`crate::physics::oblique3d`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FlightJson {
+    /// Spray angle, degrees, positive toward the right-field (first-base) side.
+    pub spray_angle_deg: f64,
+    /// Backspin, rpm (about the horizontal axis across the flight; positive lifts).
+    pub backspin_rpm: f64,
+    /// Sidespin, rpm (positive curves the ball toward the left-field side).
+    pub sidespin_rpm: f64,
+    /// Gyro spin along the flight, rpm.
+    pub gyro_spin_rpm: f64,
+    /// Total spin, rpm: what a radar reports.
+    pub total_spin_rpm: f64,
+    /// Spin axis, degrees in [0, 360): TrackMan's HitSpinAxis (180 = pure backspin, 90 = pure hook).
+    pub spin_axis_deg: f64,
+}
+
+impl FlightJson {
+    /// From the library's three-dimensional result.
+    pub fn new(r: &SpatialResult) -> FlightJson {
+        FlightJson {
+            spray_angle_deg: plus_zero(r.spray_angle.to_degrees()),
+            backspin_rpm: plus_zero(rad_per_s_to_rpm(r.backspin)),
+            sidespin_rpm: plus_zero(rad_per_s_to_rpm(r.sidespin)),
+            gyro_spin_rpm: plus_zero(rad_per_s_to_rpm(r.gyro_spin)),
+            total_spin_rpm: rad_per_s_to_rpm(r.total_spin),
+            spin_axis_deg: plus_zero(r.spin_axis.to_degrees()),
+        }
+    }
+
+    /// The flight of a planar swing's ball: straight away, its spin all backspin (or topspin) — what
+    /// [`crate::physics::collide_spatial`] answers for a level square swing.
+    pub fn planar(r: &ObliqueResult) -> FlightJson {
+        let axis = if r.spin >= 0.0 { std::f64::consts::PI } else { 0.0 };
+        FlightJson {
+            spray_angle_deg: 0.0,
+            backspin_rpm: r.spin_rpm(),
+            sidespin_rpm: 0.0,
+            gyro_spin_rpm: 0.0,
+            total_spin_rpm: rad_per_s_to_rpm(r.spin.abs()),
+            spin_axis_deg: axis.to_degrees(),
+        }
+    }
+}
+
+/// The batted ball of an oblique collision: speed, launch angle and spin, and their parts. The parts defined in
+/// the vertical plane of a planar swing (tangential speed, line of centres, slips, the bat's motion after) are
+/// left out for a three-dimensional one.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ObliqueJson {
     /// Barrel radius at the impact point, m.
@@ -279,28 +352,39 @@ pub struct ObliqueJson {
     pub exit_speed: f64,
     /// Launch angle above the horizontal, degrees.
     pub launch_angle_deg: f64,
-    /// Outgoing spin about the bat's axis, rpm, backspin positive.
+    /// Outgoing backspin, rpm, topspin negative (for a planar swing, the spin about the bat's axis).
     pub spin_rpm: f64,
+    /// Spray angle, spin components, total spin and spin axis.
+    #[serde(flatten)]
+    pub flight: FlightJson,
     /// Outgoing velocity along the line of centres (away from the bat), m/s.
     pub normal_exit_speed: f64,
-    /// Outgoing velocity along the tangent, m/s.
-    pub tangential_exit_speed: f64,
+    /// Outgoing velocity along the tangent, m/s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_exit_speed: Option<f64>,
     /// True when the ball slid throughout the contact (the friction cap bound).
     pub sliding: bool,
-    /// Angle of the line of centres above the horizontal, degrees.
-    pub line_of_centres_angle_deg: f64,
-    /// Tangential impulse on the ball, N·s.
-    pub tangential_impulse: f64,
-    /// Slip of the contact points before contact, m/s.
-    pub slip_before: f64,
-    /// Slip after contact, m/s.
-    pub slip_after: f64,
-    /// Bat CM velocity along the tangent after separation, m/s.
-    pub bat_cm_tangential_speed_after: f64,
-    /// Bat angular speed in the plane of its axis and the tangent after separation, rad/s.
-    pub bat_tangential_angular_speed_after: f64,
-    /// Bat roll rate about its own axis after separation, rad/s.
-    pub bat_roll_rate_after: f64,
+    /// Angle of the line of centres above the horizontal, degrees (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line_of_centres_angle_deg: Option<f64>,
+    /// Tangential impulse on the ball, N·s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_impulse: Option<f64>,
+    /// Slip of the contact points before contact, m/s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip_before: Option<f64>,
+    /// Slip after contact, m/s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip_after: Option<f64>,
+    /// Bat CM velocity along the tangent after separation, m/s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bat_cm_tangential_speed_after: Option<f64>,
+    /// Bat angular speed in the plane of its axis and the tangent after separation, rad/s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bat_tangential_angular_speed_after: Option<f64>,
+    /// Bat roll rate about its own axis after separation, rad/s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bat_roll_rate_after: Option<f64>,
 }
 
 impl ObliqueJson {
@@ -311,16 +395,39 @@ impl ObliqueJson {
             exit_speed: r.exit_speed,
             launch_angle_deg: r.launch_angle_deg(),
             spin_rpm: r.spin_rpm(),
+            flight: FlightJson::planar(r),
             normal_exit_speed: r.normal_exit_speed,
-            tangential_exit_speed: r.tangential_exit_speed,
+            tangential_exit_speed: Some(r.tangential_exit_speed),
             sliding: r.sliding,
-            line_of_centres_angle_deg: r.line_of_centres_angle.to_degrees(),
-            tangential_impulse: r.tangential_impulse,
-            slip_before: r.slip_before,
-            slip_after: r.slip_after,
-            bat_cm_tangential_speed_after: r.bat_cm_tangential_speed_after,
-            bat_tangential_angular_speed_after: r.bat_tangential_angular_speed_after,
-            bat_roll_rate_after: r.bat_roll_rate_after,
+            line_of_centres_angle_deg: Some(r.line_of_centres_angle.to_degrees()),
+            tangential_impulse: Some(r.tangential_impulse),
+            slip_before: Some(r.slip_before),
+            slip_after: Some(r.slip_after),
+            bat_cm_tangential_speed_after: Some(r.bat_cm_tangential_speed_after),
+            bat_tangential_angular_speed_after: Some(r.bat_tangential_angular_speed_after),
+            bat_roll_rate_after: Some(r.bat_roll_rate_after),
+        }
+    }
+
+    /// From the library's three-dimensional result on a barrel of radius `barrel_radius` (m).
+    pub fn spatial(r: &SpatialResult, barrel_radius: f64) -> ObliqueJson {
+        let flight = FlightJson::new(r);
+        ObliqueJson {
+            barrel_radius,
+            exit_speed: r.exit_speed,
+            launch_angle_deg: r.launch_angle.to_degrees(),
+            spin_rpm: flight.backspin_rpm,
+            flight,
+            normal_exit_speed: r.normal.exit_speed,
+            tangential_exit_speed: None,
+            sliding: r.sliding,
+            line_of_centres_angle_deg: None,
+            tangential_impulse: None,
+            slip_before: None,
+            slip_after: None,
+            bat_cm_tangential_speed_after: None,
+            bat_tangential_angular_speed_after: None,
+            bat_roll_rate_after: None,
         }
     }
 }
@@ -392,6 +499,14 @@ impl CollisionJson {
     /// collision's fields and the batted ball.
     pub fn oblique(impact_z: f64, r: &ObliqueResult, barrel_radius: f64) -> CollisionJson {
         CollisionJson { oblique: Some(ObliqueJson::new(r, barrel_radius)), ..CollisionJson::new(impact_z, &r.normal) }
+    }
+
+    /// From a library three-dimensional result at `impact_z` on a barrel of radius `barrel_radius` (m).
+    pub fn spatial(impact_z: f64, r: &SpatialResult, barrel_radius: f64) -> CollisionJson {
+        CollisionJson {
+            oblique: Some(ObliqueJson::spatial(r, barrel_radius)),
+            ..CollisionJson::new(impact_z, &r.normal)
+        }
     }
 }
 

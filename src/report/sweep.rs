@@ -14,12 +14,15 @@ use serde::Serialize;
 
 use rayon::prelude::*;
 
-use super::json::{BallJson, BatJson, CollisionJson, ObliqueInputsJson, OptionsJson, SweetSpotsJson, SwingJson};
+use super::json::{
+    BallJson, BatJson, CollisionJson, FlightJson, ObliqueInputsJson, OptionsJson, SweetSpotsJson, SwingJson,
+};
 use super::plot::{LineChart, Series};
 use super::table::num;
 use crate::physics::metrics::{sweep, sweet_spots};
 use crate::physics::{
-    collide_oblique, Ball, Bat, CollisionOptions, Impact, ModeSet, ObliqueImpact, SweepPoint, TangentialContact,
+    collide_oblique, collide_spatial, Ball, Bat, BatterSide, CollisionOptions, Impact, ModeSet, ObliqueImpact,
+    SpatialImpact, SweepPoint, TangentialContact,
 };
 
 /// Length of the default sweep range, ending 1 cm short of the barrel end, m.
@@ -177,6 +180,12 @@ pub struct ObliqueSwing {
     pub pitch_spin: f64,
     /// The tangential contact law.
     pub contact: TangentialContact,
+    /// Tilt of the bat's long axis below the horizontal, rad (barrel below the hands positive).
+    pub bat_tilt: f64,
+    /// Horizontal direction of the bat's path, rad, positive toward the right-field side.
+    pub swing_direction: f64,
+    /// The batter's side.
+    pub batter_side: BatterSide,
 }
 
 /// One point of an undercut sweep.
@@ -188,12 +197,16 @@ pub struct UndercutPointJson {
     pub exit_speed: f64,
     /// Launch angle above the horizontal, degrees.
     pub launch_angle_deg: f64,
-    /// Outgoing spin, rpm, backspin positive.
+    /// Outgoing backspin, rpm, topspin negative.
     pub spin_rpm: f64,
+    /// Spray angle, spin components, total spin and spin axis.
+    #[serde(flatten)]
+    pub flight: FlightJson,
     /// Outgoing velocity along the line of centres, m/s.
     pub normal_exit_speed: f64,
-    /// Outgoing velocity along the tangent, m/s.
-    pub tangential_exit_speed: f64,
+    /// Outgoing velocity along the tangent, m/s (planar swings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_exit_speed: Option<f64>,
     /// True when the ball slid throughout the contact.
     pub sliding: bool,
 }
@@ -250,7 +263,7 @@ pub fn run_undercut_sweep(
     let points = undercuts
         .par_iter()
         .map(|&undercut| {
-            let oblique_impact = ObliqueImpact {
+            let planar = ObliqueImpact {
                 impact,
                 barrel_radius,
                 undercut,
@@ -258,15 +271,37 @@ pub fn run_undercut_sweep(
                 pitch_angle: oblique.pitch_angle,
                 pitch_spin: oblique.pitch_spin,
             };
-            let r = collide_oblique(&modes, ball, &oblique_impact, &oblique.contact, options)
-                .with_context(|| format!("oblique collision at undercut = {undercut} m"))?;
+            let context = || format!("oblique collision at undercut = {undercut} m");
+            // A level square swing is collide_spatial's planar case, answered by collide_oblique itself.
+            if oblique.bat_tilt == 0.0 && oblique.swing_direction == 0.0 {
+                let r = collide_oblique(&modes, ball, &planar, &oblique.contact, options).with_context(context)?;
+                return Ok(UndercutPointJson {
+                    undercut,
+                    exit_speed: r.exit_speed,
+                    launch_angle_deg: r.launch_angle_deg(),
+                    spin_rpm: r.spin_rpm(),
+                    flight: FlightJson::planar(&r),
+                    normal_exit_speed: r.normal_exit_speed,
+                    tangential_exit_speed: Some(r.tangential_exit_speed),
+                    sliding: r.sliding,
+                });
+            }
+            let spatial = SpatialImpact {
+                oblique: planar,
+                bat_tilt: oblique.bat_tilt,
+                swing_direction: oblique.swing_direction,
+                batter_side: oblique.batter_side,
+            };
+            let r = collide_spatial(&modes, ball, &spatial, &oblique.contact, options).with_context(context)?;
+            let flight = FlightJson::new(&r);
             Ok(UndercutPointJson {
                 undercut,
                 exit_speed: r.exit_speed,
-                launch_angle_deg: r.launch_angle_deg(),
-                spin_rpm: r.spin_rpm(),
-                normal_exit_speed: r.normal_exit_speed,
-                tangential_exit_speed: r.tangential_exit_speed,
+                launch_angle_deg: r.launch_angle.to_degrees(),
+                spin_rpm: flight.backspin_rpm,
+                flight,
+                normal_exit_speed: r.normal.exit_speed,
+                tangential_exit_speed: None,
                 sliding: r.sliding,
             })
         })
@@ -283,7 +318,8 @@ pub fn run_undercut_sweep(
             oblique.pitch_angle,
             oblique.pitch_spin,
             &oblique.contact,
-        ),
+        )
+        .with_spatial(oblique.bat_tilt, oblique.swing_direction, oblique.batter_side),
         impact_z,
         barrel_radius,
         points,
@@ -302,10 +338,17 @@ pub fn undercut_charts(doc: &UndercutSweepJson) -> Vec<LineChart> {
         zero_line: true,
         ..Default::default()
     };
+    let mut spin_chart = chart("spin vs undercut", "spin (rpm, backspin +)", "spin", 2, series(|p| p.spin_rpm));
+    // A three-dimensional swing's spin is more than its backspin: draw the total a radar reports beside it.
+    if doc.points.iter().any(|p| p.tangential_exit_speed.is_none()) {
+        spin_chart.y_label = "spin (rpm)".into();
+        spin_chart.series[0].label = "backspin".into();
+        spin_chart.series.push(Series::solid("total spin", 3, series(|p| p.flight.total_spin_rpm)));
+    }
     vec![
         chart("exit speed vs undercut", "ball exit speed (m/s)", "exit speed", 0, series(|p| p.exit_speed)),
         chart("launch angle vs undercut", "launch angle (deg)", "launch angle", 1, series(|p| p.launch_angle_deg)),
-        chart("spin vs undercut", "spin (rpm, backspin +)", "spin", 2, series(|p| p.spin_rpm)),
+        spin_chart,
     ]
 }
 
