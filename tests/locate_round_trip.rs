@@ -634,6 +634,7 @@ fn sheet_swing(pitch_mph: f64, z: f64, d: f64) -> SwingInput {
         pitch_spin: 0.0,
         measured_launch_angle: f64::NAN,
         measured_spin: f64::NAN,
+        ..level()
     }
 }
 
