@@ -474,14 +474,8 @@ impl ContactObserver for CompliantTangent {
         // Gripping, with k_t held at the step's mean: (s, g) turn at ω² = k_t/μ_t, exactly for that k_t.
         let k = 0.5 * (start.1 + end.1) / self.stiffness_ratio;
         let inv = self.inverse_mass;
-        let w = (k * inv).sqrt();
         let (s0, g0) = (self.slip, self.force);
-        let (s1, g1) = if w * dt > 1e-12 {
-            let (sin, cos) = (w * dt).sin_cos();
-            (s0 * cos - inv * g0 / w * sin, g0 * cos + k * s0 / w * sin)
-        } else {
-            (s0 - inv * g0 * dt, g0 + k * s0 * dt)
-        };
+        let (s1, g1) = grip_step(s0, g0, k, inv, dt);
         let cap = self.friction * end.0;
         if g1.abs() <= cap {
             (self.slip, self.force) = (s1, g1);
@@ -492,6 +486,18 @@ impl ContactObserver for CompliantTangent {
         // slip changes by the trapezoid of the force from the step's start to its end.
         let force = cap.copysign(g1);
         (self.slip, self.force) = (s0 - inv * 0.5 * (g0 + force) * dt, force);
+    }
+}
+
+/// One gripping step of a tangential spring: slip `slip` (m/s) and force `force` (N) turned for `dt` s at
+/// ω² = k/μ_t (stiffness `stiffness` N/m, inverse mass `inverse_mass` 1/kg), exactly for that stiffness.
+pub fn grip_step(slip: f64, force: f64, stiffness: f64, inverse_mass: f64, dt: f64) -> (f64, f64) {
+    let w = (stiffness * inverse_mass).sqrt();
+    if w * dt > 1e-12 {
+        let (sin, cos) = (w * dt).sin_cos();
+        (slip * cos - inverse_mass * force / w * sin, force * cos + stiffness * slip / w * sin)
+    } else {
+        (slip - inverse_mass * force * dt, force + stiffness * slip * dt)
     }
 }
 

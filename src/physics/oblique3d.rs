@@ -78,7 +78,8 @@ use nalgebra::Vector3;
 
 use super::collision::{collide, collide_observed, CollisionOptions, CollisionResult, ContactObserver, Impact};
 use super::oblique::{
-    axial_moment_of_inertia, collide_oblique, tangential_inverse_mass, ObliqueImpact, ObliqueResult, TangentialContact,
+    axial_moment_of_inertia, collide_oblique, grip_step, tangential_inverse_mass, ObliqueImpact, ObliqueResult,
+    TangentialContact,
 };
 use super::{rigid, Ball, ModeSet, PhysicsError};
 
@@ -351,18 +352,7 @@ struct CompliantTangent2 {
 impl ContactObserver for CompliantTangent2 {
     fn step(&mut self, dt: f64, start: (f64, f64), end: (f64, f64)) {
         let k = 0.5 * (start.1 + end.1) / self.stiffness_ratio;
-        let mut next = [(0.0, 0.0); 2];
-        for i in 0..2 {
-            let inv = self.inverse_mass[i];
-            let w = (k * inv).sqrt();
-            let (s0, g0) = (self.slip[i], self.force[i]);
-            next[i] = if w * dt > 1e-12 {
-                let (sin, cos) = (w * dt).sin_cos();
-                (s0 * cos - inv * g0 / w * sin, g0 * cos + k * s0 / w * sin)
-            } else {
-                (s0 - inv * g0 * dt, g0 + k * s0 * dt)
-            };
-        }
+        let next = [0, 1].map(|i| grip_step(self.slip[i], self.force[i], k, self.inverse_mass[i], dt));
         let cap = self.friction * end.0;
         let magnitude = next[0].1.hypot(next[1].1);
         if magnitude <= cap {

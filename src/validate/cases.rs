@@ -591,6 +591,26 @@ impl Lab {
         }
     }
 
+    /// The R161, the game ball and the average MLB swing scaled by `scale` (centre-of-mass and angular speed
+    /// alike) against `pitch`, at the swing's impact point.
+    fn scaled_game_swing(
+        &self,
+        case: &str,
+        pitch: &PitchMedians,
+        scale: f64,
+    ) -> Result<(Bat, ModeSet, Ball, Impact), ValidateError> {
+        let (b, modes) = self.bat(case, "r161")?;
+        let ball = self.ball(case, &self.game_ball)?;
+        let swing = self.typical_swing(case, &modes)?;
+        let typical = swing.impact(pitch.zone_speed_mph * MPH);
+        let impact = Impact {
+            bat_cm_speed: scale * typical.bat_cm_speed,
+            bat_angular_speed: scale * typical.bat_angular_speed,
+            ..typical
+        };
+        Ok((b, modes, ball, impact))
+    }
+
     /// (spin rpm, exit speed mph) of the typical swing scaled by `scale` launched at `launch` deg (interpolated
     /// along the undercut scan at the first crossing), or `None` if it never launches there.
     fn game_point(
@@ -601,15 +621,7 @@ impl Lab {
         scale: f64,
     ) -> Result<Option<(f64, f64)>, ValidateError> {
         let case = "game_spin_rpm";
-        let (b, modes) = self.bat(case, "r161")?;
-        let ball = self.ball(case, &self.game_ball)?;
-        let swing = self.typical_swing(case, &modes)?;
-        let typical = swing.impact(pitch.zone_speed_mph * MPH);
-        let impact = Impact {
-            bat_cm_speed: scale * typical.bat_cm_speed,
-            bat_angular_speed: scale * typical.bat_angular_speed,
-            ..typical
-        };
+        let (b, modes, ball, impact) = self.scaled_game_swing(case, pitch, scale)?;
         let scan = self.oblique_points(
             case,
             &modes,
@@ -685,15 +697,7 @@ impl Lab {
         scale: f64,
     ) -> Result<Option<SpatialGamePoint>, ValidateError> {
         let case = "radar_spin_rpm";
-        let (b, modes) = self.bat(case, "r161")?;
-        let ball = self.ball(case, &self.game_ball)?;
-        let swing = self.typical_swing(case, &modes)?;
-        let typical = swing.impact(pitch.zone_speed_mph * MPH);
-        let impact = Impact {
-            bat_cm_speed: scale * typical.bat_cm_speed,
-            bat_angular_speed: scale * typical.bat_angular_speed,
-            ..typical
-        };
+        let (b, modes, ball, impact) = self.scaled_game_swing(case, pitch, scale)?;
         let barrel_radius = b.radii_at(impact.impact_z).0;
         let reach = ball.radius + barrel_radius;
         let points: Vec<SpatialGamePoint> = linspace(0.0, 0.95 * reach, 77)
