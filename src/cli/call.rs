@@ -48,11 +48,20 @@ pub struct CallArgs {
     pub mapping: String,
 }
 
+/// The request a parsed argument stands for. A swing that leaves out `measured_exit_speed` did not measure it:
+/// NaN, as `pub` reads the same swing (the message's 0 would be a measurement of 0 m/s).
+fn request_from(mut value: serde_json::Value) -> anyhow::Result<SimulateSwing_Request> {
+    if let Some(swing) = value.get_mut("swing").and_then(serde_json::Value::as_object_mut) {
+        swing.entry("measured_exit_speed").or_insert(serde_json::Value::Null);
+    }
+    SimulateSwing_Request::from_json(&value, "request").map_err(|e| anyhow!("{e}"))
+}
+
 /// Resolves the service, sends the request, prints the response.
 pub fn run(args: CallArgs) -> anyhow::Result<()> {
     let fq_name = service_name(&args.service, &args.ns, &args.node)?;
     let value = super::pubsub::parse_values(&args.request).with_context(|| format!("the request {}", args.request))?;
-    let request = SimulateSwing_Request::from_json(&value, "request").map_err(|e| anyhow!("{e}"))?;
+    let request = request_from(value)?;
     let config = DdsConfig::from_env()?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(1)
@@ -150,5 +159,23 @@ pub(crate) fn warn_of_namesakes(context: &ros2_client::Context, fq_service: &str
     if servers > 1 && !WARNED.swap(true, std::sync::atomic::Ordering::Relaxed) {
         let node = fq_service.rsplit_once('/').map_or("/", |(node, _)| if node.is_empty() { "/" } else { node });
         eprintln!("warning: {}", super::graph::namesake_warning(node, servers, &format!("serve {fq_service}")));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_swing_that_leaves_out_the_measured_exit_speed_did_not_measure_it() {
+        let parse =
+            |text: &str| request_from(super::super::pubsub::parse_values(text).expect("parses")).expect("request");
+        let omitted = parse("{swing: {bat_id: r161, ball_speed: 40, bat_cm_speed: 25, impact_z: 0.7}}");
+        assert!(omitted.swing.measured_exit_speed.is_nan(), "{}", omitted.swing.measured_exit_speed);
+        // A measurement given, even 0, is kept.
+        let zero = parse("{swing: {bat_id: r161, measured_exit_speed: 0}}");
+        assert_eq!(zero.swing.measured_exit_speed, 0.0);
+        let given = parse("{swing: {measured_exit_speed: 41.5}}");
+        assert_eq!(given.swing.measured_exit_speed, 41.5);
     }
 }
