@@ -349,11 +349,15 @@ mod bad_input {
         wrong_kind[1] = 0x07;
         assert!(matches!(decode_cdr::<Swing>(&wrong_kind), Err(MsgError::UnsupportedEncapsulation(0x0007))));
         // Every truncation of a valid message is rejected, never a panic — except at the boundaries of the
-        // six float64 fields appended after the first form of Swing (eight bytes each, plus the up to 3 bytes of
-        // end padding CDR allows), which an older publisher sends and which decode with their absent values
-        // (msgs/sweetspot_msgs/README.md).
-        let first_form = good.len() - 6 * 8;
-        let older_form = |cut: usize| cut >= first_form && (cut - first_form) % 8 < 4;
+        // fields appended after the first form of Swing, which an older publisher sends and which decode with
+        // their absent values (msgs/sweetspot_msgs/README.md): six oblique float64s, then bat_tilt and
+        // swing_direction (float64), batter_side (one byte, then padding) and two more float64s; each boundary
+        // with the up to 3 bytes of end padding CDR allows.
+        let first_form = good.len() - 6 * 8 - 5 * 8;
+        let after_side = first_form + 8 * 8 + 1;
+        let older_form = |cut: usize| {
+            cut >= first_form && ((cut - first_form) % 8 < 4 || (after_side..after_side + 4).contains(&cut))
+        };
         for cut in (4..good.len() - 3).filter(|cut| !older_form(*cut)) {
             assert!(decode_cdr::<Swing>(&good[..cut]).is_err(), "a Swing cut to {cut} bytes decoded");
         }
