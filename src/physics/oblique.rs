@@ -213,7 +213,7 @@
 //! one force-law evaluation and one sin/cos per step of the collision.
 
 use super::collision::{collide, collide_observed, CollisionOptions, CollisionResult, ContactObserver, Impact};
-use super::{rigid, Ball, ModeSet, PhysicsError};
+use super::{rigid, Ball, MassProperties, ModeSet, PhysicsError};
 
 /// Default tangential coefficient of restitution e_T of a baseball on a bat (KNS 2017, see the module docs).
 pub const DEFAULT_TANGENTIAL_COR: f64 = 0.405;
@@ -489,6 +489,19 @@ impl ContactObserver for CompliantTangent {
     }
 }
 
+/// Refuses a collision along the line of centres in which ball and bat do not approach each other.
+pub fn check_approach(mp: &MassProperties, normal_impact: &Impact) -> Result<(), PhysicsError> {
+    let approach = normal_impact.ball_speed + rigid::bat_speed_at(mp, normal_impact);
+    if !(approach > 1e-6) {
+        return Err(PhysicsError::out_of_range(
+            "normal approach speed",
+            approach,
+            "> 0 m/s (along the line of centres ball and bat must approach each other: check undercut and angles)",
+        ));
+    }
+    Ok(())
+}
+
 /// One gripping step of a tangential spring: slip `slip` (m/s) and force `force` (N) turned for `dt` s at
 /// ω² = k/μ_t (stiffness `stiffness` N/m, inverse mass `inverse_mass` 1/kg), exactly for that stiffness.
 pub fn grip_step(slip: f64, force: f64, stiffness: f64, inverse_mass: f64, dt: f64) -> (f64, f64) {
@@ -536,14 +549,7 @@ pub fn collide_oblique(
             bat_angular_speed: impact.bat_angular_speed * cos_phi,
             impact_z: impact.impact_z,
         };
-        let approach = normal_impact.ball_speed + rigid::bat_speed_at(&mp, &normal_impact);
-        if !(approach > 1e-6) {
-            return Err(PhysicsError::out_of_range(
-                "normal approach speed",
-                approach,
-                "> 0 m/s (along the line of centres ball and bat must approach each other: check undercut and angles)",
-            ));
-        }
+        check_approach(&mp, &normal_impact)?;
         normal_impact
     };
     let bat_speed = rigid::bat_speed_at(&mp, impact);

@@ -78,10 +78,10 @@ use nalgebra::Vector3;
 
 use super::collision::{collide, collide_observed, CollisionOptions, CollisionResult, ContactObserver, Impact};
 use super::oblique::{
-    axial_moment_of_inertia, collide_oblique, grip_step, tangential_inverse_mass, ObliqueImpact, ObliqueResult,
-    TangentialContact,
+    axial_moment_of_inertia, check_approach, collide_oblique, grip_step, tangential_inverse_mass, ObliqueImpact,
+    ObliqueResult, TangentialContact,
 };
-use super::{rigid, Ball, ModeSet, PhysicsError};
+use super::{Ball, ModeSet, PhysicsError};
 
 /// Largest |bat tilt| and |swing direction| accepted, rad (80°).
 const MAX_ANGLE: f64 = 80.0 * std::f64::consts::PI / 180.0;
@@ -427,14 +427,7 @@ pub fn collide_vectors(
         bat_angular_speed: c.bat_angular_speed * cos_phi,
         impact_z: c.impact_z,
     };
-    let approach = normal_impact.ball_speed + rigid::bat_speed_at(&mp, &normal_impact);
-    if !(approach > 1e-6) {
-        return Err(PhysicsError::out_of_range(
-            "normal approach speed",
-            approach,
-            "> 0 m/s (along the line of centres ball and bat must approach each other: check undercut and angles)",
-        ));
-    }
+    check_approach(&mp, &normal_impact)?;
     let bat_speed = c.bat_cm_speed + c.bat_angular_speed * (c.impact_z - mp.center_of_mass);
     let relative = c.ball_velocity - c.frame.path * bat_speed - c.ball_spin.cross(&n) * ball.radius;
     let slip = [relative.dot(&t), relative.dot(&a)];
