@@ -1,6 +1,8 @@
 //! sweetspot: bat–ball collision physics (Nathan 2000) behind a pure-Rust ROS 2 node with MCAP recording.
 //!
-//! Layers, each importing only those above it in this list:
+//! Layers, each importing only those above it in this list. The first ones build without DDS, tokio or a
+//! server and are crates of their own under `crates/` (re-exported here under their module names, so
+//! `sweetspot::physics` is `sweetspot_physics`); the rest is this crate, the ROS 2 shell:
 //!
 //! - [`physics`]: the pure, synchronous core (SI units, no I/O);
 //! - [`msgs`]: Rust types generated at build time from `msgs/sweetspot_msgs/msg/*.msg`;
@@ -22,24 +24,20 @@
 //!   input), used by every layer that opens one; [`yaml`]: every YAML text loaded under a depth and
 //!   alias-expansion budget;
 //! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
-pub mod bag;
+pub use sweetspot_analysis::{calibrate, import, locate, report, validate};
+pub use sweetspot_bag as bag;
+pub use sweetspot_model as model;
+pub use sweetspot_model::{files, yaml};
+pub use sweetspot_msgs as msgs;
+pub use sweetspot_physics as physics;
+
 pub mod bench;
-pub mod calibrate;
 pub mod child;
 pub mod cli;
 pub mod demo;
-pub mod files;
 pub mod foxglove;
-pub mod import;
-pub mod locate;
-pub mod model;
-pub mod msgs;
 pub mod node;
-pub mod physics;
 pub mod play;
 pub mod record;
-pub mod report;
 pub mod rig;
 pub mod ros;
-pub mod validate;
-pub mod yaml;

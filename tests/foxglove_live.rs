@@ -81,7 +81,7 @@ fn wait_subscribed(out: &mut BufReader<ChildStdout>) {
 
 /// The R161's radii from its data file (diameter in mm per 1-cm slice), m.
 fn r161_radii() -> Vec<f64> {
-    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/physics/data/r161.dat"))
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/physics/src/data/r161.dat"))
         .unwrap()
         .lines()
         .filter_map(|l| l.split_whitespace().nth(1).and_then(|d| d.parse::<f64>().ok()))

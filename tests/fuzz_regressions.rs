@@ -502,7 +502,7 @@ fn f2_accepted_collisions_close_their_energy_budget() {
 
 /// F3: a chunk whose header claims an absurd `uncompressed_size` (here ≈ 8.3e18 bytes) makes `bag info` /
 /// `bag export` / `bag recover` ABORT the process ("memory allocation of 8317129766985531764 bytes failed"):
-/// `src/bag/reader.rs` `scan_file` hands every chunk to `mcap::read::ChunkReader::new`, whose inner reader has
+/// `crates/bag/src/reader.rs` `scan_file` hands every chunk to `mcap::read::ChunkReader::new`, whose inner reader has
 /// no record-length limit and reserves the claimed size up front. An allocation failure aborts rather than
 /// panics, so the input runs in a child process (this test binary, filtered to the helper below).
 #[test]

@@ -1,7 +1,7 @@
 //! The .msg parser and code generator of build.rs, exercised directly on good and bad message text.
 
 #[allow(dead_code)]
-#[path = "../build.rs"]
+#[path = "../crates/msgs/build.rs"]
 mod build_script;
 
 /// The package.xml roslibrust_codegen (build.rs's parser) reads a package's name and ROS version from.

@@ -9,7 +9,7 @@
 mod support;
 
 #[allow(dead_code)]
-#[path = "../build.rs"]
+#[path = "../crates/msgs/build.rs"]
 mod build_script;
 
 use serde_json::Value;

@@ -35,7 +35,7 @@ fn swing(id: u64, undercut: f64, attack_angle: f64, impact_z: f64) -> Swing {
 
 /// The R161's radii from its data file (diameter in mm per 1-cm slice), m.
 fn r161_radii() -> Vec<f64> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/physics/data/r161.dat");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/physics/src/data/r161.dat");
     std::fs::read_to_string(path)
         .unwrap()
         .lines()

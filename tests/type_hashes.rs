@@ -18,7 +18,7 @@ mod support;
 
 // The generator itself, to hash `.msg` texts that are not under msgs/ (std_msgs/String, test_msgs/Strings).
 #[allow(dead_code)]
-#[path = "../build.rs"]
+#[path = "../crates/msgs/build.rs"]
 mod build_script;
 
 use support::bag::*;

@@ -1,0 +1,359 @@
+//! `bag export --csv`: one row per recorded swing, its inputs joined with the outputs computed for it.
+//!
+//! Rows are keyed by (namespace, swing_id): a swing on `/rig3/swing` matches the ExitVelocity and
+//! ModalEnergies whose topics live in `/rig3`, so several rigs recorded into one bag stay apart. Topics are
+//! recognised by type, not name.
+
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+
+use sweetspot_msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, Swing};
+use sweetspot_msgs::{decode_cdr, RosMessage};
+
+use super::reader::read_bag;
+use super::BagError;
+
+/// A recorded swing with whatever was recorded for it.
+#[derive(Debug, Clone, Default)]
+pub struct SwingRow {
+    /// Namespace of the swing topic (`/rig3` for `/rig3/swing`, `/` at the root).
+    pub namespace: String,
+    /// Log time of the swing, ns.
+    pub log_time_ns: u64,
+    /// The recorded swing.
+    pub swing: Swing,
+    /// The recorded answer, if any.
+    pub exit_velocity: Option<ExitVelocity>,
+    /// The recorded modal energies, if any.
+    pub modal_energies: Option<ModalEnergies>,
+}
+
+/// What a pass over a bag found besides the rows.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ExportCounts {
+    /// Swings read.
+    pub swings: u64,
+    /// ExitVelocity messages matched to a swing.
+    pub matched_exit_velocities: u64,
+    /// ModalEnergies matched to a swing.
+    pub matched_modal_energies: u64,
+    /// Outputs whose swing is not in the bag.
+    pub orphan_outputs: u64,
+    /// Messages that failed to decode (skipped, never fatal).
+    pub undecodable: u64,
+    /// Every topic of the bag as (name, type), first-seen order: what there is when no swing topic is.
+    pub topics: Vec<(String, String)>,
+}
+
+impl ExportCounts {
+    /// Whether the bag has a topic of type `sweetspot_msgs/msg/Swing` (empty or not).
+    pub fn has_swing_topic(&self) -> bool {
+        self.topics.iter().any(|(_, type_name)| type_name == Swing::TYPE_NAME)
+    }
+}
+
+/// The node namespace of a recorded topic: the topic minus the node's relative name for that message type
+/// (`/rig3/bat/params` → `/rig3`), else minus its last segment (remapped topics).
+pub fn namespace_of(topic: &str, type_name: &str) -> String {
+    use sweetspot_model::topics;
+    let relative = match type_name {
+        BatParams::TYPE_NAME => topics::BAT_PARAMS,
+        BallParams::TYPE_NAME => topics::BALL_PARAMS,
+        Swing::TYPE_NAME => topics::SWING,
+        ExitVelocity::TYPE_NAME => topics::EXIT_VELOCITY,
+        ModalEnergies::TYPE_NAME => topics::MODAL_ENERGIES,
+        _ => "",
+    };
+    if let Some(ns) = topic.strip_suffix(relative).and_then(|t| t.strip_suffix('/')).filter(|_| !relative.is_empty()) {
+        return if ns.is_empty() { "/".to_string() } else { ns.to_string() };
+    }
+    match topic.rfind('/') {
+        Some(0) | None => "/".to_string(),
+        Some(i) => topic[..i].to_string(),
+    }
+}
+
+/// Reads every swing of a bag and joins its recorded outputs, in recorded order.
+///
+/// An output belongs to the swing with its identity: the same namespace, `swing_id` and header stamp (the
+/// node copies both from the swing into its answers), wherever it lies in the bag — a recorder that drains
+/// its subscriptions one after another may well write an answer before its swing. When several swings share
+/// an identity (a swing sent twice), their outputs pair with them in recorded order. Anything else is an
+/// orphan, e.g. the params rejections (ExitVelocity with swing_id 0 and the params' stamp).
+pub fn swing_rows(path: &Path) -> Result<(Vec<SwingRow>, ExportCounts), BagError> {
+    let run = read_run(path)?;
+    Ok((run.rows, run.counts))
+}
+
+/// What identifies the swing an output answers: namespace, swing_id, header stamp (sec, nanosec).
+type SwingKey = (String, u64, i32, u32);
+
+fn key_of(ns: &str, swing_id: u64, header: &sweetspot_msgs::std_msgs::msg::Header) -> SwingKey {
+    (ns.to_string(), swing_id, header.stamp.sec, header.stamp.nanosec)
+}
+
+/// An input in recorded order, as a node saw it.
+#[derive(Debug, Clone)]
+pub enum RunEvent {
+    /// BatParams received in a namespace.
+    BatParams(String, BatParams),
+    /// BallParams received in a namespace.
+    BallParams(String, BallParams),
+    /// The swing `rows[index]`.
+    Swing(usize),
+}
+
+/// A recorded run: the inputs in order, and every swing with its recorded outputs.
+#[derive(Debug, Clone, Default)]
+pub struct Run {
+    /// Inputs in recorded order.
+    pub events: Vec<RunEvent>,
+    /// Swings with their recorded outputs.
+    pub rows: Vec<SwingRow>,
+    /// Matching statistics.
+    pub counts: ExportCounts,
+}
+
+/// Reads a bag as a run (see [`swing_rows`] for how outputs are matched).
+pub fn read_run(path: &Path) -> Result<Run, BagError> {
+    let mut events: Vec<RunEvent> = Vec::new();
+    let mut rows: Vec<SwingRow> = Vec::new();
+    let mut by_key: HashMap<SwingKey, Vec<usize>> = HashMap::new();
+    let mut exit_velocities: Vec<(SwingKey, ExitVelocity)> = Vec::new();
+    let mut modal_energies: Vec<(SwingKey, ModalEnergies)> = Vec::new();
+    let mut counts = ExportCounts::default();
+    // A node records its own bag: with one topic per message type there is one node, whatever the remaps; its
+    // namespace is the swing topic's (`/lab` for `/lab/swing`).
+    let scans = super::reader::read_bag(path, |_| {})?;
+    let mut per_type: HashMap<String, std::collections::BTreeSet<String>> = HashMap::new();
+    for channel in scans.iter().flat_map(|s| s.channels.values()) {
+        per_type.entry(channel.topic.type_name.clone()).or_default().insert(channel.topic.name.clone());
+    }
+    counts.topics =
+        super::info::topics_of(&scans).into_iter().map(|(topic, _)| (topic.name, topic.type_name)).collect();
+    let single_node = per_type.values().all(|names| names.len() <= 1);
+    let node_ns = per_type
+        .get(Swing::TYPE_NAME)
+        .and_then(|names| names.iter().next())
+        .map_or_else(|| "/".to_string(), |topic| namespace_of(topic, Swing::TYPE_NAME));
+    read_bag(path, |m| {
+        let ns =
+            if single_node { node_ns.clone() } else { namespace_of(&m.channel.topic.name, &m.channel.topic.type_name) };
+        match m.channel.topic.type_name.as_str() {
+            BatParams::TYPE_NAME => match decode_cdr::<BatParams>(m.data) {
+                Ok(p) => events.push(RunEvent::BatParams(ns, p)),
+                Err(_) => counts.undecodable += 1,
+            },
+            BallParams::TYPE_NAME => match decode_cdr::<BallParams>(m.data) {
+                Ok(p) => events.push(RunEvent::BallParams(ns, p)),
+                Err(_) => counts.undecodable += 1,
+            },
+            Swing::TYPE_NAME => match decode_cdr::<Swing>(m.data) {
+                Ok(swing) => {
+                    events.push(RunEvent::Swing(rows.len()));
+                    by_key.entry(key_of(&ns, swing.swing_id, &swing.header)).or_default().push(rows.len());
+                    rows.push(SwingRow { namespace: ns, log_time_ns: m.log_time_ns, swing, ..SwingRow::default() });
+                }
+                Err(_) => counts.undecodable += 1,
+            },
+            ExitVelocity::TYPE_NAME => match decode_cdr::<ExitVelocity>(m.data) {
+                Ok(ev) => exit_velocities.push((key_of(&ns, ev.swing_id, &ev.header), ev)),
+                Err(_) => counts.undecodable += 1,
+            },
+            ModalEnergies::TYPE_NAME => match decode_cdr::<ModalEnergies>(m.data) {
+                Ok(me) => modal_energies.push((key_of(&ns, me.swing_id, &me.header), me)),
+                Err(_) => counts.undecodable += 1,
+            },
+            _ => {}
+        }
+    })?;
+    // Each output goes to the first swing of its identity that has none of its kind yet.
+    for (key, ev) in exit_velocities {
+        let slot = by_key.get(&key).and_then(|list| list.iter().find(|&&i| rows[i].exit_velocity.is_none()));
+        match slot {
+            Some(&i) => {
+                rows[i].exit_velocity = Some(ev);
+                counts.matched_exit_velocities += 1;
+            }
+            None => counts.orphan_outputs += 1,
+        }
+    }
+    for (key, me) in modal_energies {
+        let slot = by_key.get(&key).and_then(|list| list.iter().find(|&&i| rows[i].modal_energies.is_none()));
+        match slot {
+            Some(&i) => {
+                rows[i].modal_energies = Some(me);
+                counts.matched_modal_energies += 1;
+            }
+            None => counts.orphan_outputs += 1,
+        }
+    }
+    counts.swings = rows.len() as u64;
+    Ok(Run { events, rows, counts })
+}
+
+fn stamp(h: &sweetspot_msgs::std_msgs::msg::Header) -> String {
+    format!("{}.{:09}", h.stamp.sec, h.stamp.nanosec)
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map(|x| x.to_string()).unwrap_or_default()
+}
+
+/// Writes the CSV: swing inputs, then ExitVelocity, then ModalEnergies totals, then the fields appended to
+/// the messages later (Swing's oblique inputs and launch measurements, ExitVelocity's launch and hoop fields,
+/// ModalEnergies.hoop_energy; NaN for a bag recorded before them), then per-mode columns (`mode<k>_frequency`,
+/// `mode<k>_energy`, `mode<k>_fraction` up to the most modes of any row). Units are SI as in the messages.
+/// Missing outputs leave their cells empty.
+pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
+    let modes = rows.iter().filter_map(|r| r.modal_energies.as_ref()).map(|m| m.energy.len()).max().unwrap_or(0);
+    let mut w = csv::Writer::from_writer(out);
+    let mut header: Vec<String> = [
+        "namespace",
+        "swing_id",
+        "log_time_ns",
+        "swing_stamp",
+        "bat_id",
+        "ball_id",
+        "ball_speed",
+        "bat_cm_speed",
+        "bat_angular_speed",
+        "impact_z",
+        "measured_exit_speed",
+        "status",
+        "message",
+        "exit_speed",
+        "rigid_exit_speed",
+        "effective_cor",
+        "collision_efficiency",
+        "contact_time",
+        "peak_force",
+        "impulse",
+        "max_compression",
+        "residual",
+        "vibration_energy",
+        "hysteresis_loss",
+        "energy_residual",
+        "undercut",
+        "attack_angle",
+        "pitch_angle",
+        "pitch_spin",
+        "measured_launch_angle",
+        "measured_spin",
+        "launch_angle",
+        "spin",
+        "normal_exit_speed",
+        "tangential_exit_speed",
+        "launch_angle_residual",
+        "spin_residual",
+        "hoop_frequency",
+        "hoop_energy_stored",
+        "hoop_energy_returned",
+        "hoop_energy",
+        "bat_tilt",
+        "swing_direction",
+        "batter_side",
+        "measured_spray_angle",
+        "measured_spin_axis",
+        "spray_angle",
+        "sidespin",
+        "gyro_spin",
+        "total_spin",
+        "spin_axis",
+        "spray_angle_residual",
+        "spin_axis_residual",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for k in 1..=modes {
+        header.push(format!("mode{k}_frequency"));
+        header.push(format!("mode{k}_energy"));
+        header.push(format!("mode{k}_fraction"));
+    }
+    let csv_err = |e: csv::Error| BagError::Format(format!("writing CSV: {e}"));
+    w.write_record(&header).map_err(csv_err)?;
+    for r in rows {
+        let s = &r.swing;
+        let ev = r.exit_velocity.as_ref();
+        let me = r.modal_energies.as_ref();
+        let mut rec = vec![
+            r.namespace.clone(),
+            s.swing_id.to_string(),
+            r.log_time_ns.to_string(),
+            stamp(&s.header),
+            s.bat_id.clone(),
+            s.ball_id.clone(),
+            s.ball_speed.to_string(),
+            s.bat_cm_speed.to_string(),
+            s.bat_angular_speed.to_string(),
+            s.impact_z.to_string(),
+            s.measured_exit_speed.to_string(),
+            ev.map(|e| e.status.to_string()).unwrap_or_default(),
+            ev.map(|e| e.message.clone()).unwrap_or_default(),
+            opt(ev.map(|e| e.exit_speed)),
+            opt(ev.map(|e| e.rigid_exit_speed)),
+            opt(ev.map(|e| e.effective_cor)),
+            opt(ev.map(|e| e.collision_efficiency)),
+            opt(ev.map(|e| e.contact_time)),
+            opt(ev.map(|e| e.peak_force)),
+            opt(ev.map(|e| e.impulse)),
+            opt(ev.map(|e| e.max_compression)),
+            opt(ev.map(|e| e.residual)),
+            opt(me.map(|m| m.vibration_energy)),
+            opt(me.map(|m| m.hysteresis_loss)),
+            opt(me.map(|m| m.energy_residual)),
+            s.undercut.to_string(),
+            s.attack_angle.to_string(),
+            s.pitch_angle.to_string(),
+            s.pitch_spin.to_string(),
+            s.measured_launch_angle.to_string(),
+            s.measured_spin.to_string(),
+            opt(ev.map(|e| e.launch_angle)),
+            opt(ev.map(|e| e.spin)),
+            opt(ev.map(|e| e.normal_exit_speed)),
+            opt(ev.map(|e| e.tangential_exit_speed)),
+            opt(ev.map(|e| e.launch_angle_residual)),
+            opt(ev.map(|e| e.spin_residual)),
+            opt(ev.map(|e| e.hoop_frequency)),
+            opt(ev.map(|e| e.hoop_energy_stored)),
+            opt(ev.map(|e| e.hoop_energy_returned)),
+            opt(me.map(|m| m.hoop_energy)),
+            s.bat_tilt.to_string(),
+            s.swing_direction.to_string(),
+            s.batter_side.to_string(),
+            s.measured_spray_angle.to_string(),
+            s.measured_spin_axis.to_string(),
+            opt(ev.map(|e| e.spray_angle)),
+            opt(ev.map(|e| e.sidespin)),
+            opt(ev.map(|e| e.gyro_spin)),
+            opt(ev.map(|e| e.total_spin)),
+            opt(ev.map(|e| e.spin_axis)),
+            opt(ev.map(|e| e.spray_angle_residual)),
+            opt(ev.map(|e| e.spin_axis_residual)),
+        ];
+        for k in 0..modes {
+            rec.push(opt(me.and_then(|m| m.frequency.get(k).copied())));
+            rec.push(opt(me.and_then(|m| m.energy.get(k).copied())));
+            rec.push(opt(me.and_then(|m| m.fraction.get(k).copied())));
+        }
+        w.write_record(&rec).map_err(csv_err)?;
+    }
+    w.flush().map_err(|source| BagError::Io { path: "<csv output>".into(), source })?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn namespaces_follow_the_node_topic_names() {
+        assert_eq!(namespace_of("/rig3/bat/params", BatParams::TYPE_NAME), "/rig3");
+        assert_eq!(namespace_of("/rig3/swing", Swing::TYPE_NAME), "/rig3");
+        assert_eq!(namespace_of("/a/b/exit_velocity", ExitVelocity::TYPE_NAME), "/a/b");
+        assert_eq!(namespace_of("/bat/params", BatParams::TYPE_NAME), "/");
+        assert_eq!(namespace_of("/shared/swings", Swing::TYPE_NAME), "/shared");
+    }
+}
