@@ -543,7 +543,7 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let dir = root.path().join("full");
         let child = Command::new(std::env::current_exe().unwrap())
-            .args(["bag::recorder::tests::a_full_disk_leaves_a_bag_with_metadata_that_recover_rebuilds", "--exact"])
+            .args(["recorder::tests::a_full_disk_leaves_a_bag_with_metadata_that_recover_rebuilds", "--exact"])
             .args(["--nocapture", "--test-threads=1"])
             .env(CHILD_DIR, &dir)
             .output()
