@@ -110,24 +110,17 @@ pub struct BallArgs {
 impl BallArgs {
     /// `base` with the overrides applied, validated.
     pub fn apply(&self, base: Ball) -> Result<Ball> {
-        let base = match &self.ball_preset {
-            Some(name) => Ball::preset(name).context("--ball")?,
-            None => base,
-        };
-        let ball = Ball {
-            mass: self.ball_mass.unwrap_or(base.mass),
-            radius: self.ball_radius.unwrap_or(base.radius),
-            stiffness: self.ball_stiffness.unwrap_or(base.stiffness),
-            exponent: self.ball_exponent.unwrap_or(base.exponent),
-            cor: self.ball_cor.unwrap_or(base.cor),
-            cor_speed_exponent: self.ball_cor_exponent.unwrap_or(base.cor_speed_exponent),
-            cor_reference_speed: self.ball_cor_speed.unwrap_or(base.cor_reference_speed),
-        };
-        ball.validate().context(
-            "invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent/\
-             --ball-cor-exponent/--ball-cor-speed)",
-        )?;
-        Ok(ball)
+        BallOverrides {
+            preset: self.ball_preset.clone(),
+            mass: self.ball_mass,
+            radius: self.ball_radius,
+            cor: self.ball_cor,
+            stiffness: self.ball_stiffness,
+            exponent: self.ball_exponent,
+            cor_speed_exponent: self.ball_cor_exponent,
+            cor_reference_speed: self.ball_cor_speed,
+        }
+        .apply(base)
     }
 }
 

@@ -11,7 +11,7 @@ use crate::report::table::num;
 use sweetspot_model::limits::{MAX_PITCH_SPIN, MAX_SWING_ANGLE};
 use sweetspot_physics::collision::TIME_STEP_RANGE;
 use sweetspot_physics::oblique::{rad_per_s_to_rpm, rpm_to_rad_per_s, TangentialContact};
-use sweetspot_physics::{Bat, BatterSide, CollisionOptions, Impact, ObliqueImpact, SpatialImpact};
+use sweetspot_physics::{Ball, Bat, BatterSide, CollisionOptions, Impact, ObliqueImpact, SpatialImpact};
 
 /// Default ball speed toward the bat, m/s (about 89 mph).
 pub const DEFAULT_BALL_SPEED: f64 = 40.0;
@@ -60,6 +60,52 @@ pub fn resolve_bat(spec: &str, base: Option<&Path>) -> Result<Bat> {
         "--bat / bat: '{spec}' is neither a preset (known: {}) nor a bat file that exists",
         Bat::preset_names().join(", ")
     )
+}
+
+/// A ball named by a preset (or the caller's base ball) with some of its fields replaced, SI units: what
+/// `--ball NAME --ball-mass KG …` and Python's `Ball.preset(name, mass=…)` say.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BallOverrides {
+    /// A built-in ball to start from instead of the base (`Ball::preset_names`).
+    pub preset: Option<String>,
+    /// Mass, kg.
+    pub mass: Option<f64>,
+    /// Radius, m.
+    pub radius: Option<f64>,
+    /// Coefficient of restitution e0 against a rigid wall.
+    pub cor: Option<f64>,
+    /// Loading stiffness k1, N/m^α.
+    pub stiffness: Option<f64>,
+    /// Loading exponent α.
+    pub exponent: Option<f64>,
+    /// Exponent p of e0 ∝ v^(−p).
+    pub cor_speed_exponent: Option<f64>,
+    /// Normal approach speed at which e0 is `cor`, m/s.
+    pub cor_reference_speed: Option<f64>,
+}
+
+impl BallOverrides {
+    /// `base` (or the preset) with the overrides applied, validated.
+    pub fn apply(&self, base: Ball) -> Result<Ball> {
+        let base = match &self.preset {
+            Some(name) => Ball::preset(name).context("--ball")?,
+            None => base,
+        };
+        let ball = Ball {
+            mass: self.mass.unwrap_or(base.mass),
+            radius: self.radius.unwrap_or(base.radius),
+            stiffness: self.stiffness.unwrap_or(base.stiffness),
+            exponent: self.exponent.unwrap_or(base.exponent),
+            cor: self.cor.unwrap_or(base.cor),
+            cor_speed_exponent: self.cor_speed_exponent.unwrap_or(base.cor_speed_exponent),
+            cor_reference_speed: self.cor_reference_speed.unwrap_or(base.cor_reference_speed),
+        };
+        ball.validate().context(
+            "invalid ball (--ball-mass/--ball-radius/--ball-cor/--ball-stiffness/--ball-exponent/\
+             --ball-cor-exponent/--ball-cor-speed)",
+        )?;
+        Ok(ball)
+    }
 }
 
 /// The ball's e0 for a report (its JSON form): the number for a constant-COR ball, the law for one whose COR
