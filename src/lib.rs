@@ -24,7 +24,7 @@
 //!   input), used by every layer that opens one; [`yaml`]: every YAML text loaded under a depth and
 //!   alias-expansion budget;
 //! - [`cli`]: the command line (argument parsing; the work lives in the layers above).
-pub use sweetspot_analysis::{calibrate, import, locate, report, validate};
+pub use sweetspot_analysis::{answer, bat_file, calibrate, import, locate, report, validate};
 pub use sweetspot_bag as bag;
 pub use sweetspot_model as model;
 pub use sweetspot_model::{files, yaml};

@@ -21,7 +21,8 @@ fn resolved_dependencies(package: &str) -> Vec<String> {
 }
 
 const SHELL_ONLY: [&str; 5] = ["rustdds", "ros2-client", "tokio", "foxglove", "tokio-tungstenite"];
-const LAYERS: [&str; 5] = ["sweetspot-physics", "sweetspot-msgs", "sweetspot-model", "sweetspot-bag", "sweetspot-analysis"];
+const LAYERS: [&str; 5] =
+    ["sweetspot-physics", "sweetspot-msgs", "sweetspot-model", "sweetspot-bag", "sweetspot-analysis"];
 
 #[test]
 fn the_library_crates_build_without_dds_tokio_or_the_foxglove_server() {

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod bag;
-pub mod bat_file;
+pub use crate::bat_file;
 pub mod bbcor;
 pub mod bench;
 pub mod calibrate;

@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use crate::physics::{Bat, CoreFill, Material, Station};
+use sweetspot_physics::{Bat, CoreFill, Material, Station};
 
 /// Column names of the profile CSV, in the order they are written.
 pub const PROFILE_COLUMNS: [&str; 3] = ["z_m", "outer_radius_m", "inner_radius_m"];
@@ -298,12 +298,12 @@ pub fn spec_to_toml(spec: &BatSpec) -> String {
 
 /// Reads a bat file from disk; the CSV profile is resolved relative to the TOML file.
 pub fn load_bat_file(path: &Path) -> Result<Bat> {
-    let text = crate::files::read_text(path, "bat file")?;
+    let text = sweetspot_model::files::read_text(path, "bat file")?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("bat").to_string();
     parse_bat_toml(&text, &stem, |file| {
         let csv_path = base.join(file);
-        Ok(crate::files::read_text(&csv_path, "bat profile")?)
+        Ok(sweetspot_model::files::read_text(&csv_path, "bat profile")?)
     })
     .with_context(|| format!("bat file '{}'", path.display()))
 }
