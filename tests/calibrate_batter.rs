@@ -20,7 +20,8 @@ use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use sweetspot::physics::batter::{Batter, ReferenceSwing, SwingShape, DEFAULT_SWING_LENGTH};
 use sweetspot::physics::Bat;
-use sweetspot::rig::{RigConfig, SensorNoise, SessionGenerator, MPH};
+use sweetspot::physics::units::MPH;
+use sweetspot::rig::{RigConfig, SensorNoise, SessionGenerator};
 
 /// The true exponent of the rig's batter (the model's default is 0.25).
 const TRUE_EXPONENT: f64 = 0.3;

@@ -9,14 +9,10 @@ use super::common::{emit, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs
 use crate::physics::metrics::{
     bbcor_report, besr, besr_scan, BBCOR_BALL_SPEED, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z,
 };
+use crate::physics::units::{INCH, MPH};
 use crate::physics::{Ball, Bat, CollisionOptions, ModeSet};
 use crate::report::json::{BallJson, BatJson, OptionsJson};
 use crate::report::table::{num, Table};
-
-/// Metres per inch.
-const INCH: f64 = 0.0254;
-/// Metres per second per mile per hour.
-const MPH: f64 = 0.44704;
 
 /// Arguments of `sweetspot bbcor`.
 #[derive(Debug, Args)]

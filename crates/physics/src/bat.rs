@@ -20,13 +20,11 @@
 //! NΔz and slicing at Δz reproduces the table exactly. (This reading gives the R161 0.869 kg, CM 0.561 m,
 //! radius of gyration 0.229 m, in line with Nathan's published values.)
 
+use super::units::INCH;
 use super::PhysicsError;
 
 /// Smallest and largest number of slices a bat may be cut into.
 pub const SLICE_COUNT_RANGE: (usize, usize) = (4, 4000);
-
-/// One metre in inches, for presets specified in inches.
-const INCH: f64 = 0.0254;
 
 /// Barrel wall of the `aluminum` preset, m (solved with the handle wall and end cap for Table 2's mass
 /// properties; see [`Bat::aluminum`]).
