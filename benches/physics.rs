@@ -83,7 +83,7 @@ fn benches(c: &mut Criterion) {
         undercut: 0.01,
         attack_angle: 10f64.to_radians(),
         pitch_angle: 6f64.to_radians(),
-        pitch_spin: 2000.0 * std::f64::consts::TAU / 60.0,
+        pitch_spin: sweetspot::physics::units::rpm_to_rad_per_s(2000.0),
     };
     let contact = TangentialContact::default();
     let beta = oblique.attack_angle + (oblique.undercut / (ball.radius + oblique.barrel_radius)).asin();

@@ -8,16 +8,13 @@ use std::path::{Path, PathBuf};
 
 use support::bag::top_level_records;
 use support::cli::{fails, ok, s, sweetspot};
-use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, StorageOptions, TopicInfo};
+use support::rig::{finish, record_rig, STREAM, T0};
+use sweetspot::bag::{Recorder, RecorderConfig, StorageOptions, TopicInfo};
 use sweetspot::model::time::RosTime;
 use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::encode_cdr;
-use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, Swing};
+use sweetspot::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, Swing};
 use sweetspot::rig::{RigConfig, SessionGenerator};
-
-const LATCHED: RecordedQos = RecordedQos { reliable: true, transient_local: true, depth: 1 };
-const STREAM: RecordedQos = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
-const T0: u64 = 1_700_000_000_000_000_000;
 
 /// A rig session (params, then `swings` measured swings 100 ms apart) recorded into `dir` in small chunks,
 /// split every `max_file_size` bytes when given.
@@ -25,25 +22,9 @@ fn write_session(dir: &Path, swings: usize, max_file_size: Option<u64>) -> PathB
     let config = RecorderConfig { max_file_size, ..RecorderConfig::new(dir) };
     let storage = StorageOptions { chunk_size: Some(2048), ..StorageOptions::default() };
     let recorder = Recorder::start_with(config, storage).expect("start recorder");
-    let bat_topic = recorder.register_topic(TopicInfo::of::<BatParams>("/rig/bat/params", LATCHED)).unwrap();
-    let ball_topic = recorder.register_topic(TopicInfo::of::<BallParams>("/rig/ball/params", LATCHED)).unwrap();
-    let swing_topic = recorder.register_topic(TopicInfo::of::<Swing>("/rig/swing", STREAM)).unwrap();
     let config = RigConfig { seed: 5, true_cor: Some(0.5), ..RigConfig::default() };
-    let mut rig = SessionGenerator::new(config).expect("rig").with_block(3);
-    let mut t = T0;
-    for params in rig.bat_params(Time::from_unix_ns(t)) {
-        assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
-        t += 1000;
-    }
-    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(Time::from_unix_ns(t))).unwrap(), t, t));
-    for _ in 0..swings {
-        t += 100_000_000;
-        let swing = rig.next_swing().expect("swing");
-        let msg = rig.swing_message(&swing, Time::from_unix_ns(t));
-        assert!(recorder.record(swing_topic, encode_cdr(&msg).unwrap(), t, t));
-    }
-    let stats = recorder.finish().expect("finish bag");
-    assert_eq!(stats.dropped, 0);
+    record_rig(&recorder, &mut SessionGenerator::new(config).expect("rig").with_block(3), swings, |_| {});
+    finish(recorder);
     dir.to_path_buf()
 }
 

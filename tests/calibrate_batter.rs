@@ -7,20 +7,18 @@
 
 mod support;
 
-use std::path::{Path, PathBuf};
-
 use support::cli::{fails, json, num, s};
+use support::rig::record_rig_session;
 use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
 use sweetspot::calibrate::batter::{batter_fit_from_bag, BatterFitOptions, Estimate};
 use sweetspot::model::convert::{params_from_bat, params_of_preset};
-use sweetspot::model::time::RosTime;
-use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::encode_cdr;
 use sweetspot::msgs::std_msgs::msg::Header;
-use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+use sweetspot::msgs::sweetspot_msgs::msg::{BatParams, Swing};
 use sweetspot::physics::batter::{Batter, ReferenceSwing, SwingShape, DEFAULT_SWING_LENGTH};
+use sweetspot::physics::units::MPH;
 use sweetspot::physics::Bat;
-use sweetspot::rig::{RigConfig, SensorNoise, SessionGenerator, MPH};
+use sweetspot::rig::{RigConfig, SensorNoise, SessionGenerator};
 
 /// The true exponent of the rig's batter (the model's default is 0.25).
 const TRUE_EXPONENT: f64 = 0.3;
@@ -36,32 +34,6 @@ fn batter(reference: &str, speed: f64, pivot: f64, exponent: f64) -> Batter {
     let props = Bat::preset(reference).expect("preset").mass_properties();
     let swing = ReferenceSwing::from_speed_at(props, speed, props.length - SIX_INCHES, pivot).expect("swing");
     Batter::new(swing, exponent, SIX_INCHES, DEFAULT_SWING_LENGTH, SwingShape::SamePivot).expect("batter")
-}
-
-/// Records `swings` of the rig into DIR/session and returns the bag.
-fn record_rig_session(dir: &Path, swings: usize, config: RigConfig) -> PathBuf {
-    let bag = dir.join("session");
-    let recorder = Recorder::start(RecorderConfig::new(&bag)).expect("start recorder");
-    let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
-    let stream = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
-    let bat_topic = recorder.register_topic(TopicInfo::of::<BatParams>("/rig/bat/params", latched)).unwrap();
-    let ball_topic = recorder.register_topic(TopicInfo::of::<BallParams>("/rig/ball/params", latched)).unwrap();
-    let swing_topic = recorder.register_topic(TopicInfo::of::<Swing>("/rig/swing", stream)).unwrap();
-    let mut rig = SessionGenerator::new(config).expect("rig");
-    let mut t: u64 = 1_700_000_000_000_000_000;
-    for params in rig.bat_params(Time::from_unix_ns(t)) {
-        assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
-        t += 1000;
-    }
-    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(Time::from_unix_ns(t))).unwrap(), t, t));
-    for _ in 0..swings {
-        t += 100_000_000;
-        let swing = rig.next_swing().expect("swing");
-        let msg = rig.swing_message(&swing, Time::from_unix_ns(t));
-        assert!(recorder.record(swing_topic, encode_cdr(&msg).unwrap(), t, t));
-    }
-    assert_eq!(recorder.finish().expect("finish bag").dropped, 0);
-    bag
 }
 
 fn rig_config(seed: u64, barrel_mph: (f64, f64), noise: SensorNoise) -> RigConfig {
@@ -105,7 +77,11 @@ fn spread_of_log_swing_weight(per_bat: f64) -> f64 {
 fn the_batter_is_recovered_from_a_noisy_rig_session_with_the_uncertainty_the_spread_predicts() {
     let tmp = tempfile::tempdir().unwrap();
     let swings = 240;
-    let bag = record_rig_session(tmp.path(), swings, rig_config(31, (60.0, 80.0), SensorNoise::default()));
+    let bag = record_rig_session(
+        tmp.path(),
+        swings,
+        SessionGenerator::new(rig_config(31, (60.0, 80.0), SensorNoise::default())).expect("rig"),
+    );
     let fit = batter_fit_from_bag(&bag, &BatterFitOptions::default()).expect("fit");
     assert_eq!((fit.swings, fit.bats.len(), fit.dof), (swings, 4, swings - 2));
     assert_eq!(fit.reference_bat, "r161", "the first bat swung");
@@ -133,7 +109,11 @@ fn the_batter_is_recovered_from_a_noisy_rig_session_with_the_uncertainty_the_spr
 #[test]
 fn a_steady_batter_is_told_apart_from_the_default_exponent() {
     let tmp = tempfile::tempdir().unwrap();
-    let bag = record_rig_session(tmp.path(), 120, rig_config(8, (69.5, 70.5), SensorNoise::default()));
+    let bag = record_rig_session(
+        tmp.path(),
+        120,
+        SessionGenerator::new(rig_config(8, (69.5, 70.5), SensorNoise::default())).expect("rig"),
+    );
     let fit = batter_fit_from_bag(&bag, &BatterFitOptions::default()).expect("fit");
     assert_within("n", fit.exponent, TRUE_EXPONENT, 3.0);
     assert!(fit.exponent.std_error < 0.01, "{:?}", fit.exponent);
@@ -147,7 +127,11 @@ fn a_steady_batter_is_told_apart_from_the_default_exponent() {
 #[test]
 fn a_noiseless_session_gives_the_batter_exactly() {
     let tmp = tempfile::tempdir().unwrap();
-    let bag = record_rig_session(tmp.path(), 24, rig_config(3, (70.0, 70.0), SensorNoise::none()));
+    let bag = record_rig_session(
+        tmp.path(),
+        24,
+        SessionGenerator::new(rig_config(3, (70.0, 70.0), SensorNoise::none())).expect("rig"),
+    );
     let fit = batter_fit_from_bag(&bag, &BatterFitOptions::default()).expect("fit");
     assert!((fit.exponent.value - TRUE_EXPONENT).abs() < 1e-9, "{:?}", fit.exponent);
     assert!((fit.bat_speed.value / TRUE_SPEED - 1.0).abs() < 1e-9, "{:?}", fit.bat_speed);
@@ -171,7 +155,7 @@ fn a_noiseless_session_gives_the_batter_exactly() {
 fn a_one_bat_session_is_refused_naming_why() {
     let tmp = tempfile::tempdir().unwrap();
     let config = RigConfig { bats: vec!["r161".into()], ..rig_config(4, (60.0, 80.0), SensorNoise::default()) };
-    let bag = record_rig_session(tmp.path(), 12, config);
+    let bag = record_rig_session(tmp.path(), 12, SessionGenerator::new(config).expect("rig"));
     let err = batter_fit_from_bag(&bag, &BatterFitOptions::default()).unwrap_err().to_string();
     assert!(err.contains("at least two different swing weights") && err.contains("'r161'"), "{err}");
     let out = tmp.path().join("batter.toml");

@@ -10,23 +10,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use support::cli::{s, sweetspot};
-use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
-use sweetspot::model::time::RosTime;
-use sweetspot::msgs::builtin_interfaces::msg::Time;
-use sweetspot::msgs::encode_cdr;
-use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+use support::rig::record_rig_session;
 use sweetspot::physics::CollisionOptions;
 use sweetspot::rig::{LaunchConditions, RigConfig, SessionGenerator};
 
 /// Records `swings` oblique, tracked swings of the rig into DIR/session; returns the bag.
 fn session(dir: &Path, swings: usize) -> PathBuf {
-    let bag = dir.join("session");
-    let recorder = Recorder::start(RecorderConfig::new(&bag)).expect("start recorder");
-    let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
-    let stream = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
-    let bat_topic = recorder.register_topic(TopicInfo::of::<BatParams>("/rig/bat/params", latched)).unwrap();
-    let ball_topic = recorder.register_topic(TopicInfo::of::<BallParams>("/rig/ball/params", latched)).unwrap();
-    let swing_topic = recorder.register_topic(TopicInfo::of::<Swing>("/rig/swing", stream)).unwrap();
     let config = RigConfig {
         bats: vec!["r161".into(), "r161-corked".into()],
         seed: 31,
@@ -34,25 +23,7 @@ fn session(dir: &Path, swings: usize) -> PathBuf {
         launch: Some(LaunchConditions::default()),
         ..RigConfig::default()
     };
-    let mut rig = SessionGenerator::new(config).expect("rig").with_block(4);
-    let mut t: u64 = 1_700_000_000_000_000_000;
-    for params in rig.bat_params(Time::from_unix_ns(t)) {
-        assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
-        t += 1000;
-    }
-    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(Time::from_unix_ns(t))).unwrap(), t, t));
-    for _ in 0..swings {
-        t += 100_000_000;
-        let swing = rig.next_swing().expect("swing");
-        assert!(recorder.record(
-            swing_topic,
-            encode_cdr(&rig.swing_message(&swing, Time::from_unix_ns(t))).unwrap(),
-            t,
-            t
-        ));
-    }
-    assert_eq!(recorder.finish().expect("finish bag").dropped, 0);
-    bag
+    record_rig_session(dir, swings, SessionGenerator::new(config).expect("rig").with_block(4))
 }
 
 /// The bag's MCAP file and its bytes.

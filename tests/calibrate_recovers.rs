@@ -5,10 +5,11 @@
 //! session goes through the project's Recorder into a rosbag2/MCAP directory, `calibrate` reads it back and
 //! must find 0.50 within 3σ, with a σ consistent with the noise (not tiny, not huge).
 
+mod support;
+
+use support::rig::{finish, record_rig};
 use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
 use sweetspot::calibrate::{fit, problem_from_bag, FitOptions};
-use sweetspot::model::time::RosTime;
-use sweetspot::msgs::builtin_interfaces::msg::Time;
 use sweetspot::msgs::encode_cdr;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use sweetspot::physics::Ball;
@@ -29,27 +30,10 @@ fn write_session_with(
 ) -> std::path::PathBuf {
     let bag = dir.join("session");
     let recorder = Recorder::start(RecorderConfig::new(&bag)).expect("start recorder");
-    let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
-    let stream = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
-    let bat_topic = recorder.register_topic(TopicInfo::of::<BatParams>("/rig/bat/params", latched)).unwrap();
-    let ball_topic = recorder.register_topic(TopicInfo::of::<BallParams>("/rig/ball/params", latched)).unwrap();
-    let swing_topic = recorder.register_topic(TopicInfo::of::<Swing>("/rig/swing", stream)).unwrap();
     let mut rig = SessionGenerator::new(config).expect("rig").with_block(3);
-    let mut t: u64 = 1_700_000_000_000_000_000;
-    for params in rig.bat_params(Time::from_unix_ns(t)) {
-        assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
-        t += 1000;
-    }
-    assert!(recorder.record(ball_topic, encode_cdr(&rig.ball_params(Time::from_unix_ns(t))).unwrap(), t, t));
-    for _ in 0..swings {
-        t += 100_000_000;
-        let swing = rig.next_swing().expect("swing");
-        let msg = rig.swing_message(&swing, Time::from_unix_ns(t));
-        assert!(recorder.record(swing_topic, encode_cdr(&msg).unwrap(), t, t));
-    }
-    extra(&recorder, bat_topic, swing_topic, t + 1_000_000);
-    let stats = recorder.finish().expect("finish bag");
-    assert_eq!(stats.dropped, 0);
+    let session = record_rig(&recorder, &mut rig, swings, |_| {});
+    extra(&recorder, session.bat_topic, session.swing_topic, session.last + 1_000_000);
+    finish(recorder);
     bag
 }
 

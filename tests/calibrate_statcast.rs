@@ -7,7 +7,7 @@ use sweetspot::calibrate::FitOptions;
 use sweetspot::physics::{Ball, Bat, CollisionOptions, ModeSet};
 use sweetspot::validate::statcast::{parse_q, QBin};
 
-const MPH: f64 = 0.44704;
+use sweetspot::physics::units::MPH;
 /// Bins fitted and checked: those the swing's own bat-speed error does not sort (docs/statcast.md), with
 /// enough balls in a half for a stable 99th percentile.
 const SORTS: &[&str] = &["batter_median_bat", "plate_pitch"];

@@ -7,13 +7,14 @@
 //! back and must find 0.30 within 3σ of its stated uncertainty, with a σ that means something (not tiny, not
 //! huge). A second session leaves every undercut unreported: the fit must find each swing's undercut as well.
 
-use sweetspot::bag::{RecordedQos, Recorder, RecorderConfig, TopicInfo};
+mod support;
+
+use support::rig::{finish, record_rig};
+use sweetspot::bag::{Recorder, RecorderConfig};
 use sweetspot::calibrate::tangential::{fit_tangential, problem_from_bag, TangentialOptions};
 use sweetspot::calibrate::{fit, problem_from_bag as exit_speed_problem_from_bag, CalibrateError, FitOptions};
-use sweetspot::model::time::RosTime;
 use sweetspot::msgs::builtin_interfaces::msg::Time;
-use sweetspot::msgs::encode_cdr;
-use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
+use sweetspot::msgs::sweetspot_msgs::msg::BallParams;
 use sweetspot::physics::oblique::{collide_oblique, TangentialContact};
 use sweetspot::physics::CollisionOptions;
 use sweetspot::rig::{LaunchConditions, RigConfig, RigSwing, SessionGenerator};
@@ -30,34 +31,13 @@ fn write_session_with(
     dir: &std::path::Path,
     swings: usize,
     config: RigConfig,
-    edit_ball: impl Fn(&mut BallParams),
+    edit_ball: impl FnOnce(&mut BallParams),
 ) -> (std::path::PathBuf, Vec<RigSwing>) {
     let bag = dir.join("session");
     let recorder = Recorder::start(RecorderConfig::new(&bag)).expect("start recorder");
-    let latched = RecordedQos { reliable: true, transient_local: true, depth: 1 };
-    let stream = RecordedQos { reliable: true, transient_local: false, depth: 1000 };
-    let bat_topic = recorder.register_topic(TopicInfo::of::<BatParams>("/rig/bat/params", latched)).unwrap();
-    let ball_topic = recorder.register_topic(TopicInfo::of::<BallParams>("/rig/ball/params", latched)).unwrap();
-    let swing_topic = recorder.register_topic(TopicInfo::of::<Swing>("/rig/swing", stream)).unwrap();
     let mut rig = SessionGenerator::new(config).expect("rig").with_block(4);
-    let mut t: u64 = 1_700_000_000_000_000_000;
-    for params in rig.bat_params(Time::from_unix_ns(t)) {
-        assert!(recorder.record(bat_topic, encode_cdr(&params).unwrap(), t, t));
-        t += 1000;
-    }
-    let mut ball = rig.ball_params(Time::from_unix_ns(t));
-    edit_ball(&mut ball);
-    assert!(recorder.record(ball_topic, encode_cdr(&ball).unwrap(), t, t));
-    let mut truth = Vec::new();
-    for _ in 0..swings {
-        t += 100_000_000;
-        let swing = rig.next_swing().expect("swing");
-        let msg = rig.swing_message(&swing, Time::from_unix_ns(t));
-        assert!(recorder.record(swing_topic, encode_cdr(&msg).unwrap(), t, t));
-        truth.push(swing);
-    }
-    let stats = recorder.finish().expect("finish bag");
-    assert_eq!(stats.dropped, 0);
+    let truth = record_rig(&recorder, &mut rig, swings, edit_ball).truth;
+    finish(recorder);
     (bag, truth)
 }
 

@@ -8,7 +8,7 @@ use std::collections::BTreeSet;
 use std::time::Duration;
 
 use ros2_client::Publisher;
-use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+use support::node::{blocking, dds, domain, keep_all, NodeInputs, NodeProcess, Peer};
 use sweetspot::msgs::std_msgs::msg::Header;
 use sweetspot::msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, Swing};
 
@@ -170,15 +170,10 @@ fn params_with_nan_negative_or_huge_values_are_rejected_with_the_reason() {
     let domain = domain(72);
     let dir = tempfile::tempdir().unwrap();
     let mut peer = Peer::new(domain, "fault_params_peer");
-    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
-    let ball_pub = peer.publisher::<BallParams>("/ball/params", dds::params());
-    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
-    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let inputs = NodeInputs::on(&mut peer);
     let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
-    peer.wait_for_reader(&bat_pub);
-    peer.wait_for_reader(&ball_pub);
-    peer.wait_for_reader(&swing_pub);
-    std::thread::sleep(Duration::from_millis(300));
+    inputs.wait_for_node(&peer);
+    let NodeInputs { bat: bat_pub, ball: ball_pub, swing: swing_pub, answers } = inputs;
 
     let good_ball = BallParams {
         ball_id: String::new(),
@@ -290,15 +285,10 @@ fn absurd_balls_unresolvable_bats_and_infinite_measurements_are_refused() {
     let domain = domain(78);
     let dir = tempfile::tempdir().unwrap();
     let mut peer = Peer::new(domain, "fault_absurd_peer");
-    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
-    let ball_pub = peer.publisher::<BallParams>("/ball/params", dds::params());
-    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
-    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let inputs = NodeInputs::on(&mut peer);
     let node = NodeProcess::spawn(domain, dir.path(), &["--no-record"]);
-    peer.wait_for_reader(&bat_pub);
-    peer.wait_for_reader(&ball_pub);
-    peer.wait_for_reader(&swing_pub);
-    std::thread::sleep(Duration::from_millis(300));
+    inputs.wait_for_node(&peer);
+    let NodeInputs { bat: bat_pub, ball: ball_pub, swing: swing_pub, answers } = inputs;
 
     let r161 = sweetspot::physics::Bat::preset("r161").unwrap();
     let fine = BatParams {

@@ -11,7 +11,7 @@ mod support;
 use std::time::Duration;
 
 use ros2_client::Subscription;
-use support::node::{blocking, dds, domain, keep_all, NodeProcess, Peer};
+use support::node::{blocking, dds, domain, keep_all, NodeInputs, NodeProcess, Peer};
 use sweetspot::model::convert;
 use sweetspot::msgs::diagnostic_msgs::msg::DiagnosticArray;
 use sweetspot::msgs::std_msgs::msg::Header;
@@ -70,19 +70,15 @@ fn more_bat_and_ball_ids_than_the_limits_are_forgotten_rejected_with_the_reason_
     let domain = domain(80);
     let dir = tempfile::tempdir().unwrap();
     let mut peer = Peer::new(domain, "registry_peer");
-    let bat_pub = peer.publisher::<BatParams>("/bat/params", dds::params());
-    let ball_pub = peer.publisher::<BallParams>("/ball/params", dds::params());
-    let swing_pub = peer.publisher::<Swing>("/swing", blocking(dds::swing()));
-    let answers = peer.subscription::<ExitVelocity>("/exit_velocity", keep_all(dds::results()));
+    let inputs = NodeInputs::on(&mut peer);
     let diagnostics = peer.subscription::<DiagnosticArray>("/diagnostics", keep_all(sweetspot::ros::diagnostics_qos()));
     let node = NodeProcess::spawn(
         domain,
         dir.path(),
         &["--no-record", "--ros-args", "-p", "max_bats:=4", "-p", "max_balls:=2", "-p", "diagnostics_period:=0.2"],
     );
-    peer.wait_for_reader(&bat_pub);
-    peer.wait_for_reader(&ball_pub);
-    peer.wait_for_reader(&swing_pub);
+    inputs.wait_for_node(&peer);
+    let NodeInputs { bat: bat_pub, ball: ball_pub, swing: swing_pub, answers } = inputs;
 
     // Ten bats (presets under new names: the slow part, the modes, is the same for all) and three balls, each
     // taken by the node before the next is sent, so the use order is known.

@@ -1,4 +1,4 @@
-//! The Foxglove layout shipped in `foxglove/sweetspot.json` refers only to topics the node serves and fields
+//! The Foxglove layout shipped in `layouts/sweetspot.json` refers only to topics the node serves and fields
 //! that exist in `msgs/` (read from the .msg files themselves, not the generated code), so renaming a field
 //! breaks this test instead of a user's dashboard. Every panel the layout places has a configuration, and every
 //! configuration is placed.
@@ -106,7 +106,7 @@ fn placed(node: &Value, out: &mut BTreeSet<String>) {
 
 #[test]
 fn the_layout_references_only_served_topics_and_existing_fields() {
-    let text = std::fs::read_to_string(root().join("foxglove/sweetspot.json")).unwrap();
+    let text = std::fs::read_to_string(root().join("layouts/sweetspot.json")).unwrap();
     let layout: Value = serde_json::from_str(&text).unwrap();
     let configs = layout["configById"].as_object().expect("configById");
     let mut ids = BTreeSet::new();

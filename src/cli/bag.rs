@@ -553,7 +553,7 @@ fn export(path: PathBuf, output: Option<PathBuf>, skipped: Option<String>) -> an
     }
     eprintln!(
         "exported {} ({} with ExitVelocity, {} with ModalEnergies; {} outputs without their swing, {} undecodable messages skipped)",
-        super::import::plural(counts.swings, "swing"), counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
+        super::common::plural(counts.swings, "swing"), counts.matched_exit_velocities, counts.matched_modal_energies, counts.orphan_outputs, counts.undecodable
     );
     if let Some(skipped) = skipped {
         eprintln!("skipped (--skip-damaged): {skipped}");

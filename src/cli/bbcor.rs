@@ -7,13 +7,9 @@ use clap::Args;
 
 use super::common::{emit, print_json, BallArgs, BatArgs, NumericArgs, OutputArgs};
 use crate::physics::metrics::BBCOR_BALL_SPEED;
+use crate::physics::units::{INCH, MPH};
 use crate::physics::Ball;
 use crate::report::table::{num, Table};
-
-/// Metres per inch.
-const INCH: f64 = 0.0254;
-/// Metres per second per mile per hour.
-const MPH: f64 = 0.44704;
 
 /// Arguments of `sweetspot bbcor`.
 #[derive(Debug, Args)]

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 
-use super::common::{print_json, resolve_bat};
+use super::common::{plural, print_json, resolve_bat};
 use super::compare::{batter_from_spec, load_batter_file, BatterSpec};
 use crate::import::mapped::ColumnMap;
 use crate::import::{import_files, Format, ImportOptions, ImportReport};
@@ -269,15 +269,6 @@ fn batter_file_name(name: &str) -> String {
 /// A batter id as one quoted line: control characters and quotes escaped.
 fn escaped(name: &str) -> String {
     format!("{name:?}")
-}
-
-/// `n thing` or `n things`.
-pub(crate) fn plural(n: u64, thing: &str) -> String {
-    if n == 1 {
-        format!("{n} {thing}")
-    } else {
-        format!("{n} {thing}s")
-    }
 }
 
 /// The summary on stdout; `kept` says whether the bag stays (not with --pub alone).

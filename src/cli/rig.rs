@@ -10,9 +10,10 @@ use clap::Args;
 use super::common::stdout_closed;
 use crate::model::time::{now_ns, period_of, saturating_secs, scaled, RosTime};
 use crate::msgs::builtin_interfaces::msg::Time;
+use crate::physics::units::MPH;
 use crate::physics::Bat;
 use crate::rig::dds::{context, RigPublisher};
-use crate::rig::{RigConfig, SensorNoise, SessionGenerator, MPH};
+use crate::rig::{RigConfig, SensorNoise, SessionGenerator};
 use crate::ros::DdsConfig;
 
 /// What the simulated rig swings and how noisy its sensors are (shared by `rig` and `demo`).

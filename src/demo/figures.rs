@@ -8,10 +8,11 @@ use anyhow::{anyhow, Context, Result};
 use super::summary::Answers;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
 use crate::physics::metrics::{linspace, sweep};
+use crate::physics::units::MPH;
 use crate::physics::Impact;
 use crate::report::figures::{write_figures, FigureSettings, EXIT_SPEED_LABEL, Z_LABEL};
 use crate::report::plot::{draw_panels, ImageFormat, LegendAt, LineChart, LineKind, Series, VerticalMarker};
-use crate::rig::{RigSwing, SessionGenerator, MPH};
+use crate::rig::{RigSwing, SessionGenerator};
 
 /// Where the figures of the bag `bag` go: `figures/<bag's name>` beside it, so a glob for the bags
 /// (`bags/demo_*/`) matches bags only.

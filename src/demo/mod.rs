@@ -28,10 +28,10 @@ use crate::model::time::{now_ns, RosTime};
 use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, Swing};
 use crate::msgs::RosMessage;
-use crate::physics::oblique::rad_per_s_to_rpm;
+use crate::physics::units::{rad_per_s_to_rpm, INCH, MPH};
 use crate::report::plot::ImageFormat;
 use crate::rig::dds::{context, AnswerListener, RigPublisher};
-use crate::rig::{LaunchConditions, RigConfig, RigSwing, SessionGenerator, MPH};
+use crate::rig::{LaunchConditions, RigConfig, RigSwing, SessionGenerator};
 use crate::ros::{DdsConfig, DiscoveryRange};
 
 /// A line of the report on stdout; a closed pipe (`demo | head`) drops the rest quietly (see
@@ -427,7 +427,7 @@ fn print_summary(rig: &SessionGenerator, answers: &Answers, total: u64) {
             "batter: {:.1} mph at {:.0} in from the barrel end with a bat of swing weight {:.4} kg·m², n = {}; each bat \
              is swung at equal effort (v ∝ I^(−n)), the spread above scaled around that speed",
             batter.reference_speed() / MPH,
-            batter.impact_from_barrel_end / crate::rig::INCH,
+            batter.impact_from_barrel_end / INCH,
             batter.reference_swing_weight(),
             batter.exponent
         );

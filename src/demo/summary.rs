@@ -4,10 +4,10 @@ use std::collections::BTreeMap;
 
 use crate::msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies, SweetSpot};
 use crate::physics::batter::{reaction_time_gained, swing_weight};
-use crate::physics::oblique::rad_per_s_to_rpm;
+use crate::physics::units::{rad_per_s_to_rpm, INCH, MPH};
 use crate::report::table::{num, Table};
 use crate::rig::dds::Answer;
-use crate::rig::{SessionGenerator, INCH, MPH, RIG_BALL_ID};
+use crate::rig::{SessionGenerator, RIG_BALL_ID};
 
 /// Everything the node answered, keyed the way the report needs it.
 #[derive(Debug, Default)]

@@ -2,7 +2,7 @@
 //! private-network guard, and running the `sweetspot` binary and the Cyclone DDS peer on one domain of
 //! loopback discovery; [`bag`] (hand-made topics and the Python bag readers), [`cli`] (running the binary for
 //! CLI tests), [`foxglove`] (raw WebSocket frames, a process's resident memory), [`import`] (the import fixtures and default options), [`node`] (the node as a child process and an
-//! in-test ROS 2 peer) and [`ros2`] (the checks against real ROS 2 from PyPI, per distribution).
+//! in-test ROS 2 peer), [`rig`] (rig sessions recorded straight into a bag) and [`ros2`] (the checks against real ROS 2 from PyPI, per distribution).
 #![allow(dead_code)]
 
 pub mod bag;
@@ -10,6 +10,7 @@ pub mod cli;
 pub mod foxglove;
 pub mod import;
 pub mod node;
+pub mod rig;
 pub mod ros2;
 
 use std::path::PathBuf;

@@ -204,6 +204,36 @@ impl Peer {
     }
 }
 
+/// The node's three inputs published by a test peer, and the node's answers.
+pub struct NodeInputs {
+    pub bat: Publisher<sweetspot::msgs::sweetspot_msgs::msg::BatParams>,
+    pub ball: Publisher<sweetspot::msgs::sweetspot_msgs::msg::BallParams>,
+    pub swing: Publisher<sweetspot::msgs::sweetspot_msgs::msg::Swing>,
+    pub answers: Subscription<sweetspot::msgs::sweetspot_msgs::msg::ExitVelocity>,
+}
+
+impl NodeInputs {
+    /// Publishers of /bat/params, /ball/params and /swing (blocking when the window is full) and a reader of
+    /// /exit_velocity that keeps every answer, on `peer`.
+    pub fn on(peer: &mut Peer) -> NodeInputs {
+        NodeInputs {
+            bat: peer.publisher("/bat/params", dds::params()),
+            ball: peer.publisher("/ball/params", dds::params()),
+            swing: peer.publisher("/swing", blocking(dds::swing())),
+            answers: peer.subscription("/exit_velocity", keep_all(dds::results())),
+        }
+    }
+
+    /// Waits until the node reads all three inputs, then lets its readers settle (300 ms): what a test
+    /// publishes next is taken.
+    pub fn wait_for_node(&self, peer: &Peer) {
+        peer.wait_for_reader(&self.bat);
+        peer.wait_for_reader(&self.ball);
+        peer.wait_for_reader(&self.swing);
+        std::thread::sleep(Duration::from_millis(300));
+    }
+}
+
 /// A reader QoS that never loses what the node sent reliably, however slowly the test takes it. (Not
 /// KeepAll: RustDDS caps a KeepAll reader without resource limits at 64 samples.)
 pub fn keep_all(qos: QosProfile) -> QosProfile {

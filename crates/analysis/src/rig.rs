@@ -52,15 +52,12 @@ use sweetspot_msgs::builtin_interfaces::msg::Time;
 use sweetspot_msgs::std_msgs::msg::Header;
 use sweetspot_msgs::sweetspot_msgs::msg::{BallParams, BatParams, Swing};
 use sweetspot_physics::batter::{Batter, SwingPrediction};
-use sweetspot_physics::oblique::{collide_oblique, rpm_to_rad_per_s, ObliqueImpact, ObliqueResult, TangentialContact};
+use sweetspot_physics::oblique::{collide_oblique, ObliqueImpact, ObliqueResult, TangentialContact};
+use sweetspot_physics::units::{rpm_to_rad_per_s, INCH, MPH};
 use sweetspot_physics::{
     collide, Ball, Bat, CollisionOptions, CollisionResult, Impact, MassProperties, ModeSet, PhysicsError,
 };
 
-/// Metres per inch.
-pub const INCH: f64 = 0.0254;
-/// Metres per second per mile per hour.
-pub const MPH: f64 = 0.44704;
 /// Instantaneous pivot of the simulated swing, m from the knob (6 in, near the hands).
 pub const PIVOT_Z: f64 = 6.0 * INCH;
 /// Where bat speed is quoted ("at the barrel"): this far from the barrel end, m (6 in).

@@ -10,7 +10,10 @@ use sweetspot_physics::oblique3d::BatterSide;
 use sweetspot_physics::{Ball, Bat, CoreFill, Impact, Material, PhysicsError, Station};
 
 use super::engine::{self, BatSummary, Computed, SwingInput};
+// Where callers have always found them.
+pub use super::engine::BallModel;
 use super::limits::{self, check_string, MAX_MESSAGE_BYTES, MAX_STATIONS};
+pub use super::settings::vibrational_mode_count;
 #[cfg(test)]
 use super::settings::DEFAULT_MAX_BAT_SLICES;
 
@@ -161,28 +164,6 @@ pub fn params_of_preset(bat_id: &str, preset: &str, header: Header) -> BatParams
 /// BatParams.max_modes of a mode count (saturating: anything beyond u32 is rejected by the node anyway).
 fn mode_count_field(max_modes: usize) -> u32 {
     u32::try_from(max_modes).unwrap_or(u32::MAX)
-}
-
-/// Vibrational modes a bat's discretisation has: 2 DOF per slice minus the two rigid-body modes.
-pub fn vibrational_mode_count(bat: &Bat) -> usize {
-    (2 * bat.slice_count()).saturating_sub(2)
-}
-
-/// A ball as the model uses it: the force law of every collision and the tangential contact law that oblique
-/// swings add (BallParams' appended fields; 0 there = [`TangentialContact::default`]'s value).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BallModel {
-    /// Mass, radius and the hysteretic force law.
-    pub ball: Ball,
-    /// Grip, friction and moment of inertia in an oblique swing.
-    pub contact: TangentialContact,
-}
-
-impl From<Ball> for BallModel {
-    /// `ball` with the default tangential contact (what a BallParams without the contact fields says).
-    fn from(ball: Ball) -> BallModel {
-        BallModel { ball, contact: TangentialContact::default() }
-    }
 }
 
 /// Builds and validates the ball a BallParams describes. The error starts with `BallParams 'id':`.

@@ -12,14 +12,28 @@ use sweetspot_physics::{
     SweetSpotSet,
 };
 
-use super::convert::BallModel;
 use super::limits::{self, quote};
 use super::lru::LruMap;
 use super::settings::ModelSettings;
 
-/// ball_id a swing with an empty ball_id uses before any BallParams arrived, unless the node's `default_ball`
-/// names another preset: the game ball ([`sweetspot_physics::ball::GAME_BALL`], fitted to real games).
-pub const DEFAULT_BALL_ID: &str = sweetspot_physics::ball::GAME_BALL;
+pub use super::settings::DEFAULT_BALL_ID;
+
+/// A ball as the model uses it: the force law of every collision and the tangential contact law that oblique
+/// swings add (BallParams' appended fields; 0 there = [`TangentialContact::default`]'s value).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BallModel {
+    /// Mass, radius and the hysteretic force law.
+    pub ball: Ball,
+    /// Grip, friction and moment of inertia in an oblique swing.
+    pub contact: TangentialContact,
+}
+
+impl From<Ball> for BallModel {
+    /// `ball` with the default tangential contact (what a BallParams without the contact fields says).
+    fn from(ball: Ball) -> BallModel {
+        BallModel { ball, contact: TangentialContact::default() }
+    }
+}
 
 /// Where mode-cache hits and misses are counted (the node's statistics; [`ModeCacheCount`]; `()` for none).
 pub trait ModeCacheStats {

@@ -5,6 +5,15 @@ use std::collections::BTreeMap;
 
 use sweetspot_physics::Bat;
 
+/// ball_id a swing with an empty ball_id uses before any BallParams arrived, unless the node's `default_ball`
+/// names another preset: the game ball ([`sweetspot_physics::ball::GAME_BALL`], fitted to real games).
+pub const DEFAULT_BALL_ID: &str = sweetspot_physics::ball::GAME_BALL;
+
+/// Vibrational modes a bat's discretisation has: 2 DOF per slice minus the two rigid-body modes.
+pub fn vibrational_mode_count(bat: &Bat) -> usize {
+    (2 * bat.slice_count()).saturating_sub(2)
+}
+
 /// rosbag2 `custom_data` key of [`ModelSettings::default_bat`].
 pub const CUSTOM_DATA_DEFAULT_BAT: &str = "sweetspot/default_bat";
 /// rosbag2 `custom_data` key of [`ModelSettings::default_ball`].
@@ -52,7 +61,7 @@ impl Default for ModelSettings {
     fn default() -> Self {
         ModelSettings {
             default_bat: "r161".to_string(),
-            default_ball: super::engine::DEFAULT_BALL_ID.to_string(),
+            default_ball: DEFAULT_BALL_ID.to_string(),
             default_modes: 18,
             time_step: 5e-6,
             // A lab uses a handful of bats; 64 leaves room for a whole team's and bounds the worst case (each
@@ -69,7 +78,7 @@ impl ModelSettings {
     /// The modes integrated for `bat` when its params ask for `requested` (`None` = [`Self::default_modes`]):
     /// the default is capped at what the bat's discretisation has; an explicit count was checked already.
     pub fn modes_for(&self, bat: &Bat, requested: Option<usize>) -> usize {
-        requested.unwrap_or(self.default_modes).min(super::convert::vibrational_mode_count(bat))
+        requested.unwrap_or(self.default_modes).min(vibrational_mode_count(bat))
     }
 
     /// The `custom_data` entries (key, value) that record these settings; `time_step` keeps every digit.

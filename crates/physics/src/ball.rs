@@ -25,6 +25,7 @@
 //! through Nathan's pair gives 0.529 at 85 ft/s), while a straight line through Nathan's pair gives 0.592 there,
 //! outside the specification. Two parameters are all three points can carry.
 
+use super::units::FT_PER_S;
 use super::PhysicsError;
 
 /// A ball, SI units. Loading force k1·u^α; unloading k2·u^β with β = (1+α)/e0² − 1, e0 taken at the
@@ -58,8 +59,6 @@ fn is_zero(v: &f64) -> bool {
 /// Largest `cor_speed_exponent` accepted: e0 ∝ 1/v, a ball that returns the same rebound speed whatever
 /// the impact speed, is already far beyond any ball.
 pub const MAX_COR_SPEED_EXPONENT: f64 = 1.0;
-/// Metres per second in one foot per second.
-const FT_PER_S: f64 = 0.3048;
 
 /// MLB's specification speed for the ball's COR, m/s: 85 ft/s (about 58 mph) against an ash slab.
 pub const MLB_COR_SPEED: f64 = 85.0 * FT_PER_S;

@@ -20,13 +20,14 @@
 //! NΔz and slicing at Δz reproduces the table exactly. (This reading gives the R161 0.869 kg, CM 0.561 m,
 //! radius of gyration 0.229 m, in line with Nathan's published values.)
 
+use super::units::INCH;
 use super::PhysicsError;
+
+/// Pivot of the NCAA/ASTM bat tests and of the seed's centre of percussion, m from the knob (6 in).
+pub const PIVOT_Z: f64 = 6.0 * INCH;
 
 /// Smallest and largest number of slices a bat may be cut into.
 pub const SLICE_COUNT_RANGE: (usize, usize) = (4, 4000);
-
-/// One metre in inches, for presets specified in inches.
-const INCH: f64 = 0.0254;
 
 /// Barrel wall of the `aluminum` preset, m (solved with the handle wall and end cap for Table 2's mass
 /// properties; see [`Bat::aluminum`]).
@@ -649,7 +650,7 @@ fn alloy_inertia(barrel_wall: f64, handle_wall: f64, end_cap_mass: f64) -> Resul
         ALLOY_SLICE,
     )?;
     let mp = bat.mass_properties();
-    Ok((mp.mass, mp.moment_about(super::metrics::PIVOT_Z)))
+    Ok((mp.mass, mp.moment_about(PIVOT_Z)))
 }
 
 /// Bisection of an increasing `f` for `f(x) = target` on [lo, hi]; `None` if the target is outside.
@@ -684,7 +685,7 @@ fn bisect(
 /// and swing weight of `target` (see [`Bat::alloy_weight_matched`]).
 fn alloy_weight_match(barrel_wall: f64, target: &MassProperties) -> Result<(f64, f64), PhysicsError> {
     let goal_mass = target.mass;
-    let goal_weight = target.moment_about(super::metrics::PIVOT_Z);
+    let goal_weight = target.moment_about(PIVOT_Z);
     let (thinnest, thickest) = (1e-4, ALLOY_HANDLE_RADIUS - 1e-4);
     let refuse = || {
         PhysicsError::out_of_range(

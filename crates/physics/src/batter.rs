@@ -54,12 +54,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::metrics::PIVOT_Z;
+use super::units::{FOOT, INCH, MPH};
 use super::{Impact, MassProperties, PhysicsError};
-
-/// Metres per second in one mile per hour.
-const MPH: f64 = 0.44704;
-/// Metres per foot.
-const FOOT: f64 = 0.3048;
 
 /// Pivot of the swing-weight measurement, m from the knob (6 in, ASTM F2398).
 pub const SWING_WEIGHT_PIVOT_Z: f64 = PIVOT_Z;
@@ -70,7 +66,7 @@ pub const EXPONENT_RANGE: (f64, f64) = (0.0, 0.5);
 /// Default reference bat speed at the impact point, m/s (Statcast 2024 MLB average, 71.5 mph).
 pub const DEFAULT_REFERENCE_SPEED: f64 = 71.5 * MPH;
 /// Default distance of the batter's usual impact point from the barrel end, m (6 in, Statcast's sweet spot).
-pub const DEFAULT_IMPACT_FROM_BARREL_END: f64 = 6.0 * 0.0254;
+pub const DEFAULT_IMPACT_FROM_BARREL_END: f64 = 6.0 * INCH;
 /// Default instantaneous centre of the swing at contact, m from the knob: the knob (the hands).
 pub const DEFAULT_PIVOT_Z: f64 = 0.0;
 /// Default arc length travelled by the impact point from the start of the swing to contact, m (7.3 ft).

@@ -112,6 +112,7 @@ pub mod modes;
 pub mod oblique;
 pub mod oblique3d;
 pub mod rigid;
+pub mod units;
 
 pub use ball::Ball;
 pub use bat::{Bat, CoreFill, MassProperties, Material, Slice, Station};

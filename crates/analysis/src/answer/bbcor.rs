@@ -6,10 +6,9 @@ use serde::Serialize;
 
 use crate::report::json::{BallJson, BatJson, OptionsJson};
 use sweetspot_physics::metrics::{bbcor_report, besr, besr_scan, BESR_BALL_SPEED, BESR_BAT_SPEED, PIVOT_Z};
+use sweetspot_physics::units::INCH;
 use sweetspot_physics::{Ball, Bat, CollisionOptions, ModeSet};
 
-/// Metres per inch.
-const INCH: f64 = 0.0254;
 
 /// BBCOR result and protocol (NCAA / ASTM F2219 as modelled).
 #[derive(Debug, Clone, Serialize)]

@@ -17,10 +17,9 @@ use super::{lm, CalibrateError, FitOptions, FittedParameter};
 use sweetspot_physics::ball::{MAX_COR_SPEED_EXPONENT, MLB_COR_SPEED};
 use sweetspot_physics::batter::ReferenceSwing;
 use sweetspot_physics::metrics::sweet_spots;
+use sweetspot_physics::units::INCH;
 use sweetspot_physics::{Ball, CollisionOptions, Impact, ModeSet, PhysicsError};
 
-/// Metres per inch.
-const INCH: f64 = 0.0254;
 /// Where Statcast measures bat speed: 6 in from the head, m.
 const SIX_INCHES: f64 = 6.0 * INCH;
 /// Scale of the exponent in the minimiser's parameter vector (p = x₁·EXPONENT_SCALE).

@@ -6,7 +6,8 @@ use plotters_backend::{
     BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingBackend, DrawingErrorKind, FontTransform,
 };
 
-use super::plot::FONT_BYTES;
+/// The embedded font (Bitstream Vera licence, see `fonts/LICENSE-DejaVu.txt`).
+pub(super) static FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
 
 /// A bitmap backend wrapper that lays out text itself with the embedded font.
 ///

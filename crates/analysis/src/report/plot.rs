@@ -15,13 +15,10 @@ use anyhow::{anyhow, bail, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::crisp_text::CrispText;
+use super::crisp_text::{CrispText, FONT_BYTES};
 
 /// Pixel size of a single chart.
 pub const CHART_SIZE: (u32, u32) = (1000, 640);
-
-/// The embedded font (Bitstream Vera licence, see `fonts/LICENSE-DejaVu.txt`).
-pub(super) static FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
 
 /// Okabe–Ito colour-blind-safe palette; [`Series::color`] indexes it (modulo its length).
 pub const PALETTE: [RGBColor; 8] = [
