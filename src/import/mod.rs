@@ -579,7 +579,6 @@ impl SwingBuilder {
             measured_spray_angle: spray,
             // 360° is 0°: the field holds [0, 2π).
             measured_spin_axis: axis.rem_euclid(360.0).to_radians(),
-            ..Swing::default()
         };
         Ok((swing, assumed))
     }

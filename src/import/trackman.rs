@@ -29,13 +29,15 @@
 //! same convention; the glossary does not define it for batted balls, so this is an assumption, and a
 //! `HitSpinRate` without a `HitSpinAxis` gives no measured spin (a total alone does not say back or top).
 //!
-//! **Direction and HitSpinAxis agree with the model's field frame.** In the two real exports every ball
-//! whose `PositionAt110Z` (TrackMan's side coordinate where the ball passes 110 ft) is positive has a
-//! positive `Direction`, and the balls curve toward the line they are hit to: those with Direction < 0 have
-//! HitSpinAxis below 180° (a hook toward left field, as the model's spin axis 90° is), those with Direction
-//! > 0 above it — what the model's 3-D collision gives, whose spray angle is positive toward right field
-//! (`physics::oblique3d`). A right-handed batter's pulled ball (Direction < 0) so has HitSpinAxis < 180°
-//! (pinned in tests/import_spatial.rs with a row of the export and with the model).
+//! **Direction and HitSpinAxis agree with the model's field frame.** In the two real exports, 31 of the 33
+//! balls with both a `Direction` and a `PositionAt110Z` (TrackMan's side coordinate where the ball passes
+//! 110 ft, positive toward first base) have the same sign in both (the other two within 1.2° of centre), and
+//! balls curve toward the line they are hit to: of the 34 fair balls with a `HitSpinRate`, 14 of 15 with
+//! Direction below 0 have HitSpinAxis below 180° (a hook toward left field, as the model's spin axis 90°
+//! is), 15 of 19 with Direction above 0 have it above 180°. The model's 3-D collision, whose spray angle is
+//! positive toward right field (`physics::oblique3d`), gives the same: a right-handed batter's pulled ball,
+//! Direction below 0, has HitSpinAxis below 180° (tests/import_spatial.rs pins it with a row of the export
+//! and with the model).
 //!
 //! TrackMan measures no bat tilt or swing direction: those stay the planar swing's 0.
 //!
