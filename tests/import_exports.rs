@@ -55,10 +55,12 @@ fn real_trackman_rows_convert_by_hand_computed_factors() {
     assert!(foul.measured_spin.is_nan(), "no HitSpinRate: not measured");
     // UTCDateTime 2025-06-13T01:42:14.6984960Z = 1749778934 s + 698496000 ns.
     assert_eq!((foul.header.stamp.sec, foul.header.stamp.nanosec), (1_749_778_934, 698_496_000));
-    // Line 5: HitSpinRate 2740.943835 rpm at HitSpinAxis 254.393031°: 287.032 × (−cos 254.393°) = 77.22 rad/s
-    // (mostly side spin, a little backspin).
+    // Line 5: HitSpinRate 2740.943835 rpm = 287.031 rad/s of total spin at HitSpinAxis 254.393031°, whose
+    // backspin part is 287.031 × (−cos 254.393°) = 77.22 rad/s (mostly side spin, a little backspin).
     let in_play = swings[1];
-    assert!(close(in_play.measured_spin, 77.22, 0.01), "{}", in_play.measured_spin);
+    assert!(close(in_play.measured_spin, 287.031, 1e-3), "{}", in_play.measured_spin);
+    let backspin = sweetspot::model::convert::swing_input(in_play).measured_backspin();
+    assert!(close(backspin, 77.22, 0.01), "{backspin}");
     // Line 8: InPlay without an ExitSpeed: a swing, nothing measured off the bat.
     assert!(swings[4].measured_exit_speed.is_nan());
     // The assumed contact: the default batter's usual point, 6 in from the barrel end, centre-line.

@@ -31,6 +31,8 @@ Rows the bat did not hit, or without a pitch speed, are skipped and counted by r
 out of range (a negative or absurd speed, or a column in other units) are refused with file and line.
 What no tracker measures (impact point, undercut; bat speed for TrackMan and HitTrax) is filled in from the batter
 and marked assumed in the bag (import_rows.csv beside the MCAP file, custom_data sweetspot/import/*).
+The 3-D columns are read too: TrackMan Direction, HitSpinAxis, BatterSide; Savant stand, attack_direction,
+swing_path_tilt, hc_x/hc_y (spray angle, spin axis, batter side, swing direction, bat tilt: docs/rig-data.md).
 --pub plays the imported bag as `bag play` does (on /bat/params, /ball/params, /swing, under --ns; it waits
 for the node's subscriptions discovery shows, at most --timeout); without -o no bag is kept.")]
 pub struct ImportArgs {

@@ -10,7 +10,7 @@ use clap::Args;
 
 use super::common::{finite_f64, print_json};
 use crate::locate::figure::{batters_of, draw_figure, Grouping};
-use crate::locate::{locate_bag_with_progress, BatSpeedFit, LocateOptions, LocateReport, Outcome, Side};
+use crate::locate::{locate_bag_with_progress, BatSpeedFit, Direction, LocateOptions, LocateReport, Outcome, Side};
 use crate::physics::oblique::rpm_to_rad_per_s;
 use crate::report::plot::ImageFormat;
 
@@ -30,6 +30,8 @@ uncertain by more than half the barrel is NOT REPRODUCIBLE, with the reason, and
 terminal a progress line comes every 5 s. --figure draws the located
 points on the bat's outline, one panel per batter (from the import's side table; per bat for a bag without
 it), the favoured solution filled, the others hollow, the sweet spot and its ±2 cm band shaded.
+A swing with a bat tilt or swing direction runs the 3-D collision; it and any swing with a measured spray
+angle or spin axis also shows the model's spray angle and spin axis (Δ = measured − model).
 --fit-bat-speed also fits the bat speed of swings whose bat speed the import assumed and whose spin is
 measured (a factor on the assumed speed ± its uncertainty), or says per swing why it was not fitted.")]
 pub struct LocateArgs {
@@ -113,7 +115,7 @@ pub fn run(args: LocateArgs) -> Result<()> {
                     .enumerate()
                     .map(|(i, x)| {
                         format!(
-                            "{}{:.4} ± {:.4}, {:+.1} ± {:.1} mm, {} (sweet spot {:.3})",
+                            "{}{:.4} ± {:.4}, {:+.1} ± {:.1} mm, {} (sweet spot {:.3}){}",
                             if Some(i) == *favoured { "*" } else { "" },
                             x.impact_z,
                             x.impact_z_sigma,
@@ -123,7 +125,8 @@ pub fn run(args: LocateArgs) -> Result<()> {
                                 Side::Handle => "handle side",
                                 Side::End => "end side",
                             },
-                            x.sweet_spot_z
+                            x.sweet_spot_z,
+                            x.direction.as_ref().map_or(String::new(), direction_text)
                         )
                     })
                     .collect();
@@ -160,6 +163,18 @@ pub fn run(args: LocateArgs) -> Result<()> {
         crate::outln!("bat speed fitted for {n} of {} swings", report.swings.len())?;
     }
     Ok(())
+}
+
+/// A solution's spray angle and spin axis, with measured − model where measured.
+fn direction_text(d: &Direction) -> String {
+    let residual = |r: f64| if r.is_finite() { format!(" (Δ {:+.1}°)", r.to_degrees()) } else { String::new() };
+    format!(
+        ", spray {:+.1}°{}, spin axis {:.0}°{}",
+        d.spray_angle.to_degrees(),
+        residual(d.spray_angle_residual),
+        d.spin_axis.to_degrees(),
+        residual(d.spin_axis_residual)
+    )
 }
 
 /// One swing's bat-speed fit as a line of the table.

@@ -77,6 +77,9 @@ pub const MAX_SPIN: f64 = 1000.0;
 /// Largest |pitch angle| and |attack angle| accepted, rad (80°, the oblique model's limit).
 pub const MAX_SWING_ANGLE: f64 = 80.0 * std::f64::consts::PI / 180.0;
 
+/// Largest |spray angle| accepted, rad (90°: along the line through the plate, square to centre field).
+pub const MAX_SPRAY_ANGLE: f64 = std::f64::consts::FRAC_PI_2;
+
 /// Name of the side table inside the bag directory.
 pub const ROWS_TABLE: &str = "import_rows.csv";
 
@@ -102,6 +105,23 @@ pub fn backspin(rate: f64, axis_deg: f64) -> f64 {
         -rate * axis_deg.to_radians().cos()
     } else {
         f64::NAN
+    }
+}
+
+/// The batter's side a cell names: `Right`/`R` or `Left`/`L` (any case); None when not measured (blank,
+/// `NA`, …); any other text is refused, naming `column`.
+pub fn batter_side(text: &str, column: &'static str) -> Result<Option<u8>, Skip> {
+    if table::MISSING.contains(&text) {
+        return Ok(None);
+    }
+    match text.to_ascii_lowercase().as_str() {
+        "right" | "r" => Ok(Some(Swing::BATTER_RIGHT)),
+        "left" | "l" => Ok(Some(Swing::BATTER_LEFT)),
+        _ => Err(Skip::NotAChoice {
+            column,
+            text: text.chars().take(40).collect(),
+            allowed: "Right, R, Left or L (blank: not measured)",
+        }),
     }
 }
 
@@ -220,8 +240,19 @@ pub struct TrackedRow {
     pub exit_speed: f64,
     /// Launch angle, rad, upward positive.
     pub launch_angle: f64,
-    /// Batted-ball backspin, rad/s.
+    /// Batted-ball spin, rad/s: the backspin without `spin_axis`, the total spin a radar reports with it.
     pub spin: f64,
+    /// Spin axis of the batted ball, deg as TrackMan's HitSpinAxis (180° = pure backspin, 90° = curving
+    /// toward left field).
+    pub spin_axis_deg: f64,
+    /// Spray angle, rad, positive toward right field (the first-base side).
+    pub spray_angle: f64,
+    /// Tilt of the bat's long axis below the horizontal at contact, rad (barrel below the hands positive).
+    pub bat_tilt: f64,
+    /// Horizontal direction of the bat's path, rad, positive toward right field (the field frame).
+    pub swing_direction: f64,
+    /// The batter's side (`Swing::BATTER_RIGHT` or `Swing::BATTER_LEFT`), None when the export does not say.
+    pub batter_side: Option<u8>,
     /// Statcast swing length, m (side table only).
     pub swing_length: f64,
     /// Batter name / id.
@@ -261,6 +292,15 @@ pub enum Skip {
         /// What is allowed.
         allowed: &'static str,
     },
+    /// A text cell that is none of the values the column may hold.
+    NotAChoice {
+        /// Source column.
+        column: &'static str,
+        /// Its text.
+        text: String,
+        /// What is allowed.
+        allowed: &'static str,
+    },
     /// The record is not text the reader can read (not UTF-8).
     Unreadable {
         /// What is wrong with it.
@@ -280,6 +320,7 @@ impl Skip {
             Skip::NoContact { call } => format!("no ball hit (call {:?})", sweetspot_model::files::echo(call)),
             Skip::Missing { column } => format!("{column} not measured"),
             Skip::NotANumber { column, .. } => format!("{column} not a number (refused)"),
+            Skip::NotAChoice { column, .. } => format!("{column} not recognised (refused)"),
             Skip::Refused { column, .. } => format!("{column} out of range (refused)"),
             Skip::Unreadable { .. } => "record not UTF-8 text (refused)".to_string(),
             Skip::Malformed { .. } => "record malformed (refused)".to_string(),
@@ -290,7 +331,11 @@ impl Skip {
     pub fn is_refusal(&self) -> bool {
         matches!(
             self,
-            Skip::NotANumber { .. } | Skip::Refused { .. } | Skip::Unreadable { .. } | Skip::Malformed { .. }
+            Skip::NotANumber { .. }
+                | Skip::NotAChoice { .. }
+                | Skip::Refused { .. }
+                | Skip::Unreadable { .. }
+                | Skip::Malformed { .. }
         )
     }
 }
@@ -299,6 +344,7 @@ impl std::fmt::Display for Skip {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Skip::NotANumber { column, text } => write!(f, "{column} = {text:?} is not a number"),
+            Skip::NotAChoice { column, text, allowed } => write!(f, "{column} = {text:?} is not one of {allowed}"),
             Skip::Refused { column, value, allowed } => {
                 // Readable at any size: 1e308 mph is `4.4704e307`, not 300 digits.
                 let value = sweetspot_model::limits::number(*value);
@@ -463,8 +509,21 @@ impl SwingBuilder {
         for (column, value) in [("pitch spin", row.pitch_spin), ("batted-ball spin", row.spin)] {
             range(column, value, value.abs() <= MAX_SPIN, "|spin| ≤ 1000 rad/s (9,549 rpm)")?;
         }
-        for (column, value) in [("pitch angle", row.pitch_angle), ("attack_angle", row.attack_angle)] {
+        for (column, value) in [
+            ("pitch angle", row.pitch_angle),
+            ("attack_angle", row.attack_angle),
+            ("bat_tilt", row.bat_tilt),
+            ("swing_direction", row.swing_direction),
+        ] {
             range(column, value, value.abs() <= MAX_SWING_ANGLE, "|angle| ≤ 80°")?;
+        }
+        let spray = row.spray_angle;
+        range("spray angle", spray, spray.abs() <= MAX_SPRAY_ANGLE, "|spray angle| ≤ 90°")?;
+        let axis = row.spin_axis_deg;
+        range("spin axis", axis.to_radians(), (0.0..=360.0).contains(&axis), "0° ≤ spin axis ≤ 360°")?;
+        if axis.is_finite() {
+            // With an axis the rate is a radar's total spin, never negative.
+            range("batted-ball spin", row.spin, row.spin >= 0.0, "total spin ≥ 0 (with a spin axis)")?;
         }
         let mut assumed = Assumed { impact_z: true, undercut: !self.undercut.is_nan(), ..Assumed::default() };
         let (bat_cm_speed, bat_angular_speed) = if b.is_nan() {
@@ -486,6 +545,15 @@ impl SwingBuilder {
             }
         };
         let attack_angle = or_zero(row.attack_angle, &mut assumed.attack_angle);
+        // No tilt or direction measured: the planar swing (level bat toward centre field), as Swing.msg's default.
+        let bat_tilt = if row.bat_tilt.is_nan() { 0.0 } else { row.bat_tilt };
+        let swing_direction = if row.swing_direction.is_nan() { 0.0 } else { row.swing_direction };
+        range(
+            "bat_tilt",
+            bat_tilt,
+            bat_tilt.abs() + attack_angle.abs() < std::f64::consts::FRAC_PI_2 - 1e-6,
+            "|bat_tilt| + |attack_angle| < 90° (a bat across its path cannot tilt further)",
+        )?;
         // A ball at rest has no approach angle and no spin: known, not assumed.
         let pitch_angle = if on_tee { 0.0 } else { or_zero(row.pitch_angle, &mut assumed.pitch_angle) };
         let pitch_spin = if on_tee { 0.0 } else { or_zero(row.pitch_spin, &mut assumed.pitch_spin) };
@@ -505,7 +573,12 @@ impl SwingBuilder {
             pitch_spin,
             measured_launch_angle: la,
             measured_spin: row.spin,
-            ..Swing::default()
+            bat_tilt,
+            swing_direction,
+            batter_side: row.batter_side.unwrap_or(Swing::BATTER_RIGHT),
+            measured_spray_angle: spray,
+            // 360° is 0°: the field holds [0, 2π).
+            measured_spin_axis: axis.rem_euclid(360.0).to_radians(),
         };
         Ok((swing, assumed))
     }
@@ -913,6 +986,11 @@ mod tests {
             exit_speed: 40.0,
             launch_angle: 0.2,
             spin: f64::NAN,
+            spin_axis_deg: f64::NAN,
+            spray_angle: f64::NAN,
+            bat_tilt: f64::NAN,
+            swing_direction: f64::NAN,
+            batter_side: None,
             swing_length: f64::NAN,
             batter: String::new(),
             pitcher: String::new(),

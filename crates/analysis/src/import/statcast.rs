@@ -21,6 +21,10 @@
 //! | `release_spin_rate`, `spin_axis` | `Swing.pitch_spin` | rpm → rad/s × (−cos spin_axis), 180° = backspin as TrackMan's |
 //! | `bat_speed` | `bat_cm_speed`, `bat_angular_speed` | mph → m/s at 6 in from the head, split with the batter's pivot |
 //! | `attack_angle` | `Swing.attack_angle` | deg → rad |
+//! | `swing_path_tilt` | `Swing.bat_tilt` | the swing plane's slope τ (deg) → the bat's tilt ψ, sin ψ = √(sin²τ − sin²α) ([`bat_tilt`]) |
+//! | `attack_direction` | `Swing.swing_direction` | deg → rad; + toward the opposite field in Savant, so × −1 for a left-handed batter ([`swing_direction`]) |
+//! | `stand` | `Swing.batter_side` | `R` → BATTER_RIGHT, `L` → BATTER_LEFT |
+//! | `hc_x`, `hc_y` | `measured_spray_angle` | atan2(hc_x − 125.42, 198.27 − hc_y), positive toward right field ([`spray_angle`]) |
 //! | `launch_speed` | `measured_exit_speed` | mph → m/s |
 //! | `launch_angle` | `measured_launch_angle` | deg → rad |
 //! | — | `measured_spin` | NaN: the search CSV has no batted-ball spin |
@@ -28,11 +32,22 @@
 //! | `game_date`, `at_bat_number`, `pitch_number` | `header.stamp` | the CSV has no time of day: the game date at 00:00 UTC + 60 s × at-bat + 1 s × pitch, an ordering, not a clock |
 //! | `batter`, `pitcher`, `player_name`, `game_pk`, … | the side table | |
 //!
+//! **Bat tracking's angles.** Savant's glossary defines the swing path tilt as the angle of the plane the
+//! bat's path follows against the ground, 0° a flat swing and 90° a golf swing (MLB average about 32°, the
+//! flattest hitters near 20° and the steepest near 50°; mlb.com glossary "Swing Path (Tilt)", text), and
+//! the attack direction as the horizontal angle of the bat's path at contact, positive toward the opposite
+//! field and negative toward the pull side (Baseball Prospectus, "How Attack Direction Drives Offensive
+//! Production", 2025, text). Savant's own column documentation could not be read; these two are what the
+//! import assumes. The hit-chart coordinates are Gameday's fielding location, not the ball's initial
+//! direction: their spray angle is that of where the ball was fielded (close to the launch direction for
+//! all but the most curving balls).
+//!
 //! `release_speed` is *not* the ball speed: it is the speed at release, several mph above the speed at the
 //! plate where the bat meets the ball.
 
 use super::table::{Row, Table};
 use super::{backspin, deg, mph, rpm, Skip, TrackedRow, FOOT};
+use sweetspot_msgs::sweetspot_msgs::msg::Swing;
 
 /// Columns a header must have to be read as Statcast's.
 pub const REQUIRED: &[&str] =
@@ -87,6 +102,11 @@ pub struct Columns {
     bat_speed: Option<usize>,
     swing_length: Option<usize>,
     attack_angle: Option<usize>,
+    attack_direction: Option<usize>,
+    swing_path_tilt: Option<usize>,
+    stand: Option<usize>,
+    hc_x: Option<usize>,
+    hc_y: Option<usize>,
     batter: Option<usize>,
     pitcher: Option<usize>,
     player_name: Option<usize>,
@@ -112,6 +132,11 @@ impl Columns {
             bat_speed: c("bat_speed"),
             swing_length: c("swing_length"),
             attack_angle: c("attack_angle"),
+            attack_direction: c("attack_direction"),
+            swing_path_tilt: c("swing_path_tilt"),
+            stand: c("stand"),
+            hc_x: c("hc_x"),
+            hc_y: c("hc_y"),
             batter: c("batter"),
             pitcher: c("pitcher"),
             player_name: c("player_name"),
@@ -119,6 +144,66 @@ impl Columns {
             at_bat: c("at_bat_number"),
             pitch_number: c("pitch_number"),
         }
+    }
+}
+
+/// Gameday's hit-chart coordinates of home plate (`hc_x`, `hc_y`): the image's x grows toward right field
+/// and its y downward, toward the plate.
+pub const HIT_CHART_PLATE: (f64, f64) = (125.42, 198.27);
+
+/// The spray angle of a ball fielded at hit-chart coordinates (`hc_x`, `hc_y`), rad, positive toward right
+/// field: atan2(hc_x − 125.42, 198.27 − hc_y), the usual atan((hc_x − 125.42)/(198.27 − hc_y)) with the
+/// quadrant kept (a ball behind the plate comes out beyond ±90° and is refused). NaN unless both are given.
+pub fn spray_angle(hc_x: f64, hc_y: f64) -> f64 {
+    (hc_x - HIT_CHART_PLATE.0).atan2(HIT_CHART_PLATE.1 - hc_y)
+}
+
+/// The tilt of the bat's long axis below the horizontal, rad, from Savant's `swing_path_tilt` τ (deg, the
+/// swing plane's angle from the ground: 0° flat, 90° a golf swing) and the attack angle α (rad; NaN taken as
+/// 0, as the swing builder does). The bat and its path both lie in the swing plane, so the plane's slope
+/// satisfies cos²τ = cos²α − sin²ψ (the model's axis â and path p̂: cos τ = (â × p̂)·ẑ), i.e.
+/// sin ψ = √(sin²τ − sin²α), ψ = τ for a level path. The barrel is below the hands (ψ ≥ 0): Savant's tilt
+/// has no sign. NaN when τ is not measured; refused when τ is outside 0–90° or below |α| (a path cannot
+/// climb more steeply than the plane it lies in).
+pub fn bat_tilt(tilt_deg: f64, attack_angle: f64) -> Result<f64, Skip> {
+    if tilt_deg.is_nan() {
+        return Ok(f64::NAN);
+    }
+    if !(0.0..=90.0).contains(&tilt_deg) {
+        return Err(Skip::Refused {
+            column: "swing_path_tilt",
+            value: tilt_deg.to_radians(),
+            allowed: "0° ≤ swing_path_tilt ≤ 90°",
+        });
+    }
+    let alpha = if attack_angle.is_nan() { 0.0 } else { attack_angle };
+    let sin2 = tilt_deg.to_radians().sin().powi(2) - alpha.sin().powi(2);
+    if sin2 < 0.0 {
+        return Err(Skip::Refused {
+            column: "swing_path_tilt",
+            value: tilt_deg.to_radians(),
+            allowed: "swing_path_tilt ≥ |attack_angle| (the bat's path lies in its swing plane)",
+        });
+    }
+    Ok(sin2.sqrt().asin())
+}
+
+/// The bat path's horizontal direction in the field frame, rad, positive toward right field, from Savant's
+/// `attack_direction` (deg, relative to the batter: positive toward the opposite field, negative toward the
+/// pull side): as it is for a right-handed batter, the opposite sign for a left-handed one. NaN when not
+/// measured; refused when the batter's side (`stand`) is unknown.
+pub fn swing_direction(attack_direction_deg: f64, side: Option<u8>) -> Result<f64, Skip> {
+    if attack_direction_deg.is_nan() {
+        return Ok(f64::NAN);
+    }
+    match side {
+        Some(Swing::BATTER_LEFT) => Ok(-attack_direction_deg.to_radians()),
+        Some(_) => Ok(attack_direction_deg.to_radians()),
+        None => Err(Skip::NotAChoice {
+            column: "stand",
+            text: String::new(),
+            allowed: "R or L with an attack_direction (it is relative to the batter's side)",
+        }),
     }
 }
 
@@ -160,6 +245,8 @@ pub fn read(row: &Row<'_>, cols: &Columns) -> Result<TrackedRow, Skip> {
         let seconds = u64::try_from(midnight).ok()?.checked_add(offset.min(86_399.0) as u64)?;
         seconds.checked_mul(1_000_000_000)
     });
+    let attack_angle = deg(num(cols.attack_angle, "attack_angle")?);
+    let side = super::batter_side(row.text(cols.stand), "stand")?;
     let call = match row.text(cols.events) {
         "" => description.to_string(),
         events => format!("{description}/{events}"),
@@ -174,10 +261,15 @@ pub fn read(row: &Row<'_>, cols: &Columns) -> Result<TrackedRow, Skip> {
         pitch_angle,
         pitch_spin: backspin(rpm(num(cols.spin_rate, "release_spin_rate")?), num(cols.spin_axis, "spin_axis")?),
         bat_speed: mph(num(cols.bat_speed, "bat_speed")?),
-        attack_angle: deg(num(cols.attack_angle, "attack_angle")?),
+        attack_angle,
         exit_speed: mph(launch_speed),
         launch_angle: deg(num(cols.launch_angle, "launch_angle")?),
         spin: f64::NAN,
+        spin_axis_deg: f64::NAN,
+        spray_angle: spray_angle(num(cols.hc_x, "hc_x")?, num(cols.hc_y, "hc_y")?),
+        bat_tilt: bat_tilt(num(cols.swing_path_tilt, "swing_path_tilt")?, attack_angle)?,
+        swing_direction: swing_direction(num(cols.attack_direction, "attack_direction")?, side)?,
+        batter_side: side,
         swing_length: num(cols.swing_length, "swing_length")? * FOOT,
         batter: row.text(cols.batter).to_string(),
         pitcher: match row.text(cols.player_name) {

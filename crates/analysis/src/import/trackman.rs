@@ -13,7 +13,10 @@
 //! | `SpinRate`, `SpinAxis` | `Swing.pitch_spin` | rpm → rad/s × (−cos SpinAxis): the backspin part |
 //! | `ExitSpeed` | `measured_exit_speed` | mph → m/s |
 //! | `Angle` | `measured_launch_angle` | deg → rad |
-//! | `HitSpinRate`, `HitSpinAxis` | `measured_spin` | rpm → rad/s × (−cos HitSpinAxis); NaN without the axis |
+//! | `HitSpinRate` | `measured_spin` | rpm → rad/s: the total spin (its backspin part is × −cos HitSpinAxis); NaN without the axis |
+//! | `HitSpinAxis` | `measured_spin_axis` | deg → rad, as it is (180° = pure backspin, 90° = curving toward left field) |
+//! | `Direction` | `measured_spray_angle` | deg → rad, as it is: positive toward right field in both |
+//! | `BatterSide` | `batter_side` | `Right` → BATTER_RIGHT, `Left` → BATTER_LEFT; blank = right (the planar default) |
 //! | `PitchCall` | which rows are swings | `InPlay`, `FoulBall…` or any row with an `ExitSpeed` |
 //! | `UTCDateTime` (else `UTCDate`+`UTCTime`, else `Date`+`Time` read as UTC) | `header.stamp` | |
 //! | `Batter`, `BatterId`, `Pitcher`, `PitchUID`, `PitchNo`, `GameID` | the side table | |
@@ -25,6 +28,18 @@
 //! (the spin's gyro part, which TrackMan's total includes, is not separated). `HitSpinAxis` is taken in the
 //! same convention; the glossary does not define it for batted balls, so this is an assumption, and a
 //! `HitSpinRate` without a `HitSpinAxis` gives no measured spin (a total alone does not say back or top).
+//!
+//! **Direction and HitSpinAxis agree with the model's field frame.** In the two real exports, 31 of the 33
+//! balls with both a `Direction` and a `PositionAt110Z` (TrackMan's side coordinate where the ball passes
+//! 110 ft, positive toward first base) have the same sign in both (the other two within 1.2° of centre), and
+//! balls curve toward the line they are hit to: of the 34 fair balls with a `HitSpinRate`, 14 of 15 with
+//! Direction below 0 have HitSpinAxis below 180° (a hook toward left field, as the model's spin axis 90°
+//! is), 15 of 19 with Direction above 0 have it above 180°. The model's 3-D collision, whose spray angle is
+//! positive toward right field (`physics::oblique3d`), gives the same: a right-handed batter's pulled ball,
+//! Direction below 0, has HitSpinAxis below 180° (tests/import_spatial.rs pins it with a row of the export
+//! and with the model).
+//!
+//! TrackMan measures no bat tilt or swing direction: those stay the planar swing's 0.
 //!
 //! TrackMan does not measure the bat: its speed comes from the batter model (assumed, see [`super`]).
 
@@ -48,6 +63,8 @@ pub struct Columns {
     angle: Option<usize>,
     hit_spin_rate: Option<usize>,
     hit_spin_axis: Option<usize>,
+    direction: Option<usize>,
+    batter_side: Option<usize>,
     utc_date_time: Option<usize>,
     utc_date: Option<usize>,
     utc_time: Option<usize>,
@@ -75,6 +92,8 @@ impl Columns {
             angle: c("Angle"),
             hit_spin_rate: c("HitSpinRate"),
             hit_spin_axis: c("HitSpinAxis"),
+            direction: c("Direction"),
+            batter_side: c("BatterSide"),
             utc_date_time: c("UTCDateTime"),
             utc_date: c("UTCDate"),
             utc_time: c("UTCTime"),
@@ -133,7 +152,13 @@ pub fn read(row: &Row<'_>, cols: &Columns) -> Result<TrackedRow, Skip> {
         attack_angle: f64::NAN,
         exit_speed: mph(exit_speed),
         launch_angle: deg(num(cols.angle, "Angle")?),
-        spin: backspin(rpm(hit_spin_rate), hit_spin_axis),
+        // A total spin says back or top only with its axis.
+        spin: if hit_spin_axis.is_finite() { rpm(hit_spin_rate) } else { f64::NAN },
+        spin_axis_deg: hit_spin_axis,
+        spray_angle: deg(num(cols.direction, "Direction")?),
+        bat_tilt: f64::NAN,
+        swing_direction: f64::NAN,
+        batter_side: super::batter_side(row.text(cols.batter_side), "BatterSide")?,
         swing_length: f64::NAN,
         batter,
         pitcher: row.text(cols.pitcher).to_string(),

@@ -85,11 +85,12 @@ pub mod figure;
 
 use crate::calibrate::{problem_bat, read_inputs, CalibrateError};
 use crate::import::ROWS_TABLE;
-use sweetspot_model::convert::{ball_from_params, swing_input, BallModel};
-use sweetspot_model::engine::SwingInput;
 use sweetspot_model::files::echo;
+use sweetspot_model::convert::{ball_from_params, swing_input, wrapped_difference, BallModel};
+use sweetspot_model::engine::SwingInput;
 use sweetspot_msgs::sweetspot_msgs::msg::Swing;
 use sweetspot_physics::oblique::{collide_oblique, rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
+use sweetspot_physics::oblique3d::{collide_spatial, SpatialImpact};
 use sweetspot_physics::{collide, Ball, Bat, CollisionOptions, ModeSet, PhysicsError};
 
 /// Grid points along the barrel half that bracket the exit-speed roots (3.5 cm apart on an 84-cm bat; v(z)
@@ -169,6 +170,23 @@ pub struct Solution {
     pub chi2: f64,
     /// Model exit speed, launch angle, spin at the solution (m/s, rad, rad/s).
     pub model: [f64; 3],
+    /// The ball's direction at the solution, for a swing in three dimensions or with a measured spray angle
+    /// or spin axis; absent from JSON otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub direction: Option<Direction>,
+}
+
+/// Where the model sends the ball at a solution, and how far that is from what the tracker measured.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Direction {
+    /// Model spray angle, rad, positive toward right field.
+    pub spray_angle: f64,
+    /// Model spin axis (TrackMan's HitSpinAxis), rad in [0, 2π).
+    pub spin_axis: f64,
+    /// Measured − model spray angle, rad; NaN (null in JSON) when not measured.
+    pub spray_angle_residual: f64,
+    /// Measured − model spin axis wrapped into (−π, π], rad; NaN (null in JSON) when not measured.
+    pub spin_axis_residual: f64,
 }
 
 /// What was found for one swing.
@@ -219,6 +237,10 @@ pub struct Located {
     pub bat_id: String,
     /// Measured exit speed (m/s), launch angle (rad) and spin (rad/s); NaN = not measured (null in JSON).
     pub measured: [f64; 3],
+    /// Measured spray angle and spin axis (rad; NaN = not measured, null in JSON), for a swing whose
+    /// solutions carry a [`Direction`]; absent from JSON otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measured_direction: Option<[f64; 2]>,
     /// The result.
     #[serde(flatten)]
     pub outcome: Outcome,
@@ -321,6 +343,25 @@ struct SwingModel<'a> {
     input: SwingInput,
 }
 
+/// The model's exit speed, launch angle and spin (as the tracker's is compared), and the ball's direction.
+#[derive(Debug, Clone, Copy)]
+struct Prediction {
+    /// Exit speed (m/s), launch angle (rad), spin (rad/s).
+    values: [f64; 3],
+    /// Spray angle, rad, positive toward right field.
+    spray_angle: f64,
+    /// Spin axis (TrackMan's HitSpinAxis), rad.
+    spin_axis: f64,
+}
+
+impl Prediction {
+    /// A planar swing's: toward centre field, spin about the horizontal axis across the flight.
+    fn planar(values: [f64; 3]) -> Prediction {
+        let spin_axis = if values[2] >= 0.0 { std::f64::consts::PI } else { 0.0 };
+        Prediction { values, spray_angle: 0.0, spin_axis }
+    }
+}
+
 /// A Levenberg–Marquardt solution: (z, D), Cov(z, D), and the model's exit speed, launch angle and spin there.
 struct Fit {
     z: f64,
@@ -352,6 +393,26 @@ impl SwingModel<'_> {
     /// Exit speed, launch angle and spin at impact point `z`, undercut `d` and the swing's bat speeds (centre
     /// of mass and angular together, so the pivot stays) times `scale`.
     fn predict_scaled(&self, z: f64, d: f64, scale: f64) -> Result<[f64; 3], PhysicsError> {
+        self.predict_full(z, d, scale).map(|p| p.values)
+    }
+
+    /// Whether the swing's solutions carry a [`Direction`]: a swing in three dimensions, or one whose spray
+    /// angle or spin axis was measured.
+    fn reports_direction(&self) -> bool {
+        !self.is_planar() || self.input.measured_spray_angle.is_finite() || self.input.measured_spin_axis.is_finite()
+    }
+
+    /// Whether the swing lies in one vertical plane (level bat, path toward centre field): the planar model's.
+    fn is_planar(&self) -> bool {
+        self.input.bat_tilt == 0.0 && self.input.swing_direction == 0.0
+    }
+
+    /// [`Self::predict_scaled`] with the ball's spray angle and spin axis. A planar swing runs the planar
+    /// models (head-on or oblique) exactly as before; one with a tilted bat or a path off centre runs the
+    /// 3-D collision, and its spin is compared like for like: with a measured spin axis the tracker's is a
+    /// radar's total spin, whose backspin part total × −cos(axis) includes the gyro spin's share, so the
+    /// model's is formed the same way from its own total and axis.
+    fn predict_full(&self, z: f64, d: f64, scale: f64) -> Result<Prediction, PhysicsError> {
         let searching = std::ptr::eq(self.options, &self.bat.search);
         self.bat.counts[usize::from(!searching)].fetch_add(1, Ordering::Relaxed);
         let mut input = self.input;
@@ -362,7 +423,7 @@ impl SwingModel<'_> {
         input.impact.bat_angular_speed *= scale;
         if input.is_head_on() {
             let r = collide(&self.bat.modes, &self.ball, &input.impact, self.options)?;
-            return Ok([r.exit_speed, 0.0, 0.0]);
+            return Ok(Prediction::planar([r.exit_speed, 0.0, 0.0]));
         }
         let oblique = ObliqueImpact {
             impact: input.impact,
@@ -372,8 +433,59 @@ impl SwingModel<'_> {
             pitch_angle: input.pitch_angle,
             pitch_spin: input.pitch_spin,
         };
-        let r = collide_oblique(&self.bat.modes, &self.ball, &oblique, &self.contact, self.options)?;
-        Ok([r.exit_speed, r.launch_angle, r.spin])
+        if self.is_planar() {
+            let r = collide_oblique(&self.bat.modes, &self.ball, &oblique, &self.contact, self.options)?;
+            return Ok(Prediction::planar([r.exit_speed, r.launch_angle, r.spin]));
+        }
+        let spatial = SpatialImpact {
+            oblique,
+            bat_tilt: input.bat_tilt,
+            swing_direction: input.swing_direction,
+            batter_side: input.batter_side,
+        };
+        let r = collide_spatial(&self.bat.modes, &self.ball, &spatial, &self.contact, self.options)?;
+        let spin = if input.measured_spin_axis.is_finite() { -r.total_spin * r.spin_axis.cos() } else { r.backspin };
+        Ok(Prediction {
+            values: [r.exit_speed, r.launch_angle, spin],
+            spray_angle: r.spray_angle,
+            spin_axis: r.spin_axis,
+        })
+    }
+
+    /// The ball's direction at (z, d) with the node's options, against the measured one.
+    fn direction(&self, z: f64, d: f64) -> Option<Direction> {
+        let node = SwingModel { options: &self.bat.options, ..*self };
+        let p = node.predict_full(z, d, 1.0).ok()?;
+        Some(Direction {
+            spray_angle: p.spray_angle,
+            spin_axis: p.spin_axis,
+            spray_angle_residual: self.input.measured_spray_angle - p.spray_angle,
+            spin_axis_residual: wrapped_difference(self.input.measured_spin_axis, p.spin_axis),
+        })
+    }
+
+    /// `outcome` with each solution's [`Direction`], for a swing that [reports one](Self::reports_direction).
+    fn with_direction(&self, outcome: Outcome) -> Outcome {
+        if !self.reports_direction() {
+            return outcome;
+        }
+        match outcome {
+            Outcome::Located { mut solutions, favoured, squared_up } => {
+                self.fill_direction(&mut solutions);
+                Outcome::Located { solutions, favoured, squared_up }
+            }
+            Outcome::NotReproducible { reason, mut solutions } => {
+                self.fill_direction(&mut solutions);
+                Outcome::NotReproducible { reason, solutions }
+            }
+            other => other,
+        }
+    }
+
+    fn fill_direction(&self, solutions: &mut [Solution]) {
+        for s in solutions {
+            s.direction = self.direction(s.impact_z, s.undercut);
+        }
     }
 
     fn speed(&self, z: f64, d: f64) -> f64 {
@@ -790,9 +902,15 @@ fn sort_out(
     (kept, Some(Outcome::NotReproducible { reason, solutions }))
 }
 
+/// The measured exit speed, launch angle and backspin of a swing (a radar's total spin times −cos of its
+/// measured axis: [`SwingInput::measured_backspin`]); NaN = not measured.
+fn measured_of(swing: &Swing) -> [f64; 3] {
+    [swing.measured_exit_speed, swing.measured_launch_angle, swing_input(swing).measured_backspin()]
+}
+
 /// Locates one swing.
 fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) -> Outcome {
-    let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
+    let measured = measured_of(swing);
     let sigma = [options.exit_speed_sigma, options.launch_angle_sigma, options.spin_sigma];
     if !measured[0].is_finite() {
         return Outcome::NotMeasured;
@@ -829,6 +947,7 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 sweet_spot_z: peak_z,
                 chi2: ((p[0] - measured[0]) / sigma[0]).powi(2),
                 model: p,
+                direction: None,
             });
         }
         let (kept, unreproduced) = sort_out(solutions, model, &measured, &sigma, 1);
@@ -903,6 +1022,7 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                     sweet_spot_z: sweet,
                     chi2,
                     model: prediction,
+                    direction: None,
                 });
             }
         }
@@ -1125,7 +1245,7 @@ impl SwingModel<'_> {
 /// Fits the bat speed of one swing together with its impact point and undercut, from the 2-unknown
 /// solutions of `outcome` (or the sweet spot for a swing too fast for the assumed bat speed).
 fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, options: &LocateOptions) -> BatSpeedFit {
-    let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
+    let measured = measured_of(swing);
     let sigma = [options.exit_speed_sigma, options.launch_angle_sigma, options.spin_sigma];
     let not_fitted = |reason: &str| BatSpeedFit::NotFitted { reason: reason.into() };
     if !measured[0].is_finite() {
@@ -1362,7 +1482,8 @@ pub fn locate_bag_with_progress(
     let swings: Vec<Located> = jobs
         .par_iter()
         .map(|(swing, bat_id, ball_id)| {
-            let measured = [swing.measured_exit_speed, swing.measured_launch_angle, swing.measured_spin];
+            let measured = measured_of(swing);
+            let mut measured_direction = None;
             let outcome = match (bats.get(bat_id), balls.get(ball_id)) {
                 (Some(Ok(bat)), Some(ball)) => {
                     let model = SwingModel {
@@ -1372,7 +1493,10 @@ pub fn locate_bag_with_progress(
                         contact: ball.contact,
                         input: swing_input(swing),
                     };
-                    let outcome = locate_swing(&model, swing, options);
+                    let outcome = model.with_direction(locate_swing(&model, swing, options));
+                    measured_direction = model
+                        .reports_direction()
+                        .then_some([model.input.measured_spray_angle, model.input.measured_spin_axis]);
                     let fit = options.fit_bat_speed.then(|| match &assumed {
                         None => BatSpeedFit::NotFitted {
                             reason: "the bag has no import side table to say the bat speed was assumed".into(),
@@ -1393,7 +1517,14 @@ pub fn locate_bag_with_progress(
                 options.fit_bat_speed.then(|| BatSpeedFit::NotFitted { reason: "the swing cannot be simulated".into() })
             });
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
-            Located { swing_id: swing.swing_id, bat_id: bat_id.clone(), measured, outcome, bat_speed_fit }
+            Located {
+                swing_id: swing.swing_id,
+                bat_id: bat_id.clone(),
+                measured,
+                measured_direction,
+                outcome,
+                bat_speed_fit,
+            }
         })
         .collect();
     let located = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { .. })).count();
@@ -1510,6 +1641,7 @@ mod tests {
             sweet_spot_z: 0.7,
             chi2: 9.0,
             model: [40.0, 0.3, 200.0],
+            direction: None,
         };
         let judge = |s: &Solution, measured: &[f64; 3], unknowns| unreproduced(s, &model, measured, &sigma, unknowns);
         assert_eq!(judge(&solution, &measured, 2), None);
