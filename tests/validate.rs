@@ -152,11 +152,25 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
     for id in GREEN {
         assert_eq!(verdicts.get(*id).map(String::as_str), Some("PASS"), "{id} no longer agrees with measurement");
     }
+    // The collegiate TrackMan spin rows (docs/validation.md): sidespin agrees, backspin is too high, and below
+    // 10° no swing of the scan launches at the bin's median.
+    for (id, verdict) in [
+        ("trackman-backspin/launch-90to10deg", "N/A"),
+        ("trackman-sidespin/launch-90to10deg", "N/A"),
+        ("trackman-backspin/launch10to20deg", "FAIL"),
+        ("trackman-sidespin/launch10to20deg", "PASS"),
+        ("trackman-backspin/launch20to90deg", "FAIL"),
+        ("trackman-sidespin/launch20to90deg", "PASS"),
+    ] {
+        assert_eq!(verdicts.get(id).map(String::as_str), Some(verdict), "{id}");
+    }
     for id in verdicts.keys() {
         let joined = id.starts_with("ball-cor")
             || id.starts_with("statcast-q/")
             || id.starts_with("statcast-undercut/")
             || id.starts_with("radar-spin/")
+            || id.starts_with("trackman-backspin/")
+            || id.starts_with("trackman-sidespin/")
             || rows.iter().any(|r| r["id"] == id.as_str() && r["note"] == "from validation/ball_cor.toml");
         assert!(joined || GREEN.contains(&id.as_str()) || RED.contains(&id.as_str()), "row {id} is in neither list");
     }
@@ -243,6 +257,7 @@ fn the_suite_judges_every_row_and_fails_exactly_when_one_is_outside_its_toleranc
         "validate-bpf-vs-hoop",
         "validate-exit-vs-impact",
         "validate-radar-spin-vs-launch",
+        "validate-spin-axis-clock",
     ] {
         let path = figures.path().join(format!("{name}.svg"));
         let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
@@ -487,6 +502,9 @@ fn the_compliant_contact_law_moves_the_oblique_rows_only_and_does_not_close_the_
             undercut_moved += usize::from(moved);
         } else if is_oblique(id) {
             assert!(moved, "{id} did not move with the tangential law");
+        } else if id.starts_with("trackman-backspin/") || id.starts_with("trackman-sidespin/") {
+            // Spin rows of the 3-D model: they move, unless no swing reaches the bin (N/A either way).
+            assert!(moved || row["model"].is_null(), "{id} did not move with the tangential law");
         } else {
             assert_eq!(row, &after[id], "{id} moved with the tangential law");
         }

@@ -347,6 +347,9 @@ impl<O: AnswerOut> DdsSink<O> {
             ball_radius: *ball_radius,
             undercut: swing.undercut,
             attack_angle: swing.attack_angle,
+            bat_tilt: swing.bat_tilt,
+            swing_direction: swing.swing_direction,
+            batter_side: crate::model::convert::swing_input(swing).batter_side,
         });
         self.tape.record_to(Recorded::SwingScene, &scene, crate::model::time::now_ns(), stamp, live);
         if published {

@@ -2,10 +2,22 @@
 //! the answer, the bat's profile and the modes' amplitudes after contact. Pure: no I/O, no clock.
 //!
 //! # Frame `bat`
-//! Origin on the bat's axis at the knob; **z** along the axis from the knob (z = 0) to the barrel end (m, as
-//! `BatParams.station_z`); **x** forward (horizontal, from the bat toward the pitcher) and **y** up, the
-//! impact plane's f̂ and û of [`sweetspot_physics::oblique`] (so x × y = z, right-handed). Every marker is in
-//! this frame, stamped with the swing's stamp, and replaces the previous swing's marker of the same ns and id.
+//! Origin at the knob; **x** forward (horizontal, from the batter toward the pitcher), **y** up and **z**
+//! toward the first-base side (x × y = z, right-handed): the field frame of [`sweetspot_physics::oblique3d`]
+//! (forward, left, up) as (x, z, −y). A level bat swung square by a right-handed batter lies along z, from
+//! the knob (z = 0) to the barrel end (m, as `BatParams.station_z`), and x, y are the impact plane's f̂ and û
+//! of [`sweetspot_physics::oblique`]. Every marker is in this frame, stamped with the swing's stamp, and replaces
+//! the previous swing's marker of the same ns and id.
+//!
+//! # The bat in three dimensions
+//! A swing with `bat_tilt` ψ, `swing_direction` δ or a left-handed batter draws the bat where the 3-D model
+//! ([`sweetspot_physics::oblique3d`]) puts it: its long axis â = (−cos ψ sin δ′, −sin ψ, cos ψ cos δ′) for a level
+//! path (in general the model's â, perpendicular to the path), δ′ the direction of the right-handed swing
+//! whose mirror image it is. The markers below are drawn in the bat's own axes — f̂ the horizontal across the
+//! bat (ẑ × â, normalised), û = â × f̂ and â, each a field vector — and placed by them; the ball sits on the
+//! model's line of centres, at the angle β from f̂ in the plane across the bat. A left-handed batter's scene is
+//! the mirror image (z → −z) of the right-handed swing at −δ. The arrows are drawn from the answer in the field
+//! frame. The level, square right-handed swing is drawn exactly as the planar scene always was.
 //!
 //! # Markers (namespace, id)
 //! - `bat_outline` 0 and 1: LINE_STRIPs of the bat's silhouette in the x–z and y–z planes: the outer radius
@@ -22,13 +34,21 @@
 //!   impact point. It is each mode at its peak (the impulse response's phase), not one instant of the motion.
 //! - `label` 0: TEXT_VIEW_FACING above the ball: swing, bat, impact point, exit speed, launch angle and the
 //!   exaggeration.
+//! - `spin_axis` 0: ARROW through the ball's centre along the spin vector ω (right-hand rule: the arrow
+//!   points along the axis the ball turns about, counter-clockwise seen from its head), centred on the ball,
+//!   [`SPIN_ARROW_METRES_PER_RPM`] m long per rpm of total spin. ω = backspin b̂ + sidespin ŵ + gyro v̂ from
+//!   the answer (b̂ = ĥ × ẑ, ŵ = b̂ × v̂, v̂ the exit direction at launch and spray angle, ĥ its heading).
+//! - `spin_axis` 1: TEXT_VIEW_FACING beyond the arrow's head: total spin in rpm and the spin axis as
+//!   TrackMan's HitSpinAxis in degrees and on the clock face ([`spin_axis_clock`]).
 
 use sweetspot_msgs::builtin_interfaces::msg::Duration;
 use sweetspot_msgs::geometry_msgs::msg::{Point, Pose, Quaternion, Vector3};
 use sweetspot_msgs::std_msgs::msg::{ColorRGBA, Header};
 use sweetspot_msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
 use sweetspot_msgs::visualization_msgs::msg::{Marker, MarkerArray};
-use sweetspot_physics::{Bat, ModeSet};
+use sweetspot_physics::oblique3d::ContactFrame;
+use sweetspot_physics::{Bat, BatterSide, ModeSet};
+use nalgebra::{Matrix3, Vector3 as Vec3};
 
 /// Frame id of every marker.
 pub const FRAME_ID: &str = "bat";
@@ -40,6 +60,10 @@ pub const DEFLECTION_NS: &str = "deflection x20";
 pub const ARROW_METRES_PER_MPS: f64 = 0.01;
 /// Width of the outline and deflection lines, m.
 pub const LINE_WIDTH: f64 = 0.002;
+/// Length of the spin arrow per rpm of total spin, m (2,000 rpm → 0.2 m, the size of the exit arrow).
+pub const SPIN_ARROW_METRES_PER_RPM: f64 = 1e-4;
+/// Namespace of the spin arrow and its label.
+pub const SPIN_NS: &str = "spin_axis";
 
 /// What a scene is drawn from.
 #[derive(Debug, Clone, Copy)]
@@ -58,6 +82,100 @@ pub struct SceneInput<'a> {
     pub undercut: f64,
     /// The swing's attack angle, rad (0 head-on).
     pub attack_angle: f64,
+    /// The bat's tilt below the horizontal at contact (barrel below the hands positive), rad (0 level).
+    pub bat_tilt: f64,
+    /// The horizontal direction of the bat's path, rad, positive toward right field (0 toward centre field).
+    pub swing_direction: f64,
+    /// The batter's side.
+    pub batter_side: BatterSide,
+}
+
+/// A field-frame vector (forward, left, up) in frame `bat` (forward, up, first-base side).
+pub fn field_to_scene(v: Vec3<f64>) -> Vec3<f64> {
+    Vec3::new(v.x, v.z, -v.y)
+}
+
+/// Where the bat lies: the angle β of the line of centres from f̂ in the plane across the bat, and the map
+/// from the bat's own axes (f̂, û, â) to frame `bat`, `None` for the level, square right-handed bat (whose own
+/// axes are the frame's, so its scene is drawn with no arithmetic on top of the planar one).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// The line of centres' angle from f̂ toward û, rad.
+    pub beta: f64,
+    /// Columns: f̂, û, â in frame `bat` (mirrored for a left-handed batter).
+    pub axes: Option<Matrix3<f64>>,
+}
+
+/// The bat's placement for `input` (see the module docs).
+pub fn placement(input: &SceneInput<'_>) -> Placement {
+    let left = input.batter_side == BatterSide::Left;
+    if input.bat_tilt == 0.0 && input.swing_direction == 0.0 && !left {
+        return Placement { beta: line_of_centres_angle(input), axes: None };
+    }
+    let reach = input.ball_radius + input.bat.radii_at(input.answer.impact_z).0;
+    let phi = (input.undercut / reach).asin();
+    // A left-handed swing is the mirror image of the right-handed one in the opposite direction.
+    let direction = if left { -input.swing_direction } else { input.swing_direction };
+    let frame = ContactFrame::new(input.attack_angle, direction, input.bat_tilt, phi);
+    let axis = frame.axis;
+    let across = Vec3::z().cross(&axis).normalize();
+    let up = axis.cross(&across);
+    let beta = frame.normal.dot(&up).atan2(frame.normal.dot(&across));
+    let mirror = |v: Vec3<f64>| if left { Vec3::new(v.x, v.y, -v.z) } else { v };
+    let column = |v: Vec3<f64>| mirror(field_to_scene(v));
+    Placement { beta, axes: Some(Matrix3::from_columns(&[column(across), column(up), column(axis)])) }
+}
+
+/// The answer's exit direction v̂ in the field frame, from its launch and spray angles (spray positive toward
+/// right field; an answer without a spray angle, recorded before the 3-D fields, flies toward centre field).
+pub fn exit_direction(answer: &ExitVelocity) -> Vec3<f64> {
+    let spray = finite_or_zero(answer.spray_angle);
+    let (sl, cl) = answer.launch_angle.sin_cos();
+    let (ss, cs) = spray.sin_cos();
+    Vec3::new(cl * cs, -cl * ss, sl)
+}
+
+/// The answer's spin vector ω in the field frame, rad/s, from its backspin, sidespin and gyro spin (their
+/// axes in the module docs of [`sweetspot_physics::oblique3d`]).
+pub fn spin_vector(answer: &ExitVelocity) -> Vec3<f64> {
+    let flight = exit_direction(answer);
+    let heading = Vec3::new(flight.x, flight.y, 0.0);
+    let heading = if heading.norm() > 0.0 { heading.normalize() } else { Vec3::x() };
+    let back_axis = heading.cross(&Vec3::z());
+    let side_axis = back_axis.cross(&flight);
+    back_axis * finite_or_zero(answer.spin)
+        + side_axis * finite_or_zero(answer.sidespin)
+        + flight * finite_or_zero(answer.gyro_spin)
+}
+
+/// The spin axis on a tracker's clock face, "h:mm": TrackMan's HitSpinAxis a (deg) at (a/30 + 6) o'clock, so
+/// 180° (pure backspin) is 12:00, 90° (hook toward left field) 9:00, 270° (slice) 3:00, 0° (topspin) 6:00 —
+/// the mapping of TrackMan's pitch Tilt to its SpinAxis, as seen from behind the plate.
+pub fn spin_axis_clock(axis_deg: f64) -> String {
+    let minutes = ((axis_deg / 30.0 + 6.0) * 60.0).round().rem_euclid(720.0) as i64;
+    let hours = match minutes / 60 {
+        0 => 12,
+        h => h,
+    };
+    format!("{hours}:{:02}", minutes % 60)
+}
+
+fn finite_or_zero(v: f64) -> f64 {
+    if v.is_finite() {
+        v
+    } else {
+        0.0
+    }
+}
+
+fn placed(axes: &Option<Matrix3<f64>>, p: Point) -> Point {
+    match axes {
+        None => p,
+        Some(m) => {
+            let v = m * Vec3::new(p.x, p.y, p.z);
+            point(v.x, v.y, v.z)
+        }
+    }
 }
 
 /// The line of centres' angle above x: β = attack_angle + asin(undercut / (R + R_k)).
@@ -128,14 +246,14 @@ pub fn swing_scene(input: &SceneInput<'_>) -> MarkerArray {
     let answer = input.answer;
     let header = Header { stamp: answer.header.stamp.clone(), frame_id: FRAME_ID.to_string() };
     let line = Vector3 { x: LINE_WIDTH, y: 0.0, z: 0.0 };
-    let beta = line_of_centres_angle(input);
+    let Placement { beta, axes } = placement(input);
     let z_k = answer.impact_z;
     let reach = input.ball_radius + input.bat.radii_at(z_k).0;
-    let centre = point(reach * beta.cos(), reach * beta.sin(), z_k);
+    let centre = placed(&axes, point(reach * beta.cos(), reach * beta.sin(), z_k));
 
-    let mut markers = Vec::with_capacity(6);
+    let mut markers = Vec::with_capacity(8);
     for (id, along_x) in [(0, true), (1, false)] {
-        let at = |r: f64, z: f64| if along_x { point(r, 0.0, z) } else { point(0.0, r, z) };
+        let at = |r: f64, z: f64| placed(&axes, if along_x { point(r, 0.0, z) } else { point(0.0, r, z) });
         let stations = &input.bat.stations;
         let mut m = marker(&header, "bat_outline", id, Marker::LINE_STRIP, line.clone(), color(0.8, 0.6, 0.3, 1.0));
         m.points = stations
@@ -155,21 +273,27 @@ pub fn swing_scene(input: &SceneInput<'_>) -> MarkerArray {
 
     let length = ARROW_METRES_PER_MPS * answer.exit_speed;
     let head = Vector3 { x: 0.008, y: 0.016, z: 0.03 };
-    let mut arrow = marker(&header, "exit_velocity", 0, Marker::ARROW, head, color(0.2, 0.8, 0.2, 1.0));
-    let (sin, cos) = answer.launch_angle.sin_cos();
-    arrow.points = vec![centre.clone(), point(centre.x + length * cos, centre.y + length * sin, centre.z)];
+    let mut arrow = marker(&header, "exit_velocity", 0, Marker::ARROW, head.clone(), color(0.2, 0.8, 0.2, 1.0));
+    let tip = match axes {
+        None => {
+            let (sin, cos) = answer.launch_angle.sin_cos();
+            point(centre.x + length * cos, centre.y + length * sin, centre.z)
+        }
+        Some(_) => offset(&centre, field_to_scene(exit_direction(answer)) * length),
+    };
+    arrow.points = vec![centre.clone(), tip];
     markers.push(arrow);
 
     let (sin_b, cos_b) = beta.sin_cos();
     let mut bent = marker(&header, DEFLECTION_NS, 0, Marker::LINE_STRIP, line, color(0.9, 0.2, 0.2, 1.0));
     bent.points = deflection(input)
         .into_iter()
-        .map(|(z, d)| point(DEFLECTION_SCALE * d * cos_b, DEFLECTION_SCALE * d * sin_b, z))
+        .map(|(z, d)| placed(&axes, point(DEFLECTION_SCALE * d * cos_b, DEFLECTION_SCALE * d * sin_b, z)))
         .collect();
     markers.push(bent);
 
     let text_size = Vector3 { x: 0.0, y: 0.0, z: 0.03 };
-    let mut label = marker(&header, "label", 0, Marker::TEXT_VIEW_FACING, text_size, color(1.0, 1.0, 1.0, 1.0));
+    let mut label = marker(&header, "label", 0, Marker::TEXT_VIEW_FACING, text_size.clone(), color(1.0, 1.0, 1.0, 1.0));
     label.pose.position = point(centre.x, centre.y + 0.1, centre.z);
     label.text = format!(
         "swing {} · {} · z = {:.3} m · {:.1} m/s at {:.1}° · deflection ×{}",
@@ -181,7 +305,30 @@ pub fn swing_scene(input: &SceneInput<'_>) -> MarkerArray {
         DEFLECTION_SCALE
     );
     markers.push(label);
+    markers.extend(spin_markers(&header, answer, &centre, head, text_size));
     MarkerArray { markers }
+}
+
+fn offset(p: &Point, v: Vec3<f64>) -> Point {
+    point(p.x + v.x, p.y + v.y, p.z + v.z)
+}
+
+/// The spin arrow through the ball at `centre` and its label (`spin_axis` 0 and 1).
+fn spin_markers(header: &Header, answer: &ExitVelocity, centre: &Point, head: Vector3, text: Vector3) -> [Marker; 2] {
+    let metres_per_rad_s = SPIN_ARROW_METRES_PER_RPM * 60.0 / std::f64::consts::TAU;
+    let half = field_to_scene(spin_vector(answer)) * (0.5 * metres_per_rad_s);
+    let mut arrow = marker(header, SPIN_NS, 0, Marker::ARROW, head, color(0.2, 0.5, 1.0, 1.0));
+    arrow.points = vec![offset(centre, -half), offset(centre, half)];
+    let mut label = marker(header, SPIN_NS, 1, Marker::TEXT_VIEW_FACING, text, color(0.6, 0.8, 1.0, 1.0));
+    label.pose.position = offset(centre, half + Vec3::new(0.0, 0.04, 0.0));
+    let rpm = finite_or_zero(answer.total_spin) * 60.0 / std::f64::consts::TAU;
+    label.text = if answer.spin_axis.is_finite() {
+        let axis = answer.spin_axis.to_degrees();
+        format!("{rpm:.0} rpm · axis {axis:.0}° ({})", spin_axis_clock(axis))
+    } else {
+        format!("{rpm:.0} rpm")
+    };
+    [arrow, label]
 }
 
 #[cfg(test)]
@@ -240,6 +387,9 @@ mod tests {
             ball_radius: radius,
             undercut: s.undercut,
             attack_angle: s.attack_angle,
+            bat_tilt: s.bat_tilt,
+            swing_direction: s.swing_direction,
+            batter_side: if s.batter_side == Swing::BATTER_LEFT { BatterSide::Left } else { BatterSide::Right },
         };
         (swing_scene(&input), ev, me, entry.bat.clone())
     }

@@ -560,6 +560,128 @@ fn legend_glyph<'a, DB: DrawingBackend + 'a>(
         + Circle::new((12, 0), 3, dot)
 }
 
+/// A spin-axis clock face: each point at the clock position of its spin axis (TrackMan's HitSpinAxis a, deg, at
+/// (a/30 + 6) o'clock as seen from behind the plate: 180° pure backspin at 12:00, 90° hook toward left field at
+/// 9:00, 270° slice at 3:00, 0° topspin at 6:00), its distance from the centre proportional to its radius
+/// value (e.g. total spin), the outermost ring at `max_radius`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ClockChart {
+    /// Title.
+    pub title: String,
+    /// What the distance from the centre measures (with its unit), e.g. "total spin (rpm)".
+    pub radius_label: String,
+    /// The value drawn at the clock face's rim.
+    pub max_radius: f64,
+    /// Values at which rings are drawn and labelled (the rim is always drawn).
+    pub rings: Vec<f64>,
+    /// The data.
+    pub series: Vec<ClockSeries>,
+    /// Lines of text under the legend.
+    pub notes: Vec<String>,
+}
+
+/// One set of points on a [`ClockChart`]: (spin axis deg, radius value).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ClockSeries {
+    /// Legend entry.
+    pub label: String,
+    /// Index into [`PALETTE`].
+    pub color: usize,
+    /// (spin axis deg, radius value).
+    pub points: Vec<(f64, f64)>,
+    /// True to join the points in order with a line (a model curve), false for markers only.
+    pub joined: bool,
+}
+
+/// Centre and rim radius of the clock face in a [`CHART_SIZE`] image, pixels.
+const CLOCK_CENTRE: (i32, i32) = (330, 335);
+const CLOCK_RIM: f64 = 245.0;
+
+/// The pixel at which a [`ClockChart`] draws spin axis `axis_deg` at `radius` (rim at `max_radius`): the hour
+/// hand of (a/30 + 6) o'clock, i.e. θ = a + 180° clockwise from 12.
+fn clock_pixel(axis_deg: f64, radius: f64, max_radius: f64) -> (i32, i32) {
+    let rho = CLOCK_RIM * radius / max_radius;
+    let theta = (axis_deg + 180.0).to_radians();
+    let (x, y) = (CLOCK_CENTRE.0 as f64 + rho * theta.sin(), CLOCK_CENTRE.1 as f64 - rho * theta.cos());
+    (x.round() as i32, y.round() as i32)
+}
+
+/// Draws `chart` into `path` (SVG or PNG by extension), creating the parent directory if needed.
+pub fn draw_clock_chart(path: &Path, chart: &ClockChart) -> Result<()> {
+    if !(chart.max_radius.is_finite() && chart.max_radius > 0.0) {
+        bail!("clock chart '{}' needs a positive max_radius, not {}", chart.title, chart.max_radius);
+    }
+    let format = ImageFormat::from_path(path)?;
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).with_context(|| format!("cannot create directory '{}'", parent.display()))?;
+    }
+    register_fonts();
+    let outcome = match format {
+        ImageFormat::Svg => render_clock(&SVGBackend::new(path, CHART_SIZE).into_drawing_area(), chart),
+        ImageFormat::Png => {
+            render_clock(&CrispText::new(BitMapBackend::new(path, CHART_SIZE)).into_drawing_area(), chart)
+        }
+    };
+    outcome.with_context(|| format!("cannot draw '{}'", path.display()))
+}
+
+fn render_clock<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &ClockChart) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(plot_err)?;
+    root.draw(&Text::new(chart.title.as_str(), (20, 12), ("sans-serif", 24))).map_err(plot_err)?;
+    let grey = RGBColor(170, 170, 170);
+    let (cx, cy) = CLOCK_CENTRE;
+    let mut rings: Vec<f64> = chart.rings.iter().copied().filter(|r| *r > 0.0 && *r < chart.max_radius).collect();
+    rings.push(chart.max_radius);
+    for ring in rings {
+        let r = (CLOCK_RIM * ring / chart.max_radius).round() as i32;
+        root.draw(&Circle::new((cx, cy), r, grey.stroke_width(1))).map_err(plot_err)?;
+        let style = ("sans-serif", 12).into_font().color(&RGBColor(110, 110, 110));
+        root.draw(&Text::new(format!("{ring:.0}"), (cx + 3, cy - r - 13), style)).map_err(plot_err)?;
+    }
+    for hour in 1..=12 {
+        let axis = (hour as f64 - 6.0) * 30.0;
+        let inner = clock_pixel(axis, 0.97 * chart.max_radius, chart.max_radius);
+        let outer = clock_pixel(axis, chart.max_radius, chart.max_radius);
+        root.draw(&PathElement::new(vec![inner, outer], grey.stroke_width(2))).map_err(plot_err)?;
+        let (x, y) = clock_pixel(axis, 1.08 * chart.max_radius, chart.max_radius);
+        let style = ("sans-serif", 16).into_font().color(&BLACK).pos(plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Center,
+            plotters::style::text_anchor::VPos::Center,
+        ));
+        root.draw(&Text::new(hour.to_string(), (x, y), style)).map_err(plot_err)?;
+    }
+    let caption = format!("distance from the centre: {}; seen from behind the plate", chart.radius_label);
+    root.draw(&Text::new(caption, (20, 618), ("sans-serif", 14))).map_err(plot_err)?;
+    for (k, series) in chart.series.iter().enumerate() {
+        let color = PALETTE[series.color % PALETTE.len()];
+        let pixels: Vec<(i32, i32)> = series
+            .points
+            .iter()
+            .filter(|(a, r)| a.is_finite() && r.is_finite())
+            .map(|&(a, r)| clock_pixel(a, r, chart.max_radius))
+            .collect();
+        if series.joined {
+            root.draw(&PathElement::new(pixels.clone(), color.stroke_width(2))).map_err(plot_err)?;
+        }
+        for p in &pixels {
+            root.draw(&Circle::new(*p, if series.joined { 2 } else { 4 }, color.filled())).map_err(plot_err)?;
+        }
+        let y = 80 + 26 * k as i32;
+        root.draw(&Circle::new((660, y), 5, color.filled())).map_err(plot_err)?;
+        root.draw(&Text::new(series.label.as_str(), (675, y - 8), ("sans-serif", 15))).map_err(plot_err)?;
+    }
+    let top = 80 + 26 * chart.series.len() as i32 + 14;
+    for (k, note) in chart.notes.iter().enumerate() {
+        let style = ("sans-serif", 13).into_font().color(&RGBColor(80, 80, 80));
+        root.draw(&Text::new(note.as_str(), (650, top + NOTE_LINE as i32 * k as i32), style)).map_err(plot_err)?;
+    }
+    root.present().map_err(plot_err)?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,14 +1,19 @@
 //! The suite's figures, where a curve is compared: COR against speed, spin against launch angle, BPF against
-//! hoop frequency, exit speed against impact point, total spin against launch angle in 3-D over the MLB radar. Drawn with the project's charts ([`crate::report::plot`]).
+//! hoop frequency, exit speed against impact point, total spin against launch angle in 3-D over the MLB radar,
+//! the spin axis on a tracker's clock face over the summer-collegiate TrackMan balls. Drawn with the project's
+//! charts ([`crate::report::plot`]).
 
 use std::path::{Path, PathBuf};
 
-use crate::report::plot::{draw_line_chart, draw_panels, ErrorBars, LineChart, LineKind, Series, VerticalMarker};
 use sweetspot_physics::metrics::linspace;
 use sweetspot_physics::Ball;
+use crate::report::plot::{
+    draw_clock_chart, draw_line_chart, draw_panels, ClockChart, ClockSeries, ErrorBars, LineChart, LineKind, Series,
+    VerticalMarker,
+};
 
 use super::cases::{wall_cor, Lab, MPH};
-use super::{trackman, Inputs, Report, ValidateError};
+use super::{hit_spin, trackman, Inputs, Report, ValidateError};
 
 fn points(label: &str, color: usize, pts: Vec<(f64, f64)>) -> Series {
     Series { label: label.into(), points: pts, color, kind: LineKind::Points }
@@ -19,12 +24,13 @@ fn marker(x: f64, label: &str, color: usize) -> VerticalMarker {
 }
 
 /// The figures' file names, without the extension, in the order [`write`] draws them.
-pub const NAMES: [&str; 5] = [
+pub const NAMES: [&str; 6] = [
     "validate-cor-vs-speed",
     "validate-spin-vs-launch",
     "validate-bpf-vs-hoop",
     "validate-exit-vs-impact",
     "validate-radar-spin-vs-launch",
+    "validate-spin-axis-clock",
 ];
 
 /// The files [`write`] writes into `dir` (`ext`: `svg` or `png`).
@@ -232,5 +238,75 @@ pub fn write(
         };
         out.push(draw(dir, NAMES[4], ext, &radar)?);
     }
+
+    if let Some(chart) = spin_axis_clock(inputs, lab)? {
+        let path = dir.join(format!("{}.{ext}", NAMES[5]));
+        draw_clock_chart(&path, &chart)
+            .map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
+        out.push(path);
+    }
     Ok(out)
+}
+
+/// TrackMan's spin axis (deg, [0, 360)) of a ball with `backspin` and `sidespin`: atan2(sidespin, −backspin).
+fn axis_deg(backspin: f64, sidespin: f64) -> f64 {
+    sidespin.atan2(-backspin).to_degrees().rem_euclid(360.0)
+}
+
+/// The spin axis on the clock face: the model's over the spray scan of the `trackman-…spin` rows' most
+/// populous launch bin, for a right- and a left-handed batter (total spin as the distance from the centre),
+/// over every collegiate TrackMan ball's HitSpinAxis and HitSpinRate. `None` without the TrackMan balls, the
+/// radar table's swing paths or a pitch.
+fn spin_axis_clock(inputs: &Inputs, lab: &Lab) -> Result<Option<ClockChart>, ValidateError> {
+    let bins = hit_spin::bins(&inputs.hit_spin);
+    let (Some(pitch), Some(bin)) =
+        (trackman::pitch_medians(&inputs.trackman), bins.iter().max_by_key(|b| b.balls.len()))
+    else {
+        return Ok(None);
+    };
+    let mut series = Vec::new();
+    let mut scan_note = None;
+    if let Some(scan) = super::hit_spin_scan(lab, bin, &inputs.radar, &pitch)? {
+        // Fair territory only: where the TrackMan balls went.
+        let points: Vec<_> = scan.into_iter().filter(|p| p.spray_deg.abs() <= 45.0).collect();
+        let right: Vec<(f64, f64)> =
+            points.iter().map(|p| (axis_deg(p.backspin_rpm, p.sidespin_rpm), p.total_spin_rpm)).collect();
+        // The left-handed batter's mirror image: the same backspin, the opposite sidespin.
+        let left: Vec<(f64, f64)> =
+            points.iter().map(|p| (axis_deg(p.backspin_rpm, -p.sidespin_rpm), p.total_spin_rpm)).collect();
+        let (low, high) = (points.first().map_or(0.0, |p| p.spray_deg), points.last().map_or(0.0, |p| p.spray_deg));
+        scan_note = Some(format!(
+            "Model: R161 in 3-D at {:.0}° launch, {:.0} mph, spray {low:.0}° to {high:.0}°",
+            bin.launch_median_deg,
+            bin.exit_median_mph.unwrap_or(f64::NAN)
+        ));
+        series.push(ClockSeries { label: "model, right-handed batter".into(), color: 0, points: right, joined: true });
+        series.push(ClockSeries { label: "model, left-handed batter".into(), color: 2, points: left, joined: true });
+    }
+    for (left_handed, label, color) in
+        [(false, "TrackMan, right-handed batters", 1), (true, "TrackMan, left-handed batters", 3)]
+    {
+        let points: Vec<(f64, f64)> =
+            inputs.hit_spin.iter().filter(|b| b.left_handed == left_handed).map(|b| (b.axis_deg, b.spin_rpm)).collect();
+        series.push(ClockSeries { label: format!("{label} (n = {})", points.len()), color, points, joined: false });
+    }
+    let largest = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).fold(0.0f64, f64::max);
+    let max_radius = (largest / 1000.0).ceil().max(1.0) * 1000.0;
+    Ok(Some(ClockChart {
+        title: "Spin axis on the clock face: 3-D model and summer-collegiate TrackMan".into(),
+        radius_label: "total spin (rpm)".into(),
+        max_radius,
+        rings: (1..).map(|k| 1000.0 * k as f64).take_while(|r| *r < max_radius).collect(),
+        series,
+        notes: scan_note
+            .into_iter()
+            .chain([
+                "(the launch bin with the most TrackMan balls).".to_string(),
+                "TrackMan: summer collegiate, files marked unverified,".into(),
+                "every tracked ball in play, all launch angles.".into(),
+                "12:00 pure backspin (HitSpinAxis 180°), 6:00 topspin (0°),".into(),
+                "9:00 hook toward left field (90°), 3:00 slice (270°).".into(),
+            ])
+            .collect(),
+    }))
 }

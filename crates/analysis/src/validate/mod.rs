@@ -10,6 +10,7 @@
 
 pub mod cases;
 pub mod figures;
+pub mod hit_spin;
 pub mod radar;
 pub mod statcast;
 pub mod trackman;
@@ -383,6 +384,8 @@ pub struct Inputs {
     pub files: Vec<String>,
     /// The MLB radar spin table (empty when the file is absent).
     pub radar: Vec<radar::RadarBin>,
+    /// The summer-collegiate TrackMan balls with their spin axis (empty when the file is absent).
+    pub hit_spin: Vec<hit_spin::HitBall>,
 }
 
 /// Reads the suite's files from `dir` (`ball_cor.toml` only if present).
@@ -405,7 +408,22 @@ pub fn read_inputs(dir: &Path) -> Result<Inputs, ValidateError> {
     } else {
         Vec::new()
     };
-    Ok(Inputs { measurements: read_measurements(&m)?, trackman: trackman::read(&t)?, ball_cor, statcast, radar, files })
+    let h = dir.join("trackman_hit_spin.csv");
+    let hit_spin = if h.exists() {
+        files.push(h.display().to_string());
+        hit_spin::read(&h)?
+    } else {
+        Vec::new()
+    };
+    Ok(Inputs {
+        measurements: read_measurements(&m)?,
+        trackman: trackman::read(&t)?,
+        ball_cor,
+        statcast,
+        radar,
+        hit_spin,
+        files,
+    })
 }
 
 /// Judges `model` against the bounds.
@@ -713,6 +731,145 @@ fn radar_model(points: &[cases::SpatialGamePoint], b: &radar::RadarBin) -> (Opti
     (median, detail)
 }
 
+/// Where the summer-collegiate TrackMan files come from, for the `trackman-backspin/…` and `trackman-sidespin/…`
+/// rows.
+const HIT_SPIN_SOURCE: &str = "TrackMan, summer collegiate (Pacific Empire League, June and July 2025), files marked \
+                               unverified by the system (carson3m/TrackmanAnalyticsProgram @cd0579a; \
+                               validation/trackman_hit_spin.csv, derived by scripts/trackman_hit_spin.py)";
+
+/// The swing the model takes for a bin of launch angles: Statcast's median attack angle and swing-path tilt of
+/// the radar table's bin nearest `launch` deg.
+fn swing_path_near(radar: &[radar::RadarBin], launch: f64) -> Option<(f64, f64)> {
+    radar
+        .iter()
+        .min_by(|a, b| (a.launch_deg - launch).abs().total_cmp(&(b.launch_deg - launch).abs()))
+        .map(|b| (b.attack_median_deg, b.tilt_median_deg))
+}
+
+/// The model's (backspin, sidespin) in rpm for each of the bin's balls: the ball's spray angle hit by its
+/// batter's side (a left-handed batter's ball at `spray` is the mirror image of a right-handed one at −spray:
+/// same backspin, opposite sidespin); `None` for a ball beyond the swing directions scanned.
+pub fn hit_spin_model(points: &[cases::SpatialGamePoint], bin: &hit_spin::HitSpinBin) -> Vec<Option<(f64, f64)>> {
+    bin.balls
+        .iter()
+        .map(|ball| {
+            let (at, side_sign) = if ball.left_handed { (-ball.spray_deg, -1.0) } else { (ball.spray_deg, 1.0) };
+            cases::SpatialGamePoint::at_spray(points, at).map(|p| (p.backspin_rpm, side_sign * p.sidespin_rpm))
+        })
+        .collect()
+}
+
+/// The model's spray scan for a bin of the collegiate TrackMan balls: the R161 swung in three dimensions at
+/// Statcast's median attack angle and tilt for the bin's median launch angle, at the speed that launches a
+/// ball there toward centre field at the bin's median exit speed, against the TrackMan rows' median pitch;
+/// `None` when no swing reaches it.
+pub fn hit_spin_scan(
+    lab: &Lab,
+    bin: &hit_spin::HitSpinBin,
+    radar: &[radar::RadarBin],
+    pitch: &trackman::PitchMedians,
+) -> Result<Option<Vec<cases::SpatialGamePoint>>, ValidateError> {
+    let (Some((attack, tilt)), Some(exit)) = (swing_path_near(radar, bin.launch_median_deg), bin.exit_median_mph)
+    else {
+        return Ok(None);
+    };
+    lab.spatial_spray_scan(pitch, attack, tilt, bin.launch_median_deg, exit)
+}
+
+/// The `trackman-backspin/…` and `trackman-sidespin/…` rows: per launch-angle bin of the summer-collegiate
+/// TrackMan balls ([`hit_spin::LAUNCH_BINS`]), the median of the model's backspin (sidespin) over the bin's
+/// balls — each ball's spray angle hit by its batter's side, by the swing of [`hit_spin_scan`] — against the
+/// measured median; a row passes inside the measured interquartile range.
+fn hit_spin_rows(
+    lab: &Lab,
+    bins: &[hit_spin::HitSpinBin],
+    radar: &[radar::RadarBin],
+    pitch: Option<&trackman::PitchMedians>,
+) -> Result<Vec<RowResult>, ValidateError> {
+    use rayon::prelude::*;
+    let Some(pitch) = pitch else { return Ok(Vec::new()) };
+    if radar.is_empty() {
+        return Ok(Vec::new());
+    }
+    let scans: Vec<_> =
+        bins.par_iter().map(|b| hit_spin_scan(lab, b, radar, pitch)).collect::<Result<_, ValidateError>>()?;
+    let mut rows = Vec::new();
+    for (b, scan) in bins.iter().zip(scans) {
+        let (attack, tilt) = swing_path_near(radar, b.launch_median_deg).unwrap_or((f64::NAN, f64::NAN));
+        let model = scan.as_deref().map(|points| hit_spin_model(points, b));
+        let lefties = b.balls.iter().filter(|ball| ball.left_handed).count();
+        for (kind, measured, pick) in [
+            ("backspin", b.backspin, (|p: (f64, f64)| p.0) as fn((f64, f64)) -> f64),
+            ("sidespin", b.sidespin, |p: (f64, f64)| p.1),
+        ] {
+            let values: Vec<f64> = model.iter().flatten().flatten().map(|&p| pick(p)).collect::<Vec<_>>();
+            let missing = model.as_ref().map_or(0, |m| m.iter().filter(|p| p.is_none()).count());
+            let mut sorted = values.clone();
+            sorted.sort_by(f64::total_cmp);
+            let value = trackman::quantile(&sorted, 0.5);
+            let detail = match &model {
+                None => format!(
+                    "no swing of 0.3–1.5× the average launches at {:.1}° with {:.1} mph",
+                    b.launch_median_deg,
+                    b.exit_median_mph.unwrap_or(f64::NAN)
+                ),
+                Some(_) => {
+                    let mut d = format!(
+                        "median over {} balls (model quartiles {:.0} / {:.0} / {:.0})",
+                        values.len(),
+                        trackman::quantile(&sorted, 0.25).unwrap_or(f64::NAN),
+                        value.unwrap_or(f64::NAN),
+                        trackman::quantile(&sorted, 0.75).unwrap_or(f64::NAN)
+                    );
+                    if missing > 0 {
+                        d.push_str(&format!(", {missing} balls sprayed beyond the swing directions scanned"));
+                    }
+                    d
+                }
+            };
+            let (low, high) = (measured.q1, measured.q3);
+            rows.push(RowResult {
+                id: format!("trackman-{kind}/{}", b.label()),
+                quantity: format!(
+                    "batted-ball {kind} at {}–{}° launch, summer-collegiate games, TrackMan",
+                    b.launch_range_deg.0, b.launch_range_deg.1
+                ),
+                unit: "rpm".into(),
+                conditions: format!(
+                    "model: R161 in 3-D, attack {attack:.2}° and bat tilt {tilt:.2}° (Statcast's MLB medians near the \
+                     bin's median launch {:.1}°), swing speed matched to the bin's median exit speed {:.1} mph, pitch \
+                     {:.1} mph descending {:.1}° with {:.0} rpm backspin, each ball's spray angle hit by its batter's \
+                     side; measured: n = {} tracked balls in play ({lefties} left-handed), {kind} from HitSpinRate and \
+                     HitSpinAxis ({})",
+                    b.launch_median_deg,
+                    b.exit_median_mph.unwrap_or(f64::NAN),
+                    pitch.zone_speed_mph,
+                    -pitch.vert_appr_angle_deg,
+                    pitch.spin_rpm,
+                    b.balls.len(),
+                    if kind == "backspin" { "−T cos a" } else { "T sin a, positive toward left field" },
+                ),
+                rule: Rule::Range,
+                low: Some(low),
+                high: Some(high),
+                reference: Some(measured.median),
+                model: value,
+                ratio: ratio(value, Some(measured.median)),
+                verdict: judge(Rule::Range, value, Some(low), Some(high)),
+                model_detail: detail,
+                tolerance: format!(
+                    "inside the measured interquartile range ({low:.0}–{high:.0}, n = {})",
+                    b.balls.len()
+                ),
+                source: HIT_SPIN_SOURCE.into(),
+                read_from: "data".into(),
+                note: None,
+            });
+        }
+    }
+    Ok(rows)
+}
+
 /// The exit-speed-against-undercut rows: per 5° bin of launch − attack angle (`statcast_exit_undercut.csv`),
 /// the game ball's largest exit speed in the bin over its head-on peak, against the real balls' 99th
 /// percentile over that of the bin where it is largest. The band is that ratio's 95 % confidence interval: the
@@ -917,6 +1074,7 @@ pub fn evaluate(
     let pitch = trackman::pitch_medians(&inputs.trackman);
     rows.extend(statcast_undercut_rows(&lab, &inputs.statcast, pitch.as_ref())?);
     rows.extend(radar_spin_rows(&lab, &inputs.radar, pitch.as_ref())?);
+    rows.extend(hit_spin_rows(&lab, &hit_spin::bins(&inputs.hit_spin), &inputs.radar, pitch.as_ref())?);
     let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
     let report = Report {
         pass: count(Verdict::Pass),
