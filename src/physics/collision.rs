@@ -31,13 +31,8 @@
 //! δ = Σ Y_n q_n − s the beam's approach as without a wall, so the ball's potential V(u) is a function of the
 //! coordinates and its exact gradients are the forces: the beam modes and the ball feel F·g (g = 1/(1 − ψ′W),
 //! of order 1 ± 1e-2), the wall F·g·ψ; with ψ constant (g = 1, [`collide_with_hoop`]) this is the linear
-//! coupling u = Σ Y_n q_n + ψ W − s. The step loop integrates the wall as a scalar beside the ball, the beam's
-//! closed-form update driven by F·g, and solves u at each RK4 stage near where the stage is expected: a cubic
-//! through the last four full steps' values at that stage predicts it to ~1e-8 m, the coupling's Taylor
-//! series there is computed a step ahead, off the critical path of the stage forces, and one fixed-point step
-//! on that series leaves u exact to rounding ([`HoopScalar::near`]). The first steps of a contact and those
-//! after a partial step (peak, separation), which have no such history, take two Newton steps from the last
-//! solution instead. The ball
+//! coupling u = Σ Y_n q_n + ψ W − s. The step loop solves u by two Newton steps at each RK4 stage and
+//! integrates the wall as a scalar beside the ball, the beam's closed-form update driven by F·g. The ball
 //! thus pushes on the wall (inertia m_h/ψ²), the wall deflects against the hoop spring k_h, and the hoop
 //! spring rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia
 //! acts in the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of
@@ -630,69 +625,14 @@ struct HoopScalar {
     /// The last solve's (δ, w) and result: the loop asks again for the same state (the end of a step is the
     /// start of the next and its first stage), which then costs a comparison.
     memo: std::cell::Cell<(f64, f64, (f64, f64, f64))>,
-    /// Where the next full step is expected to find stages 2, 3, 4 and its end, with the coupling expanded
-    /// there (see [`StageBase`]); used while `ready`.
-    bases: [StageBase; 4],
-    ready: bool,
-    /// Whether the step just taken used `bases` (its end is then solved from `bases[3]`).
-    end_from_base: bool,
-    /// (u, w) of stages 2, 3, 4 of the step just taken and of its end.
-    taken: [(f64, f64); 3],
-    taken_end: std::cell::Cell<(f64, f64)>,
-    /// (u, w) at stages 2, 3, 4 and the end of the last accepted full steps, most recent first; `filled` of
-    /// them follow one another without a partial step between.
-    history: [[(f64, f64); 4]; HISTORY],
-    filled: usize,
-    /// Largest prediction error |Δu| an expansion serves, m ([`BASE_REACH`] times the coupling's range; 0
-    /// solves every stage exactly).
-    reach: f64,
-}
-
-/// Accepted full steps the stage predictions extrapolate from (a cubic in the step index).
-const HISTORY: usize = 4;
-
-/// Largest prediction error |Δu| an expansion serves, as a fraction of the coupling's range U: the coupling
-/// is a polynomial of degree 12 on [0, U], whose k-th derivative is of order (2/U)^k·k!, so within 1e-4·U the
-/// cubic Taylor series is exact to ~1e-16 and its slope to ~1e-12 of itself.
-const BASE_REACH: f64 = 1e-4;
-
-/// Largest first-order change |ψ′·Δw·g| of the compression's slope an expansion serves: the one correction
-/// step of [`HoopScalar::near`] then leaves an error of order 1e-10 of the prediction error |Δu|.
-const BASE_SLOPE_CHANGE: f64 = 1e-5;
-
-/// A compression û and wall deflection ŵ where a stage of the coming step is expected to land, and the
-/// coupling's Taylor coefficients there: the stage's compression then follows from the solve's series about
-/// (û, ŵ) with a few multiply–adds and no evaluation of the coupling on the step's critical path.
-#[derive(Clone, Copy, Default)]
-struct StageBase {
-    u: f64,
-    w: f64,
-    /// ψ(û) and ψ′, ψ″/2, ψ‴/6 there.
-    psi: f64,
-    c1: f64,
-    c2: f64,
-    c3: f64,
-    /// ĝ = 1/(1 − ψ′(û)·ŵ), ĝ·ψ′ and ĝ·ψ″/2·ŵ.
-    g: f64,
-    a: f64,
-    b: f64,
-}
-
-impl StageBase {
-    fn at(law: &PatchLaw, u: f64, w: f64) -> StageBase {
-        let [psi, c1, d2, d3] = law.taylor(u);
-        let g = 1.0 / (1.0 - c1 * w);
-        let c2 = 0.5 * d2;
-        StageBase { u, w, psi, c1, c2, c3: d3 / 6.0, g, a: g * c1, b: g * c2 * w }
-    }
 }
 
 impl HoopScalar {
     /// The compression u solving u = δ + ψ(u)·w, with g = 1/(1 − ψ′(u)·w) and ψ(u) there, for the beam's
     /// approach δ (m) and the wall's deflection w (m): a Newton step from where ψ was last evaluated (within
-    /// about a half step's travel, ~1e-4 m) lands within ψ″·w·Δ²/2 ~ 1e-8 m of u (ψ′·w is of order 1e-2,
-    /// ψ″·w of order 1 /m), a second, with ψ and ψ′ evaluated there, within ~1e-16 m; ψ and g are then
-    /// evaluated at u itself (taken a Newton step short of it, they would be off by ~1e-7 of themselves).
+    /// about a half step's travel, ~1e-4 m), ψ and ψ′ evaluated there, and a second Newton step with them.
+    /// With ψ′·w of order 1e-2 and ψ″·w ~ 1 /m, u is then exact to ~1e-11 m, and ψ, g taken a Newton
+    /// step's ~1e-11 m away are exact to ~1e-9 of themselves.
     #[inline(always)]
     fn contact(&self, delta: f64, w: f64) -> (f64, f64, f64) {
         let (memo_delta, memo_w, memo) = self.memo.get();
@@ -701,82 +641,12 @@ impl HoopScalar {
         }
         let (guess, psi0, slope0) = self.last.get();
         let u1 = guess - (guess - delta - psi0 * w) / (1.0 - slope0 * w);
-        let (psi1, slope1) = self.law.value_and_slope(u1);
-        let u = u1 - (u1 - delta - psi1 * w) / (1.0 - slope1 * w);
-        let (psi, slope) = self.law.value_and_slope(u);
+        let (psi, slope) = self.law.value_and_slope(u1);
         let g = 1.0 / (1.0 - slope * w);
-        self.last.set((u, psi, slope));
+        let u = u1 - (u1 - delta - psi * w) * g;
+        self.last.set((u1, psi, slope));
         self.memo.set((delta, w, (u, g, psi)));
         (u, g, psi)
-    }
-
-    /// [`HoopScalar::contact`] near the expected (û, ŵ) of `base`: with Δu = u − û, Δw = w − ŵ and the
-    /// coupling's cubic series about û, u = δ + ψ(u)·w reads
-    ///   Δu = ĝ·R + ĝ·Δu·(ψ′·Δw + ψ″/2·w·Δu + ψ‴/6·w·Δu²),  R = δ − û + ψ(û)·w,
-    /// solved by one fixed-point step from Δu = ĝ·R. Predictions miss by ~1e-8 m, where the neglected terms
-    /// are ~1e-20 m; beyond [`BASE_REACH`] or [`BASE_SLOPE_CHANGE`] the exact solve takes over.
-    #[inline(always)]
-    fn near(&self, base: &StageBase, delta: f64, w: f64) -> (f64, f64, f64) {
-        let r = (delta - base.u) + base.psi * w;
-        let d1 = base.g * r;
-        let dw = w - base.w;
-        let slope_change = base.a * dw;
-        if !(d1.abs() <= self.reach && slope_change.abs() <= BASE_SLOPE_CHANGE) {
-            return self.contact(delta, w);
-        }
-        let d = d1 + d1 * (slope_change + base.b * d1);
-        let u = base.u + d;
-        let psi = base.psi + d * (base.c1 + d * (base.c2 + d * base.c3));
-        let slope = base.c1 + d * (2.0 * base.c2 + 3.0 * base.c3 * d);
-        let g = 1.0 / (1.0 - slope * w);
-        self.last.set((u, psi, slope));
-        (u, g, psi)
-    }
-
-    /// A stage's compression: near its expansion point in a full step whose stages were predicted (`fast`),
-    /// else by the exact solve.
-    #[inline(always)]
-    fn stage(&self, fast: bool, slot: usize, delta: f64, w: f64) -> (f64, f64, f64) {
-        if fast {
-            self.near(&self.bases[slot], delta, w)
-        } else {
-            self.contact(delta, w)
-        }
-    }
-
-    /// The compression at the end of the step just taken (the next step's start, remembered for it).
-    #[inline(always)]
-    fn end(&self, delta: f64, w: f64) -> (f64, f64, f64) {
-        let result = if self.end_from_base { self.near(&self.bases[3], delta, w) } else { self.contact(delta, w) };
-        self.memo.set((delta, w, result));
-        self.taken_end.set((result.0, w));
-        result
-    }
-
-    /// Books the step just accepted: a full step joins the history, a partial one (ending at the peak or at
-    /// separation) breaks it. With a full history, predicts where the next step's stages land — a cubic
-    /// through the last four steps' values at each stage, ~h⁴·u⁗ ≈ 1e-8 m off — and expands the coupling
-    /// there, off the critical path of the steps' forces.
-    #[inline(always)]
-    fn commit(&mut self, full: bool) {
-        if !full {
-            self.filled = 0;
-            self.ready = false;
-            return;
-        }
-        self.history.copy_within(0..HISTORY - 1, 1);
-        self.history[0] = [self.taken[0], self.taken[1], self.taken[2], self.taken_end.get()];
-        self.filled = (self.filled + 1).min(HISTORY);
-        self.ready = self.filled == HISTORY;
-        if self.ready {
-            let h = &self.history;
-            for (slot, base) in self.bases.iter_mut().enumerate() {
-                let cubic = |x: [f64; 4]| 4.0 * x[0] - 6.0 * x[1] + 4.0 * x[2] - x[3];
-                let u = cubic([h[0][slot].0, h[1][slot].0, h[2][slot].0, h[3][slot].0]);
-                let w = cubic([h[0][slot].1, h[1][slot].1, h[2][slot].1, h[3][slot].1]);
-                *base = StageBase::at(&self.law, u, w);
-            }
-        }
     }
 }
 
@@ -931,7 +801,7 @@ impl Work {
         let d0 = a0 - s;
         let e0 = b0 - v;
         if HOOP {
-            return self.step_with_hoop(powers, sc, law, inv_mass, [h0, h1, h2, h3], !use_partial);
+            return self.step_with_hoop(powers, sc, law, inv_mass, [h0, h1, h2, h3]);
         }
         // Stages 1 and 2: compressions independent of the forces.
         let u1 = d0;
@@ -971,8 +841,7 @@ impl Work {
     /// [`Work::step`] with the wall's hoop mode, for a step of length `powers.h` whose force-free projections
     /// are `free`. The beam's approach δ at each stage comes from the same closed form, driven by the beam's
     /// force F·g; the hoop mode takes the classical RK4 stages of q̈_h = −ω_h² q_h − F·g·ψ/√m_h; the
-    /// compression at each stage solves u = δ + ψ(u)·q_h/√m_h (see the module docs), near its predicted value
-    /// in a `full` step once the history predicts one ([`HoopScalar::commit`]).
+    /// compression at each stage solves u = δ + ψ(u)·q_h/√m_h (see the module docs).
     #[inline(always)]
     fn step_with_hoop(
         &mut self,
@@ -981,10 +850,7 @@ impl Work {
         law: &ForceLaw,
         inv_mass: f64,
         [h0, h1, h2, h3]: [f64; 4],
-        full: bool,
     ) -> (Scalars, f64) {
-        let fast = full && self.hoop.ready;
-        self.hoop.end_from_base = fast;
         let h = powers.h;
         let [a0, b0, a1, b1] = self.proj;
         let (c0, c1, c2) = (self.c0, self.c1, self.c2);
@@ -999,8 +865,7 @@ impl Work {
         // Stages 1 and 2: approaches and wall amplitudes independent of the forces.
         let (q1, q2) = (qh, qh + a * ph);
         let (x1, g1, psi1) = self.hoop.contact(d0, q1 * r);
-        let (w2s, d2s) = (q2 * r, d0 + a * e0);
-        let (x2, g2, psi2) = self.hoop.stage(fast, 0, d2s, w2s);
+        let (x2, g2, psi2) = self.hoop.contact(d0 + a * e0, q2 * r);
         let u_free = d0 + h * e0;
         self.anchor.prepare(law, x1, x1 + (x1 - self.previous_start));
         self.this_start = x1;
@@ -1013,10 +878,8 @@ impl Work {
         let (q3, q4) = (qh + a * p2, qh + h * p3);
         let d3 = ((d0 + a * e0) - a * a * a1) - a * a * k * f1;
         let d4 = (u_free - h * a * a1 - h * a * a * b1) - h * a * k * f2;
-        let (w3s, w4s) = (q3 * r, q4 * r);
-        let (x3, g3, psi3) = self.hoop.stage(fast, 1, d3, w3s);
-        let (x4, g4, psi4) = self.hoop.stage(fast, 2, d4, w4s);
-        self.hoop.taken = [(x2, w2s), (x3, w3s), (x4, w4s)];
+        let (x3, g3, psi3) = self.hoop.contact(d3, q3 * r);
+        let (x4, g4, psi4) = self.hoop.contact(d4, q4 * r);
         let [f3, f4] = self.anchor.force_pair(law, [x3, x4]);
         let (f3, f4) = (f3 * g3, f4 * g4);
         let acc3 = -w2h * q3 - f3 * psi3 * r;
@@ -1052,10 +915,7 @@ impl Work {
     fn next_u_and_rate<const HOOP: bool>(&self, sc: &Scalars) -> (f64, f64) {
         if HOOP {
             let n = 1 - self.current;
-            let r = self.hoop.inv_root_mass;
-            let (q, p) = (self.hoop.q[n], self.hoop.p[n]);
-            let (u, g, psi) = self.hoop.end(self.proj_next[0] - sc.s, q * r);
-            (u, g * ((self.proj_next[1] - sc.v) + psi * p * r))
+            self.hoop_u_and_rate(self.proj_next[0] - sc.s, self.proj_next[1] - sc.v, self.hoop.q[n], self.hoop.p[n])
         } else {
             (self.proj_next[0] - sc.s, self.proj_next[1] - sc.v)
         }
@@ -1301,7 +1161,6 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
             }
             work.accept();
             if HOOP {
-                work.hoop.commit(false);
                 meter.update(work);
             }
             t += tau;
@@ -1322,7 +1181,6 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
             }
             work.accept();
             if HOOP {
-                work.hoop.commit(false);
                 meter.update(work);
             }
             t += tau;
@@ -1335,7 +1193,6 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
         }
         work.accept();
         if HOOP {
-            work.hoop.commit(true);
             meter.update(work);
         }
         t += h;
@@ -1372,13 +1229,7 @@ impl ContactObserver for () {
 /// The step loop's buffers for `impact` on `modes` (validated) with `options`: mode shapes at the impact
 /// point, and the bat's rigid motion as the initial modal velocities; with `hoop`, the wall's hoop mode is
 /// one more mode after the beam's (shape ψ/√m_h, ω_h² = k_h/m_h, at rest).
-fn work_for(
-    modes: &ModeSet,
-    impact: &Impact,
-    options: &CollisionOptions,
-    hoop: Option<(&HoopMode, PatchLaw)>,
-    reach: f64,
-) -> Work {
+fn work_for(modes: &ModeSet, impact: &Impact, options: &CollisionOptions, hoop: Option<(&HoopMode, PatchLaw)>) -> Work {
     let mp = modes.mass_properties();
     let nm = 2 + options.modes;
     let phi: Vec<f64> = (0..nm).map(|k| modes.shape_at(k, impact.impact_z)).collect();
@@ -1394,7 +1245,6 @@ fn work_for(
             law,
             last: std::cell::Cell::new((0.0, psi, slope)),
             memo: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
-            reach: reach * law.range,
             ..HoopScalar::default()
         };
     }
@@ -1506,20 +1356,6 @@ fn run<O: ContactObserver>(
     hoop: Option<(&HoopMode, PatchLaw)>,
     observer: &mut O,
 ) -> Result<CollisionResult, PhysicsError> {
-    run_reaching(modes, ball, impact, options, hoop, BASE_REACH, observer)
-}
-
-/// [`run`] with the stage predictions serving errors up to `reach` times the coupling's range (0: every
-/// stage solved exactly).
-fn run_reaching<O: ContactObserver>(
-    modes: &ModeSet,
-    ball: &Ball,
-    impact: &Impact,
-    options: &CollisionOptions,
-    hoop: Option<(&HoopMode, PatchLaw)>,
-    reach: f64,
-    observer: &mut O,
-) -> Result<CollisionResult, PhysicsError> {
     ball.validate()?;
     impact.validate(modes)?;
     options.validate(modes)?;
@@ -1536,7 +1372,7 @@ fn run_reaching<O: ContactObserver>(
 
     let all = &modes.all_modes()[..nm];
     let h = options.time_step;
-    let mut work = work_for(modes, impact, options, hoop, reach);
+    let mut work = work_for(modes, impact, options, hoop);
     let mut law = ForceLaw::new(ball);
     let (_, p_translation) = work.mode_state(0);
     let (_, p_rotation) = work.mode_state(1);
@@ -1653,7 +1489,7 @@ mod tests {
     /// Everything the step loop ends with: contact scalars and every mode's (q, p), as bits.
     fn run_loop(modes: &ModeSet, ball: &Ball, impact: &Impact, law: &mut ForceLaw, avx: bool) -> Vec<u64> {
         let options = CollisionOptions::default();
-        let mut work = work_for(modes, impact, &options, None, 0.0);
+        let mut work = work_for(modes, impact, &options, None);
         let h = options.time_step;
         let mut meter = HoopMeter::default();
         let contact = if avx {
@@ -1818,9 +1654,7 @@ mod tests {
 
     #[test]
     fn a_linear_ball_on_a_rigidly_backed_wall_spring_matches_the_two_mass_closed_form() {
-        // Every stage solved exactly (reach 0) and near its prediction (a constant coupling serves any reach).
-        let walls = [(2.0e6, 0.1f64, 1.3e7), (2.0e6, 0.03, 2.0e6), (5.0e5, 0.2, 4.0e6)];
-        for ((k_b, m_h, k_h), reach) in walls.into_iter().flat_map(|w| [(w, 0.0), (w, f64::INFINITY)]) {
+        for (k_b, m_h, k_h) in [(2.0e6, 0.1f64, 1.3e7), (2.0e6, 0.03, 2.0e6), (5.0e5, 0.2, 4.0e6)] {
             let ball = Ball { stiffness: k_b, exponent: 1.0, cor: 1.0, ..Ball::default() };
             let v = 40.0;
             let h = 1e-6;
@@ -1832,7 +1666,6 @@ mod tests {
                 law: PatchLaw::constant(1.0),
                 last: std::cell::Cell::new((0.0, 1.0, 0.0)),
                 memo: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
-                reach,
                 ..HoopScalar::default()
             };
             let mut law = ForceLaw::new(&ball);
@@ -1847,47 +1680,6 @@ mod tests {
             let kept = 0.5 * ball.mass * (v * v - contact.scalars.v * contact.scalars.v);
             assert!((meter.energy - kept).abs() < 1e-8 * 0.5 * ball.mass * v * v, "{} vs {kept} J", meter.energy);
             assert!((meter.stored - meter.returned - meter.energy).abs() < 1e-9 * meter.stored);
-        }
-    }
-
-    /// The hollow `aluminum` barrel, its stages solved near their predictions, against the integration's own
-    /// accuracy: halving the step converges (halving 2.5 µs and 1.25 µs changes the answer at least 4× less than
-    /// halving 5 µs),
-    /// the step-5-µs answer lies within its step-size error estimate |x(h) − x(h/2)| of the converged one, and
-    /// solving every stage exactly instead changes it by a small fraction of that error.
-    #[test]
-    fn predicted_hoop_stages_change_results_far_below_the_step_size_error() {
-        let modes = ModeSet::compute(&Bat::preset("aluminum").expect("preset"), 18).expect("modes");
-        for ball in [Ball::default(), Ball::mlb()] {
-            for z in [0.55, 0.64, 0.68, 0.72, 0.78] {
-                let impact = swing(z);
-                let section = modes.hoop_at(z).expect("hollow barrel");
-                let collide_at = |h: f64, reach: f64| {
-                    let options = CollisionOptions { time_step: h, ..CollisionOptions::default() };
-                    let range = PATCH_RANGE_FACTOR * reference_compression_at(&modes, &ball, &impact);
-                    let law = PatchLaw::following(&section, ball.radius, range.min(ball.radius));
-                    run_reaching(&modes, &ball, &impact, &options, Some((&section, law)), reach, &mut ())
-                        .expect("collides")
-                };
-                let h = CollisionOptions::default().time_step;
-                let steps = [h, h / 2.0, h / 4.0, h / 8.0].map(|h| collide_at(h, BASE_REACH));
-                let exact = collide_at(h, 0.0);
-                let outputs: [(&str, fn(&CollisionResult) -> f64); 3] = [
-                    ("exit speed", |r| r.exit_speed),
-                    ("hoop energy", |r| r.energy.hoop),
-                    ("vibration", |r| r.energy.vibration),
-                ];
-                for (name, x) in outputs {
-                    let changes: Vec<f64> = steps.windows(2).map(|p| (x(&p[0]) - x(&p[1])).abs()).collect();
-                    let error = changes[0];
-                    assert!(changes[1] <= error / 4.0 && changes[2] <= error / 4.0, "{name} at {z}: {changes:?}");
-                    let off = (x(&steps[0]) - x(&steps[3])).abs();
-                    assert!(off <= 1.5 * error, "{name} at {z}: {off:e} from converged, step error {error:e}");
-                    let prediction = (x(&steps[0]) - x(&exact)).abs();
-                    eprintln!("{name} at {z}: step error {error:.2e}, from converged {off:.2e}, exact solves {prediction:.2e}");
-                    assert!(prediction <= 1e-3 * error, "{name} at {z}: {prediction:e} vs step error {error:e}");
-                }
-            }
         }
     }
 

@@ -304,9 +304,6 @@ pub struct PatchLaw {
     /// derivative dψ/dt (t⁰ … t^(PATCH_DEGREE − 1), and a zero), so that one two-lane multiply–add advances
     /// both polynomials ([`estrin_pair`]).
     pairs: [[f64; 2]; PATCH_DEGREE + 1],
-    /// The coefficients of ψ, dψ/dt, d²ψ/dt² and d³ψ/dt³ side by side (trailing zeros past their degree), for
-    /// [`PatchLaw::taylor`]: one four-lane evaluation.
-    quads: [[f64; 4]; PATCH_DEGREE + 1],
     /// 2/U, 1/m.
     scale: f64,
     /// Upper end U of the interpolated range of compressions, m.
@@ -318,9 +315,7 @@ impl PatchLaw {
     pub fn constant(coupling: f64) -> PatchLaw {
         let mut pairs = [[0.0; 2]; PATCH_DEGREE + 1];
         pairs[0][0] = coupling;
-        let mut quads = [[0.0; 4]; PATCH_DEGREE + 1];
-        quads[0][0] = coupling;
-        PatchLaw { pairs, quads, scale: 0.0, range: f64::INFINITY }
+        PatchLaw { pairs, scale: 0.0, range: f64::INFINITY }
     }
 
     /// The coupling of `mode` (its point-load coupling, [`HoopMode::of_section`]) to a ball of radius
@@ -361,14 +356,8 @@ impl PatchLaw {
         for k in 0..PATCH_DEGREE {
             slopes[k] = (k + 1) as f64 * coeffs[k + 1];
         }
-        let derivative = |c: &[f64; PATCH_DEGREE + 1]| -> [f64; PATCH_DEGREE + 1] {
-            std::array::from_fn(|k| if k < PATCH_DEGREE { (k + 1) as f64 * c[k + 1] } else { 0.0 })
-        };
-        let second = derivative(&slopes);
-        let third = derivative(&second);
         let pairs = std::array::from_fn(|k| [coeffs[k], slopes[k]]);
-        let quads = std::array::from_fn(|k| [coeffs[k], slopes[k], second[k], third[k]]);
-        PatchLaw { pairs, quads, scale: 2.0 / range, range }
+        PatchLaw { pairs, scale: 2.0 / range, range }
     }
 
     /// ψ(u) and its slope dψ/du (1/m) at compression `u` (m).
@@ -379,16 +368,6 @@ impl PatchLaw {
         // this twice per RK4 stage, on its critical path).
         let [value, slope] = estrin_pair(&self.pairs, t);
         (value, slope * self.scale)
-    }
-
-    /// ψ(u) and its first three derivatives with respect to u (1/m, 1/m², 1/m³) at compression `u` (m): the
-    /// Taylor coefficients the collision expands the coupling with near a compression it expects.
-    #[inline(always)]
-    pub fn taylor(&self, u: f64) -> [f64; 4] {
-        let t = u * self.scale - 1.0;
-        let [value, slope, second, third] = estrin(&self.quads, t);
-        let s2 = self.scale * self.scale;
-        [value, slope * self.scale, second * s2, third * (s2 * self.scale)]
     }
 }
 
@@ -420,12 +399,6 @@ fn chebyshev_cosines() -> &'static [[f64; PATCH_DEGREE + 1]; PATCH_DEGREE + 1] {
 /// separate evaluations.
 #[inline(always)]
 fn estrin_pair(c: &[[f64; 2]; PATCH_DEGREE + 1], t: f64) -> [f64; 2] {
-    estrin(c, t)
-}
-
-/// [`estrin_pair`] for any number of polynomials side by side.
-#[inline(always)]
-fn estrin<const N: usize>(c: &[[f64; N]; PATCH_DEGREE + 1], t: f64) -> [f64; N] {
     let t2 = t * t;
     let t4 = t2 * t2;
     let t8 = t4 * t4;
@@ -444,8 +417,8 @@ fn estrin<const N: usize>(c: &[[f64; N]; PATCH_DEGREE + 1], t: f64) -> [f64; N] 
 
 /// a + b·x lane by lane (a multiply, then an add: not fused).
 #[inline(always)]
-fn mul_add_lanes<const N: usize>(a: [f64; N], b: [f64; N], x: f64) -> [f64; N] {
-    std::array::from_fn(|l| a[l] + b[l] * x)
+fn mul_add_lanes(a: [f64; 2], b: [f64; 2], x: f64) -> [f64; 2] {
+    [a[0] + b[0] * x, a[1] + b[1] * x]
 }
 
 /// Peak compression of a ball against a wall that does not give, m: ½ μ v² = k₁ u^{α+1}/(α+1) for the
