@@ -156,3 +156,23 @@ def test_modes_are_the_command_lines(cli_json):
     assert frame["frequency_hz"].tolist() == [m["frequency_hz"] for m in document["modes"]]
     assert frame["nodes"].tolist() == [m["nodes"] for m in document["modes"]]
     assert frame["modal_mass"].tolist() == [m["modal_mass"] for m in document["modes"]]
+
+
+def test_the_gil_is_released_while_rust_computes():
+    # With a switch interval of an hour the interpreter never takes the GIL from a thread: the main thread
+    # runs during the worker's call only if the call itself lets go of it.
+    import threading
+
+    seen_running = 0
+    worker = threading.Thread(target=lambda: sweetspot.simulate(R161, GAME, impact_z=np.linspace(0.5, 0.8, 400)))
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(3600.0)
+    try:
+        worker.start()
+        worker.join(0.05)  # blocks, so the worker takes the GIL and gets into the call
+        while worker.is_alive():
+            seen_running += 1
+            worker.join(0.001)
+    finally:
+        sys.setswitchinterval(interval)
+    assert seen_running > 0
