@@ -422,8 +422,8 @@ impl Swings<'_> {
         let at = |k: usize| self.optional[k].map(|c| c[i]);
         let side = match at(9) {
             None => None,
-            Some(v) if v == 0.0 => Some(physics::BatterSide::Right),
-            Some(v) if v == 1.0 => Some(physics::BatterSide::Left),
+            Some(0.0) => Some(physics::BatterSide::Right),
+            Some(1.0) => Some(physics::BatterSide::Left),
             Some(v) => anyhow::bail!("batter_side = {v}: expected right (0) or left (1)"),
         };
         let flags = ObliqueFlags {
