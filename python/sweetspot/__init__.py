@@ -32,6 +32,8 @@ __all__ = [
     "Collision",
     "BagError",
     "simulate",
+    "bbcor",
+    "compare",
     "read_tracker",
     "locate",
     "locate_meta",
@@ -325,6 +327,42 @@ def _simulate_frame(bat: Bat, ball: Ball, swings: pd.DataFrame | None, given: di
             messages.iloc[row] = message
         frame["error"] = messages
     frame.attrs["mode_frequencies_hz"] = frequencies.tolist()
+    return frame
+
+
+def bbcor(bat: "Bat | str", ball: Ball | None = None, *, modes: int = 18, dt: float = 5e-6) -> dict[str, Any]:
+    """The NCAA BBCOR and ASTM BESR of ``bat`` as ``sweetspot bbcor --json`` reports them (the protocol ball
+    ``bbcor`` unless ``ball`` is given): ``bbcor`` (dimensionless, its ``impact_z`` m from the knob) and
+    ``besr``, with the bat, ball and options.
+
+    >>> round(bbcor("r161")["bbcor"]["bbcor"], 3)
+    0.498
+    """
+    bat = _bat_of(bat)
+    return json.loads(_native.bbcor_document(bat._native, None if ball is None else ball._native, modes=modes,
+                                             dt=dt))
+
+
+def compare(
+    bats: "Sequence[Bat | str]",
+    *,
+    batter: "str | os.PathLike | None" = None,
+    ball: Ball | None = None,
+    pitch_speed: float = 40.0,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> pd.DataFrame:
+    """``bats`` swung by one batter (a batter file as ``compare --batter`` reads; default the Statcast-average
+    batter) against a pitch at ``pitch_speed`` m/s, as ``sweetspot compare --json``: one row per bat (indexed
+    by name) with its swing weight (kg·m²), bat speeds (m/s, rad/s), impact point and sweet spot (m from the
+    knob), exit speeds (m/s), BBCOR, swing time (s); the batter, ball and options in ``attrs``."""
+    natives = [_bat_of(b)._native for b in bats]
+    ball = ball if ball is not None else Ball.preset()
+    document = json.loads(_native.compare_document(natives, ball._native,
+                                                   batter=None if batter is None else os.fspath(batter),
+                                                   pitch_speed=float(pitch_speed), modes=modes, dt=dt))
+    frame = pd.DataFrame(document["bats"]).set_index("name")
+    frame.attrs.update({k: v for k, v in document.items() if k != "bats"})
     return frame
 
 

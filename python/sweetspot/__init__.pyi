@@ -1,7 +1,7 @@
 """Type stubs of the ``sweetspot`` package (units in each function's docstring)."""
 
 import os
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -92,6 +92,16 @@ def simulate(
     swing_direction: Any = None,
     batter_side: Any = None,
 ) -> Collision | pd.DataFrame: ...
+def bbcor(bat: Bat | str, ball: Ball | None = None, *, modes: int = 18, dt: float = 5e-6) -> dict[str, Any]: ...
+def compare(
+    bats: Sequence[Bat | str],
+    *,
+    batter: str | os.PathLike[str] | None = None,
+    ball: Ball | None = None,
+    pitch_speed: float = 40.0,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> pd.DataFrame: ...
 def read_tracker(
     source: str | os.PathLike[str] | pd.DataFrame,
     kind: str | None = None,

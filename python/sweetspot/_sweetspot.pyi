@@ -74,6 +74,11 @@ def simulate_document(
 def simulate_columns(
     bat: Bat, ball: Ball, columns: dict[str, npt.NDArray[np.float64]], *, modes: int = 18, dt: float = 5e-6
 ) -> dict[str, Any]: ...
+def bbcor_document(bat: Bat, ball: Ball | None = None, *, modes: int = 18, dt: float = 5e-6) -> str: ...
+def compare_document(
+    bats: list[Bat], ball: Ball, *, batter: str | None = None, pitch_speed: float = 40.0, modes: int = 18,
+    dt: float = 5e-6
+) -> str: ...
 def read_tracker_columns(
     *,
     path: str | None = None,

@@ -176,3 +176,17 @@ def test_the_gil_is_released_while_rust_computes():
     finally:
         sys.setswitchinterval(interval)
     assert seen_running > 0
+
+
+def test_bbcor_and_compare_are_the_command_lines_documents(cli_json, repo):
+    assert sweetspot.bbcor("aluminum", modes=12) == cli_json("bbcor", "--bat", "aluminum", "--modes", 12)
+    document = cli_json("compare", "--bats", "r161,torpedo", "--pitch-speed", 38)
+    frame = sweetspot.compare(["r161", sweetspot.Bat.preset("torpedo")], pitch_speed=38)
+    assert frame.index.tolist() == [b["name"] for b in document["bats"]]
+    for row in document["bats"]:
+        for key, value in row.items():
+            if key != "name":
+                assert frame.loc[row["name"], key] == value, key
+    assert frame.attrs["batter"] == document["batter"]
+    with pytest.raises(ValueError, match="pitch-speed"):
+        sweetspot.compare(["r161"], pitch_speed=0)

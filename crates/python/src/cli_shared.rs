@@ -5,7 +5,9 @@
 //! this file, so when they move to the DDS-free layers only these paths change.
 
 pub use crate::engine::cli::bat_file::load_bat_file;
+pub use crate::engine::cli::bbcor::bbcor_document as bbcor;
 pub use crate::engine::cli::common::{check_options, BallArgs, ObliqueInputs};
+pub use crate::engine::cli::compare::compare;
 pub use crate::engine::cli::compare::{batter_from_spec, load_batter_file, BatterSpec};
 pub use crate::engine::cli::modes::modes_document;
 pub use crate::engine::cli::simulate::{oblique_impact, simulate, spatial_impact, DEFAULT_IMPACT_FROM_TIP};

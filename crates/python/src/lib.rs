@@ -24,6 +24,8 @@ fn _sweetspot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<physics::Ball>()?;
     m.add_function(wrap_pyfunction!(physics::simulate_document, m)?)?;
     m.add_function(wrap_pyfunction!(physics::simulate_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(physics::bbcor_document, m)?)?;
+    m.add_function(wrap_pyfunction!(physics::compare_document, m)?)?;
     m.add_function(wrap_pyfunction!(data::read_tracker_columns, m)?)?;
     m.add_function(wrap_pyfunction!(data::import_bag, m)?)?;
     m.add_function(wrap_pyfunction!(data::locate_bag, m)?)?;

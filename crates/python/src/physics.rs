@@ -599,3 +599,49 @@ pub fn simulate_columns<'py>(
     out.set_item("errors", computed.errors)?;
     Ok(out)
 }
+
+/// `sweetspot bbcor --json` (the protocol ball `bbcor` unless `ball` is given): the document as JSON text.
+#[pyfunction]
+#[pyo3(signature = (bat, ball=None, *, modes=18, dt=5e-6))]
+pub fn bbcor_document(py: Python<'_>, bat: &Bat, ball: Option<&Ball>, modes: usize, dt: f64) -> PyResult<String> {
+    let ball = ball.map_or_else(physics::Ball::bbcor_protocol, |b| b.ball);
+    let bat = &bat.bat;
+    let document = py.allow_threads(|| -> anyhow::Result<_> {
+        let options = check_options(CollisionOptions { modes, time_step: dt })?;
+        crate::cli_shared::bbcor(bat, &ball, &options)
+    });
+    to_json(&document.map_err(value_error)?)
+}
+
+/// `sweetspot compare --bats … [--batter FILE] --pitch-speed V --json`: the document as JSON text.
+#[pyfunction]
+#[pyo3(signature = (bats, ball, *, batter=None, pitch_speed=40.0, modes=18, dt=5e-6))]
+pub fn compare_document(
+    py: Python<'_>,
+    bats: Vec<PyRef<'_, Bat>>,
+    ball: &Ball,
+    batter: Option<PathBuf>,
+    pitch_speed: f64,
+    modes: usize,
+    dt: f64,
+) -> PyResult<String> {
+    use crate::cli_shared::{batter_from_spec, compare, load_batter_file, BatterSpec};
+    let bats: Vec<physics::Bat> = bats.iter().map(|b| b.bat.clone()).collect();
+    if let Some(path) = &batter {
+        require_exists(path, "batter file")?;
+    }
+    let ball = &ball.ball;
+    let document = py.allow_threads(|| -> anyhow::Result<_> {
+        let (batter, reference) = match &batter {
+            Some(path) => load_batter_file(path)?,
+            None => batter_from_spec(&BatterSpec::default(), None)?,
+        };
+        let options = check_options(CollisionOptions { modes, time_step: dt })?;
+        // NaN is refused too, as the command line refuses it.
+        if pitch_speed.is_nan() || pitch_speed <= 0.0 {
+            anyhow::bail!("--pitch-speed = {pitch_speed} m/s is out of range: expected > 0");
+        }
+        compare(&batter, &reference, &bats, ball, pitch_speed, &options)
+    });
+    to_json(&document.map_err(value_error)?)
+}
