@@ -164,12 +164,13 @@ def test_the_gil_is_released_while_rust_computes():
     import threading
 
     seen_running = 0
-    worker = threading.Thread(target=lambda: sweetspot.simulate(R161, GAME, impact_z=np.linspace(0.5, 0.8, 400)))
+    # 20,000 collisions: a tenth of a second or more even in a release build on two cores.
+    worker = threading.Thread(target=lambda: sweetspot.simulate(R161, GAME, impact_z=np.linspace(0.5, 0.8, 20_000)))
     interval = sys.getswitchinterval()
     sys.setswitchinterval(3600.0)
     try:
         worker.start()
-        worker.join(0.05)  # blocks, so the worker takes the GIL and gets into the call
+        worker.join(0.01)  # blocks, so the worker takes the GIL and gets into the call
         while worker.is_alive():
             seen_running += 1
             worker.join(0.001)
