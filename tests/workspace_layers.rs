@@ -34,6 +34,14 @@ fn the_library_crates_build_without_dds_tokio_or_the_foxglove_server() {
 }
 
 #[test]
+fn the_python_extension_module_builds_without_dds_tokio_or_the_foxglove_server() {
+    let deps = resolved_dependencies("sweetspot-python");
+    assert!(deps.iter().any(|d| d == "pyo3"), "sweetspot-python without pyo3: {deps:?}");
+    let shell: Vec<_> = deps.iter().filter(|d| SHELL_ONLY.contains(&d.as_str()) || *d == "sweetspot").collect();
+    assert!(shell.is_empty(), "the wheel pulls in {shell:?}");
+}
+
+#[test]
 fn the_root_crate_is_where_ros2_comes_in() {
     let deps = resolved_dependencies("sweetspot");
     for shell in ["rustdds", "ros2-client", "tokio", "foxglove"] {

@@ -41,6 +41,7 @@
 //! - `spin_axis` 1: TEXT_VIEW_FACING beyond the arrow's head: total spin in rpm and the spin axis as
 //!   TrackMan's HitSpinAxis in degrees and on the clock face ([`spin_axis_clock`]).
 
+use nalgebra::{Matrix3, Vector3 as Vec3};
 use sweetspot_msgs::builtin_interfaces::msg::Duration;
 use sweetspot_msgs::geometry_msgs::msg::{Point, Pose, Quaternion, Vector3};
 use sweetspot_msgs::std_msgs::msg::{ColorRGBA, Header};
@@ -48,7 +49,6 @@ use sweetspot_msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
 use sweetspot_msgs::visualization_msgs::msg::{Marker, MarkerArray};
 use sweetspot_physics::oblique3d::ContactFrame;
 use sweetspot_physics::{Bat, BatterSide, ModeSet};
-use nalgebra::{Matrix3, Vector3 as Vec3};
 
 /// Frame id of every marker.
 pub const FRAME_ID: &str = "bat";

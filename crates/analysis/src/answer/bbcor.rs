@@ -9,7 +9,6 @@ use sweetspot_physics::metrics::{bbcor_report, besr, besr_scan, BESR_BALL_SPEED,
 use sweetspot_physics::units::INCH;
 use sweetspot_physics::{Ball, Bat, CollisionOptions, ModeSet};
 
-
 /// BBCOR result and protocol (NCAA / ASTM F2219 as modelled).
 #[derive(Debug, Clone, Serialize)]
 pub struct BbcorResultJson {

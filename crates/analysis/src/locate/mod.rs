@@ -85,9 +85,9 @@ pub mod figure;
 
 use crate::calibrate::{problem_bat, read_inputs, CalibrateError};
 use crate::import::ROWS_TABLE;
-use sweetspot_model::files::echo;
 use sweetspot_model::convert::{ball_from_params, swing_input, wrapped_difference, BallModel};
 use sweetspot_model::engine::SwingInput;
+use sweetspot_model::files::echo;
 use sweetspot_msgs::sweetspot_msgs::msg::Swing;
 use sweetspot_physics::oblique::{collide_oblique, rpm_to_rad_per_s, ObliqueImpact, TangentialContact};
 use sweetspot_physics::oblique3d::{collide_spatial, SpatialImpact};

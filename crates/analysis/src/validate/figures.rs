@@ -5,12 +5,12 @@
 
 use std::path::{Path, PathBuf};
 
-use sweetspot_physics::metrics::linspace;
-use sweetspot_physics::Ball;
 use crate::report::plot::{
     draw_clock_chart, draw_line_chart, draw_panels, ClockChart, ClockSeries, ErrorBars, LineChart, LineKind, Series,
     VerticalMarker,
 };
+use sweetspot_physics::metrics::linspace;
+use sweetspot_physics::Ball;
 
 use super::cases::{wall_cor, Lab, MPH};
 use super::{hit_spin, trackman, Inputs, Report, ValidateError};

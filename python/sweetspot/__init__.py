@@ -1,0 +1,584 @@
+"""sweetspot in Python: the bat-ball collision (Nathan 2000), tracker exports, ``locate`` and bags, in pandas.
+
+Every number comes from the same Rust library as the ``sweetspot`` command line, through the same functions:
+``simulate`` prints what ``sweetspot simulate --json`` prints, ``locate`` what ``sweetspot locate --json``
+finds. SI units throughout (m, m/s, rad/s, kg, J, s), except where the command line takes degrees and rpm
+(``attack_angle``, ``pitch_angle``, ``bat_tilt``, ``swing_direction`` in degrees, ``pitch_spin`` in rpm).
+
+>>> import sweetspot
+>>> r = sweetspot.simulate(sweetspot.Bat.preset("r161"), sweetspot.Ball.preset("mlb2024"),
+...                        ball_speed=40, bat_cm_speed=25, bat_angular_speed=45, impact_z=0.7)
+>>> round(r.exit_speed, 2)
+47.1
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+from . import _sweetspot as _native
+from ._sweetspot import BagError
+
+__all__ = [
+    "Bat",
+    "Ball",
+    "Collision",
+    "BagError",
+    "simulate",
+    "bbcor",
+    "compare",
+    "read_tracker",
+    "locate",
+    "locate_meta",
+    "read_bag",
+]
+
+#: The swing fields ``simulate`` takes, in the command line's units.
+SWING_FIELDS = ("ball_speed", "bat_cm_speed", "bat_angular_speed", "impact_z")
+#: The oblique and three-dimensional fields (undercut m, angles degrees, pitch spin rpm, batter side).
+OBLIQUE_FIELDS = (
+    "undercut",
+    "attack_angle",
+    "pitch_angle",
+    "pitch_spin",
+    "tangential_cor",
+    "friction",
+    "tangential_stiffness_ratio",
+    "bat_tilt",
+    "swing_direction",
+    "batter_side",
+)
+
+
+class Bat:
+    """A bat: a preset (``r161``, ``r161-corked``, ``aluminum``, ``torpedo``) or a bat file (TOML).
+
+    >>> bat = Bat.preset("r161")
+    >>> round(bat.properties()["mass"], 3)
+    0.869
+    """
+
+    def __init__(self, native: _native.Bat, spec: str):
+        self._native = native
+        self._spec = spec
+
+    @classmethod
+    def preset(cls, name: str) -> "Bat":
+        """The built-in bat ``name``; ``ValueError`` for an unknown one."""
+        return cls(_native.Bat.preset(name), name)
+
+    @classmethod
+    def from_file(cls, path: str | os.PathLike) -> "Bat":
+        """A bat file (TOML, profile inline or in a CSV beside it: docs/file-formats.md).
+
+        ``FileNotFoundError`` when it does not exist, ``ValueError`` (with the command line's message) when
+        it is not a valid bat."""
+        path = os.fspath(path)
+        return cls(_native.Bat.from_file(path), os.path.abspath(path))
+
+    @staticmethod
+    def preset_names() -> list[str]:
+        """The built-in bats."""
+        return list(_native.Bat.preset_names())
+
+    @property
+    def name(self) -> str:
+        """The preset name or the file's ``name`` (its stem by default)."""
+        return self._native.name
+
+    def properties(self) -> dict[str, Any]:
+        """Mass properties as ``sweetspot simulate --json``'s ``bat``: ``mass`` kg, ``length`` m,
+        ``center_of_mass`` m from the knob, ``moment_of_inertia`` kg·m² about the CM, ``radius_of_gyration``
+        m, ``pivot_z`` m, ``moment_about_pivot`` kg·m², ``center_of_percussion`` m from the knob."""
+        return json.loads(self._native.properties_json())
+
+    def modes(self, count: int = 8) -> pd.DataFrame:
+        """The first ``count`` vibrational modes (free-free), as ``sweetspot modes --json``: one row per
+        mode with ``frequency_hz``, ``nodes`` (m from the knob) and ``modal_mass`` (kg); a hollow bat's
+        barrel hoop mode along the barrel is in ``attrs["hoop"]``.
+
+        >>> modes = Bat.preset("r161").modes(2)
+        >>> list(modes.columns)
+        ['frequency_hz', 'nodes', 'modal_mass']
+        """
+        document = json.loads(self._native.modes_json(count))
+        frame = pd.DataFrame(document["modes"]).set_index("mode")
+        frame.attrs["bat"] = document["bat"]
+        if document.get("hoop") is not None:
+            frame.attrs["hoop"] = document["hoop"]
+        return frame
+
+    def __repr__(self) -> str:
+        return f"Bat({self._spec!r})"
+
+
+class Ball:
+    """A ball: a preset (``baseball``, ``bbcor``, ``mlb``, ``mlb2024``) with any field replaced.
+
+    >>> Ball.preset("mlb2024", cor=0.5).cor
+    0.5
+    """
+
+    _FIELDS = ("mass", "radius", "cor", "stiffness", "exponent", "cor_speed_exponent", "cor_reference_speed")
+
+    def __init__(self, native: _native.Ball):
+        self._native = native
+
+    @classmethod
+    def preset(cls, name: str = "mlb2024", **overrides: float) -> "Ball":
+        """The built-in ball ``name`` with ``overrides`` among ``mass`` (kg), ``radius`` (m), ``cor`` (e0),
+        ``stiffness`` (k1, N/m^α), ``exponent`` (α), ``cor_speed_exponent`` (p of e0 ∝ v^−p),
+        ``cor_reference_speed`` (m/s), checked as ``--ball-*`` are (``ValueError``)."""
+        unknown = set(overrides) - set(cls._FIELDS)
+        if unknown:
+            raise TypeError(f"unknown ball field(s) {sorted(unknown)}: expected {', '.join(cls._FIELDS)}")
+        return cls(_native.Ball.preset(name, **{k: float(v) for k, v in overrides.items()}))
+
+    @staticmethod
+    def preset_names() -> list[str]:
+        """The built-in balls."""
+        return list(_native.Ball.preset_names())
+
+    def to_dict(self) -> dict[str, float]:
+        """Every field, SI units."""
+        return {f: getattr(self._native, f) for f in self._FIELDS}
+
+    def __getattr__(self, name: str) -> float:
+        if name in Ball._FIELDS:
+            return getattr(self._native, name)
+        raise AttributeError(name)
+
+    def __repr__(self) -> str:
+        return repr(self._native)
+
+
+class Collision:
+    """One collision: every field of ``sweetspot simulate --json``'s result, as attributes.
+
+    ``exit_speed`` m/s, ``rigid_exit_speed`` m/s, ``effective_cor``, ``collision_efficiency``,
+    ``contact_time`` s, ``peak_force`` N, ``impulse`` N·s, ``max_compression`` m, ``energy`` (dict, J),
+    ``mode_energies`` (numpy array, J per vibrational mode) with ``mode_frequencies_hz``, ``hoop`` (dict or
+    None), ``oblique`` (the batted ball of an oblique run: dict or None). The inputs as the command line
+    echoes them are ``bat``, ``ball``, ``swing``, ``options``, ``oblique_inputs``; ``document`` is the whole
+    JSON document.
+    """
+
+    def __init__(self, document: dict[str, Any], index: int = 0):
+        self.document = document
+        self._result = document["results"][index]
+        self.mode_energies = np.array([m["energy"] for m in self._result["mode_energies"]], dtype=float)
+        self.mode_frequencies_hz = np.array([m["frequency_hz"] for m in self._result["mode_energies"]], dtype=float)
+
+    bat = property(lambda self: self.document["bat"], doc="The bat's mass properties (dict).")
+    ball = property(lambda self: self.document["ball"], doc="The ball (dict, SI).")
+    swing = property(lambda self: self.document["swing"], doc="The swing (dict, SI).")
+    options = property(lambda self: self.document["options"], doc="Modes and time step (dict).")
+    oblique_inputs = property(lambda self: self.document.get("oblique"), doc="Oblique inputs or None.")
+
+    @property
+    def hoop(self) -> dict[str, float] | None:
+        """The barrel wall's hoop mode at the impact point (hollow bats), else None."""
+        return self._result.get("hoop")
+
+    @property
+    def oblique(self) -> dict[str, Any] | None:
+        """The batted ball of an oblique or three-dimensional run, else None."""
+        return self._result.get("oblique")
+
+    def __getattr__(self, name: str) -> Any:
+        result = self.__dict__.get("_result", {})
+        if name in result:
+            return result[name]
+        raise AttributeError(name)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The result as the command line's JSON has it."""
+        return dict(self._result)
+
+    def __repr__(self) -> str:
+        return f"Collision(impact_z={self.impact_z!r}, exit_speed={self.exit_speed!r})"
+
+
+def _side_code(value: Any) -> float:
+    text = str(value).strip().lower()
+    if text in ("right", "r", "0", "0.0"):
+        return 0.0
+    if text in ("left", "l", "1", "1.0"):
+        return 1.0
+    raise ValueError(f"batter_side {value!r}: expected right or left")
+
+
+def _is_scalar(value: Any) -> bool:
+    return value is None or isinstance(value, str) or np.ndim(value) == 0
+
+
+def simulate(
+    bat: Bat,
+    ball: Ball | None = None,
+    swings: pd.DataFrame | None = None,
+    *,
+    ball_speed: Any = 40.0,
+    bat_cm_speed: Any = 25.0,
+    bat_angular_speed: Any = 45.0,
+    impact_z: Any = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+    errors: str = "raise",
+    **oblique: Any,
+) -> "Collision | pd.DataFrame":
+    """Collisions of ``bat`` and ``ball`` (default ``mlb2024``), as ``sweetspot simulate`` computes them.
+
+    The swing: ``ball_speed`` (m/s toward the bat), ``bat_cm_speed`` (m/s), ``bat_angular_speed`` (rad/s,
+    barrel leading positive), ``impact_z`` (m from the knob; None: 0.15 m from the barrel end). Oblique and
+    three-dimensional keywords as the command line's flags: ``undercut`` (m), ``attack_angle``,
+    ``pitch_angle`` (degrees), ``pitch_spin`` (rpm), ``tangential_cor``, ``friction``,
+    ``tangential_stiffness_ratio``, ``bat_tilt``, ``swing_direction`` (degrees), ``batter_side``
+    (``"right"``/``"left"``). ``modes`` vibrational modes, RK4 step ``dt`` (s).
+
+    All scalars: one :class:`Collision`. Any numpy array (they broadcast), or a DataFrame ``swings`` whose
+    columns are named like the keywords (the keywords fill the columns it lacks): a DataFrame with one row
+    per swing (the frame's index), the result fields with nested names joined by ``_`` (``energy_ball``,
+    ``oblique_exit_speed``, ``hoop_frequency_hz``), the per-mode energies as ``mode_energy_1`` … (J; their
+    frequencies in ``attrs["mode_frequencies_hz"]``). Swings run on every core with the GIL released. A row
+    that cannot be computed raises ``ValueError`` naming it; ``errors="nan"`` leaves its values NaN with
+    the message in an ``error`` column instead.
+
+    >>> import numpy as np
+    >>> frame = simulate(Bat.preset("r161"), impact_z=np.array([0.6, 0.7]))
+    >>> frame["exit_speed"].round(2).tolist()
+    [35.9, 47.1]
+    """
+    if errors not in ("raise", "nan"):
+        raise ValueError(f"errors={errors!r}: expected 'raise' or 'nan'")
+    unknown = set(oblique) - set(OBLIQUE_FIELDS)
+    if unknown:
+        raise TypeError(f"simulate() got unexpected keyword(s) {sorted(unknown)}")
+    ball = ball if ball is not None else Ball.preset()
+    given = {"ball_speed": ball_speed, "bat_cm_speed": bat_cm_speed, "bat_angular_speed": bat_angular_speed,
+             "impact_z": impact_z, **{k: v for k, v in oblique.items() if v is not None}}
+    if swings is None and all(_is_scalar(v) for v in given.values()):
+        zs = [] if impact_z is None else [float(impact_z)]
+        kwargs = {k: (v if k == "batter_side" else float(v)) for k, v in oblique.items() if v is not None}
+        text = _native.simulate_document(bat._native, ball._native, float(ball_speed), float(bat_cm_speed),
+                                         float(bat_angular_speed), zs, modes=modes, dt=dt, **kwargs)
+        return Collision(json.loads(text))
+    return _simulate_frame(bat, ball, swings, given, modes, dt, errors)
+
+
+def _simulate_frame(bat: Bat, ball: Ball, swings: pd.DataFrame | None, given: dict[str, Any], modes: int,
+                    dt: float, errors: str) -> pd.DataFrame:
+    columns: dict[str, Any] = {}
+    index = None
+    if swings is not None:
+        if not isinstance(swings, pd.DataFrame):
+            raise TypeError("swings: expected a pandas DataFrame")
+        index = swings.index
+        for name in SWING_FIELDS + OBLIQUE_FIELDS:
+            if name in swings.columns:
+                columns[name] = swings[name].to_numpy()
+    for name, value in given.items():
+        if name not in columns and value is not None:
+            columns[name] = value
+    if "batter_side" in columns:
+        columns["batter_side"] = np.vectorize(_side_code, otypes=[float])(np.asarray(columns["batter_side"]))
+    if columns.get("impact_z") is None:
+        columns["impact_z"] = np.nan
+    if "tangential_stiffness_ratio" in columns:
+        columns["tangential_stiffness_ratio"] = np.asarray(columns["tangential_stiffness_ratio"], dtype=float)
+    names = list(columns)
+    try:
+        arrays = np.broadcast_arrays(*[np.asarray(columns[n], dtype=float) for n in names])
+    except ValueError as e:
+        raise ValueError(f"the swing's arrays do not broadcast together: {e}") from None
+    if index is not None and arrays[0].shape != (len(index),):
+        arrays = [np.broadcast_to(a, (len(index),)) for a in arrays]
+    shape = arrays[0].shape
+    flat = {n: np.ascontiguousarray(a.reshape(-1), dtype=np.float64) for n, a in zip(names, arrays)}
+    out = _native.simulate_columns(bat._native, ball._native, flat, modes=modes, dt=dt)
+    failures = out.pop("errors")
+    if failures and errors == "raise":
+        row, message = failures[0]
+        where = index[row] if index is not None else np.unravel_index(row, shape) if len(shape) > 1 else row
+        more = f" (and {len(failures) - 1} more rows)" if len(failures) > 1 else ""
+        raise ValueError(f"swing {where!r}: {message}{more}")
+    energies = out.pop("mode_energies")
+    frequencies = out.pop("mode_frequencies_hz")
+    data = {}
+    for name, values in out.items():
+        optional = name.startswith(("hoop_", "oblique_", "energy_hoop"))
+        if optional and np.isnan(values).all():
+            continue
+        data[name] = values
+    frame = pd.DataFrame(data, index=index)
+    if "oblique_sliding" in frame:
+        frame["oblique_sliding"] = frame["oblique_sliding"].map({1.0: True, 0.0: False}).astype("boolean")
+    for k in range(energies.shape[1]):
+        frame[f"mode_energy_{k + 1}"] = energies[:, k]
+    if failures:
+        messages = pd.Series(pd.NA, index=frame.index, dtype="string")
+        for row, message in failures:
+            messages.iloc[row] = message
+        frame["error"] = messages
+    frame.attrs["mode_frequencies_hz"] = frequencies.tolist()
+    return frame
+
+
+def bbcor(bat: "Bat | str", ball: Ball | None = None, *, modes: int = 18, dt: float = 5e-6) -> dict[str, Any]:
+    """The NCAA BBCOR and ASTM BESR of ``bat`` as ``sweetspot bbcor --json`` reports them (the protocol ball
+    ``bbcor`` unless ``ball`` is given): ``bbcor`` (dimensionless, its ``impact_z`` m from the knob) and
+    ``besr``, with the bat, ball and options.
+
+    >>> round(bbcor("r161")["bbcor"]["bbcor"], 3)
+    0.498
+    """
+    bat = _bat_of(bat)
+    return json.loads(_native.bbcor_document(bat._native, None if ball is None else ball._native, modes=modes,
+                                             dt=dt))
+
+
+def compare(
+    bats: "Sequence[Bat | str]",
+    *,
+    batter: "str | os.PathLike | None" = None,
+    ball: Ball | None = None,
+    pitch_speed: float = 40.0,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> pd.DataFrame:
+    """``bats`` swung by one batter (a batter file as ``compare --batter`` reads; default the Statcast-average
+    batter) against a pitch at ``pitch_speed`` m/s, as ``sweetspot compare --json``: one row per bat (indexed
+    by name) with its swing weight (kg·m²), bat speeds (m/s, rad/s), impact point and sweet spot (m from the
+    knob), exit speeds (m/s), BBCOR, swing time (s); the batter, ball and options in ``attrs``."""
+    natives = [_bat_of(b)._native for b in bats]
+    ball = ball if ball is not None else Ball.preset()
+    document = json.loads(_native.compare_document(natives, ball._native,
+                                                   batter=None if batter is None else os.fspath(batter),
+                                                   pitch_speed=float(pitch_speed), modes=modes, dt=dt))
+    frame = pd.DataFrame(document["bats"]).set_index("name")
+    frame.attrs.update({k: v for k, v in document.items() if k != "bats"})
+    return frame
+
+
+def _csv_text(frame: pd.DataFrame) -> str:
+    """The frame as the export it came from: one line per row (line breaks inside text cells become
+    spaces, so line ``n + 2`` is row ``n``), missing cells empty."""
+    frame = frame.copy()
+    for name in frame.columns:
+        if frame[name].dtype == object or pd.api.types.is_string_dtype(frame[name].dtype):
+            frame[name] = frame[name].astype("string").str.replace(r"[\r\n]+", " ", regex=True)
+    return frame.to_csv(index=False)
+
+
+def _bat_of(bat: "Bat | str") -> Bat:
+    if isinstance(bat, Bat):
+        return bat
+    if bat in _native.Bat.preset_names():
+        return Bat.preset(bat)
+    return Bat.from_file(bat)
+
+
+def read_tracker(
+    source: "str | os.PathLike | pd.DataFrame",
+    kind: str | None = None,
+    *,
+    bat: "Bat | str" = "r161",
+    ball: str = "mlb2024",
+    batter: "str | os.PathLike | None" = None,
+    undercut: float = 0.0,
+    tee: bool = False,
+) -> pd.DataFrame:
+    """A tracker export (TrackMan, Baseball Savant/Statcast, HitTrax CSV; ``kind`` forces one) read as
+    ``sweetspot import`` reads it, one row per record: ``line`` in the file, the tracker's values in SI
+    units and the model's signs (speeds m/s, angles rad, spins rad/s; NaN = not measured), the swing it
+    became (``swing_id``, ``bat_cm_speed``, ``bat_angular_speed``, ``impact_z``, the fields ``assumed``) or
+    why not (``skipped``; ``refused`` holds the message of a row refused as bad input).
+
+    ``source`` is a path or a DataFrame (e.g. pybaseball's ``statcast()``). An unknown header raises
+    ``ValueError``; a missing file ``FileNotFoundError``."""
+    bat = _bat_of(bat)
+    common = dict(kind=kind, bat=bat._native, bat_spec=bat._spec, ball=ball,
+                  batter=None if batter is None else os.fspath(batter), undercut=float(undercut), tee=tee)
+    if isinstance(source, pd.DataFrame):
+        columns = _native.read_tracker_columns(text=_csv_text(source).encode(), name="DataFrame", **common)
+        index = source.index
+    else:
+        columns = _native.read_tracker_columns(path=os.fspath(source), **common)
+        index = None
+    fmt = columns.pop("format")
+    frame = pd.DataFrame(columns)
+    frame["swing_id"] = frame["swing_id"].astype("UInt64")
+    frame["time_ns"] = frame["time_ns"].astype("UInt64")
+    frame["contact"] = frame["contact"].astype("boolean")
+    for name in ("skipped", "refused"):
+        frame[name] = frame[name].astype("string")
+    if index is not None and len(index) == len(frame):
+        frame.index = index
+    frame.attrs["format"] = fmt
+    return frame
+
+
+#: The columns of ``locate``'s DataFrame, with their dtypes.
+LOCATE_COLUMNS = {
+    "bat_id": "string",
+    "verdict": "string",
+    "measured_exit_speed": "float64",
+    "measured_launch_angle": "float64",
+    "measured_spin": "float64",
+    "impact_z": "float64",
+    "impact_z_sigma": "float64",
+    "undercut": "float64",
+    "undercut_sigma": "float64",
+    "undercut_fitted": "boolean",
+    "side": "string",
+    "sweet_spot_z": "float64",
+    "chi2": "float64",
+    "model_exit_speed": "float64",
+    "model_launch_angle": "float64",
+    "model_spin": "float64",
+    "solutions": "int64",
+    "favoured": "boolean",
+    "squared_up": "boolean",
+    "max_exit_speed": "float64",
+    "excess": "float64",
+    "reason": "string",
+}
+
+
+def locate_meta() -> pd.DataFrame:
+    """An empty frame shaped like ``locate``'s answer (Dask's ``meta``)."""
+    return pd.DataFrame({k: pd.Series(dtype=v) for k, v in LOCATE_COLUMNS.items()})
+
+
+def _nan(v: Any) -> float:
+    return float("nan") if v is None else float(v)
+
+
+def _locate_row(swing: dict[str, Any]) -> dict[str, Any]:
+    measured = [_nan(v) for v in swing["measured"]]
+    row: dict[str, Any] = {
+        "bat_id": swing["bat_id"],
+        "verdict": swing["verdict"],
+        "measured_exit_speed": measured[0],
+        "measured_launch_angle": measured[1],
+        "measured_spin": measured[2],
+        "solutions": len(swing.get("solutions") or []),
+        "favoured": swing.get("favoured") is not None if swing["verdict"] == "located" else pd.NA,
+        "squared_up": swing.get("squared_up", pd.NA),
+        "max_exit_speed": _nan(swing.get("max_exit_speed")),
+        "excess": _nan(swing.get("excess")),
+        "reason": swing.get("reason", pd.NA),
+    }
+    solutions = swing.get("solutions") or []
+    chosen = None
+    if solutions:
+        chosen = solutions[swing["favoured"]] if swing.get("favoured") is not None else solutions[0]
+    for name in ("impact_z", "impact_z_sigma", "undercut", "undercut_sigma", "sweet_spot_z", "chi2"):
+        row[name] = _nan(chosen[name]) if chosen else float("nan")
+    if swing["verdict"] == "too_fast":
+        row["sweet_spot_z"] = _nan(swing.get("sweet_spot_z"))
+    row["undercut_fitted"] = chosen["undercut_fitted"] if chosen else pd.NA
+    row["side"] = chosen["side"] if chosen else pd.NA
+    model = [_nan(v) for v in chosen["model"]] if chosen else [float("nan")] * 3
+    row["model_exit_speed"], row["model_launch_angle"], row["model_spin"] = model
+    return row
+
+
+def _locate_frame(report: dict[str, Any], index: Any = None) -> pd.DataFrame:
+    rows = [_locate_row(s) for s in report["swings"]]
+    frame = pd.DataFrame(rows, columns=list(LOCATE_COLUMNS), index=index)
+    frame = frame.astype(LOCATE_COLUMNS)
+    frame.attrs["report"] = {k: v for k, v in report.items() if k != "swings"}
+    return frame
+
+
+def locate(
+    source: "str | os.PathLike | pd.DataFrame",
+    *,
+    bat: "Bat | str" = "r161",
+    ball: str = "mlb2024",
+    kind: str | None = None,
+    batter: "str | os.PathLike | None" = None,
+    undercut: float = 0.0,
+    tee: bool = False,
+    exit_speed_sigma: float = 0.45,
+    launch_angle_sigma: float = 1.0,
+    spin_sigma: float = 100.0,
+    fit_bat_speed: bool = False,
+) -> pd.DataFrame:
+    """Where on the bat each ball was hit, as ``sweetspot locate --json`` finds it: one row per swing with
+    the ``verdict`` (located, too_fast, not_reproducible, not_measured, failed), the measured values (SI:
+    m/s, rad, rad/s), and the solution the measurements favour (else the handle-side one): ``impact_z`` ±
+    ``impact_z_sigma`` (m from the knob), ``undercut`` ± ``undercut_sigma`` (m), ``side`` of the sweet spot
+    ``sweet_spot_z``, ``chi2``, the model's values there; ``solutions`` counts them all (the whole report
+    is in ``attrs["report"]`` for a bag).
+
+    ``source`` is a bag (directory or .mcap: its swings, bats and balls) or a tracker DataFrame (a
+    pybaseball/Baseball Savant frame as is, TrackMan, HitTrax), imported as ``sweetspot import --bat BAT
+    --ball BALL`` would import its CSV: the answer is indexed like the frame, one row per row that became a
+    swing. Tracker accuracies: ``exit_speed_sigma`` m/s, ``launch_angle_sigma`` degrees, ``spin_sigma`` rpm.
+    Swings run on every core with the GIL released."""
+    sigmas = dict(exit_speed_sigma=float(exit_speed_sigma), launch_angle_sigma=float(launch_angle_sigma),
+                  spin_sigma=float(spin_sigma), fit_bat_speed=fit_bat_speed)
+    if not isinstance(source, pd.DataFrame):
+        report = json.loads(_native.locate_bag(os.fspath(source), **sigmas))
+        frame = _locate_frame(report)
+        frame.insert(0, "swing_id", pd.array([s["swing_id"] for s in report["swings"]], dtype="UInt64"))
+        frame.attrs["report"] = report
+        return frame
+    bat = _bat_of(bat)
+    with tempfile.TemporaryDirectory(prefix="sweetspot-locate-") as scratch:
+        csv = Path(scratch, "export.csv")
+        csv.write_text(_csv_text(source), encoding="utf-8")
+        bag = Path(scratch, "bag")
+        try:
+            _native.import_bag(os.fspath(csv), os.fspath(bag), kind=kind, bat=bat._native, bat_spec=bat._spec,
+                               ball=ball, batter=None if batter is None else os.fspath(batter),
+                               undercut=float(undercut), tee=tee)
+        except ValueError as e:
+            if "no row became a swing" in str(e):
+                return locate_meta().set_axis(source.index[:0])
+            raise
+        report = json.loads(_native.locate_bag(os.fspath(bag), **sigmas))
+        lines = pd.read_csv(bag / "import_rows.csv", usecols=["swing_id", "line"]).set_index("swing_id")["line"]
+    positions = [int(lines[s["swing_id"]]) - 2 for s in report["swings"]]
+    return _locate_frame(report, index=source.index[positions])
+
+
+def _flat(messages: Sequence[Mapping[str, Any]]) -> pd.DataFrame:
+    return pd.json_normalize(list(messages), sep="_") if messages else pd.DataFrame()
+
+
+def read_bag(path: "str | os.PathLike") -> dict[str, pd.DataFrame]:
+    """A bag's messages (sweetspot's types) as one DataFrame per topic, keyed by topic name, each with
+    ``log_time_ns``; and ``"swings"``: every recorded swing joined to its answer by (namespace, swing_id)
+    as ``bag export --csv`` joins them, the answer's ExitVelocity fields prefixed ``exit_velocity_`` and
+    ModalEnergies ``modal_energies_``. Nested fields joined by ``_`` (``header_stamp_sec``). A damaged or
+    unreadable bag raises :class:`BagError`, a missing one ``FileNotFoundError``."""
+    document = json.loads(_native.read_bag_document(os.fspath(path)))
+    frames: dict[str, pd.DataFrame] = {}
+    for topic in document["topics"]:
+        frame = _flat(topic["messages"])
+        frame.insert(0, "log_time_ns", pd.array(topic["log_time_ns"], dtype="UInt64"))
+        frame.insert(1, "namespace", topic["namespace"])
+        frame.attrs["type"] = topic["type"]
+        frames[topic["topic"]] = frame
+    rows = []
+    for s in document["swings"]:
+        row = {"namespace": s["namespace"], "log_time_ns": s["log_time_ns"], **s["swing"]}
+        for part in ("exit_velocity", "modal_energies"):
+            if s[part] is not None:
+                row[part] = s[part]
+        rows.append(row)
+    swings = _flat(rows)
+    if "log_time_ns" in swings:
+        swings["log_time_ns"] = swings["log_time_ns"].astype("UInt64")
+    frames["swings"] = swings
+    return frames
+

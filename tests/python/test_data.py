@@ -1,0 +1,110 @@
+"""`read_tracker`, `locate` and `read_bag` against the command line run as a process (`sweetspot import`,
+`sweetspot locate --json`, `sweetspot bag export`) and against the export's own cells."""
+
+import io
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import sweetspot
+
+MPH = 0.44704
+
+
+def test_read_tracker_skips_and_refuses_rows_as_import_does(repo, tmp_path, cli_json):
+    export = repo / "tests/data/trackman_bad.csv"
+    report = cli_json("import", export, "-o", tmp_path / "bag")
+    frame = sweetspot.read_tracker(export)
+    assert frame.attrs["format"] == "trackman"
+    assert frame["swing_id"].notna().sum() == report["swings"]
+    assert frame["skipped"].value_counts().to_dict() == report["skipped"]
+    assert [f"{export}, {m}" for m in frame["refused"].dropna()] == report["refused"]
+
+
+def test_read_tracker_takes_a_savant_frame_as_is_in_si_units(repo):
+    export = repo / "tests/data/statcast_search.csv"
+    savant = pd.read_csv(export)
+    frame = sweetspot.read_tracker(savant)
+    assert frame.attrs["format"] == "statcast"
+    assert list(frame.index) == list(savant.index)
+    np.testing.assert_allclose(frame["exit_speed"], savant["launch_speed"] * MPH, rtol=1e-15)
+    np.testing.assert_allclose(frame["launch_angle"], np.radians(savant["launch_angle"]), rtol=1e-15)
+    from_file = sweetspot.read_tracker(export)
+    pd.testing.assert_frame_equal(frame, from_file)
+
+
+def test_an_export_of_no_known_kind_is_a_value_error_and_a_missing_one_file_not_found(tmp_path):
+    with pytest.raises(ValueError, match="matches no known export"):
+        sweetspot.read_tracker(pd.DataFrame({"speed": [1.0]}))
+    with pytest.raises(ValueError, match="not a hittrax export"):
+        sweetspot.read_tracker(pd.DataFrame({"speed": [1.0]}), kind="hittrax")
+    with pytest.raises(FileNotFoundError):
+        sweetspot.read_tracker(tmp_path / "absent.csv")
+
+
+def located_by_cli(cli_json, tmp_path, export, *flags):
+    bag = tmp_path / "cli-bag"
+    cli_json("import", export, "-o", bag, *flags)
+    return bag, cli_json("locate", bag)
+
+
+def test_locate_of_a_savant_frame_is_sweetspot_locate_of_its_import(repo, tmp_path, cli_json):
+    export = repo / "tests/data/statcast_search.csv"
+    bag, document = located_by_cli(cli_json, tmp_path, export)
+    savant = pd.read_csv(export)
+    savant.index = [f"pitch-{i}" for i in range(len(savant))]
+    frame = sweetspot.locate(savant)
+    assert len(frame) == len(document["swings"])
+    for (index, row), swing in zip(frame.iterrows(), document["swings"]):
+        assert row["verdict"] == swing["verdict"]
+        # Joined back to the frame's own row: the measured exit speed is that row's launch_speed.
+        if not math.isnan(row["measured_exit_speed"]):
+            assert row["measured_exit_speed"] == pytest.approx(savant.loc[index, "launch_speed"] * MPH, rel=1e-15)
+        for solution in swing.get("solutions", [])[:1]:
+            for key in ("impact_z", "impact_z_sigma", "undercut", "undercut_sigma", "sweet_spot_z", "chi2"):
+                assert row[key] == solution[key], key
+            assert row["side"] == solution["side"]
+    # A bag goes straight through, with the whole report.
+    from_bag = sweetspot.locate(bag)
+    assert from_bag.attrs["report"]["located"] == document["located"]
+    assert from_bag["swing_id"].tolist() == [s["swing_id"] for s in document["swings"]]
+    assert from_bag["impact_z"].equals(frame["impact_z"].set_axis(from_bag.index))
+
+
+def test_a_frame_with_no_swing_locates_to_an_empty_frame():
+    savant = pd.read_csv(io.StringIO("launch_speed,launch_angle,release_speed,description,events,bat_speed,"
+                                     "game_date,batter,pitcher,game_pk,at_bat_number,pitch_number,stand,"
+                                     "vx0,vy0,vz0,ax,ay,az,release_spin_rate,spin_axis\n"))
+    try:
+        frame = sweetspot.locate(savant)
+    except ValueError as e:  # a header the importer does not know says so
+        assert "export" in str(e)
+    else:
+        assert frame.empty and list(frame.columns) == list(sweetspot.LOCATE_COLUMNS)
+
+
+def test_read_bag_joins_swings_to_their_answers_as_bag_export_does(repo, cli):
+    bag = repo / "bags/golden/sweetspot_golden"
+    exported = pd.read_csv(io.StringIO(cli("bag", "export", bag).stdout))
+    frames = sweetspot.read_bag(bag)
+    swings = frames["swings"]
+    assert swings["swing_id"].tolist() == exported["swing_id"].tolist()
+    np.testing.assert_array_equal(swings["exit_velocity_exit_speed"].to_numpy(float), exported["exit_speed"])
+    np.testing.assert_array_equal(swings["ball_speed"].to_numpy(float), exported["ball_speed"])
+    topics = {name: f.attrs["type"] for name, f in frames.items() if name != "swings"}
+    assert topics["/golden/swing"] == "sweetspot_msgs/msg/Swing"
+    assert len(frames["/golden/swing"]) == len(swings)
+
+
+def test_a_file_that_is_not_a_bag_is_a_bag_error(tmp_path):
+    junk = tmp_path / "junk.mcap"
+    junk.write_bytes(b"not an mcap file at all" * 10)
+    with pytest.raises(sweetspot.BagError, match="not an MCAP file"):
+        sweetspot.read_bag(junk)
+    with pytest.raises(sweetspot.BagError):
+        sweetspot.locate(junk)
+    with pytest.raises(FileNotFoundError):
+        sweetspot.read_bag(tmp_path / "absent")
