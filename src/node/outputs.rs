@@ -492,7 +492,10 @@ mod tests {
             assert!(sink.deliver(&ok_outcome()));
             let mut want = vec!["ModalEnergies 7", "ExitVelocity 7"];
             if scenes {
-                want.insert(0, "MarkerArray bat_outline,bat_outline,ball,exit_velocity,deflection x20,label,spin_axis,spin_axis");
+                want.insert(
+                    0,
+                    "MarkerArray bat_outline,bat_outline,ball,exit_velocity,deflection x20,label,spin_axis,spin_axis",
+                );
             }
             assert_eq!(*sent.lock().unwrap(), want);
             // A rejection is not drawn.
