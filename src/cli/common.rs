@@ -221,20 +221,19 @@ pub struct ObliqueArgs {
 impl ObliqueArgs {
     /// The inputs in SI units (degrees → rad, rpm → rad/s), the contact checked.
     pub fn inputs(&self) -> Result<ObliqueInputs> {
-        ObliqueInputs::from_cli_units(
-            self.undercut,
-            self.attack_angle,
-            self.pitch_angle,
-            self.pitch_spin,
-            self.tangential_cor,
-            self.friction,
-            self.tangential_stiffness_ratio,
-        )
-        .context(
-            "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction/\
-             --tangential-stiffness-ratio",
-        )?
-        .with_spatial(self.bat_tilt, self.swing_direction, self.batter_side)
+        ObliqueFlags {
+            undercut: self.undercut,
+            attack_angle: self.attack_angle,
+            pitch_angle: self.pitch_angle,
+            pitch_spin: self.pitch_spin,
+            tangential_cor: self.tangential_cor,
+            friction: self.friction,
+            tangential_stiffness_ratio: self.tangential_stiffness_ratio,
+            bat_tilt: self.bat_tilt,
+            swing_direction: self.swing_direction,
+            batter_side: self.batter_side,
+        }
+        .inputs()
     }
 }
 

@@ -7,7 +7,7 @@
 pub use crate::engine::answer::bbcor::bbcor_document as bbcor;
 pub use crate::engine::answer::compare::compare;
 pub use crate::engine::answer::compare::{batter_from_spec, load_batter_file, BatterSpec};
-pub use crate::engine::answer::inputs::{check_options, BallOverrides, ObliqueInputs};
+pub use crate::engine::answer::inputs::{check_options, BallOverrides, ObliqueFlags, ObliqueInputs};
 pub use crate::engine::answer::modes::modes_document;
 pub use crate::engine::answer::simulate::{oblique_impact, simulate, spatial_impact, DEFAULT_IMPACT_FROM_TIP};
 pub use crate::engine::bat_file::load_bat_file;

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use crate::cli_shared::{
     check_options, load_bat_file, modes_document, oblique_impact, simulate, spatial_impact, BallOverrides,
-    ObliqueInputs, DEFAULT_IMPACT_FROM_TIP,
+    ObliqueFlags, ObliqueInputs, DEFAULT_IMPACT_FROM_TIP,
 };
 use crate::engine::answer::inputs::batter_side;
 use crate::engine::physics::{self, collide, collide_oblique, collide_spatial, CollisionOptions, Impact, ModeSet};
@@ -169,42 +169,6 @@ fn finite(name: &str, value: f64) -> anyhow::Result<f64> {
         Ok(value)
     } else {
         anyhow::bail!("{name} = {value} is not allowed: expected a finite number")
-    }
-}
-
-/// The oblique inputs in the command line's units (undercut m, angles degrees, spin rpm), `None` = not
-/// given; checked as `sweetspot simulate` checks its flags.
-#[derive(Debug, Clone, Copy, Default)]
-struct ObliqueFlags {
-    undercut: Option<f64>,
-    attack_angle: Option<f64>,
-    pitch_angle: Option<f64>,
-    pitch_spin: Option<f64>,
-    tangential_cor: Option<f64>,
-    friction: Option<f64>,
-    tangential_stiffness_ratio: Option<f64>,
-    bat_tilt: Option<f64>,
-    swing_direction: Option<f64>,
-    batter_side: Option<physics::BatterSide>,
-}
-
-impl ObliqueFlags {
-    fn inputs(&self) -> anyhow::Result<ObliqueInputs> {
-        use anyhow::Context as _;
-        ObliqueInputs::from_cli_units(
-            self.undercut,
-            self.attack_angle,
-            self.pitch_angle,
-            self.pitch_spin,
-            self.tangential_cor,
-            self.friction,
-            self.tangential_stiffness_ratio,
-        )
-        .context(
-            "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction/\
-             --tangential-stiffness-ratio",
-        )?
-        .with_spatial(self.bat_tilt, self.swing_direction, self.batter_side)
     }
 }
 

@@ -62,6 +62,52 @@ pub fn resolve_bat(spec: &str, base: Option<&Path>) -> Result<Bat> {
     )
 }
 
+/// The oblique and 3-D inputs in the command line's units (undercut m, angles degrees, spin rpm), `None` = not
+/// given: what `simulate`'s flags and Python's keywords say, checked alike by [`ObliqueFlags::inputs`].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ObliqueFlags {
+    /// Undercut, m.
+    pub undercut: Option<f64>,
+    /// Attack angle, degrees.
+    pub attack_angle: Option<f64>,
+    /// Pitch descent angle, degrees.
+    pub pitch_angle: Option<f64>,
+    /// Pitch backspin, rpm.
+    pub pitch_spin: Option<f64>,
+    /// Tangential COR e_T.
+    pub tangential_cor: Option<f64>,
+    /// Friction coefficient μ.
+    pub friction: Option<f64>,
+    /// Tangential-to-normal stiffness ratio η².
+    pub tangential_stiffness_ratio: Option<f64>,
+    /// Bat tilt, degrees (barrel below the hands).
+    pub bat_tilt: Option<f64>,
+    /// Swing direction, degrees.
+    pub swing_direction: Option<f64>,
+    /// Batter side.
+    pub batter_side: Option<BatterSide>,
+}
+
+impl ObliqueFlags {
+    /// The inputs in SI units (degrees → rad, rpm → rad/s), the contact checked.
+    pub fn inputs(&self) -> Result<ObliqueInputs> {
+        ObliqueInputs::from_cli_units(
+            self.undercut,
+            self.attack_angle,
+            self.pitch_angle,
+            self.pitch_spin,
+            self.tangential_cor,
+            self.friction,
+            self.tangential_stiffness_ratio,
+        )
+        .context(
+            "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction/\
+             --tangential-stiffness-ratio",
+        )?
+        .with_spatial(self.bat_tilt, self.swing_direction, self.batter_side)
+    }
+}
+
 /// A ball named by a preset (or the caller's base ball) with some of its fields replaced, SI units: what
 /// `--ball NAME --ball-mass KG …` and Python's `Ball.preset(name, mass=…)` say.
 #[derive(Debug, Clone, Default, PartialEq)]
