@@ -782,7 +782,7 @@ impl Work {
     ) -> (Scalars, f64) {
         let c = if use_partial { &self.partial } else { &self.full };
         let [a0, b0, a1, b1] = self.proj;
-        let (c0, c1, c2) = (self.c0, self.c1, self.c2);
+        let c0 = self.c0;
         let (from, to) = match &mut self.state {
             [first, second] if self.current == 0 => (&*first, second),
             [first, second] => (&*second, first),
@@ -816,6 +816,22 @@ impl Work {
         let u4 = (u_free - h * a * a1 - h * a * a * b1) - h * a * k * f2;
         let [f3, f4] = self.anchor.force_pair(law, [u3, u4]);
 
+        (self.finish_step(powers, sc, inv_mass, [h0, h1, h2, h3], [f1, f2, f3, f4]), f1)
+    }
+
+    /// The end of an RK4 step once its four stage forces are known: the beam's projections and the pending
+    /// per-mode forcing for the next step, and the ball's position and speed.
+    #[inline(always)]
+    fn finish_step(
+        &mut self,
+        powers: StepPowers,
+        sc: &Scalars,
+        inv_mass: f64,
+        [h0, h1, h2, h3]: [f64; 4],
+        [f1, f2, f3, f4]: [f64; 4],
+    ) -> Scalars {
+        let (c0, c1, c2) = (self.c0, self.c1, self.c2);
+        let (h, s, v) = (powers.h, sc.s, sc.v);
         // Per-mode forcing: q gets φ·fq + φω²·gq, p gets φ·fp + φω²·gp with
         // fq = −h²/6 (F1+F2+F3), fp = −h/6 (F1+2F2+2F3+F4), gq = h⁴/24 F1, gp = h³/12 (F1+F2).
         let (h2_6, h_6) = (powers.h2_6, powers.h_6);
@@ -835,7 +851,7 @@ impl Work {
             s: (s + h * v + h2_6 * inv_mass * f12) + h2_6 * inv_mass * f3,
             v: (v + h_6 * inv_mass * (f12 + f2)) + h_6 * inv_mass * (2.0 * f3 + f4),
         };
-        (next, f1)
+        next
     }
 
     /// [`Work::step`] with the wall's hoop mode, for a step of length `powers.h` whose force-free projections
@@ -853,7 +869,7 @@ impl Work {
     ) -> (Scalars, f64) {
         let h = powers.h;
         let [a0, b0, a1, b1] = self.proj;
-        let (c0, c1, c2) = (self.c0, self.c1, self.c2);
+        let c0 = self.c0;
         let a = 0.5 * h;
         let (s, v) = (sc.s, sc.v);
         let k = c0 + inv_mass;
@@ -890,24 +906,7 @@ impl Work {
         self.hoop.p[1 - cur] = ph + h_6 * (acc1 + 2.0 * acc2 + 2.0 * acc3 + acc4);
 
         // The beam and the ball, as in `step`, with the beam's forces F·g.
-        let h2_6 = powers.h2_6;
-        let f12 = f1 + f2;
-        let fq = -h2_6 * f12 - h2_6 * f3;
-        let fp = -h_6 * (f12 + f2) - h_6 * (2.0 * f3 + f4);
-        let gq = powers.h4_24 * f1;
-        let gp = powers.h3_12 * f12;
-        self.proj_next = [
-            (h0 + gq * c1 - h2_6 * c0 * f12) - h2_6 * c0 * f3,
-            (h1 + gp * c1 - h_6 * c0 * (f12 + f2)) - h_6 * c0 * (2.0 * f3 + f4),
-            h2 + fq * c1 + gq * c2,
-            h3 + fp * c1 + gp * c2,
-        ];
-        self.pending[1 - self.current] = [fq, fp, gq, gp];
-        let next = Scalars {
-            s: (s + h * v + h2_6 * inv_mass * f12) + h2_6 * inv_mass * f3,
-            v: (v + h_6 * inv_mass * (f12 + f2)) + h_6 * inv_mass * (2.0 * f3 + f4),
-        };
-        (next, raw1)
+        (self.finish_step(powers, sc, inv_mass, [h0, h1, h2, h3], [f1, f2, f3, f4]), raw1)
     }
 
     /// Compression and its rate at the end of the step just taken.
