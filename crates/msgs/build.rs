@@ -1167,6 +1167,34 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         );
     }
     let _ = writeln!(out, "{i3}    ::serde_json::Value::Object(object)\n{i3}}}\n{i2}}}\n");
+    gen_field_table(out, spec);
+}
+
+/// The message's [`FieldTable`]: each scalar field and each `float64` sequence, in `.msg` order.
+fn gen_field_table(out: &mut String, spec: &MsgSpec) {
+    let (i2, i3) = ("        ", "            ");
+    let entries: Vec<String> = spec
+        .fields
+        .iter()
+        .filter_map(|f| {
+            let field = format!("self.{}", ident(&f.name));
+            let value = match (&f.ty.base, &f.ty.array) {
+                (Base::Prim("float64"), Array::None) => format!("Float({field})"),
+                (Base::Prim("float32"), Array::None) => format!("Float(f64::from({field}))"),
+                (Base::Prim("bool"), Array::None) => format!("Bool({field})"),
+                (Base::Prim(p), Array::None) if p.starts_with("int") => format!("Int(i64::from({field}))"),
+                (Base::Prim(_), Array::None) => format!("Uint(u64::from({field}))"),
+                (Base::String { .. }, Array::None) => format!("Text(&{field})"),
+                (Base::Prim("float64"), Array::Unbounded | Array::Bounded(_)) => format!("Floats(&{field})"),
+                _ => return None,
+            };
+            Some(format!("({:?}, crate::FieldValue::{value})", f.name))
+        })
+        .collect();
+    let _ = writeln!(out, "{i2}impl crate::FieldTable for {} {{", spec.name);
+    let _ = writeln!(out, "{i3}fn field_table(&self) -> ::std::vec::Vec<(&'static str, crate::FieldValue<'_>)> {{");
+    let _ = writeln!(out, "{i3}    ::std::vec::Vec::from([{}])", entries.join(", "));
+    let _ = writeln!(out, "{i3}}}\n{i2}}}\n");
 }
 
 /// A service's marker type: its names, `.srv` text and RIHS01 hash (the hash ROS 2 advertises on both of its

@@ -4,12 +4,12 @@
 //! ModalEnergies whose topics live in `/rig3`, so several rigs recorded into one bag stay apart. Topics are
 //! recognised by type, not name.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::io::Write;
 use std::path::Path;
 
 use sweetspot_msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies, Swing};
-use sweetspot_msgs::{decode_cdr, RosMessage};
+use sweetspot_msgs::{decode_cdr, FieldTable, FieldValue, RosMessage};
 
 use super::reader::read_bag;
 use super::BagError;
@@ -113,6 +113,9 @@ pub struct Run {
     pub rows: Vec<SwingRow>,
     /// Matching statistics.
     pub counts: ExportCounts,
+    /// Per message type, the fields its recorded schema names (those of every channel of the type): a bag
+    /// recorded before a field was appended to a `.msg` lacks it, and its messages decode it as NaN.
+    pub recorded_fields: HashMap<String, BTreeSet<String>>,
 }
 
 /// Reads a bag as a run (see [`swing_rows`] for how outputs are matched).
@@ -126,9 +129,18 @@ pub fn read_run(path: &Path) -> Result<Run, BagError> {
     // A node records its own bag: with one topic per message type there is one node, whatever the remaps; its
     // namespace is the swing topic's (`/lab` for `/lab/swing`).
     let scans = super::reader::read_bag(path, |_| {})?;
-    let mut per_type: HashMap<String, std::collections::BTreeSet<String>> = HashMap::new();
+    let mut per_type: HashMap<String, BTreeSet<String>> = HashMap::new();
+    let mut recorded_fields: HashMap<String, BTreeSet<String>> = HashMap::new();
     for channel in scans.iter().flat_map(|s| s.channels.values()) {
-        per_type.entry(channel.topic.type_name.clone()).or_default().insert(channel.topic.name.clone());
+        let topic = &channel.topic;
+        per_type.entry(topic.type_name.clone()).or_default().insert(topic.name.clone());
+        if !topic.schema_text.is_empty() {
+            let fields = schema_fields(&topic.schema_text);
+            recorded_fields
+                .entry(topic.type_name.clone())
+                .and_modify(|known| known.retain(|f| fields.contains(f)))
+                .or_insert(fields);
+        }
     }
     counts.topics =
         super::info::topics_of(&scans).into_iter().map(|(topic, _)| (topic.name, topic.type_name)).collect();
@@ -190,163 +202,126 @@ pub fn read_run(path: &Path) -> Result<Run, BagError> {
         }
     }
     counts.swings = rows.len() as u64;
-    Ok(Run { events, rows, counts })
+    Ok(Run { events, rows, counts, recorded_fields })
+}
+
+/// The field names of a `ros2msg` schema's own message (the text before its first dependency), constants
+/// (`NAME=value`) left out.
+pub fn schema_fields(schema_text: &str) -> BTreeSet<String> {
+    schema_text
+        .lines()
+        .take_while(|line| !line.starts_with("====="))
+        .filter_map(|line| {
+            let code = line.split('#').next().unwrap_or("");
+            let mut words = code.split_whitespace();
+            let (_type, name) = (words.next()?, words.next()?);
+            let constant = name.contains('=') || words.next().is_some_and(|rest| rest.starts_with('='));
+            (!constant).then(|| name.to_string())
+        })
+        .collect()
 }
 
 fn stamp(h: &sweetspot_msgs::std_msgs::msg::Header) -> String {
     format!("{}.{:09}", h.stamp.sec, h.stamp.nanosec)
 }
 
-fn opt(v: Option<f64>) -> String {
-    v.map(|x| x.to_string()).unwrap_or_default()
+/// Where a message type's columns sit in its field table: its scalar fields that no earlier column has.
+struct Section {
+    keep: Vec<bool>,
+    names: Vec<&'static str>,
 }
 
-/// Writes the CSV: swing inputs, then ExitVelocity, then ModalEnergies totals, then the fields appended to
-/// the messages later (Swing's oblique inputs and launch measurements, ExitVelocity's launch and hoop fields,
-/// ModalEnergies.hoop_energy; NaN for a bag recorded before them), then per-mode columns (`mode<k>_frequency`,
-/// `mode<k>_energy`, `mode<k>_fraction` up to the most modes of any row). Units are SI as in the messages.
-/// Missing outputs leave their cells empty.
+impl Section {
+    fn of(table: &[(&'static str, FieldValue<'_>)], taken: &mut Vec<&'static str>) -> Section {
+        let keep: Vec<bool> = table
+            .iter()
+            .map(|(name, value)| !matches!(value, FieldValue::Floats(_)) && !taken.contains(name))
+            .collect();
+        let names: Vec<&'static str> = table.iter().zip(&keep).filter(|(_, &k)| k).map(|((n, _), _)| *n).collect();
+        taken.extend(&names);
+        Section { keep, names }
+    }
+
+    /// The cells of one message (empty cells when it was not recorded).
+    fn cells<T: FieldTable>(&self, message: Option<&T>, out: &mut Vec<String>) {
+        match message {
+            Some(m) => out.extend(
+                m.field_table().iter().zip(&self.keep).filter(|(_, &k)| k).map(|((_, value), _)| value.to_string()),
+            ),
+            None => out.extend(self.names.iter().map(|_| String::new())),
+        }
+    }
+}
+
+/// Writes the CSV: the swing's identity (`namespace`, `swing_id`, `log_time_ns`, `swing_stamp`), then every
+/// scalar field of Swing, of ExitVelocity and of ModalEnergies in `.msg` order (a name already given by an
+/// earlier message, such as the answer's copy of `bat_id`, is not repeated), then per-mode columns
+/// (`mode<k>_frequency`, `mode<k>_energy`, `mode<k>_fraction` up to the most modes of any row). Units are SI as
+/// in the messages; the columns follow the `.msg` files, so a field added there is exported without a line of
+/// code. Missing outputs leave their cells empty; a field recorded before it existed reads NaN.
 pub fn write_csv(rows: &[SwingRow], out: impl Write) -> Result<(), BagError> {
     let modes = rows.iter().filter_map(|r| r.modal_energies.as_ref()).map(|m| m.energy.len()).max().unwrap_or(0);
-    let mut w = csv::Writer::from_writer(out);
-    let mut header: Vec<String> = [
-        "namespace",
-        "swing_id",
-        "log_time_ns",
-        "swing_stamp",
-        "bat_id",
-        "ball_id",
-        "ball_speed",
-        "bat_cm_speed",
-        "bat_angular_speed",
-        "impact_z",
-        "measured_exit_speed",
-        "status",
-        "message",
-        "exit_speed",
-        "rigid_exit_speed",
-        "effective_cor",
-        "collision_efficiency",
-        "contact_time",
-        "peak_force",
-        "impulse",
-        "max_compression",
-        "residual",
-        "vibration_energy",
-        "hysteresis_loss",
-        "energy_residual",
-        "undercut",
-        "attack_angle",
-        "pitch_angle",
-        "pitch_spin",
-        "measured_launch_angle",
-        "measured_spin",
-        "launch_angle",
-        "spin",
-        "normal_exit_speed",
-        "tangential_exit_speed",
-        "launch_angle_residual",
-        "spin_residual",
-        "hoop_frequency",
-        "hoop_energy_stored",
-        "hoop_energy_returned",
-        "hoop_energy",
-        "bat_tilt",
-        "swing_direction",
-        "batter_side",
-        "measured_spray_angle",
-        "measured_spin_axis",
-        "spray_angle",
-        "sidespin",
-        "gyro_spin",
-        "total_spin",
-        "spin_axis",
-        "spray_angle_residual",
-        "spin_axis_residual",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+    let mut taken = vec!["namespace", "swing_id", "log_time_ns", "swing_stamp"];
+    let mut header: Vec<String> = taken.iter().map(|s| s.to_string()).collect();
+    let swing = Section::of(&Swing::default().field_table(), &mut taken);
+    let exit_velocity = Section::of(&ExitVelocity::default().field_table(), &mut taken);
+    let modal_energies = Section::of(&ModalEnergies::default().field_table(), &mut taken);
+    for section in [&swing, &exit_velocity, &modal_energies] {
+        header.extend(section.names.iter().map(|s| s.to_string()));
+    }
     for k in 1..=modes {
         header.push(format!("mode{k}_frequency"));
         header.push(format!("mode{k}_energy"));
         header.push(format!("mode{k}_fraction"));
     }
-    let csv_err = |e: csv::Error| BagError::Format(format!("writing CSV: {e}"));
-    w.write_record(&header).map_err(csv_err)?;
+    let mut w = csv::Writer::from_writer(out);
+    write_rows(&mut w, &header, rows, modes, [&swing, &exit_velocity, &modal_energies])
+        .map_err(|e| BagError::Format(format!("writing CSV: {e}")))?;
+    w.flush().map_err(|source| BagError::Io { path: "<csv output>".into(), source })?;
+    Ok(())
+}
+
+fn write_rows<W: Write>(
+    w: &mut csv::Writer<W>,
+    header: &[String],
+    rows: &[SwingRow],
+    modes: usize,
+    [swing, exit_velocity, modal_energies]: [&Section; 3],
+) -> Result<(), csv::Error> {
+    w.write_record(header)?;
+    let cell = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
     for r in rows {
         let s = &r.swing;
-        let ev = r.exit_velocity.as_ref();
+        let mut rec = vec![r.namespace.clone(), s.swing_id.to_string(), r.log_time_ns.to_string(), stamp(&s.header)];
+        swing.cells(Some(s), &mut rec);
+        exit_velocity.cells(r.exit_velocity.as_ref(), &mut rec);
+        modal_energies.cells(r.modal_energies.as_ref(), &mut rec);
         let me = r.modal_energies.as_ref();
-        let mut rec = vec![
-            r.namespace.clone(),
-            s.swing_id.to_string(),
-            r.log_time_ns.to_string(),
-            stamp(&s.header),
-            s.bat_id.clone(),
-            s.ball_id.clone(),
-            s.ball_speed.to_string(),
-            s.bat_cm_speed.to_string(),
-            s.bat_angular_speed.to_string(),
-            s.impact_z.to_string(),
-            s.measured_exit_speed.to_string(),
-            ev.map(|e| e.status.to_string()).unwrap_or_default(),
-            ev.map(|e| e.message.clone()).unwrap_or_default(),
-            opt(ev.map(|e| e.exit_speed)),
-            opt(ev.map(|e| e.rigid_exit_speed)),
-            opt(ev.map(|e| e.effective_cor)),
-            opt(ev.map(|e| e.collision_efficiency)),
-            opt(ev.map(|e| e.contact_time)),
-            opt(ev.map(|e| e.peak_force)),
-            opt(ev.map(|e| e.impulse)),
-            opt(ev.map(|e| e.max_compression)),
-            opt(ev.map(|e| e.residual)),
-            opt(me.map(|m| m.vibration_energy)),
-            opt(me.map(|m| m.hysteresis_loss)),
-            opt(me.map(|m| m.energy_residual)),
-            s.undercut.to_string(),
-            s.attack_angle.to_string(),
-            s.pitch_angle.to_string(),
-            s.pitch_spin.to_string(),
-            s.measured_launch_angle.to_string(),
-            s.measured_spin.to_string(),
-            opt(ev.map(|e| e.launch_angle)),
-            opt(ev.map(|e| e.spin)),
-            opt(ev.map(|e| e.normal_exit_speed)),
-            opt(ev.map(|e| e.tangential_exit_speed)),
-            opt(ev.map(|e| e.launch_angle_residual)),
-            opt(ev.map(|e| e.spin_residual)),
-            opt(ev.map(|e| e.hoop_frequency)),
-            opt(ev.map(|e| e.hoop_energy_stored)),
-            opt(ev.map(|e| e.hoop_energy_returned)),
-            opt(me.map(|m| m.hoop_energy)),
-            s.bat_tilt.to_string(),
-            s.swing_direction.to_string(),
-            s.batter_side.to_string(),
-            s.measured_spray_angle.to_string(),
-            s.measured_spin_axis.to_string(),
-            opt(ev.map(|e| e.spray_angle)),
-            opt(ev.map(|e| e.sidespin)),
-            opt(ev.map(|e| e.gyro_spin)),
-            opt(ev.map(|e| e.total_spin)),
-            opt(ev.map(|e| e.spin_axis)),
-            opt(ev.map(|e| e.spray_angle_residual)),
-            opt(ev.map(|e| e.spin_axis_residual)),
-        ];
         for k in 0..modes {
-            rec.push(opt(me.and_then(|m| m.frequency.get(k).copied())));
-            rec.push(opt(me.and_then(|m| m.energy.get(k).copied())));
-            rec.push(opt(me.and_then(|m| m.fraction.get(k).copied())));
+            rec.push(cell(me.and_then(|m| m.frequency.get(k).copied())));
+            rec.push(cell(me.and_then(|m| m.energy.get(k).copied())));
+            rec.push(cell(me.and_then(|m| m.fraction.get(k).copied())));
         }
-        w.write_record(&rec).map_err(csv_err)?;
+        w.write_record(&rec)?;
     }
-    w.flush().map_err(|source| BagError::Io { path: "<csv output>".into(), source })?;
     Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_schema_names_its_own_fields_not_its_constants_or_dependencies() {
+        let fields = schema_fields(ExitVelocity::SCHEMA_TEXT);
+        assert!(fields.contains("header") && fields.contains("hoop_energy_returned"));
+        assert!(!fields.contains("STATUS_OK") && !fields.contains("stamp") && !fields.contains("frame_id"));
+        // A recording made before the spin fields were appended.
+        let old = "uint8 STATUS_OK=0 # accepted\nstd_msgs/Header header\nfloat64 exit_speed  # m/s\n\
+                   string message \"\"\n================================================================================\n\
+                   MSG: std_msgs/Header\nbuiltin_interfaces/Time stamp\nstring frame_id\n";
+        assert_eq!(schema_fields(old).into_iter().collect::<Vec<_>>(), ["exit_speed", "header", "message"]);
+    }
 
     #[test]
     fn namespaces_follow_the_node_topic_names() {

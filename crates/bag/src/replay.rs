@@ -18,13 +18,14 @@
 //! of more than `max_bat_slices` slices is refused (so its bat stays unknown). The bag holds the settings last
 //! in force: a run whose limits were changed by `ros2 param set` midway replays with the last ones.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
 
 use sweetspot_model::convert;
 use sweetspot_model::engine::{self, BatEntry, Registry};
 use sweetspot_model::settings::ModelSettings;
 use sweetspot_msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
+use sweetspot_msgs::{FieldTable, FieldValue, RosMessage};
 use sweetspot_physics::{Ball, Bat};
 
 use super::export::{read_run, RunEvent};
@@ -219,54 +220,23 @@ impl Comparer<'_> {
         }
     }
 
-    fn exit_velocity(&mut self, rec: &ExitVelocity, rep: &ExitVelocity) {
-        self.field("ExitVelocity.status", f64::from(rec.status), f64::from(rep.status));
-        self.field("ExitVelocity.exit_speed", rec.exit_speed, rep.exit_speed);
-        self.field("ExitVelocity.rigid_exit_speed", rec.rigid_exit_speed, rep.rigid_exit_speed);
-        self.field("ExitVelocity.effective_cor", rec.effective_cor, rep.effective_cor);
-        self.field("ExitVelocity.collision_efficiency", rec.collision_efficiency, rep.collision_efficiency);
-        self.field("ExitVelocity.contact_time", rec.contact_time, rep.contact_time);
-        self.field("ExitVelocity.peak_force", rec.peak_force, rep.peak_force);
-        self.field("ExitVelocity.impulse", rec.impulse, rep.impulse);
-        self.field("ExitVelocity.max_compression", rec.max_compression, rep.max_compression);
-        self.field("ExitVelocity.residual", rec.residual, rep.residual);
-        // Appended fields decode as NaN from a recording made before them; an OK answer that has them is never
-        // NaN in all three of these, so they are compared exactly when they were recorded.
-        let appended_recorded =
-            ![rec.launch_angle, rec.normal_exit_speed, rec.hoop_frequency].iter().all(|v| v.is_nan());
-        if appended_recorded {
-            self.field("ExitVelocity.launch_angle", rec.launch_angle, rep.launch_angle);
-            self.field("ExitVelocity.spin", rec.spin, rep.spin);
-            self.field("ExitVelocity.normal_exit_speed", rec.normal_exit_speed, rep.normal_exit_speed);
-            self.field("ExitVelocity.tangential_exit_speed", rec.tangential_exit_speed, rep.tangential_exit_speed);
-            self.field("ExitVelocity.launch_angle_residual", rec.launch_angle_residual, rep.launch_angle_residual);
-            self.field("ExitVelocity.spin_residual", rec.spin_residual, rep.spin_residual);
-            self.field("ExitVelocity.hoop_frequency", rec.hoop_frequency, rep.hoop_frequency);
-            self.field("ExitVelocity.hoop_energy_stored", rec.hoop_energy_stored, rep.hoop_energy_stored);
-            self.field("ExitVelocity.hoop_energy_returned", rec.hoop_energy_returned, rep.hoop_energy_returned);
-        }
-        // The three-dimensional tail, likewise: an OK answer carries a total spin (0 head-on), never NaN.
-        if !(rec.total_spin.is_nan() && rec.spray_angle.is_nan()) {
-            self.field("ExitVelocity.spray_angle", rec.spray_angle, rep.spray_angle);
-            self.field("ExitVelocity.sidespin", rec.sidespin, rep.sidespin);
-            self.field("ExitVelocity.gyro_spin", rec.gyro_spin, rep.gyro_spin);
-            self.field("ExitVelocity.total_spin", rec.total_spin, rep.total_spin);
-            self.field("ExitVelocity.spin_axis", rec.spin_axis, rep.spin_axis);
-            self.field("ExitVelocity.spray_angle_residual", rec.spray_angle_residual, rep.spray_angle_residual);
-            self.field("ExitVelocity.spin_axis_residual", rec.spin_axis_residual, rep.spin_axis_residual);
-        }
-    }
-
-    fn modal_energies(&mut self, rec: &ModalEnergies, rep: &ModalEnergies) {
-        self.array("ModalEnergies.frequency", &rec.frequency, &rep.frequency);
-        self.array("ModalEnergies.energy", &rec.energy, &rep.energy);
-        self.array("ModalEnergies.fraction", &rec.fraction, &rep.fraction);
-        self.field("ModalEnergies.vibration_energy", rec.vibration_energy, rep.vibration_energy);
-        self.field("ModalEnergies.hysteresis_loss", rec.hysteresis_loss, rep.hysteresis_loss);
-        self.field("ModalEnergies.energy_residual", rec.energy_residual, rep.energy_residual);
-        // NaN only when recorded before the field existed (an answer without a hoop mode carries 0).
-        if !rec.hoop_energy.is_nan() {
-            self.field("ModalEnergies.hoop_energy", rec.hoop_energy, rep.hoop_energy);
+    /// Compares every numeric field and `float64` sequence of two messages of one type, in `.msg` order, but
+    /// `swing_id` (the identity they were paired by) and the fields the recording's schema lacks (`recorded`:
+    /// a bag made before a field was appended; `None` when the bag gives no schema).
+    fn message<T: FieldTable + RosMessage>(&mut self, rec: &T, rep: &T, recorded: Option<&BTreeSet<String>>) {
+        let kind = T::INFO.name();
+        for ((name, a), (_, b)) in rec.field_table().iter().zip(rep.field_table().iter()) {
+            if *name == "swing_id" || recorded.is_some_and(|fields| !fields.contains(*name)) {
+                continue;
+            }
+            match (a, b) {
+                (FieldValue::Floats(a), FieldValue::Floats(b)) => self.array(&format!("{kind}.{name}"), a, b),
+                _ => {
+                    if let (Some(a), Some(b)) = (a.number(), b.number()) {
+                        self.field(&format!("{kind}.{name}"), a, b);
+                    }
+                }
+            }
         }
     }
 }
@@ -405,9 +375,9 @@ pub fn replay(
                     Some(recorded) if recorded.status == ExitVelocity::STATUS_DROPPED => Verdict::NotRecorded,
                     Some(_) if missing_input.is_some() => Verdict::MissingInput,
                     Some(recorded) => {
-                        cmp.exit_velocity(recorded, &ev);
+                        cmp.message(recorded, &ev, run.recorded_fields.get(ExitVelocity::TYPE_NAME));
                         match (&row.modal_energies, &me) {
-                            (Some(a), Some(b)) => cmp.modal_energies(a, b),
+                            (Some(a), Some(b)) => cmp.message(a, b, run.recorded_fields.get(ModalEnergies::TYPE_NAME)),
                             (None, None) => {}
                             (a, b) => cmp.field(
                                 "ModalEnergies.present",

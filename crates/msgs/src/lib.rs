@@ -139,6 +139,58 @@ pub trait RosService: 'static {
     const TYPE_HASH: &'static str;
 }
 
+/// One entry of a message's [`FieldTable`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FieldValue<'a> {
+    /// A `float32` or `float64` field.
+    Float(f64),
+    /// A signed integer field.
+    Int(i64),
+    /// An unsigned integer, `byte` or `char` field.
+    Uint(u64),
+    /// A `bool` field.
+    Bool(bool),
+    /// A `string` field.
+    Text(&'a str),
+    /// A `float64` sequence.
+    Floats(&'a [f64]),
+}
+
+impl FieldValue<'_> {
+    /// The value as a number (`None` for text and sequences); integers above 2⁵³ round.
+    pub fn number(&self) -> Option<f64> {
+        match *self {
+            FieldValue::Float(x) => Some(x),
+            FieldValue::Int(x) => Some(x as f64),
+            FieldValue::Uint(x) => Some(x as f64),
+            FieldValue::Bool(x) => Some(f64::from(u8::from(x))),
+            FieldValue::Text(_) | FieldValue::Floats(_) => None,
+        }
+    }
+}
+
+/// A scalar as a CSV cell: numbers in Rust's shortest round-trip form, text as is (a sequence has no cell).
+impl std::fmt::Display for FieldValue<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FieldValue::Float(x) => write!(f, "{x}"),
+            FieldValue::Int(x) => write!(f, "{x}"),
+            FieldValue::Uint(x) => write!(f, "{x}"),
+            FieldValue::Bool(x) => write!(f, "{x}"),
+            FieldValue::Text(x) => f.write_str(x),
+            FieldValue::Floats(_) => Ok(()),
+        }
+    }
+}
+
+/// A generated message's fields as a table, in `.msg` order: every scalar field and every `float64` sequence
+/// (nested messages and other arrays are left out). Bag export's columns and replay's comparison are made from
+/// it, so a field added to a `.msg` file reaches them without a line of code.
+pub trait FieldTable {
+    /// Each field's name and value.
+    fn field_table(&self) -> Vec<(&'static str, FieldValue<'_>)>;
+}
+
 /// Looks a generated type up by ROS name, `pkg/msg/Type` or `pkg/Type`.
 pub fn type_info(type_name: &str) -> Option<&'static TypeInfo> {
     let normalized = normalize_type_name(type_name)?;
@@ -216,6 +268,47 @@ mod tests {
         assert_eq!(schema_for("sweetspot_msgs/Swing"), Some(Swing::SCHEMA_TEXT));
         assert_eq!(schema_for("sweetspot_msgs/msg/Swing"), Some(Swing::SCHEMA_TEXT));
         assert_eq!(schema_for("sweetspot_msgs/msg/Nope"), None);
+    }
+
+    #[test]
+    fn field_tables_follow_the_msg_files() {
+        use sweetspot_msgs::msg::{ModalEnergies, Swing};
+        let swing = Swing { bat_id: "r161".into(), ball_speed: 40.0, batter_side: 1, ..Swing::default() };
+        let names: Vec<&str> = swing.field_table().iter().map(|(n, _)| *n).collect();
+        // Swing.msg's fields but the nested header, in file order.
+        assert_eq!(
+            names,
+            [
+                "swing_id",
+                "bat_id",
+                "ball_id",
+                "ball_speed",
+                "bat_cm_speed",
+                "bat_angular_speed",
+                "impact_z",
+                "measured_exit_speed",
+                "undercut",
+                "attack_angle",
+                "pitch_angle",
+                "pitch_spin",
+                "measured_launch_angle",
+                "measured_spin",
+                "bat_tilt",
+                "swing_direction",
+                "batter_side",
+                "measured_spray_angle",
+                "measured_spin_axis"
+            ]
+        );
+        let table = swing.field_table();
+        assert_eq!(table[1].1, FieldValue::Text("r161"));
+        assert_eq!(table[3].1, FieldValue::Float(40.0));
+        assert_eq!(table[16].1, FieldValue::Uint(1));
+        assert_eq!(table[16].1.to_string(), "1");
+        let me = ModalEnergies { energy: vec![1.5, 2.5], ..ModalEnergies::default() };
+        let table = me.field_table();
+        assert!(table.contains(&("energy", FieldValue::Floats(&[1.5, 2.5]))));
+        assert_eq!(table.iter().find(|(n, _)| *n == "energy").map(|(_, v)| v.number()), Some(None));
     }
 
     #[test]
