@@ -24,8 +24,8 @@ use sweetspot_physics::oblique::{rpm_to_rad_per_s, ObliqueImpact, TangentialCont
 use sweetspot_physics::oblique3d::{collide_spatial, SpatialImpact};
 use sweetspot_physics::{Ball, Bat, CollisionOptions, Impact, ModeSet};
 
-const MPH: f64 = 0.44704;
-const SIX_INCHES: f64 = 0.1524;
+use sweetspot_analysis::validate::cases::SIX_INCHES;
+use sweetspot_physics::units::{INCH, MPH};
 
 /// The model's ball: exit speed (mph), launch angle (deg), total spin and backspin (rpm).
 type Outcome = (f64, f64, f64, f64);
@@ -270,9 +270,9 @@ fn main() -> anyhow::Result<()> {
                 centre.map(|c| (c.total_spin_rpm.round(), c.direction_deg, c.spray_deg)),
                 h.map(|x| x.spin.round()),
                 e.map(|x| x.spin.round()),
-                h.map(|x| x.z_from_end / 0.0254),
-                e.map(|x| x.z_from_end / 0.0254),
-                (setup.bat.length() - setup.typical.impact_z) / 0.0254
+                h.map(|x| x.z_from_end / INCH),
+                e.map(|x| x.z_from_end / INCH),
+                (setup.bat.length() - setup.typical.impact_z) / INCH
             );
         }
         return Ok(());
@@ -320,7 +320,7 @@ fn main() -> anyhow::Result<()> {
             .iter()
             .flat_map(|r| [r.0, r.1])
             .flatten()
-            .map(|h| (h.z_from_end - h.sweet_from_end).abs() / 0.0254)
+            .map(|h| (h.z_from_end - h.sweet_from_end).abs() / INCH)
             .collect();
         let too_fast = results.iter().filter(|r| r.2).count();
         let mut bat: Vec<f64> = mine.iter().map(|s| s.bat_speed).collect();

@@ -1117,7 +1117,7 @@ mod tests {
         let summary = summarize_bat(&entry, DEFAULT_BALL_ID, &Ball::default(), swing(0.0), &settings, &()).unwrap();
         let mp = Bat::preset("r161").unwrap().mass_properties();
         // Parallel-axis theorem about 6 in = 0.1524 m (ASTM F2398's pivot).
-        let arm = mp.center_of_mass - 6.0 * 0.0254;
+        let arm = mp.center_of_mass - 6.0 * sweetspot_physics::units::INCH;
         let expected = mp.moment_of_inertia + mp.mass * arm * arm;
         assert!((summary.swing_weight - expected).abs() <= 1e-9 * expected, "{} vs {expected}", summary.swing_weight);
         assert_eq!(summary.hoop_frequency, 0.0, "a solid bat");

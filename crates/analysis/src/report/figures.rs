@@ -856,7 +856,7 @@ mod tests {
             assert!(thick.bbcor < thin.bbcor, "BBCOR should fall toward a thick wall: {pair:?}");
         }
         // Thin-ring scaling f ∝ h/a² (a the mid-surface radius, outer radius 2⅝ in / 2 fixed).
-        let outer = 2.625 / 2.0 * 0.0254;
+        let outer = 2.625 / 2.0 * sweetspot_physics::units::INCH;
         let ring = |h: f64| h / (outer - 0.5 * h).powi(2);
         let ratio = data[3].hoop_frequency.unwrap() / data[0].hoop_frequency.unwrap();
         let expected = ring(0.0075) / ring(0.003);

@@ -24,10 +24,7 @@ use sweetspot_physics::{
 use super::trackman::PitchMedians;
 use super::ValidateError;
 
-/// Metres per inch.
-pub const INCH: f64 = 0.0254;
-/// Metres per second per mph.
-pub const MPH: f64 = 0.44704;
+pub use sweetspot_physics::units::{INCH, MPH};
 /// The usual impact point and the swing's reference point: 6 in from the barrel end, m.
 pub const SIX_INCHES: f64 = 6.0 * INCH;
 

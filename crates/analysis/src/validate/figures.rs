@@ -90,7 +90,7 @@ pub fn write(
             .map_err(phys("figure cor"))?;
         cor.series.push(Series::solid(format!("model, `{name}` ball"), i, curve));
     }
-    let mlb = 85.0 * 0.3048;
+    let mlb = 85.0 * sweetspot_physics::units::FT_PER_S;
     cor.series.push(points("MLB specification 0.514–0.578 at 85 ft/s", 6, vec![(mlb, 0.514), (mlb, 0.578)]));
     let measured: Vec<(f64, f64)> =
         inputs.ball_cor.iter().filter_map(|c| super::speed_in_m_s(c).ok().map(|v| (v, c.value))).collect();

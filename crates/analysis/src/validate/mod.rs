@@ -350,7 +350,7 @@ fn speed_in_m_s(row: &BallCorRow) -> Result<f64, String> {
     match row.speed_unit.as_deref().map(str::trim) {
         None | Some("m/s") => Ok(row.speed),
         Some("mph") => Ok(row.speed * MPH),
-        Some("ft/s") => Ok(row.speed * 0.3048),
+        Some("ft/s") => Ok(row.speed * sweetspot_physics::units::FT_PER_S),
         Some(other) => Err(format!("speed_unit '{other}' (expected m/s, mph or ft/s)")),
     }
 }
