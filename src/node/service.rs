@@ -81,7 +81,7 @@ pub struct InlineBatCall {
 
 /// What a call becomes, and a bat the node's registry made from a preset for it (its SweetSpot is new).
 ///
-/// A call whose swing [`crate::model::limits::check_swing`] refuses (a `header.frame_id` over 256 bytes, say)
+/// A call whose swing [`convert::check_swing_message`] refuses (a `header.frame_id` over 256 bytes, say)
 /// is REJECTED here, before anything is computed. Without inline params this is [`engine::plan_swing`] on the
 /// node's registry. With an inline ball only, that ball and the node's bat go into a scratch registry and the
 /// swing is planned there. With an inline bat (checked as on its topic; the swing's id must be empty or the
@@ -96,7 +96,7 @@ pub fn plan_call(
     let reject = |bat_id: &str, ball_id: &str, reason: String| {
         CallPlan::Ready(Plan::Reject { bat_id: echo(bat_id).into_owned(), ball_id: echo(ball_id).into_owned(), reason })
     };
-    if let Err(reason) = crate::model::limits::check_swing(swing) {
+    if let Err(reason) = convert::check_swing_message(swing) {
         return (reject(&swing.bat_id, &swing.ball_id, reason), None);
     }
     let input = convert::swing_input(swing);
@@ -582,6 +582,17 @@ mod tests {
         assert_eq!(answer.exit_velocity.status, ExitVelocity::STATUS_OK, "{}", answer.exit_velocity.message);
         assert_eq!(format!("{:?}", answer.exit_velocity), format!("{topic:?}"));
         assert_eq!(answer.modal_energies.len(), 1);
+    }
+
+    #[test]
+    fn a_call_refuses_a_batter_side_as_the_topic_does() {
+        let s = Swing { batter_side: 7, ..swing("r161", "") };
+        let answer = call(&mut Registry::new(), SimulateSwing_Request { swing: s.clone(), ..Default::default() });
+        let (plan, _) = convert::plan_swing_message(&mut Registry::new(), &settings(), &s);
+        let topic = convert::exit_velocity(&s, plan.bat_id(), plan.ball_id(), &engine::compute(&plan, &()));
+        assert_eq!(answer.exit_velocity.status, ExitVelocity::STATUS_REJECTED);
+        assert!(answer.exit_velocity.message.starts_with("batter_side = 7 is out of range"), "{answer:?}");
+        assert_eq!(format!("{:?}", answer.exit_velocity), format!("{topic:?}"));
     }
 
     #[test]

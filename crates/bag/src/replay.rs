@@ -333,8 +333,7 @@ pub fn replay(
                 {
                     ball_id = recorded_ball;
                 }
-                let (plan, _) =
-                    engine::plan_swing(&mut registry, &settings, bat_id, ball_id, convert::swing_input(swing));
+                let (plan, _) = convert::plan_swing_message_as(&mut registry, &settings, swing, bat_id, ball_id);
                 registries.insert(row.namespace.clone(), registry);
                 let result = engine::compute(&plan, &());
                 let ev = convert::exit_velocity(swing, plan.bat_id(), plan.ball_id(), &result);

@@ -294,28 +294,44 @@ fn check_batter_side(s: &Swing) -> Result<(), String> {
     }
 }
 
+/// What no model may take from a Swing message: strings or a measured speed [`limits::check_swing`] refuses (a
+/// `header.frame_id` over [`limits::MAX_STRING_BYTES`], say), or a `batter_side` that is not one of its constants.
+pub fn check_swing_message(swing: &Swing) -> Result<(), String> {
+    limits::check_swing(swing).and_then(|_| check_batter_side(swing))
+}
+
 /// What a Swing message becomes, decided once before anything is computed or published: REJECTED when
-/// [`limits::check_swing`] refuses its strings or measured speed (a `header.frame_id` over
-/// [`limits::MAX_STRING_BYTES`], say), else [`engine::plan_swing`] with its ids. The second value is a bat created
-/// from a preset on first use.
+/// [`check_swing_message`] refuses it, else [`engine::plan_swing`] with its ids. The second value is a bat
+/// created from a preset on first use.
 pub fn plan_swing_message(
     registry: &mut engine::Registry,
     settings: &super::settings::ModelSettings,
     swing: &Swing,
 ) -> (engine::Plan, Option<std::sync::Arc<engine::BatEntry>>) {
-    if let Err(reason) = limits::check_swing(swing).and_then(|_| check_batter_side(swing)) {
+    plan_swing_message_as(registry, settings, swing, &swing.bat_id, &swing.ball_id)
+}
+
+/// [`plan_swing_message`] with the bat and ball named by the caller (a replay's what-if, a resolved default).
+pub fn plan_swing_message_as(
+    registry: &mut engine::Registry,
+    settings: &super::settings::ModelSettings,
+    swing: &Swing,
+    bat_id: &str,
+    ball_id: &str,
+) -> (engine::Plan, Option<std::sync::Arc<engine::BatEntry>>) {
+    if let Err(reason) = check_swing_message(swing) {
         let (bat_id, ball_id) = (limits::echo(&swing.bat_id).into_owned(), limits::echo(&swing.ball_id).into_owned());
         return (engine::Plan::Reject { bat_id, ball_id, reason }, None);
     }
-    engine::plan_swing(registry, settings, &swing.bat_id, &swing.ball_id, swing_input(swing))
+    engine::plan_swing(registry, settings, bat_id, ball_id, swing_input(swing))
 }
 
-/// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers. A
-/// swing whose strings or measured speed [`limits::check_swing`] refuses is REJECTED whatever `result` says;
-/// the strings echoed are cut to [`limits::MAX_STRING_BYTES`] and the message to [`MAX_MESSAGE_BYTES`].
+/// The answer to a swing: OK with the collision's numbers, or REJECTED with the reason and NaN numbers.
+/// `result` decides: a swing planned through [`plan_swing_message`] that [`check_swing_message`] refuses is
+/// already a REJECTED plan there, and nothing is checked twice. The strings echoed are cut to
+/// [`limits::MAX_STRING_BYTES`] and the message to [`MAX_MESSAGE_BYTES`]; a measured speed out of range is not
+/// echoed (NaN).
 pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result<Computed, String>) -> ExitVelocity {
-    let refused = limits::check_swing(swing).err().map(Err);
-    let result = refused.as_ref().unwrap_or(result);
     let frame_id = limits::echo(&swing.header.frame_id).into_owned();
     // ±inf or an absurd measured speed is not echoed: it would make an infinite residual of a valid answer.
     let measured_exit_speed = match limits::check_measured_speed("measured_exit_speed", swing.measured_exit_speed) {
@@ -345,7 +361,7 @@ pub fn exit_velocity(swing: &Swing, bat_id: &str, ball_id: &str, result: &Result
             ev.peak_force = c.peak_force;
             ev.impulse = c.impulse;
             ev.max_compression = c.max_compression;
-            ev.residual = swing.measured_exit_speed - launch.exit_speed; // NaN when not measured
+            ev.residual = ev.measured_exit_speed - launch.exit_speed; // NaN when not measured
             ev.launch_angle = launch.launch_angle;
             ev.spin = launch.spin;
             ev.normal_exit_speed = launch.normal_exit_speed;
@@ -664,7 +680,8 @@ mod tests {
             header: Header { frame_id: huge.clone(), ..Header::default() },
             ..swing(1.0)
         };
-        let ev = exit_velocity(&swing, &huge, &huge, &Err(huge.clone()));
+        let (plan, _) = plan_swing_message(&mut engine::Registry::new(), &Default::default(), &swing);
+        let ev = exit_velocity(&swing, plan.bat_id(), plan.ball_id(), &engine::compute(&plan, &()));
         assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED);
         assert!(ev.bat_id.len() < 300 && ev.ball_id.len() < 300 && ev.header.frame_id.len() < 300);
         assert!(ev.message.len() < 300, "the swing's own check comes first: {}", ev.message);
@@ -672,14 +689,22 @@ mod tests {
 
     #[test]
     fn infinite_or_absurd_measured_speeds_are_refused_and_never_echoed() {
+        let answer = |measured: f64| {
+            let swing = Swing { bat_id: "r161".into(), ..swing(measured) };
+            let (plan, _) = plan_swing_message(&mut engine::Registry::new(), &Default::default(), &swing);
+            exit_velocity(&swing, plan.bat_id(), plan.ball_id(), &engine::compute(&plan, &()))
+        };
         for bad in [f64::INFINITY, f64::NEG_INFINITY, 1e300] {
-            let ev = exit_velocity(&swing(bad), "r161", "baseball", &Ok(computed()));
+            let ev = answer(bad);
             assert_eq!(ev.status, ExitVelocity::STATUS_REJECTED, "{bad}");
             assert!(ev.message.starts_with("measured_exit_speed = "), "{}", ev.message);
             assert!(ev.measured_exit_speed.is_nan() && ev.residual.is_nan() && ev.exit_speed.is_nan());
         }
-        let ev = exit_velocity(&swing(1e300), "r161", "baseball", &Ok(computed()));
+        let ev = answer(1e300);
         assert!(ev.message.starts_with("measured_exit_speed = 1e300 m/s is out of range"), "{}", ev.message);
+        // Given a result, the answer echoes no out-of-range measurement.
+        let ev = exit_velocity(&swing(f64::INFINITY), "r161", "baseball", &Ok(computed()));
+        assert!(ev.measured_exit_speed.is_nan() && ev.residual.is_nan());
     }
 
     #[test]
