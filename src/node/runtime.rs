@@ -152,14 +152,7 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let sink = outputs.sink(&tape, &stats, &publish_failures, settings.swing_scene_live_hz);
     let pipeline = Pipeline::start(settings.worker_count(), settings.queue_capacity, Arc::clone(&stats), sink)
         .context("starting the worker threads")?;
-    let calls = super::service::ServiceCalls::start(
-        Arc::clone(&inputs.simulate_swing),
-        settings.worker_count(),
-        settings.queue_capacity,
-        Arc::clone(&stats),
-        settings.record_services.then(|| Arc::clone(&tape)),
-    )
-    .context("starting the simulate_swing workers")?;
+    let calls = start_service_calls(&inputs, &settings, &stats, &tape)?;
     announce(&log, &fqn, &dds_config, &settings, &topic_names, &tape);
 
     let registry = Registry::with_limits(settings.model.max_bats, settings.model.max_balls);
@@ -202,6 +195,24 @@ async fn run_async(resolved: ResolvedConfig) -> anyhow::Result<()> {
     let _ = tokio::time::timeout(Duration::from_millis(500), spinning).await;
     drop(context);
     outcome.map_err(anyhow::Error::from)
+}
+
+/// The workers of `~/simulate_swing`, as many and as deep as the swings' (its events recorded when
+/// `record_services`).
+fn start_service_calls(
+    inputs: &Inputs,
+    settings: &NodeSettings,
+    stats: &Arc<NodeStats>,
+    tape: &Arc<Tape>,
+) -> anyhow::Result<super::service::ServiceCalls<super::service::SimulateSwingServer>> {
+    super::service::ServiceCalls::start(
+        Arc::clone(&inputs.simulate_swing),
+        settings.worker_count(),
+        settings.queue_capacity,
+        Arc::clone(stats),
+        settings.record_services.then(|| Arc::clone(tape)),
+    )
+    .context("starting the simulate_swing workers")
 }
 
 /// The recording (every input as received and every output as published; a node told to record that cannot

@@ -847,11 +847,10 @@ impl Work {
             h3 + fp * c1 + gp * c2,
         ];
         self.pending[1 - self.current] = [fq, fp, gq, gp];
-        let next = Scalars {
+        Scalars {
             s: (s + h * v + h2_6 * inv_mass * f12) + h2_6 * inv_mass * f3,
             v: (v + h_6 * inv_mass * (f12 + f2)) + h_6 * inv_mass * (2.0 * f3 + f4),
-        };
-        next
+        }
     }
 
     /// [`Work::step`] with the wall's hoop mode, for a step of length `powers.h` whose force-free projections
@@ -1355,12 +1354,7 @@ fn run<O: ContactObserver>(
     hoop: Option<(&HoopMode, PatchLaw)>,
     observer: &mut O,
 ) -> Result<CollisionResult, PhysicsError> {
-    ball.validate()?;
-    impact.validate(modes)?;
-    options.validate(modes)?;
-    if let Some((mode, _)) = hoop {
-        options.validate_hoop(mode, impact.impact_z)?;
-    }
+    validate_run(modes, ball, impact, options, hoop)?;
     let mp = modes.mass_properties();
     // e0 at this collision's normal approach speed (ball and bat surface at first contact): β, k2 and the
     // hysteresis loss below all follow from it. A constant-COR ball is itself, bit for bit.
@@ -1391,31 +1385,8 @@ fn run<O: ContactObserver>(
     }
 
     let exit_speed = sc.v;
-    let states = work.mode_states(nm);
-    let (p_translation, p_rotation) = (states[0].1, states[1].1);
-    let bat_rigid = 0.5 * (p_translation * p_translation + p_rotation * p_rotation);
-    let mode_energies: Vec<ModeEnergy> = states[2..nm]
-        .iter()
-        .zip(&all[2..])
-        .map(|(&(q, p, w2), mode)| ModeEnergy {
-            frequency: mode.angular_frequency / std::f64::consts::TAU,
-            energy: 0.5 * (p * p + w2 * q * q),
-        })
-        .collect();
-    let vibration: f64 = mode_energies.iter().map(|m| m.energy).sum();
-    let hoop_energy = match hoop {
-        Some((mode, patch)) => {
-            if law.um > patch.range {
-                return Err(PhysicsError::Numerical(format!(
-                    "the ball's compression {:e} m left the range of the patch's coupling ({:e} m)",
-                    law.um, patch.range
-                )));
-            }
-            let (q, p) = work.hoop_state();
-            0.5 * (p * p + mode.stiffness / mode.effective_mass * q * q)
-        }
-        None => 0.0,
-    };
+    let BatAfter { p_translation, p_rotation, bat_rigid, mode_energies, vibration, hoop_energy } =
+        BatAfter::of(&work, all, hoop, law.um)?;
     let ball_energy = 0.5 * ball.mass * exit_speed * exit_speed;
     let hysteresis_loss = ball.hysteresis_loss(law.um);
     // Without a hoop mode hoop_energy is +0.0, which leaves the sum's bits unchanged.
@@ -1447,6 +1418,80 @@ fn run<O: ContactObserver>(
         bat_angular_speed_after: p_rotation / mp.moment_of_inertia.sqrt(),
         hoop: hoop.map(|(mode, patch)| HoopMode { coupling: patch.value_and_slope(law.um).0, ..*mode }),
     };
+    check_result(&result, options.time_step)?;
+    Ok(result)
+}
+
+/// Refuses a ball, impact, options or hoop mode outside their documented ranges before anything is integrated.
+fn validate_run(
+    modes: &ModeSet,
+    ball: &Ball,
+    impact: &Impact,
+    options: &CollisionOptions,
+    hoop: Option<(&HoopMode, PatchLaw)>,
+) -> Result<(), PhysicsError> {
+    ball.validate()?;
+    impact.validate(modes)?;
+    options.validate(modes)?;
+    if let Some((mode, _)) = hoop {
+        options.validate_hoop(mode, impact.impact_z)?;
+    }
+    Ok(())
+}
+
+/// The bat after separation: its rigid momenta (mass-normalised, √kg·m/s), rigid, vibrational and hoop energies
+/// (J) and each flexible mode's share.
+struct BatAfter {
+    p_translation: f64,
+    p_rotation: f64,
+    bat_rigid: f64,
+    mode_energies: Vec<ModeEnergy>,
+    vibration: f64,
+    hoop_energy: f64,
+}
+
+impl BatAfter {
+    /// Reads the bat's state from `work` once the ball has left; `max_compression` (m) must lie within the
+    /// hoop patch's coupling range.
+    fn of(
+        work: &Work,
+        all: &[crate::Mode],
+        hoop: Option<(&HoopMode, PatchLaw)>,
+        max_compression: f64,
+    ) -> Result<BatAfter, PhysicsError> {
+        let nm = all.len();
+        let states = work.mode_states(nm);
+        let (p_translation, p_rotation) = (states[0].1, states[1].1);
+        let bat_rigid = 0.5 * (p_translation * p_translation + p_rotation * p_rotation);
+        let mode_energies: Vec<ModeEnergy> = states[2..nm]
+            .iter()
+            .zip(&all[2..])
+            .map(|(&(q, p, w2), mode)| ModeEnergy {
+                frequency: mode.angular_frequency / std::f64::consts::TAU,
+                energy: 0.5 * (p * p + w2 * q * q),
+            })
+            .collect();
+        let vibration: f64 = mode_energies.iter().map(|m| m.energy).sum();
+        let hoop_energy = match hoop {
+            Some((mode, patch)) => {
+                if max_compression > patch.range {
+                    return Err(PhysicsError::Numerical(format!(
+                        "the ball's compression {:e} m left the range of the patch's coupling ({:e} m)",
+                        max_compression, patch.range
+                    )));
+                }
+                let (q, p) = work.hoop_state();
+                0.5 * (p * p + mode.stiffness / mode.effective_mass * q * q)
+            }
+            None => 0.0,
+        };
+        Ok(BatAfter { p_translation, p_rotation, bat_rigid, mode_energies, vibration, hoop_energy })
+    }
+}
+
+/// Refuses a result that is not finite or whose energy budget misses more than [`MAX_ENERGY_RESIDUAL`] of the
+/// initial energy (a `time_step`, s, too coarse for the contact).
+fn check_result(result: &CollisionResult, time_step: f64) -> Result<(), PhysicsError> {
     let finite = [
         result.exit_speed,
         result.rigid_exit_speed,
@@ -1466,10 +1511,10 @@ fn run<O: ContactObserver>(
         return Err(PhysicsError::Numerical(format!(
             "time_step = {:e} s is too coarse for this contact: the energy budget misses {:.3e} of the \
              initial energy (allowed {MAX_ENERGY_RESIDUAL:e}); use a smaller time step",
-            options.time_step, relative_residual
+            time_step, relative_residual
         )));
     }
-    Ok(result)
+    Ok(())
 }
 
 #[cfg(test)]

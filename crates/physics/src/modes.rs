@@ -188,11 +188,69 @@ impl BandPencil {
     }
 }
 
+/// The indices of `eigenvalues` in ascending order, once the lowest two are zero to the solver's rounding
+/// (≈ ε·√n·λ_max, the two rigid modes) and the third clearly above it; otherwise the bat is too
+/// ill-conditioned for double precision.
+fn ascending_with_rigid_null_space(eigenvalues: &DVector<f64>) -> Result<Vec<usize>, PhysicsError> {
+    let size = eigenvalues.len();
+    let mut order: Vec<usize> = (0..size).collect();
+    order.sort_by(|&i, &j| eigenvalues[i].total_cmp(&eigenvalues[j]));
+    let lambda_max = eigenvalues.iter().fold(0.0_f64, |acc, &l| acc.max(l.abs()));
+    if !lambda_max.is_finite() {
+        return Err(PhysicsError::Numerical("non-finite eigenvalue".into()));
+    }
+    let zero_tol = 64.0 * f64::EPSILON * (size as f64).sqrt() * lambda_max;
+    if !(eigenvalues[order[0]].abs() <= zero_tol && eigenvalues[order[1]].abs() <= zero_tol)
+        || eigenvalues[order[2]] <= zero_tol
+    {
+        return Err(PhysicsError::Numerical(format!(
+            "stiffness null space is not exactly the two rigid modes (lowest eigenvalues {:e}, {:e}, {:e})",
+            eigenvalues[order[0]], eigenvalues[order[1]], eigenvalues[order[2]]
+        )));
+    }
+    Ok(order)
+}
+
+/// Removes from the mode shape (y, φ) its M-projection on each of `kept` and returns its M-norm.
+fn m_orthogonalise(slices: &[Slice], kept: &[Mode], y: &mut [f64], phi: &mut [f64]) -> f64 {
+    for r in kept {
+        let c = m_inner(slices, y, phi, &r.displacement, &r.rotation);
+        for i in 0..y.len() {
+            y[i] -= c * r.displacement[i];
+            phi[i] -= c * r.rotation[i];
+        }
+    }
+    m_inner(slices, y, phi, y, phi).sqrt()
+}
+
+/// The mode of shape (y, φ) and M-norm `norm`: scaled to unit modal mass with a positive displacement at the
+/// barrel end, its ω (rad/s) from the Rayleigh quotient (accurate to relative rounding).
+fn unit_mode(band: &BandPencil, mut y: Vec<f64>, mut phi: Vec<f64>, norm: f64) -> Result<Mode, PhysicsError> {
+    if !(norm.is_finite() && norm > 0.0) {
+        return Err(PhysicsError::Numerical("degenerate mode from the eigen-solver".into()));
+    }
+    let sign = if y[y.len() - 1] < 0.0 { -1.0 } else { 1.0 };
+    let scale = sign / norm;
+    y.iter_mut().for_each(|v| *v *= scale);
+    phi.iter_mut().for_each(|v| *v *= scale);
+    let omega = band.stiffness_energy(&y, &phi).max(0.0).sqrt();
+    if !omega.is_finite() {
+        return Err(PhysicsError::Numerical("non-finite mode frequency".into()));
+    }
+    Ok(Mode { angular_frequency: omega, displacement: y, rotation: phi })
+}
+
 /// The lowest `count` eigenvalues (ascending; the rest set to an upper bound of the spectrum) of
 /// M^{-1/2} K M^{-1/2}, which has half-bandwidth [`HALF_BAND`] in the interleaved order: band reduction to
 /// tridiagonal form by Givens rotations with bulge chasing (orthogonal, O(N²)), then Sturm bisection on the
 /// tridiagonal matrix (relative accuracy 1e-13; inverse iteration and the Rayleigh quotient polish them).
 fn band_eigenvalues(pencil: &BandPencil, count: usize) -> DVector<f64> {
+    let (diag, off2) = tridiagonalize(pencil);
+    bisect_tridiagonal(&diag, &off2, count)
+}
+
+/// M^{-1/2} K M^{-1/2} reduced to tridiagonal form: its diagonal and the squares of its off-diagonal.
+fn tridiagonalize(pencil: &BandPencil) -> (Vec<f64>, Vec<f64>) {
     let size = pencil.size;
     let b = HALF_BAND;
     // Banded working copy of M^{-1/2} K M^{-1/2} in the interleaved order, one extra diagonal on each side
@@ -260,6 +318,14 @@ fn band_eigenvalues(pencil: &BandPencil, count: usize) -> DVector<f64> {
     }
     let diag: Vec<f64> = (0..size).map(|i| get(&t, i, i)).collect();
     let off2: Vec<f64> = (0..size.saturating_sub(1)).map(|i| get(&t, i, i + 1).powi(2)).collect();
+    (diag, off2)
+}
+
+/// The lowest `count` eigenvalues of the symmetric tridiagonal matrix with diagonal `diag` and squared
+/// off-diagonal `off2` (ascending; the rest set to its Gershgorin upper bound), by Sturm bisection to a relative
+/// 1e-13.
+fn bisect_tridiagonal(diag: &[f64], off2: &[f64], count: usize) -> DVector<f64> {
+    let size = diag.len();
     // Gershgorin bounds.
     let mut lo = f64::INFINITY;
     let mut hi = f64::NEG_INFINITY;
@@ -456,23 +522,7 @@ impl ModeSet {
         } else {
             (band_eigenvalues(&band, keep + 3), None)
         };
-        let mut order: Vec<usize> = (0..2 * n).collect();
-        order.sort_by(|&i, &j| eigenvalues[i].total_cmp(&eigenvalues[j]));
-        let lambda_max = eigenvalues.iter().fold(0.0_f64, |acc, &l| acc.max(l.abs()));
-        if !lambda_max.is_finite() {
-            return Err(PhysicsError::Numerical("non-finite eigenvalue".into()));
-        }
-        // The two rigid modes must be zero to the solver's rounding (≈ ε·√n·λ_max) and the first vibration
-        // clearly above that; otherwise the bat is too ill-conditioned for double precision.
-        let zero_tol = 64.0 * f64::EPSILON * ((2 * n) as f64).sqrt() * lambda_max;
-        if !(eigenvalues[order[0]].abs() <= zero_tol && eigenvalues[order[1]].abs() <= zero_tol)
-            || eigenvalues[order[2]] <= zero_tol
-        {
-            return Err(PhysicsError::Numerical(format!(
-                "stiffness null space is not exactly the two rigid modes (lowest eigenvalues {:e}, {:e}, {:e})",
-                eigenvalues[order[0]], eigenvalues[order[1]], eigenvalues[order[2]]
-            )));
-        }
+        let order = ascending_with_rigid_null_space(&eigenvalues)?;
 
         let rigid = rigid_modes(&slices, &mp);
         let mut modes = Vec::with_capacity(keep + 2);
@@ -493,33 +543,13 @@ impl ModeSet {
                 },
             };
             // M-orthogonalise against the exact rigid modes and the modes already kept, then renormalise.
-            for r in &modes {
-                let c = m_inner(&slices, &y, &phi, &r.displacement, &r.rotation);
-                for i in 0..n {
-                    y[i] -= c * r.displacement[i];
-                    phi[i] -= c * r.rotation[i];
-                }
-            }
-            let norm = m_inner(&slices, &y, &phi, &y, &phi).sqrt();
+            let norm = m_orthogonalise(&slices, &modes, &mut y, &mut phi);
             // Both solvers deliver unit-M-norm vectors that are already orthogonal to the kept ones; a vector
             // that loses norm here came from inverse iteration on (nearly) repeated eigenvalues.
             if eigenvectors.is_none() && auto && !(norm > 0.99) {
                 return Self::compute_with_solver(bat, max_modes, rule, EigenSolver::Dense);
             }
-            if !(norm.is_finite() && norm > 0.0) {
-                return Err(PhysicsError::Numerical("degenerate mode from the eigen-solver".into()));
-            }
-            // Deterministic sign: positive displacement at the barrel end.
-            let sign = if y[n - 1] < 0.0 { -1.0 } else { 1.0 };
-            let scale = sign / norm;
-            y.iter_mut().for_each(|v| *v *= scale);
-            phi.iter_mut().for_each(|v| *v *= scale);
-            // ω² from the Rayleigh quotient (unit modal mass): accurate to relative rounding.
-            let omega = band.stiffness_energy(&y, &phi).max(0.0).sqrt();
-            if !omega.is_finite() {
-                return Err(PhysicsError::Numerical("non-finite mode frequency".into()));
-            }
-            modes.push(Mode { angular_frequency: omega, displacement: y, rotation: phi });
+            modes.push(unit_mode(&band, y, phi, norm)?);
         }
         Ok(ModeSet {
             name: bat.name.clone(),

@@ -513,6 +513,24 @@ fn rotate(beta: f64, normal: f64, tangential: f64) -> (f64, f64) {
     (normal * cos - tangential * sin, normal * sin + tangential * cos)
 }
 
+/// The head-on part of a swing whose line of centres is tilted φ (rad) from the bat's path and meets the
+/// pitch at `incidence` (rad): the ball's and bat's speeds along the normal. Along the line of centres it is
+/// the swing itself, untouched, so head-on results stay bit for bit.
+fn along_the_normal(impact: &Impact, phi: f64, incidence: f64, mp: &MassProperties) -> Result<Impact, PhysicsError> {
+    if phi == 0.0 && incidence == 0.0 {
+        return Ok(*impact);
+    }
+    let cos_phi = phi.cos();
+    let normal_impact = Impact {
+        ball_speed: impact.ball_speed * incidence.cos(),
+        bat_cm_speed: impact.bat_cm_speed * cos_phi,
+        bat_angular_speed: impact.bat_angular_speed * cos_phi,
+        impact_z: impact.impact_z,
+    };
+    check_approach(mp, &normal_impact)?;
+    Ok(normal_impact)
+}
+
 /// An oblique collision: the modal collision along the line of centres and the tangential grip step across
 /// it (model, conventions and parameters in the module docs).
 pub fn collide_oblique(
@@ -530,20 +548,7 @@ pub fn collide_oblique(
     let phi = (oblique.undercut / (ball.radius + oblique.barrel_radius)).asin();
     let beta = oblique.attack_angle + phi;
     let incidence = beta - oblique.pitch_angle;
-    let normal_impact = if phi == 0.0 && incidence == 0.0 {
-        // Along the line of centres: the swing itself, untouched, so head-on results stay bit for bit.
-        *impact
-    } else {
-        let cos_phi = phi.cos();
-        let normal_impact = Impact {
-            ball_speed: impact.ball_speed * incidence.cos(),
-            bat_cm_speed: impact.bat_cm_speed * cos_phi,
-            bat_angular_speed: impact.bat_angular_speed * cos_phi,
-            impact_z: impact.impact_z,
-        };
-        check_approach(&mp, &normal_impact)?;
-        normal_impact
-    };
+    let normal_impact = along_the_normal(impact, phi, incidence, &mp)?;
     let bat_speed = rigid::bat_speed_at(&mp, impact);
     let ball_tangential = impact.ball_speed * incidence.sin();
     let bat_tangential = -bat_speed * phi.sin();

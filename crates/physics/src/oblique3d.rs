@@ -445,26 +445,8 @@ pub fn collide_vectors(
         ),
         tangential_inverse_mass(ball.mass, ball.radius, ball_inertia, mp.mass, rk, mp.moment_of_inertia),
     ];
-    let (normal, impulse, sliding) = match contact.stiffness_ratio {
-        None => {
-            let normal = collide(modes, ball, &normal_impact, options)?;
-            let (impulse, sliding) = grip_or_slide(slip, inverse_mass, normal.impulse, contact);
-            (normal, impulse, sliding)
-        }
-        Some(eta2) => {
-            let mut tangent = CompliantTangent2 {
-                inverse_mass,
-                stiffness_ratio: eta2,
-                friction: contact.friction,
-                slip,
-                force: [0.0; 2],
-                gripped: false,
-            };
-            let normal = collide_observed(modes, ball, &normal_impact, options, &mut tangent)?;
-            let impulse = [0, 1].map(|i| (tangent.slip[i] - slip[i]) / inverse_mass[i]);
-            (normal, impulse, !tangent.gripped)
-        }
-    };
+    let (normal, impulse, sliding) =
+        normal_and_tangential(modes, ball, &normal_impact, options, contact, slip, inverse_mass)?;
     let j = t * impulse[0] + a * impulse[1];
     let v_tangential = c.ball_velocity - n * c.ball_velocity.dot(&n);
     let velocity = n * normal.exit_speed + v_tangential + j / ball.mass;
@@ -493,6 +475,40 @@ pub fn collide_vectors(
         return Err(PhysicsError::Numerical("spatial collision produced a non-finite result".into()));
     }
     Ok(result)
+}
+
+/// The normal collision and the tangential impulse (around, along the bat; N·s) it carries for a slip
+/// (around, along; m/s) with inverse masses (1/kg): impulsive under a constant e_T, or integrated through the
+/// contact with a compliant tangent. The flag says whether the ball slid.
+fn normal_and_tangential(
+    modes: &ModeSet,
+    ball: &Ball,
+    normal_impact: &Impact,
+    options: &CollisionOptions,
+    contact: &TangentialContact,
+    slip: [f64; 2],
+    inverse_mass: [f64; 2],
+) -> Result<(CollisionResult, [f64; 2], bool), PhysicsError> {
+    Ok(match contact.stiffness_ratio {
+        None => {
+            let normal = collide(modes, ball, normal_impact, options)?;
+            let (impulse, sliding) = grip_or_slide(slip, inverse_mass, normal.impulse, contact);
+            (normal, impulse, sliding)
+        }
+        Some(eta2) => {
+            let mut tangent = CompliantTangent2 {
+                inverse_mass,
+                stiffness_ratio: eta2,
+                friction: contact.friction,
+                slip,
+                force: [0.0; 2],
+                gripped: false,
+            };
+            let normal = collide_observed(modes, ball, normal_impact, options, &mut tangent)?;
+            let impulse = [0, 1].map(|i| (tangent.slip[i] - slip[i]) / inverse_mass[i]);
+            (normal, impulse, !tangent.gripped)
+        }
+    })
 }
 
 /// The tangential impulse (around, along the bat), N·s, for a slip (around, along) in m/s with inverse
