@@ -23,12 +23,30 @@
 //! | `Pitch` | `Swing.ball_speed` | mph → m/s; 0 (a tee, or no pitch speed entered: HitTrax writes 0 for both) is *not measured*, so the row is skipped and counted — unless `--tee` ([`super::ImportOptions::tee`]) says it is a ball on a tee: then ball speed, pitch angle and pitch spin are 0 |
 //! | `Velo` | `measured_exit_speed` | mph → m/s; blank or 0 = the bat missed the ball (no contact) |
 //! | `LA` | `measured_launch_angle` | deg → rad |
+//! | `Horiz. Angle` | `measured_spray_angle` | deg → rad, as it is: positive toward right field (the first-base side) for either batter, as TrackMan's `Direction`; 0 is centre field; blank = not measured |
+//! | `Batting` | `batter_side` | `R`/`Right` → BATTER_RIGHT, `L`/`Left` → BATTER_LEFT (any case); blank = right (the planar default) |
 //! | `Res` | the call (side table) | e.g. `4-3`, the fielded result |
 //! | `Date` | `header.stamp` | `M/D/YYYY HH:MM:SS.fff`, the cage computer's local time, read as UTC (the export names no zone) |
 //! | `User`, `Opposing Player`, `#` or `AB` | batter, pitcher, pitch id (side table) | |
 //!
-//! **Not read.** HitTrax measures no spin. `Dist`, `Horiz. Angle`, `Strike Zone…`, `POI X/Y/Z` (where the
-//! ball was met relative to the plate, not where on the bat) are not Swing fields. `Hand Speed`, `BV`,
+//! **`Horiz. Angle`'s sign.** No HitTrax document defining it was found (searched: "HitTrax Horiz. Angle",
+//! "HitTrax export columns", "HitTrax spray angle", "HitTrax AA attack angle"), so the sign is taken from
+//! where fielders stand, in a real HitTrax data set: Driveline's OpenBiomechanics Project publishes the
+//! HitTrax rows of its hitting sessions (repository drivelineresearch/openbiomechanics,
+//! `baseball_hitting/data/poi/hittrax.csv`, whose README calls its columns those of a raw HitTrax export and
+//! `bearing` the spray angle in degrees; `bearing` stands between `res` and `vertical_distance`, where the
+//! export has `Horiz. Angle`), and each session's batter side (`hitter_side` in
+//! `baseball_hitting/data/metadata.csv`). Of its 126 balls fielded on one side of the field, all 88 fielded by
+//! the third baseman, shortstop or left fielder (`5-3`, `6-3`, `F5`, `F6`, `F7`) have a negative angle and all
+//! 38 fielded by the first or second baseman or the right fielder (`4-3`, `U3`, `F3`, `F4`, `F9`) a positive
+//! one, for right-handed (89 balls) and left-handed (37) batters alike: the angle is in the field frame,
+//! positive toward right field, and is not mirrored for a left-handed batter. The real row of
+//! `tests/data/hittrax_session.csv` agrees (a `4-3` at 4°). Its singles to centre at exactly 0° show that 0 is
+//! a direction, not HitTrax's "nothing tracked" (the rows filled with 0 are misses, skipped by their `Velo`).
+//!
+//! **Not read.** HitTrax measures no spin (so no spin axis) and no bat tilt or swing direction. `Dist`,
+//! `Strike Zone…`, `POI X/Y/Z` (where the ball was met relative to the plate, not where on the bat) are not
+//! Swing fields. `Hand Speed`, `BV`,
 //! `Trigger to Impact`, `AA` and `Impact Momentum` come from a paired bat sensor and are 0 when none is
 //! paired (as in the source row); which point of the bat `BV` is measured at and how `AA` is signed could not
 //! be confirmed, so they are not read: the bat speed is the batter model's, assumed (as for TrackMan). For
@@ -50,6 +68,8 @@ pub struct Columns {
     la: Option<usize>,
     res: Option<usize>,
     kind: Option<usize>,
+    horiz_angle: Option<usize>,
+    batting: Option<usize>,
     user: Option<usize>,
     opposing: Option<usize>,
 }
@@ -67,6 +87,8 @@ impl Columns {
             la: c("LA"),
             res: c("Res"),
             kind: c("Type"),
+            horiz_angle: c("Horiz. Angle"),
+            batting: c("Batting"),
             user: c("User"),
             opposing: c("Opposing Player"),
         }
@@ -109,10 +131,10 @@ pub fn read(row: &Row<'_>, cols: &Columns) -> Result<TrackedRow, Skip> {
         launch_angle: deg(num(cols.la, "LA")?),
         spin: f64::NAN,
         spin_axis_deg: f64::NAN,
-        spray_angle: f64::NAN,
+        spray_angle: deg(num(cols.horiz_angle, "Horiz. Angle")?),
         bat_tilt: f64::NAN,
         swing_direction: f64::NAN,
-        batter_side: None,
+        batter_side: super::batter_side(row.text(cols.batting), "Batting")?,
         swing_length: f64::NAN,
         batter: row.text(cols.user).to_string(),
         pitcher: row.text(cols.opposing).to_string(),

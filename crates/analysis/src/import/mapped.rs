@@ -11,15 +11,25 @@
 //! pitch_speed = "Pitch Velocity"    # required
 //! exit_speed = "Exit Velocity"      # required
 //! launch_angle = "Launch Angle"
-//! spin = "Spin"                     # batted-ball backspin (topspin negative)
+//! spin = "Spin"                     # batted-ball backspin (topspin negative); with spin_axis the total spin
 //! bat_speed = "Bat Speed"           # 6 in from the head, as Statcast's and Blast's
 //! attack_angle = "Attack Angle"
 //! pitch_angle = "Pitch Descent"     # descent angle, positive descending
+//! spray_angle = "Direction"         # positive toward right field (the first-base side)
+//! spin_axis = "Spin Axis"           # TrackMan's HitSpinAxis: 180° backspin, 0° topspin, 90° hooking to left field
+//! batter_side = "Bats"              # R/Right or 0 = right-handed, L/Left or 1 = left-handed
+//! bat_tilt = "Bat Tilt"             # the bat's long axis below the horizontal (barrel below the hands)
+//! swing_direction = "Attack Dir"    # the bat's path, positive toward right field (not pull-relative)
 //! time = "Date"                     # RFC 3339, or YYYY-MM-DD HH:MM:SS[.f] read as UTC
 //! batter = "Player"
 //! [units]                           # mph (default for speeds), km/h, m/s, ft/s; deg (default), rad; rpm (default), rad/s
 //! exit_speed = "km/h"
 //! ```
+//!
+//! The 3-D quantities follow Swing.msg's field frame whatever the batter's side: a tracker that writes them
+//! relative to the batter (Savant's `attack_direction`, positive toward the opposite field) must be
+//! converted first. `bat_tilt` is the bat's own tilt, not a swing plane's slope (Savant's `swing_path_tilt`,
+//! which the Statcast reader converts).
 //!
 //! Every row with a measured exit speed is a swing (the map has no "call" column); the rest is as for the
 //! built-in formats: blank/`NA`/`NULL`/`-` is not measured, out-of-range values are refused with the line.
@@ -32,6 +42,7 @@ use serde::Deserialize;
 
 use super::table::{Row, Table};
 use super::{ImportError, Skip, TrackedRow, MPH};
+use sweetspot_msgs::sweetspot_msgs::msg::Swing;
 
 /// The quantities a map may name.
 pub const QUANTITIES: &[&str] = &[
@@ -42,6 +53,11 @@ pub const QUANTITIES: &[&str] = &[
     "bat_speed",
     "attack_angle",
     "pitch_angle",
+    "spray_angle",
+    "spin_axis",
+    "batter_side",
+    "bat_tilt",
+    "swing_direction",
     "time",
     "batter",
 ];
@@ -77,7 +93,8 @@ fn factor(kind: &str, unit: &str) -> Option<f64> {
 fn kind(quantity: &str) -> &'static str {
     match quantity {
         "pitch_speed" | "exit_speed" | "bat_speed" => "speed",
-        "launch_angle" | "attack_angle" | "pitch_angle" => "angle",
+        "launch_angle" | "attack_angle" | "pitch_angle" | "spray_angle" | "spin_axis" | "bat_tilt"
+        | "swing_direction" => "angle",
         "spin" => "spin",
         _ => "text",
     }
@@ -119,6 +136,9 @@ impl ColumnMap {
             }
         }
         for (q, unit) in &self.units {
+            if kind(q) == "text" {
+                return Err(format!("unit '{}' of {q}: a text column has no unit", echo(unit)));
+            }
             if factor(kind(q), unit).is_none() {
                 return Err(format!(
                     "unit '{}' of {q}: expected one of mph, km/h, m/s, ft/s (speeds), deg, rad (angles), rpm, rad/s (spin)",
@@ -153,6 +173,8 @@ impl ColumnMap {
 pub struct Columns {
     index: BTreeMap<&'static str, Option<usize>>,
     scale: BTreeMap<&'static str, f64>,
+    /// Degrees per unit of the spin axis, kept in degrees as the rows carry it (1 for deg: 360 stays 360).
+    spin_axis_degrees: f64,
 }
 
 impl Columns {
@@ -164,11 +186,30 @@ impl Columns {
             index.insert(q, map.columns.get(q).and_then(|c| table.column(c)));
             scale.insert(q, map.scale(q));
         }
-        Columns { index, scale }
+        let spin_axis_degrees = match map.units.get("spin_axis").map(String::as_str) {
+            Some("rad") => 180.0 / std::f64::consts::PI,
+            _ => 1.0,
+        };
+        Columns { index, scale, spin_axis_degrees }
     }
 
     fn col(&self, q: &str) -> Option<usize> {
         self.index.get(q).copied().flatten()
+    }
+}
+
+/// The batter's side of a `batter_side` cell: Swing.msg's values 0 (right) and 1 (left), or the words
+/// trackers write ([`super::batter_side`]).
+fn batter_side(text: &str) -> Result<Option<u8>, Skip> {
+    match text {
+        "0" => Ok(Some(Swing::BATTER_RIGHT)),
+        "1" => Ok(Some(Swing::BATTER_LEFT)),
+        _ => super::batter_side(text, "batter_side").map_err(|skip| match skip {
+            Skip::NotAChoice { column, text, .. } => {
+                Skip::NotAChoice { column, text, allowed: "Right, R, 0, Left, L or 1 (blank: not measured)" }
+            }
+            other => other,
+        }),
     }
 }
 
@@ -204,14 +245,58 @@ pub fn read(row: &Row<'_>, cols: &Columns) -> Result<TrackedRow, Skip> {
         exit_speed,
         launch_angle: num("launch_angle")?,
         spin: num("spin")?,
-        spin_axis_deg: f64::NAN,
-        spray_angle: f64::NAN,
-        bat_tilt: f64::NAN,
-        swing_direction: f64::NAN,
-        batter_side: None,
+        spin_axis_deg: row
+            .number(cols.col("spin_axis"))
+            .map(|v| v * cols.spin_axis_degrees)
+            .map_err(|e| Skip::NotANumber { column: "spin_axis", text: e.text })?,
+        spray_angle: num("spray_angle")?,
+        bat_tilt: num("bat_tilt")?,
+        swing_direction: num("swing_direction")?,
+        batter_side: batter_side(row.text(cols.col("batter_side")))?,
         swing_length: f64::NAN,
         batter: row.text(cols.col("batter")).to_string(),
         pitcher: String::new(),
         pitch_id: String::new(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn map(columns: &[(&str, &str)], units: &[(&str, &str)]) -> ColumnMap {
+        let owned = |pairs: &[(&str, &str)]| pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
+        ColumnMap { name: "t".into(), columns: owned(columns), units: owned(units) }
+    }
+
+    #[test]
+    fn the_3d_quantities_are_angles_and_the_side_takes_no_unit() {
+        let base = [("pitch_speed", "P"), ("exit_speed", "E")];
+        let with = |extra: (&str, &str), units: &[(&str, &str)]| {
+            let mut columns = base.to_vec();
+            columns.push(extra);
+            map(&columns, units).check()
+        };
+        for q in ["spray_angle", "spin_axis", "bat_tilt", "swing_direction"] {
+            assert_eq!(with((q, "A"), &[(q, "rad")]), Ok(()), "{q}");
+            assert!(with((q, "A"), &[(q, "rpm")]).unwrap_err().contains(&format!("of {q}")), "{q}");
+        }
+        assert_eq!(with(("batter_side", "B"), &[]), Ok(()));
+        let err = with(("batter_side", "B"), &[("batter_side", "deg")]).unwrap_err();
+        assert!(err.contains("text column has no unit"), "{err}");
+    }
+
+    #[test]
+    fn a_side_is_swing_msgs_number_or_a_trackers_word() {
+        assert_eq!(batter_side("0"), Ok(Some(Swing::BATTER_RIGHT)));
+        assert_eq!(batter_side("1"), Ok(Some(Swing::BATTER_LEFT)));
+        assert_eq!(batter_side("Left"), Ok(Some(Swing::BATTER_LEFT)));
+        assert_eq!(batter_side(""), Ok(None));
+        match batter_side("2") {
+            Err(Skip::NotAChoice { column, allowed, .. }) => {
+                assert_eq!((column, allowed.contains("0")), ("batter_side", true))
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 }
