@@ -181,28 +181,35 @@ pub fn read_run(path: &Path) -> Result<Run, BagError> {
         }
     })?;
     // Each output goes to the first swing of its identity that has none of its kind yet.
-    for (key, ev) in exit_velocities {
-        let slot = by_key.get(&key).and_then(|list| list.iter().find(|&&i| rows[i].exit_velocity.is_none()));
-        match slot {
-            Some(&i) => {
-                rows[i].exit_velocity = Some(ev);
-                counts.matched_exit_velocities += 1;
-            }
-            None => counts.orphan_outputs += 1,
-        }
-    }
-    for (key, me) in modal_energies {
-        let slot = by_key.get(&key).and_then(|list| list.iter().find(|&&i| rows[i].modal_energies.is_none()));
-        match slot {
-            Some(&i) => {
-                rows[i].modal_energies = Some(me);
-                counts.matched_modal_energies += 1;
-            }
-            None => counts.orphan_outputs += 1,
-        }
-    }
+    let (matched, orphans) = pair(&mut rows, &by_key, exit_velocities, |row| &mut row.exit_velocity);
+    counts.matched_exit_velocities += matched;
+    counts.orphan_outputs += orphans;
+    let (matched, orphans) = pair(&mut rows, &by_key, modal_energies, |row| &mut row.modal_energies);
+    counts.matched_modal_energies += matched;
+    counts.orphan_outputs += orphans;
     counts.swings = rows.len() as u64;
     Ok(Run { events, rows, counts, recorded_fields })
+}
+
+/// Gives each output to the first swing of its identity whose `slot` is still empty; returns how many found a
+/// swing and how many did not (orphans).
+fn pair<T>(
+    rows: &mut [SwingRow],
+    by_key: &HashMap<SwingKey, Vec<usize>>,
+    outputs: Vec<(SwingKey, T)>,
+    slot: impl Fn(&mut SwingRow) -> &mut Option<T>,
+) -> (u64, u64) {
+    let (mut matched, mut orphans) = (0, 0);
+    for (key, output) in outputs {
+        match by_key.get(&key).and_then(|list| list.iter().copied().find(|&i| slot(&mut rows[i]).is_none())) {
+            Some(i) => {
+                *slot(&mut rows[i]) = Some(output);
+                matched += 1;
+            }
+            None => orphans += 1,
+        }
+    }
+    (matched, orphans)
 }
 
 /// The field names of a `ros2msg` schema's own message (the text before its first dependency), constants
