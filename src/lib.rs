@@ -32,6 +32,7 @@ pub use sweetspot_model::{files, yaml};
 pub use sweetspot_msgs as msgs;
 pub use sweetspot_physics as physics;
 
+pub mod bag_tools;
 pub mod bench;
 pub mod child;
 pub mod cli;
