@@ -26,8 +26,8 @@ pub struct CallArgs {
     /// The node's namespace (for `simulate_swing`).
     #[arg(long, visible_alias = "namespace", value_name = "NS", default_value = "/")]
     pub ns: String,
-    /// Give up after this many seconds without an answer (waiting for the service included).
-    #[arg(long, value_name = "SECS", default_value = "10", value_parser = super::common::seconds_at_least_zero)]
+    /// Give up after this many seconds without an answer (waiting for the service included), 0 to 86400.
+    #[arg(long, value_name = "SECS", default_value = "10", value_parser = super::common::call_timeout_seconds)]
     pub timeout: f64,
     /// The service's request/reply mapping, as the node's `service_mapping` parameter: `enhanced` (the
     /// node's default, rmw_fastrtps's) or `cyclone` (rmw_cyclonedds_cpp's).

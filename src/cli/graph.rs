@@ -36,16 +36,16 @@ pub struct ListArgs {
     /// Show each one's type(s) too.
     #[arg(short = 't', long = "show-types")]
     pub show_types: bool,
-    /// Seconds to listen to discovery before listing.
-    #[arg(long, value_name = "SECS", default_value = "2", value_parser = super::common::seconds_at_least_zero)]
+    /// Seconds to listen to discovery before listing, 0 to 3600.
+    #[arg(long, value_name = "SECS", default_value = "2", value_parser = super::common::spin_seconds)]
     pub spin_time: f64,
 }
 
 /// How to list nodes.
 #[derive(Debug, clap::Args)]
 pub struct NodesArgs {
-    /// Seconds to listen to discovery before listing.
-    #[arg(long, value_name = "SECS", default_value = "2", value_parser = super::common::seconds_at_least_zero)]
+    /// Seconds to listen to discovery before listing, 0 to 3600.
+    #[arg(long, value_name = "SECS", default_value = "2", value_parser = super::common::spin_seconds)]
     pub spin_time: f64,
 }
 

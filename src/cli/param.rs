@@ -44,8 +44,8 @@ pub enum ParamCommand {
 pub struct NodeArg {
     /// The node's fully-qualified name, e.g. `/sweetspot` or `/rig3/sweetspot`.
     pub node: String,
-    /// Give up after this many seconds without an answer (waiting for the service included).
-    #[arg(long, value_name = "SECS", default_value = "10", value_parser = super::common::seconds_at_least_zero)]
+    /// Give up after this many seconds without an answer (waiting for the service included), 0 to 86400.
+    #[arg(long, value_name = "SECS", default_value = "10", value_parser = super::common::call_timeout_seconds)]
     pub timeout: f64,
     /// The services' request/reply mapping: `enhanced` (rmw_fastrtps's, the default) or `cyclone`
     /// (rmw_cyclonedds_cpp's, a node started with `-p service_mapping:=cyclone`).

@@ -12,6 +12,7 @@ use anyhow::{anyhow, bail, Context as _};
 
 use super::graph::warn_of_namesakes;
 use super::values::parse_values;
+use super::{bounded_error, quoted};
 use crate::msgs::json::{FromJson as _, ToJson as _};
 use crate::msgs::sweetspot_msgs::msg::ExitVelocity;
 use crate::msgs::sweetspot_msgs::srv::{SimulateSwing_Request, SimulateSwing_Response};
@@ -45,7 +46,7 @@ fn request_from(mut value: serde_json::Value) -> anyhow::Result<SimulateSwing_Re
 /// Resolves the service, sends the request, prints the response.
 pub fn call(args: CallOptions) -> anyhow::Result<()> {
     let fq_name = service_name(&args.service, &args.ns, &args.node)?;
-    let value = parse_values(&args.request).with_context(|| format!("the request {}", args.request))?;
+    let value = parse_values(&args.request).with_context(|| format!("the request {}", quoted(&args.request)))?;
     let request = request_from(value)?;
     let config = DdsConfig::from_env()?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -60,21 +61,24 @@ pub fn call(args: CallOptions) -> anyhow::Result<()> {
     let ev = &response.exit_velocity;
     match ev.status {
         ExitVelocity::STATUS_OK => Ok(()),
-        ExitVelocity::STATUS_DROPPED => bail!("{fq_name} answered DROPPED: {}", ev.message),
-        _ => bail!("{fq_name} answered REJECTED: {}", ev.message),
+        ExitVelocity::STATUS_DROPPED => bail!("{} answered DROPPED: {}", quoted(&fq_name), ev.message),
+        _ => bail!("{} answered REJECTED: {}", quoted(&fq_name), ev.message),
     }
 }
 
 /// The fully-qualified service name of `service` for the node `node` in `ns`.
 pub fn service_name(service: &str, ns: &str, node: &str) -> anyhow::Result<String> {
     if service.starts_with('/') {
-        return Ok(ros::names::resolve_topic(service, "/", node)?);
+        return ros::names::resolve_topic(service, "/", node).map_err(bounded_error);
     }
     match service {
-        "simulate_swing" => Ok(ros::names::resolve_topic(crate::node::service::SERVICE_NAME, ns, node)?),
+        "simulate_swing" => {
+            ros::names::resolve_topic(crate::node::service::SERVICE_NAME, ns, node).map_err(bounded_error)
+        }
         other => bail!(
-            "unknown service {other:?}: sweetspot serves simulate_swing (or give the fully-qualified name, \
-             e.g. /sweetspot/simulate_swing)"
+            "unknown service {:?}: sweetspot serves simulate_swing (or give the fully-qualified name, \
+             e.g. /sweetspot/simulate_swing)",
+            quoted(other)
         ),
     }
 }
@@ -126,8 +130,9 @@ async fn call_service(
     match outcome {
         Ok(result) => result,
         Err(_) => bail!(
-            "no answer from {fq_name} within {:.1} s (ROS_DOMAIN_ID {}, discovery {}): is a node serving it? \
+            "no answer from {} within {:.1} s (ROS_DOMAIN_ID {}, discovery {}): is a node serving it? \
              (`sweetspot node`; --node / --ns name another node; raise --timeout; {other})",
+            quoted(fq_name),
             started.elapsed().as_secs_f64(),
             config.domain_id,
             config.range

@@ -218,7 +218,7 @@ fn show(type_name: &str) -> anyhow::Result<String> {
     }
     match crate::msgs::type_info(type_name) {
         Some(info) if info.type_name == type_name || !type_name.contains("/srv/") => Ok(info.msg_text.to_string()),
-        _ => bail!("Unknown interface '{type_name}' (sweetspot knows: `sweetspot interface list`)"),
+        _ => bail!("Unknown interface '{}' (sweetspot knows: `sweetspot interface list`)", super::quoted(type_name)),
     }
 }
 

@@ -19,6 +19,7 @@ use ros2_client::rcl_interfaces::{
 use ros2_client::{Message, ServiceMapping};
 
 use super::graph::warn_of_namesakes;
+use super::{bounded_error, quoted};
 use crate::ros::{self, DdsConfig};
 
 /// The node asked and how (`sweetspot param`'s common flags).
@@ -76,7 +77,7 @@ pub fn param(target: ParamTarget, request: ParamRequest) -> anyhow::Result<()> {
             ParamRequest::Get { name, hide_type } => {
                 let value = session.get(std::slice::from_ref(&name)).await?.pop().unwrap_or(ParameterValue::NotSet);
                 if matches!(value, ParameterValue::NotSet) {
-                    bail!("Parameter not set: {name}");
+                    bail!("Parameter not set: {}", quoted(&name));
                 }
                 match hide_type {
                     true => crate::outln!("{}", plain(&value)),
@@ -89,7 +90,8 @@ pub fn param(target: ParamTarget, request: ParamRequest) -> anyhow::Result<()> {
                     parameter: vec![raw::Parameter { name: name.clone(), value: parsed.into() }],
                 };
                 let reply: SetParametersResponse = session.call("set_parameters", request).await?;
-                let result = reply.results.into_iter().next().ok_or_else(|| anyhow!("{fq_node} sent no result"))?;
+                let result =
+                    reply.results.into_iter().next().ok_or_else(|| anyhow!("{} sent no result", quoted(&fq_node)))?;
                 let reason = if result.reason.is_empty() { String::new() } else { format!(": {}", result.reason) };
                 match result.successful {
                     true => {
@@ -140,7 +142,7 @@ fn answered_all(node: &str, did: &str, got: usize, asked: usize) -> anyhow::Resu
 fn fully_qualified(name: &str) -> anyhow::Result<String> {
     let fq = if name.starts_with('/') { name.to_string() } else { format!("/{name}") };
     ros::names::to_client_name(&format!("{fq}/list_parameters"))
-        .map_err(|e| anyhow!("node name {name:?}: {e}"))
+        .map_err(|e| anyhow!("node name {:?}: {}", quoted(name), bounded_error(e)))
         .map(|_| fq)
 }
 
@@ -191,8 +193,9 @@ impl Session<'_> {
         match outcome {
             Ok(result) => result,
             Err(_) => bail!(
-                "no answer from {fq_name} within {:.1} s (ROS_DOMAIN_ID {}, discovery {}): is the node running? \
+                "no answer from {} within {:.1} s (ROS_DOMAIN_ID {}, discovery {}): is the node running? \
                  (`sweetspot node`; give its fully-qualified name; raise --timeout)",
+                quoted(&fq_name),
                 self.timeout.as_secs_f64(),
                 self.config.domain_id,
                 self.config.range

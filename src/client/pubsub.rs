@@ -13,6 +13,7 @@ use serde_json::{Map, Value};
 
 use super::kind::{with_type, Kind, QosOverrides, ALL_KINDS};
 use super::values::read_inputs;
+use super::{bounded_error, quoted};
 use crate::model::time::{period_of, saturating_secs};
 use crate::msgs::builtin_interfaces::msg::Time;
 use crate::msgs::json::ToJson;
@@ -91,9 +92,9 @@ fn ros_context(
     ros_args: &Option<Vec<String>>,
     default_name: &str,
 ) -> anyhow::Result<(NodeIdentity, NameResolver)> {
-    let parsed = RosArgs::parse(ros_args.as_deref().unwrap_or_default())?;
+    let parsed = RosArgs::parse(ros_args.as_deref().unwrap_or_default()).map_err(bounded_error)?;
     let namespace = match ns {
-        Some(n) => ros::names::normalize_namespace(n)?,
+        Some(n) => ros::names::normalize_namespace(n).map_err(bounded_error)?,
         None => "/".to_string(),
     };
     let identity = parsed.identity(default_name, &namespace);
@@ -111,7 +112,8 @@ fn resolve_target(
     let explicit = match msg_type {
         Some(t) => Some(Kind::from_word(t).ok_or_else(|| {
             anyhow!(
-                "unknown message type {t:?}; known: {}",
+                "unknown message type {:?}; known: {}",
+                quoted(t),
                 ALL_KINDS.iter().map(|k| k.type_name()).collect::<Vec<_>>().join(", ")
             )
         })?),
@@ -122,11 +124,11 @@ fn resolve_target(
         (e, _) => (target.to_string(), e),
     };
     // Validated and expanded by the ROS naming rules first, then remapped.
-    let fq = resolver.resolve(&ros::resolve_topic(&topic, &identity.namespace, &identity.name)?);
+    let fq = resolver.resolve(&ros::resolve_topic(&topic, &identity.namespace, &identity.name).map_err(bounded_error)?);
     let kind = match kind.or_else(|| Kind::from_topic(&fq)) {
         Some(k) => k,
         None => {
-            bail!("cannot tell the message type of topic {fq}; pass --type (e.g. --type Swing)")
+            bail!("cannot tell the message type of topic {}; pass --type (e.g. --type Swing)", quoted(&fq))
         }
     };
     Ok((fq, kind))
@@ -173,7 +175,7 @@ pub fn split_positionals(args: &PubOptions) -> anyhow::Result<(Option<String>, O
     };
     let msg_type = match (&args.msg_type, positional_type) {
         (Some(flag), Some(pos)) if Kind::from_word(flag) != Kind::from_word(&pos) => {
-            bail!("the TYPE argument {pos:?} and --type {flag:?} disagree")
+            bail!("the TYPE argument {:?} and --type {:?} disagree", quoted(&pos), quoted(flag))
         }
         (Some(flag), _) => Some(flag.clone()),
         (None, pos) => pos,
@@ -417,7 +419,7 @@ pub fn echo(args: EchoOptions) -> anyhow::Result<()> {
     let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_echo")?;
     let msg_type = match (&args.msg_type, &args.positional_type) {
         (Some(flag), Some(pos)) if Kind::from_word(flag) != Kind::from_word(pos) => {
-            bail!("the TYPE argument {pos:?} and --type {flag:?} disagree")
+            bail!("the TYPE argument {:?} and --type {:?} disagree", quoted(&pos), quoted(flag))
         }
         (flag, pos) => flag.clone().or_else(|| pos.clone()),
     };
