@@ -99,48 +99,7 @@ Stops on Ctrl-C or SIGTERM and finishes the bag. Topics are picked up as their p
 every message is recorded as it travelled. Types generated from msgs/ get their ros2msg schema; other types
 are recorded without one (said once per topic). Services and hidden topics (a name part starting with _) are
 not recorded with -a/-e. Only the mcap storage exists: -s sqlite3 is refused.")]
-    Record {
-        /// Topics to record (relative names are resolved in the namespace).
-        #[arg(value_name = "TOPIC")]
-        topics: Vec<String>,
-        /// Record every topic.
-        #[arg(short = 'a', long)]
-        all: bool,
-        /// Record the topics whose fully-qualified name matches this regular expression.
-        #[arg(short = 'e', long, value_name = "REGEX")]
-        regex: Option<String>,
-        /// Also record hidden topics (a name part starting with `_`) with -a or -e.
-        #[arg(long)]
-        include_hidden_topics: bool,
-        /// The bag directory to create (default: rosbag2_YYYY_MM_DD-HH_MM_SS, local time).
-        #[arg(short = 'o', long, value_name = "DIR")]
-        output: Option<PathBuf>,
-        /// Storage plugin: only mcap.
-        #[arg(short = 's', long, value_name = "ID", default_value = "mcap")]
-        storage: String,
-        /// rosbag2's MCAP preset: none, fastwrite, zstd_fast or zstd_small.
-        #[arg(long, value_name = "PROFILE", default_value = "none")]
-        storage_preset_profile: String,
-        /// Start a new file once the current one reaches this many bytes (0: never).
-        #[arg(short = 'b', long, value_name = "BYTES", default_value_t = 0)]
-        max_bag_size: u64,
-        /// Start a new file after this many seconds of recording (0: never).
-        #[arg(short = 'd', long, value_name = "SECONDS", default_value_t = 0.0,
-              value_parser = super::common::seconds_at_least_zero)]
-        max_bag_duration: f64,
-        /// A rosbag2 YAML file of per-topic subscription QoS (history, depth, reliability, durability).
-        #[arg(long, value_name = "FILE")]
-        qos_profile_overrides_path: Option<PathBuf>,
-        /// How often to look for new topics, milliseconds.
-        #[arg(short = 'p', long, value_name = "MS", default_value_t = 100)]
-        polling_interval: u64,
-        /// Namespace for relative topic names (same as `--ros-args -r __ns:=NS`).
-        #[arg(long, visible_alias = "namespace", value_name = "NS")]
-        ns: Option<String>,
-        /// ROS arguments (`-r __ns:=/rig3`), as for any ROS 2 node; must come last.
-        #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
-        ros_args: Option<Vec<String>>,
-    },
+    Record(RecordArgs),
     /// Republish the recorded inputs (BatParams, BallParams, Swing) over DDS with their original timing;
     /// params recorded before the first swing go out first, latched (transient-local).
     #[command(after_help = "\
@@ -161,58 +120,107 @@ topic have matched, so a node already running misses nothing, and warns of topic
 On a terminal, the space bar pauses and resumes playback (and /clock stands still meanwhile).
 --start-offset skips the swings recorded before that point; params recorded before it still go out first,
 so every swing meets the bat and ball in force when it was recorded.")]
-    Play {
-        /// Bag directory or .mcap file.
-        path: PathBuf,
-        /// Time scale: 2 plays twice as fast, 0.5 at half speed.
-        #[arg(short = 'r', long, default_value_t = 1.0, value_parser = super::common::time_scale)]
-        rate: f64,
-        /// Start over when done, until interrupted.
-        #[arg(short = 'l', long = "loop")]
-        repeat: bool,
-        /// Only these topics, as recorded (default: every input topic in the bag).
-        #[arg(long, value_delimiter = ',', num_args = 1..)]
-        topics: Vec<String>,
-        /// Publish what was recorded on FROM on TO instead (repeatable), e.g. `--remap /lab/swing:=/swing`.
-        #[arg(short = 'm', long = "remap", value_name = "FROM:=TO")]
-        remap: Vec<String>,
-        /// Start this many seconds (recorded time) after the bag's first message (finite).
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::finite_seconds_at_least_zero)]
-        start_offset: f64,
-        /// Wait this many seconds before playing (before each pass with --loop; finite).
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::finite_seconds_at_least_zero)]
-        delay: f64,
-        /// Publish rosgraph_msgs/Clock with the bag's time on /clock at HZ (40 without a value, as rosbag2).
-        #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40", value_parser = super::common::rate_hz)]
-        clock: Option<f64>,
-        /// Wait until every topic has this many subscriptions before starting (default: wait until the
-        /// subscriptions discovery shows have matched, at most --timeout, and warn of topics with none).
-        #[arg(long, default_value_t = 0)]
-        wait_subscribers: usize,
-        /// Start publishing at once, without waiting for discovered subscribers to match, and exit 0 even when
-        /// nobody listened (as `ros2 bag play`; without it a play no subscriber heard exits 1, as `pub` does).
-        #[arg(long, conflicts_with = "wait_subscribers")]
-        no_wait: bool,
-        /// Seconds to wait for subscribers, and for acknowledgments at the end (inf: no limit).
-        #[arg(long, default_value_t = 10.0, value_parser = super::common::seconds_above_zero)]
-        timeout: f64,
-        /// Do not print each message.
-        #[arg(short, long)]
-        quiet: bool,
-        /// Go on past damaged chunks with everything intact around them (the damage is still listed).
-        #[arg(long)]
-        skip_damaged: bool,
-        /// Also serve the bag (every topic, or --topics) on a Foxglove WebSocket server at [ADDR:]PORT
-        /// (127.0.0.1 unless ADDR is given), with Foxglove's play, pause, seek and speed controls.
-        #[arg(long, value_name = "[ADDR:]PORT")]
-        foxglove: Option<String>,
-        /// With --foxglove: serve only, no DDS output (playback then starts paused, for the client to start).
-        #[arg(long, requires = "foxglove")]
-        no_dds: bool,
-        /// ROS arguments: `-r FROM:=TO` remaps topics as --remap does; must come last.
-        #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
-        ros_args: Option<Vec<String>>,
-    },
+    Play(PlayArgs),
+}
+
+/// `bag record`'s flags.
+#[derive(Debug, clap::Args)]
+pub struct RecordArgs {
+    /// Topics to record (relative names are resolved in the namespace).
+    #[arg(value_name = "TOPIC")]
+    pub topics: Vec<String>,
+    /// Record every topic.
+    #[arg(short = 'a', long)]
+    pub all: bool,
+    /// Record the topics whose fully-qualified name matches this regular expression.
+    #[arg(short = 'e', long, value_name = "REGEX")]
+    pub regex: Option<String>,
+    /// Also record hidden topics (a name part starting with `_`) with -a or -e.
+    #[arg(long)]
+    pub include_hidden_topics: bool,
+    /// The bag directory to create (default: rosbag2_YYYY_MM_DD-HH_MM_SS, local time).
+    #[arg(short = 'o', long, value_name = "DIR")]
+    pub output: Option<PathBuf>,
+    /// Storage plugin: only mcap.
+    #[arg(short = 's', long, value_name = "ID", default_value = "mcap")]
+    pub storage: String,
+    /// rosbag2's MCAP preset: none, fastwrite, zstd_fast or zstd_small.
+    #[arg(long, value_name = "PROFILE", default_value = "none")]
+    pub storage_preset_profile: String,
+    /// Start a new file once the current one reaches this many bytes (0: never).
+    #[arg(short = 'b', long, value_name = "BYTES", default_value_t = 0)]
+    pub max_bag_size: u64,
+    /// Start a new file after this many seconds of recording (0: never).
+    #[arg(short = 'd', long, value_name = "SECONDS", default_value_t = 0.0,
+          value_parser = super::common::seconds_at_least_zero)]
+    pub max_bag_duration: f64,
+    /// A rosbag2 YAML file of per-topic subscription QoS (history, depth, reliability, durability).
+    #[arg(long, value_name = "FILE")]
+    pub qos_profile_overrides_path: Option<PathBuf>,
+    /// How often to look for new topics, milliseconds.
+    #[arg(short = 'p', long, value_name = "MS", default_value_t = 100)]
+    pub polling_interval: u64,
+    /// Namespace for relative topic names (same as `--ros-args -r __ns:=NS`).
+    #[arg(long, visible_alias = "namespace", value_name = "NS")]
+    pub ns: Option<String>,
+    /// ROS arguments (`-r __ns:=/rig3`), as for any ROS 2 node; must come last.
+    #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
+    pub ros_args: Option<Vec<String>>,
+}
+
+/// `bag play`'s flags.
+#[derive(Debug, clap::Args)]
+pub struct PlayArgs {
+    /// Bag directory or .mcap file.
+    pub path: PathBuf,
+    /// Time scale: 2 plays twice as fast, 0.5 at half speed.
+    #[arg(short = 'r', long, default_value_t = 1.0, value_parser = super::common::time_scale)]
+    pub rate: f64,
+    /// Start over when done, until interrupted.
+    #[arg(short = 'l', long = "loop")]
+    pub repeat: bool,
+    /// Only these topics, as recorded (default: every input topic in the bag).
+    #[arg(long, value_delimiter = ',', num_args = 1..)]
+    pub topics: Vec<String>,
+    /// Publish what was recorded on FROM on TO instead (repeatable), e.g. `--remap /lab/swing:=/swing`.
+    #[arg(short = 'm', long = "remap", value_name = "FROM:=TO")]
+    pub remap: Vec<String>,
+    /// Start this many seconds (recorded time) after the bag's first message (finite).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::finite_seconds_at_least_zero)]
+    pub start_offset: f64,
+    /// Wait this many seconds before playing (before each pass with --loop; finite).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = super::common::finite_seconds_at_least_zero)]
+    pub delay: f64,
+    /// Publish rosgraph_msgs/Clock with the bag's time on /clock at HZ (40 without a value, as rosbag2).
+    #[arg(long, value_name = "HZ", num_args = 0..=1, default_missing_value = "40", value_parser = super::common::rate_hz)]
+    pub clock: Option<f64>,
+    /// Wait until every topic has this many subscriptions before starting (default: wait until the
+    /// subscriptions discovery shows have matched, at most --timeout, and warn of topics with none).
+    #[arg(long, default_value_t = 0)]
+    pub wait_subscribers: usize,
+    /// Start publishing at once, without waiting for discovered subscribers to match, and exit 0 even when
+    /// nobody listened (as `ros2 bag play`; without it a play no subscriber heard exits 1, as `pub` does).
+    #[arg(long, conflicts_with = "wait_subscribers")]
+    pub no_wait: bool,
+    /// Seconds to wait for subscribers, and for acknowledgments at the end (inf: no limit).
+    #[arg(long, default_value_t = 10.0, value_parser = super::common::seconds_above_zero)]
+    pub timeout: f64,
+    /// Do not print each message.
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// Go on past damaged chunks with everything intact around them (the damage is still listed).
+    #[arg(long)]
+    pub skip_damaged: bool,
+    /// Also serve the bag (every topic, or --topics) on a Foxglove WebSocket server at [ADDR:]PORT
+    /// (127.0.0.1 unless ADDR is given), with Foxglove's play, pause, seek and speed controls.
+    #[arg(long, value_name = "[ADDR:]PORT")]
+    pub foxglove: Option<String>,
+    /// With --foxglove: serve only, no DDS output (playback then starts paused, for the client to start).
+    #[arg(long, requires = "foxglove")]
+    pub no_dds: bool,
+    /// ROS arguments: `-r FROM:=TO` remaps topics as --remap does; must come last.
+    #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS")]
+    pub ros_args: Option<Vec<String>>,
 }
 
 /// Runs one `bag` subcommand.
@@ -223,74 +231,43 @@ pub fn run(cmd: BagCommand) -> anyhow::Result<()> {
         BagCommand::Export { path, csv: _, output, skip_damaged } => {
             bag_tools::export(&path, output.as_deref(), skip_damaged)
         }
-        BagCommand::Record {
-            topics,
-            all,
-            regex,
-            include_hidden_topics,
-            output,
-            storage,
-            storage_preset_profile,
-            max_bag_size,
-            max_bag_duration,
-            qos_profile_overrides_path,
-            polling_interval,
-            ns,
-            ros_args,
-        } => crate::record::console::record_command(RecordRequest {
-            topics,
-            all,
-            regex,
-            include_hidden_topics,
-            output,
-            storage,
-            storage_preset_profile,
-            max_bag_size,
-            max_bag_duration,
-            qos_profile_overrides_path,
-            polling_interval,
-            ns,
-            ros_args,
+        BagCommand::Record(a) => crate::record::console::record_command(RecordRequest {
+            topics: a.topics,
+            all: a.all,
+            regex: a.regex,
+            include_hidden_topics: a.include_hidden_topics,
+            output: a.output,
+            storage: a.storage,
+            storage_preset_profile: a.storage_preset_profile,
+            max_bag_size: a.max_bag_size,
+            max_bag_duration: a.max_bag_duration,
+            qos_profile_overrides_path: a.qos_profile_overrides_path,
+            polling_interval: a.polling_interval,
+            ns: a.ns,
+            ros_args: a.ros_args,
         }),
-        BagCommand::Play {
-            path,
-            rate,
-            repeat,
-            topics,
-            remap,
-            start_offset,
-            delay,
-            clock,
-            wait_subscribers,
-            no_wait,
-            timeout,
-            quiet,
-            skip_damaged,
-            foxglove,
-            no_dds,
-            ros_args,
-        } => {
-            if foxglove.is_some() {
+        BagCommand::Play(a) => {
+            if a.foxglove.is_some() {
                 // The server's own warnings (refused or dropped clients) go to stderr, as the node's do.
                 super::node::init_logging(None);
             }
             crate::play::console::play_command(PlayRequest {
-                path,
-                rate,
-                repeat,
-                topics,
-                remap,
-                start_offset,
-                delay,
-                clock,
-                wait_subscribers,
-                no_wait,
-                timeout,
-                quiet,
-                skip_damaged,
-                foxglove,
-                no_dds,
-                ros_args,
+                path: a.path,
+                rate: a.rate,
+                repeat: a.repeat,
+                topics: a.topics,
+                remap: a.remap,
+                start_offset: a.start_offset,
+                delay: a.delay,
+                clock: a.clock,
+                wait_subscribers: a.wait_subscribers,
+                no_wait: a.no_wait,
+                timeout: a.timeout,
+                quiet: a.quiet,
+                skip_damaged: a.skip_damaged,
+                foxglove: a.foxglove,
+                no_dds: a.no_dds,
+                ros_args: a.ros_args,
             })
         }
         BagCommand::Replay {

@@ -22,6 +22,7 @@ use crate::msgs::RosMessage;
 use crate::ros::args::{NameResolver, NodeIdentity};
 use crate::ros::edge::{matched_subscriptions, reader, write_reliably, writer};
 use crate::ros::{self, interrupt_flag, shutdown_signal, DdsConfig, RosArgs};
+use rustdds::no_key::DataWriterCdr;
 
 /// What `sweetspot pub` publishes, where and how (its flags, see `sweetspot pub --help`).
 #[derive(Debug, Clone, Default)]
@@ -227,33 +228,7 @@ fn publish_all<T: RosMessage>(
     let latched = qos.durability == ros2_client::qos::Durability::TransientLocal;
     let wait_for = args.wait_subscribers.unwrap_or(default_wait(latched, total.is_none()));
     if wait_for > 0 {
-        let start = Instant::now();
-        let mut n: usize = 0;
-        loop {
-            n = matched_subscriptions(&writer, n);
-            if n >= wait_for {
-                break;
-            }
-            if start.elapsed() >= timeout {
-                eprintln!(
-                    "warning: {n} of {wait_for} matching subscription(s) on {fq_topic} ({}) within {:.1} s, so \
-                     nothing was published: is the node running in this ROS_DOMAIN_ID ({}) and namespace? \
-                     (-w 0 publishes without waiting, --timeout waits longer)",
-                    T::TYPE_NAME,
-                    args.timeout,
-                    config.domain_id
-                );
-                bail!("no matching subscription on {fq_topic}");
-            }
-            if interrupted.load(std::sync::atomic::Ordering::Relaxed) {
-                bail!("interrupted while waiting for subscribers");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-        // We see the match when the subscription's announcement reaches us; the subscriber sees it when ours
-        // reaches it, which may be a moment later. A volatile reader drops samples from a writer it has not
-        // matched yet (they are history to it), so give its side of the handshake time to complete.
-        std::thread::sleep(MATCH_SETTLE);
+        wait_for_subscriptions(&writer, wait_for, fq_topic, args.timeout, config.domain_id, &interrupted)?;
     }
 
     let period = args.rate.map(period_of);
@@ -298,6 +273,47 @@ fn publish_all<T: RosMessage>(
     if !args.quiet {
         eprintln!("published {sent} message(s) to {fq_topic} ({})", T::TYPE_NAME);
     }
+    Ok(())
+}
+
+/// Waits until `wait_for` subscriptions on `fq_topic` matched `writer` (at most `timeout_secs`), then a moment
+/// for their side of the handshake; an error (with a warning saying why) when too few appear in time.
+fn wait_for_subscriptions<T: RosMessage>(
+    writer: &DataWriterCdr<T>,
+    wait_for: usize,
+    fq_topic: &str,
+    timeout_secs: f64,
+    domain_id: u16,
+    interrupted: &std::sync::atomic::AtomicBool,
+) -> anyhow::Result<()> {
+    let timeout = saturating_secs(timeout_secs);
+    let start = Instant::now();
+    let mut n: usize = 0;
+    loop {
+        n = matched_subscriptions(writer, n);
+        if n >= wait_for {
+            break;
+        }
+        if start.elapsed() >= timeout {
+            eprintln!(
+                "warning: {n} of {wait_for} matching subscription(s) on {fq_topic} ({}) within {:.1} s, so \
+                 nothing was published: is the node running in this ROS_DOMAIN_ID ({}) and namespace? \
+                 (-w 0 publishes without waiting, --timeout waits longer)",
+                T::TYPE_NAME,
+                timeout_secs,
+                domain_id
+            );
+            bail!("no matching subscription on {fq_topic}");
+        }
+        if interrupted.load(std::sync::atomic::Ordering::Relaxed) {
+            bail!("interrupted while waiting for subscribers");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // We see the match when the subscription's announcement reaches us; the subscriber sees it when ours
+    // reaches it, which may be a moment later. A volatile reader drops samples from a writer it has not
+    // matched yet (they are history to it), so give its side of the handshake time to complete.
+    std::thread::sleep(MATCH_SETTLE);
     Ok(())
 }
 
@@ -428,9 +444,8 @@ pub fn echo(args: EchoOptions) -> anyhow::Result<()> {
     with_type!(kind, T => echo_typed::<T>(kind, &args, &fq_topic))
 }
 
-fn echo_typed<T: RosMessage>(kind: Kind, args: &EchoOptions, fq_topic: &str) -> anyhow::Result<()> {
-    let config = DdsConfig::from_env()?;
-    let ctx = ros::context(&config)?;
+/// The QoS `echo` subscribes with: the topic's own, a deep history, `--no-latched` and the overrides applied.
+fn echo_qos(kind: Kind, args: &EchoOptions) -> anyhow::Result<ros2_client::QosProfile> {
     // A deep reader history: a KEEP_LAST reader cache silently drops its oldest untaken samples, and printing
     // is slower than DDS, so a burst of thousands of messages must be able to queue here. (History depth does
     // not affect QoS matching.)
@@ -438,23 +453,15 @@ fn echo_typed<T: RosMessage>(kind: Kind, args: &EchoOptions, fq_topic: &str) -> 
     if args.no_latched {
         qos = qos.durability(ros2_client::qos::Durability::Volatile);
     }
-    let qos = args.qos.apply(qos)?;
-    let count = if args.once { Some(1) } else { args.count };
-    let reader = reader::<T>(&ctx, fq_topic, &qos)?;
-    if !args.json {
-        eprintln!(
-            "listening on {fq_topic} ({}, domain {}, discovery {})",
-            T::TYPE_NAME,
-            config.domain_id,
-            config.range
-        );
-    }
+    args.qos.apply(qos)
+}
 
-    let deadline = args.timeout.map(|t| tokio::time::Instant::now() + saturating_secs(t));
-    // Take samples as soon as they arrive and print on another thread: a RustDDS reader loses the untaken
-    // samples of a writer whose participant leaves, so a slow terminal must not leave them sitting in DDS.
+/// A thread printing each message sent to it (as JSON lines, or readable with a `---` after each).
+fn spawn_printer<T: RosMessage>(
+    kind: Kind,
+    json_output: bool,
+) -> (std::sync::mpsc::Sender<T>, std::thread::JoinHandle<std::io::Result<()>>) {
     let (to_printer, printed) = std::sync::mpsc::channel::<T>();
-    let json_output = args.json;
     let printer = std::thread::spawn(move || -> std::io::Result<()> {
         let stdout = std::io::stdout();
         for message in printed {
@@ -469,6 +476,28 @@ fn echo_typed<T: RosMessage>(kind: Kind, args: &EchoOptions, fq_topic: &str) -> 
         }
         Ok(())
     });
+    (to_printer, printer)
+}
+
+fn echo_typed<T: RosMessage>(kind: Kind, args: &EchoOptions, fq_topic: &str) -> anyhow::Result<()> {
+    let config = DdsConfig::from_env()?;
+    let ctx = ros::context(&config)?;
+    let qos = echo_qos(kind, args)?;
+    let count = if args.once { Some(1) } else { args.count };
+    let reader = reader::<T>(&ctx, fq_topic, &qos)?;
+    if !args.json {
+        eprintln!(
+            "listening on {fq_topic} ({}, domain {}, discovery {})",
+            T::TYPE_NAME,
+            config.domain_id,
+            config.range
+        );
+    }
+
+    let deadline = args.timeout.map(|t| tokio::time::Instant::now() + saturating_secs(t));
+    // Take samples as soon as they arrive and print on another thread: a RustDDS reader loses the untaken
+    // samples of a writer whose participant leaves, so a slow terminal must not leave them sitting in DDS.
+    let (to_printer, printer) = spawn_printer::<T>(kind, args.json);
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     let taken = runtime.block_on(async {
         use futures::StreamExt;

@@ -40,54 +40,42 @@ pub struct RecordRequest {
 
 /// Runs `bag record` until Ctrl-C or SIGTERM.
 pub fn record_command(request: RecordRequest) -> anyhow::Result<()> {
-    let RecordRequest {
-        topics,
-        all,
-        regex,
-        include_hidden_topics,
-        output,
-        storage,
-        storage_preset_profile,
-        max_bag_size,
-        max_bag_duration,
-        qos_profile_overrides_path,
-        polling_interval,
-        ns,
-        ros_args,
-    } = request;
+    let RecordRequest { topics, all, regex, storage, ns, ros_args, .. } = request;
     if storage != "mcap" {
         anyhow::bail!("-s/--storage {storage:?} is not available: sweetspot records MCAP only (-s mcap)");
     }
     if !all && regex.is_none() && topics.is_empty() {
         anyhow::bail!("nothing to record: pass -a/--all, topic names, or -e/--regex");
     }
-    if polling_interval == 0 {
+    if request.polling_interval == 0 {
         anyhow::bail!("-p/--polling-interval must be at least 1 ms");
     }
     let regex = match regex {
         Some(r) => Some(regex::Regex::new(&r).map_err(|e| anyhow::anyhow!("-e/--regex {r:?}: {e}"))?),
         None => None,
     };
-    let storage = crate::bag::StorageOptions::preset(&storage_preset_profile)
+    let storage = crate::bag::StorageOptions::preset(&request.storage_preset_profile)
         .map_err(|e| anyhow::anyhow!("--storage-preset-profile: {e}"))?;
-    let qos_overrides = match &qos_profile_overrides_path {
+    let qos_overrides = match &request.qos_profile_overrides_path {
         Some(path) => QosOverrides::load(path)?,
         None => QosOverrides::default(),
     };
     let options = RecordOptions {
-        output: output
+        output: request
+            .output
             .unwrap_or_else(|| PathBuf::from(chrono::Local::now().format("rosbag2_%Y_%m_%d-%H_%M_%S").to_string())),
         selection: super::Selection {
             all,
             topics: record_topics(&topics, &ns, ros_args.as_deref().unwrap_or_default())?,
             regex,
-            include_hidden: include_hidden_topics,
+            include_hidden: request.include_hidden_topics,
         },
         storage,
-        max_bag_size: (max_bag_size > 0).then_some(max_bag_size),
-        max_bag_duration: (max_bag_duration > 0.0).then(|| crate::model::time::saturating_secs(max_bag_duration)),
+        max_bag_size: (request.max_bag_size > 0).then_some(request.max_bag_size),
+        max_bag_duration: (request.max_bag_duration > 0.0)
+            .then(|| crate::model::time::saturating_secs(request.max_bag_duration)),
         qos_overrides,
-        polling_interval: std::time::Duration::from_millis(polling_interval),
+        polling_interval: std::time::Duration::from_millis(request.polling_interval),
     };
     // Before anything starts (the overrides file, read above, is an input).
     crate::files::refuse_clobber("-o/--output", &options.output, &[], &[]).map_err(anyhow::Error::msg)?;

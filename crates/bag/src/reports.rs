@@ -5,7 +5,7 @@ use std::path::Path;
 
 use crate::export::ExportCounts;
 use crate::recover::Recovery;
-use crate::replay::{ReplayReport, Verdict};
+use crate::replay::{ReplayReport, ReplayRow, Verdict};
 
 /// The replay as a table (every row when `all` or at most 40 rows, else the first 40 that differ), its summary
 /// line and, for a session with measured exit speeds, the measured against the model.
@@ -29,42 +29,7 @@ pub fn replay_table(report: &ReplayReport, all: bool) -> String {
             continue;
         }
         shown += 1;
-        let verdict = match row.verdict {
-            Verdict::Match => "match".to_string(),
-            Verdict::NotRecorded => "no recorded output".to_string(),
-            Verdict::MissingInput => {
-                format!("not checked: the bag lacks the {}", row.missing_input.as_deref().unwrap_or("params"))
-            }
-            Verdict::Differs => {
-                let first = &row.differences[0];
-                format!(
-                    "DIFFERS ({} fields; e.g. {}: {} → {})",
-                    row.differences.len(),
-                    first.field,
-                    first.recorded,
-                    first.replayed
-                )
-            }
-        };
-        let measured_cells = match measured {
-            Some(_) => format!(
-                " {:>12.3} {:>12.3}",
-                row.measured_exit_speed,
-                row.measured_exit_speed - row.replayed_exit_speed
-            ),
-            None => String::new(),
-        };
-        text += &format!(
-            "{:<10} {:>9} {:<12} {:<10} {:>14.6} {:>14.6} {:>12.3e} {:>10.2e}{measured_cells}  {verdict}\n",
-            row.namespace,
-            row.swing_id,
-            row.bat_id,
-            row.ball_id,
-            row.recorded_exit_speed,
-            row.replayed_exit_speed,
-            row.replayed_exit_speed - row.recorded_exit_speed,
-            row.worst_relative
-        );
+        text += &replay_row(row, measured.is_some());
     }
     let tol = if report.tolerance == 0.0 {
         "bit-exact".to_string()
@@ -92,6 +57,44 @@ pub fn replay_table(report: &ReplayReport, all: bool) -> String {
         );
     }
     text
+}
+
+/// One row of the replay table (with the measured columns when `measured`).
+fn replay_row(row: &ReplayRow, measured: bool) -> String {
+    let verdict = match row.verdict {
+        Verdict::Match => "match".to_string(),
+        Verdict::NotRecorded => "no recorded output".to_string(),
+        Verdict::MissingInput => {
+            format!("not checked: the bag lacks the {}", row.missing_input.as_deref().unwrap_or("params"))
+        }
+        Verdict::Differs => {
+            let first = &row.differences[0];
+            format!(
+                "DIFFERS ({} fields; e.g. {}: {} → {})",
+                row.differences.len(),
+                first.field,
+                first.recorded,
+                first.replayed
+            )
+        }
+    };
+    let measured_cells = match measured {
+        true => {
+            format!(" {:>12.3} {:>12.3}", row.measured_exit_speed, row.measured_exit_speed - row.replayed_exit_speed)
+        }
+        false => String::new(),
+    };
+    format!(
+        "{:<10} {:>9} {:<12} {:<10} {:>14.6} {:>14.6} {:>12.3e} {:>10.2e}{measured_cells}  {verdict}\n",
+        row.namespace,
+        row.swing_id,
+        row.bat_id,
+        row.ball_id,
+        row.recorded_exit_speed,
+        row.replayed_exit_speed,
+        row.replayed_exit_speed - row.recorded_exit_speed,
+        row.worst_relative
+    )
 }
 
 /// What recovery did, file by file, and where the copy of `path` went.
