@@ -435,7 +435,7 @@ pub fn echo(args: EchoOptions) -> anyhow::Result<()> {
     let (identity, resolver) = ros_context(&args.ns, &args.ros_args, "sweetspot_echo")?;
     let msg_type = match (&args.msg_type, &args.positional_type) {
         (Some(flag), Some(pos)) if Kind::from_word(flag) != Kind::from_word(pos) => {
-            bail!("the TYPE argument {:?} and --type {:?} disagree", quoted(&pos), quoted(flag))
+            bail!("the TYPE argument {:?} and --type {:?} disagree", quoted(pos), quoted(flag))
         }
         (flag, pos) => flag.clone().or_else(|| pos.clone()),
     };
