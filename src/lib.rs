@@ -12,7 +12,8 @@
 //!   [`ros`]: the DDS edge (names, `--ros-args`, QoS, the participant);
 //! - [`foxglove`]: the Foxglove WebSocket server the node and `bag play` serve topics on;
 //! - [`node`]: the ROS 2 node (topics, parameters, diagnostics, recording); [`play`]: `bag play` over DDS
-//!   and Foxglove; [`record`]: `bag record` over DDS;
+//!   and Foxglove; [`record`]: `bag record` over DDS; [`client`]: the ROS 2 command-line client (`pub`,
+//!   `echo`, `param`, `call`, the graph's lists);
 //! - [`report`]: tables, JSON documents, plots and the seed's figures, for the tools below; [`child`]: the
 //!   node (or any tool) as a child process;
 //! - [`import`]: tracker exports (TrackMan, Statcast) into bags of swings; [`locate`]: where on the bat each
@@ -31,9 +32,11 @@ pub use sweetspot_model::{files, yaml};
 pub use sweetspot_msgs as msgs;
 pub use sweetspot_physics as physics;
 
+pub mod bag_tools;
 pub mod bench;
 pub mod child;
 pub mod cli;
+pub mod client;
 pub mod demo;
 pub mod foxglove;
 pub mod node;

@@ -59,6 +59,14 @@ fn call_into_a_closed_pipe_and_a_refused_describe() {
     assert_eq!(over.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("/sweetspot described 0 of the 1025 parameter(s) asked"), "{stderr}");
     assert!(text(&over.stdout).is_empty(), "{}", text(&over.stdout));
+
+    // A 100-KB parameter name the node refuses is named in the error, not repeated.
+    let long = "p".repeat(100_000);
+    let out = run(PIPE_DOMAIN, &["param", "get", "/sweetspot", &long, "--timeout", "30"]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{}", &stderr[..stderr.len().min(300)]);
+    assert!(stderr.len() < 2_000, "{} bytes of error: {}…", stderr.len(), &stderr[..300]);
+    assert!(stderr.contains("Parameter not set: ppp") && stderr.contains("…(100000 bytes)"), "{stderr}");
 }
 
 #[test]

@@ -135,3 +135,63 @@ fn inf_for_a_span_is_a_range_error_naming_the_flag() {
     let err = Cli::try_parse_from(["sweetspot", "rig", "--rate", "10001"]).unwrap_err().to_string();
     assert!(err.contains("--rate") && err.contains("at most 10000 swings per second"), "{err}");
 }
+
+/// A wait that must end — the discovery of a graph listing (`--spin-time`), the answer to a service call
+/// (`call`/`param --timeout`) — refuses +∞ and anything beyond its documented bound (an hour; a day) with the
+/// range, naming the flag; the bound itself passes.
+#[test]
+fn waits_that_must_end_refuse_inf_and_pin_their_bound() {
+    let spin: [&[&str]; 3] = [&["topic", "list"], &["service", "list"], &["nodes"]];
+    let call: [&[&str]; 3] =
+        [&["call", "simulate_swing", "{}"], &["param", "get", "/sweetspot", "x"], &["param", "dump", "/x"]];
+    let cases = spin
+        .iter()
+        .map(|c| (*c, "--spin-time", "3600", "3600.001"))
+        .chain(call.iter().map(|c| (*c, "--timeout", "86400", "86400.001")));
+    for (prefix, flag, bound, beyond) in cases {
+        let line = |value: &str| {
+            let mut argv = vec!["sweetspot"];
+            argv.extend(prefix);
+            argv.extend([flag, value]);
+            Cli::try_parse_from(argv)
+        };
+        assert!(line(bound).is_ok(), "{prefix:?} {flag} {bound} is refused");
+        assert!(line("0").is_ok(), "{prefix:?} {flag} 0 is refused");
+        for value in [beyond, "inf", "1e300"] {
+            let err = line(value).expect_err(&format!("{prefix:?} {flag} {value} is accepted")).to_string();
+            assert!(err.contains(flag) && err.contains(&format!("expected seconds from 0 to {bound}")), "{err}");
+        }
+    }
+}
+
+/// An error quotes at most a few hundred bytes of a name, type or request a user gave, then its length — a
+/// 100-KB argument is named, not repeated. Each command stops before DDS (an invalid `ROS_DOMAIN_ID` would stop
+/// any that got that far).
+#[test]
+fn errors_quote_a_long_argument_in_a_few_hundred_bytes() {
+    let long = "x".repeat(100_000);
+    let bad_name = format!("/{}-", "a".repeat(100_000));
+    let request = format!("[{long}");
+    let runs: [&[&str]; 7] = [
+        &["call", "simulate_swing", &request],
+        &["call", &long, "{}"],
+        &["call", &bad_name, "{}"],
+        &["param", "get", &bad_name, "x"],
+        &["interface", "show", &long],
+        &["pub", "swing", "{}", "--type", &long],
+        &["echo", &bad_name],
+    ];
+    for args in runs {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_sweetspot"))
+            .args(args)
+            .env("ROS_DOMAIN_ID", "not-a-domain")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let shown: Vec<&str> = args.iter().map(|a| &a[..a.len().min(20)]).collect();
+        assert!(!out.status.success(), "{shown:?}");
+        assert!(!stderr.contains("ROS_DOMAIN_ID"), "{shown:?} reached DDS: {}", &stderr[..stderr.len().min(300)]);
+        assert!(stderr.len() < 2_000, "{shown:?}: {} bytes of error: {}…", stderr.len(), &stderr[..300]);
+        assert!(stderr.contains(" bytes"), "{shown:?} does not say how long the argument was: {stderr}");
+    }
+}

@@ -92,7 +92,7 @@ fn flat(err: CalibrateError) -> anyhow::Error {
 /// Runs `sweetspot calibrate`.
 pub fn run(args: CalibrateArgs) -> Result<()> {
     // The bag tools' damage rule, before anything is fitted or written.
-    let skipped = crate::cli::bag::check_damage(&args.bag, args.skip_damaged)?;
+    let skipped = crate::bag_tools::check_damage(&args.bag, args.skip_damaged)?;
     run_checked(args)?;
     if let Some(skipped) = skipped {
         eprintln!("skipped (--skip-damaged): {skipped}");

@@ -144,7 +144,7 @@ pub struct Case {
 
 /// Parses and resolves a case from its JSON or YAML text; relative bat paths are resolved against `base`.
 pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
-    let value = super::pubsub::parse_document(text, "the case")?;
+    let value = crate::client::values::parse_document(text, "the case")?;
     let spec: CaseSpec = serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         if path.is_empty() || path == "." {

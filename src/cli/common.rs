@@ -38,6 +38,27 @@ pub fn finite_seconds_at_least_zero(text: &str) -> std::result::Result<f64, Stri
     crate::model::time::check_finite_seconds(value, crate::model::time::Least::Zero)
 }
 
+/// Parses seconds from 0 to `max` (clap value parser) for a wait that must end: +∞ and anything longer are
+/// refused with the range.
+fn seconds_up_to(text: &str, max: f64) -> std::result::Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    if (0.0..=max).contains(&value) {
+        return Ok(value);
+    }
+    let value = crate::model::limits::number(value);
+    Err(format!("{value} s is out of range: expected seconds from 0 to {max} (a wait that ends)"))
+}
+
+/// Parses `--spin-time` (clap value parser): 0 to [`crate::client::MAX_SPIN_TIME_SECS`].
+pub fn spin_seconds(text: &str) -> std::result::Result<f64, String> {
+    seconds_up_to(text, crate::client::MAX_SPIN_TIME_SECS)
+}
+
+/// Parses a service call's `--timeout` (clap value parser): 0 to [`crate::client::MAX_CALL_TIMEOUT_SECS`].
+pub fn call_timeout_seconds(text: &str) -> std::result::Result<f64, String> {
+    seconds_up_to(text, crate::client::MAX_CALL_TIMEOUT_SECS)
+}
+
 /// Parses a swing rate in Hz (clap value parser): a rate of at most
 /// [`crate::model::time::MAX_SWING_RATE_HZ`].
 pub fn swing_rate_hz(text: &str) -> std::result::Result<f64, String> {

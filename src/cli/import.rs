@@ -190,7 +190,7 @@ pub fn run(args: ImportArgs) -> Result<()> {
             interval: args.rate.map(crate::model::time::period_of),
             ..crate::play::PlayOptions::new(1.0)
         };
-        super::bag::play(output, options, true)?;
+        crate::play::console::play(output, options, true)?;
     }
     Ok(())
 }

@@ -219,7 +219,7 @@ const PROGRESS_LINE_EVERY: Duration = Duration::from_secs(5);
 /// elsewhere (none for a bag done sooner, so scripts and tests of small bags get clean output).
 fn locate_with_progress(bag: &Path, options: &LocateOptions) -> Result<LocateReport> {
     let on_terminal = std::io::stderr().is_terminal();
-    let bar = super::bag::progress(0, "locating");
+    let bar = crate::bag_tools::progress(0, "locating");
     let lines = Mutex::new(ProgressLines::new(Instant::now(), PROGRESS_LINE_EVERY));
     let progress = |done: usize, total: usize| {
         if on_terminal {

@@ -11,6 +11,7 @@
 //! ([`keys`]). `import --pub` plays an imported bag through the same path, with a fixed interval between the
 //! swings instead of the recorded pace when asked ([`PlayOptions::interval`]).
 
+pub mod console;
 pub mod foxglove;
 pub mod keys;
 

@@ -8,6 +8,7 @@
 //! type descriptions only through a service, which RustDDS does not query), and the user is told so. It sits
 //! beside [`crate::play`], above both [`crate::bag`] and [`crate::ros`].
 
+pub mod console;
 pub mod qos_overrides;
 
 use std::collections::BTreeMap;

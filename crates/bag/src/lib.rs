@@ -13,6 +13,7 @@ pub mod reader;
 mod recorder;
 pub mod recover;
 pub mod replay;
+pub mod reports;
 pub mod rosbag2;
 pub mod writer;
 
