@@ -5,7 +5,6 @@
 mod crisp_text;
 pub mod figures;
 pub mod json;
-pub mod legend;
 pub mod plot;
 pub mod stdout;
 pub mod sweep;

@@ -15,8 +15,10 @@ use anyhow::{anyhow, bail, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+pub mod legend;
+
 use super::crisp_text::{CrispText, FONT_BYTES};
-use super::legend::{self, PlotSize};
+use legend::PlotSize;
 
 /// Pixel size of a single chart.
 pub const CHART_SIZE: (u32, u32) = (1000, 640);

@@ -3,7 +3,7 @@
 //! vertical markers. When every corner covers data, the y axis grows at the top until the data sits below
 //! the legend's height, and the legend takes an upper corner of that headroom.
 
-use super::plot::{clip_polyline, inside, LegendAt, LineChart, LineKind};
+use super::{clip_polyline, inside, LegendAt, LineChart, LineKind};
 
 /// Gap between the legend box and the plot's edge, px.
 const INSET: f64 = 8.0;
