@@ -112,3 +112,50 @@ fn a_play_nobody_hears_fails_unless_no_wait_says_to_publish_regardless() {
     assert!(regardless.status.success(), "{stderr}");
     assert!(stderr.contains("published 6 messages"), "{stderr}");
 }
+
+/// The same six swings written by the `mcap` crate (an MCAP writer independent of sweetspot's recorder) into one
+/// file, in [`FILE_ORDER`]. No DDS: what `bag play` schedules and what `bag play --foxglove` serves.
+fn shuffled_mcap_file(dir: &Path) -> PathBuf {
+    use sweetspot::msgs::RosMessage;
+    let path = dir.join("shuffled.mcap");
+    let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+    let mut w = mcap::Writer::new(file).unwrap();
+    let schema = w.add_schema(Swing::TYPE_NAME, "ros2msg", Swing::SCHEMA_TEXT.as_bytes()).unwrap();
+    let channel = w.add_channel(schema, "/order/swing", "cdr", &Default::default()).unwrap();
+    for (sequence, slot) in (0u32..).zip(FILE_ORDER) {
+        let t = T0 + slot * SLOT_NS;
+        let swing =
+            Swing { swing_id: slot + 1, bat_id: "r161".into(), ball_speed: 40.0, impact_z: 0.7, ..Default::default() };
+        let header = mcap::records::MessageHeader { channel_id: channel, sequence, log_time: t, publish_time: t };
+        w.write_to_known_channel(&header, &encode_cdr(&swing).unwrap()).unwrap();
+    }
+    w.finish().unwrap();
+    path
+}
+
+fn ids(cdrs: impl Iterator<Item = Vec<u8>>) -> Vec<u64> {
+    cdrs.map(|cdr| sweetspot::msgs::decode_cdr::<Swing>(&cdr).unwrap().swing_id).collect()
+}
+
+#[test]
+fn the_schedule_and_the_served_bag_of_a_file_out_of_log_time_order_follow_log_time_and_include_the_offset() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = shuffled_mcap_file(tmp.path());
+    assert_eq!(file_order_ids(&file), FILE_ORDER.map(|slot| slot + 1), "the file is out of log-time order");
+
+    let all = sweetspot::play::schedule_from(&file, &[], 1.0, Duration::ZERO).unwrap();
+    assert_eq!(ids(all.items.iter().map(|i| i.cdr.clone())), [1, 2, 3, 4, 5, 6]);
+    // 0.75 s after the first swing is exactly when the fourth was recorded: the pass starts with it, at 0.
+    let from_fourth = sweetspot::play::schedule_from(&file, &[], 1.0, Duration::from_millis(750)).unwrap();
+    assert_eq!(ids(from_fourth.items.iter().map(|i| i.cdr.clone())), [4, 5, 6]);
+    assert_eq!(from_fourth.origin_ns, T0 + 3 * SLOT_NS);
+    assert_eq!(from_fourth.items[0].at, Duration::ZERO);
+    let past_fourth = sweetspot::play::schedule_from(&file, &[], 1.0, Duration::from_nanos(750_000_001)).unwrap();
+    assert_eq!(ids(past_fourth.items.iter().map(|i| i.cdr.clone())), [5, 6]);
+
+    let served = sweetspot::play::foxglove::ServedBag::read(&file, &[], str::to_string).unwrap();
+    assert_eq!(ids(served.messages.iter().map(|m| m.2.clone())), [1, 2, 3, 4, 5, 6]);
+    assert_eq!(served.range(), (T0, T0 + 5 * SLOT_NS));
+    assert_eq!(served.first_at(T0 + 3 * SLOT_NS), 3, "a seek to a swing's log time starts at that swing");
+    assert_eq!(served.first_at(T0 + 3 * SLOT_NS + 1), 4);
+}

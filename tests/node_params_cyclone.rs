@@ -393,7 +393,7 @@ fn parameter_services_follow_the_cyclone_mapping() {
 /// (docs/node.md: at most 1024 names of at most 256 bytes) with an empty list, as rclcpp answers a request naming
 /// an undeclared parameter, and a set with the reason. One warning per refused request names the reason. A
 /// describe at the bounds (1024 unknown 256-byte names) is answered in full: a reply of some 350 KB, sent in
-/// fragments. Afterwards a second client's ordinary calls are answered as before.
+/// fragments; one name more (1025) is refused. Afterwards a second client's ordinary calls are answered as before.
 #[test]
 fn huge_parameter_requests_are_answered_small_and_the_node_keeps_answering() {
     support::require_isolated_network();
@@ -405,6 +405,7 @@ fn huge_parameter_requests_are_answered_small_and_the_node_keeps_answering() {
     let mib = "x".repeat(1 << 20);
     let many: Vec<String> = (0..100_000).map(|i| format!("n{i}")).collect();
     let longest: Vec<String> = (0..1024).map(|i| format!("{i:0>256}")).collect();
+    let one_too_many: Vec<String> = (0..1025).map(|i| format!("{i:0>256}")).collect();
     let set = |name: &str, value: &str| json!({ "name": name, "value": { "type": string, "string_value": value } });
     let many_sets: Vec<Value> = many.iter().map(|n| set(n, "a")).collect();
     let hostile = json!([
@@ -420,6 +421,7 @@ fn huge_parameter_requests_are_answered_small_and_the_node_keeps_answering() {
         { "service": "set_parameters", "request": { "parameters": [set(&mib, "a")] } },
         { "service": "set_parameters", "request": { "parameters": [set("default_bat", &mib)] } },
         { "service": "set_parameters", "request": { "parameters": many_sets } },
+        { "service": "describe_parameters", "request": { "names": one_too_many } },
     ]);
     let started = std::time::Instant::now();
     let replies = call_large(domain, hostile);
@@ -460,7 +462,8 @@ fn huge_parameter_requests_are_answered_small_and_the_node_keeps_answering() {
         json!([{ "successful": false, "reason": "100000 parameters in one request, over the limit of 1024" }]),
         "too many parameters: one result with the reason"
     );
-    eprintln!("12 hostile calls answered in {took:?}");
+    empty(12, "descriptors");
+    eprintln!("13 hostile calls answered in {took:?}");
 
     // A second client, after all that: ordinary calls answered as before, and the refused sets changed nothing.
     let after = call(
@@ -485,12 +488,13 @@ fn huge_parameter_requests_are_answered_small_and_the_node_keeps_answering() {
     // One warning per refused request, with the reason (the valid describe at the bounds is not one).
     let log = node.log();
     let refusals: Vec<&str> = log.lines().filter(|l| l.contains("request refused")).collect();
-    assert_eq!(refusals.len(), 11, "{log}");
+    assert_eq!(refusals.len(), 12, "{log}");
     for (service, reason) in [
         ("get_parameters", "100000 names in one request, over the limit of 1024"),
         ("get_parameters", "names[0] is 1048576 bytes long, over the limit of 256 bytes"),
         ("get_parameter_types", "names[1] is 1048576 bytes long"),
         ("describe_parameters", "100000 names in one request"),
+        ("describe_parameters", "1025 names in one request, over the limit of 1024"),
         ("list_parameters", "100000 prefixes in one request"),
         ("set_parameters", "a parameter name of 1048576 bytes"),
         ("set_parameters", "100000 parameters in one request"),

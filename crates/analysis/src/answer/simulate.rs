@@ -130,14 +130,18 @@ pub fn describe_oblique(o: &ObliqueInputsJson) -> String {
     } else {
         String::new()
     };
+    // With η² the compliant law replaces the constant e_T, which is then not used.
+    let tangential = match o.tangential_stiffness_ratio {
+        Some(eta2) => format!("compliant tangential law η² {}", num(eta2, 4)),
+        None => format!("e_T {}", num(o.tangential_cor, 4)),
+    };
     format!(
-        "oblique undercut {} m, attack angle {}°, pitch descent {}°, pitch spin {} rpm{spatial}; e_T {}, μ {}, \
+        "oblique undercut {} m, attack angle {}°, pitch descent {}°, pitch spin {} rpm{spatial}; {tangential}, μ {}, \
          I/(mR²) {}\n",
         num(o.undercut, 4),
         num(o.attack_angle_deg, 4),
         num(o.pitch_angle_deg, 4),
         num(o.pitch_spin_rpm, 4),
-        num(o.tangential_cor, 4),
         num(o.friction, 4),
         num(o.ball_inertia_ratio, 4),
     )
@@ -253,4 +257,22 @@ pub fn render(doc: &SimulateJson) -> String {
         out.push_str(&t.render());
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sweetspot_physics::TangentialContact;
+
+    #[test]
+    fn the_oblique_header_names_the_tangential_law_in_use() {
+        let constant = TangentialContact::default();
+        let compliant = TangentialContact { stiffness_ratio: Some(4.75), ..TangentialContact::default() };
+        let line =
+            |contact: &TangentialContact| describe_oblique(&ObliqueInputsJson::new(0.01, 0.1, 0.1, 0.0, contact));
+        let (with_eta2, without) = (line(&compliant), line(&constant));
+        assert!(with_eta2.contains("compliant tangential law η² 4.750,"), "{with_eta2}");
+        assert!(!with_eta2.contains("e_T"), "e_T is not used by the compliant law: {with_eta2}");
+        assert!(without.contains("; e_T ") && !without.contains("η²"), "{without}");
+    }
 }

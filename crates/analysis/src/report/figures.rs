@@ -661,15 +661,34 @@ fn write_wall_thickness_figure(dir: &Path, s: &FigureSettings) -> Result<FigureE
             "**Wall thickness.** The `aluminum` profile (`Bat::alloy_profile`) with barrel walls from {} to {} mm: \
              exit speed 6 in from the end for the figure's swing, BBCOR under the NCAA protocol, and the barrel's \
              hoop (n = 2) frequency there on a shared wall-thickness axis, with 2/contact time — the frequency \
-             whose period is half the contact — for comparison. The largest BBCOR sits near where the two cross \
-             (walls of 2.5–3 mm, hoop frequency about 2 kHz): a stiffer wall stores less and its compliance \
-             vanishes as the wall thickens; a softer wall is still deflected and moving when the ball leaves and \
-             keeps much of what it stored as ringing (the ping), which the ball never gets back. The exit speed \
-             keeps rising with the wall because the bat gets heavier (same swing speed).",
+             whose period is half the contact — for comparison. {} The exit speed keeps rising with the wall \
+             because the bat gets heavier (same swing speed).",
             mm(WALL_THICKNESS_RANGE.0),
-            mm(WALL_THICKNESS_RANGE.1)
+            mm(WALL_THICKNESS_RANGE.1),
+            bbcor_trend(&data),
         ),
     })
+}
+
+/// What the BBCOR panel shows, read off its data: where BBCOR is largest, and where the hoop frequency
+/// crosses 2/contact time.
+fn bbcor_trend(data: &[WallPoint]) -> String {
+    let Some(top) = data.iter().max_by(|a, b| a.bbcor.total_cmp(&b.bbcor)) else { return String::new() };
+    let thinnest = data.first().is_some_and(|p| p.wall == top.wall);
+    let largest = if thinnest {
+        format!("BBCOR is largest at the thinnest wall drawn ({:.1} mm, {:.3}) and falls as the wall thickens: a stiffer wall stores less and gives less back.", top.wall * 1e3, top.bbcor)
+    } else {
+        format!("BBCOR is largest inside the range drawn ({:.1} mm, {:.3}).", top.wall * 1e3, top.bbcor)
+    };
+    let crossing = data.windows(2).find_map(|pair| {
+        let gap = |p: &WallPoint| Some(p.hoop_frequency? - 2.0 / p.contact_time);
+        let (a, b) = (gap(&pair[0])?, gap(&pair[1])?);
+        (a < 0.0 && b >= 0.0).then(|| pair[0].wall + (pair[1].wall - pair[0].wall) * a / (a - b))
+    });
+    match crossing {
+        Some(wall) => format!("{largest} The hoop frequency passes 2/contact time at a {:.1} mm wall.", wall * 1e3),
+        None => largest,
+    }
 }
 
 fn marker(x: f64, label: &str, color: usize, dashed: bool) -> VerticalMarker {
@@ -837,6 +856,43 @@ pub fn index_markdown(entries: &[FigureEntry], s: &FigureSettings) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The README's caption of the wall-thickness figure says where BBCOR is largest as the plot shows it.
+    #[test]
+    fn the_wall_thickness_caption_names_the_largest_bbcor_the_plot_shows() {
+        let options = CollisionOptions { modes: 6, ..CollisionOptions::default() };
+        let swing = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: f64::NAN };
+        let walls = linspace(WALL_THICKNESS_RANGE.0, WALL_THICKNESS_RANGE.1, WALL_THICKNESS_POINTS);
+        let data = wall_thickness_sweep(&walls, &Ball::default(), &swing, WALL_FIGURE_IMPACT_FROM_END, &options)
+            .expect("sweep");
+        let top = data.iter().max_by(|a, b| a.bbcor.total_cmp(&b.bbcor)).expect("points");
+        let dir = tempfile::tempdir().unwrap();
+        let settings = FigureSettings { format: ImageFormat::Svg, points: 20, swing, ball: Ball::default(), options };
+        let entry = write_wall_thickness_figure(dir.path(), &settings).expect("figure");
+        let said = format!("{:.1} mm, {:.3}", top.wall * 1e3, top.bbcor);
+        assert!(entry.caption.contains(&said), "the caption does not name {said}: {}", entry.caption);
+    }
+
+    /// Every chart `sweetspot figures` draws (the seed's figures, their equal-effort twins, the bats compared,
+    /// the wall thickness, the mode shapes) keeps its legend off the data.
+    #[test]
+    fn no_legend_of_the_figures_covers_a_plotted_point() {
+        let dir = tempfile::tempdir().unwrap();
+        let swing = Impact { ball_speed: 40.0, bat_cm_speed: 25.0, bat_angular_speed: 45.0, impact_z: f64::NAN };
+        let settings = FigureSettings {
+            format: ImageFormat::Svg,
+            points: 150,
+            swing,
+            ball: Ball::default(),
+            options: CollisionOptions::default(),
+        };
+        super::super::plot::DRAWN.with(|d| d.borrow_mut().clear());
+        write_figures(dir.path(), &settings).expect("figures");
+        let drawn = super::super::plot::DRAWN.with(|d| d.take());
+        assert!(drawn.len() >= 15, "{} charts", drawn.len());
+        let covered: Vec<_> = drawn.iter().flat_map(super::super::plot::points_under_legend).collect();
+        assert!(covered.is_empty(), "legends over data: {covered:?}");
+    }
 
     /// Physics of a thin alloy barrel: the hoop frequency rises with the wall (∝ h for a thin ring), the bat
     /// gets heavier, and beyond the wall of the largest BBCOR (about 3 mm, where the hoop period is about

@@ -15,7 +15,10 @@ use anyhow::{anyhow, bail, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+pub mod legend;
+
 use super::crisp_text::{CrispText, FONT_BYTES};
+use legend::PlotSize;
 
 /// Pixel size of a single chart.
 pub const CHART_SIZE: (u32, u32) = (1000, 640);
@@ -325,7 +328,10 @@ where
 {
     root.fill(&WHITE).map_err(plot_err)?;
     let body = match title {
-        Some(text) => root.titled(text, ("sans-serif", 30)).map_err(plot_err)?,
+        Some(text) => {
+            let size = fitted_font_size(text, 30.0, f64::from(root.dim_in_pixel().0) - 20.0);
+            root.titled(text, ("sans-serif", size)).map_err(plot_err)?
+        }
         None => root.clone(),
     };
     let panels = body.split_evenly((rows, columns));
@@ -372,6 +378,143 @@ fn tick_label(value: f64, decimals: usize) -> String {
     }
 }
 
+/// A chart as drawn: its model, the x range and plot size it got, and where its legend went.
+#[cfg(test)]
+#[derive(Debug, Clone)]
+pub(crate) struct DrawnChart {
+    pub chart: LineChart,
+    pub x_range: (f64, f64),
+    pub size: PlotSize,
+    pub placement: legend::LegendPlacement,
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Every chart drawn on this thread, for tests that check the figures' layout.
+    pub(crate) static DRAWN: std::cell::RefCell<Vec<DrawnChart>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The data points of `drawn` (every series point, and points every tenth of each line segment between them)
+/// that fall inside its legend box, as (chart title, point): what a reader would see covered.
+#[cfg(test)]
+pub(crate) fn points_under_legend(drawn: &DrawnChart) -> Vec<(String, (f64, f64))> {
+    let p = &drawn.placement;
+    let (x, y) = (drawn.x_range, p.y_range);
+    let to_px =
+        |q: (f64, f64)| ((q.0 - x.0) / (x.1 - x.0) * drawn.size.width, (y.1 - q.1) / (y.1 - y.0) * drawn.size.height);
+    let covered = |q: (f64, f64)| {
+        let (px, py) = to_px(q);
+        inside(q, x, y) && px > p.left && px < p.left + p.width && py > p.top && py < p.top + p.height
+    };
+    let mut found = Vec::new();
+    for series in &drawn.chart.series {
+        let line = matches!(series.kind, LineKind::Solid | LineKind::Dashed);
+        for (i, &a) in series.points.iter().enumerate() {
+            let mut along = vec![a];
+            if let (true, Some(&b)) = (line, series.points.get(i + 1)) {
+                along.extend((1..10).map(|k| {
+                    let t = f64::from(k) / 10.0;
+                    (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))
+                }));
+            }
+            found.extend(along.into_iter().filter(|&q| covered(q)).map(|q| (drawn.chart.title.clone(), q)));
+        }
+    }
+    for bars in &drawn.chart.error_bars {
+        for &(c, low, high) in &bars.bars {
+            for k in 0..=10 {
+                let v = low + f64::from(k) / 10.0 * (high - low);
+                let q = if bars.horizontal { (v, c) } else { (c, v) };
+                if covered(q) {
+                    found.push((drawn.chart.title.clone(), q));
+                }
+            }
+        }
+    }
+    found
+}
+
+/// Space around the plot, px.
+const MARGIN: u32 = 14;
+/// Height of the x axis's tick labels and description, px.
+const X_LABEL_AREA: u32 = 48;
+/// Width of the y axis's tick labels and description, px.
+const Y_LABEL_AREA: u32 = 70;
+/// Font size of legend entries, px.
+const LEGEND_FONT: f64 = 15.0;
+/// Padding inside the legend box, px.
+const LEGEND_PADDING: u32 = 10;
+/// Width of a legend entry's sample, px.
+const LEGEND_GLYPH: u32 = 30;
+
+/// Series drawn as separate marks (points, markers, error bars) rather than curves.
+fn has_discrete_marks(chart: &LineChart) -> bool {
+    !chart.error_bars.is_empty()
+        || chart.series.iter().any(|s| matches!(s.kind, LineKind::Points | LineKind::Markers { .. }))
+}
+
+/// The largest font size up to `max` (px) at which `text` fits in `width` px (at least 10).
+fn fitted_font_size(text: &str, max: f64, width: f64) -> f64 {
+    let mut size = max;
+    while size > 10.0 {
+        match ("sans-serif", size).into_font().box_size(text) {
+            Ok((w, _)) if f64::from(w) > width => size -= 1.0,
+            _ => break,
+        }
+    }
+    size
+}
+
+/// The legend's entries in drawing order: bands and markers once per label, every series and error bar set.
+pub fn legend_labels(chart: &LineChart) -> Vec<&str> {
+    let mut labels: Vec<&str> = Vec::new();
+    let mut bands: Vec<&str> = Vec::new();
+    for band in &chart.bands {
+        if !bands.contains(&band.label.as_str()) {
+            bands.push(band.label.as_str());
+            labels.push(band.label.as_str());
+        }
+    }
+    labels.extend(chart.series.iter().map(|s| s.label.as_str()));
+    labels.extend(chart.error_bars.iter().map(|b| b.label.as_str()));
+    let mut markers: Vec<&str> = Vec::new();
+    for marker in &chart.markers {
+        if !markers.contains(&marker.label.as_str()) {
+            markers.push(marker.label.as_str());
+            labels.push(marker.label.as_str());
+        }
+    }
+    labels
+}
+
+/// The legend box's size (width, height) px, as plotters lays it out (text block, sample area, padding).
+pub fn legend_size(chart: &LineChart) -> Result<(f64, f64)> {
+    let labels = legend_labels(chart);
+    if labels.is_empty() || (chart.series.is_empty() && chart.markers.is_empty()) {
+        return Ok((0.0, 0.0));
+    }
+    register_fonts();
+    let font: TextStyle = ("sans-serif", LEGEND_FONT).into_font().into();
+    let mut text = MultiLineText::<_, &str>::new((0, 0), &font);
+    for label in labels {
+        text.push_line(label);
+    }
+    let (w, h) = text.estimate_dimension().map_err(|e| anyhow!("cannot measure the legend: {e:?}"))?;
+    let padding = 2 * LEGEND_PADDING as i32;
+    Ok((f64::from(w + LEGEND_GLYPH as i32 + padding), f64::from(h + padding)))
+}
+
+/// Dashes of a vertical line at `x` from `from` to `to` (data units): `dash` drawn, `gap` skipped.
+fn dashes(x: f64, from: f64, to: f64, dash: f64, gap: f64) -> Vec<Vec<(f64, f64)>> {
+    let mut out = Vec::new();
+    let mut y = from;
+    while dash > 0.0 && y < to {
+        out.push(vec![(x, y), (x, (y + dash).min(to))]);
+        y += dash + gap;
+    }
+    out
+}
+
 fn render_chart<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, chart: &LineChart, note_lines: usize) -> Result<()>
 where
     DB::ErrorType: 'static,
@@ -384,7 +527,9 @@ where
         .x_range
         .or_else(|| {
             let edges = chart.bands.iter().flat_map(|b| [b.from, b.to]);
-            padded_range(all_points().map(|p| p.0).chain(chart.markers.iter().map(|m| m.x)).chain(edges), 0.0)
+            // Measured points and bars get a margin, so none sits on an axis; curves run edge to edge.
+            let margin = if has_discrete_marks(chart) { 0.03 } else { 0.0 };
+            padded_range(all_points().map(|p| p.0).chain(chart.markers.iter().map(|m| m.x)).chain(edges), margin)
         })
         .ok_or_else(|| anyhow!("chart '{}' has no finite data", chart.title))?;
     let y_range = chart
@@ -398,13 +543,31 @@ where
         let style = ("sans-serif", 14).into_font().color(&RGBColor(80, 80, 80));
         notes_area.draw(&Text::new(note.as_str(), (14, NOTE_LINE as i32 * k as i32), style)).map_err(plot_err)?;
     }
-    let mut ctx = ChartBuilder::on(&plot_area)
-        .caption(&chart.title, ("sans-serif", 24))
-        .margin(14)
-        .x_label_area_size(48)
-        .y_label_area_size(70)
+    let (area_w, _) = plot_area.dim_in_pixel();
+    let title_size = fitted_font_size(&chart.title, 24.0, f64::from(area_w) - 2.0 * f64::from(MARGIN));
+    let inner = plot_area.margin(MARGIN, 0, 0, 0).titled(&chart.title, ("sans-serif", title_size)).map_err(plot_err)?;
+    let (inner_w, inner_h) = inner.dim_in_pixel();
+    let size = PlotSize {
+        width: f64::from(inner_w.saturating_sub(MARGIN + Y_LABEL_AREA + MARGIN).max(1)),
+        height: f64::from(inner_h.saturating_sub(MARGIN + X_LABEL_AREA).max(1)),
+    };
+    let placement = legend::place(chart, x_range, y_range, size, legend_size(chart)?);
+    let y_range = placement.y_range;
+    #[cfg(test)]
+    DRAWN.with(|drawn| drawn.borrow_mut().push(DrawnChart { chart: chart.clone(), x_range, size, placement }));
+    let mut ctx = ChartBuilder::on(&inner)
+        .margin_left(MARGIN)
+        .margin_right(MARGIN)
+        .margin_bottom(MARGIN)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
         .map_err(plot_err)?;
+    debug_assert_eq!(
+        ctx.plotting_area().dim_in_pixel(),
+        (size.width as u32, size.height as u32),
+        "the legend was placed for the plot's real size"
+    );
     let x_decimals = tick_decimals(x_range);
     let y_decimals = tick_decimals(y_range);
     let x_format = move |v: &f64| tick_label(*v, x_decimals);
@@ -503,14 +666,25 @@ where
     }
 
     let mut labelled: Vec<&str> = Vec::new();
-    for marker in &chart.markers {
+    let x_per_px = (x_range.1 - x_range.0) / size.width;
+    for (k, marker) in chart.markers.iter().enumerate() {
         let color = PALETTE[marker.color % PALETTE.len()];
         let style = color.mix(0.85).stroke_width(2);
-        let segment = [(marker.x, y_range.0), (marker.x, y_range.1)];
-        let drawn = if marker.dashed {
-            ctx.draw_series(DashedLineSeries::new(segment, 6, 5, style)).map_err(plot_err)?
+        let top = placement.marker_top.min(y_range.1);
+        // Markers at the same place (two bats' usual impact points) share the line: their dashes alternate, so
+        // neither hides the other.
+        let same_place: Vec<usize> =
+            (0..chart.markers.len()).filter(|&j| ((chart.markers[j].x - marker.x) / x_per_px).abs() < 2.0).collect();
+        let (rank, sharing) = (same_place.iter().position(|&j| j == k).unwrap_or(0), same_place.len());
+        let drawn = if marker.dashed || sharing > 1 {
+            let (dash, gap) =
+                if sharing > 1 { (7.0, 7.0 * (sharing as f64 - 1.0) + 3.0 * sharing as f64) } else { (6.0, 5.0) };
+            let y_per_px = (y_range.1 - y_range.0) / size.height;
+            let start = y_range.0 + rank as f64 * (dash + 3.0) * y_per_px;
+            let pieces = dashes(marker.x, start, top, dash * y_per_px, gap * y_per_px);
+            ctx.draw_series(pieces.into_iter().map(|piece| PathElement::new(piece, style))).map_err(plot_err)?
         } else {
-            ctx.draw_series(LineSeries::new(segment, style)).map_err(plot_err)?
+            ctx.draw_series(LineSeries::new([(marker.x, y_range.0), (marker.x, top)], style)).map_err(plot_err)?
         };
         if !labelled.contains(&marker.label.as_str()) {
             labelled.push(marker.label.as_str());
@@ -524,13 +698,9 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .label_font(("sans-serif", 15))
-            .position(match chart.legend {
-                LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
-                LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
-                LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
-                LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
-                LegendAt::LowerMiddle => SeriesLabelPosition::LowerMiddle,
-            })
+            .margin(LEGEND_PADDING)
+            .legend_area_size(LEGEND_GLYPH)
+            .position(SeriesLabelPosition::Coordinate(placement.left.round() as i32, placement.top.round() as i32))
             .draw()
             .map_err(plot_err)?;
     }
@@ -685,6 +855,81 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Draws `chart` into a temporary SVG and returns how it was laid out.
+    fn drawn(chart: &LineChart) -> DrawnChart {
+        let dir = tempfile::tempdir().unwrap();
+        DRAWN.with(|d| d.borrow_mut().clear());
+        draw_line_chart(&dir.path().join("c.svg"), chart).unwrap();
+        DRAWN.with(|d| d.borrow().last().cloned()).expect("the chart was drawn")
+    }
+
+    #[test]
+    fn the_legend_covers_no_point_wherever_the_data_lies() {
+        let line = |label: &str, c: usize, f: &dyn Fn(f64) -> f64| {
+            Series::solid(label, c, (0..=100).map(|k| (f64::from(k), f(f64::from(k)))).collect())
+        };
+        let long = "a label long enough to take a fair share of the plot's width";
+        let cases = [
+            // Data through all four corners: no corner is free until the axis grows.
+            vec![line(long, 0, &|x| x), line("falling", 1, &|x| 100.0 - x)],
+            // A curve high on both sides and a flat line low across the plot.
+            vec![line(long, 0, &|x| (x - 50.0).powi(2) / 25.0), line("flat", 1, &|_| 0.0)],
+            // Points at the axes' very ends.
+            vec![
+                Series {
+                    label: long.into(),
+                    points: vec![(0.0, 0.0), (100.0, 100.0), (0.0, 100.0), (100.0, 0.0)],
+                    color: 0,
+                    kind: LineKind::Points,
+                },
+                line("middle", 1, &|x| 50.0 + x / 10.0),
+            ],
+        ];
+        for (i, series) in cases.into_iter().enumerate() {
+            for legend in [LegendAt::LowerRight, LegendAt::UpperLeft, LegendAt::LowerMiddle] {
+                let chart =
+                    LineChart { title: format!("case {i}"), series: series.clone(), legend, ..Default::default() };
+                let layout = drawn(&chart);
+                assert!(layout.placement.width > 100.0 && layout.placement.height > 30.0, "{:?}", layout.placement);
+                assert_eq!(points_under_legend(&layout), [], "case {i}, {legend:?}: {:?}", layout.placement);
+            }
+        }
+    }
+
+    #[test]
+    fn measured_points_keep_off_the_axes_and_a_preferred_free_corner_is_kept() {
+        let chart = LineChart {
+            title: "COR".into(),
+            series: vec![
+                Series::solid("model", 0, vec![(5.0, 0.58), (70.0, 0.51)]),
+                Series {
+                    label: "measured".into(),
+                    points: vec![(1.0, 0.66), (26.0, 0.55)],
+                    color: 1,
+                    kind: LineKind::Points,
+                },
+            ],
+            legend: LegendAt::UpperRight,
+            ..Default::default()
+        };
+        let layout = drawn(&chart);
+        assert!(layout.x_range.0 < 1.0 - 0.02 * 69.0, "the 1 m/s point is inside the axes: {:?}", layout.x_range);
+        assert_eq!(points_under_legend(&layout), []);
+        assert_eq!(layout.placement.y_range.1, drawn(&chart).placement.y_range.1);
+        assert!(layout.placement.left > layout.size.width / 2.0 && layout.placement.top < 10.0, "upper right");
+    }
+
+    #[test]
+    fn a_title_wider_than_its_panel_is_set_smaller_to_fit() {
+        register_fonts();
+        let title = "Exit speed 6 in from the end (ball 40.0 m/s, bat CM 25.0 m/s, ω 45.0 rad/s) and more";
+        let size = fitted_font_size(title, 24.0, 700.0);
+        assert!(size < 24.0);
+        let (w, _) = ("sans-serif", size).into_font().box_size(title).unwrap();
+        assert!(w <= 700, "{w} px at {size}");
+        assert_eq!(fitted_font_size("BBCOR", 24.0, 700.0), 24.0);
+    }
 
     #[test]
     fn format_follows_extension() {
