@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
-from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -366,14 +364,23 @@ def compare(
     return frame
 
 
-def _csv_text(frame: pd.DataFrame) -> str:
-    """The frame as the export it came from: one line per row (line breaks inside text cells become
-    spaces, so line ``n + 2`` is row ``n``), missing cells empty."""
-    frame = frame.copy()
-    for name in frame.columns:
-        if frame[name].dtype == object or pd.api.types.is_string_dtype(frame[name].dtype):
-            frame[name] = frame[name].astype("string").str.replace(r"[\r\n]+", " ", regex=True)
-    return frame.to_csv(index=False)
+def _export_columns(frame: pd.DataFrame) -> list[tuple[str, Any]]:
+    """The frame's columns as the export it stands for, for the importer to read as it reads a file: numbers
+    as float64/int64 arrays (no copy where the frame's own are), every other column as its text (missing
+    cells None). The extension writes them as CSV (``to_csv``'s numbers and quoting, a line break inside a
+    text cell a space, so line ``n + 2`` is row ``n``)."""
+    columns = []
+    for k, name in enumerate(frame.columns):
+        series = frame.iloc[:, k]
+        kind = series.dtype.kind
+        if kind == "f":
+            values = np.ascontiguousarray(series.to_numpy(dtype=np.float64, na_value=np.nan))
+        elif kind == "i" and not series.hasnans:
+            values = np.ascontiguousarray(series.to_numpy(dtype=np.int64))
+        else:
+            values = series.astype("string").to_numpy(dtype=object, na_value=None).tolist()
+        columns.append((str(name), values))
+    return columns
 
 
 def _bat_of(bat: "Bat | str") -> Bat:
@@ -406,7 +413,7 @@ def read_tracker(
     common = dict(kind=kind, bat=bat._native, bat_spec=bat._spec, ball=ball,
                   batter=None if batter is None else os.fspath(batter), undercut=float(undercut), tee=tee)
     if isinstance(source, pd.DataFrame):
-        columns = _native.read_tracker_columns(text=_csv_text(source).encode(), name="DataFrame", **common)
+        columns = _native.read_tracker_columns(columns=_export_columns(source), name="DataFrame", **common)
         index = source.index
     else:
         columns = _native.read_tracker_columns(path=os.fspath(source), **common)
@@ -533,22 +540,17 @@ def locate(
         frame.attrs["report"] = report
         return frame
     bat = _bat_of(bat)
-    with tempfile.TemporaryDirectory(prefix="sweetspot-locate-") as scratch:
-        csv = Path(scratch, "export.csv")
-        csv.write_text(_csv_text(source), encoding="utf-8")
-        bag = Path(scratch, "bag")
-        try:
-            _native.import_bag(os.fspath(csv), os.fspath(bag), kind=kind, bat=bat._native, bat_spec=bat._spec,
-                               ball=ball, batter=None if batter is None else os.fspath(batter),
-                               undercut=float(undercut), tee=tee)
-        except ValueError as e:
-            if "no row became a swing" in str(e):
-                return locate_meta().set_axis(source.index[:0])
-            raise
-        report = json.loads(_native.locate_bag(os.fspath(bag), **sigmas))
-        lines = pd.read_csv(bag / "import_rows.csv", usecols=["swing_id", "line"]).set_index("swing_id")["line"]
-    positions = [int(lines[s["swing_id"]]) - 2 for s in report["swings"]]
-    return _locate_frame(report, index=source.index[positions])
+    try:
+        text, lines = _native.locate_export(_export_columns(source), kind=kind, bat=bat._native,
+                                            bat_spec=bat._spec, ball=ball,
+                                            batter=None if batter is None else os.fspath(batter),
+                                            undercut=float(undercut), tee=tee, **sigmas)
+    except ValueError as e:
+        if "no row became a swing" in str(e):
+            return locate_meta().set_axis(source.index[:0])
+        raise
+    # Line n + 2 of the export is the frame's row n (the header is line 1).
+    return _locate_frame(json.loads(text), index=source.index[np.asarray(lines, dtype=np.int64) - 2])
 
 
 def _flat(messages: Sequence[Mapping[str, Any]]) -> pd.DataFrame:

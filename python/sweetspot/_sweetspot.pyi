@@ -82,7 +82,7 @@ def compare_document(
 def read_tracker_columns(
     *,
     path: str | None = None,
-    text: bytes | None = None,
+    columns: list[tuple[str, Any]] | None = None,
     name: str = "DataFrame",
     kind: str | None = None,
     bat: Bat,
@@ -92,10 +92,10 @@ def read_tracker_columns(
     undercut: float = 0.0,
     tee: bool = False,
 ) -> dict[str, Any]: ...
-def import_bag(
-    csv: str,
-    bag: str,
+def locate_export(
+    columns: list[tuple[str, Any]],
     *,
+    name: str = "DataFrame",
     kind: str | None = None,
     bat: Bat,
     bat_spec: str,
@@ -103,7 +103,11 @@ def import_bag(
     batter: str | None = None,
     undercut: float = 0.0,
     tee: bool = False,
-) -> str: ...
+    exit_speed_sigma: float = 0.45,
+    launch_angle_sigma: float = 1.0,
+    spin_sigma: float = 100.0,
+    fit_bat_speed: bool = False,
+) -> tuple[str, list[int]]: ...
 def locate_bag(
     bag: str,
     *,

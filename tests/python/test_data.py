@@ -4,6 +4,7 @@
 import io
 import json
 import math
+import tempfile
 
 import numpy as np
 import pandas as pd
@@ -34,6 +35,21 @@ def test_read_tracker_takes_a_savant_frame_as_is_in_si_units(repo):
     np.testing.assert_allclose(frame["launch_angle"], np.radians(savant["launch_angle"]), rtol=1e-15)
     from_file = sweetspot.read_tracker(export)
     pd.testing.assert_frame_equal(frame, from_file)
+
+
+def test_a_frame_is_read_as_the_csv_pandas_writes_of_it(repo, tmp_path):
+    """A frame as pybaseball gives it (dates as datetime64, integer ids, a text cell with a comma, quotes and a
+    line break) reads as the file pandas writes of it, the line break a space."""
+    savant = pd.read_csv(repo / "tests/data/statcast_search.csv")
+    savant["game_date"] = pd.to_datetime(savant["game_date"])
+    savant.loc[0, "player_name"] = 'Doe, "J"\r\nJr'
+    one_line = savant.copy()
+    one_line.loc[0, "player_name"] = 'Doe, "J" Jr'
+    export = tmp_path / "savant.csv"
+    one_line.to_csv(export, index=False)
+    from_file = sweetspot.read_tracker(export)
+    pd.testing.assert_frame_equal(sweetspot.read_tracker(savant), from_file)
+    assert from_file["swing_id"].notna().sum() == 3
 
 
 def test_an_export_of_no_known_kind_is_a_value_error_and_a_missing_one_file_not_found(tmp_path):
@@ -72,6 +88,33 @@ def test_locate_of_a_savant_frame_is_sweetspot_locate_of_its_import(repo, tmp_pa
     assert from_bag.attrs["report"]["located"] == document["located"]
     assert from_bag["swing_id"].tolist() == [s["swing_id"] for s in document["swings"]]
     assert from_bag["impact_z"].equals(frame["impact_z"].set_axis(from_bag.index))
+
+
+def test_locate_of_a_frame_writes_no_file_and_refuses_rows_as_import_does(repo, tmp_path, cli_json, monkeypatch):
+    """The frame is located in memory: nothing goes through a temporary file or bag, and a row `import` refuses
+    (an exit speed of -5 mph) is left out exactly as `sweetspot import` + `sweetspot locate` leave it out."""
+    savant = pd.read_csv(repo / "tests/data/statcast_search.csv")
+    bad = savant.index[savant["launch_speed"].notna()][0]
+    savant.loc[bad, "launch_speed"] = -5.0
+    export = tmp_path / "edited.csv"
+    savant.to_csv(export, index=False)
+    bag, document = located_by_cli(cli_json, tmp_path, export)
+    assert len(cli_json("import", export, "-o", tmp_path / "refused")["refused"]) == 1
+
+    def no_temporary_files(*args, **kwargs):
+        raise AssertionError("locate wrote a temporary file")
+
+    for name in ("TemporaryDirectory", "mkdtemp", "mkstemp", "NamedTemporaryFile"):
+        monkeypatch.setattr(tempfile, name, no_temporary_files)
+    frame = sweetspot.locate(savant)
+    assert bad not in frame.index
+    assert len(frame) == len(document["swings"])
+    for (_, row), swing in zip(frame.iterrows(), document["swings"]):
+        assert row["verdict"] == swing["verdict"]
+        for solution in swing.get("solutions", [])[:1]:
+            assert row["impact_z"] == solution["impact_z"]
+            assert row["undercut"] == solution["undercut"]
+    assert frame.attrs["report"] == {k: v for k, v in document.items() if k != "swings"}
 
 
 def test_a_frame_with_no_swing_locates_to_an_empty_frame():

@@ -19,6 +19,7 @@ pub(crate) mod engine {
 mod cli_shared;
 mod data;
 mod errors;
+mod frame;
 mod physics;
 
 use pyo3::prelude::*;
@@ -34,8 +35,8 @@ fn _sweetspot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(physics::bbcor_document, m)?)?;
     m.add_function(wrap_pyfunction!(physics::compare_document, m)?)?;
     m.add_function(wrap_pyfunction!(data::read_tracker_columns, m)?)?;
-    m.add_function(wrap_pyfunction!(data::import_bag, m)?)?;
     m.add_function(wrap_pyfunction!(data::locate_bag, m)?)?;
+    m.add_function(wrap_pyfunction!(data::locate_export, m)?)?;
     m.add_function(wrap_pyfunction!(data::read_bag_document, m)?)?;
     Ok(())
 }
