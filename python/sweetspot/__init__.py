@@ -30,12 +30,14 @@ __all__ = [
     "Collision",
     "BagError",
     "simulate",
+    "sweep",
     "bbcor",
     "compare",
     "read_tracker",
     "locate",
     "locate_meta",
     "read_bag",
+    "validate",
 ]
 
 #: The swing fields ``simulate`` takes, in the command line's units.
@@ -328,6 +330,65 @@ def _simulate_frame(bat: Bat, ball: Ball, swings: pd.DataFrame | None, given: di
     return frame
 
 
+def sweep(
+    bat: "Bat | str",
+    ball: Ball | None = None,
+    *,
+    over: str = "z",
+    ball_speed: float = 40.0,
+    bat_cm_speed: float = 25.0,
+    bat_angular_speed: float = 45.0,
+    impact_z: float | None = None,
+    from_: float | None = None,
+    to: float | None = None,
+    step: float | None = None,
+    points: int | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+    **oblique: Any,
+) -> pd.DataFrame:
+    """``sweetspot sweep --json`` as a DataFrame, one row per point of the sweep.
+
+    ``over="z"``: head-on collisions of the swing (``ball_speed``, ``bat_cm_speed`` m/s,
+    ``bat_angular_speed`` rad/s) at impact points ``from_`` … ``to`` (m from the knob; default the last
+    0.35 m of the bat to 1 cm from its end) by ``step`` (m, default 0.005) or in ``points`` points: each
+    row the command line's result (``impact_z`` m, ``exit_speed`` and ``rigid_exit_speed`` m/s, …, nested
+    fields joined by ``_``); the sweet-spot set (m from the knob, m/s) in ``attrs["sweet_spots"]``, the
+    nodes of modes 1 and 2 in ``attrs["nodes"]``.
+
+    ``over="undercut"``: oblique collisions at ``impact_z`` (m; default 0.15 m from the barrel end) over
+    undercuts ``from_`` … ``to`` (m; default ±0.75 of ball plus barrel radius, 37 points), the other
+    oblique keywords of :func:`simulate` held (degrees, rpm): each row ``undercut`` m, ``exit_speed`` m/s,
+    ``launch_angle_deg``, ``spin_rpm``, spray and spin axis, ``sliding``.
+
+    The bat, ball, swing and options as echoed are in ``attrs``. Bad inputs raise ``ValueError`` with the
+    command line's message.
+
+    >>> frame = sweep("r161", from_=0.6, to=0.8, points=3)
+    >>> frame["impact_z"].round(2).tolist(), frame["exit_speed"].round(1).tolist()
+    ([0.6, 0.7, 0.8], [35.9, 47.1, 32.9])
+    """
+    unknown = set(oblique) - set(OBLIQUE_FIELDS)
+    if unknown:
+        raise TypeError(f"sweep() got unexpected keyword(s) {sorted(unknown)}")
+    if "undercut" in oblique:
+        raise ValueError("undercut is the swept variable of over='undercut': give its range with from_/to")
+    bat = _bat_of(bat)
+    ball = ball if ball is not None else Ball.preset()
+    kwargs = {k: (v if k == "batter_side" else float(v)) for k, v in oblique.items() if v is not None}
+    text = _native.sweep_document(bat._native, ball._native, float(ball_speed), float(bat_cm_speed),
+                                  float(bat_angular_speed), over=over,
+                                  impact_z=None if impact_z is None else float(impact_z),
+                                  from_=None if from_ is None else float(from_), to=None if to is None else float(to),
+                                  step=None if step is None else float(step), points=points, modes=modes, dt=dt,
+                                  **kwargs)
+    document = json.loads(text)
+    frame = _flat(document.pop("points"))
+    document.pop("plot", None)
+    frame.attrs.update(document)
+    return frame
+
+
 def bbcor(bat: "Bat | str", ball: Ball | None = None, *, modes: int = 18, dt: float = 5e-6) -> dict[str, Any]:
     """The NCAA BBCOR and ASTM BESR of ``bat`` as ``sweetspot bbcor --json`` reports them (the protocol ball
     ``bbcor`` unless ``ball`` is given): ``bbcor`` (dimensionless, its ``impact_z`` m from the knob) and
@@ -584,3 +645,36 @@ def read_bag(path: "str | os.PathLike") -> dict[str, pd.DataFrame]:
     frames["swings"] = swings
     return frames
 
+
+#: The columns of ``validate``'s DataFrame (the command line's row fields), in order.
+VALIDATE_COLUMNS = ("id", "quantity", "unit", "conditions", "rule", "low", "high", "reference", "model", "ratio",
+                    "verdict", "model_detail", "tolerance", "source", "read_from", "note")
+
+
+def validate(data: "str | os.PathLike | None" = None, *, tangential_stiffness_ratio: float | None = None,
+             modes: int = 18, dt: float = 5e-6) -> pd.DataFrame:
+    """The model against published measurements, as ``sweetspot validate --json``: one row per measurement,
+    indexed by its ``id``, with the ``quantity`` compared, its ``unit`` and ``conditions``, the ``rule``
+    and bounds (``low``, ``high``; ``reference`` of a ratio), the ``model``'s number and ``ratio``, the
+    ``verdict`` (``PASS``, ``FAIL``, ``N/A``), how the model got it (``model_detail``), the ``tolerance``
+    in words, the ``source`` and where in it the number was read (``read_from``), and a ``note``. Numbers
+    are in the row's ``unit``. The counts (``pass``, ``fail``, ``not_applicable``), the TrackMan bins, what
+    was not found and the files read are in ``attrs``. A FAIL row is a finding about the model, not an
+    error: nothing is raised for it.
+
+    ``data`` is the suite's directory (default ``./validation``, else the source tree's);
+    ``tangential_stiffness_ratio`` runs the oblique rows with the compliant contact law (η² = k_n/k_t).
+
+    >>> rows = validate()
+    >>> rows.loc["wood-first-bending-mode", ["unit", "verdict"]].tolist()
+    ['Hz', 'PASS']
+    """
+    text = _native.validate_document(None if data is None else os.fspath(data),
+                                     tangential_stiffness_ratio=tangential_stiffness_ratio, modes=modes, dt=dt)
+    document = json.loads(text)
+    frame = pd.DataFrame(document.pop("rows"), columns=list(VALIDATE_COLUMNS))
+    for name in ("low", "high", "reference", "model", "ratio"):
+        frame[name] = frame[name].astype("float64")
+    frame = frame.set_index("id")
+    frame.attrs.update(document)
+    return frame

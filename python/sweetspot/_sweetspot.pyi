@@ -117,3 +117,35 @@ def locate_bag(
     fit_bat_speed: bool = False,
 ) -> str: ...
 def read_bag_document(path: str) -> str: ...
+def sweep_document(
+    bat: Bat,
+    ball: Ball,
+    ball_speed: float,
+    bat_cm_speed: float,
+    bat_angular_speed: float,
+    *,
+    over: str = "z",
+    impact_z: float | None = None,
+    from_: float | None = None,
+    to: float | None = None,
+    step: float | None = None,
+    points: int | None = None,
+    attack_angle: float | None = None,
+    pitch_angle: float | None = None,
+    pitch_spin: float | None = None,
+    tangential_cor: float | None = None,
+    friction: float | None = None,
+    tangential_stiffness_ratio: float | None = None,
+    bat_tilt: float | None = None,
+    swing_direction: float | None = None,
+    batter_side: str | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> str: ...
+def validate_document(
+    data: str | None = None,
+    *,
+    tangential_stiffness_ratio: float | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> str: ...

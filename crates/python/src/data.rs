@@ -446,3 +446,43 @@ pub fn read_bag_document(py: Python<'_>, path: PathBuf) -> PyResult<String> {
     let document = document.map_err(bag_error)?;
     serde_json::to_string(&document).map_err(|e| PyValueError::new_err(e.to_string()))
 }
+
+/// The validation suite's data directory: `data`, else `./validation`, else the source tree's.
+fn validation_dir(data: Option<PathBuf>) -> PathBuf {
+    data.unwrap_or_else(|| {
+        let here = PathBuf::from("validation");
+        if here.join("measurements.toml").is_file() {
+            here
+        } else {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation")
+        }
+    })
+}
+
+/// `sweetspot validate [--data DIR] [--tangential-stiffness-ratio ETA2] --json`: the report as JSON text
+/// (whatever the verdicts: a FAIL row is a finding about the model, not an error).
+#[pyfunction]
+#[pyo3(signature = (data=None, *, tangential_stiffness_ratio=None, modes=18, dt=5e-6))]
+pub fn validate_document(
+    py: Python<'_>,
+    data: Option<PathBuf>,
+    tangential_stiffness_ratio: Option<f64>,
+    modes: usize,
+    dt: f64,
+) -> PyResult<String> {
+    use crate::cli_shared::check_options;
+    use crate::engine::physics::{CollisionOptions, TangentialContact};
+    use crate::engine::validate::{evaluate, read_inputs};
+    let dir = validation_dir(data);
+    require_exists(&dir, "validation data directory")?;
+    let report = py.allow_threads(|| -> anyhow::Result<_> {
+        use anyhow::Context;
+        let options = check_options(CollisionOptions { modes, time_step: dt })?;
+        let inputs = read_inputs(&dir).with_context(|| format!("validation data in '{}'", dir.display()))?;
+        let contact = TangentialContact { stiffness_ratio: tangential_stiffness_ratio, ..TangentialContact::default() };
+        contact.validate().context("tangential_stiffness_ratio")?;
+        let (report, _) = evaluate(&inputs, options, contact).context("running the validation cases")?;
+        Ok(report)
+    });
+    serde_json::to_string(&report.map_err(value_error)?).map_err(|e| PyValueError::new_err(e.to_string()))
+}
