@@ -618,20 +618,46 @@ def _flat(messages: Sequence[Mapping[str, Any]]) -> pd.DataFrame:
     return pd.json_normalize(list(messages), sep="_") if messages else pd.DataFrame()
 
 
-def read_bag(path: "str | os.PathLike") -> dict[str, pd.DataFrame]:
+def _arrow_table(rows: Sequence[Mapping[str, Any]], log_time_ns: Sequence[int], namespace: Any) -> Any:
+    """Messages as an Arrow table: struct fields flattened to columns named as the DataFrame's (``_``)."""
+    import pyarrow as pa
+
+    if rows:
+        table = pa.Table.from_struct_array(pa.array(list(rows)))
+        while any(pa.types.is_struct(field.type) for field in table.schema):
+            table = table.flatten()
+        table = table.rename_columns([name.replace(".", "_") for name in table.column_names])
+    else:
+        table = pa.table({})
+    table = table.add_column(0, "log_time_ns", pa.array(log_time_ns, type=pa.uint64()))
+    return table.add_column(1, "namespace", pa.array(namespace, type=pa.string()))
+
+
+def read_bag(path: "str | os.PathLike", *, arrow: bool = False) -> "dict[str, pd.DataFrame] | dict[str, Any]":
     """A bag's messages (sweetspot's types) as one DataFrame per topic, keyed by topic name, each with
-    ``log_time_ns``; and ``"swings"``: every recorded swing joined to its answer by (namespace, swing_id)
-    as ``bag export --csv`` joins them, the answer's ExitVelocity fields prefixed ``exit_velocity_`` and
-    ModalEnergies ``modal_energies_``. Nested fields joined by ``_`` (``header_stamp_sec``). A damaged or
-    unreadable bag raises :class:`BagError`, a missing one ``FileNotFoundError``."""
+    ``log_time_ns`` (ns since the epoch) and ``namespace``; and ``"swings"``: every recorded swing joined to
+    its answer by (namespace, swing_id) as ``bag export --csv`` joins them, the answer's ExitVelocity fields
+    prefixed ``exit_velocity_`` and ModalEnergies ``modal_energies_``. Nested fields joined by ``_``
+    (``header_stamp_sec``); numbers in the messages' SI units. A damaged or unreadable bag raises
+    :class:`BagError`, a missing one ``FileNotFoundError``.
+
+    ``arrow=True`` gives a ``pyarrow.Table`` per topic instead (the same columns, in the messages' field
+    order; arrays as list columns, missing values null), built by Arrow from the messages without pandas; it
+    needs pyarrow (``pip install sweetspot[arrow]``).
+
+    >>> frames = read_bag("bags/golden/sweetspot_golden")
+    >>> frames["swings"]["impact_z"].head(2).tolist()  # m from the knob
+    [0.6, 0.65]
+    >>> tables = read_bag("bags/golden/sweetspot_golden", arrow=True)
+    >>> tables["swings"].column("swing_id").to_pylist()[:2]
+    [1, 2]
+    """
+    if arrow:
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise ImportError("read_bag(arrow=True) needs pyarrow: pip install pyarrow") from None
     document = json.loads(_native.read_bag_document(os.fspath(path)))
-    frames: dict[str, pd.DataFrame] = {}
-    for topic in document["topics"]:
-        frame = _flat(topic["messages"])
-        frame.insert(0, "log_time_ns", pd.array(topic["log_time_ns"], dtype="UInt64"))
-        frame.insert(1, "namespace", topic["namespace"])
-        frame.attrs["type"] = topic["type"]
-        frames[topic["topic"]] = frame
     rows = []
     for s in document["swings"]:
         row = {"namespace": s["namespace"], "log_time_ns": s["log_time_ns"], **s["swing"]}
@@ -639,6 +665,20 @@ def read_bag(path: "str | os.PathLike") -> dict[str, pd.DataFrame]:
             if s[part] is not None:
                 row[part] = s[part]
         rows.append(row)
+    if arrow:
+        tables = {t["topic"]: _arrow_table(t["messages"], t["log_time_ns"], [t["namespace"]] * len(t["messages"]))
+                  for t in document["topics"]}
+        answers = [{k: v for k, v in r.items() if k not in ("namespace", "log_time_ns")} for r in rows]
+        swings = _arrow_table(answers, [r["log_time_ns"] for r in rows], [r["namespace"] for r in rows])
+        tables["swings"] = swings.select(["namespace", "log_time_ns", *swings.column_names[2:]])
+        return tables
+    frames: dict[str, pd.DataFrame] = {}
+    for topic in document["topics"]:
+        frame = _flat(topic["messages"])
+        frame.insert(0, "log_time_ns", pd.array(topic["log_time_ns"], dtype="UInt64"))
+        frame.insert(1, "namespace", topic["namespace"])
+        frame.attrs["type"] = topic["type"]
+        frames[topic["topic"]] = frame
     swings = _flat(rows)
     if "log_time_ns" in swings:
         swings["log_time_ns"] = swings["log_time_ns"].astype("UInt64")

@@ -1,11 +1,12 @@
 """Type stubs of the ``sweetspot`` package (units in each function's docstring)."""
 
 import os
-from typing import Any, Sequence
+from typing import Any, Literal, Sequence, overload
 
 import numpy as np
 import numpy.typing as npt
 import pandas as pd
+import pyarrow as pa
 
 from ._sweetspot import BagError as BagError
 
@@ -153,7 +154,10 @@ def locate(
     spin_sigma: float = 100.0,
     fit_bat_speed: bool = False,
 ) -> pd.DataFrame: ...
-def read_bag(path: str | os.PathLike[str]) -> dict[str, pd.DataFrame]: ...
+@overload
+def read_bag(path: str | os.PathLike[str], *, arrow: Literal[False] = False) -> dict[str, pd.DataFrame]: ...
+@overload
+def read_bag(path: str | os.PathLike[str], *, arrow: Literal[True]) -> dict[str, pa.Table]: ...
 def validate(
     data: str | os.PathLike[str] | None = None,
     *,

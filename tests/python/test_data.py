@@ -1,5 +1,6 @@
 """`read_tracker`, `locate` and `read_bag` against the command line run as a process (`sweetspot import`,
-`sweetspot locate --json`, `sweetspot bag export`) and against the export's own cells."""
+`sweetspot locate --json`, `sweetspot bag export`) and against the export's own cells; `read_bag(arrow=True)`
+against the pandas frames."""
 
 import io
 import json
@@ -8,6 +9,7 @@ import tempfile
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
 import pytest
 
 import sweetspot
@@ -151,3 +153,27 @@ def test_a_file_that_is_not_a_bag_is_a_bag_error(tmp_path):
         sweetspot.locate(junk)
     with pytest.raises(FileNotFoundError):
         sweetspot.read_bag(tmp_path / "absent")
+
+
+def test_read_bag_as_arrow_tables_holds_the_pandas_frames(repo):
+    bag = repo / "bags/golden/sweetspot_golden"
+    frames = sweetspot.read_bag(bag)
+    tables = sweetspot.read_bag(bag, arrow=True)
+    assert tables.keys() == frames.keys()
+    for name, frame in frames.items():
+        table = tables[name]
+        assert isinstance(table, pa.Table)
+        assert sorted(table.column_names) == sorted(frame.columns), name
+        assert table.column_names[:2] == list(frame.columns[:2]), name
+        assert table.num_rows == len(frame)
+        assert table.column("log_time_ns").type == pa.uint64()
+        for column in frame.columns:
+            ours = table.column(column).to_pylist()
+            theirs = frame[column].tolist()
+            for a, b in zip(ours, theirs):
+                if isinstance(b, float) and math.isnan(b):
+                    assert a is None or math.isnan(a), (name, column)
+                elif isinstance(b, (list, np.ndarray)):
+                    assert list(a) == list(b), (name, column)
+                else:
+                    assert a == b, (name, column, a, b)
