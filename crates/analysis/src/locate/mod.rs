@@ -72,6 +72,10 @@
 //!
 //! **Progress.** [`locate_bag_with_progress`] reports each swing done, for a progress bar or line.
 //!
+//! **Without a bag.** [`locate_imported`] locates an export's swings as [`crate::import::import_table`] builds
+//! them in memory, with the bat, ball and settings `import` would write: the bag path and the in-memory one
+//! meet in [`locate_recorded`], so they answer alike.
+//!
 //! **Squared up.** A located swing is squared up when its favoured solution (every solution, when none is
 //! favoured) lies within ±2 cm ([`SQUARED_UP`]) of the sweet spot z* at its undercut.
 
