@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
-from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -32,12 +30,14 @@ __all__ = [
     "Collision",
     "BagError",
     "simulate",
+    "sweep",
     "bbcor",
     "compare",
     "read_tracker",
     "locate",
     "locate_meta",
     "read_bag",
+    "validate",
 ]
 
 #: The swing fields ``simulate`` takes, in the command line's units.
@@ -330,6 +330,65 @@ def _simulate_frame(bat: Bat, ball: Ball, swings: pd.DataFrame | None, given: di
     return frame
 
 
+def sweep(
+    bat: "Bat | str",
+    ball: Ball | None = None,
+    *,
+    over: str = "z",
+    ball_speed: float = 40.0,
+    bat_cm_speed: float = 25.0,
+    bat_angular_speed: float = 45.0,
+    impact_z: float | None = None,
+    from_: float | None = None,
+    to: float | None = None,
+    step: float | None = None,
+    points: int | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+    **oblique: Any,
+) -> pd.DataFrame:
+    """``sweetspot sweep --json`` as a DataFrame, one row per point of the sweep.
+
+    ``over="z"``: head-on collisions of the swing (``ball_speed``, ``bat_cm_speed`` m/s,
+    ``bat_angular_speed`` rad/s) at impact points ``from_`` … ``to`` (m from the knob; default the last
+    0.35 m of the bat to 1 cm from its end) by ``step`` (m, default 0.005) or in ``points`` points: each
+    row the command line's result (``impact_z`` m, ``exit_speed`` and ``rigid_exit_speed`` m/s, …, nested
+    fields joined by ``_``); the sweet-spot set (m from the knob, m/s) in ``attrs["sweet_spots"]``, the
+    nodes of modes 1 and 2 in ``attrs["nodes"]``.
+
+    ``over="undercut"``: oblique collisions at ``impact_z`` (m; default 0.15 m from the barrel end) over
+    undercuts ``from_`` … ``to`` (m; default ±0.75 of ball plus barrel radius, 37 points), the other
+    oblique keywords of :func:`simulate` held (degrees, rpm): each row ``undercut`` m, ``exit_speed`` m/s,
+    ``launch_angle_deg``, ``spin_rpm``, spray and spin axis, ``sliding``.
+
+    The bat, ball, swing and options as echoed are in ``attrs``. Bad inputs raise ``ValueError`` with the
+    command line's message.
+
+    >>> frame = sweep("r161", from_=0.6, to=0.8, points=3)
+    >>> frame["impact_z"].round(2).tolist(), frame["exit_speed"].round(1).tolist()
+    ([0.6, 0.7, 0.8], [35.9, 47.1, 32.9])
+    """
+    unknown = set(oblique) - set(OBLIQUE_FIELDS)
+    if unknown:
+        raise TypeError(f"sweep() got unexpected keyword(s) {sorted(unknown)}")
+    if "undercut" in oblique:
+        raise ValueError("undercut is the swept variable of over='undercut': give its range with from_/to")
+    bat = _bat_of(bat)
+    ball = ball if ball is not None else Ball.preset()
+    kwargs = {k: (v if k == "batter_side" else float(v)) for k, v in oblique.items() if v is not None}
+    text = _native.sweep_document(bat._native, ball._native, float(ball_speed), float(bat_cm_speed),
+                                  float(bat_angular_speed), over=over,
+                                  impact_z=None if impact_z is None else float(impact_z),
+                                  from_=None if from_ is None else float(from_), to=None if to is None else float(to),
+                                  step=None if step is None else float(step), points=points, modes=modes, dt=dt,
+                                  **kwargs)
+    document = json.loads(text)
+    frame = _flat(document.pop("points"))
+    document.pop("plot", None)
+    frame.attrs.update(document)
+    return frame
+
+
 def bbcor(bat: "Bat | str", ball: Ball | None = None, *, modes: int = 18, dt: float = 5e-6) -> dict[str, Any]:
     """The NCAA BBCOR and ASTM BESR of ``bat`` as ``sweetspot bbcor --json`` reports them (the protocol ball
     ``bbcor`` unless ``ball`` is given): ``bbcor`` (dimensionless, its ``impact_z`` m from the knob) and
@@ -366,14 +425,23 @@ def compare(
     return frame
 
 
-def _csv_text(frame: pd.DataFrame) -> str:
-    """The frame as the export it came from: one line per row (line breaks inside text cells become
-    spaces, so line ``n + 2`` is row ``n``), missing cells empty."""
-    frame = frame.copy()
-    for name in frame.columns:
-        if frame[name].dtype == object or pd.api.types.is_string_dtype(frame[name].dtype):
-            frame[name] = frame[name].astype("string").str.replace(r"[\r\n]+", " ", regex=True)
-    return frame.to_csv(index=False)
+def _export_columns(frame: pd.DataFrame) -> list[tuple[str, Any]]:
+    """The frame's columns as the export it stands for, for the importer to read as it reads a file: numbers
+    as float64/int64 arrays (no copy where the frame's own are), every other column as its text (missing
+    cells None). The extension writes them as CSV (``to_csv``'s numbers and quoting, a line break inside a
+    text cell a space, so line ``n + 2`` is row ``n``)."""
+    columns = []
+    for k, name in enumerate(frame.columns):
+        series = frame.iloc[:, k]
+        kind = series.dtype.kind
+        if kind == "f":
+            values = np.ascontiguousarray(series.to_numpy(dtype=np.float64, na_value=np.nan))
+        elif kind == "i" and not series.hasnans:
+            values = np.ascontiguousarray(series.to_numpy(dtype=np.int64))
+        else:
+            values = series.astype("string").to_numpy(dtype=object, na_value=None).tolist()
+        columns.append((str(name), values))
+    return columns
 
 
 def _bat_of(bat: "Bat | str") -> Bat:
@@ -406,7 +474,7 @@ def read_tracker(
     common = dict(kind=kind, bat=bat._native, bat_spec=bat._spec, ball=ball,
                   batter=None if batter is None else os.fspath(batter), undercut=float(undercut), tee=tee)
     if isinstance(source, pd.DataFrame):
-        columns = _native.read_tracker_columns(text=_csv_text(source).encode(), name="DataFrame", **common)
+        columns = _native.read_tracker_columns(columns=_export_columns(source), name="DataFrame", **common)
         index = source.index
     else:
         columns = _native.read_tracker_columns(path=os.fspath(source), **common)
@@ -533,42 +601,63 @@ def locate(
         frame.attrs["report"] = report
         return frame
     bat = _bat_of(bat)
-    with tempfile.TemporaryDirectory(prefix="sweetspot-locate-") as scratch:
-        csv = Path(scratch, "export.csv")
-        csv.write_text(_csv_text(source), encoding="utf-8")
-        bag = Path(scratch, "bag")
-        try:
-            _native.import_bag(os.fspath(csv), os.fspath(bag), kind=kind, bat=bat._native, bat_spec=bat._spec,
-                               ball=ball, batter=None if batter is None else os.fspath(batter),
-                               undercut=float(undercut), tee=tee)
-        except ValueError as e:
-            if "no row became a swing" in str(e):
-                return locate_meta().set_axis(source.index[:0])
-            raise
-        report = json.loads(_native.locate_bag(os.fspath(bag), **sigmas))
-        lines = pd.read_csv(bag / "import_rows.csv", usecols=["swing_id", "line"]).set_index("swing_id")["line"]
-    positions = [int(lines[s["swing_id"]]) - 2 for s in report["swings"]]
-    return _locate_frame(report, index=source.index[positions])
+    try:
+        text, lines = _native.locate_export(_export_columns(source), kind=kind, bat=bat._native,
+                                            bat_spec=bat._spec, ball=ball,
+                                            batter=None if batter is None else os.fspath(batter),
+                                            undercut=float(undercut), tee=tee, **sigmas)
+    except ValueError as e:
+        if "no row became a swing" in str(e):
+            return locate_meta().set_axis(source.index[:0])
+        raise
+    # Line n + 2 of the export is the frame's row n (the header is line 1).
+    return _locate_frame(json.loads(text), index=source.index[np.asarray(lines, dtype=np.int64) - 2])
 
 
 def _flat(messages: Sequence[Mapping[str, Any]]) -> pd.DataFrame:
     return pd.json_normalize(list(messages), sep="_") if messages else pd.DataFrame()
 
 
-def read_bag(path: "str | os.PathLike") -> dict[str, pd.DataFrame]:
+def _arrow_table(rows: Sequence[Mapping[str, Any]], log_time_ns: Sequence[int], namespace: Any) -> Any:
+    """Messages as an Arrow table: struct fields flattened to columns named as the DataFrame's (``_``)."""
+    import pyarrow as pa
+
+    if rows:
+        table = pa.Table.from_struct_array(pa.array(list(rows)))
+        while any(pa.types.is_struct(field.type) for field in table.schema):
+            table = table.flatten()
+        table = table.rename_columns([name.replace(".", "_") for name in table.column_names])
+    else:
+        table = pa.table({})
+    table = table.add_column(0, "log_time_ns", pa.array(log_time_ns, type=pa.uint64()))
+    return table.add_column(1, "namespace", pa.array(namespace, type=pa.string()))
+
+
+def read_bag(path: "str | os.PathLike", *, arrow: bool = False) -> "dict[str, pd.DataFrame] | dict[str, Any]":
     """A bag's messages (sweetspot's types) as one DataFrame per topic, keyed by topic name, each with
-    ``log_time_ns``; and ``"swings"``: every recorded swing joined to its answer by (namespace, swing_id)
-    as ``bag export --csv`` joins them, the answer's ExitVelocity fields prefixed ``exit_velocity_`` and
-    ModalEnergies ``modal_energies_``. Nested fields joined by ``_`` (``header_stamp_sec``). A damaged or
-    unreadable bag raises :class:`BagError`, a missing one ``FileNotFoundError``."""
+    ``log_time_ns`` (ns since the epoch) and ``namespace``; and ``"swings"``: every recorded swing joined to
+    its answer by (namespace, swing_id) as ``bag export --csv`` joins them, the answer's ExitVelocity fields
+    prefixed ``exit_velocity_`` and ModalEnergies ``modal_energies_``. Nested fields joined by ``_``
+    (``header_stamp_sec``); numbers in the messages' SI units. A damaged or unreadable bag raises
+    :class:`BagError`, a missing one ``FileNotFoundError``.
+
+    ``arrow=True`` gives a ``pyarrow.Table`` per topic instead (the same columns, in the messages' field
+    order; arrays as list columns, missing values null), built by Arrow from the messages without pandas; it
+    needs pyarrow (``pip install sweetspot[arrow]``).
+
+    >>> frames = read_bag("bags/golden/sweetspot_golden")
+    >>> frames["swings"]["impact_z"].head(2).tolist()  # m from the knob
+    [0.6, 0.65]
+    >>> tables = read_bag("bags/golden/sweetspot_golden", arrow=True)
+    >>> tables["swings"].column("swing_id").to_pylist()[:2]
+    [1, 2]
+    """
+    if arrow:
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise ImportError("read_bag(arrow=True) needs pyarrow: pip install pyarrow") from None
     document = json.loads(_native.read_bag_document(os.fspath(path)))
-    frames: dict[str, pd.DataFrame] = {}
-    for topic in document["topics"]:
-        frame = _flat(topic["messages"])
-        frame.insert(0, "log_time_ns", pd.array(topic["log_time_ns"], dtype="UInt64"))
-        frame.insert(1, "namespace", topic["namespace"])
-        frame.attrs["type"] = topic["type"]
-        frames[topic["topic"]] = frame
     rows = []
     for s in document["swings"]:
         row = {"namespace": s["namespace"], "log_time_ns": s["log_time_ns"], **s["swing"]}
@@ -576,9 +665,56 @@ def read_bag(path: "str | os.PathLike") -> dict[str, pd.DataFrame]:
             if s[part] is not None:
                 row[part] = s[part]
         rows.append(row)
+    if arrow:
+        tables = {t["topic"]: _arrow_table(t["messages"], t["log_time_ns"], [t["namespace"]] * len(t["messages"]))
+                  for t in document["topics"]}
+        answers = [{k: v for k, v in r.items() if k not in ("namespace", "log_time_ns")} for r in rows]
+        swings = _arrow_table(answers, [r["log_time_ns"] for r in rows], [r["namespace"] for r in rows])
+        tables["swings"] = swings.select(["namespace", "log_time_ns", *swings.column_names[2:]])
+        return tables
+    frames: dict[str, pd.DataFrame] = {}
+    for topic in document["topics"]:
+        frame = _flat(topic["messages"])
+        frame.insert(0, "log_time_ns", pd.array(topic["log_time_ns"], dtype="UInt64"))
+        frame.insert(1, "namespace", topic["namespace"])
+        frame.attrs["type"] = topic["type"]
+        frames[topic["topic"]] = frame
     swings = _flat(rows)
     if "log_time_ns" in swings:
         swings["log_time_ns"] = swings["log_time_ns"].astype("UInt64")
     frames["swings"] = swings
     return frames
 
+
+#: The columns of ``validate``'s DataFrame (the command line's row fields), in order.
+VALIDATE_COLUMNS = ("id", "quantity", "unit", "conditions", "rule", "low", "high", "reference", "model", "ratio",
+                    "verdict", "model_detail", "tolerance", "source", "read_from", "note")
+
+
+def validate(data: "str | os.PathLike | None" = None, *, tangential_stiffness_ratio: float | None = None,
+             modes: int = 18, dt: float = 5e-6) -> pd.DataFrame:
+    """The model against published measurements, as ``sweetspot validate --json``: one row per measurement,
+    indexed by its ``id``, with the ``quantity`` compared, its ``unit`` and ``conditions``, the ``rule``
+    and bounds (``low``, ``high``; ``reference`` of a ratio), the ``model``'s number and ``ratio``, the
+    ``verdict`` (``PASS``, ``FAIL``, ``N/A``), how the model got it (``model_detail``), the ``tolerance``
+    in words, the ``source`` and where in it the number was read (``read_from``), and a ``note``. Numbers
+    are in the row's ``unit``. The counts (``pass``, ``fail``, ``not_applicable``), the TrackMan bins, what
+    was not found and the files read are in ``attrs``. A FAIL row is a finding about the model, not an
+    error: nothing is raised for it.
+
+    ``data`` is the suite's directory (default ``./validation``, else the source tree's);
+    ``tangential_stiffness_ratio`` runs the oblique rows with the compliant contact law (η² = k_n/k_t).
+
+    >>> rows = validate()
+    >>> rows.loc["wood-first-bending-mode", ["unit", "verdict"]].tolist()
+    ['Hz', 'PASS']
+    """
+    text = _native.validate_document(None if data is None else os.fspath(data),
+                                     tangential_stiffness_ratio=tangential_stiffness_ratio, modes=modes, dt=dt)
+    document = json.loads(text)
+    frame = pd.DataFrame(document.pop("rows"), columns=list(VALIDATE_COLUMNS))
+    for name in ("low", "high", "reference", "model", "ratio"):
+        frame[name] = frame[name].astype("float64")
+    frame = frame.set_index("id")
+    frame.attrs.update(document)
+    return frame

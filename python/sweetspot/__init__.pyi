@@ -1,17 +1,19 @@
 """Type stubs of the ``sweetspot`` package (units in each function's docstring)."""
 
 import os
-from typing import Any, Sequence
+from typing import Any, Literal, Sequence, overload
 
 import numpy as np
 import numpy.typing as npt
 import pandas as pd
+import pyarrow as pa
 
 from ._sweetspot import BagError as BagError
 
 SWING_FIELDS: tuple[str, ...]
 OBLIQUE_FIELDS: tuple[str, ...]
 LOCATE_COLUMNS: dict[str, str]
+VALIDATE_COLUMNS: tuple[str, ...]
 
 class Bat:
     @classmethod
@@ -92,6 +94,31 @@ def simulate(
     swing_direction: Any = None,
     batter_side: Any = None,
 ) -> Collision | pd.DataFrame: ...
+def sweep(
+    bat: Bat | str,
+    ball: Ball | None = None,
+    *,
+    over: str = "z",
+    ball_speed: float = 40.0,
+    bat_cm_speed: float = 25.0,
+    bat_angular_speed: float = 45.0,
+    impact_z: float | None = None,
+    from_: float | None = None,
+    to: float | None = None,
+    step: float | None = None,
+    points: int | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+    attack_angle: float | None = None,
+    pitch_angle: float | None = None,
+    pitch_spin: float | None = None,
+    tangential_cor: float | None = None,
+    friction: float | None = None,
+    tangential_stiffness_ratio: float | None = None,
+    bat_tilt: float | None = None,
+    swing_direction: float | None = None,
+    batter_side: str | None = None,
+) -> pd.DataFrame: ...
 def bbcor(bat: Bat | str, ball: Ball | None = None, *, modes: int = 18, dt: float = 5e-6) -> dict[str, Any]: ...
 def compare(
     bats: Sequence[Bat | str],
@@ -127,4 +154,14 @@ def locate(
     spin_sigma: float = 100.0,
     fit_bat_speed: bool = False,
 ) -> pd.DataFrame: ...
-def read_bag(path: str | os.PathLike[str]) -> dict[str, pd.DataFrame]: ...
+@overload
+def read_bag(path: str | os.PathLike[str], *, arrow: Literal[False] = False) -> dict[str, pd.DataFrame]: ...
+@overload
+def read_bag(path: str | os.PathLike[str], *, arrow: Literal[True]) -> dict[str, pa.Table]: ...
+def validate(
+    data: str | os.PathLike[str] | None = None,
+    *,
+    tangential_stiffness_ratio: float | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> pd.DataFrame: ...

@@ -82,7 +82,7 @@ def compare_document(
 def read_tracker_columns(
     *,
     path: str | None = None,
-    text: bytes | None = None,
+    columns: list[tuple[str, Any]] | None = None,
     name: str = "DataFrame",
     kind: str | None = None,
     bat: Bat,
@@ -92,10 +92,10 @@ def read_tracker_columns(
     undercut: float = 0.0,
     tee: bool = False,
 ) -> dict[str, Any]: ...
-def import_bag(
-    csv: str,
-    bag: str,
+def locate_export(
+    columns: list[tuple[str, Any]],
     *,
+    name: str = "DataFrame",
     kind: str | None = None,
     bat: Bat,
     bat_spec: str,
@@ -103,7 +103,11 @@ def import_bag(
     batter: str | None = None,
     undercut: float = 0.0,
     tee: bool = False,
-) -> str: ...
+    exit_speed_sigma: float = 0.45,
+    launch_angle_sigma: float = 1.0,
+    spin_sigma: float = 100.0,
+    fit_bat_speed: bool = False,
+) -> tuple[str, list[int]]: ...
 def locate_bag(
     bag: str,
     *,
@@ -113,3 +117,35 @@ def locate_bag(
     fit_bat_speed: bool = False,
 ) -> str: ...
 def read_bag_document(path: str) -> str: ...
+def sweep_document(
+    bat: Bat,
+    ball: Ball,
+    ball_speed: float,
+    bat_cm_speed: float,
+    bat_angular_speed: float,
+    *,
+    over: str = "z",
+    impact_z: float | None = None,
+    from_: float | None = None,
+    to: float | None = None,
+    step: float | None = None,
+    points: int | None = None,
+    attack_angle: float | None = None,
+    pitch_angle: float | None = None,
+    pitch_spin: float | None = None,
+    tangential_cor: float | None = None,
+    friction: float | None = None,
+    tangential_stiffness_ratio: float | None = None,
+    bat_tilt: float | None = None,
+    swing_direction: float | None = None,
+    batter_side: str | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> str: ...
+def validate_document(
+    data: str | None = None,
+    *,
+    tangential_stiffness_ratio: float | None = None,
+    modes: int = 18,
+    dt: float = 5e-6,
+) -> str: ...

@@ -242,6 +242,11 @@ pub struct ObliqueArgs {
 impl ObliqueArgs {
     /// The inputs in SI units (degrees → rad, rpm → rad/s), the contact checked.
     pub fn inputs(&self) -> Result<ObliqueInputs> {
+        self.flags().inputs()
+    }
+
+    /// The flags as given, in the command line's units.
+    pub fn flags(&self) -> ObliqueFlags {
         ObliqueFlags {
             undercut: self.undercut,
             attack_angle: self.attack_angle,
@@ -254,7 +259,6 @@ impl ObliqueArgs {
             swing_direction: self.swing_direction,
             batter_side: self.batter_side,
         }
-        .inputs()
     }
 }
 

@@ -3,18 +3,16 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 
 use super::common::{emit, finite_f64, print_json, BallArgs, BatArgs, NumericArgs, ObliqueArgs, OutputArgs, SwingArgs};
-use super::simulate::{describe_inputs, describe_oblique, DEFAULT_IMPACT_FROM_TIP};
+use super::simulate::{describe_inputs, describe_oblique};
+use crate::answer::sweep::{check_flags, sweep, SweepDocument, SweepOver as Over};
 use crate::physics::Ball;
 use crate::report::figures::exit_speed_chart;
 use crate::report::plot::{draw_line_chart, draw_panels, ImageFormat};
-use crate::report::sweep::{
-    run_sweep, run_undercut_sweep, undercut_charts, undercut_title, ObliqueSwing, SweepJson, SweepRange,
-    UndercutSweepJson,
-};
+use crate::report::sweep::{undercut_charts, undercut_title, SweepJson, SweepRange, UndercutSweepJson};
 use crate::report::table::{num, Table};
 
 /// What a sweep varies.
@@ -67,24 +65,22 @@ pub struct SweepArgs {
     pub output: OutputArgs,
 }
 
+impl From<SweepOver> for Over {
+    fn from(over: SweepOver) -> Over {
+        match over {
+            SweepOver::Z => Over::ImpactPoint,
+            SweepOver::Undercut => Over::Undercut,
+        }
+    }
+}
+
 /// Runs `sweetspot sweep`.
 pub fn run(args: SweepArgs) -> Result<()> {
     if let Some(path) = &args.plot {
         ImageFormat::from_path(path).context("--plot")?;
     }
-    let oblique = args.oblique.inputs()?;
-    match args.over {
-        SweepOver::Z if oblique.active || args.impact_z.is_some() => {
-            bail!(
-                "--undercut/--attack-angle/--pitch-angle/--pitch-spin/--tangential-cor/--friction/--bat-tilt/\
-                 --swing-direction/--batter-side and --impact-z belong to --over undercut (a sweep over z is head-on; `simulate` takes them at chosen points)"
-            )
-        }
-        SweepOver::Undercut if args.oblique.undercut.is_some() => {
-            bail!("--undercut is the swept variable of --over undercut: give its range with --from/--to")
-        }
-        _ => {}
-    }
+    let flags = args.oblique.flags();
+    check_flags(args.over.into(), &flags, args.impact_z)?;
     let bat = args.bat.load()?;
     if let Some(path) = &args.plot {
         // After the bat is read: its profile CSV, read through the bat file, is an input too.
@@ -95,36 +91,29 @@ pub fn run(args: SweepArgs) -> Result<()> {
     let options = args.numeric.options()?;
     let swing = args.swing.impact(f64::NAN);
     let range = SweepRange { from: args.from, to: args.to, step: args.step, points: args.points };
-    if args.over == SweepOver::Undercut {
-        let impact_z = match args.impact_z {
-            Some(z) => z,
-            None => bat.length() - DEFAULT_IMPACT_FROM_TIP,
-        };
-        let swing_oblique = ObliqueSwing {
-            attack_angle: oblique.attack_angle,
-            pitch_angle: oblique.pitch_angle,
-            pitch_spin: oblique.pitch_spin,
-            contact: oblique.contact,
-            bat_tilt: oblique.bat_tilt,
-            swing_direction: oblique.swing_direction,
-            batter_side: oblique.batter_side,
-        };
-        let mut doc = run_undercut_sweep(&bat, &ball, &swing, &swing_oblique, impact_z, range, &options)?;
-        if let Some(path) = &args.plot {
-            draw_panels(path, &undercut_charts(&doc), 3, Some(&undercut_title(&doc)))?;
-            doc.plot = Some(path.clone());
+    match sweep(&bat, &ball, &swing, args.over.into(), &flags, args.impact_z, range, &options)? {
+        SweepDocument::Undercut(mut doc) => {
+            if let Some(path) = &args.plot {
+                draw_panels(path, &undercut_charts(&doc), 3, Some(&undercut_title(&doc)))?;
+                doc.plot = Some(path.clone());
+            }
+            if args.output.json {
+                print_json(&doc)
+            } else {
+                emit(&render_undercut(&doc))
+            }
         }
-        return if args.output.json { print_json(&doc) } else { emit(&render_undercut(&doc)) };
-    }
-    let mut doc = run_sweep(&bat, &ball, &swing, range, &options)?;
-    if let Some(path) = &args.plot {
-        draw_line_chart(path, &exit_speed_chart(&doc))?;
-        doc.plot = Some(path.clone());
-    }
-    if args.output.json {
-        print_json(&doc)
-    } else {
-        emit(&render(&doc))
+        SweepDocument::ImpactPoint(mut doc) => {
+            if let Some(path) = &args.plot {
+                draw_line_chart(path, &exit_speed_chart(&doc))?;
+                doc.plot = Some(path.clone());
+            }
+            if args.output.json {
+                print_json(&doc)
+            } else {
+                emit(&render(&doc))
+            }
+        }
     }
 }
 

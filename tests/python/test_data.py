@@ -1,12 +1,15 @@
 """`read_tracker`, `locate` and `read_bag` against the command line run as a process (`sweetspot import`,
-`sweetspot locate --json`, `sweetspot bag export`) and against the export's own cells."""
+`sweetspot locate --json`, `sweetspot bag export`) and against the export's own cells; `read_bag(arrow=True)`
+against the pandas frames."""
 
 import io
 import json
 import math
+import tempfile
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
 import pytest
 
 import sweetspot
@@ -34,6 +37,21 @@ def test_read_tracker_takes_a_savant_frame_as_is_in_si_units(repo):
     np.testing.assert_allclose(frame["launch_angle"], np.radians(savant["launch_angle"]), rtol=1e-15)
     from_file = sweetspot.read_tracker(export)
     pd.testing.assert_frame_equal(frame, from_file)
+
+
+def test_a_frame_is_read_as_the_csv_pandas_writes_of_it(repo, tmp_path):
+    """A frame as pybaseball gives it (dates as datetime64, integer ids, a text cell with a comma, quotes and a
+    line break) reads as the file pandas writes of it, the line break a space."""
+    savant = pd.read_csv(repo / "tests/data/statcast_search.csv")
+    savant["game_date"] = pd.to_datetime(savant["game_date"])
+    savant.loc[0, "player_name"] = 'Doe, "J"\r\nJr'
+    one_line = savant.copy()
+    one_line.loc[0, "player_name"] = 'Doe, "J" Jr'
+    export = tmp_path / "savant.csv"
+    one_line.to_csv(export, index=False)
+    from_file = sweetspot.read_tracker(export)
+    pd.testing.assert_frame_equal(sweetspot.read_tracker(savant), from_file)
+    assert from_file["swing_id"].notna().sum() == 3
 
 
 def test_an_export_of_no_known_kind_is_a_value_error_and_a_missing_one_file_not_found(tmp_path):
@@ -74,6 +92,33 @@ def test_locate_of_a_savant_frame_is_sweetspot_locate_of_its_import(repo, tmp_pa
     assert from_bag["impact_z"].equals(frame["impact_z"].set_axis(from_bag.index))
 
 
+def test_locate_of_a_frame_writes_no_file_and_refuses_rows_as_import_does(repo, tmp_path, cli_json, monkeypatch):
+    """The frame is located in memory: nothing goes through a temporary file or bag, and a row `import` refuses
+    (an exit speed of -5 mph) is left out exactly as `sweetspot import` + `sweetspot locate` leave it out."""
+    savant = pd.read_csv(repo / "tests/data/statcast_search.csv")
+    bad = savant.index[savant["launch_speed"].notna()][0]
+    savant.loc[bad, "launch_speed"] = -5.0
+    export = tmp_path / "edited.csv"
+    savant.to_csv(export, index=False)
+    bag, document = located_by_cli(cli_json, tmp_path, export)
+    assert len(cli_json("import", export, "-o", tmp_path / "refused")["refused"]) == 1
+
+    def no_temporary_files(*args, **kwargs):
+        raise AssertionError("locate wrote a temporary file")
+
+    for name in ("TemporaryDirectory", "mkdtemp", "mkstemp", "NamedTemporaryFile"):
+        monkeypatch.setattr(tempfile, name, no_temporary_files)
+    frame = sweetspot.locate(savant)
+    assert bad not in frame.index
+    assert len(frame) == len(document["swings"])
+    for (_, row), swing in zip(frame.iterrows(), document["swings"]):
+        assert row["verdict"] == swing["verdict"]
+        for solution in swing.get("solutions", [])[:1]:
+            assert row["impact_z"] == solution["impact_z"]
+            assert row["undercut"] == solution["undercut"]
+    assert frame.attrs["report"] == {k: v for k, v in document.items() if k != "swings"}
+
+
 def test_a_frame_with_no_swing_locates_to_an_empty_frame():
     savant = pd.read_csv(io.StringIO("launch_speed,launch_angle,release_speed,description,events,bat_speed,"
                                      "game_date,batter,pitcher,game_pk,at_bat_number,pitch_number,stand,"
@@ -108,3 +153,27 @@ def test_a_file_that_is_not_a_bag_is_a_bag_error(tmp_path):
         sweetspot.locate(junk)
     with pytest.raises(FileNotFoundError):
         sweetspot.read_bag(tmp_path / "absent")
+
+
+def test_read_bag_as_arrow_tables_holds_the_pandas_frames(repo):
+    bag = repo / "bags/golden/sweetspot_golden"
+    frames = sweetspot.read_bag(bag)
+    tables = sweetspot.read_bag(bag, arrow=True)
+    assert tables.keys() == frames.keys()
+    for name, frame in frames.items():
+        table = tables[name]
+        assert isinstance(table, pa.Table)
+        assert sorted(table.column_names) == sorted(frame.columns), name
+        assert table.column_names[:2] == list(frame.columns[:2]), name
+        assert table.num_rows == len(frame)
+        assert table.column("log_time_ns").type == pa.uint64()
+        for column in frame.columns:
+            ours = table.column(column).to_pylist()
+            theirs = frame[column].tolist()
+            for a, b in zip(ours, theirs):
+                if isinstance(b, float) and math.isnan(b):
+                    assert a is None or math.isnan(a), (name, column)
+                elif isinstance(b, (list, np.ndarray)):
+                    assert list(a) == list(b), (name, column)
+                else:
+                    assert a == b, (name, column, a, b)

@@ -1,5 +1,6 @@
-//! Tracker exports, bags and `locate`: the importer's parsing and refusals row by row, an export into a bag
-//! as `sweetspot import` writes it, `sweetspot locate --json`'s document, and a bag's messages.
+//! Tracker exports, bags and `locate`: the importer's parsing and refusals row by row, an export
+//! located in memory as `sweetspot import` then `sweetspot locate --json` would locate it, a bag located,
+//! and a bag's messages.
 
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -15,9 +16,9 @@ use crate::engine::bag::reader::read_bag;
 use crate::engine::calibrate::CalibrateError;
 use crate::engine::import::table::Table;
 use crate::engine::import::{
-    hittrax, import_files, statcast, trackman, Format, ImportError, ImportOptions, Skip, SwingBuilder, TrackedRow,
+    hittrax, import_table, statcast, trackman, Format, ImportError, ImportOptions, Skip, SwingBuilder, TrackedRow,
 };
-use crate::engine::locate::{locate_bag as locate, LocateError, LocateOptions};
+use crate::engine::locate::{locate_bag as locate, locate_imported, LocateError, LocateOptions, LocateReport};
 use crate::engine::model::convert::{params_from_ball, params_from_bat, params_of_preset};
 use crate::engine::msgs::json::ToJson;
 use crate::engine::msgs::std_msgs::msg::Header;
@@ -26,6 +27,7 @@ use crate::engine::msgs::{decode_cdr, RosMessage};
 use crate::engine::physics::oblique::rpm_to_rad_per_s;
 use crate::engine::physics::{self, Ball};
 use crate::errors::{bag_error, require_exists, value_error};
+use crate::frame::{cells_of, csv_text, Cells};
 use crate::physics::Bat;
 
 /// The import's options as `sweetspot import --bat BAT --ball BALL [--batter FILE] --undercut D [--tee]`
@@ -54,6 +56,12 @@ fn import_options(
         None => batter_from_spec(&BatterSpec::default(), None).map_err(value_error)?,
     };
     Ok(ImportOptions { format, bat: bat.clone(), bat_params, ball_params, batter, undercut, map: None, tee })
+}
+
+/// A frame's columns (name, cells), copied out of Python to be written as the CSV export they stand for
+/// ([`crate::frame`]) with the GIL released.
+fn frame_cells(columns: &[(String, Bound<'_, PyAny>)]) -> PyResult<Vec<(String, Cells)>> {
+    columns.iter().map(|(name, column)| Ok((name.clone(), cells_of(column)?))).collect()
 }
 
 fn format_of(kind: Option<&str>) -> PyResult<Option<Format>> {
@@ -211,17 +219,17 @@ impl TrackerColumns {
     }
 }
 
-/// Every row of an export (the file at `path`, or CSV `text` named `name`) as the importer reads it: the
+/// Every row of an export (the file at `path`, or a frame's `columns` named `name`) as the importer reads it: the
 /// tracker's values in SI units, the swing it became (swing_id numbered as `import` numbers them) or why it
 /// was skipped, and the refusal's message for a row refused as bad input.
 #[pyfunction]
-#[pyo3(signature = (*, path=None, text=None, name="DataFrame", kind=None, bat, bat_spec, ball="mlb2024",
+#[pyo3(signature = (*, path=None, columns=None, name="DataFrame", kind=None, bat, bat_spec, ball="mlb2024",
     batter=None, undercut=0.0, tee=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn read_tracker_columns<'py>(
     py: Python<'py>,
     path: Option<PathBuf>,
-    text: Option<Vec<u8>>,
+    columns: Option<Vec<(String, Bound<'py, PyAny>)>>,
     name: &str,
     kind: Option<&str>,
     bat: &Bat,
@@ -234,17 +242,19 @@ pub fn read_tracker_columns<'py>(
     let forced = format_of(kind)?;
     let options = import_options(&bat.bat, bat_spec, ball, batter.as_deref(), undercut, tee, forced)?;
     let builder = SwingBuilder::new(&options).map_err(import_error)?;
+    let cells = columns.as_deref().map(frame_cells).transpose()?;
     let (format, columns) = py.allow_threads(move || -> PyResult<(Format, TrackerColumns)> {
-        let (mut table, name) = match (path, text) {
+        let (mut table, name) = match (path, cells) {
             (Some(path), None) => {
                 require_exists(&path, "export")?;
                 (Table::open(&path).map_err(import_error)?, path.display().to_string())
             }
-            (None, Some(text)) => {
+            (None, Some(cells)) => {
+                let text = csv_text(&cells)?;
                 let table = Table::from_reader(Path::new(name), Box::new(Cursor::new(text))).map_err(import_error)?;
                 (table, name.to_string())
             }
-            _ => return Err(PyValueError::new_err("give a path or a text")),
+            _ => return Err(PyValueError::new_err("give a path or columns")),
         };
         let (format, reader) = reader_of(&table, forced, &name)?;
         let mut columns = TrackerColumns::default();
@@ -277,28 +287,30 @@ pub fn read_tracker_columns<'py>(
     columns.into_dict(py, format)
 }
 
-/// `sweetspot import [KIND] CSV -o BAG --bat BAT --ball BALL [--batter FILE] --undercut D [--tee] --json`:
-/// the report as JSON text.
-#[pyfunction]
-#[pyo3(signature = (csv, bag, *, kind=None, bat, bat_spec, ball="mlb2024", batter=None, undercut=0.0,
-    tee=false))]
-#[allow(clippy::too_many_arguments)]
-pub fn import_bag(
-    py: Python<'_>,
-    csv: PathBuf,
-    bag: PathBuf,
-    kind: Option<&str>,
-    bat: &Bat,
-    bat_spec: &str,
-    ball: &str,
-    batter: Option<PathBuf>,
-    undercut: f64,
-    tee: bool,
-) -> PyResult<String> {
-    require_exists(&csv, "export")?;
-    let options = import_options(&bat.bat, bat_spec, ball, batter.as_deref(), undercut, tee, format_of(kind)?)?;
-    let report = py.allow_threads(|| import_files(std::slice::from_ref(&csv), &bag, &options)).map_err(import_error)?;
-    serde_json::to_string(&report).map_err(|e| PyValueError::new_err(e.to_string()))
+/// The trackers' accuracies as `sweetspot locate` takes them (m/s, degrees, rpm), checked.
+fn locate_options(
+    exit_speed_sigma: f64,
+    launch_angle_sigma: f64,
+    spin_sigma: f64,
+    fit_bat_speed: bool,
+) -> PyResult<LocateOptions> {
+    for (name, v) in
+        [("exit_speed_sigma", exit_speed_sigma), ("launch_angle_sigma", launch_angle_sigma), ("spin_sigma", spin_sigma)]
+    {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(PyValueError::new_err(format!("{name} = {v}: expected > 0")));
+        }
+    }
+    Ok(LocateOptions {
+        exit_speed_sigma,
+        launch_angle_sigma: launch_angle_sigma.to_radians(),
+        spin_sigma: rpm_to_rad_per_s(spin_sigma),
+        fit_bat_speed,
+    })
+}
+
+fn report_json(report: &LocateReport) -> PyResult<String> {
+    serde_json::to_string(report).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// `sweetspot locate BAG --json` with these accuracies (m/s, degrees, rpm): the document as JSON text.
@@ -313,20 +325,8 @@ pub fn locate_bag(
     spin_sigma: f64,
     fit_bat_speed: bool,
 ) -> PyResult<String> {
-    for (name, v) in
-        [("exit_speed_sigma", exit_speed_sigma), ("launch_angle_sigma", launch_angle_sigma), ("spin_sigma", spin_sigma)]
-    {
-        if !(v > 0.0 && v.is_finite()) {
-            return Err(PyValueError::new_err(format!("{name} = {v}: expected > 0")));
-        }
-    }
+    let options = locate_options(exit_speed_sigma, launch_angle_sigma, spin_sigma, fit_bat_speed)?;
     require_exists(&bag, "bag")?;
-    let options = LocateOptions {
-        exit_speed_sigma,
-        launch_angle_sigma: launch_angle_sigma.to_radians(),
-        spin_sigma: rpm_to_rad_per_s(spin_sigma),
-        fit_bat_speed,
-    };
     let report = py.allow_threads(|| locate(&bag, &options)).map_err(|e| {
         let message = format!("{}: {e}", bag.display());
         match e {
@@ -334,7 +334,43 @@ pub fn locate_bag(
             _ => PyValueError::new_err(message),
         }
     })?;
-    serde_json::to_string(&report).map_err(|e| PyValueError::new_err(e.to_string()))
+    report_json(&report)
+}
+
+/// `sweetspot import [KIND] CSV -o BAG …` then `sweetspot locate BAG --json` of the export a frame's
+/// `columns` stand for (named `name` in messages), in memory: the swings are built by the importer's row
+/// parsing and refusals and located without a bag. Returns the document as JSON text and each swing's line in the export.
+#[pyfunction]
+#[pyo3(signature = (columns, *, name="DataFrame", kind=None, bat, bat_spec, ball="mlb2024", batter=None,
+    undercut=0.0, tee=false, exit_speed_sigma=0.45, launch_angle_sigma=1.0, spin_sigma=100.0,
+    fit_bat_speed=false))]
+#[allow(clippy::too_many_arguments)]
+pub fn locate_export(
+    py: Python<'_>,
+    columns: Vec<(String, Bound<'_, PyAny>)>,
+    name: &str,
+    kind: Option<&str>,
+    bat: &Bat,
+    bat_spec: &str,
+    ball: &str,
+    batter: Option<PathBuf>,
+    undercut: f64,
+    tee: bool,
+    exit_speed_sigma: f64,
+    launch_angle_sigma: f64,
+    spin_sigma: f64,
+    fit_bat_speed: bool,
+) -> PyResult<(String, Vec<u64>)> {
+    let options = locate_options(exit_speed_sigma, launch_angle_sigma, spin_sigma, fit_bat_speed)?;
+    let import = import_options(&bat.bat, bat_spec, ball, batter.as_deref(), undercut, tee, format_of(kind)?)?;
+    let cells = frame_cells(&columns)?;
+    py.allow_threads(|| {
+        let text = csv_text(&cells)?;
+        let table = Table::from_reader(Path::new(name), Box::new(Cursor::new(text))).map_err(import_error)?;
+        let imported = import_table(table, Path::new(name), &import).map_err(import_error)?;
+        let report = locate_imported(&imported, &import, &options, &|_, _| {});
+        Ok((report_json(&report)?, imported.swings.iter().map(|s| s.line).collect()))
+    })
 }
 
 /// A message of one of sweetspot's types as JSON, None for another type or one that does not decode.
@@ -409,4 +445,44 @@ pub fn read_bag_document(py: Python<'_>, path: PathBuf) -> PyResult<String> {
     });
     let document = document.map_err(bag_error)?;
     serde_json::to_string(&document).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// The validation suite's data directory: `data`, else `./validation`, else the source tree's.
+fn validation_dir(data: Option<PathBuf>) -> PathBuf {
+    data.unwrap_or_else(|| {
+        let here = PathBuf::from("validation");
+        if here.join("measurements.toml").is_file() {
+            here
+        } else {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation")
+        }
+    })
+}
+
+/// `sweetspot validate [--data DIR] [--tangential-stiffness-ratio ETA2] --json`: the report as JSON text
+/// (whatever the verdicts: a FAIL row is a finding about the model, not an error).
+#[pyfunction]
+#[pyo3(signature = (data=None, *, tangential_stiffness_ratio=None, modes=18, dt=5e-6))]
+pub fn validate_document(
+    py: Python<'_>,
+    data: Option<PathBuf>,
+    tangential_stiffness_ratio: Option<f64>,
+    modes: usize,
+    dt: f64,
+) -> PyResult<String> {
+    use crate::cli_shared::check_options;
+    use crate::engine::physics::{CollisionOptions, TangentialContact};
+    use crate::engine::validate::{evaluate, read_inputs};
+    let dir = validation_dir(data);
+    require_exists(&dir, "validation data directory")?;
+    let report = py.allow_threads(|| -> anyhow::Result<_> {
+        use anyhow::Context;
+        let options = check_options(CollisionOptions { modes, time_step: dt })?;
+        let inputs = read_inputs(&dir).with_context(|| format!("validation data in '{}'", dir.display()))?;
+        let contact = TangentialContact { stiffness_ratio: tangential_stiffness_ratio, ..TangentialContact::default() };
+        contact.validate().context("tangential_stiffness_ratio")?;
+        let (report, _) = evaluate(&inputs, options, contact).context("running the validation cases")?;
+        Ok(report)
+    });
+    serde_json::to_string(&report.map_err(value_error)?).map_err(|e| PyValueError::new_err(e.to_string()))
 }

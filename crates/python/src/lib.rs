@@ -9,7 +9,7 @@
 //! workspace under the module names the `sweetspot` crate re-exports them with (no ros2-client, tokio or
 //! Foxglove server reaches the wheel).
 pub(crate) mod engine {
-    pub use sweetspot_analysis::{answer, bat_file, calibrate, import, locate, report};
+    pub use sweetspot_analysis::{answer, bat_file, calibrate, import, locate, report, validate};
     pub use sweetspot_bag as bag;
     pub use sweetspot_model as model;
     pub use sweetspot_msgs as msgs;
@@ -19,6 +19,7 @@ pub(crate) mod engine {
 mod cli_shared;
 mod data;
 mod errors;
+mod frame;
 mod physics;
 
 use pyo3::prelude::*;
@@ -31,11 +32,13 @@ fn _sweetspot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<physics::Ball>()?;
     m.add_function(wrap_pyfunction!(physics::simulate_document, m)?)?;
     m.add_function(wrap_pyfunction!(physics::simulate_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(physics::sweep_document, m)?)?;
     m.add_function(wrap_pyfunction!(physics::bbcor_document, m)?)?;
     m.add_function(wrap_pyfunction!(physics::compare_document, m)?)?;
     m.add_function(wrap_pyfunction!(data::read_tracker_columns, m)?)?;
-    m.add_function(wrap_pyfunction!(data::import_bag, m)?)?;
     m.add_function(wrap_pyfunction!(data::locate_bag, m)?)?;
+    m.add_function(wrap_pyfunction!(data::locate_export, m)?)?;
     m.add_function(wrap_pyfunction!(data::read_bag_document, m)?)?;
+    m.add_function(wrap_pyfunction!(data::validate_document, m)?)?;
     Ok(())
 }

@@ -609,3 +609,89 @@ pub fn compare_document(
     });
     to_json(&document.map_err(value_error)?)
 }
+
+/// `sweetspot sweep [--over undercut] --json` with these inputs: the document as JSON text. `over` is `"z"`
+/// (impact points `from_` … `to` m from the knob, head-on) or `"undercut"` (undercuts `from_` … `to` m at
+/// `impact_z`, the other oblique inputs held, in the command line's units).
+#[pyfunction]
+#[pyo3(signature = (bat, ball, ball_speed, bat_cm_speed, bat_angular_speed, *, over="z", impact_z=None,
+    from_=None, to=None, step=None, points=None, attack_angle=None, pitch_angle=None, pitch_spin=None,
+    tangential_cor=None, friction=None, tangential_stiffness_ratio=None, bat_tilt=None, swing_direction=None,
+    batter_side=None, modes=18, dt=5e-6))]
+#[allow(clippy::too_many_arguments)]
+pub fn sweep_document(
+    py: Python<'_>,
+    bat: &Bat,
+    ball: &Ball,
+    ball_speed: f64,
+    bat_cm_speed: f64,
+    bat_angular_speed: f64,
+    over: &str,
+    impact_z: Option<f64>,
+    from_: Option<f64>,
+    to: Option<f64>,
+    step: Option<f64>,
+    points: Option<usize>,
+    attack_angle: Option<f64>,
+    pitch_angle: Option<f64>,
+    pitch_spin: Option<f64>,
+    tangential_cor: Option<f64>,
+    friction: Option<f64>,
+    tangential_stiffness_ratio: Option<f64>,
+    bat_tilt: Option<f64>,
+    swing_direction: Option<f64>,
+    batter_side: Option<&str>,
+    modes: usize,
+    dt: f64,
+) -> PyResult<String> {
+    use crate::engine::answer::sweep::{sweep, SweepOver};
+    use crate::engine::report::sweep::SweepRange;
+    let over = match over {
+        "z" => SweepOver::ImpactPoint,
+        "undercut" => SweepOver::Undercut,
+        other => return Err(PyValueError::new_err(format!("over = {other:?}: expected \"z\" or \"undercut\""))),
+    };
+    let flags = ObliqueFlags {
+        undercut: None,
+        attack_angle,
+        pitch_angle,
+        pitch_spin,
+        tangential_cor,
+        friction,
+        tangential_stiffness_ratio,
+        bat_tilt,
+        swing_direction,
+        batter_side: side_of(batter_side)?,
+    };
+    let (bat, ball) = (&bat.bat, &ball.ball);
+    let document = py.allow_threads(|| -> anyhow::Result<_> {
+        let swing = Impact {
+            ball_speed: finite("ball_speed", ball_speed)?,
+            bat_cm_speed: finite("bat_cm_speed", bat_cm_speed)?,
+            bat_angular_speed: finite("bat_angular_speed", bat_angular_speed)?,
+            impact_z: f64::NAN,
+        };
+        for (name, v) in [
+            ("impact_z", impact_z),
+            ("from_", from_),
+            ("to", to),
+            ("step", step),
+            ("attack_angle", attack_angle),
+            ("pitch_angle", pitch_angle),
+            ("pitch_spin", pitch_spin),
+            ("tangential_cor", tangential_cor),
+            ("friction", friction),
+            ("tangential_stiffness_ratio", tangential_stiffness_ratio),
+            ("bat_tilt", bat_tilt),
+            ("swing_direction", swing_direction),
+        ] {
+            if let Some(v) = v {
+                finite(name, v)?;
+            }
+        }
+        let options = check_options(CollisionOptions { modes, time_step: dt })?;
+        let range = SweepRange { from: from_, to, step, points };
+        sweep(bat, ball, &swing, over, &flags, impact_z, range, &options)
+    });
+    to_json(&document.map_err(value_error)?)
+}

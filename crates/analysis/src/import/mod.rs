@@ -710,6 +710,160 @@ enum FormatColumns {
     Mapped(mapped::Columns),
 }
 
+impl FormatColumns {
+    fn of(table: &Table, format: Format, map: Option<&mapped::ColumnMap>) -> Result<FormatColumns, ImportError> {
+        Ok(match (format, map) {
+            (Format::TrackMan, _) => FormatColumns::TrackMan(trackman::Columns::of(table)),
+            (Format::Statcast, _) => FormatColumns::Statcast(statcast::Columns::of(table)),
+            (Format::HitTrax, _) => FormatColumns::HitTrax(hittrax::Columns::of(table)),
+            (Format::Mapped, Some(map)) => FormatColumns::Mapped(mapped::Columns::of(table, map)),
+            (Format::Mapped, None) => {
+                return Err(ImportError::Options("the mapped format needs a column map (--map)".into()))
+            }
+        })
+    }
+
+    /// The table's current row as the tracker's values, or why it is not one.
+    fn read(&self, row: &table::Row<'_>) -> Result<TrackedRow, Skip> {
+        if let Some(why) = row.unreadable() {
+            return Err(Skip::Unreadable { why: why.to_string() });
+        }
+        if let Some(why) = row.malformed() {
+            return Err(Skip::Malformed { why: why.to_string() });
+        }
+        match self {
+            FormatColumns::TrackMan(cols) => trackman::read(row, cols),
+            FormatColumns::Statcast(cols) => statcast::read(row, cols),
+            FormatColumns::HitTrax(cols) => hittrax::read(row, cols),
+            FormatColumns::Mapped(cols) => mapped::read(row, cols),
+        }
+    }
+}
+
+/// The format `table` (read from `path`) is read in: the column map's, the forced one, or the one its header
+/// row names, each checked against the header before anything is read.
+fn table_format(table: &Table, path: &Path, options: &ImportOptions) -> Result<Format, ImportError> {
+    if let Some(map) = &options.map {
+        if options.format.is_some() {
+            return Err(ImportError::Options("a column map and a forced format exclude each other".into()));
+        }
+        let missing = map.missing(table.headers());
+        if !missing.is_empty() {
+            return Err(ImportError::UnknownHeader {
+                path: path.to_path_buf(),
+                message: format!("the header lacks the mapped columns {}", missing.join(", ")),
+            });
+        }
+        return Ok(Format::Mapped);
+    }
+    match options.format {
+        Some(format) => {
+            let missing = format.missing(table.headers());
+            if !missing.is_empty() {
+                return Err(ImportError::UnknownHeader {
+                    path: path.to_path_buf(),
+                    message: format!("not a {} export: its header lacks {}", format.name(), missing.join(", ")),
+                });
+            }
+            Ok(format)
+        }
+        None => Format::detect(table.headers()).ok_or_else(|| ImportError::UnknownHeader {
+            path: path.to_path_buf(),
+            message: format!(
+                "the header row matches no known export: {} (--format to force one, which names what is missing)",
+                Format::ALL
+                    .iter()
+                    .map(|f| format!("{} needs {}", f.name(), f.required().join(", ")))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            ),
+        }),
+    }
+}
+
+/// The model settings an imported bag names in its `custom_data` (the node's defaults), as a reader of the
+/// bag gets them back.
+pub fn bag_settings() -> ModelSettings {
+    ModelSettings::from_custom_data(&bag_custom_data())
+}
+
+fn bag_custom_data() -> BTreeMap<String, String> {
+    ModelSettings::default().custom_data().into_iter().map(|(k, v)| (k.to_string(), v)).collect()
+}
+
+/// The stamps an import gives its swings: the row's own time, else a millisecond after the previous swing's
+/// (the first at the import's start).
+struct Stamps {
+    start_ns: u64,
+    last: Option<u64>,
+}
+
+impl Stamps {
+    fn new() -> Stamps {
+        Stamps { start_ns: sweetspot_model::time::now_ns(), last: None }
+    }
+
+    fn of(&self, tracked: &TrackedRow) -> u64 {
+        tracked.stamp_ns.unwrap_or_else(|| self.last.map_or(self.start_ns, |s| s + 1_000_000))
+    }
+}
+
+/// One row that became a swing, in memory.
+#[derive(Debug, Clone)]
+pub struct ImportedSwing {
+    /// The row's line in the export (the side table's `line`).
+    pub line: u64,
+    /// The swing, as `import` writes it to the bag.
+    pub swing: Swing,
+    /// The fields assumed for it.
+    pub assumed: Assumed,
+}
+
+/// An export's swings built in memory, as [`import_files`] would write them to a bag.
+#[derive(Debug, Clone)]
+pub struct ImportedSwings {
+    /// The format the export was read in.
+    pub format: Format,
+    /// Every swing, in row order (swing ids 1, 2, …).
+    pub swings: Vec<ImportedSwing>,
+    /// Rows skipped, by reason.
+    pub skipped: BTreeMap<String, u64>,
+}
+
+/// The swings of one export (`table`, named `path` in messages) built in memory with `import`'s parsing,
+/// refusals, numbering and stamps; no bag is written. [`ImportError::NoSwings`] when no row became one.
+pub fn import_table(mut table: Table, path: &Path, options: &ImportOptions) -> Result<ImportedSwings, ImportError> {
+    let builder = SwingBuilder::new(options)?;
+    let format = table_format(&table, path, options)?;
+    let columns = FormatColumns::of(&table, format, options.map.as_ref())?;
+    let mut out = ImportedSwings { format, swings: Vec::new(), skipped: BTreeMap::new() };
+    let mut stamps = Stamps::new();
+    while table.next_row()? {
+        let row = table.row();
+        let built = columns.read(&row).and_then(|t| {
+            let stamp_ns = stamps.of(&t);
+            let id = out.swings.len() as u64 + 1;
+            builder.swing(&t, id, Time::from_unix_ns(stamp_ns)).map(|built| (stamp_ns, t.line, built))
+        });
+        match built {
+            Ok((stamp_ns, line, (swing, assumed))) => {
+                stamps.last = Some(stamp_ns);
+                out.swings.push(ImportedSwing { line, swing, assumed });
+            }
+            Err(skip) => *out.skipped.entry(skip.reason()).or_default() += 1,
+        }
+    }
+    if out.swings.is_empty() {
+        return Err(no_swings(&out.skipped));
+    }
+    Ok(out)
+}
+
+fn no_swings(skipped: &BTreeMap<String, u64>) -> ImportError {
+    let reasons: Vec<String> = skipped.iter().map(|(r, n)| format!("{n} × {r}")).collect();
+    ImportError::NoSwings(if reasons.is_empty() { "no data rows".into() } else { reasons.join(", ") })
+}
+
 /// Imports `files` into a new bag directory `dir` (which must not exist). Each file's format is detected
 /// from its header unless forced; rows stream through one at a time. An import that fails (a bad file, a
 /// full disk) removes the directory it created, so the same `dir` can be given again.
@@ -749,43 +903,7 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
     let mut tables = Vec::new();
     for path in files {
         let table = Table::open(path)?;
-        if let Some(map) = &options.map {
-            if options.format.is_some() {
-                return Err(ImportError::Options("a column map and a forced format exclude each other".into()));
-            }
-            let missing = map.missing(table.headers());
-            if !missing.is_empty() {
-                return Err(ImportError::UnknownHeader {
-                    path: path.clone(),
-                    message: format!("the header lacks the mapped columns {}", missing.join(", ")),
-                });
-            }
-            tables.push((path.clone(), table, Format::Mapped));
-            continue;
-        }
-        let format = match options.format {
-            Some(format) => {
-                let missing = format.missing(table.headers());
-                if !missing.is_empty() {
-                    return Err(ImportError::UnknownHeader {
-                        path: path.clone(),
-                        message: format!("not a {} export: its header lacks {}", format.name(), missing.join(", ")),
-                    });
-                }
-                format
-            }
-            None => Format::detect(table.headers()).ok_or_else(|| ImportError::UnknownHeader {
-                path: path.clone(),
-                message: format!(
-                    "the header row matches no known export: {} (--format to force one, which names what is missing)",
-                    Format::ALL
-                        .iter()
-                        .map(|f| format!("{} needs {}", f.name(), f.required().join(", ")))
-                        .collect::<Vec<_>>()
-                        .join("; ")
-                ),
-            })?,
-        };
+        let format = table_format(&table, path, options)?;
         tables.push((path.clone(), table, format));
     }
     let mut output: Option<Output> = None;
@@ -799,34 +917,14 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
         impact_z: builder.impact_z(),
         batters: BTreeMap::new(),
     };
-    let mut last_stamp: Option<u64> = None;
-    let start_ns = sweetspot_model::time::now_ns();
+    let mut stamps = Stamps::new();
     for (path, mut table, format) in tables {
         let mut file_report = FileReport { path: path.clone(), format, rows: 0, swings: 0 };
-        let columns = match (format, &options.map) {
-            (Format::TrackMan, _) => FormatColumns::TrackMan(trackman::Columns::of(&table)),
-            (Format::Statcast, _) => FormatColumns::Statcast(statcast::Columns::of(&table)),
-            (Format::HitTrax, _) => FormatColumns::HitTrax(hittrax::Columns::of(&table)),
-            (Format::Mapped, Some(map)) => FormatColumns::Mapped(mapped::Columns::of(&table, map)),
-            (Format::Mapped, None) => {
-                return Err(ImportError::Options("the mapped format needs a column map (--map)".into()))
-            }
-        };
+        let columns = FormatColumns::of(&table, format, options.map.as_ref())?;
         while table.next_row()? {
             file_report.rows += 1;
             let row = table.row();
-            let tracked = match &columns {
-                _ if row.unreadable().is_some() => {
-                    Err(Skip::Unreadable { why: row.unreadable().unwrap_or_default().to_string() })
-                }
-                _ if row.malformed().is_some() => {
-                    Err(Skip::Malformed { why: row.malformed().unwrap_or_default().to_string() })
-                }
-                FormatColumns::TrackMan(cols) => trackman::read(&row, cols),
-                FormatColumns::Statcast(cols) => statcast::read(&row, cols),
-                FormatColumns::HitTrax(cols) => hittrax::read(&row, cols),
-                FormatColumns::Mapped(cols) => mapped::read(&row, cols),
-            };
+            let tracked = columns.read(&row);
             if let Ok(t) = &tracked {
                 if t.bat_speed.is_finite() && t.bat_speed > 0.0 && t.bat_speed <= MAX_BAT_SPEED {
                     let stats = report
@@ -837,7 +935,7 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
                 }
             }
             let stamp_ns = match &tracked {
-                Ok(t) => t.stamp_ns.unwrap_or_else(|| last_stamp.map_or(start_ns, |s| s + 1_000_000)),
+                Ok(t) => stamps.of(t),
                 Err(_) => 0,
             };
             let built = tracked.and_then(|t| {
@@ -853,7 +951,7 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
                     continue;
                 }
             };
-            last_stamp = Some(stamp_ns);
+            stamps.last = Some(stamp_ns);
             let out = match output.as_mut() {
                 Some(out) => out,
                 None => output.insert(Output::create(dir, options, stamp_ns)?),
@@ -889,12 +987,10 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
         report.files.push(file_report);
     }
     let Some(mut out) = output else {
-        let reasons: Vec<String> = report.skipped.iter().map(|(r, n)| format!("{n} × {r}")).collect();
-        return Err(ImportError::NoSwings(if reasons.is_empty() { "no data rows".into() } else { reasons.join(", ") }));
+        return Err(no_swings(&report.skipped));
     };
     out.rows.flush().map_err(|error| ImportError::Io { path: dir.join(ROWS_TABLE), error })?;
-    let mut custom: BTreeMap<String, String> =
-        ModelSettings::default().custom_data().into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+    let mut custom = bag_custom_data();
     let formats: std::collections::BTreeSet<&str> = report.files.iter().map(|f| f.format.name()).collect();
     custom.insert("sweetspot/import/formats".into(), formats.into_iter().collect::<Vec<_>>().join(","));
     custom.insert(

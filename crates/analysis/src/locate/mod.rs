@@ -72,6 +72,10 @@
 //!
 //! **Progress.** [`locate_bag_with_progress`] reports each swing done, for a progress bar or line.
 //!
+//! **Without a bag.** [`locate_imported`] locates an export's swings as [`crate::import::import_table`] builds
+//! them in memory, with the bat, ball and settings `import` would write: the bag path and the in-memory one
+//! meet in [`locate_recorded`], so they answer alike.
+//!
 //! **Squared up.** A located swing is squared up when its favoured solution (every solution, when none is
 //! favoured) lies within ±2 cm ([`SQUARED_UP`]) of the sweet spot z* at its undercut.
 
@@ -83,8 +87,8 @@ use rayon::prelude::*;
 
 pub mod figure;
 
-use crate::calibrate::{problem_bat, read_inputs, CalibrateError};
-use crate::import::ROWS_TABLE;
+use crate::calibrate::{problem_bat, read_inputs, CalibrateError, RecordedInputs};
+use crate::import::{ImportOptions, ImportedSwings, ROWS_TABLE};
 use sweetspot_model::convert::{ball_from_params, swing_input, wrapped_difference, BallModel};
 use sweetspot_model::engine::SwingInput;
 use sweetspot_model::files::echo;
@@ -1429,9 +1433,42 @@ pub fn locate_bag_with_progress(
     if inputs.swings.is_empty() {
         return Err(LocateError::NoData(format!("{}: the bag holds no Swing messages", path.display())));
     }
-    let settings = &inputs.settings;
     // Read only when fitting, so a plain `locate` is untouched by the side table.
     let assumed = if options.fit_bat_speed { assumed_bat_speeds(path)? } else { None };
+    Ok(locate_recorded(&inputs, assumed.as_ref(), options, progress))
+}
+
+/// Locates an export's swings built in memory ([`crate::import::import_table`] with `import`'s options) as
+/// [`locate_bag`] locates the bag `sweetspot import` writes of them: the same bat and ball params, the
+/// settings the bag names, the swings in row order, the bat speeds `import` assumed.
+pub fn locate_imported(
+    imported: &ImportedSwings,
+    import: &ImportOptions,
+    options: &LocateOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> LocateReport {
+    // Log times only order the messages: the params first, then the swings as the rows came.
+    let inputs = RecordedInputs {
+        bats: vec![(0, import.bat_params.clone())],
+        balls: vec![(1, import.ball_params.clone())],
+        swings: imported.swings.iter().enumerate().map(|(i, s)| (2 + i as u64, s.swing.clone())).collect(),
+        settings: crate::import::bag_settings(),
+    };
+    let assumed: BTreeSet<u64> =
+        imported.swings.iter().filter(|s| s.assumed.bat_speed).map(|s| s.swing.swing_id).collect();
+    locate_recorded(&inputs, Some(&assumed), options, progress)
+}
+
+/// Locates recorded swings against the bats and balls recorded with them (swings in parallel);
+/// `assumed` names the swings whose bat speed the import assumed (None: unknown, as for a bag without the
+/// side table), which [`LocateOptions::fit_bat_speed`] fits.
+pub fn locate_recorded(
+    inputs: &RecordedInputs,
+    assumed: Option<&BTreeSet<u64>>,
+    options: &LocateOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> LocateReport {
+    let settings = &inputs.settings;
     // Bats and balls by id (the last version of each), as calibrate reads them.
     let mut bats: BTreeMap<String, Result<PreparedBat, String>> = BTreeMap::new();
     let prepare = |bat: Bat, modes: usize| -> Result<PreparedBat, String> {
@@ -1497,7 +1534,7 @@ pub fn locate_bag_with_progress(
                     measured_direction = model
                         .reports_direction()
                         .then_some([model.input.measured_spray_angle, model.input.measured_spin_axis]);
-                    let fit = options.fit_bat_speed.then(|| match &assumed {
+                    let fit = options.fit_bat_speed.then(|| match assumed {
                         None => BatSpeedFit::NotFitted {
                             reason: "the bag has no import side table to say the bat speed was assumed".into(),
                         },
@@ -1540,7 +1577,7 @@ pub fn locate_bag_with_progress(
         .values()
         .filter_map(|b| b.as_ref().ok())
         .fold((0, 0), |(s, f), b| (s + b.counts[0].load(Ordering::Relaxed), f + b.counts[1].load(Ordering::Relaxed)));
-    Ok(LocateReport {
+    LocateReport {
         swings,
         located,
         too_fast,
@@ -1549,7 +1586,7 @@ pub fn locate_bag_with_progress(
         squared_up_share,
         collisions,
         outlines,
-    })
+    }
 }
 
 #[cfg(test)]
@@ -1655,6 +1692,48 @@ mod tests {
         assert!(judge(&wide, &measured, 2).expect("wider than the barrel").contains("uncertain by σ"));
         let singular = Solution { impact_z_sigma: f64::INFINITY, ..solution };
         assert!(judge(&singular, &measured, 1).is_some());
+    }
+
+    /// An export located in memory is the bag `import` writes of it located: every number of the report the
+    /// same, bit for bit (its JSON equal), with and without the bat-speed fit.
+    #[test]
+    fn an_export_located_in_memory_is_its_imported_bag_located() {
+        use crate::import::{import_files, import_table, table::Table, ImportOptions};
+        use sweetspot_model::convert::{params_from_ball, params_of_preset};
+        use sweetspot_msgs::std_msgs::msg::Header;
+        let bat = Bat::preset("r161").expect("preset");
+        let import = ImportOptions {
+            format: None,
+            batter: sweetspot_physics::batter::Batter::typical(bat.mass_properties()).expect("batter"),
+            bat,
+            bat_params: params_of_preset("r161", "r161", Header::default()),
+            ball_params: params_from_ball("mlb2024", &Ball::preset("mlb2024").expect("ball"), None, Header::default()),
+            undercut: 0.0,
+            map: None,
+            tee: false,
+        };
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
+        let scratch = tempfile::tempdir().expect("scratch");
+        for (export, fit_bat_speed) in [("statcast_search.csv", false), ("trackman_game.csv", true)] {
+            let path = data.join(export);
+            let options = LocateOptions { fit_bat_speed, ..LocateOptions::default() };
+            let bag = scratch.path().join(export);
+            import_files(std::slice::from_ref(&path), &bag, &import).expect("import");
+            let from_bag = locate_bag(&bag, &options).expect("locate the bag");
+            let imported = import_table(Table::open(&path).expect("open"), &path, &import).expect("in memory");
+            let in_memory = locate_imported(&imported, &import, &options, &|_, _| {});
+            let json = |r: &LocateReport| serde_json::to_string(r).expect("json");
+            assert!(!from_bag.swings.is_empty(), "{export}");
+            assert_eq!(json(&in_memory), json(&from_bag), "{export}");
+            assert_eq!(in_memory.collisions, from_bag.collisions, "{export}");
+            let lines: Vec<u64> = imported.swings.iter().map(|s| s.line).collect();
+            let side_table = std::fs::read_to_string(bag.join(ROWS_TABLE)).expect("side table");
+            let side_lines: Vec<u64> = csv::Reader::from_reader(side_table.as_bytes())
+                .records()
+                .map(|r| r.expect("row")[2].parse().expect("line"))
+                .collect();
+            assert_eq!(lines, side_lines, "{export}: each swing's line in the export");
+        }
     }
 
     // Index loops read as the matrix algebra they check.
