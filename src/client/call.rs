@@ -125,7 +125,7 @@ async fn call_service(
         _ => "a node started with -p service_mapping:=cyclone is called with --mapping cyclone",
     };
     if outcome.is_ok() {
-        warn_of_namesakes(&context, fq_name);
+        warn_of_namesakes(&context, fq_name, started).await;
     }
     match outcome {
         Ok(result) => result,

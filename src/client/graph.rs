@@ -94,12 +94,20 @@ pub fn servers_of(context: &ros2_client::Context, fq_service: &str) -> usize {
     servers.len()
 }
 
+/// How long after its participant started a client looks, at most, for a second server of a service before it
+/// concludes there is one: the first server's answer often arrives before discovery has shown the others.
+const NAMESAKE_SETTLE: std::time::Duration = std::time::Duration::from_secs(1);
+
 /// Warns on stderr when more than one node serves `fq_service` (nodes sharing a name): the answer printed is
-/// whichever came first.
-pub fn warn_of_namesakes(context: &ros2_client::Context, fq_service: &str) {
+/// whichever came first. `discovering_since` is when the client's participant started.
+pub async fn warn_of_namesakes(context: &ros2_client::Context, fq_service: &str, discovering_since: std::time::Instant) {
     // One warning for a command, however many calls it makes (`param dump` makes two).
     static WARNED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-    let servers = servers_of(context, fq_service);
+    let mut servers = servers_of(context, fq_service);
+    while servers < 2 && discovering_since.elapsed() < NAMESAKE_SETTLE {
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+        servers = servers_of(context, fq_service);
+    }
     if servers > 1 && !WARNED.swap(true, std::sync::atomic::Ordering::Relaxed) {
         let node = fq_service.rsplit_once('/').map_or("/", |(node, _)| if node.is_empty() { "/" } else { node });
         eprintln!("warning: {}", namesake_warning(node, servers, &format!("serve {fq_service}")));

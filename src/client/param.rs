@@ -169,6 +169,7 @@ impl Session<'_> {
         let fq_name = format!("{}/{service}", self.node);
         let type_name: String = service.split('_').map(capitalized).collect();
         let context = ros::context(self.config)?;
+        let discovering_since = std::time::Instant::now();
         let node_name = ros2_client::NodeName::new("/", &format!("sweetspot_param_{}", std::process::id()))
             .map_err(|e| anyhow!("node name: {e:?}"))?;
         let mut node = context
@@ -188,7 +189,7 @@ impl Session<'_> {
         .await;
         spinning.abort();
         if outcome.is_ok() {
-            warn_of_namesakes(&context, &fq_name);
+            warn_of_namesakes(&context, &fq_name, discovering_since).await;
         }
         match outcome {
             Ok(result) => result,
