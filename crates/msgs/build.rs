@@ -1291,6 +1291,9 @@ fn gen_field_table(out: &mut String, spec: &MsgSpec) {
                 (Base::Prim("float64"), Array::None) => format!("Float({field})"),
                 (Base::Prim("float32"), Array::None) => format!("Float(f64::from({field}))"),
                 (Base::Prim("bool"), Array::None) => format!("Bool({field})"),
+                // Already the table's width: a conversion would be clippy's useless_conversion.
+                (Base::Prim("int64"), Array::None) => format!("Int({field})"),
+                (Base::Prim("uint64"), Array::None) => format!("Uint({field})"),
                 (Base::Prim(p), Array::None) if p.starts_with("int") => format!("Int(i64::from({field}))"),
                 (Base::Prim(_), Array::None) => format!("Uint(u64::from({field}))"),
                 (Base::String { .. }, Array::None) => format!("Text(&{field})"),
