@@ -392,115 +392,23 @@ fn build_spec(
                 errors.push(err(format!("roslibrust_codegen does not read `{member}` as a constant")));
                 break;
             };
-            if !is_valid_constant_name(member) {
-                errors.push(err(format!("constant name `{member}` must be UPPER_CASE")));
-                continue;
+            match constant_of(&m, c).and_then(|constant| unique_name(&mut names, member).map(|()| constant)) {
+                Ok((ty, value)) => out_constants.push(Constant { name: member.to_string(), ty, value, doc: m.doc }),
+                Err(message) => errors.push(err(message)),
             }
-            // roslibrust_codegen keeps a constant's base type only (no array, no string bound).
-            let base = match c.constant_type.as_str() {
-                "string" => Base::String { bound: None },
-                t => match PRIMITIVES.iter().find(|p| **p == t) {
-                    Some(p) => Base::Prim(p),
-                    None => Base::Nested { pkg: String::new(), name: t.to_string() },
-                },
-            };
-            if m.type_tok != c.constant_type || matches!(base, Base::Nested { .. }) {
-                errors.push(err(format!("constant `{member}` must have a primitive or unbounded string type")));
-                continue;
-            }
-            let ty = FieldType { base, array: Array::None };
-            // roslibrust_codegen keeps a string constant's whole line (ROS 1's rule); a `#` after the closing
-            // quote starts a comment, as `scan` read it.
-            let value = match ty.base {
-                Base::String { .. } => split_comment(&c.constant_value.inner).0.trim(),
-                _ => c.constant_value.inner.trim(),
-            };
-            if value.is_empty() {
-                errors.push(err(format!("constant `{member}` has no value")));
-                continue;
-            }
-            if let Err(m) = rust_literal(&ty, value) {
-                errors.push(err(format!("constant `{member}`: {m}")));
-                continue;
-            }
-            if !names.insert(member.to_string()) {
-                errors.push(err(format!("duplicate name `{member}`")));
-                continue;
-            }
-            out_constants.push(Constant { name: member.to_string(), ty, value: value.to_string(), doc: m.doc });
             continue;
         }
         let Some(f) = fields_left.next().filter(|f| f.field_name == member) else {
             errors.push(err(format!("roslibrust_codegen does not read `{member}` as a field")));
             break;
         };
-        let ty = match field_type(&f.field_type, &m.type_tok) {
-            Ok(t) => t,
-            Err(m) => {
-                errors.push(err(m));
-                continue;
+        let after_appended = out_fields.last().is_some_and(|f: &Field| f.absent.is_some());
+        match checked_field(&m, f, &mut names, after_appended) {
+            Ok((ty, default, absent)) => {
+                out_fields.push(Field { name: member.to_string(), ty, default, absent, doc: m.doc, line: m.line })
             }
-        };
-        if !is_valid_field_name(member) {
-            errors.push(err(format!(
-                "field name `{member}` must be lower_snake_case (letters, digits, single underscores)"
-            )));
-            continue;
+            Err(message) => errors.push(err(message)),
         }
-        if matches!(member, "self" | "super" | "crate" | "Self") {
-            errors.push(err(format!("field name `{member}` cannot be used in Rust")));
-            continue;
-        }
-        let default = f.default.as_ref().map(|d| d.inner.clone());
-        if let Some(d) = &default {
-            if matches!(ty.base, Base::Nested { .. }) {
-                errors.push(err(format!("field `{member}`: nested types cannot have default values")));
-                continue;
-            }
-            if let Err(m) = rust_literal(&ty, d) {
-                errors.push(err(format!("default of `{member}`: {m}")));
-                continue;
-            }
-        }
-        if !names.insert(member.to_string()) {
-            errors.push(err(format!("duplicate name `{member}`")));
-            continue;
-        }
-        let absent = match absent_value(&m.doc) {
-            None => None,
-            Some(v) => {
-                let numeric = matches!(ty.base, Base::Prim(p) if p != "bool") && ty.array == Array::None;
-                if !numeric {
-                    errors.push(err(format!(
-                        "field `{member}`: only numeric scalar fields can be appended with an `absent:` value"
-                    )));
-                    continue;
-                }
-                if default.is_some() {
-                    errors.push(err(format!("field `{member}` has both a default and an `absent:` value")));
-                    continue;
-                }
-                let literal = if v.eq_ignore_ascii_case("nan") && matches!(ty.base, Base::Prim("float32" | "float64")) {
-                    format!("{}::NAN", rust_type(&ty))
-                } else {
-                    match rust_literal(&ty, &v) {
-                        Ok(l) => l,
-                        Err(m) => {
-                            errors.push(err(format!("`absent:` value of `{member}`: {m}")));
-                            continue;
-                        }
-                    }
-                };
-                Some(literal)
-            }
-        };
-        if absent.is_none() && out_fields.last().is_some_and(|f: &Field| f.absent.is_some()) {
-            errors.push(err(format!(
-                "field `{member}` follows appended fields: it needs an `absent:` value too (appended fields come last)"
-            )));
-            continue;
-        }
-        out_fields.push(Field { name: member.to_string(), ty, default, absent, doc: m.doc, line: m.line });
     }
     if errors.is_empty() && (fields_left.next().is_some() || constants_left.next().is_some()) {
         errors.push(format!("{file}: roslibrust_codegen reads members that sweetspot's scan does not see"));
@@ -520,6 +428,108 @@ fn build_spec(
     })
 }
 
+/// Records `member` in `names`; an error when a member of that name came before.
+fn unique_name(names: &mut BTreeSet<String>, member: &str) -> Result<(), String> {
+    if names.insert(member.to_string()) {
+        Ok(())
+    } else {
+        Err(format!("duplicate name `{member}`"))
+    }
+}
+
+/// A scanned field checked against the crate's reading `f`, its name against `names` and, when it follows an
+/// appended field (`after_appended`), that it is appended too: its type, default and absent value.
+fn checked_field(
+    m: &Member,
+    f: &FieldInfo,
+    names: &mut BTreeSet<String>,
+    after_appended: bool,
+) -> Result<(FieldType, Option<String>, Option<String>), String> {
+    let member = m.name.as_str();
+    let (ty, default) = field_of(m, f)?;
+    unique_name(names, member)?;
+    let absent = absent_of(m, &ty, default.as_deref())?;
+    if absent.is_none() && after_appended {
+        return Err(format!(
+            "field `{member}` follows appended fields: it needs an `absent:` value too (appended fields come last)"
+        ));
+    }
+    Ok((ty, default, absent))
+}
+
+/// A scanned constant checked against the crate's reading `c`: its type and value.
+fn constant_of(m: &Member, c: &ConstantInfo) -> Result<(FieldType, String), String> {
+    let member = m.name.as_str();
+    if !is_valid_constant_name(member) {
+        return Err(format!("constant name `{member}` must be UPPER_CASE"));
+    }
+    // roslibrust_codegen keeps a constant's base type only (no array, no string bound).
+    let base = match c.constant_type.as_str() {
+        "string" => Base::String { bound: None },
+        t => match PRIMITIVES.iter().find(|p| **p == t) {
+            Some(p) => Base::Prim(p),
+            None => Base::Nested { pkg: String::new(), name: t.to_string() },
+        },
+    };
+    if m.type_tok != c.constant_type || matches!(base, Base::Nested { .. }) {
+        return Err(format!("constant `{member}` must have a primitive or unbounded string type"));
+    }
+    let ty = FieldType { base, array: Array::None };
+    // roslibrust_codegen keeps a string constant's whole line (ROS 1's rule); a `#` after the closing
+    // quote starts a comment, as `scan` read it.
+    let value = match ty.base {
+        Base::String { .. } => split_comment(&c.constant_value.inner).0.trim(),
+        _ => c.constant_value.inner.trim(),
+    };
+    if value.is_empty() {
+        return Err(format!("constant `{member}` has no value"));
+    }
+    if let Err(m) = rust_literal(&ty, value) {
+        return Err(format!("constant `{member}`: {m}"));
+    }
+    Ok((ty, value.to_string()))
+}
+
+/// A scanned field checked against the crate's reading `f`: its type and default.
+fn field_of(m: &Member, f: &FieldInfo) -> Result<(FieldType, Option<String>), String> {
+    let member = m.name.as_str();
+    let ty = field_type(&f.field_type, &m.type_tok)?;
+    if !is_valid_field_name(member) {
+        return Err(format!("field name `{member}` must be lower_snake_case (letters, digits, single underscores)"));
+    }
+    if matches!(member, "self" | "super" | "crate" | "Self") {
+        return Err(format!("field name `{member}` cannot be used in Rust"));
+    }
+    let default = f.default.as_ref().map(|d| d.inner.clone());
+    if let Some(d) = &default {
+        if matches!(ty.base, Base::Nested { .. }) {
+            return Err(format!("field `{member}`: nested types cannot have default values"));
+        }
+        if let Err(m) = rust_literal(&ty, d) {
+            return Err(format!("default of `{member}`: {m}"));
+        }
+    }
+    Ok((ty, default))
+}
+
+/// The Rust literal of a field's `absent:` value, if its comment block has one; only a numeric scalar without
+/// a default may have one.
+fn absent_of(m: &Member, ty: &FieldType, default: Option<&str>) -> Result<Option<String>, String> {
+    let member = m.name.as_str();
+    let Some(v) = absent_value(&m.doc) else { return Ok(None) };
+    let numeric = matches!(ty.base, Base::Prim(p) if p != "bool") && ty.array == Array::None;
+    if !numeric {
+        return Err(format!("field `{member}`: only numeric scalar fields can be appended with an `absent:` value"));
+    }
+    if default.is_some() {
+        return Err(format!("field `{member}` has both a default and an `absent:` value"));
+    }
+    if v.eq_ignore_ascii_case("nan") && matches!(ty.base, Base::Prim("float32" | "float64")) {
+        return Ok(Some(format!("{}::NAN", rust_type(ty))));
+    }
+    rust_literal(ty, &v).map(Some).map_err(|m| format!("`absent:` value of `{member}`: {m}"))
+}
+
 /// Everything read from a tree of packages: the message specs (`.srv` halves and events included, keyed
 /// `pkg/Name`), the services by package as `(name, .srv text)`, and the RIHS01 hash of every spec and service.
 struct Interfaces {
@@ -534,39 +544,73 @@ fn read_interfaces(root: &Path, shown: &Path) -> Result<Interfaces, Vec<String>>
     let shown = shown.canonicalize().unwrap_or_else(|_| shown.to_path_buf());
     let show = |p: &Path| p.strip_prefix(&shown).unwrap_or(p).display().to_string();
     let pkg_dirs = package_dirs(&root)?;
-
     // Scan first: a line roslibrust_codegen cannot parse is reported here with its file and line.
+    let mut scanned = scan_packages(&pkg_dirs, &show)?;
+
+    let (messages, services, actions) = roslibrust_codegen::find_and_parse_ros_messages(&pkg_dirs)
+        .map_err(|e| vec![format!("roslibrust_codegen: {e}")])?;
+    if let Some(action) = actions.first() {
+        return Err(vec![format!("{}: sweetspot generates no .action types", show(&action.path))]);
+    }
+    let mut specs = SpecSet::default();
+    let mut by_pkg: BTreeMap<String, Vec<(String, String)>> = BTreeMap::new();
+    let unscanned = |path: &Path| format!("{}: not in a package's msg/ or srv/ folder", show(path));
+    for m in &messages {
+        let Some([s]) = take_scanned(&mut scanned, &m.path) else {
+            specs.errors.push(unscanned(&m.path));
+            continue;
+        };
+        let spec =
+            build_spec((&m.package, m.name.clone(), "msg"), &show(&m.path), &m.source, &m.fields, &m.constants, s);
+        specs.add(spec);
+    }
+    for s in &services {
+        let Some([req, resp]) = take_scanned(&mut scanned, &s.path) else {
+            specs.errors.push(unscanned(&s.path));
+            continue;
+        };
+        let file = show(&s.path);
+        for (half, scan, suffix) in [(&s.request_type, req, "Request"), (&s.response_type, resp, "Response")] {
+            let id = (s.package.as_str(), format!("{}_{suffix}", s.name), "srv");
+            specs.add(build_spec(id, &file, &half.source, &half.fields, &half.constants, scan));
+        }
+        by_pkg.entry(s.package.clone()).or_default().push((s.name.clone(), s.source.clone()));
+        specs.add(Ok(event_spec(&s.package, &s.name, &file)));
+    }
+    for names in by_pkg.values_mut() {
+        names.sort();
+    }
+    let SpecSet { specs, mut errors } = specs;
+    // The crate keeps one of two packages of the same name (the other's files are left unread here).
+    errors.extend(
+        scanned
+            .keys()
+            .map(|path| format!("{}: not read by roslibrust_codegen (package name taken twice?)", show(path))),
+    );
+    errors.extend(unknown_nested_types(&specs));
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+
+    let (resolved, resolved_services) = roslibrust_codegen::resolve_dependency_graph(messages, services)
+        .map_err(|e| vec![format!("roslibrust_codegen: {e}")])?;
+    Ok(Interfaces { specs, services: by_pkg, hashes: interface_hashes(&resolved, &resolved_services) })
+}
+
+/// The comments and member lines of every `.msg` and `.srv` (its two halves) in the packages, by path.
+fn scan_packages(
+    pkg_dirs: &[PathBuf],
+    show: &dyn Fn(&Path) -> String,
+) -> Result<BTreeMap<PathBuf, Vec<Scanned>>, Vec<String>> {
     let mut errors = Vec::new();
     let mut scanned: BTreeMap<PathBuf, Vec<Scanned>> = BTreeMap::new();
-    for dir in &pkg_dirs {
+    for dir in pkg_dirs {
         for kind in ["msg", "srv"] {
             let Ok(entries) = fs::read_dir(dir.join(kind)) else { continue };
             let mut files: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
             files.sort();
             for path in files.into_iter().filter(|f| f.extension().and_then(|e| e.to_str()) == Some(kind)) {
-                let file = show(&path);
-                let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
-                if !is_valid_type_name(name) {
-                    errors.push(format!("{file}: message name `{name}` must be CamelCase"));
-                    continue;
-                }
-                let text = match fs::read_to_string(&path) {
-                    Ok(t) => t,
-                    Err(e) => {
-                        errors.push(format!("{file}: {e}"));
-                        continue;
-                    }
-                };
-                let halves = if kind == "srv" {
-                    split_srv(&text, &file).and_then(|halves| {
-                        let [req, resp] = halves.map(|(first, lines)| scan(&lines, first, &file));
-                        Ok(vec![req?, resp?])
-                    })
-                } else {
-                    let lines: Vec<&str> = text.lines().collect();
-                    scan(&lines, 1, &file).map(|s| vec![s])
-                };
-                match halves {
+                match scan_file(&path, kind, &show(&path)) {
                     Ok(h) => {
                         scanned.insert(path, h);
                     }
@@ -575,58 +619,59 @@ fn read_interfaces(root: &Path, shown: &Path) -> Result<Interfaces, Vec<String>>
             }
         }
     }
-    if !errors.is_empty() {
-        return Err(errors);
+    if errors.is_empty() {
+        Ok(scanned)
+    } else {
+        Err(errors)
     }
+}
 
-    let (messages, services, actions) = roslibrust_codegen::find_and_parse_ros_messages(&pkg_dirs)
-        .map_err(|e| vec![format!("roslibrust_codegen: {e}")])?;
-    if let Some(action) = actions.first() {
-        return Err(vec![format!("{}: sweetspot generates no .action types", show(&action.path))]);
+/// One `.msg` (`kind` `msg`) or `.srv` scanned: one `Scanned`, or one per half.
+fn scan_file(path: &Path, kind: &str, file: &str) -> Result<Vec<Scanned>, Vec<String>> {
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
+    if !is_valid_type_name(name) {
+        return Err(vec![format!("{file}: message name `{name}` must be CamelCase")]);
     }
-    let mut specs: BTreeMap<String, MsgSpec> = BTreeMap::new();
-    let mut by_pkg: BTreeMap<String, Vec<(String, String)>> = BTreeMap::new();
-    let mut add = |spec: Result<MsgSpec, Vec<String>>, errors: &mut Vec<String>| match spec {
-        Ok(spec) => {
-            if let Some(prev) = specs.insert(spec.key(), spec) {
-                errors.push(format!("{}: `{}` defined twice", prev.path.display(), prev.key()));
+    let text = fs::read_to_string(path).map_err(|e| vec![format!("{file}: {e}")])?;
+    if kind == "srv" {
+        split_srv(&text, file).and_then(|halves| {
+            let [req, resp] = halves.map(|(first, lines)| scan(&lines, first, file));
+            Ok(vec![req?, resp?])
+        })
+    } else {
+        let lines: Vec<&str> = text.lines().collect();
+        scan(&lines, 1, file).map(|s| vec![s])
+    }
+}
+
+/// The scan of the file at `path` when it has `N` parts (1 for a `.msg`, 2 for a `.srv`), removed from `scanned`.
+fn take_scanned<const N: usize>(scanned: &mut BTreeMap<PathBuf, Vec<Scanned>>, path: &Path) -> Option<[Scanned; N]> {
+    scanned.remove(path).and_then(|s| <[Scanned; N]>::try_from(s).ok())
+}
+
+/// The specs built so far, keyed `pkg/Name`, and the errors met building them.
+#[derive(Default)]
+struct SpecSet {
+    specs: BTreeMap<String, MsgSpec>,
+    errors: Vec<String>,
+}
+
+impl SpecSet {
+    fn add(&mut self, spec: Result<MsgSpec, Vec<String>>) {
+        match spec {
+            Ok(spec) => {
+                if let Some(prev) = self.specs.insert(spec.key(), spec) {
+                    self.errors.push(format!("{}: `{}` defined twice", prev.path.display(), prev.key()));
+                }
             }
+            Err(mut e) => self.errors.append(&mut e),
         }
-        Err(mut e) => errors.append(&mut e),
-    };
-    let unscanned = |path: &Path| format!("{}: not in a package's msg/ or srv/ folder", show(path));
-    for m in &messages {
-        let Some([s]) = scanned.remove(&m.path).and_then(|s| <[Scanned; 1]>::try_from(s).ok()) else {
-            errors.push(unscanned(&m.path));
-            continue;
-        };
-        let spec =
-            build_spec((&m.package, m.name.clone(), "msg"), &show(&m.path), &m.source, &m.fields, &m.constants, s);
-        add(spec, &mut errors);
     }
-    for s in &services {
-        let Some([req, resp]) = scanned.remove(&s.path).and_then(|s| <[Scanned; 2]>::try_from(s).ok()) else {
-            errors.push(unscanned(&s.path));
-            continue;
-        };
-        let file = show(&s.path);
-        for (half, scan, suffix) in [(&s.request_type, req, "Request"), (&s.response_type, resp, "Response")] {
-            let id = (s.package.as_str(), format!("{}_{suffix}", s.name), "srv");
-            add(build_spec(id, &file, &half.source, &half.fields, &half.constants, scan), &mut errors);
-        }
-        by_pkg.entry(s.package.clone()).or_default().push((s.name.clone(), s.source.clone()));
-        add(Ok(event_spec(&s.package, &s.name, &file)), &mut errors);
-    }
-    for names in by_pkg.values_mut() {
-        names.sort();
-    }
-    // The crate keeps one of two packages of the same name (the other's files are left unread here).
-    errors.extend(
-        scanned
-            .keys()
-            .map(|path| format!("{}: not read by roslibrust_codegen (package name taken twice?)", show(path))),
-    );
-    // Every nested type must be here (roslibrust_codegen would only give up after many rounds).
+}
+
+/// Every nested type must be here (roslibrust_codegen would only give up after many rounds).
+fn unknown_nested_types(specs: &BTreeMap<String, MsgSpec>) -> Vec<String> {
+    let mut errors = Vec::new();
     for spec in specs.values() {
         for f in &spec.fields {
             if let Base::Nested { pkg, name } = &f.ty.base {
@@ -640,24 +685,26 @@ fn read_interfaces(root: &Path, shown: &Path) -> Result<Interfaces, Vec<String>>
             }
         }
     }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+    errors
+}
 
-    let (resolved, resolved_services) = roslibrust_codegen::resolve_dependency_graph(messages, services)
-        .map_err(|e| vec![format!("roslibrust_codegen: {e}")])?;
+/// The RIHS01 hash of every message, and of every service with its request, response and event.
+fn interface_hashes(
+    messages: &[roslibrust_codegen::MessageFile],
+    services: &[roslibrust_codegen::ServiceFile],
+) -> BTreeMap<String, String> {
     let mut hashes = BTreeMap::new();
-    for m in &resolved {
+    for m in messages {
         hashes.insert(m.get_full_name(), m.ros2_hash.to_hash_string());
     }
-    for s in &resolved_services {
+    for s in services {
         let key = s.get_full_name();
         hashes.insert(format!("{key}_Request"), s.request().ros2_hash.to_hash_string());
         hashes.insert(format!("{key}_Response"), s.response().ros2_hash.to_hash_string());
         hashes.insert(format!("{key}_Event"), s.get_event_ros2_hash().to_hash_string());
         hashes.insert(key, s.get_ros2_hash().to_hash_string());
     }
-    Ok(Interfaces { specs, services: by_pkg, hashes })
+    hashes
 }
 
 /// The RIHS01 hashes of a set of `.msg` texts given as `(package, type name, text)`, keyed `pkg/msg/Type`; every
@@ -987,25 +1034,11 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     for (pkg, msgs) in &by_pkg {
         let _ = writeln!(out, "#[doc = {:?}]", format!(" Messages of the ROS 2 package `{pkg}`."));
         let _ = writeln!(out, "pub mod {pkg} {{");
-        let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/msg/*`."));
-        let _ = writeln!(out, "    pub mod msg {{");
-        for spec in msgs.iter().filter(|s| s.kind == "msg") {
-            gen_struct(&mut out, spec, &specs, &hashes);
-            registry.push(format!("crate::{pkg}::msg::{}", spec.name));
-        }
-        out.push_str("    }\n");
+        registry.extend(gen_msg_module(&mut out, pkg, msgs, &specs, &hashes));
         if let Some(names) = services.get(*pkg) {
-            let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/srv/*`: each service's request and response."));
-            let _ = writeln!(out, "    pub mod srv {{");
-            for (name, text) in names {
-                for suffix in ["Request", "Response", "Event"] {
-                    gen_struct(&mut out, &specs[&format!("{pkg}/{name}_{suffix}")], &specs, &hashes);
-                }
-                gen_service(&mut out, pkg, name, text, &hashes);
-            }
-            out.push_str("    }\n");
+            gen_srv_module(&mut out, pkg, names, &specs, &hashes);
         }
-        out.push_str("}\n\n");
+        let _ = writeln!(out, "}}\n");
     }
     out.push_str("/// Every message type generated from `msgs/`, sorted by type name.\n");
     out.push_str("pub static ALL_TYPES: &[crate::TypeInfo] = &[\n");
@@ -1016,7 +1049,64 @@ pub fn generate(msgs_dir: &Path) -> Result<String, Vec<String>> {
     Ok(out)
 }
 
+/// A package's `msg` module; returns the paths of the types it defines.
+fn gen_msg_module(
+    out: &mut String,
+    pkg: &str,
+    msgs: &[&MsgSpec],
+    specs: &BTreeMap<String, MsgSpec>,
+    hashes: &BTreeMap<String, String>,
+) -> Vec<String> {
+    let mut registry = Vec::new();
+    let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/msg/*`."));
+    let _ = writeln!(out, "    pub mod msg {{");
+    for spec in msgs.iter().filter(|s| s.kind == "msg") {
+        gen_struct(out, spec, specs, hashes);
+        registry.push(format!("crate::{pkg}::msg::{}", spec.name));
+    }
+    let _ = writeln!(out, "    }}");
+    registry
+}
+
+/// A package's `srv` module: each service's request, response and event types and its marker.
+fn gen_srv_module(
+    out: &mut String,
+    pkg: &str,
+    names: &[(String, String)],
+    specs: &BTreeMap<String, MsgSpec>,
+    hashes: &BTreeMap<String, String>,
+) {
+    let _ = writeln!(out, "    #[doc = {:?}]", format!(" `{pkg}/srv/*`: each service's request and response."));
+    let _ = writeln!(out, "    pub mod srv {{");
+    for (name, text) in names {
+        for suffix in ["Request", "Response", "Event"] {
+            gen_struct(out, &specs[&format!("{pkg}/{name}_{suffix}")], specs, hashes);
+        }
+        gen_service(out, pkg, name, text, hashes);
+    }
+    let _ = writeln!(out, "    }}");
+}
+
 fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec>, hashes: &BTreeMap<String, String>) {
+    gen_struct_decl(out, spec);
+    if spec.fields.iter().any(|f| f.default.is_some() || f.absent.is_some()) {
+        gen_default(out, spec);
+    }
+    if spec.fields.iter().any(|f| f.absent.is_some()) {
+        gen_tolerant_deserialize(out, spec);
+    }
+    if !spec.constants.is_empty() {
+        gen_constants(out, spec);
+    }
+    gen_ros_message(out, spec, specs, hashes);
+    gen_from_json(out, spec);
+    gen_to_json(out, spec);
+    gen_field_table(out, spec);
+}
+
+/// The struct with its docs and derives (`Default` and `Deserialize` are written by hand when fields have
+/// defaults or absent values).
+fn gen_struct_decl(out: &mut String, spec: &MsgSpec) {
     let i2 = "        ";
     let i3 = "            ";
     let name = &spec.name;
@@ -1057,51 +1147,63 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         let _ = writeln!(out, "{i3}pub {}: {},", ident(&f.name), rust_type(&f.ty));
     }
     let _ = writeln!(out, "{i2}}}\n");
+}
 
-    if has_defaults {
-        // A declared default may equal the type's own (rcl_interfaces' `bool read_only false`).
-        let _ = writeln!(out, "{i2}#[allow(clippy::derivable_impls)]");
-        let _ = writeln!(out, "{i2}impl ::core::default::Default for {name} {{");
-        let _ = writeln!(out, "{i3}fn default() -> Self {{");
-        let _ = writeln!(out, "{i3}    Self {{");
-        for f in &spec.fields {
-            let v = match (&f.default, &f.absent) {
-                (_, Some(absent)) => absent.clone(),
-                (Some(d), None) => {
-                    let lit = rust_literal(&f.ty, d).unwrap_or_default();
-                    if matches!(f.ty.base, Base::String { .. }) && f.ty.array == Array::None {
-                        format!("{lit}.to_string()")
-                    } else {
-                        lit
-                    }
+/// `Default` from the declared defaults and absent values.
+fn gen_default(out: &mut String, spec: &MsgSpec) {
+    let (i2, i3) = ("        ", "            ");
+    let name = &spec.name;
+    // A declared default may equal the type's own (rcl_interfaces' `bool read_only false`).
+    let _ = writeln!(out, "{i2}#[allow(clippy::derivable_impls)]");
+    let _ = writeln!(out, "{i2}impl ::core::default::Default for {name} {{");
+    let _ = writeln!(out, "{i3}fn default() -> Self {{");
+    let _ = writeln!(out, "{i3}    Self {{");
+    for f in &spec.fields {
+        let v = match (&f.default, &f.absent) {
+            (_, Some(absent)) => absent.clone(),
+            (Some(d), None) => {
+                let lit = rust_literal(&f.ty, d).unwrap_or_default();
+                if matches!(f.ty.base, Base::String { .. }) && f.ty.array == Array::None {
+                    format!("{lit}.to_string()")
+                } else {
+                    lit
                 }
-                (None, None) => "::core::default::Default::default()".into(),
-            };
-            let _ = writeln!(out, "{i3}        {}: {v},", ident(&f.name));
-        }
-        let _ = writeln!(out, "{i3}    }}\n{i3}}}\n{i2}}}\n");
+            }
+            (None, None) => "::core::default::Default::default()".into(),
+        };
+        let _ = writeln!(out, "{i3}        {}: {v},", ident(&f.name));
     }
+    let _ = writeln!(out, "{i3}    }}\n{i3}}}\n{i2}}}\n");
+}
 
-    if has_tail {
-        gen_tolerant_deserialize(out, spec);
+/// The `.msg`'s constants as associated constants.
+fn gen_constants(out: &mut String, spec: &MsgSpec) {
+    let (i2, i3) = ("        ", "            ");
+    let name = &spec.name;
+    let _ = writeln!(out, "{i2}impl {name} {{");
+    for c in &spec.constants {
+        let mut d = c.doc.clone();
+        d.push(format!("ROS constant `{} {}={}`.", ros_type_string(&c.ty), c.name, c.value));
+        doc_attrs(out, i3, &d);
+        let ty = match c.ty.base {
+            Base::String { .. } => "&'static str".to_string(),
+            _ => rust_type(&c.ty),
+        };
+        let lit = rust_literal(&c.ty, &c.value).unwrap_or_default();
+        let _ = writeln!(out, "{i3}pub const {}: {ty} = {lit};", c.name);
     }
+    let _ = writeln!(out, "{i2}}}\n");
+}
 
-    if !spec.constants.is_empty() {
-        let _ = writeln!(out, "{i2}impl {name} {{");
-        for c in &spec.constants {
-            let mut d = c.doc.clone();
-            d.push(format!("ROS constant `{} {}={}`.", ros_type_string(&c.ty), c.name, c.value));
-            doc_attrs(out, i3, &d);
-            let ty = match c.ty.base {
-                Base::String { .. } => "&'static str".to_string(),
-                _ => rust_type(&c.ty),
-            };
-            let lit = rust_literal(&c.ty, &c.value).unwrap_or_default();
-            let _ = writeln!(out, "{i3}pub const {}: {ty} = {lit};", c.name);
-        }
-        let _ = writeln!(out, "{i2}}}\n");
-    }
-
+/// `RosMessage`: names, schema text and type hash.
+fn gen_ros_message(
+    out: &mut String,
+    spec: &MsgSpec,
+    specs: &BTreeMap<String, MsgSpec>,
+    hashes: &BTreeMap<String, String>,
+) {
+    let (i2, i3) = ("        ", "            ");
+    let (name, pkg, full_name) = (&spec.name, &spec.pkg, spec.full_name());
     let key = spec.key();
     let schema = full_text(&key, specs);
     let _ = writeln!(out, "{i2}impl crate::RosMessage for {name} {{");
@@ -1113,8 +1215,12 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
     let _ = writeln!(out, "{i3}const TYPE_HASH: &'static str = {:?};", hashes[&key]);
     let _ = writeln!(out, "{i2}}}\n");
     let _ = writeln!(out, "{i2}#[cfg(feature = \"ros2\")]\n{i2}impl ::ros2_client::Message for {name} {{}}\n");
+}
 
-    // JSON conversion (tolerant input: missing fields keep their defaults, null = NaN, numbers as strings).
+/// JSON input is tolerant: missing fields keep their defaults, null = NaN, numbers as strings.
+fn gen_from_json(out: &mut String, spec: &MsgSpec) {
+    let (i2, i3) = ("        ", "            ");
+    let (name, full_name) = (&spec.name, spec.full_name());
     let _ = writeln!(out, "{i2}impl crate::json::FromJson for {name} {{");
     let _ = writeln!(
         out,
@@ -1154,7 +1260,11 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         }
     }
     let _ = writeln!(out, "{i3}    Ok(msg)\n{i3}}}\n{i2}}}\n");
+}
 
+fn gen_to_json(out: &mut String, spec: &MsgSpec) {
+    let (i2, i3) = ("        ", "            ");
+    let name = &spec.name;
     let _ = writeln!(out, "{i2}impl crate::json::ToJson for {name} {{");
     let _ = writeln!(out, "{i3}fn to_json(&self) -> ::serde_json::Value {{");
     let _ = writeln!(out, "{i3}    #[allow(unused_mut)]\n{i3}    let mut object = ::serde_json::Map::new();");
@@ -1167,7 +1277,6 @@ fn gen_struct(out: &mut String, spec: &MsgSpec, specs: &BTreeMap<String, MsgSpec
         );
     }
     let _ = writeln!(out, "{i3}    ::serde_json::Value::Object(object)\n{i3}}}\n{i2}}}\n");
-    gen_field_table(out, spec);
 }
 
 /// The message's [`FieldTable`]: each scalar field and each `float64` sequence, in `.msg` order.
@@ -1182,6 +1291,9 @@ fn gen_field_table(out: &mut String, spec: &MsgSpec) {
                 (Base::Prim("float64"), Array::None) => format!("Float({field})"),
                 (Base::Prim("float32"), Array::None) => format!("Float(f64::from({field}))"),
                 (Base::Prim("bool"), Array::None) => format!("Bool({field})"),
+                // Already the table's width: a conversion would be clippy's useless_conversion.
+                (Base::Prim("int64"), Array::None) => format!("Int({field})"),
+                (Base::Prim("uint64"), Array::None) => format!("Uint({field})"),
                 (Base::Prim(p), Array::None) if p.starts_with("int") => format!("Int(i64::from({field}))"),
                 (Base::Prim(_), Array::None) => format!("Uint(u64::from({field}))"),
                 (Base::String { .. }, Array::None) => format!("Text(&{field})"),

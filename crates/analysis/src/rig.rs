@@ -530,42 +530,10 @@ impl SessionGenerator {
         let barrel_speed = uniform(rng, cfg.barrel_speed);
         let (lo, hi) = IMPACT_RANGE_FROM_END;
         let from_end = (IMPACT_MEAN_FROM_END + IMPACT_SIGMA * standard_normal(rng)).clamp(lo, hi);
-        let (omega, knob_speed, truth) = match &bat.swing {
-            Some(swing) => {
-                let effort = barrel_speed / (0.5 * (cfg.barrel_speed.0 + cfg.barrel_speed.1));
-                let truth = equal_effort_impact(swing, effort, ball_speed, mp.length - from_end);
-                let knob_speed = truth.bat_cm_speed - truth.bat_angular_speed * mp.center_of_mass;
-                (truth.bat_angular_speed, knob_speed, truth)
-            }
-            None => {
-                let omega = barrel_speed / (mp.length - BARREL_SPEED_POINT_FROM_END - PIVOT_Z);
-                let knob_speed = -omega * PIVOT_Z;
-                let reading = SensorReading {
-                    ball_speed,
-                    angular_rate: omega,
-                    knob_speed,
-                    impact_from_end: from_end,
-                    exit_speed: 0.0,
-                };
-                (omega, knob_speed, reading.to_impact(&mp))
-            }
-        };
+        let (omega, knob_speed, truth) = true_swing(cfg, bat, ball_speed, barrel_speed, from_end);
         // Head-on sessions draw nothing more here, so their random stream is unchanged by the oblique option.
         let oblique = match &cfg.launch {
-            Some(launch) => {
-                let barrel_radius = bat.bat.radii_at(truth.impact_z).0;
-                let reach = launch.max_undercut_fraction * (cfg.ball.radius + barrel_radius);
-                let oblique = ObliqueImpact {
-                    impact: truth,
-                    barrel_radius,
-                    undercut: launch.undercut.draw(rng).clamp(-reach, reach),
-                    attack_angle: launch.attack_angle.draw(rng),
-                    pitch_angle: launch.pitch_angle.draw(rng),
-                    pitch_spin: launch.pitch_spin.draw(rng),
-                };
-                let result = collide_oblique(&bat.modes, &cfg.true_ball(), &oblique, &launch.contact, &cfg.options)?;
-                Some((launch, oblique, result))
-            }
+            Some(launch) => Some(draw_oblique(rng, cfg, bat, launch, truth)?),
             None => None,
         };
         let (result, true_exit_speed) = match &oblique {
@@ -585,20 +553,7 @@ impl SessionGenerator {
             impact_from_end: (from_end + n.impact * standard_normal(rng)).clamp(0.0, mp.length),
             exit_speed: true_exit_speed + n.exit_speed * standard_normal(rng),
         };
-        let launch = oblique.map(|(launch, truth, result)| {
-            let n = launch.noise;
-            let undercut = truth.undercut + n.undercut * standard_normal(rng);
-            RigLaunch {
-                undercut: if launch.report_undercut { undercut } else { f64::NAN },
-                attack_angle: truth.attack_angle + n.attack_angle * standard_normal(rng),
-                pitch_angle: truth.pitch_angle + n.pitch_angle * standard_normal(rng),
-                pitch_spin: truth.pitch_spin + n.pitch_spin * standard_normal(rng),
-                launch_angle: result.launch_angle + n.launch_angle * standard_normal(rng),
-                spin: result.spin + n.spin * standard_normal(rng),
-                truth,
-                result,
-            }
-        });
+        let launch = oblique.map(|(launch, truth, result)| noisy_launch(rng, launch, truth, result));
         let measured = reading.to_impact(&mp);
         Ok(RigSwing { swing_id, bat_id: bat.bat_id.clone(), truth, reading, measured, result, launch })
     }
@@ -652,6 +607,70 @@ pub fn equal_effort_impact(swing: &SwingPrediction, effort: f64, ball_speed: f64
 /// defaults): a rig measures launch angles and spins, not the ball's grip; `calibrate --fit-tangential` fits it.
 pub fn ball_params(ball_id: &str, ball: &Ball, stamp: Time) -> BallParams {
     params_from_ball(ball_id, ball, None, Header { stamp, frame_id: String::new() })
+}
+
+/// The swing's true (ω, knob speed, impact): the bat's batter swings it with the effort of `barrel_speed`,
+/// or, without a batter, the bat turns about [`PIVOT_Z`].
+fn true_swing(cfg: &RigConfig, bat: &RigBat, ball_speed: f64, barrel_speed: f64, from_end: f64) -> (f64, f64, Impact) {
+    let mp = bat.modes.mass_properties();
+    match &bat.swing {
+        Some(swing) => {
+            let effort = barrel_speed / (0.5 * (cfg.barrel_speed.0 + cfg.barrel_speed.1));
+            let truth = equal_effort_impact(swing, effort, ball_speed, mp.length - from_end);
+            let knob_speed = truth.bat_cm_speed - truth.bat_angular_speed * mp.center_of_mass;
+            (truth.bat_angular_speed, knob_speed, truth)
+        }
+        None => {
+            let omega = barrel_speed / (mp.length - BARREL_SPEED_POINT_FROM_END - PIVOT_Z);
+            let knob_speed = -omega * PIVOT_Z;
+            let reading = SensorReading {
+                ball_speed,
+                angular_rate: omega,
+                knob_speed,
+                impact_from_end: from_end,
+                exit_speed: 0.0,
+            };
+            (omega, knob_speed, reading.to_impact(&mp))
+        }
+    }
+}
+
+/// Draws the swing's undercut, angles and pitch spin and collides obliquely.
+fn draw_oblique<'a>(
+    rng: &mut StdRng,
+    cfg: &RigConfig,
+    bat: &RigBat,
+    launch: &'a LaunchConditions,
+    truth: Impact,
+) -> Result<(&'a LaunchConditions, ObliqueImpact, ObliqueResult), RigError> {
+    let barrel_radius = bat.bat.radii_at(truth.impact_z).0;
+    let reach = launch.max_undercut_fraction * (cfg.ball.radius + barrel_radius);
+    let oblique = ObliqueImpact {
+        impact: truth,
+        barrel_radius,
+        undercut: launch.undercut.draw(rng).clamp(-reach, reach),
+        attack_angle: launch.attack_angle.draw(rng),
+        pitch_angle: launch.pitch_angle.draw(rng),
+        pitch_spin: launch.pitch_spin.draw(rng),
+    };
+    let result = collide_oblique(&bat.modes, &cfg.true_ball(), &oblique, &launch.contact, &cfg.options)?;
+    Ok((launch, oblique, result))
+}
+
+/// The launch as the rig's tracker and undercut camera report it.
+fn noisy_launch(rng: &mut StdRng, launch: &LaunchConditions, truth: ObliqueImpact, result: ObliqueResult) -> RigLaunch {
+    let n = launch.noise;
+    let undercut = truth.undercut + n.undercut * standard_normal(rng);
+    RigLaunch {
+        undercut: if launch.report_undercut { undercut } else { f64::NAN },
+        attack_angle: truth.attack_angle + n.attack_angle * standard_normal(rng),
+        pitch_angle: truth.pitch_angle + n.pitch_angle * standard_normal(rng),
+        pitch_spin: truth.pitch_spin + n.pitch_spin * standard_normal(rng),
+        launch_angle: result.launch_angle + n.launch_angle * standard_normal(rng),
+        spin: result.spin + n.spin * standard_normal(rng),
+        truth,
+        result,
+    }
 }
 
 fn uniform(rng: &mut StdRng, (lo, hi): (f64, f64)) -> f64 {

@@ -179,41 +179,54 @@ pub fn render(doc: &SimulateJson) -> String {
         out.push_str(&describe_oblique(oblique));
     }
     out.push('\n');
-    let header = || {
-        std::iter::once("quantity".to_string())
-            .chain(doc.results.iter().map(|r| format!("z = {} m", num(r.impact_z, 4))))
-    };
     if doc.oblique.is_some() {
-        let mut t = Table::new(header());
-        let mut row = |name: &str, f: &dyn Fn(&crate::report::json::ObliqueJson) -> String| {
-            t.row(
-                std::iter::once(name.to_string())
-                    .chain(doc.results.iter().map(|r| r.oblique.as_ref().map(f).unwrap_or_default())),
-            );
-        };
-        let optional = |v: Option<f64>, digits: usize| v.map(|v| num(v, digits)).unwrap_or_default();
-        row("exit speed (m/s)", &|o| num(o.exit_speed, 5));
-        row("launch angle (deg)", &|o| num(o.launch_angle_deg, 4));
-        row("spray angle (deg, right field +)", &|o| num(o.flight.spray_angle_deg, 4));
-        row("spin (rpm, backspin +)", &|o| num(o.spin_rpm, 5));
-        row("sidespin (rpm, hook +)", &|o| num(o.flight.sidespin_rpm, 5));
-        row("total spin (rpm)", &|o| num(o.flight.total_spin_rpm, 5));
-        row("spin axis (deg, 180 = backspin)", &|o| num(o.flight.spin_axis_deg, 4));
-        row("normal exit speed (m/s)", &|o| num(o.normal_exit_speed, 5));
-        // The parts defined in a vertical plane: shown when a planar swing is among the results.
-        let planar = doc.results.iter().any(|r| r.oblique.as_ref().is_some_and(|o| o.tangential_exit_speed.is_some()));
-        if planar {
-            row("tangential exit speed (m/s)", &|o| optional(o.tangential_exit_speed, 4));
-        }
-        row("sliding", &|o| if o.sliding { "yes" } else { "no" }.to_string());
-        if planar {
-            row("line of centres (deg)", &|o| optional(o.line_of_centres_angle_deg, 4));
-        }
-        row("barrel radius (m)", &|o| num(o.barrel_radius, 4));
-        out.push_str(&t.render());
+        out.push_str(&oblique_table(doc));
         out.push_str("\nthe collision along the line of centres\n");
     }
-    let mut t = Table::new(header());
+    out.push_str(&collision_table(doc));
+    out.push_str(&mode_energy_table(doc));
+    out
+}
+
+/// The header of a table with one column per impact point.
+fn impact_columns(doc: &SimulateJson) -> impl Iterator<Item = String> + '_ {
+    std::iter::once("quantity".to_string()).chain(doc.results.iter().map(|r| format!("z = {} m", num(r.impact_z, 4))))
+}
+
+/// The oblique collision's launch, spin and flight per impact point.
+fn oblique_table(doc: &SimulateJson) -> String {
+    let mut t = Table::new(impact_columns(doc));
+    let mut row = |name: &str, f: &dyn Fn(&crate::report::json::ObliqueJson) -> String| {
+        t.row(
+            std::iter::once(name.to_string())
+                .chain(doc.results.iter().map(|r| r.oblique.as_ref().map(f).unwrap_or_default())),
+        );
+    };
+    let optional = |v: Option<f64>, digits: usize| v.map(|v| num(v, digits)).unwrap_or_default();
+    row("exit speed (m/s)", &|o| num(o.exit_speed, 5));
+    row("launch angle (deg)", &|o| num(o.launch_angle_deg, 4));
+    row("spray angle (deg, right field +)", &|o| num(o.flight.spray_angle_deg, 4));
+    row("spin (rpm, backspin +)", &|o| num(o.spin_rpm, 5));
+    row("sidespin (rpm, hook +)", &|o| num(o.flight.sidespin_rpm, 5));
+    row("total spin (rpm)", &|o| num(o.flight.total_spin_rpm, 5));
+    row("spin axis (deg, 180 = backspin)", &|o| num(o.flight.spin_axis_deg, 4));
+    row("normal exit speed (m/s)", &|o| num(o.normal_exit_speed, 5));
+    // The parts defined in a vertical plane: shown when a planar swing is among the results.
+    let planar = doc.results.iter().any(|r| r.oblique.as_ref().is_some_and(|o| o.tangential_exit_speed.is_some()));
+    if planar {
+        row("tangential exit speed (m/s)", &|o| optional(o.tangential_exit_speed, 4));
+    }
+    row("sliding", &|o| if o.sliding { "yes" } else { "no" }.to_string());
+    if planar {
+        row("line of centres (deg)", &|o| optional(o.line_of_centres_angle_deg, 4));
+    }
+    row("barrel radius (m)", &|o| num(o.barrel_radius, 4));
+    t.render()
+}
+
+/// The collision along the line of centres per impact point: speeds, contact and where the energy went.
+fn collision_table(doc: &SimulateJson) -> String {
+    let mut t = Table::new(impact_columns(doc));
     let mut row = |name: &str, f: &dyn Fn(&CollisionJson) -> String| {
         t.row(std::iter::once(name.to_string()).chain(doc.results.iter().map(f)));
     };
@@ -238,8 +251,12 @@ pub fn render(doc: &SimulateJson) -> String {
         row("hoop frequency at z (Hz)", &|r| r.hoop.map(|h| num(h.frequency_hz, 5)).unwrap_or_default());
     }
     row("  residual (J)", &|r| num(r.energy.residual, 3));
-    out.push_str(&t.render());
+    t.render()
+}
 
+/// The vibrational energy of each mode per impact point; empty when no result has modes.
+fn mode_energy_table(doc: &SimulateJson) -> String {
+    let mut out = String::new();
     let mode_count = doc.results.iter().map(|r| r.mode_energies.len()).max().unwrap_or(0);
     if mode_count > 0 {
         out.push_str("\nvibrational energy per mode after separation (J)\n");

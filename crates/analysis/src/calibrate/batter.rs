@@ -299,11 +299,53 @@ pub fn fit_batter(data: &BatterData, options: &BatterFitOptions) -> Result<Batte
         )));
     }
     let mut skipped = data.skipped.clone();
-    // Bats in order of their first usable swing; samples refer to them by index.
-    let mut order: Vec<&str> = Vec::new();
-    let mut samples: Vec<Sample> = Vec::new();
     let mass_properties: BTreeMap<&str, MassProperties> =
         data.bats.iter().map(|(id, b)| (id.as_str(), b.bat.mass_properties())).collect();
+    let (order, samples) = usable_samples(data, d, &mass_properties, &mut skipped);
+    if samples.is_empty() {
+        return Err(CalibrateError::NoData(
+            "the bag holds no swing with a usable bat speed (no Swing messages, or none with a known bat)".into(),
+        ));
+    }
+    let reference_id = reference_bat_id(options, &order)?;
+    let reference = &data.bats[&reference_id];
+    let reference_weight = swing_weight(&mass_properties[reference_id.as_str()]);
+    let weights: Vec<f64> = order.iter().map(|id| swing_weight(&mass_properties[*id])).collect();
+    let n_total = samples.len();
+    check_swing_weights_spread(&order, &weights, n_total)?;
+    let law = SpeedLaw::fit(&samples, &weights, reference_weight)?;
+    let pivot_z = fit_pivot(&samples)?;
+    let mut fit_bats = law.bats(data, &order, &weights);
+    fit_bats.sort_by(|a, b| b.swing_weight.total_cmp(&a.swing_weight));
+    let bat_speed = law.intercept.exp();
+    Ok(BatterFit {
+        reference_bat: reference_id,
+        reference_preset: reference.preset.clone(),
+        reference: reference.bat.clone(),
+        reference_swing_weight: reference_weight,
+        exponent: Estimate { value: -law.slope, std_error: law.slope_error },
+        bat_speed: Estimate { value: bat_speed, std_error: bat_speed * law.intercept_error },
+        pivot_z,
+        impact_from_barrel_end: d,
+        swing_length: options.swing_length,
+        swings: n_total,
+        dof: law.dof,
+        log_speed_sigma: law.s2.sqrt(),
+        bats: fit_bats,
+        skipped,
+    })
+}
+
+/// The swings whose bat speed at the usual impact point (`d` from the barrel end) is usable, and the bats
+/// in order of their first usable swing (samples refer to them by index); others are noted in `skipped`.
+fn usable_samples<'a>(
+    data: &'a BatterData,
+    d: f64,
+    mass_properties: &BTreeMap<&str, MassProperties>,
+    skipped: &mut Vec<String>,
+) -> (Vec<&'a str>, Vec<Sample>) {
+    let mut order: Vec<&str> = Vec::new();
+    let mut samples: Vec<Sample> = Vec::new();
     for (bat_id, swing) in &data.swings {
         let Some(&props) = mass_properties.get(bat_id.as_str()) else {
             skipped.push(format!("swing {}: unknown bat '{bat_id}'", swing.swing_id));
@@ -340,12 +382,12 @@ pub fn fit_batter(data: &BatterData, options: &BatterFitOptions) -> Result<Batte
             angular_speed: omega,
         });
     }
-    if samples.is_empty() {
-        return Err(CalibrateError::NoData(
-            "the bag holds no swing with a usable bat speed (no Swing messages, or none with a known bat)".into(),
-        ));
-    }
-    let reference_id = match &options.reference_bat {
+    (order, samples)
+}
+
+/// The reference bat: the one asked for (it must have been swung), else the first bat swung.
+fn reference_bat_id(options: &BatterFitOptions, order: &[&str]) -> Result<String, CalibrateError> {
+    match &options.reference_bat {
         Some(id) => {
             if !order.contains(&id.as_str()) {
                 return Err(CalibrateError::NoData(format!(
@@ -353,24 +395,23 @@ pub fn fit_batter(data: &BatterData, options: &BatterFitOptions) -> Result<Batte
                     order.join(", ")
                 )));
             }
-            id.clone()
+            Ok(id.clone())
         }
-        None => order[0].to_string(),
-    };
-    let reference = &data.bats[&reference_id];
-    let reference_weight = swing_weight(&mass_properties[reference_id.as_str()]);
-    let weights: Vec<f64> = order.iter().map(|id| swing_weight(&mass_properties[*id])).collect();
+        None => Ok(order[0].to_string()),
+    }
+}
 
-    let n_total = samples.len();
+/// The exponent needs two different swing weights, and its uncertainty three swings.
+fn check_swing_weights_spread(order: &[&str], weights: &[f64], n_total: usize) -> Result<(), CalibrateError> {
     let distinct = {
-        let mut sorted = weights.clone();
+        let mut sorted = weights.to_vec();
         sorted.sort_by(f64::total_cmp);
         sorted.dedup_by(|a, b| (*a - *b).abs() <= SAME_SWING_WEIGHT * b.abs());
         sorted.len()
     };
     if distinct < 2 {
         let bats: Vec<String> =
-            order.iter().zip(&weights).map(|(id, w)| format!("'{id}' ({} kg·m²)", num(*w, 4))).collect();
+            order.iter().zip(weights).map(|(id, w)| format!("'{id}' ({} kg·m²)", num(*w, 4))).collect();
         return Err(CalibrateError::NoData(format!(
             "fitting a batter needs swings with bats of at least two different swing weights; this session's \
              {n_total} usable swing(s) used only {}: one swing weight, so the exponent n of v ∝ I^(−n) is not \
@@ -384,79 +425,97 @@ pub fn fit_batter(data: &BatterData, options: &BatterFitOptions) -> Result<Batte
              session has {n_total}"
         )));
     }
+    Ok(())
+}
 
-    // Per-bat sums.
-    let bats = order.len();
-    let mut count = vec![0usize; bats];
-    let mut speed_sum = vec![0.0; bats];
-    let mut log_sum = vec![0.0; bats];
-    for s in &samples {
-        count[s.bat] += 1;
-        speed_sum[s.bat] += s.log_speed.exp();
-        log_sum[s.bat] += s.log_speed;
-    }
-    let mean_speed: Vec<f64> = (0..bats).map(|b| speed_sum[b] / count[b] as f64).collect();
-    let mean_log: Vec<f64> = (0..bats).map(|b| log_sum[b] / count[b] as f64).collect();
-    let x: Vec<f64> = weights.iter().map(|w| (w / reference_weight).ln()).collect();
-    let y: Vec<f64> = mean_speed.iter().map(|v| v.ln()).collect();
-    let total = n_total as f64;
-    let x_mean = (0..bats).map(|b| count[b] as f64 * x[b]).sum::<f64>() / total;
-    let y_mean = (0..bats).map(|b| count[b] as f64 * y[b]).sum::<f64>() / total;
-    let sxx: f64 = (0..bats).map(|b| count[b] as f64 * (x[b] - x_mean).powi(2)).sum();
-    let sxy: f64 = (0..bats).map(|b| count[b] as f64 * (x[b] - x_mean) * (y[b] - y_mean)).sum();
-    if !(sxx > 0.0) {
-        return Err(CalibrateError::Degenerate("the swing weights do not spread (S_xx = 0)".into()));
-    }
-    let slope = sxy / sxx;
-    let intercept = y_mean - slope * x_mean;
-    let within: f64 = samples.iter().map(|s| (s.log_speed - mean_log[s.bat]).powi(2)).sum();
-    let between: f64 = (0..bats).map(|b| count[b] as f64 * (y[b] - intercept - slope * x[b]).powi(2)).sum();
-    let dof = n_total - 2;
-    let s2 = (within + between) / dof as f64;
-    let slope_error = (s2 / sxx).sqrt();
-    let intercept_error = (s2 * (1.0 / total + x_mean * x_mean / sxx)).sqrt();
-    let bat_speed = intercept.exp();
+/// The fitted line ln v̄_b = intercept + slope · ln(I_b/I_ref) through the bats' mean speeds, weighted by
+/// their swings, with s² pooling the scatter within bats and about the line.
+struct SpeedLaw {
+    count: Vec<usize>,
+    mean_speed: Vec<f64>,
+    /// ln(I_b/I_ref) of each bat.
+    x: Vec<f64>,
+    slope: f64,
+    intercept: f64,
+    s2: f64,
+    slope_error: f64,
+    intercept_error: f64,
+    dof: usize,
+}
 
+impl SpeedLaw {
+    fn fit(samples: &[Sample], weights: &[f64], reference_weight: f64) -> Result<SpeedLaw, CalibrateError> {
+        let n_total = samples.len();
+        let bats = weights.len();
+        let mut count = vec![0usize; bats];
+        let mut speed_sum = vec![0.0; bats];
+        let mut log_sum = vec![0.0; bats];
+        for s in samples {
+            count[s.bat] += 1;
+            speed_sum[s.bat] += s.log_speed.exp();
+            log_sum[s.bat] += s.log_speed;
+        }
+        let mean_speed: Vec<f64> = (0..bats).map(|b| speed_sum[b] / count[b] as f64).collect();
+        let mean_log: Vec<f64> = (0..bats).map(|b| log_sum[b] / count[b] as f64).collect();
+        let x: Vec<f64> = weights.iter().map(|w| (w / reference_weight).ln()).collect();
+        let y: Vec<f64> = mean_speed.iter().map(|v| v.ln()).collect();
+        let total = n_total as f64;
+        let x_mean = (0..bats).map(|b| count[b] as f64 * x[b]).sum::<f64>() / total;
+        let y_mean = (0..bats).map(|b| count[b] as f64 * y[b]).sum::<f64>() / total;
+        let sxx: f64 = (0..bats).map(|b| count[b] as f64 * (x[b] - x_mean).powi(2)).sum();
+        let sxy: f64 = (0..bats).map(|b| count[b] as f64 * (x[b] - x_mean) * (y[b] - y_mean)).sum();
+        if !(sxx > 0.0) {
+            return Err(CalibrateError::Degenerate("the swing weights do not spread (S_xx = 0)".into()));
+        }
+        let slope = sxy / sxx;
+        let intercept = y_mean - slope * x_mean;
+        let within: f64 = samples.iter().map(|s| (s.log_speed - mean_log[s.bat]).powi(2)).sum();
+        let between: f64 = (0..bats).map(|b| count[b] as f64 * (y[b] - intercept - slope * x[b]).powi(2)).sum();
+        let dof = n_total - 2;
+        let s2 = (within + between) / dof as f64;
+        Ok(SpeedLaw {
+            slope_error: (s2 / sxx).sqrt(),
+            intercept_error: (s2 * (1.0 / total + x_mean * x_mean / sxx)).sqrt(),
+            count,
+            mean_speed,
+            x,
+            slope,
+            intercept,
+            s2,
+            dof,
+        })
+    }
+
+    /// Each bat's mean speed against the line's, in the order of `order`.
+    fn bats(&self, data: &BatterData, order: &[&str], weights: &[f64]) -> Vec<BatterFitBat> {
+        (0..order.len())
+            .map(|b| {
+                let fitted = (self.intercept + self.slope * self.x[b]).exp();
+                BatterFitBat {
+                    bat_id: order[b].to_string(),
+                    preset: data.bats[order[b]].preset.clone(),
+                    swing_weight: weights[b],
+                    swings: self.count[b],
+                    mean_bat_speed: self.mean_speed[b],
+                    mean_std_error: self.mean_speed[b] * (self.s2 / self.count[b] as f64).sqrt(),
+                    fitted_bat_speed: fitted,
+                    residual: self.mean_speed[b] - fitted,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The swing's pivot: the z where the knob speed and ω cancel, v_knob + ω z = 0, by least squares.
+fn fit_pivot(samples: &[Sample]) -> Result<Estimate, CalibrateError> {
     let omega2: f64 = samples.iter().map(|s| s.angular_speed * s.angular_speed).sum();
     if !(omega2 > 0.0) {
         return Err(CalibrateError::Degenerate("every swing has ω = 0: the swing's pivot is not determined".into()));
     }
     let pivot = -samples.iter().map(|s| s.knob_speed * s.angular_speed).sum::<f64>() / omega2;
     let pivot_ss: f64 = samples.iter().map(|s| (s.knob_speed + s.angular_speed * pivot).powi(2)).sum();
-    let pivot_error = (pivot_ss / (n_total - 1) as f64 / omega2).sqrt();
-
-    let mut fit_bats: Vec<BatterFitBat> = (0..bats)
-        .map(|b| {
-            let fitted = (intercept + slope * x[b]).exp();
-            BatterFitBat {
-                bat_id: order[b].to_string(),
-                preset: data.bats[order[b]].preset.clone(),
-                swing_weight: weights[b],
-                swings: count[b],
-                mean_bat_speed: mean_speed[b],
-                mean_std_error: mean_speed[b] * (s2 / count[b] as f64).sqrt(),
-                fitted_bat_speed: fitted,
-                residual: mean_speed[b] - fitted,
-            }
-        })
-        .collect();
-    fit_bats.sort_by(|a, b| b.swing_weight.total_cmp(&a.swing_weight));
-    Ok(BatterFit {
-        reference_bat: reference_id,
-        reference_preset: reference.preset.clone(),
-        reference: reference.bat.clone(),
-        reference_swing_weight: reference_weight,
-        exponent: Estimate { value: -slope, std_error: slope_error },
-        bat_speed: Estimate { value: bat_speed, std_error: bat_speed * intercept_error },
-        pivot_z: Estimate { value: pivot, std_error: pivot_error },
-        impact_from_barrel_end: d,
-        swing_length: options.swing_length,
-        swings: n_total,
-        dof,
-        log_speed_sigma: s2.sqrt(),
-        bats: fit_bats,
-        skipped,
-    })
+    let pivot_error = (pivot_ss / (samples.len() - 1) as f64 / omega2).sqrt();
+    Ok(Estimate { value: pivot, std_error: pivot_error })
 }
 
 /// Reads a bag and fits its batter (see [`fit_batter`]).

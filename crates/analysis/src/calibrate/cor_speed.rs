@@ -57,13 +57,55 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
             "{n} measured swings cannot determine e0 and its exponent; need 3"
         )));
     }
+    let modes = bat_mode_sets(problem)?;
+    let speeds = approach_speeds(problem, &modes)?;
+    let (low, high) = speed_span(&speeds)?;
+    let start_ball = problem.ball;
+    let reference_speed = if start_ball.cor_speed_exponent != 0.0 {
+        start_ball.cor_reference_speed
+    } else {
+        (speeds.iter().sum::<f64>() / n as f64 * 10.0).round() / 10.0
+    };
+    let model = CorLawModel { problem, modes, start_ball, reference_speed, cor0: start_ball.cor_at(reference_speed) };
+    let evaluate = |x: &DVector<f64>| {
+        let predicted = model.predict(x)?;
+        Ok((model.residuals(&predicted), predicted))
+    };
+    let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<f64>>| model.jacobian(x, r);
+    let start = DVector::from_vec(vec![1.0, start_ball.cor_speed_exponent / EXPONENT_SCALE]);
+    let minimum = lm::minimize(start.clone(), evaluate, jacobian, options.max_iterations, options.tolerance)?;
+    let errors = minimum.standard_errors().ok_or_else(|| {
+        CalibrateError::Degenerate("JᵀJ is singular; the swings do not constrain both e0 and its exponent".into())
+    })?;
+    let x = &minimum.x;
+    let rms = |p: &[Option<f64>]| (model.residuals(p).norm_squared() / n as f64).sqrt();
+    Ok(CorLawFit {
+        parameters: model.parameters(x, &errors),
+        reference_speed,
+        speed_range: (low, high),
+        rms_before: rms(&minimum.predicted_at_start),
+        rms: rms(&minimum.predicted),
+        residual_sigma: minimum.residual_variance().sqrt(),
+        dof: minimum.dof(),
+        iterations: minimum.iterations,
+        converged: minimum.converged,
+        ball: model.ball_of(x),
+    })
+}
+
+fn bat_mode_sets(problem: &Problem) -> Result<BTreeMap<&str, ModeSet>, CalibrateError> {
     let mut modes: BTreeMap<&str, ModeSet> = BTreeMap::new();
     for (id, pb) in &problem.bats {
         let set = ModeSet::compute(&pb.bat, pb.modes)
             .map_err(|source| CalibrateError::Physics { context: format!("bat '{id}'"), source })?;
         modes.insert(id.as_str(), set);
     }
-    let mut speeds = Vec::with_capacity(n);
+    Ok(modes)
+}
+
+/// Each swing's head-on approach speed (ball plus bat at the impact point), m/s.
+fn approach_speeds(problem: &Problem, modes: &BTreeMap<&str, ModeSet>) -> Result<Vec<f64>, CalibrateError> {
+    let mut speeds = Vec::with_capacity(problem.observations.len());
     for o in &problem.observations {
         let set = modes.get(o.bat_id.as_str()).ok_or_else(|| {
             CalibrateError::NoData(format!(
@@ -73,6 +115,11 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
         })?;
         speeds.push(o.impact.ball_speed + rigid::bat_speed_at(&set.mass_properties(), &o.impact));
     }
+    Ok(speeds)
+}
+
+/// The lowest and highest approach speed; an error when they are too close to separate e0 from its exponent.
+fn speed_span(speeds: &[f64]) -> Result<(f64, f64), CalibrateError> {
     let (low, high) = speeds.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
     let span = high - low;
     if span.is_nan() || span < MIN_SPEED_SPAN {
@@ -82,23 +129,34 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
             high - low
         )));
     }
-    let start_ball = problem.ball;
-    let reference_speed = if start_ball.cor_speed_exponent != 0.0 {
-        start_ball.cor_reference_speed
-    } else {
-        (speeds.iter().sum::<f64>() / n as f64 * 10.0).round() / 10.0
-    };
-    let cor0 = start_ball.cor_at(reference_speed);
-    let ball_of = |x: &DVector<f64>| Ball {
-        cor: x[0] * cor0,
-        cor_speed_exponent: x[1] * EXPONENT_SCALE,
-        cor_reference_speed: reference_speed,
-        ..start_ball
-    };
-    let predict = |x: &DVector<f64>| -> Result<Vec<Option<f64>>, CalibrateError> {
-        let ball = ball_of(x);
+    Ok((low, high))
+}
+
+/// The speed law's model: parameters x = (e0/cor0, p/[`EXPONENT_SCALE`]), predictions the exit speeds.
+struct CorLawModel<'a> {
+    problem: &'a Problem,
+    modes: BTreeMap<&'a str, ModeSet>,
+    start_ball: Ball,
+    reference_speed: f64,
+    /// e0 of the start ball at the reference speed.
+    cor0: f64,
+}
+
+impl CorLawModel<'_> {
+    fn ball_of(&self, x: &DVector<f64>) -> Ball {
+        Ball {
+            cor: x[0] * self.cor0,
+            cor_speed_exponent: x[1] * EXPONENT_SCALE,
+            cor_reference_speed: self.reference_speed,
+            ..self.start_ball
+        }
+    }
+
+    fn predict(&self, x: &DVector<f64>) -> Result<Vec<Option<f64>>, CalibrateError> {
+        let problem = self.problem;
+        let ball = self.ball_of(x);
         if !(ball.cor > 0.05 && ball.cor <= 1.0 && (0.0..=MAX_COR_SPEED_EXPONENT).contains(&ball.cor_speed_exponent)) {
-            return Ok(vec![None; n]);
+            return Ok(vec![None; problem.observations.len()]);
         }
         problem
             .observations
@@ -106,71 +164,59 @@ pub fn fit_cor_law(problem: &Problem, options: &FitOptions) -> Result<CorLawFit,
             .map(|o| {
                 let pb = &problem.bats[&o.bat_id];
                 let options = CollisionOptions { modes: pb.modes, time_step: problem.time_step };
-                tangential::exit_speed(&modes[o.bat_id.as_str()], &pb.bat, &ball, &problem.contact, &o.input, &options)
+                let modes = &self.modes[o.bat_id.as_str()];
+                tangential::exit_speed(modes, &pb.bat, &ball, &problem.contact, &o.input, &options)
                     .map(Some)
                     .map_err(|source| CalibrateError::Physics { context: format!("swing {}", o.swing_id), source })
             })
             .collect()
-    };
-    let residuals = |predicted: &[Option<f64>]| {
+    }
+
+    fn residuals(&self, predicted: &[Option<f64>]) -> DVector<f64> {
+        let observations = &self.problem.observations;
         DVector::from_iterator(
-            n,
-            problem.observations.iter().zip(predicted).map(|(o, p)| o.measured_exit_speed - p.unwrap_or(f64::NAN)),
+            observations.len(),
+            observations.iter().zip(predicted).map(|(o, p)| o.measured_exit_speed - p.unwrap_or(f64::NAN)),
         )
-    };
-    let evaluate = |x: &DVector<f64>| {
-        let predicted = predict(x)?;
-        Ok((residuals(&predicted), predicted))
-    };
-    let step = 1e-4;
-    let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<f64>>| -> Result<DMatrix<f64>, CalibrateError> {
+    }
+
+    /// Forward differences of the predictions.
+    fn jacobian(&self, x: &DVector<f64>, r: &DVector<f64>) -> Result<DMatrix<f64>, CalibrateError> {
+        let step = 1e-4;
+        let observations = &self.problem.observations;
+        let n = observations.len();
         let mut j = DMatrix::zeros(n, 2);
         for k in 0..2 {
             let mut xk = x.clone();
             xk[k] += step;
-            let shifted = predict(&xk)?;
+            let shifted = self.predict(&xk)?;
             for i in 0..n {
-                let base = problem.observations[i].measured_exit_speed - r[i];
+                let base = observations[i].measured_exit_speed - r[i];
                 j[(i, k)] = shifted[i].map(|m| (m - base) / step).unwrap_or(0.0);
             }
         }
         Ok(j)
-    };
-    let start = DVector::from_vec(vec![1.0, start_ball.cor_speed_exponent / EXPONENT_SCALE]);
-    let minimum = lm::minimize(start.clone(), evaluate, jacobian, options.max_iterations, options.tolerance)?;
-    let errors = minimum.standard_errors().ok_or_else(|| {
-        CalibrateError::Degenerate("JᵀJ is singular; the swings do not constrain both e0 and its exponent".into())
-    })?;
-    let x = &minimum.x;
-    let parameters = vec![
-        FittedParameter {
-            name: "cor".into(),
-            unit: "",
-            initial: cor0,
-            value: x[0] * cor0,
-            std_error: errors[0] * cor0,
-        },
-        FittedParameter {
-            name: "cor_speed_exponent".into(),
-            unit: "",
-            initial: start_ball.cor_speed_exponent,
-            value: x[1] * EXPONENT_SCALE,
-            std_error: errors[1] * EXPONENT_SCALE,
-        },
-    ];
-    let rms = |p: &[Option<f64>]| (residuals(p).norm_squared() / n as f64).sqrt();
-    Ok(CorLawFit {
-        parameters,
-        reference_speed,
-        speed_range: (low, high),
-        rms_before: rms(&minimum.predicted_at_start),
-        rms: rms(&minimum.predicted),
-        residual_sigma: minimum.residual_variance().sqrt(),
-        dof: minimum.dof(),
-        iterations: minimum.iterations,
-        converged: minimum.converged,
-        ball: ball_of(x),
-    })
+    }
+
+    fn parameters(&self, x: &DVector<f64>, errors: &[f64]) -> Vec<FittedParameter> {
+        let cor0 = self.cor0;
+        vec![
+            FittedParameter {
+                name: "cor".into(),
+                unit: "",
+                initial: cor0,
+                value: x[0] * cor0,
+                std_error: errors[0] * cor0,
+            },
+            FittedParameter {
+                name: "cor_speed_exponent".into(),
+                unit: "",
+                initial: self.start_ball.cor_speed_exponent,
+                value: x[1] * EXPONENT_SCALE,
+                std_error: errors[1] * EXPONENT_SCALE,
+            },
+        ]
+    }
 }
 
 /// The human-readable report of a speed-law fit.

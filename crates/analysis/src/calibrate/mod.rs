@@ -283,53 +283,98 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
             p + 1
         )));
     }
-    let eval = |x: &DVector<f64>, only: Option<&str>| -> Result<Vec<Option<f64>>, CalibrateError> {
-        let (cor, youngs) = layout.unpack(x);
-        if !(cor > 0.0 && cor <= 1.0) || youngs.values().any(|&e| e.is_nan() || e <= 0.0) {
-            return Ok(vec![None; n]);
-        }
-        predict(problem, cor, &youngs, only)
-    };
-    let step = 1e-4;
-    let build_jacobian =
-        |x: &DVector<f64>, r: &DVector<f64>, current: &Vec<Option<f64>>| -> Result<DMatrix<f64>, CalibrateError> {
-            let mut j = DMatrix::zeros(n, p);
-            for k in 0..p {
-                let mut xk = x.clone();
-                xk[k] += step;
-                let only = layout.bat_of[k].as_deref();
-                let shifted = eval(&xk, only)?;
-                for i in 0..n {
-                    // ∂(predicted)/∂x_k; observations of other bats do not depend on bat k's modulus.
-                    let moved = shifted[i].or(if only.is_some() { current[i] } else { None });
-                    let base = problem.observations[i].measured_exit_speed - r[i];
-                    j[(i, k)] = moved.map(|m| (m - base) / step).unwrap_or(0.0);
-                }
-            }
-            Ok(j)
-        };
     let evaluate = |x: &DVector<f64>| {
-        let predicted = eval(x, None)?;
+        let predicted = layout.predict(problem, x, None)?;
         Ok((residuals_of(problem, &predicted), predicted))
     };
+    let jacobian =
+        |x: &DVector<f64>, r: &DVector<f64>, current: &Vec<Option<f64>>| layout.jacobian(problem, x, r, current);
     let start = DVector::from_element(p, 1.0);
-    let minimum = lm::minimize(start, evaluate, build_jacobian, options.max_iterations, options.tolerance)?;
+    let minimum = lm::minimize(start, evaluate, jacobian, options.max_iterations, options.tolerance)?;
     let errors = minimum.standard_errors().ok_or_else(|| {
         CalibrateError::Degenerate("JᵀJ is singular; the data do not constrain every parameter".into())
     })?;
     let (x, r, dof) = (&minimum.x, &minimum.residuals, minimum.dof());
     let (before, current) = (&minimum.predicted_at_start, &minimum.predicted);
     let ssr = r.norm_squared();
-    let parameters = (0..p)
-        .map(|k| FittedParameter {
-            name: layout.names[k].clone(),
-            unit: layout.units[k],
-            initial: layout.start[k],
-            value: x[k] * layout.start[k],
-            std_error: errors[k] * layout.start[k],
-        })
-        .collect();
-    let residuals = problem
+    let rms_before = (residuals_of(problem, before).norm_squared() / n as f64).sqrt();
+    let (cor, youngs) = layout.unpack(x);
+    Ok(Fit {
+        parameters: layout.parameters(x, &errors),
+        residuals: residual_rows(problem, before, current, r),
+        rms_before,
+        rms: (ssr / n as f64).sqrt(),
+        residual_sigma: minimum.residual_variance().sqrt(),
+        dof,
+        iterations: minimum.iterations,
+        converged: minimum.converged,
+        ball: Ball { cor, ..problem.ball },
+        bats: bats_with_moduli(problem, &youngs),
+    })
+}
+
+impl Layout {
+    /// Predicted exit speeds at scaled parameters `x` (of `only` that bat's swings when given); all None
+    /// outside the physical range.
+    fn predict(
+        &self,
+        problem: &Problem,
+        x: &DVector<f64>,
+        only: Option<&str>,
+    ) -> Result<Vec<Option<f64>>, CalibrateError> {
+        let (cor, youngs) = self.unpack(x);
+        if !(cor > 0.0 && cor <= 1.0) || youngs.values().any(|&e| e.is_nan() || e <= 0.0) {
+            return Ok(vec![None; problem.observations.len()]);
+        }
+        predict(problem, cor, &youngs, only)
+    }
+
+    /// Forward differences; a bat's modulus moves only its own swings, so only those are recomputed.
+    fn jacobian(
+        &self,
+        problem: &Problem,
+        x: &DVector<f64>,
+        r: &DVector<f64>,
+        current: &[Option<f64>],
+    ) -> Result<DMatrix<f64>, CalibrateError> {
+        let step = 1e-4;
+        let (n, p) = (problem.observations.len(), self.start.len());
+        let mut j = DMatrix::zeros(n, p);
+        for k in 0..p {
+            let mut xk = x.clone();
+            xk[k] += step;
+            let only = self.bat_of[k].as_deref();
+            let shifted = self.predict(problem, &xk, only)?;
+            for i in 0..n {
+                // ∂(predicted)/∂x_k; observations of other bats do not depend on bat k's modulus.
+                let moved = shifted[i].or(if only.is_some() { current[i] } else { None });
+                let base = problem.observations[i].measured_exit_speed - r[i];
+                j[(i, k)] = moved.map(|m| (m - base) / step).unwrap_or(0.0);
+            }
+        }
+        Ok(j)
+    }
+
+    fn parameters(&self, x: &DVector<f64>, errors: &[f64]) -> Vec<FittedParameter> {
+        (0..self.start.len())
+            .map(|k| FittedParameter {
+                name: self.names[k].clone(),
+                unit: self.units[k],
+                initial: self.start[k],
+                value: x[k] * self.start[k],
+                std_error: errors[k] * self.start[k],
+            })
+            .collect()
+    }
+}
+
+fn residual_rows(
+    problem: &Problem,
+    before: &[Option<f64>],
+    current: &[Option<f64>],
+    r: &DVector<f64>,
+) -> Vec<Residual> {
+    problem
         .observations
         .iter()
         .enumerate()
@@ -342,10 +387,12 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
             predicted: current[i].unwrap_or(f64::NAN),
             residual: r[i],
         })
-        .collect();
-    let rms_before = (residuals_of(problem, before).norm_squared() / n as f64).sqrt();
-    let (cor, youngs) = layout.unpack(x);
-    let bats = youngs
+        .collect()
+}
+
+/// The session's bats with their fitted shell moduli.
+fn bats_with_moduli(problem: &Problem, youngs: &BTreeMap<String, f64>) -> BTreeMap<String, Bat> {
+    youngs
         .iter()
         .filter_map(|(id, &e)| {
             problem.bats.get(id).map(|pb| {
@@ -354,19 +401,7 @@ pub fn fit(problem: &Problem, options: &FitOptions) -> Result<Fit, CalibrateErro
                 (id.clone(), bat)
             })
         })
-        .collect();
-    Ok(Fit {
-        parameters,
-        residuals,
-        rms_before,
-        rms: (ssr / n as f64).sqrt(),
-        residual_sigma: minimum.residual_variance().sqrt(),
-        dof,
-        iterations: minimum.iterations,
-        converged: minimum.converged,
-        ball: Ball { cor, ..problem.ball },
-        bats,
-    })
+        .collect()
 }
 
 /// The bat a BatParams describes and the modes the node integrates for it, by the node's rules
@@ -426,16 +461,49 @@ pub fn read_inputs(path: &Path) -> Result<RecordedInputs, CalibrateError> {
 /// ball, as the node does), computed with the recorded settings ([`RecordedInputs::settings`]). Only swings with
 /// `ball_id` (None = the ball most measured swings used) are kept.
 pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Result<Problem, CalibrateError> {
-    // Params re-announced under the same id replace the old ones; we fit against the last version of each.
     let mut skipped = Vec::new();
-    let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
     let settings = &inputs.settings;
-    // (log time, id) of the accepted params: only those become "the latest received" for empty ids.
-    let mut bat_times: Vec<(u64, String)> = Vec::new();
+    let (mut bats, bat_times) = announced_bats(inputs, &mut skipped);
+    let (balls, ball_times) = announced_balls(inputs, &mut skipped);
+    let mut by_ball = observations_by_ball(inputs, &mut bats, &bat_times, &ball_times, &mut skipped);
+    let chosen = match ball_id {
+        Some(id) => id.to_string(),
+        None => by_ball.iter().max_by_key(|(_, v)| v.len()).map(|(k, _)| k.clone()).ok_or_else(|| {
+            CalibrateError::NoData(
+                "the bag holds no swing with a measured exit speed (measured_exit_speed is NaN in all)".into(),
+            )
+        })?,
+    };
+    let mut observations = by_ball.remove(&chosen).unwrap_or_default();
+    retain_fittable(&mut observations, &bats, &mut skipped);
+    if observations.is_empty() {
+        return Err(CalibrateError::NoData(format!("no measured swing used ball '{chosen}'")));
+    }
+    let BallModel { ball, contact } = *balls.get(&chosen).ok_or_else(|| {
+        CalibrateError::NoData(format!("ball '{chosen}' was never announced on ball/params in this bag"))
+    })?;
+    let used: std::collections::BTreeSet<&str> = observations.iter().map(|o| o.bat_id.as_str()).collect();
+    bats.retain(|id, _| used.contains(id.as_str()));
+    Ok(Problem { bats, ball_id: chosen, ball, contact, observations, time_step: settings.time_step, skipped })
+}
+
+/// (log time, id) of accepted params: only those become "the latest received" for empty ids.
+type Announcements = Vec<(u64, String)>;
+
+/// The id announced last at or before `t`.
+fn latest_at(list: &[(u64, String)], t: u64) -> Option<String> {
+    list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone())
+}
+
+/// The bats announced in the bag, by id, and when each was accepted.
+fn announced_bats(inputs: &RecordedInputs, skipped: &mut Vec<String>) -> (BTreeMap<String, ProblemBat>, Announcements) {
+    // Params re-announced under the same id replace the old ones; we fit against the last version of each.
+    let mut bats: BTreeMap<String, ProblemBat> = BTreeMap::new();
+    let mut bat_times = Vec::new();
     for (t, params) in &inputs.bats {
         // The node rejects bad params and keeps the previous ones in force; so do we, by its own rules (e.g. a
         // mode count beyond the bat's, a bat finer than the recorded `max_bat_slices`).
-        match problem_bat(params, settings) {
+        match problem_bat(params, &inputs.settings) {
             Ok(bat) => {
                 bats.insert(params.bat_id.clone(), bat);
                 bat_times.push((*t, params.bat_id.clone()));
@@ -443,6 +511,11 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             Err(reason) => skipped.push(reason),
         }
     }
+    (bats, bat_times)
+}
+
+/// The balls known to the session (the presets and those announced), by id, and when each was announced.
+fn announced_balls(inputs: &RecordedInputs, skipped: &mut Vec<String>) -> (BTreeMap<String, BallModel>, Announcements) {
     let mut balls: BTreeMap<String, BallModel> = BTreeMap::new();
     // The built-in balls answer to their names without params, as in the node.
     for name in Ball::preset_names() {
@@ -450,7 +523,7 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             balls.insert(name.to_string(), ball.into());
         }
     }
-    let mut ball_times: Vec<(u64, String)> = Vec::new();
+    let mut ball_times = Vec::new();
     for (t, params) in &inputs.balls {
         match ball_from_params(params) {
             Ok(ball) => {
@@ -460,20 +533,31 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             Err(reason) => skipped.push(reason),
         }
     }
-    // Resolve empty ids to the latest announced at the swing's time.
-    let latest = |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
+    (balls, ball_times)
+}
+
+/// The swings with a measured exit speed and a known bat, grouped by the ball they used; a preset bat a
+/// swing names without its announcement is added to `bats`.
+fn observations_by_ball(
+    inputs: &RecordedInputs,
+    bats: &mut BTreeMap<String, ProblemBat>,
+    bat_times: &[(u64, String)],
+    ball_times: &[(u64, String)],
+    skipped: &mut Vec<String>,
+) -> BTreeMap<String, Vec<Observation>> {
+    let settings = &inputs.settings;
     let mut by_ball: BTreeMap<String, Vec<Observation>> = BTreeMap::new();
     for (t, s) in &inputs.swings {
         if !s.measured_exit_speed.is_finite() {
             continue;
         }
         let bat_id = if s.bat_id.is_empty() {
-            latest(&bat_times, *t).unwrap_or_else(|| settings.default_bat.clone())
+            latest_at(bat_times, *t).unwrap_or_else(|| settings.default_bat.clone())
         } else {
             s.bat_id.clone()
         };
         let ball = if s.ball_id.is_empty() {
-            latest(&ball_times, *t).unwrap_or_else(|| settings.default_ball.clone())
+            latest_at(ball_times, *t).unwrap_or_else(|| settings.default_ball.clone())
         } else {
             s.ball_id.clone()
         };
@@ -500,18 +584,17 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             measured_exit_speed: s.measured_exit_speed,
         });
     }
-    let chosen = match ball_id {
-        Some(id) => id.to_string(),
-        None => by_ball.iter().max_by_key(|(_, v)| v.len()).map(|(k, _)| k.clone()).ok_or_else(|| {
-            CalibrateError::NoData(
-                "the bag holds no swing with a measured exit speed (measured_exit_speed is NaN in all)".into(),
-            )
-        })?,
-    };
-    let mut observations = by_ball.remove(&chosen).unwrap_or_default();
-    // Swings the node would reject (impact off the bat, bat and ball not approaching, …) cannot be fitted.
+    by_ball
+}
+
+/// Swings the node would reject (impact off the bat, bat and ball not approaching, …) cannot be fitted.
+fn retain_fittable(
+    observations: &mut Vec<Observation>,
+    bats: &BTreeMap<String, ProblemBat>,
+    skipped: &mut Vec<String>,
+) {
     let mut modes_of: BTreeMap<&str, Option<ModeSet>> = BTreeMap::new();
-    for (id, pb) in &bats {
+    for (id, pb) in bats {
         modes_of.insert(id.as_str(), ModeSet::compute(&pb.bat, pb.modes).ok());
     }
     observations.retain(|o| match modes_of.get(o.bat_id.as_str()) {
@@ -527,15 +610,6 @@ pub fn problem_from_inputs(inputs: &RecordedInputs, ball_id: Option<&str>) -> Re
             false
         }
     });
-    if observations.is_empty() {
-        return Err(CalibrateError::NoData(format!("no measured swing used ball '{chosen}'")));
-    }
-    let BallModel { ball, contact } = *balls.get(&chosen).ok_or_else(|| {
-        CalibrateError::NoData(format!("ball '{chosen}' was never announced on ball/params in this bag"))
-    })?;
-    let used: std::collections::BTreeSet<&str> = observations.iter().map(|o| o.bat_id.as_str()).collect();
-    bats.retain(|id, _| used.contains(id.as_str()));
-    Ok(Problem { bats, ball_id: chosen, ball, contact, observations, time_step: settings.time_step, skipped })
 }
 
 /// Reads a bag and builds its fitting problem (see [`problem_from_inputs`]).

@@ -112,83 +112,21 @@ pub fn fit_game_ball(
     if n <= 2 {
         return Err(CalibrateError::NoData(format!("{n} bins cannot determine e0 and its exponent; need 3")));
     }
-    let reference_speed = MLB_COR_SPEED;
-    let cor0 = start.cor_at(reference_speed);
-    let ball_of = |x: &DVector<f64>| Ball {
-        cor: x[0] * cor0,
-        cor_speed_exponent: x[1] * EXPONENT_SCALE,
-        cor_reference_speed: reference_speed,
-        ..start
-    };
-    let predict = |x: &DVector<f64>| -> Result<Vec<f64>, CalibrateError> {
-        let ball = ball_of(x);
-        if !(ball.cor > 0.05 && ball.cor <= 1.0 && (0.0..=MAX_COR_SPEED_EXPONENT).contains(&ball.cor_speed_exponent)) {
-            return Ok(vec![f64::NAN; n]);
-        }
-        targets
-            .par_iter()
-            .map(|t| {
-                statcast_q_max(modes, &ball, t.bat_speed, t.pitch_speed, collision)
-                    .map(|(q, _)| q)
-                    .map_err(|source| CalibrateError::Physics { context: format!("bin {}", t.label), source })
-            })
-            .collect()
-    };
-    let residuals = |p: &[f64]| DVector::from_iterator(n, targets.iter().zip(p).map(|(t, q)| t.q - q));
+    let model = GameBallModel { modes, start, targets, collision, cor0: start.cor_at(MLB_COR_SPEED) };
     let evaluate = |x: &DVector<f64>| {
-        let p = predict(x)?;
-        Ok((residuals(&p), p))
+        let p = model.predict(x)?;
+        Ok((model.residuals(&p), p))
     };
-    let step = 1e-4;
-    let jacobian = |x: &DVector<f64>, _: &DVector<f64>, base: &Vec<f64>| -> Result<DMatrix<f64>, CalibrateError> {
-        let mut j = DMatrix::zeros(n, 2);
-        for k in 0..2 {
-            let mut xk = x.clone();
-            xk[k] += step;
-            let shifted = predict(&xk)?;
-            for i in 0..n {
-                let d = (shifted[i] - base[i]) / step;
-                j[(i, k)] = if d.is_finite() { d } else { 0.0 };
-            }
-        }
-        Ok(j)
-    };
+    let jacobian = |x: &DVector<f64>, _: &DVector<f64>, base: &Vec<f64>| model.jacobian(x, base);
     let start_x = DVector::from_vec(vec![1.0, start.cor_speed_exponent / EXPONENT_SCALE]);
     let minimum = lm::minimize(start_x, evaluate, jacobian, options.max_iterations, options.tolerance)?;
-    let s2 = minimum.residual_variance();
-    let jtj = minimum.jacobian.transpose() * &minimum.jacobian;
-    let inv = jtj.try_inverse().ok_or_else(|| {
-        CalibrateError::Degenerate("JᵀJ is singular; the bins do not constrain both e0 and its exponent".into())
-    })?;
-    let scale = [cor0, EXPONENT_SCALE];
-    let mut covariance = [[0.0; 2]; 2];
-    for (a, row) in covariance.iter_mut().enumerate() {
-        for (b, c) in row.iter_mut().enumerate() {
-            *c = s2 * inv[(a, b)] * scale[a] * scale[b];
-        }
-    }
+    let covariance = model.covariance(&minimum)?;
     let x = &minimum.x;
-    let parameters = vec![
-        FittedParameter {
-            name: "cor".into(),
-            unit: "",
-            initial: cor0,
-            value: x[0] * cor0,
-            std_error: covariance[0][0].sqrt(),
-        },
-        FittedParameter {
-            name: "cor_speed_exponent".into(),
-            unit: "",
-            initial: start.cor_speed_exponent,
-            value: x[1] * EXPONENT_SCALE,
-            std_error: covariance[1][1].sqrt(),
-        },
-    ];
-    let rms = |p: &[f64]| (residuals(p).norm_squared() / n as f64).sqrt();
+    let rms = |p: &[f64]| (model.residuals(p).norm_squared() / n as f64).sqrt();
     Ok(GameBallFit {
         correlation: covariance[0][1] / (covariance[0][0] * covariance[1][1]).sqrt(),
         covariance,
-        parameters,
+        parameters: model.parameters(x, &covariance),
         rms_before: rms(&minimum.predicted_at_start),
         rms: rms(&minimum.predicted),
         q_before: minimum.predicted_at_start.clone(),
@@ -196,6 +134,100 @@ pub fn fit_game_ball(
         dof: minimum.dof(),
         iterations: minimum.iterations,
         converged: minimum.converged,
-        ball: ball_of(x),
+        ball: model.ball_of(x),
     })
+}
+
+/// The game-ball fit's model: parameters x = (e0/cor0, p/[`EXPONENT_SCALE`]) at [`MLB_COR_SPEED`],
+/// predictions each bin's q.
+struct GameBallModel<'a> {
+    modes: &'a ModeSet,
+    start: Ball,
+    targets: &'a [QTarget],
+    collision: &'a CollisionOptions,
+    /// e0 of the start ball at [`MLB_COR_SPEED`].
+    cor0: f64,
+}
+
+impl GameBallModel<'_> {
+    fn ball_of(&self, x: &DVector<f64>) -> Ball {
+        Ball {
+            cor: x[0] * self.cor0,
+            cor_speed_exponent: x[1] * EXPONENT_SCALE,
+            cor_reference_speed: MLB_COR_SPEED,
+            ..self.start
+        }
+    }
+
+    fn predict(&self, x: &DVector<f64>) -> Result<Vec<f64>, CalibrateError> {
+        let ball = self.ball_of(x);
+        if !(ball.cor > 0.05 && ball.cor <= 1.0 && (0.0..=MAX_COR_SPEED_EXPONENT).contains(&ball.cor_speed_exponent)) {
+            return Ok(vec![f64::NAN; self.targets.len()]);
+        }
+        self.targets
+            .par_iter()
+            .map(|t| {
+                statcast_q_max(self.modes, &ball, t.bat_speed, t.pitch_speed, self.collision)
+                    .map(|(q, _)| q)
+                    .map_err(|source| CalibrateError::Physics { context: format!("bin {}", t.label), source })
+            })
+            .collect()
+    }
+
+    fn residuals(&self, p: &[f64]) -> DVector<f64> {
+        DVector::from_iterator(self.targets.len(), self.targets.iter().zip(p).map(|(t, q)| t.q - q))
+    }
+
+    /// Forward differences from the predictions `base` at `x`.
+    fn jacobian(&self, x: &DVector<f64>, base: &[f64]) -> Result<DMatrix<f64>, CalibrateError> {
+        let step = 1e-4;
+        let n = self.targets.len();
+        let mut j = DMatrix::zeros(n, 2);
+        for k in 0..2 {
+            let mut xk = x.clone();
+            xk[k] += step;
+            let shifted = self.predict(&xk)?;
+            for i in 0..n {
+                let d = (shifted[i] - base[i]) / step;
+                j[(i, k)] = if d.is_finite() { d } else { 0.0 };
+            }
+        }
+        Ok(j)
+    }
+
+    /// Cov of (cor, exponent) in their own units: s² (JᵀJ)⁻¹ scaled back from the minimiser's parameters.
+    fn covariance(&self, minimum: &lm::Minimum<Vec<f64>>) -> Result<[[f64; 2]; 2], CalibrateError> {
+        let s2 = minimum.residual_variance();
+        let jtj = minimum.jacobian.transpose() * &minimum.jacobian;
+        let inv = jtj.try_inverse().ok_or_else(|| {
+            CalibrateError::Degenerate("JᵀJ is singular; the bins do not constrain both e0 and its exponent".into())
+        })?;
+        let scale = [self.cor0, EXPONENT_SCALE];
+        let mut covariance = [[0.0; 2]; 2];
+        for (a, row) in covariance.iter_mut().enumerate() {
+            for (b, c) in row.iter_mut().enumerate() {
+                *c = s2 * inv[(a, b)] * scale[a] * scale[b];
+            }
+        }
+        Ok(covariance)
+    }
+
+    fn parameters(&self, x: &DVector<f64>, covariance: &[[f64; 2]; 2]) -> Vec<FittedParameter> {
+        vec![
+            FittedParameter {
+                name: "cor".into(),
+                unit: "",
+                initial: self.cor0,
+                value: x[0] * self.cor0,
+                std_error: covariance[0][0].sqrt(),
+            },
+            FittedParameter {
+                name: "cor_speed_exponent".into(),
+                unit: "",
+                initial: self.start.cor_speed_exponent,
+                value: x[1] * EXPONENT_SCALE,
+                std_error: covariance[1][1].sqrt(),
+            },
+        ]
+    }
 }

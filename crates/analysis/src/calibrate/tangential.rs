@@ -31,6 +31,7 @@
 //! undercuts or many such swings to separate e_T from the undercuts.
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 use std::path::Path;
 
 use nalgebra::{DMatrix, DVector};
@@ -245,13 +246,34 @@ fn fit_with(
     dense: bool,
     progress: impl FnMut(Progress),
 ) -> Result<TangentialFit, CalibrateError> {
+    check_options(options)?;
+    let undercut_prior = options.undercut_sigma > 0.0;
+    let (swings, skipped, p) = select_swings(problem, undercut_prior);
+    let fit = LaunchModel::new(problem, ball, options, swings, p)?;
+    let minimum = fit.minimize(dense, progress)?;
+    let sigmas = minimum.sigmas.clone().ok_or_else(|| {
+        CalibrateError::Degenerate(
+            "JᵀJ is singular: the launch angles and spins do not constrain e_T (every swing slides, or no spin is \
+             measured) or an unmeasured undercut"
+                .into(),
+        )
+    })?;
+    Ok(fit.result(&minimum, &sigmas, skipped))
+}
+
+fn check_options(options: &TangentialOptions) -> Result<(), CalibrateError> {
     options.contact.validate().map_err(|source| CalibrateError::Physics { context: "start contact".into(), source })?;
     if !(options.launch_angle_sigma > 0.0 && options.spin_sigma > 0.0 && options.undercut_sigma >= 0.0) {
         return Err(CalibrateError::NoData(
             "the tracker's σ for launch angle and spin must be positive, the undercut's σ ≥ 0".into(),
         ));
     }
-    let undercut_prior = options.undercut_sigma > 0.0;
+    Ok(())
+}
+
+/// The swings with a launch angle or spin measured, the reasons others were skipped, and the number of
+/// parameters (e_T and one per fitted undercut).
+fn select_swings(problem: &Problem, undercut_prior: bool) -> (Vec<LaunchSwing<'_>>, Vec<String>, usize) {
     let mut skipped = Vec::new();
     let mut swings = Vec::new();
     let mut p = 1;
@@ -278,66 +300,125 @@ fn fit_with(
         };
         swings.push(LaunchSwing { observation: o, undercut_index });
     }
-    // Residual rows of a swing: its measured launch angle and spin, and its reported undercut when fitted.
-    let rows_of = |s: &LaunchSwing| {
+    (swings, skipped, p)
+}
+
+/// Parameters are scaled to order 1: e_T as is, undercuts in cm.
+const UNDERCUT_UNIT: f64 = 0.01;
+/// Forward-difference step of the Jacobian, in scaled parameters.
+const JACOBIAN_STEP: f64 = 1e-4;
+
+/// The undercut (m) of a swing at parameters `x`: fitted, or as reported.
+fn undercut_of(s: &LaunchSwing, x: &DVector<f64>) -> f64 {
+    match s.undercut_index {
+        Some(k) => x[k] * UNDERCUT_UNIT,
+        None => s.observation.input.undercut,
+    }
+}
+
+/// The e_T fit's model: the selected swings, their bats' modes and the layout of the residual rows.
+struct LaunchModel<'a> {
+    problem: &'a Problem,
+    ball: &'a Ball,
+    options: &'a TangentialOptions,
+    undercut_prior: bool,
+    swings: Vec<LaunchSwing<'a>>,
+    modes: BTreeMap<&'a str, ModeSet>,
+    /// Rows of each swing's residuals.
+    rows: Vec<Range<usize>>,
+    /// Residual rows in all.
+    n: usize,
+    /// Parameters in all.
+    p: usize,
+}
+
+impl<'a> LaunchModel<'a> {
+    fn new(
+        problem: &'a Problem,
+        ball: &'a Ball,
+        options: &'a TangentialOptions,
+        swings: Vec<LaunchSwing<'a>>,
+        p: usize,
+    ) -> Result<Self, CalibrateError> {
+        let mut model = LaunchModel {
+            problem,
+            ball,
+            options,
+            undercut_prior: options.undercut_sigma > 0.0,
+            swings,
+            modes: BTreeMap::new(),
+            rows: Vec::new(),
+            n: 0,
+            p,
+        };
+        model.n = model.swings.iter().map(|s| model.rows_of(s)).sum();
+        if model.n <= p {
+            return Err(CalibrateError::NoData(format!(
+                "{} measured launch angles and spins cannot determine {p} parameter(s) (e_T and the unmeasured \
+                 undercuts); need at least {}",
+                model.n,
+                p + 1
+            )));
+        }
+        model.modes = bat_modes(problem, &model.swings)?;
+        model.rows = model.row_ranges();
+        Ok(model)
+    }
+
+    /// Residual rows of a swing: its measured launch angle and spin, and its reported undercut when fitted.
+    fn rows_of(&self, s: &LaunchSwing) -> usize {
         let input = &s.observation.input;
         usize::from(input.measured_launch_angle.is_finite())
             + usize::from(input.measured_spin.is_finite())
-            + usize::from(undercut_prior && input.undercut.is_finite())
-    };
-    let n: usize = swings.iter().map(rows_of).sum();
-    if n <= p {
-        return Err(CalibrateError::NoData(format!(
-            "{n} measured launch angles and spins cannot determine {p} parameter(s) (e_T and the unmeasured \
-             undercuts); need at least {}",
-            p + 1
-        )));
-    }
-    let mut modes: BTreeMap<&str, ModeSet> = BTreeMap::new();
-    for s in &swings {
-        let id = s.observation.bat_id.as_str();
-        if !modes.contains_key(id) {
-            let pb = &problem.bats[id];
-            let set = ModeSet::compute(&pb.bat, pb.modes)
-                .map_err(|source| CalibrateError::Physics { context: format!("bat '{id}'"), source })?;
-            modes.insert(id, set);
-        }
+            + usize::from(self.undercut_prior && input.undercut.is_finite())
     }
 
-    // Parameters are scaled to order 1: e_T as is, undercuts in cm.
-    const UNDERCUT_UNIT: f64 = 0.01;
-    let mut start = vec![0.0; p];
-    start[0] = options.contact.tangential_cor;
-    for s in &swings {
-        if let Some(k) = s.undercut_index {
-            let reported = s.observation.input.undercut;
-            start[k] = if reported.is_finite() { reported / UNDERCUT_UNIT } else { 0.0 };
+    fn row_ranges(&self) -> Vec<Range<usize>> {
+        let mut rows = Vec::with_capacity(self.swings.len());
+        let mut row = 0;
+        for s in &self.swings {
+            let k = self.rows_of(s);
+            rows.push(row..row + k);
+            row += k;
         }
+        rows
     }
-    let undercut_of = |s: &LaunchSwing, x: &DVector<f64>| match s.undercut_index {
-        Some(k) => x[k] * UNDERCUT_UNIT,
-        None => s.observation.input.undercut,
-    };
-    // Predicted (launch angle, spin) of one swing at e_T and undercut D (m); None when outside the model's range.
-    let predict_at = |s: &LaunchSwing, e_t: f64, undercut: f64| -> Option<(f64, f64)> {
+
+    fn start(&self) -> DVector<f64> {
+        let mut start = vec![0.0; self.p];
+        start[0] = self.options.contact.tangential_cor;
+        for s in &self.swings {
+            if let Some(k) = s.undercut_index {
+                let reported = s.observation.input.undercut;
+                start[k] = if reported.is_finite() { reported / UNDERCUT_UNIT } else { 0.0 };
+            }
+        }
+        DVector::from_vec(start)
+    }
+
+    /// Predicted (launch angle, spin) of one swing at e_T and undercut D (m); None when outside the model's range.
+    fn predict_at(&self, s: &LaunchSwing, e_t: f64, undercut: f64) -> Option<Launch> {
         let o = s.observation;
-        let pb = &problem.bats[o.bat_id.as_str()];
-        let contact = TangentialContact { tangential_cor: e_t, ..options.contact };
-        let collision = CollisionOptions { modes: pb.modes, time_step: problem.time_step };
+        let pb = &self.problem.bats[o.bat_id.as_str()];
+        let contact = TangentialContact { tangential_cor: e_t, ..self.options.contact };
+        let collision = CollisionOptions { modes: pb.modes, time_step: self.problem.time_step };
         let oblique = oblique_impact(&pb.bat, &o.input, undercut);
-        collide_oblique(&modes[o.bat_id.as_str()], ball, &oblique, &contact, &collision)
+        collide_oblique(&self.modes[o.bat_id.as_str()], self.ball, &oblique, &contact, &collision)
             .ok()
             .map(|r| (r.launch_angle, r.spin))
-    };
-    let predict_all = |x: &DVector<f64>| -> Vec<Option<(f64, f64)>> {
+    }
+
+    fn predict_all(&self, x: &DVector<f64>) -> Vec<Option<Launch>> {
         if !(0.0..=1.0).contains(&x[0]) {
-            return vec![None; swings.len()];
+            return vec![None; self.swings.len()];
         }
-        swings.par_iter().map(|s| predict_at(s, x[0], undercut_of(s, x))).collect()
-    };
-    // One swing's weighted residuals: launch angle, spin (measured values only), reported undercut.
-    let swing_residuals = |s: &LaunchSwing, predicted: Option<(f64, f64)>, undercut: f64, out: &mut Vec<f64>| {
+        self.swings.par_iter().map(|s| self.predict_at(s, x[0], undercut_of(s, x))).collect()
+    }
+
+    /// One swing's weighted residuals: launch angle, spin (measured values only), reported undercut.
+    fn swing_residuals(&self, s: &LaunchSwing, predicted: Option<Launch>, undercut: f64, out: &mut Vec<f64>) {
         let input = &s.observation.input;
+        let options = self.options;
         let (la, spin) = predicted.unwrap_or((f64::NAN, f64::NAN));
         if input.measured_launch_angle.is_finite() {
             out.push((input.measured_launch_angle - la) / options.launch_angle_sigma);
@@ -345,105 +426,128 @@ fn fit_with(
         if input.measured_spin.is_finite() {
             out.push((input.measured_spin - spin) / options.spin_sigma);
         }
-        if undercut_prior && input.undercut.is_finite() {
+        if self.undercut_prior && input.undercut.is_finite() {
             out.push((input.undercut - undercut) / options.undercut_sigma);
         }
-    };
-    // Weighted residuals, in swing order.
-    let residuals = |predicted: &[Option<(f64, f64)>], x: &DVector<f64>| -> DVector<f64> {
-        let mut r = Vec::with_capacity(n);
-        for (s, p) in swings.iter().zip(predicted) {
-            swing_residuals(s, *p, undercut_of(s, x), &mut r);
+    }
+
+    /// Weighted residuals, in swing order.
+    fn residuals(&self, predicted: &[Option<Launch>], x: &DVector<f64>) -> DVector<f64> {
+        let mut r = Vec::with_capacity(self.n);
+        for (s, p) in self.swings.iter().zip(predicted) {
+            self.swing_residuals(s, *p, undercut_of(s, x), &mut r);
         }
         DVector::from_vec(r)
-    };
-    // Rows of each swing's residuals.
-    let mut rows = Vec::with_capacity(swings.len());
-    let mut row = 0;
-    for s in &swings {
-        let k = rows_of(s);
-        rows.push(row..row + k);
-        row += k;
     }
-    // The Jacobian is block-sparse: a swing's rows depend on e_T and on its own undercut only. One block per
-    // swing; its e_T column from one shifted evaluation of every swing, its undercut column from one
-    // collision of its own (both forward differences, r = (measured − predicted)/σ so J = −∂r/∂θ).
-    let step = 1e-4;
-    let jacobian_of = |x: &DVector<f64>, r: &DVector<f64>| -> lm::BlockJacobian {
+
+    /// The Jacobian is block-sparse: a swing's rows depend on e_T and on its own undercut only. One block per
+    /// swing; its e_T column from one shifted evaluation of every swing, its undercut column from one
+    /// collision of its own (both forward differences, r = (measured − predicted)/σ so J = −∂r/∂θ).
+    fn jacobian(&self, x: &DVector<f64>, r: &DVector<f64>) -> lm::BlockJacobian {
+        let step = JACOBIAN_STEP;
         let mut xe = x.clone();
         xe[0] += if x[0] + step <= 1.0 { step } else { -step };
         let h0 = xe[0] - x[0];
-        let shifted = residuals(&predict_all(&xe), &xe);
-        let blocks = swings
+        let shifted = self.residuals(&self.predict_all(&xe), &xe);
+        let blocks = self
+            .swings
             .par_iter()
-            .zip(&rows)
+            .zip(&self.rows)
             .map(|(s, rows)| {
                 let global =
                     DMatrix::from_fn(rows.len(), 1, |i, _| -(shifted[rows.start + i] - r[rows.start + i]) / h0);
                 let (locals, local) = match s.undercut_index {
                     None => (Vec::new(), DMatrix::zeros(rows.len(), 0)),
-                    Some(k) => {
-                        let undercut = (x[k] + step) * UNDERCUT_UNIT;
-                        let mut moved = Vec::with_capacity(rows.len());
-                        swing_residuals(s, predict_at(s, x[0], undercut), undercut, &mut moved);
-                        let local = DMatrix::from_fn(rows.len(), 1, |i, _| {
-                            let (m, r) = (moved[i], r[rows.start + i]);
-                            if m.is_finite() {
-                                -(m - r) / step
-                            } else {
-                                0.0
-                            }
-                        });
-                        (vec![k], local)
-                    }
+                    Some(k) => (vec![k], self.undercut_column(s, rows, x, k, r)),
                 };
                 lm::JacobianBlock { rows: rows.clone(), locals, global, local }
             })
             .collect();
-        lm::BlockJacobian { globals: 1, parameters: p, blocks }
-    };
+        lm::BlockJacobian { globals: 1, parameters: self.p, blocks }
+    }
 
-    let evaluate = |x: &DVector<f64>| {
-        let predicted = predict_all(x);
-        Ok((residuals(&predicted, x), predicted))
-    };
-    let start = DVector::from_vec(start);
-    let (max_iterations, tolerance) = (options.max_iterations, options.tolerance);
-    let minimum = if dense {
-        let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(jacobian_of(x, r).to_dense());
-        Solved::of(lm::minimize_with(start, evaluate, jacobian, max_iterations, tolerance, progress)?)
-    } else {
-        let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(jacobian_of(x, r));
-        Solved::of(lm::minimize_with(start, evaluate, jacobian, max_iterations, tolerance, progress)?)
-    };
-    let sigmas = minimum.sigmas.clone().ok_or_else(|| {
-        CalibrateError::Degenerate(
-            "JᵀJ is singular: the launch angles and spins do not constrain e_T (every swing slides, or no spin is \
-             measured) or an unmeasured undercut"
-                .into(),
-        )
-    })?;
-    let (x, before, current) = (&minimum.x, &minimum.predicted_at_start, &minimum.predicted);
-    let mut parameters = vec![FittedParameter {
-        name: "tangential_cor".into(),
-        unit: "",
-        initial: options.contact.tangential_cor,
-        value: x[0],
-        std_error: sigmas[0],
-    }];
-    for s in &swings {
-        if let Some(k) = s.undercut_index {
-            parameters.push(FittedParameter {
-                name: format!("undercut[{}]", s.observation.swing_id),
-                unit: "m",
-                initial: s.observation.input.undercut,
-                value: x[k] * UNDERCUT_UNIT,
-                std_error: sigmas[k] * UNDERCUT_UNIT,
-            });
+    /// A swing's Jacobian column for its own undercut (parameter `k`), from one collision of its own.
+    fn undercut_column(
+        &self,
+        s: &LaunchSwing,
+        rows: &Range<usize>,
+        x: &DVector<f64>,
+        k: usize,
+        r: &DVector<f64>,
+    ) -> DMatrix<f64> {
+        let step = JACOBIAN_STEP;
+        let undercut = (x[k] + step) * UNDERCUT_UNIT;
+        let mut moved = Vec::with_capacity(rows.len());
+        self.swing_residuals(s, self.predict_at(s, x[0], undercut), undercut, &mut moved);
+        DMatrix::from_fn(rows.len(), 1, |i, _| {
+            let (m, r) = (moved[i], r[rows.start + i]);
+            if m.is_finite() {
+                -(m - r) / step
+            } else {
+                0.0
+            }
+        })
+    }
+
+    fn minimize(&self, dense: bool, progress: impl FnMut(Progress)) -> Result<Solved, CalibrateError> {
+        let evaluate = |x: &DVector<f64>| {
+            let predicted = self.predict_all(x);
+            Ok((self.residuals(&predicted, x), predicted))
+        };
+        let start = self.start();
+        let (max_iterations, tolerance) = (self.options.max_iterations, self.options.tolerance);
+        Ok(if dense {
+            let jacobian =
+                |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(self.jacobian(x, r).to_dense());
+            Solved::of(lm::minimize_with(start, evaluate, jacobian, max_iterations, tolerance, progress)?)
+        } else {
+            let jacobian = |x: &DVector<f64>, r: &DVector<f64>, _: &Vec<Option<Launch>>| Ok(self.jacobian(x, r));
+            Solved::of(lm::minimize_with(start, evaluate, jacobian, max_iterations, tolerance, progress)?)
+        })
+    }
+
+    fn result(&self, minimum: &Solved, sigmas: &[f64], skipped: Vec<String>) -> TangentialFit {
+        let (x, before, current) = (&minimum.x, &minimum.predicted_at_start, &minimum.predicted);
+        TangentialFit {
+            parameters: self.parameters(x, sigmas),
+            residuals: self.residual_rows(x, current),
+            rms_launch_angle: (self.rms(before, false), self.rms(current, false)),
+            rms_spin: (self.rms(before, true), self.rms(current, true)),
+            residual_sigma: minimum.residual_variance.sqrt(),
+            dof: minimum.dof,
+            iterations: minimum.iterations,
+            converged: minimum.converged,
+            contact: TangentialContact { tangential_cor: x[0], ..self.options.contact },
+            skipped,
         }
     }
-    let rms = |predicted: &[Option<(f64, f64)>], spin: bool| {
-        let values: Vec<f64> = swings
+
+    fn parameters(&self, x: &DVector<f64>, sigmas: &[f64]) -> Vec<FittedParameter> {
+        let mut parameters = vec![FittedParameter {
+            name: "tangential_cor".into(),
+            unit: "",
+            initial: self.options.contact.tangential_cor,
+            value: x[0],
+            std_error: sigmas[0],
+        }];
+        for s in &self.swings {
+            if let Some(k) = s.undercut_index {
+                parameters.push(FittedParameter {
+                    name: format!("undercut[{}]", s.observation.swing_id),
+                    unit: "m",
+                    initial: s.observation.input.undercut,
+                    value: x[k] * UNDERCUT_UNIT,
+                    std_error: sigmas[k] * UNDERCUT_UNIT,
+                });
+            }
+        }
+        parameters
+    }
+
+    /// RMS of the measured-minus-predicted spins (`spin`) or launch angles over the swings that have both.
+    fn rms(&self, predicted: &[Option<Launch>], spin: bool) -> f64 {
+        let values: Vec<f64> = self
+            .swings
             .iter()
             .zip(predicted)
             .map(|(s, p)| {
@@ -458,35 +562,44 @@ fn fit_with(
             .filter(|v| v.is_finite())
             .collect();
         (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
-    };
-    let residual_rows = swings
-        .iter()
-        .zip(current)
-        .map(|(s, p)| {
-            let input = &s.observation.input;
-            let (la, spin) = p.unwrap_or((f64::NAN, f64::NAN));
-            LaunchResidual {
-                swing_id: s.observation.swing_id,
-                bat_id: s.observation.bat_id.clone(),
-                undercut: undercut_of(s, x),
-                undercut_fitted: s.observation.input.undercut.is_nan(),
-                launch_angle: input.measured_launch_angle - la,
-                spin: input.measured_spin - spin,
-            }
-        })
-        .collect();
-    Ok(TangentialFit {
-        parameters,
-        residuals: residual_rows,
-        rms_launch_angle: (rms(before, false), rms(current, false)),
-        rms_spin: (rms(before, true), rms(current, true)),
-        residual_sigma: minimum.residual_variance.sqrt(),
-        dof: minimum.dof,
-        iterations: minimum.iterations,
-        converged: minimum.converged,
-        contact: TangentialContact { tangential_cor: x[0], ..options.contact },
-        skipped,
-    })
+    }
+
+    fn residual_rows(&self, x: &DVector<f64>, current: &[Option<Launch>]) -> Vec<LaunchResidual> {
+        self.swings
+            .iter()
+            .zip(current)
+            .map(|(s, p)| {
+                let input = &s.observation.input;
+                let (la, spin) = p.unwrap_or((f64::NAN, f64::NAN));
+                LaunchResidual {
+                    swing_id: s.observation.swing_id,
+                    bat_id: s.observation.bat_id.clone(),
+                    undercut: undercut_of(s, x),
+                    undercut_fitted: s.observation.input.undercut.is_nan(),
+                    launch_angle: input.measured_launch_angle - la,
+                    spin: input.measured_spin - spin,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The modes of every bat a swing uses, computed once per bat.
+fn bat_modes<'a>(
+    problem: &'a Problem,
+    swings: &[LaunchSwing<'a>],
+) -> Result<BTreeMap<&'a str, ModeSet>, CalibrateError> {
+    let mut modes: BTreeMap<&str, ModeSet> = BTreeMap::new();
+    for s in swings {
+        let id = s.observation.bat_id.as_str();
+        if !modes.contains_key(id) {
+            let pb = &problem.bats[id];
+            let set = ModeSet::compute(&pb.bat, pb.modes)
+                .map_err(|source| CalibrateError::Physics { context: format!("bat '{id}'"), source })?;
+            modes.insert(id, set);
+        }
+    }
+    Ok(modes)
 }
 
 /// A short text report of an e_T fit: the parameter, the residuals before and after.

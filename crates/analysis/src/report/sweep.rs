@@ -262,49 +262,7 @@ pub fn run_undercut_sweep(
     let impact = Impact { impact_z, ..*swing };
     let points = undercuts
         .par_iter()
-        .map(|&undercut| {
-            let planar = ObliqueImpact {
-                impact,
-                barrel_radius,
-                undercut,
-                attack_angle: oblique.attack_angle,
-                pitch_angle: oblique.pitch_angle,
-                pitch_spin: oblique.pitch_spin,
-            };
-            let context = || format!("oblique collision at undercut = {undercut} m");
-            // A level square swing is collide_spatial's planar case, answered by collide_oblique itself.
-            if oblique.bat_tilt == 0.0 && oblique.swing_direction == 0.0 {
-                let r = collide_oblique(&modes, ball, &planar, &oblique.contact, options).with_context(context)?;
-                return Ok(UndercutPointJson {
-                    undercut,
-                    exit_speed: r.exit_speed,
-                    launch_angle_deg: r.launch_angle_deg(),
-                    spin_rpm: r.spin_rpm(),
-                    flight: FlightJson::planar(&r),
-                    normal_exit_speed: r.normal_exit_speed,
-                    tangential_exit_speed: Some(r.tangential_exit_speed),
-                    sliding: r.sliding,
-                });
-            }
-            let spatial = SpatialImpact {
-                oblique: planar,
-                bat_tilt: oblique.bat_tilt,
-                swing_direction: oblique.swing_direction,
-                batter_side: oblique.batter_side,
-            };
-            let r = collide_spatial(&modes, ball, &spatial, &oblique.contact, options).with_context(context)?;
-            let flight = FlightJson::new(&r);
-            Ok(UndercutPointJson {
-                undercut,
-                exit_speed: r.exit_speed,
-                launch_angle_deg: r.launch_angle.to_degrees(),
-                spin_rpm: flight.backspin_rpm,
-                flight,
-                normal_exit_speed: r.normal.exit_speed,
-                tangential_exit_speed: None,
-                sliding: r.sliding,
-            })
-        })
+        .map(|&undercut| undercut_point(&modes, ball, impact, barrel_radius, undercut, oblique, options))
         .collect::<Result<Vec<_>>>()?;
     Ok(UndercutSweepJson {
         over: "undercut",
@@ -324,6 +282,59 @@ pub fn run_undercut_sweep(
         barrel_radius,
         points,
         plot: None,
+    })
+}
+
+/// One undercut's collision, planar when the swing is level and square, else in 3-D.
+fn undercut_point(
+    modes: &ModeSet,
+    ball: &Ball,
+    impact: Impact,
+    barrel_radius: f64,
+    undercut: f64,
+    oblique: &ObliqueSwing,
+    options: &CollisionOptions,
+) -> Result<UndercutPointJson> {
+    let planar = ObliqueImpact {
+        impact,
+        barrel_radius,
+        undercut,
+        attack_angle: oblique.attack_angle,
+        pitch_angle: oblique.pitch_angle,
+        pitch_spin: oblique.pitch_spin,
+    };
+    let context = || format!("oblique collision at undercut = {undercut} m");
+    // A level square swing is collide_spatial's planar case, answered by collide_oblique itself.
+    if oblique.bat_tilt == 0.0 && oblique.swing_direction == 0.0 {
+        let r = collide_oblique(modes, ball, &planar, &oblique.contact, options).with_context(context)?;
+        return Ok(UndercutPointJson {
+            undercut,
+            exit_speed: r.exit_speed,
+            launch_angle_deg: r.launch_angle_deg(),
+            spin_rpm: r.spin_rpm(),
+            flight: FlightJson::planar(&r),
+            normal_exit_speed: r.normal_exit_speed,
+            tangential_exit_speed: Some(r.tangential_exit_speed),
+            sliding: r.sliding,
+        });
+    }
+    let spatial = SpatialImpact {
+        oblique: planar,
+        bat_tilt: oblique.bat_tilt,
+        swing_direction: oblique.swing_direction,
+        batter_side: oblique.batter_side,
+    };
+    let r = collide_spatial(modes, ball, &spatial, &oblique.contact, options).with_context(context)?;
+    let flight = FlightJson::new(&r);
+    Ok(UndercutPointJson {
+        undercut,
+        exit_speed: r.exit_speed,
+        launch_angle_deg: r.launch_angle.to_degrees(),
+        spin_rpm: flight.backspin_rpm,
+        flight,
+        normal_exit_speed: r.normal.exit_speed,
+        tangential_exit_speed: None,
+        sliding: r.sliding,
     })
 }
 

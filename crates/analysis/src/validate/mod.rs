@@ -471,92 +471,105 @@ fn run_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, 
         "first_node_from_end_in" => lab.first_node_from_end_in(s("bat")?),
         "hoop_frequency_hz" => lab.hoop_frequency_hz(s("bat")?, p("from_end")?),
         "tee_max_spin_rpm" => lab.tee_max_spin_rpm(s("bat")?, p("bat_speed_mph")? * MPH, p("max_launch_deg")?),
-        "game_spin_rpm" => match trackman::pitch_medians(&inputs.trackman) {
-            Some(pitch) => {
-                let (launch, half_width) = (p("launch_deg")?, p("bin_half_width_deg")?);
-                let exit_speed = trackman::bin(&inputs.trackman, launch, half_width).median_exit_speed_mph;
-                let (attack, measured) = match row.params.get("attack_deg") {
-                    Some(toml::Value::String(from)) if from == "statcast" => match inputs.statcast.attack_at(launch) {
-                        Some(b) => (b.attack_median_deg, Some(b)),
-                        None => {
-                            return Ok(CaseValue {
-                                value: None,
-                                detail: format!("no Statcast attack angle for balls launched at {launch}°"),
-                            })
-                        }
-                    },
-                    _ => (p("attack_deg")?, None),
-                };
-                let mut case = lab.game_spin_rpm(&pitch, attack, launch, exit_speed)?;
-                if let Some(b) = measured {
-                    case.detail.push_str(&format!(
-                        "; attack angle {:.2}° = Statcast's median for {} balls launched at {}–{}° (quartiles {:.2}–{:.2}°)",
-                        b.attack_median_deg, b.count, b.launch_low_deg, b.launch_high_deg, b.attack_q1_deg, b.attack_q3_deg
-                    ));
-                }
-                Ok(case)
-            }
-            None => Ok(CaseValue { value: None, detail: "no pitch data in the TrackMan rows".into() }),
-        },
+        "game_spin_rpm" => game_spin_case(lab, inputs, row),
         "spin_transfer_fixed_cylinder" => lab.spin_transfer_fixed_cylinder(
             p("ball_speed_mph")? * MPH,
             p("cylinder_radius")?,
             p("line_of_centres_deg")?,
             p("incoming_spin_rpm")?,
         ),
-        "swing_exit_hoop_trend" => {
-            let (lo, hi) = (p("hoop_low_hz")?, p("hoop_high_hz")?);
-            let curve = lab.matched_swing_curve()?;
-            let band: Vec<&cases::SwingPoint> = curve.iter().filter(|q| q.hoop_hz >= lo && q.hoop_hz <= hi).collect();
-            let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.exit_speed)).collect();
-            let detail = match (band.first(), band.last()) {
-                (Some(a), Some(b)) => format!(
-                    "{} walls {:.2}–{:.2} mm at aluminum's mass and swing weight ({:.0}–{:.0} Hz; heavier walls cannot \
-                     be built to it); exit {:.1} mph at {:.0} Hz (rigid bat {:.1}), {:.1} mph at {:.0} Hz (rigid {:.1})",
-                    band.len(),
-                    a.wall * 1e3,
-                    b.wall * 1e3,
-                    a.hoop_hz,
-                    b.hoop_hz,
-                    a.exit_speed / MPH,
-                    a.hoop_hz,
-                    a.rigid_exit_speed / MPH,
-                    b.exit_speed / MPH,
-                    b.hoop_hz,
-                    b.rigid_exit_speed / MPH
-                ),
-                _ => "no wall in the band".into(),
-            };
-            Ok(CaseValue { value: cases::rank_correlation(&pairs), detail })
-        }
-        "bpf_hoop_trend" | "bpf_max_in_band" => {
-            let (lo, hi) = (p("hoop_low_hz")?, p("hoop_high_hz")?);
-            let curve = lab.bpf_curve(s("ball")?, p("ball_speed_mph")? * MPH)?;
-            let band: Vec<&cases::BpfPoint> = curve.iter().filter(|q| q.hoop_hz >= lo && q.hoop_hz <= hi).collect();
-            let walls = match (band.first(), band.last()) {
-                (Some(a), Some(b)) => format!("{} walls {:.2}–{:.2} mm", band.len(), a.wall * 1e3, b.wall * 1e3),
-                _ => "no wall in the band".into(),
-            };
-            if row.case == "bpf_hoop_trend" {
-                let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.bpf)).collect();
-                Ok(CaseValue {
-                    value: cases::rank_correlation(&pairs), detail: format!("{walls}, {lo:.0}–{hi:.0} Hz")
-                })
-            } else {
-                let best = band.iter().max_by(|a, b| a.bpf.total_cmp(&b.bpf));
-                Ok(CaseValue {
-                    value: best.map(|q| q.bpf),
-                    detail: match best {
-                        Some(q) => format!("{walls}; largest at {:.2} mm, {:.0} Hz", q.wall * 1e3, q.hoop_hz),
-                        None => walls,
-                    },
-                })
-            }
-        }
+        "swing_exit_hoop_trend" => swing_exit_hoop_trend_case(lab, row),
+        "bpf_hoop_trend" | "bpf_max_in_band" => bpf_case(lab, row),
         "cage_exit_difference_mph" => lab.cage_exit_difference_mph(s("wood")?, s("metal")?, p("pitch_speed")?),
         "sweet_spot_shift_in" => lab.sweet_spot_shift_in(s("wood")?, s("metal")?, p("pitch_speed")?),
         "contact_time_ms" => lab.contact_time_ms(s("bat")?, p("pitch_speed")?, p("from_end")?),
         other => Err(ValidateError::Row { id: row.id.clone(), message: format!("unknown case '{other}'") }),
+    }
+}
+
+/// The game spin at a launch angle, with the TrackMan pitch and, when asked, Statcast's attack angle.
+fn game_spin_case(lab: &Lab, inputs: &Inputs, row: &Measurement) -> Result<CaseValue, ValidateError> {
+    let p = |k: &str| param(row, k);
+    match trackman::pitch_medians(&inputs.trackman) {
+        Some(pitch) => {
+            let (launch, half_width) = (p("launch_deg")?, p("bin_half_width_deg")?);
+            let exit_speed = trackman::bin(&inputs.trackman, launch, half_width).median_exit_speed_mph;
+            let (attack, measured) = match row.params.get("attack_deg") {
+                Some(toml::Value::String(from)) if from == "statcast" => match inputs.statcast.attack_at(launch) {
+                    Some(b) => (b.attack_median_deg, Some(b)),
+                    None => {
+                        return Ok(CaseValue {
+                            value: None,
+                            detail: format!("no Statcast attack angle for balls launched at {launch}°"),
+                        })
+                    }
+                },
+                _ => (p("attack_deg")?, None),
+            };
+            let mut case = lab.game_spin_rpm(&pitch, attack, launch, exit_speed)?;
+            if let Some(b) = measured {
+                case.detail.push_str(&format!(
+                "; attack angle {:.2}° = Statcast's median for {} balls launched at {}–{}° (quartiles {:.2}–{:.2}°)",
+                b.attack_median_deg, b.count, b.launch_low_deg, b.launch_high_deg, b.attack_q1_deg, b.attack_q3_deg
+            ));
+            }
+            Ok(case)
+        }
+        None => Ok(CaseValue { value: None, detail: "no pitch data in the TrackMan rows".into() }),
+    }
+}
+
+/// The rank correlation of exit speed with hoop frequency over the walls of matched bats in the band.
+fn swing_exit_hoop_trend_case(lab: &Lab, row: &Measurement) -> Result<CaseValue, ValidateError> {
+    let p = |k: &str| param(row, k);
+    let (lo, hi) = (p("hoop_low_hz")?, p("hoop_high_hz")?);
+    let curve = lab.matched_swing_curve()?;
+    let band: Vec<&cases::SwingPoint> = curve.iter().filter(|q| q.hoop_hz >= lo && q.hoop_hz <= hi).collect();
+    let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.exit_speed)).collect();
+    let detail = match (band.first(), band.last()) {
+        (Some(a), Some(b)) => format!(
+            "{} walls {:.2}–{:.2} mm at aluminum's mass and swing weight ({:.0}–{:.0} Hz; heavier walls cannot \
+             be built to it); exit {:.1} mph at {:.0} Hz (rigid bat {:.1}), {:.1} mph at {:.0} Hz (rigid {:.1})",
+            band.len(),
+            a.wall * 1e3,
+            b.wall * 1e3,
+            a.hoop_hz,
+            b.hoop_hz,
+            a.exit_speed / MPH,
+            a.hoop_hz,
+            a.rigid_exit_speed / MPH,
+            b.exit_speed / MPH,
+            b.hoop_hz,
+            b.rigid_exit_speed / MPH
+        ),
+        _ => "no wall in the band".into(),
+    };
+    Ok(CaseValue { value: cases::rank_correlation(&pairs), detail })
+}
+
+/// The BPF over the walls in the hoop band: its rank correlation with hoop frequency, or its largest value.
+fn bpf_case(lab: &Lab, row: &Measurement) -> Result<CaseValue, ValidateError> {
+    let p = |k: &str| param(row, k);
+    let s = |k: &str| param_str(row, k);
+    let (lo, hi) = (p("hoop_low_hz")?, p("hoop_high_hz")?);
+    let curve = lab.bpf_curve(s("ball")?, p("ball_speed_mph")? * MPH)?;
+    let band: Vec<&cases::BpfPoint> = curve.iter().filter(|q| q.hoop_hz >= lo && q.hoop_hz <= hi).collect();
+    let walls = match (band.first(), band.last()) {
+        (Some(a), Some(b)) => format!("{} walls {:.2}–{:.2} mm", band.len(), a.wall * 1e3, b.wall * 1e3),
+        _ => "no wall in the band".into(),
+    };
+    if row.case == "bpf_hoop_trend" {
+        let pairs: Vec<(f64, f64)> = band.iter().map(|q| (q.hoop_hz, q.bpf)).collect();
+        Ok(CaseValue { value: cases::rank_correlation(&pairs), detail: format!("{walls}, {lo:.0}–{hi:.0} Hz") })
+    } else {
+        let best = band.iter().max_by(|a, b| a.bpf.total_cmp(&b.bpf));
+        Ok(CaseValue {
+            value: best.map(|q| q.bpf),
+            detail: match best {
+                Some(q) => format!("{walls}; largest at {:.2} mm, {:.0} Hz", q.wall * 1e3, q.hoop_hz),
+                None => walls,
+            },
+        })
     }
 }
 
@@ -797,36 +810,11 @@ fn hit_spin_rows(
     for (b, scan) in bins.iter().zip(scans) {
         let (attack, tilt) = swing_path_near(radar, b.launch_median_deg).unwrap_or((f64::NAN, f64::NAN));
         let model = scan.as_deref().map(|points| hit_spin_model(points, b));
-        let lefties = b.balls.iter().filter(|ball| ball.left_handed).count();
         for (kind, measured, pick) in [
             ("backspin", b.backspin, (|p: (f64, f64)| p.0) as fn((f64, f64)) -> f64),
             ("sidespin", b.sidespin, |p: (f64, f64)| p.1),
         ] {
-            let values: Vec<f64> = model.iter().flatten().flatten().map(|&p| pick(p)).collect::<Vec<_>>();
-            let missing = model.as_ref().map_or(0, |m| m.iter().filter(|p| p.is_none()).count());
-            let mut sorted = values.clone();
-            sorted.sort_by(f64::total_cmp);
-            let value = trackman::quantile(&sorted, 0.5);
-            let detail = match &model {
-                None => format!(
-                    "no swing of 0.3–1.5× the average launches at {:.1}° with {:.1} mph",
-                    b.launch_median_deg,
-                    b.exit_median_mph.unwrap_or(f64::NAN)
-                ),
-                Some(_) => {
-                    let mut d = format!(
-                        "median over {} balls (model quartiles {:.0} / {:.0} / {:.0})",
-                        values.len(),
-                        trackman::quantile(&sorted, 0.25).unwrap_or(f64::NAN),
-                        value.unwrap_or(f64::NAN),
-                        trackman::quantile(&sorted, 0.75).unwrap_or(f64::NAN)
-                    );
-                    if missing > 0 {
-                        d.push_str(&format!(", {missing} balls sprayed beyond the swing directions scanned"));
-                    }
-                    d
-                }
-            };
+            let (value, detail) = hit_spin_median(b, model.as_deref(), pick);
             let (low, high) = (measured.q1, measured.q3);
             rows.push(RowResult {
                 id: format!("trackman-{kind}/{}", b.label()),
@@ -835,20 +823,7 @@ fn hit_spin_rows(
                     b.launch_range_deg.0, b.launch_range_deg.1
                 ),
                 unit: "rpm".into(),
-                conditions: format!(
-                    "model: R161 in 3-D, attack {attack:.2}° and bat tilt {tilt:.2}° (Statcast's MLB medians near the \
-                     bin's median launch {:.1}°), swing speed matched to the bin's median exit speed {:.1} mph, pitch \
-                     {:.1} mph descending {:.1}° with {:.0} rpm backspin, each ball's spray angle hit by its batter's \
-                     side; measured: n = {} tracked balls in play ({lefties} left-handed), {kind} from HitSpinRate and \
-                     HitSpinAxis ({})",
-                    b.launch_median_deg,
-                    b.exit_median_mph.unwrap_or(f64::NAN),
-                    pitch.zone_speed_mph,
-                    -pitch.vert_appr_angle_deg,
-                    pitch.spin_rpm,
-                    b.balls.len(),
-                    if kind == "backspin" { "−T cos a" } else { "T sin a, positive toward left field" },
-                ),
+                conditions: hit_spin_conditions(b, kind, pitch, (attack, tilt)),
                 rule: Rule::Range,
                 low: Some(low),
                 high: Some(high),
@@ -870,6 +845,65 @@ fn hit_spin_rows(
     Ok(rows)
 }
 
+/// The model's median of one spin component (`pick`) over a bin's balls (`model`: None when no swing
+/// reaches the bin), with how it was found.
+fn hit_spin_median(
+    b: &hit_spin::HitSpinBin,
+    model: Option<&[Option<(f64, f64)>]>,
+    pick: fn((f64, f64)) -> f64,
+) -> (Option<f64>, String) {
+    let values: Vec<f64> = model.iter().copied().flatten().flatten().map(|&p| pick(p)).collect::<Vec<_>>();
+    let missing = model.map_or(0, |m| m.iter().filter(|p| p.is_none()).count());
+    let mut sorted = values.clone();
+    sorted.sort_by(f64::total_cmp);
+    let value = trackman::quantile(&sorted, 0.5);
+    let detail = match model {
+        None => format!(
+            "no swing of 0.3–1.5× the average launches at {:.1}° with {:.1} mph",
+            b.launch_median_deg,
+            b.exit_median_mph.unwrap_or(f64::NAN)
+        ),
+        Some(_) => {
+            let mut d = format!(
+                "median over {} balls (model quartiles {:.0} / {:.0} / {:.0})",
+                values.len(),
+                trackman::quantile(&sorted, 0.25).unwrap_or(f64::NAN),
+                value.unwrap_or(f64::NAN),
+                trackman::quantile(&sorted, 0.75).unwrap_or(f64::NAN)
+            );
+            if missing > 0 {
+                d.push_str(&format!(", {missing} balls sprayed beyond the swing directions scanned"));
+            }
+            d
+        }
+    };
+    (value, detail)
+}
+
+/// The model's swing (its attack and tilt in degrees) and the measured balls of a hit-spin row.
+fn hit_spin_conditions(
+    b: &hit_spin::HitSpinBin,
+    kind: &str,
+    pitch: &trackman::PitchMedians,
+    (attack, tilt): (f64, f64),
+) -> String {
+    let lefties = b.balls.iter().filter(|ball| ball.left_handed).count();
+    format!(
+        "model: R161 in 3-D, attack {attack:.2}° and bat tilt {tilt:.2}° (Statcast's MLB medians near the \
+         bin's median launch {:.1}°), swing speed matched to the bin's median exit speed {:.1} mph, pitch \
+         {:.1} mph descending {:.1}° with {:.0} rpm backspin, each ball's spray angle hit by its batter's \
+         side; measured: n = {} tracked balls in play ({lefties} left-handed), {kind} from HitSpinRate and \
+         HitSpinAxis ({})",
+        b.launch_median_deg,
+        b.exit_median_mph.unwrap_or(f64::NAN),
+        pitch.zone_speed_mph,
+        -pitch.vert_appr_angle_deg,
+        pitch.spin_rpm,
+        b.balls.len(),
+        if kind == "backspin" { "−T cos a" } else { "T sin a, positive toward left field" },
+    )
+}
+
 /// The exit-speed-against-undercut rows: per 5° bin of launch − attack angle (`statcast_exit_undercut.csv`),
 /// the game ball's largest exit speed in the bin over its head-on peak, against the real balls' 99th
 /// percentile over that of the bin where it is largest. The band is that ratio's 95 % confidence interval: the
@@ -883,19 +917,31 @@ fn statcast_undercut_rows(
     tables: &statcast::Tables,
     pitch: Option<&trackman::PitchMedians>,
 ) -> Result<Vec<RowResult>, ValidateError> {
-    use rayon::prelude::*;
     let Some(pitch) = pitch else { return Ok(Vec::new()) };
     let bins = &tables.undercut;
-    let plate_pitch = |bat_mph: f64| {
-        tables.q_bins("bat", "all").find(|b| (b.low..b.high).contains(&bat_mph)).map(|b| b.median_plate_pitch_mph)
-    };
     let Some(peak_bin) = bins.iter().max_by(|a, b| a.exit_p99_mph.total_cmp(&b.exit_p99_mph)) else {
         return Ok(Vec::new());
     };
-    // Per bin: (launch − attack deg, exit mph) along the undercut, the point's distance from the end (m) and
-    // the plate pitch speed (mph); `None` without a pitch speed for the bin's bat speed.
-    type Curve = (Vec<(f64, f64)>, f64, f64);
-    let curves: Vec<Option<Curve>> = bins
+    let curves = undercut_curves(lab, tables, pitch)?;
+    Ok(bins.iter().zip(curves).map(|(b, curve)| undercut_row(lab, b, peak_bin, curve.as_ref(), pitch)).collect())
+}
+
+/// A bin's model curve: (launch − attack deg, exit mph) along the undercut, the point's distance from the end
+/// (m) and the plate pitch speed (mph).
+type UndercutCurve = (Vec<(f64, f64)>, f64, f64);
+
+/// Per undercut bin its model curve; `None` without a pitch speed for the bin's bat speed.
+fn undercut_curves(
+    lab: &Lab,
+    tables: &statcast::Tables,
+    pitch: &trackman::PitchMedians,
+) -> Result<Vec<Option<UndercutCurve>>, ValidateError> {
+    use rayon::prelude::*;
+    let plate_pitch = |bat_mph: f64| {
+        tables.q_bins("bat", "all").find(|b| (b.low..b.high).contains(&bat_mph)).map(|b| b.median_plate_pitch_mph)
+    };
+    tables
+        .undercut
         .par_iter()
         .map(|b| {
             let Some(plate) = plate_pitch(b.median_bat_mph) else { return Ok(None) };
@@ -908,77 +954,90 @@ fn statcast_undercut_rows(
             )?;
             Ok(Some((curve, from_end, plate)))
         })
-        .collect::<Result<_, ValidateError>>()?;
-    Ok(bins
-        .iter()
-        .zip(curves)
-        .map(|(b, curve)| {
-            let reference = b.exit_p99_mph / peak_bin.exit_p99_mph;
-            let low = b.exit_p99_ci_low_mph / peak_bin.exit_p99_ci_high_mph;
-            let high = b.exit_p99_ci_high_mph / peak_bin.exit_p99_ci_low_mph;
-            let (model, detail) = match &curve {
-                Some((points, from_end, plate)) => {
-                    let peak = points.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
-                    let best = largest_in(points, b.low_deg, b.high_deg);
-                    let detail = format!(
-                        "R161 about the knob at {:.1} mph 6 in from the head rising {:.2}°, `{}` ball, pitch {:.1} \
-                         mph descending {:.1}° with {:.0} rpm backspin, struck {:.2} in from the end; largest exit \
-                         speed in the bin {} of the head-on peak {peak:.1} mph",
-                        b.median_bat_mph,
-                        b.median_attack_deg,
-                        lab.game_ball,
-                        plate,
-                        -pitch.vert_appr_angle_deg,
-                        pitch.spin_rpm,
-                        from_end / INCH,
-                        best.map(|v| format!("{v:.1} mph")).unwrap_or_else(|| "never reached".into()),
-                    );
-                    (best.map(|v| v / peak), detail)
-                }
-                None => (None, format!("no plate pitch speed for bats at {:.1} mph", b.median_bat_mph)),
-            };
-            RowResult {
-                id: format!("statcast-undercut/{}-{}", b.low_deg, b.high_deg),
-                quantity: format!(
-                    "largest exit speed over the head-on peak, launch − attack angle {}–{}°",
-                    b.low_deg, b.high_deg
-                ),
-                unit: "1".into(),
-                conditions: format!(
-                    "{} MLB balls in play with measured attack angle (bat 55–85 mph), launch − attack in [{}, {})°: \
-                     99th percentile of the exit speed {:.2} mph (95 % interval {:.2}–{:.2}), over the {}–{}° bin's \
-                     {:.2} ({:.2}–{:.2})",
-                    b.count,
-                    b.low_deg,
-                    b.high_deg,
-                    b.exit_p99_mph,
-                    b.exit_p99_ci_low_mph,
-                    b.exit_p99_ci_high_mph,
-                    peak_bin.low_deg,
-                    peak_bin.high_deg,
-                    peak_bin.exit_p99_mph,
-                    peak_bin.exit_p99_ci_low_mph,
-                    peak_bin.exit_p99_ci_high_mph
-                ),
-                rule: Rule::Range,
-                low: Some(low),
-                high: Some(high),
-                reference: Some(reference),
-                model,
-                ratio: ratio(model, Some(reference)),
-                verdict: judge(Rule::Range, model, Some(low), Some(high)),
-                model_detail: detail,
-                tolerance: "inside the 95 % confidence interval of the real ratio (the two bins' distribution-free \
-                            intervals of their 99th percentiles; docs/statcast.md)"
-                    .into(),
-                source: "Baseball Savant bat tracking with attack angle (validation/statcast_exit_undercut.csv, \
-                         derived by scripts/statcast_tables.py)"
-                    .into(),
-                read_from: "data".into(),
-                note: None,
-            }
-        })
-        .collect())
+        .collect()
+}
+
+/// The model's ratio for a bin (its largest exit speed in the bin over the head-on peak) and how it was found.
+fn undercut_model(
+    lab: &Lab,
+    b: &statcast::UndercutBin,
+    curve: Option<&UndercutCurve>,
+    pitch: &trackman::PitchMedians,
+) -> (Option<f64>, String) {
+    match curve {
+        Some((points, from_end, plate)) => {
+            let peak = points.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+            let best = largest_in(points, b.low_deg, b.high_deg);
+            let detail = format!(
+                "R161 about the knob at {:.1} mph 6 in from the head rising {:.2}°, `{}` ball, pitch {:.1} \
+                 mph descending {:.1}° with {:.0} rpm backspin, struck {:.2} in from the end; largest exit \
+                 speed in the bin {} of the head-on peak {peak:.1} mph",
+                b.median_bat_mph,
+                b.median_attack_deg,
+                lab.game_ball,
+                plate,
+                -pitch.vert_appr_angle_deg,
+                pitch.spin_rpm,
+                from_end / INCH,
+                best.map(|v| format!("{v:.1} mph")).unwrap_or_else(|| "never reached".into()),
+            );
+            (best.map(|v| v / peak), detail)
+        }
+        None => (None, format!("no plate pitch speed for bats at {:.1} mph", b.median_bat_mph)),
+    }
+}
+
+fn undercut_row(
+    lab: &Lab,
+    b: &statcast::UndercutBin,
+    peak_bin: &statcast::UndercutBin,
+    curve: Option<&UndercutCurve>,
+    pitch: &trackman::PitchMedians,
+) -> RowResult {
+    let reference = b.exit_p99_mph / peak_bin.exit_p99_mph;
+    let low = b.exit_p99_ci_low_mph / peak_bin.exit_p99_ci_high_mph;
+    let high = b.exit_p99_ci_high_mph / peak_bin.exit_p99_ci_low_mph;
+    let (model, detail) = undercut_model(lab, b, curve, pitch);
+    RowResult {
+        id: format!("statcast-undercut/{}-{}", b.low_deg, b.high_deg),
+        quantity: format!(
+            "largest exit speed over the head-on peak, launch − attack angle {}–{}°",
+            b.low_deg, b.high_deg
+        ),
+        unit: "1".into(),
+        conditions: format!(
+            "{} MLB balls in play with measured attack angle (bat 55–85 mph), launch − attack in [{}, {})°: \
+             99th percentile of the exit speed {:.2} mph (95 % interval {:.2}–{:.2}), over the {}–{}° bin's \
+             {:.2} ({:.2}–{:.2})",
+            b.count,
+            b.low_deg,
+            b.high_deg,
+            b.exit_p99_mph,
+            b.exit_p99_ci_low_mph,
+            b.exit_p99_ci_high_mph,
+            peak_bin.low_deg,
+            peak_bin.high_deg,
+            peak_bin.exit_p99_mph,
+            peak_bin.exit_p99_ci_low_mph,
+            peak_bin.exit_p99_ci_high_mph
+        ),
+        rule: Rule::Range,
+        low: Some(low),
+        high: Some(high),
+        reference: Some(reference),
+        model,
+        ratio: ratio(model, Some(reference)),
+        verdict: judge(Rule::Range, model, Some(low), Some(high)),
+        model_detail: detail,
+        tolerance: "inside the 95 % confidence interval of the real ratio (the two bins' distribution-free \
+                    intervals of their 99th percentiles; docs/statcast.md)"
+            .into(),
+        source: "Baseball Savant bat tracking with attack angle (validation/statcast_exit_undercut.csv, \
+                 derived by scripts/statcast_tables.py)"
+            .into(),
+        read_from: "data".into(),
+        note: None,
+    }
 }
 
 /// Runs every row with collisions under `options`, the oblique rows with the tangential contact `contact`.
@@ -992,83 +1051,10 @@ pub fn evaluate(
     let mut rows = Vec::new();
     let mut bins = Vec::new();
     for row in &inputs.measurements.row {
-        let case = run_case(&lab, inputs, row)?;
-        let (low, high, reference) = if row.rule == Rule::TrackmanIqr {
-            let b = trackman::bin(&inputs.trackman, param(row, "launch_deg")?, param(row, "bin_half_width_deg")?);
-            let bounds = if b.count >= 2 { (b.q1_rpm, b.q3_rpm) } else { (None, None) };
-            let r = (bounds.0, bounds.1, b.median_rpm);
-            bins.push(b);
-            r
-        } else {
-            let reference = row.value.or(match (row.low, row.high) {
-                (Some(lo), Some(hi)) => Some(0.5 * (lo + hi)),
-                (Some(lo), None) => Some(lo),
-                (None, Some(hi)) => Some(hi),
-                (None, None) => None,
-            });
-            match row.rule {
-                Rule::Within => {
-                    let u = row.uncertainty;
-                    (row.value.zip(u).map(|(v, u)| v - u), row.value.zip(u).map(|(v, u)| v + u), reference)
-                }
-                _ => (row.low, row.high, reference),
-            }
-        };
-        let mut detail = case.detail;
-        if row.rule == Rule::TrackmanIqr {
-            if let Some(b) = bins.last() {
-                detail.push_str(&format!("; {} balls in the bin", b.count));
-            }
-        }
-        rows.push(RowResult {
-            id: row.id.clone(),
-            quantity: row.quantity.clone(),
-            unit: row.unit.clone(),
-            conditions: row.conditions.clone(),
-            rule: row.rule,
-            low,
-            high,
-            reference,
-            model: case.value,
-            ratio: ratio(case.value, reference),
-            verdict: judge(row.rule, case.value, low, high),
-            model_detail: detail,
-            tolerance: row.tolerance.clone(),
-            source: row.source.clone(),
-            read_from: row.read_from.clone(),
-            note: row.note.clone(),
-        });
+        rows.push(measurement_row(&lab, inputs, row, &mut bins)?);
     }
     for (i, c) in inputs.ball_cor.iter().enumerate() {
-        let id = format!("ball-cor/{}", c.id.clone().unwrap_or_else(|| (i + 1).to_string()));
-        let speed = speed_in_m_s(c).map_err(|message| ValidateError::Row { id: id.clone(), message })?;
-        let ball = c.ball.clone().unwrap_or_else(|| lab.game_ball.clone());
-        let case = lab.ball_wall_cor(&ball, speed)?;
-        let (rule, low, high, tolerance) = match (c.low, c.high, c.uncertainty) {
-            (Some(lo), Some(hi), _) => (Rule::Range, Some(lo), Some(hi), format!("inside the stated range {lo}–{hi}")),
-            (_, _, Some(u)) => {
-                (Rule::Within, Some(c.value - u), Some(c.value + u), format!("value ± {u} (the stated uncertainty)"))
-            }
-            _ => (Rule::Within, None, None, "no range or uncertainty given: not judged".to_string()),
-        };
-        rows.push(RowResult {
-            id,
-            quantity: c.quantity.clone().unwrap_or_else(|| "ball COR against a rigid surface".into()),
-            unit: "1".into(),
-            conditions: format!("`{ball}` ball at {speed:.2} m/s ({:.1} mph) on a rigid wall", speed / MPH),
-            rule,
-            low,
-            high,
-            reference: Some(c.value),
-            model: case.value,
-            ratio: ratio(case.value, Some(c.value)),
-            verdict: judge(rule, case.value, low, high),
-            model_detail: case.detail,
-            tolerance,
-            source: c.source.clone().unwrap_or_default(),
-            read_from: c.read_from.clone().unwrap_or_default(),
-            note: Some("from validation/ball_cor.toml".into()),
-        });
+        rows.push(ball_cor_row(&lab, i, c)?);
     }
     rows.extend(statcast_q_rows(&lab, &inputs.statcast)?);
     let pitch = trackman::pitch_medians(&inputs.trackman);
@@ -1088,6 +1074,99 @@ pub fn evaluate(
         contact: lab.contact,
     };
     Ok((report, lab))
+}
+
+/// A row of `measurements.toml` run and judged; a TrackMan-IQR row's bin is added to `bins`.
+fn measurement_row(
+    lab: &Lab,
+    inputs: &Inputs,
+    row: &Measurement,
+    bins: &mut Vec<trackman::SpinBin>,
+) -> Result<RowResult, ValidateError> {
+    let case = run_case(lab, inputs, row)?;
+    let (low, high, reference) = if row.rule == Rule::TrackmanIqr {
+        let b = trackman::bin(&inputs.trackman, param(row, "launch_deg")?, param(row, "bin_half_width_deg")?);
+        let bounds = if b.count >= 2 { (b.q1_rpm, b.q3_rpm) } else { (None, None) };
+        let r = (bounds.0, bounds.1, b.median_rpm);
+        bins.push(b);
+        r
+    } else {
+        stated_bounds(row)
+    };
+    let mut detail = case.detail;
+    if row.rule == Rule::TrackmanIqr {
+        if let Some(b) = bins.last() {
+            detail.push_str(&format!("; {} balls in the bin", b.count));
+        }
+    }
+    Ok(RowResult {
+        id: row.id.clone(),
+        quantity: row.quantity.clone(),
+        unit: row.unit.clone(),
+        conditions: row.conditions.clone(),
+        rule: row.rule,
+        low,
+        high,
+        reference,
+        model: case.value,
+        ratio: ratio(case.value, reference),
+        verdict: judge(row.rule, case.value, low, high),
+        model_detail: detail,
+        tolerance: row.tolerance.clone(),
+        source: row.source.clone(),
+        read_from: row.read_from.clone(),
+        note: row.note.clone(),
+    })
+}
+
+/// (low, high, reference) of a row from its stated value, range or uncertainty.
+fn stated_bounds(row: &Measurement) -> (Option<f64>, Option<f64>, Option<f64>) {
+    let reference = row.value.or(match (row.low, row.high) {
+        (Some(lo), Some(hi)) => Some(0.5 * (lo + hi)),
+        (Some(lo), None) => Some(lo),
+        (None, Some(hi)) => Some(hi),
+        (None, None) => None,
+    });
+    match row.rule {
+        Rule::Within => {
+            let u = row.uncertainty;
+            (row.value.zip(u).map(|(v, u)| v - u), row.value.zip(u).map(|(v, u)| v + u), reference)
+        }
+        _ => (row.low, row.high, reference),
+    }
+}
+
+/// The `i`th row of `ball_cor.toml` run and judged.
+fn ball_cor_row(lab: &Lab, i: usize, c: &BallCorRow) -> Result<RowResult, ValidateError> {
+    let id = format!("ball-cor/{}", c.id.clone().unwrap_or_else(|| (i + 1).to_string()));
+    let speed = speed_in_m_s(c).map_err(|message| ValidateError::Row { id: id.clone(), message })?;
+    let ball = c.ball.clone().unwrap_or_else(|| lab.game_ball.clone());
+    let case = lab.ball_wall_cor(&ball, speed)?;
+    let (rule, low, high, tolerance) = match (c.low, c.high, c.uncertainty) {
+        (Some(lo), Some(hi), _) => (Rule::Range, Some(lo), Some(hi), format!("inside the stated range {lo}–{hi}")),
+        (_, _, Some(u)) => {
+            (Rule::Within, Some(c.value - u), Some(c.value + u), format!("value ± {u} (the stated uncertainty)"))
+        }
+        _ => (Rule::Within, None, None, "no range or uncertainty given: not judged".to_string()),
+    };
+    Ok(RowResult {
+        id,
+        quantity: c.quantity.clone().unwrap_or_else(|| "ball COR against a rigid surface".into()),
+        unit: "1".into(),
+        conditions: format!("`{ball}` ball at {speed:.2} m/s ({:.1} mph) on a rigid wall", speed / MPH),
+        rule,
+        low,
+        high,
+        reference: Some(c.value),
+        model: case.value,
+        ratio: ratio(case.value, Some(c.value)),
+        verdict: judge(rule, case.value, low, high),
+        model_detail: case.detail,
+        tolerance,
+        source: c.source.clone().unwrap_or_default(),
+        read_from: c.read_from.clone().unwrap_or_default(),
+        note: Some("from validation/ball_cor.toml".into()),
+    })
 }
 
 /// The report as an aligned text table with a summary and the TrackMan bins.
