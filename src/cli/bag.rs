@@ -59,7 +59,7 @@ pub enum BagCommand {
         /// What if: use this preset bat for every swing (r161, r161-corked, aluminum, torpedo).
         #[arg(long, value_name = "PRESET")]
         bat: Option<String>,
-        /// What if: use this preset ball for every swing (baseball, bbcor, mlb).
+        /// What if: use this preset ball for every swing (baseball, bbcor, mlb, mlb2024).
         #[arg(long, value_name = "PRESET")]
         ball: Option<String>,
         /// What if: integrate this many modes for every bat.

@@ -107,7 +107,7 @@ pub struct CaseSpec {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BallSpec {
-    /// The preset the other fields override (baseball, bbcor, mlb) [default baseball].
+    /// The preset the other fields override (baseball, bbcor, mlb, mlb2024) [default mlb2024, the game ball].
     pub preset: Option<String>,
     /// kg.
     pub mass: Option<f64>,
@@ -142,15 +142,27 @@ pub struct Case {
     pub options: CollisionOptions,
 }
 
+/// YAML's `.nan` and `.inf` reach a case as the strings the message decoder accepts, which no number field of a
+/// case takes: say so instead of serde's 'invalid type: string "nan"'.
+fn non_finite_reason(serde_reason: &str) -> Option<String> {
+    ["nan", "inf", "-inf"]
+        .into_iter()
+        .find(|word| serde_reason.starts_with(&format!("invalid type: string \"{word}\"")))
+        .map(|word| {
+            format!("{word} is not a number a case takes: give a finite value in the field's range (docs/cli.md)")
+        })
+}
+
 /// Parses and resolves a case from its JSON or YAML text; relative bat paths are resolved against `base`.
 pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
     let value = crate::client::values::parse_document(text, "the case")?;
     let spec: CaseSpec = serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
+        let reason = non_finite_reason(&e.inner().to_string()).unwrap_or_else(|| e.inner().to_string());
         if path.is_empty() || path == "." {
-            anyhow!("{}", e.inner())
+            anyhow!("{reason}")
         } else {
-            anyhow!("field `{path}`: {}", e.inner())
+            anyhow!("field `{path}`: {reason}")
         }
     })?;
     let bat = match &spec.bat {
@@ -313,6 +325,15 @@ mod tests {
         assert!(err.contains("softball") && err.contains("mlb"), "{err}");
         let err = format!("{:#}", parse_case(r#"{"ball": 3}"#, Path::new(".")).unwrap_err());
         assert!(err.contains("preset name"), "{err}");
+    }
+
+    #[test]
+    fn a_yaml_nan_or_inf_is_named_as_such() {
+        for (yaml, word) in [("tangential_stiffness_ratio: .nan\n", "nan"), ("ball_speed: -.inf\n", "-inf")] {
+            let err = format!("{:#}", parse_case(yaml, Path::new(".")).unwrap_err());
+            assert!(err.contains(&format!("{word} is not a number a case takes")), "{err}");
+            assert!(!err.contains("invalid type"), "{err}");
+        }
     }
 
     #[test]

@@ -100,7 +100,11 @@ const NAMESAKE_SETTLE: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// Warns on stderr when more than one node serves `fq_service` (nodes sharing a name): the answer printed is
 /// whichever came first. `discovering_since` is when the client's participant started.
-pub async fn warn_of_namesakes(context: &ros2_client::Context, fq_service: &str, discovering_since: std::time::Instant) {
+pub async fn warn_of_namesakes(
+    context: &ros2_client::Context,
+    fq_service: &str,
+    discovering_since: std::time::Instant,
+) {
     // One warning for a command, however many calls it makes (`param dump` makes two).
     static WARNED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
     let mut servers = servers_of(context, fq_service);

@@ -638,7 +638,8 @@ impl NodeLoop {
 pub fn summary_line(fqn: &str, s: &StatsSnapshot, usage: &RegistryUsage) -> String {
     format!(
         "{fqn}: {} swings received = {} answered OK + {} rejected + {} dropped + {} unsent (publish failed) + {} \
-         still queued at shutdown; {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs; mode cache {} \
+         still queued at shutdown; {} lost in transport; latency p50 {} µs, p99 {} µs, max {} µs (queue wait and \
+         compute: from the swing reader last seen empty to the answer published); mode cache {} \
          hits / {} misses; {} bats and {} balls evicted",
         s.swings_received,
         s.swings_ok,
