@@ -145,3 +145,30 @@ fn the_layout_references_only_served_topics_and_existing_fields() {
     assert!(check_path("/swing_scene.markers[0].pose.position.z").is_ok(), "nested types of other packages");
     assert!(check_path("/swing_scene.markers[0].pose.position.w").is_err());
 }
+
+/// The layout as a user first sees it, before touching a setting: Lichtblick's "floating" legend is drawn inside
+/// the plot area (the other positions, "top" and "left", take room beside it), so every plot puts its legend
+/// beside the data; no series waits for the user to edit the layout (an id to fill in); and the 3D panel draws
+/// no frame-axis labels, which at the scene's scale dwarf the bat and the swing's own label.
+#[test]
+fn the_layout_opens_readable_without_editing() {
+    let text = std::fs::read_to_string(root().join("layouts/sweetspot.json")).unwrap();
+    let layout: Value = serde_json::from_str(&text).unwrap();
+    let configs = layout["configById"].as_object().expect("configById");
+    for (id, config) in configs.iter().filter(|(id, _)| id.starts_with("Plot!")) {
+        if config["showLegend"] == true {
+            let place = config["legendDisplay"].as_str().unwrap_or("floating");
+            assert!(["top", "left"].contains(&place), "{id}: legend {place} covers the data");
+        }
+        for series in config["paths"].as_array().expect("paths") {
+            let label = series["label"].as_str().unwrap_or_default();
+            assert!(series["enabled"] == true, "{id}: series {label} is off until a user edits the layout");
+            assert!(!label.contains("edit"), "{id}: series {label}");
+        }
+    }
+    let scenes: Vec<&Value> = configs.iter().filter(|(id, _)| id.starts_with("3D!")).map(|(_, c)| c).collect();
+    assert!(!scenes.is_empty());
+    for scene in scenes {
+        assert_eq!(scene["scene"]["transforms"]["showLabel"], false, "frame labels drawn");
+    }
+}
