@@ -9,6 +9,7 @@
 //! `response_message` and `event_message`. Its RIHS01 hash is the one build.rs computed (checked in the tests
 //! below), so a client can verify what it got.
 
+use crate::model::limits::echo;
 use crate::msgs::type_description_interfaces::msg::{
     Field, FieldType, IndividualTypeDescription, KeyValue, TypeDescription, TypeSource,
 };
@@ -87,14 +88,14 @@ pub fn answer(request: &GetTypeDescription_Request) -> GetTypeDescription_Respon
 fn lookup(name: &str, hash: &str) -> Result<String, DescribeError> {
     if name.is_empty() {
         let by_hash = all_names().into_iter().find(|n| !hash.is_empty() && hash_of(n) == hash);
-        return by_hash.ok_or_else(|| DescribeError::UnknownType(format!("(hash {hash})")));
+        return by_hash.ok_or_else(|| DescribeError::UnknownType(format!("(hash {})", echo(hash))));
     }
     if !all_names().iter().any(|n| n == name) {
-        return Err(DescribeError::UnknownType(name.to_string()));
+        return Err(DescribeError::UnknownType(echo(name).into_owned()));
     }
     let ours = hash_of(name);
     if !hash.is_empty() && hash != ours {
-        return Err(DescribeError::HashMismatch { name: name.into(), ours: ours.into(), theirs: hash.into() });
+        return Err(DescribeError::HashMismatch { name: name.into(), ours: ours.into(), theirs: echo(hash).into() });
     }
     Ok(name.to_string())
 }
@@ -383,5 +384,24 @@ mod tests {
         assert!(!unknown.successful && unknown.failure_reason.contains("nav_msgs/msg/Odometry"));
         let wrong = ask("sweetspot_msgs/msg/Swing", hash_of("sweetspot_msgs/msg/ExitVelocity"));
         assert!(!wrong.successful && wrong.failure_reason.contains("mismatch"), "{}", wrong.failure_reason);
+    }
+
+    /// A peer's name or hash is echoed in the failure reason at most 256 bytes long (the node's bound for
+    /// any peer string it echoes), however long the request's: a 1 MB name gets a short answer, not 1 MB back.
+    #[test]
+    fn a_huge_name_or_hash_is_echoed_cut() {
+        let huge = "x".repeat(1 << 20);
+        for (type_name, type_hash) in
+            [(huge.as_str(), ""), ("", huge.as_str()), ("sweetspot_msgs/msg/Swing", huge.as_str())]
+        {
+            let reply = answer(&GetTypeDescription_Request {
+                type_name: type_name.into(),
+                type_hash: type_hash.into(),
+                include_type_sources: false,
+            });
+            assert!(!reply.successful);
+            assert!(reply.failure_reason.len() < 600, "{} bytes", reply.failure_reason.len());
+            assert!(reply.failure_reason.contains("(1048576 bytes)"), "{}", &reply.failure_reason);
+        }
     }
 }

@@ -5,14 +5,15 @@
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("invalid ROS name {name:?}: {reason}")]
 pub struct NameError {
-    /// The offending name.
+    /// The offending name, cut to the bound the node echoes any peer string to (a name may come from a 1 MB
+    /// argument or parameter file).
     pub name: String,
     /// The rule it breaks.
     pub reason: &'static str,
 }
 
 fn bad(name: &str, reason: &'static str) -> NameError {
-    NameError { name: name.to_string(), reason }
+    NameError { name: crate::model::limits::echo(name).into_owned(), reason }
 }
 
 fn check_tokens(full: &str, tokens: &str) -> Result<(), NameError> {
@@ -94,6 +95,15 @@ pub fn to_client_name(fq_topic: &str) -> Result<ros2_client::Name, NameError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 1 MB name is refused with its first bytes and its length, not echoed whole.
+    #[test]
+    fn a_huge_bad_name_is_echoed_cut() {
+        let huge = format!("bad name {}", "x".repeat(1 << 20));
+        let error = resolve_topic(&huge, "/", "n").unwrap_err().to_string();
+        assert!(error.len() < 400, "{} bytes", error.len());
+        assert!(error.starts_with("invalid ROS name \"bad name xxx") && error.contains("(1048585 bytes)"), "{error}");
+    }
 
     #[test]
     fn resolves_like_rcl() {
