@@ -85,7 +85,11 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
+mod bat_speed;
 pub mod figure;
+
+use bat_speed::fit_bat_speed;
+pub use bat_speed::{BatSpeedFit, BatSpeedSolution, MAX_FIT_Z_SIGMA, MAX_SCALE_SIGMA};
 
 use crate::calibrate::{problem_bat, read_inputs, CalibrateError, RecordedInputs};
 use crate::import::{ImportOptions, ImportedSwings, ROWS_TABLE};
@@ -749,23 +753,14 @@ impl SwingModel<'_> {
             if cost(&r) < converged.0 {
                 break;
             }
-            let mut a = [[0.0; 2]; 2];
+            let a = normal2(&jac);
             let mut g = [0.0; 2];
             for (row, ri) in jac.iter().zip(&r) {
                 for p in 0..2 {
                     g[p] += row[p] * ri;
-                    for q in 0..2 {
-                        a[p][q] += row[p] * row[q];
-                    }
                 }
             }
-            let damped = [[a[0][0] * (1.0 + lambda), a[0][1]], [a[1][0], a[1][1] * (1.0 + lambda)]];
-            let det = damped[0][0] * damped[1][1] - damped[0][1] * damped[1][0];
-            if det == 0.0 || det.is_nan() {
-                return None;
-            }
-            let step_z = -(damped[1][1] * g[0] - damped[0][1] * g[1]) / det;
-            let step_d = -(damped[0][0] * g[1] - damped[1][0] * g[0]) / det;
+            let (step_z, step_d) = damped_step(&a, &g, lambda)?;
             let (nz, nd) = clamp(z + step_z, d + step_d);
             match self.evaluate(nz, nd, measured, sigma) {
                 Some((nr, np)) if cost(&nr) < cost(&r) => {
@@ -794,22 +789,44 @@ impl SwingModel<'_> {
         if exact_covariance && !fresh {
             jac = jacobian(z, d, &r)?;
         }
-        let mut a = [[0.0; 2]; 2];
-        for row in &jac {
-            for p in 0..2 {
-                for q in 0..2 {
-                    a[p][q] += row[p] * row[q];
-                }
+        Some(Fit { z, d, cov: covariance2(&jac), prediction, jacobian: jac })
+    }
+}
+
+/// The Levenberg–Marquardt step −(A + λ·diag A)⁻¹ g for the normal matrix A = JᵀJ and gradient g = Jᵀr of two
+/// unknowns; None when the damped matrix is singular.
+fn damped_step(a: &[[f64; 2]; 2], g: &[f64; 2], lambda: f64) -> Option<(f64, f64)> {
+    let damped = [[a[0][0] * (1.0 + lambda), a[0][1]], [a[1][0], a[1][1] * (1.0 + lambda)]];
+    let det = damped[0][0] * damped[1][1] - damped[0][1] * damped[1][0];
+    if det == 0.0 || det.is_nan() {
+        return None;
+    }
+    Some((-(damped[1][1] * g[0] - damped[0][1] * g[1]) / det, -(damped[0][0] * g[1] - damped[1][0] * g[0]) / det))
+}
+
+/// (JᵀJ)⁻¹ of a Jacobian of weighted residuals with two columns: the covariance of the two unknowns (infinite
+/// when JᵀJ is singular).
+fn covariance2(jac: &[[f64; 2]]) -> [[f64; 2]; 2] {
+    let a = normal2(jac);
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    if det.abs() > 0.0 {
+        [[a[1][1] / det, -a[0][1] / det], [-a[1][0] / det, a[0][0] / det]]
+    } else {
+        [[f64::INFINITY; 2]; 2]
+    }
+}
+
+/// JᵀJ of a Jacobian with two columns.
+fn normal2(jac: &[[f64; 2]]) -> [[f64; 2]; 2] {
+    let mut a = [[0.0; 2]; 2];
+    for row in jac {
+        for p in 0..2 {
+            for q in 0..2 {
+                a[p][q] += row[p] * row[q];
             }
         }
-        let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-        let cov = if det.abs() > 0.0 {
-            [[a[1][1] / det, -a[0][1] / det], [-a[1][0] / det, a[0][0] / det]]
-        } else {
-            [[f64::INFINITY; 2]; 2]
-        };
-        Some(Fit { z, d, cov, prediction, jacobian: jac })
     }
+    a
 }
 
 /// Largest χ² per degree of freedom of a located solution, when there are more measurements than unknowns
@@ -923,20 +940,46 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
     let free_d = measured[1].is_finite();
     // A root is the answer when only z is free, found with the node's options; with D free it is where the
     // search starts (with the search's options), and 1 mm/s (tens of µm in z) is start enough.
-    let search = model.searching();
-    let (roots, (peak_z, peak_v)) = if free_d {
-        search.speed_roots(measured[0], d0, 1e-3, GUESS_TOLERANCE)
+    let (roots, peak) = if free_d {
+        model.searching().speed_roots(measured[0], d0, 1e-3, GUESS_TOLERANCE)
     } else {
         model.speed_roots(measured[0], d0, 1e-12, PEAK_TOLERANCE)
     };
-    if !peak_v.is_finite() {
+    if !peak.1.is_finite() {
         return Outcome::Failed { reason: "the model gives no exit speed anywhere on the barrel".into() };
     }
-    let mut solutions = Vec::new();
-    if !free_d {
+    let problem = Problem { model, measured, sigma, d0 };
+    let solutions = if free_d { problem.with_undercut(&roots, peak) } else { problem.along_barrel(roots, peak) };
+    match solutions {
+        Ok(solutions) => located(solutions),
+        Err(outcome) => outcome,
+    }
+}
+
+/// One swing's measurements against the model: what [`locate_swing`]'s two searches share.
+struct Problem<'m, 'a> {
+    model: &'m SwingModel<'a>,
+    /// Measured exit speed, launch angle and backspin ([`measured_of`]).
+    measured: [f64; 3],
+    /// Their accuracies.
+    sigma: [f64; 3],
+    /// The swing's undercut (0 if not given), m.
+    d0: f64,
+}
+
+impl Problem<'_, '_> {
+    /// z alone, at the swing's undercut: each root of v(z) = v_m (`roots`, with the sweet spot `peak` = (z*,
+    /// v*)) is a solution; the located ones, or the outcome that says why there is none.
+    fn along_barrel(&self, roots: Vec<f64>, (peak_z, peak_v): (f64, f64)) -> Result<Vec<Solution>, Outcome> {
+        let (model, measured, sigma, d0) = (self.model, &self.measured, &self.sigma, self.d0);
         if roots.is_empty() {
-            return Outcome::TooFast { max_exit_speed: peak_v, excess: measured[0] - peak_v, sweet_spot_z: peak_z };
+            return Err(Outcome::TooFast {
+                max_exit_speed: peak_v,
+                excess: measured[0] - peak_v,
+                sweet_spot_z: peak_z,
+            });
         }
+        let mut solutions = Vec::new();
         for z in roots {
             let h = 1e-4;
             let slope = (model.speed(z + h, d0) - model.speed(z - h, d0)) / (2.0 * h);
@@ -954,106 +997,130 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
                 direction: None,
             });
         }
-        let (kept, unreproduced) = sort_out(solutions, model, &measured, &sigma, 1);
-        solutions = kept;
-        if let Some(outcome) = unreproduced {
-            return outcome;
+        let (kept, unreproduced) = sort_out(solutions, model, measured, sigma, 1);
+        match unreproduced {
+            Some(outcome) => Err(outcome),
+            None => Ok(kept),
         }
-    } else {
+    }
+
+    /// z and D together, from each root of the search's v(z) = v_m at the swing's undercut (or the sweet spot
+    /// `peak` when there is none): the located solutions, or the outcome that says why there is none.
+    fn with_undercut(&self, roots: &[f64], (peak_z, peak_v): (f64, f64)) -> Result<Vec<Solution>, Outcome> {
+        let (model, measured, sigma) = (self.model, &self.measured, &self.sigma);
+        let search = model.searching();
         // Starting undercuts: at each root, the one that gives the measured launch angle (secant steps); with
         // no root at the swing's undercut (faster than its sweet spot), the undercuts across the reach at the
         // sweet spot, which also give the largest exit speed any undercut tried reaches.
-        let starts: Vec<f64> = if roots.is_empty() { vec![peak_z] } else { roots.clone() };
+        let starts: Vec<f64> = if roots.is_empty() { vec![peak_z] } else { roots.to_vec() };
         // The fastest (v, z, D) the search saw, for the report of a ball too fast for any of them.
-        let mut fastest = (peak_v, peak_z, d0);
+        let mut fastest = (peak_v, peak_z, self.d0);
         // The closest miss (χ², z, D), for the report when nothing reproduces the measurements.
         let mut closest: Option<(f64, f64, f64)> = None;
+        let mut solutions: Vec<Solution> = Vec::new();
         for &z in &starts {
             let start_d = if roots.is_empty() {
-                let reach = model.reach(z);
-                let mut best = (f64::INFINITY, d0);
-                for k in 0..=16 {
-                    let d = -reach + 2.0 * reach * k as f64 / 16.0;
-                    if let Ok(p) = search.predict(z, d) {
-                        if p[0] > fastest.0 {
-                            fastest = (p[0], z, d);
-                        }
-                        let miss = ((p[1] - measured[1]) / sigma[1]).abs() + ((p[0] - measured[0]) / sigma[0]).abs();
-                        if miss < best.0 {
-                            best = (miss, d);
-                        }
-                    }
-                }
-                best.1
+                self.fastest_undercut(&search, z, &mut fastest)
             } else {
-                search.undercut_for_launch_angle(z, d0, measured[1])
+                search.undercut_for_launch_angle(z, self.d0, measured[1])
             };
-            // The search's fit, finished with the node's options (from the start itself if the search's failed).
-            let (near, jacobian) = match search.fit((z, start_d), None, &measured, &sigma, SEARCH_CONVERGED, false) {
-                Some(f) => ((f.z, f.d), Some(f.jacobian)),
-                None => ((z, start_d), None),
-            };
-            if let Some(Fit { z: zf, d: df, cov, prediction, .. }) =
-                model.fit(near, jacobian, &measured, &sigma, FINAL_CONVERGED, true)
-            {
-                let r: Vec<f64> = (0..3)
-                    .filter(|&k| measured[k].is_finite())
-                    .map(|k| (prediction[k] - measured[k]) / sigma[k])
-                    .collect();
-                let chi2 = r.iter().map(|x| x * x).sum::<f64>();
-                // As many unknowns as measurements (or fewer): a solution reproduces them all.
-                let dof_fit = r.len() <= 2;
-                if chi2.is_finite() && closest.is_none_or(|(c, _, _)| chi2 < c) {
-                    closest = Some((chi2, zf, df));
-                }
-                if dof_fit && chi2 > 1e-6 || !chi2.is_finite() {
-                    continue;
-                }
-                if solutions.iter().any(|s: &Solution| (s.impact_z - zf).abs() < 1e-3 && (s.undercut - df).abs() < 1e-3)
-                {
-                    continue;
-                }
-                // The search's sweet spot: its exit speed differs from the node's by a smooth ~10⁻⁴ m/s, which
-                // moves the peak by under a µm, well inside PEAK_TOLERANCE (the unit tests below compare them).
-                let (sweet, _) = search.sweet_spot_near(df, peak_z);
-                solutions.push(Solution {
-                    impact_z: zf,
-                    impact_z_sigma: cov[0][0].sqrt(),
-                    undercut: df,
-                    undercut_sigma: cov[1][1].sqrt(),
-                    undercut_fitted: true,
-                    side: if zf < sweet { Side::Handle } else { Side::End },
-                    sweet_spot_z: sweet,
-                    chi2,
-                    model: prediction,
-                    direction: None,
-                });
+            let Some((fit, chi2)) = self.fit_from(&search, (z, start_d), &mut closest) else { continue };
+            if solutions.iter().any(|s| (s.impact_z - fit.z).abs() < 1e-3 && (s.undercut - fit.d).abs() < 1e-3) {
+                continue;
             }
-        }
-        let (kept, unreproduced) = sort_out(solutions, model, &measured, &sigma, 2);
-        solutions = kept;
-        if solutions.is_empty() {
-            // The sweet spot at the fastest undercut the search found, with the node's options (a rare case:
-            // the search's sweet spot is located only to GUESS_TOLERANCE).
-            let (_, guess_z, fastest_d) = fastest;
-            let (max_z, max_v) = model.sweet_spot_near(fastest_d, guess_z);
-            let (max_z, max_v) = if max_v.is_finite() { (max_z, max_v) } else { (guess_z, fastest.0) };
-            if measured[0] > max_v {
-                return Outcome::TooFast { max_exit_speed: max_v, excess: measured[0] - max_v, sweet_spot_z: max_z };
-            }
-            if let Some(outcome) = unreproduced {
-                return outcome;
-            }
-            let closest = closest.map_or(String::new(), |(chi2, z, d)| {
-                format!(" (closest: χ² = {chi2:.2} at z = {z:.3} m, D = {:+.1} mm)", d * 1e3)
+            // The search's sweet spot: its exit speed differs from the node's by a smooth ~10⁻⁴ m/s, which
+            // moves the peak by under a µm, well inside PEAK_TOLERANCE (the unit tests below compare them).
+            let (sweet, _) = search.sweet_spot_near(fit.d, peak_z);
+            solutions.push(Solution {
+                impact_z: fit.z,
+                impact_z_sigma: fit.cov[0][0].sqrt(),
+                undercut: fit.d,
+                undercut_sigma: fit.cov[1][1].sqrt(),
+                undercut_fitted: true,
+                side: if fit.z < sweet { Side::Handle } else { Side::End },
+                sweet_spot_z: sweet,
+                chi2,
+                model: fit.prediction,
+                direction: None,
             });
-            return Outcome::Failed {
-                reason: format!(
-                    "no impact point and undercut reproduce the exit speed and launch angle together{closest}"
-                ),
-            };
         }
+        let (kept, unreproduced) = sort_out(solutions, model, measured, sigma, 2);
+        if !kept.is_empty() {
+            return Ok(kept);
+        }
+        // The sweet spot at the fastest undercut the search found, with the node's options (a rare case:
+        // the search's sweet spot is located only to GUESS_TOLERANCE).
+        let (_, guess_z, fastest_d) = fastest;
+        let (max_z, max_v) = model.sweet_spot_near(fastest_d, guess_z);
+        let (max_z, max_v) = if max_v.is_finite() { (max_z, max_v) } else { (guess_z, fastest.0) };
+        if measured[0] > max_v {
+            return Err(Outcome::TooFast { max_exit_speed: max_v, excess: measured[0] - max_v, sweet_spot_z: max_z });
+        }
+        if let Some(outcome) = unreproduced {
+            return Err(outcome);
+        }
+        let closest = closest.map_or(String::new(), |(chi2, z, d)| {
+            format!(" (closest: χ² = {chi2:.2} at z = {z:.3} m, D = {:+.1} mm)", d * 1e3)
+        });
+        Err(Outcome::Failed {
+            reason: format!("no impact point and undercut reproduce the exit speed and launch angle together{closest}"),
+        })
     }
+
+    /// The undercut across the reach at `z` whose launch angle and exit speed come closest to the measured
+    /// ones (17 tried), raising `fastest` (v, z, D) to the fastest of them.
+    fn fastest_undercut(&self, search: &SwingModel<'_>, z: f64, fastest: &mut (f64, f64, f64)) -> f64 {
+        let (measured, sigma) = (&self.measured, &self.sigma);
+        let reach = self.model.reach(z);
+        let mut best = (f64::INFINITY, self.d0);
+        for k in 0..=16 {
+            let d = -reach + 2.0 * reach * k as f64 / 16.0;
+            if let Ok(p) = search.predict(z, d) {
+                if p[0] > fastest.0 {
+                    *fastest = (p[0], z, d);
+                }
+                let miss = ((p[1] - measured[1]) / sigma[1]).abs() + ((p[0] - measured[0]) / sigma[0]).abs();
+                if miss < best.0 {
+                    best = (miss, d);
+                }
+            }
+        }
+        best.1
+    }
+
+    /// The search's fit from `start`, finished with the node's options (from the start itself if the search's
+    /// failed), and its χ²: a solution when it reproduces the measurements as well as its degrees of freedom
+    /// allow, lowering `closest` (χ², z, D) to the closest miss.
+    fn fit_from(
+        &self,
+        search: &SwingModel<'_>,
+        start: (f64, f64),
+        closest: &mut Option<(f64, f64, f64)>,
+    ) -> Option<(Fit, f64)> {
+        let (measured, sigma) = (&self.measured, &self.sigma);
+        let (near, jacobian) = match search.fit(start, None, measured, sigma, SEARCH_CONVERGED, false) {
+            Some(f) => ((f.z, f.d), Some(f.jacobian)),
+            None => (start, None),
+        };
+        let fit = self.model.fit(near, jacobian, measured, sigma, FINAL_CONVERGED, true)?;
+        let r: Vec<f64> =
+            (0..3).filter(|&k| measured[k].is_finite()).map(|k| (fit.prediction[k] - measured[k]) / sigma[k]).collect();
+        let chi2 = r.iter().map(|x| x * x).sum::<f64>();
+        // As many unknowns as measurements (or fewer): a solution reproduces them all.
+        let dof_fit = r.len() <= 2;
+        if chi2.is_finite() && closest.is_none_or(|(c, _, _)| chi2 < c) {
+            *closest = Some((chi2, fit.z, fit.d));
+        }
+        if dof_fit && chi2 > 1e-6 || !chi2.is_finite() {
+            return None;
+        }
+        Some((fit, chi2))
+    }
+}
+
+/// The located outcome of `solutions` (at least one): sorted handle side first, the favoured one (if the
+/// measurements favour one: χ² lower by more than 1) and whether the swing was squared up.
+fn located(mut solutions: Vec<Solution>) -> Outcome {
     solutions.sort_by(|a, b| a.impact_z.total_cmp(&b.impact_z));
     let favoured = if solutions.len() == 1 {
         Some(0)
@@ -1068,314 +1135,6 @@ fn locate_swing(model: &SwingModel<'_>, swing: &Swing, options: &LocateOptions) 
         None => solutions.iter().all(near),
     };
     Outcome::Located { solutions, favoured, squared_up }
-}
-
-/// Largest standard uncertainty of the fitted bat-speed scale reported as a number (25 % of the assumed
-/// bat speed, a 95 % interval of ±50 %): beyond it the measurements do not separate the bat speed from the
-/// impact point and undercut, and the linearised uncertainty no longer describes what is known.
-pub const MAX_SCALE_SIGMA: f64 = 0.25;
-/// Largest standard uncertainty of the impact point in a bat-speed fit reported as a number, m.
-pub const MAX_FIT_Z_SIGMA: f64 = 0.05;
-/// Bat-speed scales the fit is kept within.
-const SCALE_RANGE: (f64, f64) = (0.3, 2.0);
-
-/// One (z, D, bat-speed scale) that reproduces exit speed, launch angle and spin exactly.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct BatSpeedSolution {
-    /// Impact point, m from the knob.
-    pub impact_z: f64,
-    /// Its standard uncertainty, m.
-    pub impact_z_sigma: f64,
-    /// Undercut, m.
-    pub undercut: f64,
-    /// Its standard uncertainty, m.
-    pub undercut_sigma: f64,
-    /// Fitted bat speed over the assumed one (both the centre-of-mass and the angular speed), 1.
-    pub scale: f64,
-    /// Its standard uncertainty, 1.
-    pub scale_sigma: f64,
-    /// Fitted bat centre-of-mass speed, m/s.
-    pub bat_cm_speed: f64,
-    /// Fitted bat angular speed, rad/s.
-    pub bat_angular_speed: f64,
-    /// Side of the sweet spot (at the fitted undercut and bat speed).
-    pub side: Side,
-    /// χ² = Σ of the squared weighted residuals at the solution.
-    pub chi2: f64,
-}
-
-/// The bat-speed fit of one swing (`LocateOptions::fit_bat_speed`).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-#[serde(tag = "verdict", rename_all = "snake_case")]
-pub enum BatSpeedFit {
-    /// Solutions whose three unknowns the measurements separate, handle side first.
-    Fitted {
-        /// The separable solutions.
-        solutions: Vec<BatSpeedSolution>,
-        /// Further solutions found but not separable (left out).
-        not_separable: usize,
-    },
-    /// Every solution found is ill-conditioned: the numbers would mean nothing.
-    NotSeparable {
-        /// Why, with the uncertainties the linearisation gives.
-        reason: String,
-    },
-    /// Not attempted for this swing.
-    NotFitted {
-        /// Why.
-        reason: String,
-    },
-    /// Attempted, but no (z, D, scale) reproduces the three measurements.
-    Failed {
-        /// Why.
-        reason: String,
-    },
-}
-
-/// A 3×3 matrix (row major).
-type Matrix3 = [[f64; 3]; 3];
-
-/// Inverse of a 3×3 matrix (adjugate over determinant), None when singular.
-fn invert3(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
-    let c = |i: usize, j: usize| {
-        let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
-        let (c0, c1) = ((j + 1) % 3, (j + 2) % 3);
-        a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]
-    };
-    let det = a[0][0] * c(0, 0) + a[0][1] * c(0, 1) + a[0][2] * c(0, 2);
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
-    let mut inv = [[0.0; 3]; 3];
-    for (i, row) in inv.iter_mut().enumerate() {
-        for (j, x) in row.iter_mut().enumerate() {
-            // Cofactors by cyclic index carry their sign; the inverse is the transposed cofactor matrix / det.
-            *x = c(j, i) / det;
-        }
-    }
-    Some(inv)
-}
-
-impl SwingModel<'_> {
-    /// Weighted residuals of exit speed, launch angle and spin at (z, d, scale).
-    fn residuals3(&self, x: [f64; 3], measured: &[f64; 3], sigma: &[f64; 3]) -> Option<[f64; 3]> {
-        let p = self.predict_scaled(x[0], x[1], x[2]).ok()?;
-        let r = [0, 1, 2].map(|k| (p[k] - measured[k]) / sigma[k]);
-        r.iter().all(|v| v.is_finite()).then_some(r)
-    }
-
-    /// Levenberg–Marquardt in (z, D, scale) from `start`, z kept within `bounds` (one side of the sweet spot);
-    /// the solution and Cov = (JᵀJ)⁻¹ (None if singular).
-    fn fit3(
-        &self,
-        start: [f64; 3],
-        bounds: (f64, f64),
-        measured: &[f64; 3],
-        sigma: &[f64; 3],
-    ) -> Option<([f64; 3], Option<Matrix3>)> {
-        let (lo, hi) = bounds;
-        let clamp = |x: [f64; 3]| {
-            let z = x[0].clamp(lo, hi);
-            let reach = self.reach(z);
-            [z, x[1].clamp(-reach, reach), x[2].clamp(SCALE_RANGE.0, SCALE_RANGE.1)]
-        };
-        let steps = [1e-5, 1e-6, 1e-6];
-        let jacobian = |x: [f64; 3], r: &[f64; 3]| -> Option<[[f64; 3]; 3]> {
-            let mut j = [[0.0; 3]; 3];
-            for (p, h) in steps.iter().enumerate() {
-                let mut xp = x;
-                xp[p] += h;
-                let rp = self.residuals3(xp, measured, sigma)?;
-                for i in 0..3 {
-                    j[i][p] = (rp[i] - r[i]) / h;
-                }
-            }
-            Some(j)
-        };
-        let normal = |j: &[[f64; 3]; 3]| {
-            let mut a = [[0.0; 3]; 3];
-            for row in j {
-                for p in 0..3 {
-                    for q in 0..3 {
-                        a[p][q] += row[p] * row[q];
-                    }
-                }
-            }
-            a
-        };
-        let cost = |r: &[f64; 3]| r.iter().map(|x| x * x).sum::<f64>();
-        let mut x = clamp(start);
-        let mut r = self.residuals3(x, measured, sigma)?;
-        let mut jac = jacobian(x, &r)?;
-        let mut lambda = 1e-3;
-        for _ in 0..100 {
-            let a = normal(&jac);
-            let mut g = [0.0; 3];
-            for (row, ri) in jac.iter().zip(&r) {
-                for p in 0..3 {
-                    g[p] += row[p] * ri;
-                }
-            }
-            let mut damped = a;
-            for (p, row) in damped.iter_mut().enumerate() {
-                row[p] *= 1.0 + lambda;
-            }
-            let inv = invert3(&damped)?;
-            let step = [0, 1, 2].map(|p| -(0..3).map(|q| inv[p][q] * g[q]).sum::<f64>());
-            let next = clamp([x[0] + step[0], x[1] + step[1], x[2] + step[2]]);
-            match self.residuals3(next, measured, sigma) {
-                Some(nr) if cost(&nr) < cost(&r) => {
-                    let moved = (0..3).map(|p| (next[p] - x[p]).abs()).fold(0.0, f64::max);
-                    x = next;
-                    r = nr;
-                    lambda = (lambda * 0.3).max(1e-9);
-                    jac = jacobian(x, &r)?;
-                    if moved < 1e-9 || cost(&r) < 1e-20 {
-                        break;
-                    }
-                }
-                _ => {
-                    lambda *= 10.0;
-                    if lambda > 1e10 {
-                        break;
-                    }
-                }
-            }
-        }
-        Some((x, invert3(&normal(&jac))))
-    }
-}
-
-/// Fits the bat speed of one swing together with its impact point and undercut, from the 2-unknown
-/// solutions of `outcome` (or the sweet spot for a swing too fast for the assumed bat speed).
-fn fit_bat_speed(model: &SwingModel<'_>, swing: &Swing, outcome: &Outcome, options: &LocateOptions) -> BatSpeedFit {
-    let measured = measured_of(swing);
-    let sigma = [options.exit_speed_sigma, options.launch_angle_sigma, options.spin_sigma];
-    let not_fitted = |reason: &str| BatSpeedFit::NotFitted { reason: reason.into() };
-    if !measured[0].is_finite() {
-        return not_fitted("no exit speed measured");
-    }
-    if !measured[2].is_finite() {
-        return not_fitted("no spin measured: two measurements cannot fix three unknowns");
-    }
-    if !measured[1].is_finite() {
-        return not_fitted("no launch angle measured: two measurements cannot fix three unknowns");
-    }
-    // One start per side of the sweet spot, each fit kept on its side: with z as loosely held as it is near
-    // the sweet spot, a free fit would wander to the mirror solution and leave its own side unexplored.
-    let (lo, hi) = model.range();
-    let (starts, peak_z): (Vec<([f64; 3], Side)>, f64) = match outcome {
-        // A fit that misses at the assumed bat speed is where a fitted one starts too.
-        Outcome::Located { solutions, .. } | Outcome::NotReproducible { solutions, .. } if !solutions.is_empty() => {
-            (solutions.iter().map(|s| ([s.impact_z, s.undercut, 1.0], s.side)).collect(), solutions[0].sweet_spot_z)
-        }
-        Outcome::Located { .. } | Outcome::NotReproducible { .. } => return not_fitted("no fit to start from"),
-        Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => {
-            // Faster than the assumed bat allows: a faster bat, either side of the sweet spot.
-            let d = model.undercut_for_launch_angle(*sweet_spot_z, 0.0, measured[1]);
-            let scale = 1.0 + excess / max_exit_speed;
-            let h = 0.03;
-            (
-                vec![([sweet_spot_z - h, d, scale], Side::Handle), ([sweet_spot_z + h, d, scale], Side::End)],
-                *sweet_spot_z,
-            )
-        }
-        Outcome::NotMeasured => return not_fitted("no exit speed measured"),
-        Outcome::Failed { reason } => return not_fitted(&format!("the swing was not located: {reason}")),
-    };
-    let mut found: Vec<([f64; 3], Option<Matrix3>, f64)> = Vec::new();
-    // The closest miss, for the report when nothing reproduces the measurements.
-    let mut best: Option<([f64; 3], f64)> = None;
-    // Near the sweet spot the exit speed barely moves with z, and a fit started there at the assumed bat speed
-    // can stall against the sweet spot while the solution lies a few cm out at another bat speed: each side
-    // is also started 5 cm from the sweet spot at a bat 15 % slower and 15 % faster.
-    let mut starts = starts;
-    for side in [Side::Handle, Side::End] {
-        let Some(d) = starts.iter().find(|(_, s)| *s == side).map(|(x, _)| x[1]) else { continue };
-        let z = match side {
-            Side::Handle => peak_z - 0.05,
-            Side::End => peak_z + 0.05,
-        };
-        for scale in [0.85, 1.15] {
-            starts.push(([z, d, scale], side));
-        }
-    }
-    for (start, side) in starts {
-        let bounds = match side {
-            Side::Handle => (lo, peak_z.min(hi)),
-            Side::End => (peak_z.max(lo), hi),
-        };
-        let Some((x, cov)) = model.fit3(start, bounds, &measured, &sigma) else { continue };
-        let Some(r) = model.residuals3(x, &measured, &sigma) else { continue };
-        let chi2 = r.iter().map(|v| v * v).sum::<f64>();
-        if best.is_none_or(|(_, c)| chi2 < c) {
-            best = Some((x, chi2));
-        }
-        // Three measurements, three unknowns: a solution reproduces them all.
-        if chi2 > 1e-6 || found.iter().any(|(y, _, _)| (y[0] - x[0]).abs() < 1e-3 && (y[1] - x[1]).abs() < 1e-3) {
-            continue;
-        }
-        found.push((x, cov, chi2));
-    }
-    if found.is_empty() {
-        let closest = best.map_or(String::new(), |(x, chi2)| {
-            format!(
-                " (closest: χ² = {chi2:.1} at z = {:.3} m, D = {:+.1} mm, bat speed × {:.2})",
-                x[0],
-                x[1] * 1e3,
-                x[2]
-            )
-        });
-        return BatSpeedFit::Failed {
-            reason: format!(
-                "no impact point, undercut and bat speed reproduce exit speed, launch angle and spin together{closest}"
-            ),
-        };
-    }
-    let mut solutions = Vec::new();
-    let mut worst = String::new();
-    for (x, cov, chi2) in &found {
-        let sig = cov.map(|c| [c[0][0].sqrt(), c[1][1].sqrt(), c[2][2].sqrt()]);
-        match sig {
-            Some(s) if s[2] <= MAX_SCALE_SIGMA && s[0] <= MAX_FIT_Z_SIGMA && s.iter().all(|v| v.is_finite()) => {
-                let mut input = model.input;
-                input.impact.bat_cm_speed *= x[2];
-                input.impact.bat_angular_speed *= x[2];
-                let scaled = SwingModel { input, ..*model };
-                let (sweet, _) = scaled.sweet_spot_near(x[1], peak_z);
-                solutions.push(BatSpeedSolution {
-                    impact_z: x[0],
-                    impact_z_sigma: s[0],
-                    undercut: x[1],
-                    undercut_sigma: s[1],
-                    scale: x[2],
-                    scale_sigma: s[2],
-                    bat_cm_speed: scaled.input.impact.bat_cm_speed,
-                    bat_angular_speed: scaled.input.impact.bat_angular_speed,
-                    side: if x[0] < sweet { Side::Handle } else { Side::End },
-                    chi2: *chi2,
-                });
-            }
-            Some(s) => {
-                worst = format!(
-                    "at z = {:.3} m the linearised uncertainties are σ_z = {:.3} m, σ(bat speed) = {:.0} % \
-                     (exit speed, launch angle and spin do not separate impact point, undercut and bat speed there)",
-                    x[0],
-                    s[0],
-                    s[2] * 100.0
-                );
-            }
-            None => {
-                worst = format!("at z = {:.3} m the Jacobian is singular", x[0]);
-            }
-        }
-    }
-    let not_separable = found.len() - solutions.len();
-    if solutions.is_empty() {
-        return BatSpeedFit::NotSeparable { reason: worst };
-    }
-    solutions.sort_by(|a, b| a.impact_z.total_cmp(&b.impact_z));
-    BatSpeedFit::Fitted { solutions, not_separable }
 }
 
 /// Errors of `locate`.
@@ -1468,124 +1227,163 @@ pub fn locate_recorded(
     options: &LocateOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> LocateReport {
-    let settings = &inputs.settings;
-    // Bats and balls by id (the last version of each), as calibrate reads them.
-    let mut bats: BTreeMap<String, Result<PreparedBat, String>> = BTreeMap::new();
-    let prepare = |bat: Bat, modes: usize| -> Result<PreparedBat, String> {
-        let set = ModeSet::compute(&bat, modes).map_err(|e| e.to_string())?;
-        Ok(PreparedBat::new(bat, set, CollisionOptions { modes, time_step: settings.time_step }))
-    };
-    for (_, params) in &inputs.bats {
-        let prepared = problem_bat(params, settings).and_then(|pb| prepare(pb.bat, pb.modes));
-        bats.insert(params.bat_id.clone(), prepared);
-    }
-    let mut balls: BTreeMap<String, BallModel> = BTreeMap::new();
-    // The built-in balls answer to their names without params, as in the node.
-    for name in Ball::preset_names() {
-        if let Ok(ball) = Ball::preset(name) {
-            balls.insert(name.to_string(), ball.into());
-        }
-    }
-    for (_, params) in &inputs.balls {
-        if let Ok(ball) = ball_from_params(params) {
-            balls.insert(params.ball_id.clone(), ball);
-        }
-    }
-    let latest = |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
-    let bat_times: Vec<(u64, String)> = inputs.bats.iter().map(|(t, p)| (*t, p.bat_id.clone())).collect();
-    let ball_times: Vec<(u64, String)> = inputs.balls.iter().map(|(t, p)| (*t, p.ball_id.clone())).collect();
-    let mut jobs = Vec::new();
-    for (t, swing) in &inputs.swings {
-        let bat_id = if swing.bat_id.is_empty() {
-            latest(&bat_times, *t).unwrap_or_else(|| settings.default_bat.clone())
-        } else {
-            swing.bat_id.clone()
-        };
-        if !bats.contains_key(&bat_id) {
-            let prepared = Bat::preset(&bat_id).map_err(|e| e.to_string()).and_then(|bat| {
-                let modes = settings.modes_for(&bat, None);
-                prepare(bat, modes)
-            });
-            bats.insert(bat_id.clone(), prepared);
-        }
-        let ball_id = if swing.ball_id.is_empty() {
-            latest(&ball_times, *t).unwrap_or_else(|| settings.default_ball.clone())
-        } else {
-            swing.ball_id.clone()
-        };
-        jobs.push((swing, bat_id, ball_id));
-    }
+    let mut models = Models::recorded(inputs);
+    let jobs = models.jobs(inputs);
     let done = AtomicUsize::new(0);
     let swings: Vec<Located> = jobs
         .par_iter()
         .map(|(swing, bat_id, ball_id)| {
-            let measured = measured_of(swing);
-            let mut measured_direction = None;
-            let outcome = match (bats.get(bat_id), balls.get(ball_id)) {
-                (Some(Ok(bat)), Some(ball)) => {
-                    let model = SwingModel {
-                        bat,
-                        options: &bat.options,
-                        ball: ball.ball,
-                        contact: ball.contact,
-                        input: swing_input(swing),
-                    };
-                    let outcome = model.with_direction(locate_swing(&model, swing, options));
-                    measured_direction = model
-                        .reports_direction()
-                        .then_some([model.input.measured_spray_angle, model.input.measured_spin_axis]);
-                    let fit = options.fit_bat_speed.then(|| match assumed {
-                        None => BatSpeedFit::NotFitted {
-                            reason: "the bag has no import side table to say the bat speed was assumed".into(),
-                        },
-                        Some(set) if !set.contains(&swing.swing_id) => {
-                            BatSpeedFit::NotFitted { reason: "the bat speed was measured, not assumed".into() }
-                        }
-                        Some(_) => fit_bat_speed(&model, swing, &outcome, options),
-                    });
-                    (outcome, fit)
-                }
-                (Some(Err(e)), _) => (Outcome::Failed { reason: format!("bat '{}': {e}", echo(bat_id)) }, None),
-                (None, _) => (Outcome::Failed { reason: format!("unknown bat '{}'", echo(bat_id)) }, None),
-                (_, None) => (Outcome::Failed { reason: format!("unknown ball '{}'", echo(ball_id)) }, None),
-            };
-            let (outcome, bat_speed_fit) = outcome;
-            let bat_speed_fit = bat_speed_fit.or_else(|| {
-                options.fit_bat_speed.then(|| BatSpeedFit::NotFitted { reason: "the swing cannot be simulated".into() })
-            });
+            let located = models.locate(swing, bat_id, ball_id, assumed, options);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
-            Located {
-                swing_id: swing.swing_id,
-                bat_id: bat_id.clone(),
-                measured,
-                measured_direction,
-                outcome,
-                bat_speed_fit,
-            }
+            located
         })
         .collect();
-    let located = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { .. })).count();
-    let too_fast = swings.iter().filter(|s| matches!(s.outcome, Outcome::TooFast { .. })).count();
-    let not_reproducible = swings.iter().filter(|s| matches!(s.outcome, Outcome::NotReproducible { .. })).count();
-    let squared = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { squared_up: true, .. })).count();
-    let squared_up_share = if located > 0 { squared as f64 / located as f64 } else { f64::NAN };
-    let outlines = bats.iter().filter_map(|(id, b)| Some((id.clone(), outline(&b.as_ref().ok()?.bat)))).collect();
-    let bat_speed_fitted = options
-        .fit_bat_speed
-        .then(|| swings.iter().filter(|s| matches!(s.bat_speed_fit, Some(BatSpeedFit::Fitted { .. }))).count());
-    let collisions = bats
-        .values()
-        .filter_map(|b| b.as_ref().ok())
-        .fold((0, 0), |(s, f), b| (s + b.counts[0].load(Ordering::Relaxed), f + b.counts[1].load(Ordering::Relaxed)));
-    LocateReport {
-        swings,
-        located,
-        too_fast,
-        not_reproducible,
-        bat_speed_fitted,
-        squared_up_share,
-        collisions,
-        outlines,
+    models.report(swings, options)
+}
+
+/// The bats (prepared, or why not) and balls swings are located against, by id.
+struct Models<'i> {
+    inputs: &'i RecordedInputs,
+    bats: BTreeMap<String, Result<PreparedBat, String>>,
+    balls: BTreeMap<String, BallModel>,
+}
+
+impl<'i> Models<'i> {
+    /// The recorded bats and balls (the last version of each id, as calibrate reads them), and the built-in
+    /// balls, which answer to their names without params, as in the node.
+    fn recorded(inputs: &'i RecordedInputs) -> Models<'i> {
+        let mut models = Models { inputs, bats: BTreeMap::new(), balls: BTreeMap::new() };
+        for (_, params) in &inputs.bats {
+            let prepared = problem_bat(params, &inputs.settings).and_then(|pb| models.prepare(pb.bat, pb.modes));
+            models.bats.insert(params.bat_id.clone(), prepared);
+        }
+        for name in Ball::preset_names() {
+            if let Ok(ball) = Ball::preset(name) {
+                models.balls.insert(name.to_string(), ball.into());
+            }
+        }
+        for (_, params) in &inputs.balls {
+            if let Ok(ball) = ball_from_params(params) {
+                models.balls.insert(params.ball_id.clone(), ball);
+            }
+        }
+        models
+    }
+
+    /// `bat` with its modes solved, at the recorded time step.
+    fn prepare(&self, bat: Bat, modes: usize) -> Result<PreparedBat, String> {
+        let set = ModeSet::compute(&bat, modes).map_err(|e| e.to_string())?;
+        Ok(PreparedBat::new(bat, set, CollisionOptions { modes, time_step: self.inputs.settings.time_step }))
+    }
+
+    /// Every swing with the bat and ball ids in force for it (an empty id: the last params before it, else
+    /// the default), preparing the preset bats swings name without params.
+    fn jobs(&mut self, inputs: &'i RecordedInputs) -> Vec<(&'i Swing, String, String)> {
+        let settings = &inputs.settings;
+        let latest =
+            |list: &[(u64, String)], t: u64| list.iter().rev().find(|(lt, _)| *lt <= t).map(|(_, id)| id.clone());
+        let bat_times: Vec<(u64, String)> = inputs.bats.iter().map(|(t, p)| (*t, p.bat_id.clone())).collect();
+        let ball_times: Vec<(u64, String)> = inputs.balls.iter().map(|(t, p)| (*t, p.ball_id.clone())).collect();
+        let mut jobs = Vec::new();
+        for (t, swing) in &inputs.swings {
+            let bat_id = if swing.bat_id.is_empty() {
+                latest(&bat_times, *t).unwrap_or_else(|| settings.default_bat.clone())
+            } else {
+                swing.bat_id.clone()
+            };
+            if !self.bats.contains_key(&bat_id) {
+                let prepared = Bat::preset(&bat_id).map_err(|e| e.to_string()).and_then(|bat| {
+                    let modes = settings.modes_for(&bat, None);
+                    self.prepare(bat, modes)
+                });
+                self.bats.insert(bat_id.clone(), prepared);
+            }
+            let ball_id = if swing.ball_id.is_empty() {
+                latest(&ball_times, *t).unwrap_or_else(|| settings.default_ball.clone())
+            } else {
+                swing.ball_id.clone()
+            };
+            jobs.push((swing, bat_id, ball_id));
+        }
+        jobs
+    }
+
+    /// Locates one swing (and fits its bat speed when asked).
+    fn locate(
+        &self,
+        swing: &Swing,
+        bat_id: &str,
+        ball_id: &str,
+        assumed: Option<&BTreeSet<u64>>,
+        options: &LocateOptions,
+    ) -> Located {
+        let mut measured_direction = None;
+        let (outcome, bat_speed_fit) = match (self.bats.get(bat_id), self.balls.get(ball_id)) {
+            (Some(Ok(bat)), Some(ball)) => {
+                let model = SwingModel {
+                    bat,
+                    options: &bat.options,
+                    ball: ball.ball,
+                    contact: ball.contact,
+                    input: swing_input(swing),
+                };
+                let outcome = model.with_direction(locate_swing(&model, swing, options));
+                measured_direction = model
+                    .reports_direction()
+                    .then_some([model.input.measured_spray_angle, model.input.measured_spin_axis]);
+                let fit = options.fit_bat_speed.then(|| match assumed {
+                    None => BatSpeedFit::NotFitted {
+                        reason: "the bag has no import side table to say the bat speed was assumed".into(),
+                    },
+                    Some(set) if !set.contains(&swing.swing_id) => {
+                        BatSpeedFit::NotFitted { reason: "the bat speed was measured, not assumed".into() }
+                    }
+                    Some(_) => fit_bat_speed(&model, swing, &outcome, options),
+                });
+                (outcome, fit)
+            }
+            (Some(Err(e)), _) => (Outcome::Failed { reason: format!("bat '{}': {e}", echo(bat_id)) }, None),
+            (None, _) => (Outcome::Failed { reason: format!("unknown bat '{}'", echo(bat_id)) }, None),
+            (_, None) => (Outcome::Failed { reason: format!("unknown ball '{}'", echo(ball_id)) }, None),
+        };
+        let bat_speed_fit = bat_speed_fit.or_else(|| {
+            options.fit_bat_speed.then(|| BatSpeedFit::NotFitted { reason: "the swing cannot be simulated".into() })
+        });
+        Located {
+            swing_id: swing.swing_id,
+            bat_id: bat_id.to_string(),
+            measured: measured_of(swing),
+            measured_direction,
+            outcome,
+            bat_speed_fit,
+        }
+    }
+
+    /// The report of the located `swings`: the counts, the bats' outlines and the collisions run.
+    fn report(&self, swings: Vec<Located>, options: &LocateOptions) -> LocateReport {
+        let located = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { .. })).count();
+        let too_fast = swings.iter().filter(|s| matches!(s.outcome, Outcome::TooFast { .. })).count();
+        let not_reproducible = swings.iter().filter(|s| matches!(s.outcome, Outcome::NotReproducible { .. })).count();
+        let squared = swings.iter().filter(|s| matches!(s.outcome, Outcome::Located { squared_up: true, .. })).count();
+        let squared_up_share = if located > 0 { squared as f64 / located as f64 } else { f64::NAN };
+        let outlines =
+            self.bats.iter().filter_map(|(id, b)| Some((id.clone(), outline(&b.as_ref().ok()?.bat)))).collect();
+        let bat_speed_fitted = options
+            .fit_bat_speed
+            .then(|| swings.iter().filter(|s| matches!(s.bat_speed_fit, Some(BatSpeedFit::Fitted { .. }))).count());
+        let collisions = self.bats.values().filter_map(|b| b.as_ref().ok()).fold((0, 0), |(s, f), b| {
+            (s + b.counts[0].load(Ordering::Relaxed), f + b.counts[1].load(Ordering::Relaxed))
+        });
+        LocateReport {
+            swings,
+            located,
+            too_fast,
+            not_reproducible,
+            bat_speed_fitted,
+            squared_up_share,
+            collisions,
+            outlines,
+        }
     }
 }
 
@@ -1734,30 +1532,5 @@ mod tests {
                 .collect();
             assert_eq!(lines, side_lines, "{export}: each swing's line in the export");
         }
-    }
-
-    // Index loops read as the matrix algebra they check.
-    #[allow(clippy::needless_range_loop)]
-    #[test]
-    fn invert3_gives_the_textbook_inverse_and_refuses_a_singular_matrix() {
-        // [[2, -1, 0], [-1, 2, -1], [0, -1, 2]]⁻¹ = [[3, 2, 1], [2, 4, 2], [1, 2, 3]] / 4 (the 1-D Laplacian).
-        let a = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 2.0]];
-        let expected = [[0.75, 0.5, 0.25], [0.5, 1.0, 0.5], [0.25, 0.5, 0.75]];
-        let inv = invert3(&a).expect("regular");
-        for i in 0..3 {
-            for j in 0..3 {
-                assert!((inv[i][j] - expected[i][j]).abs() < 1e-15, "({i}, {j}): {}", inv[i][j]);
-            }
-        }
-        // An unsymmetric one: A·A⁻¹ = I.
-        let b = [[1.0, 2.0, 3.0], [0.0, 1.0, 4.0], [5.0, 6.0, 0.0]];
-        let inv = invert3(&b).expect("regular");
-        for i in 0..3 {
-            for j in 0..3 {
-                let p: f64 = (0..3).map(|k| b[i][k] * inv[k][j]).sum();
-                assert!((p - f64::from(u8::from(i == j))).abs() < 1e-12, "({i}, {j}): {p}");
-            }
-        }
-        assert!(invert3(&[[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 1.0, 1.0]]).is_none());
     }
 }
