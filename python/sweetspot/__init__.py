@@ -524,46 +524,15 @@ def locate_meta() -> pd.DataFrame:
     return pd.DataFrame({k: pd.Series(dtype=v) for k, v in LOCATE_COLUMNS.items()})
 
 
-def _nan(v: Any) -> float:
-    return float("nan") if v is None else float(v)
-
-
-def _locate_row(swing: dict[str, Any]) -> dict[str, Any]:
-    measured = [_nan(v) for v in swing["measured"]]
-    row: dict[str, Any] = {
-        "bat_id": swing["bat_id"],
-        "verdict": swing["verdict"],
-        "measured_exit_speed": measured[0],
-        "measured_launch_angle": measured[1],
-        "measured_spin": measured[2],
-        "solutions": len(swing.get("solutions") or []),
-        "favoured": swing.get("favoured") is not None if swing["verdict"] == "located" else pd.NA,
-        "squared_up": swing.get("squared_up", pd.NA),
-        "max_exit_speed": _nan(swing.get("max_exit_speed")),
-        "excess": _nan(swing.get("excess")),
-        "reason": swing.get("reason", pd.NA),
-    }
-    solutions = swing.get("solutions") or []
-    chosen = None
-    if solutions:
-        chosen = solutions[swing["favoured"]] if swing.get("favoured") is not None else solutions[0]
-    for name in ("impact_z", "impact_z_sigma", "undercut", "undercut_sigma", "sweet_spot_z", "chi2"):
-        row[name] = _nan(chosen[name]) if chosen else float("nan")
-    if swing["verdict"] == "too_fast":
-        row["sweet_spot_z"] = _nan(swing.get("sweet_spot_z"))
-    row["undercut_fitted"] = chosen["undercut_fitted"] if chosen else pd.NA
-    row["side"] = chosen["side"] if chosen else pd.NA
-    model = [_nan(v) for v in chosen["model"]] if chosen else [float("nan")] * 3
-    row["model_exit_speed"], row["model_launch_angle"], row["model_spin"] = model
-    return row
-
-
-def _locate_frame(report: dict[str, Any], index: Any = None) -> pd.DataFrame:
-    rows = [_locate_row(s) for s in report["swings"]]
-    frame = pd.DataFrame(rows, columns=list(LOCATE_COLUMNS), index=index)
-    frame = frame.astype(LOCATE_COLUMNS)
-    frame.attrs["report"] = {k: v for k, v in report.items() if k != "swings"}
-    return frame
+def _locate_frame(columns: dict[str, Any], index: Any = None) -> pd.DataFrame:
+    """``locate``'s DataFrame of the columns the extension built (nullable booleans as 1/0/-1)."""
+    data: dict[str, Any] = {}
+    for name, dtype in LOCATE_COLUMNS.items():
+        values = columns[name]
+        if dtype == "boolean":
+            values = pd.arrays.BooleanArray(values == 1, values < 0)
+        data[name] = values
+    return pd.DataFrame(data, index=index).astype(LOCATE_COLUMNS)
 
 
 def locate(
@@ -595,23 +564,25 @@ def locate(
     sigmas = dict(exit_speed_sigma=float(exit_speed_sigma), launch_angle_sigma=float(launch_angle_sigma),
                   spin_sigma=float(spin_sigma), fit_bat_speed=fit_bat_speed)
     if not isinstance(source, pd.DataFrame):
-        report = json.loads(_native.locate_bag(os.fspath(source), **sigmas))
-        frame = _locate_frame(report)
-        frame.insert(0, "swing_id", pd.array([s["swing_id"] for s in report["swings"]], dtype="UInt64"))
-        frame.attrs["report"] = report
+        text, columns = _native.locate_bag(os.fspath(source), **sigmas)
+        frame = _locate_frame(columns)
+        frame.insert(0, "swing_id", pd.array(columns["swing_id"], dtype="UInt64"))
+        frame.attrs["report"] = json.loads(text)
         return frame
     bat = _bat_of(bat)
     try:
-        text, lines = _native.locate_export(_export_columns(source), kind=kind, bat=bat._native,
-                                            bat_spec=bat._spec, ball=ball,
-                                            batter=None if batter is None else os.fspath(batter),
-                                            undercut=float(undercut), tee=tee, **sigmas)
+        counts, columns, lines = _native.locate_export(_export_columns(source), kind=kind, bat=bat._native,
+                                                       bat_spec=bat._spec, ball=ball,
+                                                       batter=None if batter is None else os.fspath(batter),
+                                                       undercut=float(undercut), tee=tee, **sigmas)
     except ValueError as e:
         if "no row became a swing" in str(e):
             return locate_meta().set_axis(source.index[:0])
         raise
     # Line n + 2 of the export is the frame's row n (the header is line 1).
-    return _locate_frame(json.loads(text), index=source.index[np.asarray(lines, dtype=np.int64) - 2])
+    frame = _locate_frame(columns, index=source.index[lines.astype(np.int64) - 2])
+    frame.attrs["report"] = {k: v for k, v in json.loads(counts).items() if k != "swings"}
+    return frame
 
 
 def _flat(messages: Sequence[Mapping[str, Any]]) -> pd.DataFrame:

@@ -107,7 +107,7 @@ def locate_export(
     launch_angle_sigma: float = 1.0,
     spin_sigma: float = 100.0,
     fit_bat_speed: bool = False,
-) -> tuple[str, list[int]]: ...
+) -> tuple[str, dict[str, Any], npt.NDArray[np.uint64]]: ...
 def locate_bag(
     bag: str,
     *,
@@ -115,7 +115,7 @@ def locate_bag(
     launch_angle_sigma: float = 1.0,
     spin_sigma: float = 100.0,
     fit_bat_speed: bool = False,
-) -> str: ...
+) -> tuple[str, dict[str, Any]]: ...
 def read_bag_document(path: str) -> str: ...
 def sweep_document(
     bat: Bat,

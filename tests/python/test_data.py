@@ -119,6 +119,63 @@ def test_locate_of_a_frame_writes_no_file_and_refuses_rows_as_import_does(repo, 
     assert frame.attrs["report"] == {k: v for k, v in document.items() if k != "swings"}
 
 
+def frame_of_document(document, index):
+    """`locate`'s DataFrame as the docstring defines it, read off the command line's `locate --json` document:
+    the favoured solution, else the first; null numbers NaN; what a verdict does not have missing."""
+    rows = []
+    for swing in document["swings"]:
+        solutions = swing.get("solutions") or []
+        favoured = swing.get("favoured")
+        shown = solutions[favoured if favoured is not None else 0] if solutions else {}
+        located = swing["verdict"] == "located"
+
+        def number(v):
+            return math.nan if v is None else v
+
+        row = {"bat_id": swing["bat_id"], "verdict": swing["verdict"]}
+        for name, value in zip(("exit_speed", "launch_angle", "spin"), swing["measured"]):
+            row[f"measured_{name}"] = number(value)
+        for name in ("impact_z", "impact_z_sigma", "undercut", "undercut_sigma"):
+            row[name] = number(shown.get(name))
+        row["undercut_fitted"] = shown.get("undercut_fitted", pd.NA)
+        row["side"] = shown.get("side", pd.NA)
+        row["sweet_spot_z"] = number(swing["sweet_spot_z"] if "sweet_spot_z" in swing else shown.get("sweet_spot_z"))
+        row["chi2"] = number(shown.get("chi2"))
+        for name, value in zip(("exit_speed", "launch_angle", "spin"), shown.get("model", [None] * 3)):
+            row[f"model_{name}"] = number(value)
+        row["solutions"] = len(solutions)
+        row["favoured"] = (favoured is not None) if located else pd.NA
+        row["squared_up"] = swing.get("squared_up", pd.NA)
+        row["max_exit_speed"] = number(swing.get("max_exit_speed"))
+        row["excess"] = number(swing.get("excess"))
+        row["reason"] = swing.get("reason", pd.NA)
+        rows.append(row)
+    return pd.DataFrame(rows, columns=list(sweetspot.LOCATE_COLUMNS), index=index).astype(sweetspot.LOCATE_COLUMNS)
+
+
+def test_every_cell_of_locate_is_the_command_lines_document(repo, tmp_path, cli_json):
+    """Every column, bit for bit, of a frame with swings of each verdict (located, too fast, not measured, failed)
+    and of the bag `import` writes of it, against `sweetspot locate --json` of that bag."""
+    savant = pd.read_csv(repo / "tests/data/statcast_search.csv")
+    too_fast, not_measured, failed = (savant.iloc[[0]].copy() for _ in range(3))
+    too_fast["launch_speed"] = 140.0
+    not_measured["launch_speed"] = np.nan
+    failed["launch_angle"] = 85.0
+    savant = pd.concat([savant, too_fast, not_measured, failed], ignore_index=True)
+    savant.index = [f"pitch-{i}" for i in range(len(savant))]
+    export = tmp_path / "verdicts.csv"
+    savant.to_csv(export, index=False)
+    bag, document = located_by_cli(cli_json, tmp_path, export)
+    frame = sweetspot.locate(savant)
+    assert {"located", "too_fast", "not_measured", "failed"} <= set(frame["verdict"])
+    pd.testing.assert_frame_equal(frame, frame_of_document(document, frame.index), check_exact=True)
+    from_bag = sweetspot.locate(bag)
+    expected = frame_of_document(document, None)
+    expected.insert(0, "swing_id", pd.array([s["swing_id"] for s in document["swings"]], dtype="UInt64"))
+    pd.testing.assert_frame_equal(from_bag, expected, check_exact=True)
+    assert from_bag.attrs["report"] == document
+
+
 def test_a_frame_with_no_swing_locates_to_an_empty_frame():
     savant = pd.read_csv(io.StringIO("launch_speed,launch_angle,release_speed,description,events,bat_speed,"
                                      "game_date,batter,pitcher,game_pk,at_bat_number,pitch_number,stand,"

@@ -5,6 +5,7 @@
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
+use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -28,6 +29,7 @@ use crate::engine::physics::oblique::rpm_to_rad_per_s;
 use crate::engine::physics::{self, Ball};
 use crate::errors::{bag_error, require_exists, value_error};
 use crate::frame::{cells_of, csv_text, Cells};
+use crate::located::LocatedColumns;
 use crate::physics::Bat;
 
 /// The import's options as `sweetspot import --bat BAT --ball BALL [--batter FILE] --undercut D [--tee]`
@@ -313,40 +315,47 @@ fn report_json(report: &LocateReport) -> PyResult<String> {
     serde_json::to_string(report).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
-/// `sweetspot locate BAG --json` with these accuracies (m/s, degrees, rpm): the document as JSON text.
+/// `sweetspot locate BAG --json` with these accuracies (m/s, degrees, rpm): the document as JSON text, and
+/// its swings as the DataFrame's columns ([`LocatedColumns`]).
 #[pyfunction]
 #[pyo3(signature = (bag, *, exit_speed_sigma=0.45, launch_angle_sigma=1.0, spin_sigma=100.0,
     fit_bat_speed=false))]
-pub fn locate_bag(
-    py: Python<'_>,
+pub fn locate_bag<'py>(
+    py: Python<'py>,
     bag: PathBuf,
     exit_speed_sigma: f64,
     launch_angle_sigma: f64,
     spin_sigma: f64,
     fit_bat_speed: bool,
-) -> PyResult<String> {
+) -> PyResult<(String, Bound<'py, PyDict>)> {
     let options = locate_options(exit_speed_sigma, launch_angle_sigma, spin_sigma, fit_bat_speed)?;
     require_exists(&bag, "bag")?;
-    let report = py.allow_threads(|| locate(&bag, &options)).map_err(|e| {
-        let message = format!("{}: {e}", bag.display());
-        match e {
-            LocateError::Read(CalibrateError::Bag(_)) => bag_error(message),
-            _ => PyValueError::new_err(message),
-        }
-    })?;
-    report_json(&report)
+    let (text, columns) = py
+        .allow_threads(|| {
+            let report = locate(&bag, &options)?;
+            Ok((report_json(&report), LocatedColumns::of(&report.swings)))
+        })
+        .map_err(|e: LocateError| {
+            let message = format!("{}: {e}", bag.display());
+            match e {
+                LocateError::Read(CalibrateError::Bag(_)) => bag_error(message),
+                _ => PyValueError::new_err(message),
+            }
+        })?;
+    Ok((text?, columns.into_dict(py)?))
 }
 
 /// `sweetspot import [KIND] CSV -o BAG …` then `sweetspot locate BAG --json` of the export a frame's
 /// `columns` stand for (named `name` in messages), in memory: the swings are built by the importer's row
-/// parsing and refusals and located without a bag. Returns the document as JSON text and each swing's line in the export.
+/// parsing and refusals and located without a bag. Returns the document's counts as JSON text (its `swings`
+/// empty), the swings as the DataFrame's columns ([`LocatedColumns`]) and each swing's line in the export.
 #[pyfunction]
 #[pyo3(signature = (columns, *, name="DataFrame", kind=None, bat, bat_spec, ball="mlb2024", batter=None,
     undercut=0.0, tee=false, exit_speed_sigma=0.45, launch_angle_sigma=1.0, spin_sigma=100.0,
     fit_bat_speed=false))]
 #[allow(clippy::too_many_arguments)]
-pub fn locate_export(
-    py: Python<'_>,
+pub fn locate_export<'py>(
+    py: Python<'py>,
     columns: Vec<(String, Bound<'_, PyAny>)>,
     name: &str,
     kind: Option<&str>,
@@ -360,17 +369,21 @@ pub fn locate_export(
     launch_angle_sigma: f64,
     spin_sigma: f64,
     fit_bat_speed: bool,
-) -> PyResult<(String, Vec<u64>)> {
+) -> PyResult<(String, Bound<'py, PyDict>, Bound<'py, PyArray1<u64>>)> {
     let options = locate_options(exit_speed_sigma, launch_angle_sigma, spin_sigma, fit_bat_speed)?;
     let import = import_options(&bat.bat, bat_spec, ball, batter.as_deref(), undercut, tee, format_of(kind)?)?;
     let cells = frame_cells(&columns)?;
-    py.allow_threads(|| {
+    let (counts, columns, lines) = py.allow_threads(|| -> PyResult<_> {
         let text = csv_text(&cells)?;
         let table = Table::from_reader(Path::new(name), Box::new(Cursor::new(text))).map_err(import_error)?;
         let imported = import_table(table, Path::new(name), &import).map_err(import_error)?;
-        let report = locate_imported(&imported, &import, &options, &|_, _| {});
-        Ok((report_json(&report)?, imported.swings.iter().map(|s| s.line).collect()))
-    })
+        let mut report = locate_imported(&imported, &import, &options, &|_, _| {});
+        let columns = LocatedColumns::of(&report.swings);
+        report.swings = Vec::new();
+        let lines: Vec<u64> = imported.swings.iter().map(|s| s.line).collect();
+        Ok((report_json(&report)?, columns, lines))
+    })?;
+    Ok((counts, columns.into_dict(py)?, lines.into_pyarray(py)))
 }
 
 /// A message of one of sweetspot's types as JSON, None for another type or one that does not decode.

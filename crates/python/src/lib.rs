@@ -20,6 +20,7 @@ mod cli_shared;
 mod data;
 mod errors;
 mod frame;
+mod located;
 mod physics;
 
 use pyo3::prelude::*;

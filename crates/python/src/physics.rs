@@ -172,6 +172,38 @@ fn finite(name: &str, value: f64) -> anyhow::Result<f64> {
     }
 }
 
+/// The head-on swing `simulate` and `sweep` start from (its impact point left to each), its speeds and the
+/// oblique `flags` refused when not finite, as the command line's number parser refuses them.
+fn swing_of(
+    ball_speed: f64,
+    bat_cm_speed: f64,
+    bat_angular_speed: f64,
+    flags: &ObliqueFlags,
+) -> anyhow::Result<Impact> {
+    let swing = Impact {
+        ball_speed: finite("ball_speed", ball_speed)?,
+        bat_cm_speed: finite("bat_cm_speed", bat_cm_speed)?,
+        bat_angular_speed: finite("bat_angular_speed", bat_angular_speed)?,
+        impact_z: f64::NAN,
+    };
+    for (name, v) in [
+        ("undercut", flags.undercut),
+        ("attack_angle", flags.attack_angle),
+        ("pitch_angle", flags.pitch_angle),
+        ("pitch_spin", flags.pitch_spin),
+        ("tangential_cor", flags.tangential_cor),
+        ("friction", flags.friction),
+        ("tangential_stiffness_ratio", flags.tangential_stiffness_ratio),
+        ("bat_tilt", flags.bat_tilt),
+        ("swing_direction", flags.swing_direction),
+    ] {
+        if let Some(v) = v {
+            finite(name, v)?;
+        }
+    }
+    Ok(swing)
+}
+
 fn side_of(text: Option<&str>) -> PyResult<Option<physics::BatterSide>> {
     text.map(batter_side).transpose().map_err(PyValueError::new_err)
 }
@@ -218,29 +250,9 @@ pub fn simulate_document(
     };
     let (bat, ball) = (&bat.bat, &ball.ball);
     let document = py.allow_threads(|| -> anyhow::Result<_> {
-        let swing = Impact {
-            ball_speed: finite("ball_speed", ball_speed)?,
-            bat_cm_speed: finite("bat_cm_speed", bat_cm_speed)?,
-            bat_angular_speed: finite("bat_angular_speed", bat_angular_speed)?,
-            impact_z: f64::NAN,
-        };
+        let swing = swing_of(ball_speed, bat_cm_speed, bat_angular_speed, &flags)?;
         for (i, z) in impact_z.iter().enumerate() {
             finite(&format!("impact_z[{i}]"), *z)?;
-        }
-        for (name, v) in [
-            ("undercut", undercut),
-            ("attack_angle", attack_angle),
-            ("pitch_angle", pitch_angle),
-            ("pitch_spin", pitch_spin),
-            ("tangential_cor", tangential_cor),
-            ("friction", friction),
-            ("tangential_stiffness_ratio", tangential_stiffness_ratio),
-            ("bat_tilt", bat_tilt),
-            ("swing_direction", swing_direction),
-        ] {
-            if let Some(v) = v {
-                finite(name, v)?;
-            }
         }
         let options = check_options(CollisionOptions { modes, time_step: dt })?;
         simulate(bat, ball, &swing, &flags.inputs()?, &impact_z, &options)
@@ -665,26 +677,8 @@ pub fn sweep_document(
     };
     let (bat, ball) = (&bat.bat, &ball.ball);
     let document = py.allow_threads(|| -> anyhow::Result<_> {
-        let swing = Impact {
-            ball_speed: finite("ball_speed", ball_speed)?,
-            bat_cm_speed: finite("bat_cm_speed", bat_cm_speed)?,
-            bat_angular_speed: finite("bat_angular_speed", bat_angular_speed)?,
-            impact_z: f64::NAN,
-        };
-        for (name, v) in [
-            ("impact_z", impact_z),
-            ("from_", from_),
-            ("to", to),
-            ("step", step),
-            ("attack_angle", attack_angle),
-            ("pitch_angle", pitch_angle),
-            ("pitch_spin", pitch_spin),
-            ("tangential_cor", tangential_cor),
-            ("friction", friction),
-            ("tangential_stiffness_ratio", tangential_stiffness_ratio),
-            ("bat_tilt", bat_tilt),
-            ("swing_direction", swing_direction),
-        ] {
+        let swing = swing_of(ball_speed, bat_cm_speed, bat_angular_speed, &flags)?;
+        for (name, v) in [("impact_z", impact_z), ("from_", from_), ("to", to), ("step", step)] {
             if let Some(v) = v {
                 finite(name, v)?;
             }
