@@ -115,37 +115,72 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
     if let Some(warning) = assumed_warning(&assumed, problem.observations.len(), &args.bag) {
         eprintln!("{warning}");
     }
-    let options =
-        FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations, ..FitOptions::default() };
-    let result = fit(&problem, &options).map_err(flat).context("fitting")?;
-    let cor_law = match args.fit_cor_exponent {
-        true => Some(fit_cor_law(&problem, &options).map_err(flat).context("fitting the COR's speed law")?),
-        false => None,
-    };
-    // With --fit-cor-exponent the ball written (and handed to the e_T fit) is the one with the fitted law.
-    let result = match &cor_law {
-        Some(law) => Fit { ball: law.ball, ..result },
-        None => result,
-    };
-    let tangential = match args.fit_tangential {
-        true => Some(fit_tangential_of(&args, &result)?),
-        false => None,
-    };
-    let converged = result.converged
-        && cor_law.as_ref().is_none_or(|l| l.converged)
-        && tangential.as_ref().is_none_or(|t| t.converged);
+    let fits = Fits::of(&args, &problem)?;
     let written = match &args.write {
-        Some(_) if !converged && !args.force => Vec::new(),
+        Some(_) if !fits.converged() && !args.force => Vec::new(),
         Some(path) => {
             // The fitted e_T when there is one, else the contact the bag's BallParams gave the node.
-            let contact = tangential.as_ref().map_or(problem.contact, |t| t.contact);
-            write_params(path, &problem, &result, &contact)?
+            let contact = fits.tangential.as_ref().map_or(problem.contact, |t| t.contact);
+            write_params(path, &problem, &fits.result, &contact)?
         }
         None => Vec::new(),
     };
     if args.json {
-        let doc = json!({
-            "bag": args.bag,
+        print_json(&fits.json(&args.bag, &problem, &assumed, &written))?;
+    } else {
+        fits.print(&problem, args.show, &written)?;
+    }
+    if !fits.converged() {
+        let limit = args.max_iterations;
+        if args.force {
+            eprintln!("warning: a fit did not converge within --max-iterations {limit}; written anyway (--force)");
+        } else {
+            let nothing = if args.write.is_some() { "; nothing written (--force writes anyway)" } else { "" };
+            bail!("a fit did not converge within --max-iterations {limit} (raise it){nothing}");
+        }
+    }
+    Ok(())
+}
+
+/// The fits `calibrate` makes of a bag: the exit-speed fit, and the COR's speed law and e_T when asked for.
+struct Fits {
+    result: Fit,
+    cor_law: Option<crate::calibrate::cor_speed::CorLawFit>,
+    tangential: Option<crate::calibrate::tangential::TangentialFit>,
+}
+
+impl Fits {
+    fn of(args: &CalibrateArgs, problem: &Problem) -> Result<Fits> {
+        let options =
+            FitOptions { fit_youngs: args.fit_youngs, max_iterations: args.max_iterations, ..FitOptions::default() };
+        let result = fit(problem, &options).map_err(flat).context("fitting")?;
+        let cor_law = match args.fit_cor_exponent {
+            true => Some(fit_cor_law(problem, &options).map_err(flat).context("fitting the COR's speed law")?),
+            false => None,
+        };
+        // With --fit-cor-exponent the ball written (and handed to the e_T fit) is the one with the fitted law.
+        let result = match &cor_law {
+            Some(law) => Fit { ball: law.ball, ..result },
+            None => result,
+        };
+        let tangential = match args.fit_tangential {
+            true => Some(fit_tangential_of(args, &result)?),
+            false => None,
+        };
+        Ok(Fits { result, cor_law, tangential })
+    }
+
+    fn converged(&self) -> bool {
+        self.result.converged
+            && self.cor_law.as_ref().is_none_or(|l| l.converged)
+            && self.tangential.as_ref().is_none_or(|t| t.converged)
+    }
+
+    /// The `--json` document.
+    fn json(&self, bag: &Path, problem: &Problem, assumed: &[(String, u64)], written: &[PathBuf]) -> serde_json::Value {
+        let result = &self.result;
+        json!({
+            "bag": bag,
             "ball_id": problem.ball_id,
             "swings": problem.observations.len(),
             "assumed": assumed.iter().map(|(k, n)| (k.clone(), json!(n))).collect::<serde_json::Map<_, _>>(),
@@ -159,26 +194,28 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
             "converged": result.converged,
             "residuals": result.residuals,
             "written": written,
-            "cor_law": cor_law.as_ref().map(|l| json!({
+            "cor_law": self.cor_law.as_ref().map(|l| json!({
                 "parameters": l.parameters, "reference_speed": l.reference_speed, "speed_range": l.speed_range,
                 "rms_before": l.rms_before, "rms": l.rms, "residual_sigma": l.residual_sigma, "dof": l.dof,
                 "converged": l.converged,
             })),
-            "tangential": tangential.as_ref().map(|t| json!({
+            "tangential": self.tangential.as_ref().map(|t| json!({
                 "parameters": t.parameters, "residual_sigma": t.residual_sigma, "dof": t.dof,
                 "iterations": t.iterations, "converged": t.converged, "residuals": t.residuals, "skipped": t.skipped,
             })),
-        });
-        print_json(&doc)?;
-    } else {
-        emit(&report(&problem, &result, args.show))?;
-        if let Some(law) = &cor_law {
+        })
+    }
+
+    /// The reports of the fits, the files written and how to send them to a node.
+    fn print(&self, problem: &Problem, show: usize, written: &[PathBuf]) -> Result<()> {
+        emit(&report(problem, &self.result, show))?;
+        if let Some(law) = &self.cor_law {
             emit(&format!("\n{}", crate::calibrate::cor_speed::report(law)))?;
         }
-        if let Some(t) = &tangential {
+        if let Some(t) = &self.tangential {
             emit(&format!("\n{}", crate::calibrate::tangential::report(t)))?;
         }
-        for path in &written {
+        for path in written {
             outln!("wrote {}", path.display())?;
         }
         if let Some(path) = written.first() {
@@ -187,17 +224,8 @@ fn run_checked(args: CalibrateArgs) -> Result<()> {
         if let Some(path) = written.get(1) {
             outln!("                            sweetspot pub bat --file {}", path.display())?;
         }
+        Ok(())
     }
-    if !converged {
-        let limit = args.max_iterations;
-        if args.force {
-            eprintln!("warning: a fit did not converge within --max-iterations {limit}; written anyway (--force)");
-        } else {
-            let nothing = if args.write.is_some() { "; nothing written (--force writes anyway)" } else { "" };
-            bail!("a fit did not converge within --max-iterations {limit} (raise it){nothing}");
-        }
-    }
-    Ok(())
 }
 
 /// What the swings of an imported session did not measure: `sweetspot import` writes it into the bag's

@@ -165,47 +165,8 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
             anyhow!("field `{path}`: {reason}")
         }
     })?;
-    let bat = match &spec.bat {
-        None => Bat::preset("r161")?,
-        Some(serde_json::Value::String(name)) => resolve_bat(name, Some(base)).context("field `bat`")?,
-        Some(value @ serde_json::Value::Object(_)) => {
-            let bat_spec: BatSpec = serde_json::from_value(value.clone()).map_err(|e| anyhow!("field `bat`: {e}"))?;
-            bat_spec
-                .into_bat("case-bat", |file| {
-                    let path = base.join(file);
-                    Ok(crate::files::read_text(&path, "bat profile")?)
-                })
-                .context("field `bat`")?
-        }
-        Some(other) => bail!("field `bat`: expected a preset name, a bat file path or a bat object, found {other}"),
-    };
-    let overrides = match spec.ball {
-        None => BallSpec::default(),
-        Some(serde_json::Value::String(name)) => BallSpec { preset: Some(name), ..BallSpec::default() },
-        Some(value @ serde_json::Value::Object(_)) => {
-            serde_json::from_value(value).map_err(|e| anyhow!("field `ball`: {e}"))?
-        }
-        Some(other) => {
-            bail!(
-                "field `ball`: expected a preset name ({}) or a ball object, found {other}",
-                Ball::preset_names().join(", ")
-            )
-        }
-    };
-    let default = match &overrides.preset {
-        None => Ball::game(),
-        Some(name) => Ball::preset(name).context("field `ball`")?,
-    };
-    let ball = Ball {
-        mass: overrides.mass.unwrap_or(default.mass),
-        radius: overrides.radius.unwrap_or(default.radius),
-        stiffness: overrides.stiffness.unwrap_or(default.stiffness),
-        exponent: overrides.exponent.unwrap_or(default.exponent),
-        cor: overrides.cor.unwrap_or(default.cor),
-        cor_speed_exponent: overrides.cor_speed_exponent.unwrap_or(default.cor_speed_exponent),
-        cor_reference_speed: overrides.cor_reference_speed.unwrap_or(default.cor_reference_speed),
-    };
-    ball.validate().context("field `ball`")?;
+    let bat = case_bat(spec.bat.as_ref(), base)?;
+    let ball = case_ball(spec.ball)?;
     let swing = Impact {
         ball_speed: spec.ball_speed.unwrap_or(DEFAULT_BALL_SPEED),
         bat_cm_speed: spec.bat_cm_speed.unwrap_or(DEFAULT_BAT_CM_SPEED),
@@ -237,6 +198,57 @@ pub fn parse_case(text: &str, base: &Path) -> Result<Case> {
     .with_spatial(spec.bat_tilt_deg, spec.swing_direction_deg, spec.batter_side)
     .context("fields `bat_tilt_deg`/`swing_direction_deg`")?;
     Ok(Case { bat, ball, swing, oblique, impact_zs, options })
+}
+
+/// The case's `bat`: a preset name or a bat file path (relative to `base`), a bat object, or the default.
+fn case_bat(value: Option<&serde_json::Value>, base: &Path) -> Result<Bat> {
+    Ok(match value {
+        None => Bat::preset("r161")?,
+        Some(serde_json::Value::String(name)) => resolve_bat(name, Some(base)).context("field `bat`")?,
+        Some(value @ serde_json::Value::Object(_)) => {
+            let bat_spec: BatSpec = serde_json::from_value(value.clone()).map_err(|e| anyhow!("field `bat`: {e}"))?;
+            bat_spec
+                .into_bat("case-bat", |file| {
+                    let path = base.join(file);
+                    Ok(crate::files::read_text(&path, "bat profile")?)
+                })
+                .context("field `bat`")?
+        }
+        Some(other) => bail!("field `bat`: expected a preset name, a bat file path or a bat object, found {other}"),
+    })
+}
+
+/// The case's `ball`: a preset name, or an object whose fields override its `preset` (default: the game
+/// ball); checked.
+fn case_ball(value: Option<serde_json::Value>) -> Result<Ball> {
+    let overrides = match value {
+        None => BallSpec::default(),
+        Some(serde_json::Value::String(name)) => BallSpec { preset: Some(name), ..BallSpec::default() },
+        Some(value @ serde_json::Value::Object(_)) => {
+            serde_json::from_value(value).map_err(|e| anyhow!("field `ball`: {e}"))?
+        }
+        Some(other) => {
+            bail!(
+                "field `ball`: expected a preset name ({}) or a ball object, found {other}",
+                Ball::preset_names().join(", ")
+            )
+        }
+    };
+    let default = match &overrides.preset {
+        None => Ball::game(),
+        Some(name) => Ball::preset(name).context("field `ball`")?,
+    };
+    let ball = Ball {
+        mass: overrides.mass.unwrap_or(default.mass),
+        radius: overrides.radius.unwrap_or(default.radius),
+        stiffness: overrides.stiffness.unwrap_or(default.stiffness),
+        exponent: overrides.exponent.unwrap_or(default.exponent),
+        cor: overrides.cor.unwrap_or(default.cor),
+        cor_speed_exponent: overrides.cor_speed_exponent.unwrap_or(default.cor_speed_exponent),
+        cor_reference_speed: overrides.cor_reference_speed.unwrap_or(default.cor_reference_speed),
+    };
+    ball.validate().context("field `ball`")?;
+    Ok(ball)
 }
 
 /// `impact_z` as a list: one number or a non-empty list of numbers, m.

@@ -99,6 +99,51 @@ pub struct ImportArgs {
 
 /// Runs `sweetspot import`.
 pub fn run(args: ImportArgs) -> Result<()> {
+    let (format, files) = format_and_files(&args)?;
+    let mut options = import_options(&args, format)?;
+    // The imported bag's topics are the root namespace's; --namespace moves them to the node's (checked
+    // before anything is written).
+    let names = crate::rig::dds::TopicNames::in_namespace(&args.namespace)?;
+    // --pub without -o plays a bag nobody keeps: it lives in a temporary directory, removed when done.
+    let scratch = match (&args.output, args.publish) {
+        (None, true) => Some(tempfile::tempdir().context("--pub: creating a temporary directory for the bag")?),
+        _ => None,
+    };
+    let output = match (&args.output, &scratch) {
+        (Some(dir), _) => dir.clone(),
+        (None, Some(tmp)) => tmp.path().join("import"),
+        (None, None) => {
+            crate::bag::default_bag_dir(std::path::Path::new("bags"), "import", std::time::SystemTime::now())
+        }
+    };
+    refuse_output(&args, &files, &output)?;
+    options.map = args.map.as_deref().map(ColumnMap::load).transpose().map_err(|e| anyhow!("--map: {e}"))?;
+    if options.map.is_some() && format.is_some() {
+        bail!("--map reads every file through the map: give no format with it");
+    }
+    let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
+    let report = import_files(&paths, &output, &options).map_err(|e| anyhow!("{e}"))?;
+    if let Some(dir) = &args.batter_out {
+        write_batters(&report, dir, &args.bat, &options)?;
+    }
+    if args.json {
+        let mut document = serde_json::to_value(&report).context("cannot serialise the output as JSON")?;
+        if scratch.is_some() {
+            // The bag played from a temporary directory that is gone by the time anyone reads this.
+            document["bag"] = serde_json::Value::Null;
+        }
+        print_json(&document)?;
+    } else {
+        print_report(&report, scratch.is_none())?;
+    }
+    if args.publish {
+        publish(&args, &report, names, output)?;
+    }
+    Ok(())
+}
+
+/// The format (the first word, if it names one and no file, or `--format`) and the export files.
+fn format_and_files(args: &ImportArgs) -> Result<(Option<Format>, Vec<String>)> {
     let mut files = args.files.clone();
     let mut format =
         args.format.as_deref().map(str::parse::<Format>).transpose().map_err(|e| anyhow!("--format: {e}"))?;
@@ -116,6 +161,11 @@ pub fn run(args: ImportArgs) -> Result<()> {
     if files.is_empty() {
         bail!("no export file given");
     }
+    Ok((format, files))
+}
+
+/// The import's bat, ball and batter from the flags (the column map is read later, after the output check).
+fn import_options(args: &ImportArgs, format: Option<Format>) -> Result<ImportOptions> {
     let bat = resolve_bat(&args.bat, None)?;
     let bat_params = if Bat::preset_names().contains(&args.bat.as_str()) {
         params_of_preset(&args.bat, &args.bat, Header::default())
@@ -128,70 +178,56 @@ pub fn run(args: ImportArgs) -> Result<()> {
         Some(path) => load_batter_file(path)?,
         None => batter_from_spec(&BatterSpec::default(), None)?,
     };
-    // The imported bag's topics are the root namespace's; --namespace moves them to the node's (checked
-    // before anything is written).
-    let names = crate::rig::dds::TopicNames::in_namespace(&args.namespace)?;
-    // --pub without -o plays a bag nobody keeps: it lives in a temporary directory, removed when done.
-    let scratch = match (&args.output, args.publish) {
-        (None, true) => Some(tempfile::tempdir().context("--pub: creating a temporary directory for the bag")?),
-        _ => None,
-    };
-    let output = match (&args.output, &scratch) {
-        (Some(dir), _) => dir.clone(),
-        (None, Some(tmp)) => tmp.path().join("import"),
-        (None, None) => {
-            crate::bag::default_bag_dir(std::path::Path::new("bags"), "import", std::time::SystemTime::now())
-        }
-    };
+    Ok(ImportOptions {
+        format,
+        bat,
+        bat_params,
+        ball_params,
+        batter,
+        undercut: args.undercut,
+        map: None,
+        tee: args.tee,
+    })
+}
+
+/// Refuses an output directory that exists or is one of the inputs.
+fn refuse_output(args: &ImportArgs, files: &[String], output: &std::path::Path) -> Result<()> {
     // Every input named here (the exports, the batter file, the column map, a bat file and its profile —
     // those read above are noted by crate::files) before the bag directory, which must be new.
     let mut inputs: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
     inputs.extend(args.batter.iter().cloned());
     inputs.extend(args.map.iter().cloned());
-    crate::files::refuse_clobber("-o/--output", &output, &inputs, &[]).map_err(anyhow::Error::msg)?;
+    crate::files::refuse_clobber("-o/--output", output, &inputs, &[]).map_err(anyhow::Error::msg)?;
     if output.exists() {
         bail!("{}: already exists (the bag directory must be new)", output.display());
     }
-    let map = args.map.as_deref().map(ColumnMap::load).transpose().map_err(|e| anyhow!("--map: {e}"))?;
-    if map.is_some() && format.is_some() {
-        bail!("--map reads every file through the map: give no format with it");
+    Ok(())
+}
+
+/// `--pub`: plays the imported bag to a running node, on its namespace's topics.
+fn publish(
+    args: &ImportArgs,
+    report: &ImportReport,
+    names: crate::rig::dds::TopicNames,
+    output: PathBuf,
+) -> Result<()> {
+    if report.swings == 0 {
+        bail!("--pub: no row became a swing, nothing to send");
     }
-    let options =
-        ImportOptions { format, bat, bat_params, ball_params, batter, undercut: args.undercut, map, tee: args.tee };
-    let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
-    let report = import_files(&paths, &output, &options).map_err(|e| anyhow!("{e}"))?;
-    if let Some(dir) = &args.batter_out {
-        write_batters(&report, dir, &args.bat, &options)?;
-    }
-    if args.json {
-        let mut document = serde_json::to_value(&report).context("cannot serialise the output as JSON")?;
-        if scratch.is_some() {
-            // The bag played from a temporary directory that is gone by the time anyone reads this.
-            document["bag"] = serde_json::Value::Null;
-        }
-        print_json(&document)?;
-    } else {
-        print_report(&report, scratch.is_none())?;
-    }
-    if args.publish {
-        if report.swings == 0 {
-            bail!("--pub: no row became a swing, nothing to send");
-        }
-        let seconds = crate::model::time::saturating_secs;
-        let remaps = [
-            (crate::import::topics::BAT_PARAMS, names.bat_params),
-            (crate::import::topics::BALL_PARAMS, names.ball_params),
-            (crate::import::topics::SWING, names.swing),
-        ];
-        let options = crate::play::PlayOptions {
-            remaps: remaps.into_iter().map(|(from, to)| (from.to_string(), to)).collect(),
-            wait_discovered: !args.no_wait,
-            timeout: seconds(args.timeout),
-            interval: args.rate.map(crate::model::time::period_of),
-            ..crate::play::PlayOptions::new(1.0)
-        };
-        crate::play::console::play(output, options, true)?;
-    }
+    let seconds = crate::model::time::saturating_secs;
+    let remaps = [
+        (crate::import::topics::BAT_PARAMS, names.bat_params),
+        (crate::import::topics::BALL_PARAMS, names.ball_params),
+        (crate::import::topics::SWING, names.swing),
+    ];
+    let options = crate::play::PlayOptions {
+        remaps: remaps.into_iter().map(|(from, to)| (from.to_string(), to)).collect(),
+        wait_discovered: !args.no_wait,
+        timeout: seconds(args.timeout),
+        interval: args.rate.map(crate::model::time::period_of),
+        ..crate::play::PlayOptions::new(1.0)
+    };
+    crate::play::console::play(output, options, true)?;
     Ok(())
 }
 

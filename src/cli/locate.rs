@@ -60,6 +60,24 @@ pub struct LocateArgs {
 
 /// Runs `sweetspot locate`.
 pub fn run(args: LocateArgs) -> Result<()> {
+    let options = locate_options(&args)?;
+    if let Some(path) = &args.figure {
+        ImageFormat::from_path(path)?;
+        crate::files::refuse_clobber("--figure", path, &[], std::slice::from_ref(&args.bag))
+            .map_err(anyhow::Error::msg)?;
+    }
+    let report = locate_with_progress(&args.bag, &options)?;
+    if let Some(path) = &args.figure {
+        write_figure(path, &args.bag, &report)?;
+    }
+    if args.json {
+        return print_json(&report);
+    }
+    print_table(&report)
+}
+
+/// The tracker's accuracies (each > 0) in SI units, and whether to fit bat speeds.
+fn locate_options(args: &LocateArgs) -> Result<LocateOptions> {
     for (name, v) in [
         ("--exit-speed-sigma", args.exit_speed_sigma),
         ("--launch-angle-sigma", args.launch_angle_sigma),
@@ -69,35 +87,33 @@ pub fn run(args: LocateArgs) -> Result<()> {
             return Err(anyhow!("{name} = {v}: expected > 0"));
         }
     }
-    let options = LocateOptions {
+    Ok(LocateOptions {
         exit_speed_sigma: args.exit_speed_sigma,
         launch_angle_sigma: args.launch_angle_sigma.to_radians(),
         spin_sigma: rpm_to_rad_per_s(args.spin_sigma),
         fit_bat_speed: args.fit_bat_speed,
+    })
+}
+
+/// Draws `--figure` and says on stderr what its panels are.
+fn write_figure(path: &Path, bag: &Path, report: &LocateReport) -> Result<()> {
+    let batters = batters_of(bag)?;
+    let summary = draw_figure(path, report, batters.as_ref())?;
+    let left_out = if summary.groups_left_out > 0 {
+        format!(" ({} more with fewer located swings left out)", summary.groups_left_out)
+    } else {
+        String::new()
     };
-    if let Some(path) = &args.figure {
-        ImageFormat::from_path(path)?;
-        crate::files::refuse_clobber("--figure", path, &[], std::slice::from_ref(&args.bag))
-            .map_err(anyhow::Error::msg)?;
-    }
-    let report = locate_with_progress(&args.bag, &options)?;
-    if let Some(path) = &args.figure {
-        let batters = batters_of(&args.bag)?;
-        let summary = draw_figure(path, &report, batters.as_ref())?;
-        let left_out = if summary.groups_left_out > 0 {
-            format!(" ({} more with fewer located swings left out)", summary.groups_left_out)
-        } else {
-            String::new()
-        };
-        let per = match summary.grouping {
-            Grouping::Batter => "batter",
-            Grouping::Bat => "bat (the bag names no batters)",
-        };
-        eprintln!("wrote {}: {} panel(s), one per {per}{left_out}", path.display(), summary.panels.len());
-    }
-    if args.json {
-        return print_json(&report);
-    }
+    let per = match summary.grouping {
+        Grouping::Batter => "batter",
+        Grouping::Bat => "bat (the bag names no batters)",
+    };
+    eprintln!("wrote {}: {} panel(s), one per {per}{left_out}", path.display(), summary.panels.len());
+    Ok(())
+}
+
+/// The table: a line per swing (and its bat-speed fit), then the counts.
+fn print_table(report: &LocateReport) -> Result<()> {
     crate::outln!(
         "{:>8} {:>8} {:>7} {:>7}  {:<58}",
         "swing",
@@ -108,43 +124,13 @@ pub fn run(args: LocateArgs) -> Result<()> {
     )?;
     for s in &report.swings {
         let [v, theta, omega] = s.measured;
-        let text = match &s.outcome {
-            Outcome::Located { solutions, favoured, squared_up } => {
-                let list: Vec<String> = solutions
-                    .iter()
-                    .enumerate()
-                    .map(|(i, x)| {
-                        format!(
-                            "{}{:.4} ± {:.4}, {:+.1} ± {:.1} mm, {} (sweet spot {:.3}){}",
-                            if Some(i) == *favoured { "*" } else { "" },
-                            x.impact_z,
-                            x.impact_z_sigma,
-                            x.undercut * 1e3,
-                            x.undercut_sigma * 1e3,
-                            match x.side {
-                                Side::Handle => "handle side",
-                                Side::End => "end side",
-                            },
-                            x.sweet_spot_z,
-                            x.direction.as_ref().map_or(String::new(), direction_text)
-                        )
-                    })
-                    .collect();
-                format!("{}{}", list.join("  |  "), if *squared_up { "  squared up" } else { "" })
-            }
-            Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => format!(
-                "FASTER than the sweet spot allows by {excess:.2} m/s (max {max_exit_speed:.2} m/s at z = {sweet_spot_z:.3} m)"
-            ),
-            Outcome::NotReproducible { reason, .. } => format!("NOT REPRODUCIBLE within tracker accuracy: {reason}"),
-            Outcome::NotMeasured => "no exit speed measured".to_string(),
-            Outcome::Failed { reason } => format!("not located: {reason}"),
-        };
         crate::outln!(
-            "{:>8} {:>8.2} {:>7.1} {:>7.0}  {text}",
+            "{:>8} {:>8.2} {:>7.1} {:>7.0}  {}",
             s.swing_id,
             v,
             theta.to_degrees(),
-            omega * 60.0 / (2.0 * std::f64::consts::PI)
+            omega * 60.0 / (2.0 * std::f64::consts::PI),
+            outcome_text(&s.outcome)
         )?;
         if let Some(fit) = &s.bat_speed_fit {
             crate::outln!("{:>34}  bat speed fit: {}", "", bat_speed_text(fit))?;
@@ -163,6 +149,41 @@ pub fn run(args: LocateArgs) -> Result<()> {
         crate::outln!("bat speed fitted for {n} of {} swings", report.swings.len())?;
     }
     Ok(())
+}
+
+/// A swing's outcome as its column of the table: every solution (`*` on the favoured one), or why none.
+fn outcome_text(outcome: &Outcome) -> String {
+    match outcome {
+        Outcome::Located { solutions, favoured, squared_up } => {
+            let list: Vec<String> = solutions
+                .iter()
+                .enumerate()
+                .map(|(i, x)| {
+                    format!(
+                        "{}{:.4} ± {:.4}, {:+.1} ± {:.1} mm, {} (sweet spot {:.3}){}",
+                        if Some(i) == *favoured { "*" } else { "" },
+                        x.impact_z,
+                        x.impact_z_sigma,
+                        x.undercut * 1e3,
+                        x.undercut_sigma * 1e3,
+                        match x.side {
+                            Side::Handle => "handle side",
+                            Side::End => "end side",
+                        },
+                        x.sweet_spot_z,
+                        x.direction.as_ref().map_or(String::new(), direction_text)
+                    )
+                })
+                .collect();
+            format!("{}{}", list.join("  |  "), if *squared_up { "  squared up" } else { "" })
+        }
+        Outcome::TooFast { max_exit_speed, excess, sweet_spot_z } => format!(
+            "FASTER than the sweet spot allows by {excess:.2} m/s (max {max_exit_speed:.2} m/s at z = {sweet_spot_z:.3} m)"
+        ),
+        Outcome::NotReproducible { reason, .. } => format!("NOT REPRODUCIBLE within tracker accuracy: {reason}"),
+        Outcome::NotMeasured => "no exit speed measured".to_string(),
+        Outcome::Failed { reason } => format!("not located: {reason}"),
+    }
 }
 
 /// A solution's spray angle and spin axis, with measured − model where measured.

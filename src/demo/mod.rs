@@ -292,16 +292,8 @@ impl Session<'_> {
 /// Runs a demo session: node, rig and recorder over real DDS, then the table, the bag and the figures.
 pub fn run(settings: DemoSettings) -> Result<()> {
     let started = Instant::now();
-    // The demo's rig swings obliquely and tracks launch angle and spin unless its config says how already.
-    let mut rig_config = settings.rig.clone();
-    rig_config.launch = rig_config.launch.or(Some(LaunchConditions::default()));
-    let rig = SessionGenerator::new(rig_config).context("building the rig's bats")?.with_block(settings.swings_per_bat);
-
-    let mut dds = DdsConfig::from_env()?;
-    let forced_range = (!settings.env_discovery).then_some(DiscoveryRange::Localhost);
-    if let Some(range) = forced_range {
-        dds.range = range;
-    }
+    let rig = demo_rig(&settings)?;
+    let (dds, forced_range) = demo_dds(&settings)?;
     std::fs::create_dir_all(&settings.out).with_context(|| format!("cannot create '{}'", settings.out.display()))?;
     let bag = fresh_bag_dir(&settings.out);
     let log = PathBuf::from(format!("{}.node.log", bag.display()));
@@ -319,12 +311,44 @@ pub fn run(settings: DemoSettings) -> Result<()> {
     // Ctrl-C reaches the node too (same process group); we stop with a partial report, not "node exited".
     let interrupted = crate::ros::interrupt_flag();
     let mut node = start_node(&exe, &settings.namespace, &bag, &log, forced_range)?;
-
-    let total = settings.swings;
     let ctx = context(&dds)?;
-    let mut publisher = RigPublisher::new(&ctx, &settings.namespace)?;
-    let listener = AnswerListener::new(&ctx, &publisher.names)?;
-    let waited = publisher.wait_for_subscribers(1, settings.timeout, || stop_reason(&mut node, &interrupted));
+    let session = connect_rig(&settings, &ctx, rig, &mut node, &interrupted, started)?;
+    let (rig, answers, truths) = run_session(session, &settings, started, &bag, &log)?;
+    report(&settings, &rig, &answers, &truths, &bag, &log, started)
+}
+
+/// The rig of `settings`: it swings obliquely and tracks launch angle and spin unless its config says how
+/// already.
+fn demo_rig(settings: &DemoSettings) -> Result<SessionGenerator> {
+    let mut rig_config = settings.rig.clone();
+    rig_config.launch = rig_config.launch.or(Some(LaunchConditions::default()));
+    Ok(SessionGenerator::new(rig_config).context("building the rig's bats")?.with_block(settings.swings_per_bat))
+}
+
+/// The DDS config from the environment, and the discovery range forced on it (localhost unless the
+/// environment's is asked for).
+fn demo_dds(settings: &DemoSettings) -> Result<(DdsConfig, Option<DiscoveryRange>)> {
+    let mut dds = DdsConfig::from_env()?;
+    let forced_range = (!settings.env_discovery).then_some(DiscoveryRange::Localhost);
+    if let Some(range) = forced_range {
+        dds.range = range;
+    }
+    Ok((dds, forced_range))
+}
+
+/// The rig's publisher and listener, once the node subscribes: a session ready to announce.
+fn connect_rig<'a>(
+    settings: &DemoSettings,
+    ctx: &ros2_client::Context,
+    rig: SessionGenerator,
+    node: &'a mut ChildProcess,
+    interrupted: &Arc<AtomicBool>,
+    started: Instant,
+) -> Result<Session<'a>> {
+    let total = settings.swings;
+    let mut publisher = RigPublisher::new(ctx, &settings.namespace)?;
+    let listener = AnswerListener::new(ctx, &publisher.names)?;
+    let waited = publisher.wait_for_subscribers(1, settings.timeout, || stop_reason(node, interrupted));
     if waited.is_err() && interrupted.load(Ordering::Relaxed) {
         let _ = node.stop(Duration::from_secs(10));
         return Err(Interrupted { answered: 0, total }.into());
@@ -335,16 +359,30 @@ pub fn run(settings: DemoSettings) -> Result<()> {
         started.elapsed().as_secs_f64(),
         rig.bats().len()
     ));
-    let mut session = Session {
+    Ok(Session {
         rig,
         publisher,
         listener,
-        node: &mut node,
+        node,
         answers: Answers::default(),
         timeout: settings.timeout,
         interrupted: interrupted.clone(),
         total,
-    };
+    })
+}
+
+/// Each swing's truth and message by swing_id (see [`Session::swing`]).
+type Truths = BTreeMap<u64, (RigSwing, Swing)>;
+
+/// Announces, swings every swing and stops the node; on an interruption prints the partial report first.
+fn run_session(
+    mut session: Session<'_>,
+    settings: &DemoSettings,
+    started: Instant,
+    bag: &Path,
+    log: &Path,
+) -> Result<(SessionGenerator, Answers, Truths)> {
+    let total = settings.swings;
     let mut session_start = Instant::now();
     let swung = match session.announce() {
         Ok(()) => {
@@ -358,7 +396,7 @@ pub fn run(settings: DemoSettings) -> Result<()> {
         Ok(truths) => truths,
         Err(e) if e.is::<Interrupted>() => {
             // The partial report: what was answered, and the bag the node finished on the way out.
-            let Session { rig, answers, .. } = session;
+            let Session { rig, answers, node, .. } = session;
             let _ = node.stop(Duration::from_secs(10));
             print_summary(&rig, &answers, answers.exits.len() as u64);
             outln!("bag:      {} (interrupted after {:.1} s)", bag.display(), session_start.elapsed().as_secs_f64());
@@ -373,14 +411,28 @@ pub fn run(settings: DemoSettings) -> Result<()> {
         session_time.as_secs_f64(),
         total as f64 / session_time.as_secs_f64().max(1e-9)
     ));
-    let Session { rig, answers, .. } = session;
+    let Session { rig, answers, node, .. } = session;
     node.stop(Duration::from_secs(10))?;
+    Ok((rig, answers, truths))
+}
 
-    let info = crate::bag::info::bag_info(&bag).with_context(|| format!("reading back the bag '{}'", bag.display()))?;
+/// The table, the bag read back, the figures and what to try next; fails if the bag misses a swing or an
+/// answer, or an answer could not be decoded.
+fn report(
+    settings: &DemoSettings,
+    rig: &SessionGenerator,
+    answers: &Answers,
+    truths: &Truths,
+    bag: &Path,
+    log: &Path,
+    started: Instant,
+) -> Result<()> {
+    let total = settings.swings;
+    let info = crate::bag::info::bag_info(bag).with_context(|| format!("reading back the bag '{}'", bag.display()))?;
     let count_of = |ty: &str| info.topics.iter().filter(|t| t.type_name == ty).map(|t| t.count).sum::<u64>();
     let (bag_swings, bag_exits) = (count_of(Swing::TYPE_NAME), count_of(ExitVelocity::TYPE_NAME));
 
-    print_summary(&rig, &answers, total);
+    print_summary(rig, answers, total);
     outln!(
         "bag:      {}  ({} swings, {} exit velocities, {} messages)",
         bag.display(),
@@ -391,8 +443,8 @@ pub fn run(settings: DemoSettings) -> Result<()> {
     outln!("node log: {}", log.display());
 
     if let Some(format) = settings.figures {
-        let dir = figures_dir(&bag);
-        let files = write_demo_figures(&dir, &rig, &truths, &answers, format)?;
+        let dir = figures_dir(bag);
+        let files = write_demo_figures(&dir, rig, truths, answers, format)?;
         outln!("figures:  {}/ ({})", dir.display(), files.join(", "));
     }
     outln!();

@@ -237,93 +237,176 @@ pub fn serve(
         ))
         .map_err(BagError::Options)?;
     on_ready(server.port());
-    let mut next = 0;
-    let mut sent = 0u64;
-    let mut last_tick = Instant::now() - TICK;
-    let mut ended_said = false;
-    // When the next pass starts playing by itself: at once (after --delay) when playing, else once a
-    // subscription has waited AUTOPLAY_AFTER for a client to press play.
-    let mut autoplay_at = options.playing.then(|| Instant::now() + options.delay);
-    let mut first_subscription: Option<Instant> = None;
-    while !stop.load(Ordering::Relaxed) {
+    let mut pacer = Pacer::new(bag, options, &controls, &server, start);
+    while !stop.load(Ordering::Relaxed) && pacer.turn() {}
+    let sent = pacer.sent;
+    server.stop();
+    Ok(sent)
+}
+
+/// Hands the bag's messages to the server at the pace of the shared timeline, and tells clients where it is.
+struct Pacer<'a> {
+    bag: &'a ServedBag,
+    options: &'a ServeOptions,
+    controls: &'a Controls,
+    server: &'a LiveServer,
+    range: (u64, u64),
+    /// Where each pass starts (the start offset into the bag).
+    start: u64,
+    /// Index of the next message to send.
+    next: usize,
+    /// Messages handed to the server.
+    sent: u64,
+    last_tick: Instant,
+    /// Whether clients were told of the end of the data (or a `--loop` pass already started over).
+    ended_said: bool,
+    /// When the next pass starts playing by itself: at once (after --delay) when playing, else once a
+    /// subscription has waited AUTOPLAY_AFTER for a client to press play.
+    autoplay_at: Option<Instant>,
+    first_subscription: Option<Instant>,
+}
+
+impl<'a> Pacer<'a> {
+    fn new(
+        bag: &'a ServedBag,
+        options: &'a ServeOptions,
+        controls: &'a Controls,
+        server: &'a LiveServer,
+        start: u64,
+    ) -> Pacer<'a> {
+        Pacer {
+            bag,
+            options,
+            controls,
+            server,
+            range: bag.range(),
+            start,
+            next: 0,
+            sent: 0,
+            last_tick: Instant::now() - TICK,
+            ended_said: false,
+            autoplay_at: options.playing.then(|| Instant::now() + options.delay),
+            first_subscription: None,
+        }
+    }
+
+    /// Sends what is due, then sleeps until the next message, the next tick or a control request; `false`
+    /// once the timeline is unusable (its lock poisoned).
+    fn turn(&mut self) -> bool {
         let now = Instant::now();
-        let driven = controls.driven.load(Ordering::Relaxed);
-        if first_subscription.is_none() && server.counters().subscriptions > 0 {
-            first_subscription = Some(now);
-            if autoplay_at.is_none() {
-                autoplay_at = Some(now + AUTOPLAY_AFTER + options.delay);
+        let driven = self.controls.driven.load(Ordering::Relaxed);
+        self.note_first_subscription(now);
+        let controls = self.controls;
+        let Ok(mut timeline) = controls.timeline.lock() else { return false };
+        self.autoplay_when_due(&mut timeline, driven, now);
+        let mut due = self.take_seek(&mut timeline);
+        let position = timeline.position(now);
+        if timeline.playing {
+            while self.next < self.bag.messages.len() && self.bag.messages[self.next].0 <= position {
+                due.push(self.next);
+                self.next += 1;
+            }
+            self.ended_said = false;
+        }
+        self.stop_at_end(&mut timeline, position, now);
+        let ended = self.unsaid_end(&timeline, position, now);
+        let wait = self.until_next_message(&timeline, position);
+        drop(timeline);
+        self.send(due, ended, position, now);
+        if let Ok(timeline) = controls.timeline.lock() {
+            // Woken early by a control request.
+            let _ = controls.changed.wait_timeout(timeline, wait.max(Duration::from_micros(200)));
+        }
+        true
+    }
+
+    fn note_first_subscription(&mut self, now: Instant) {
+        if self.first_subscription.is_none() && self.server.counters().subscriptions > 0 {
+            self.first_subscription = Some(now);
+            if self.autoplay_at.is_none() {
+                self.autoplay_at = Some(now + AUTOPLAY_AFTER + self.options.delay);
             }
         }
-        let Ok(mut timeline) = controls.timeline.lock() else { break };
-        if autoplay_at.is_some_and(|at| now >= at) {
-            autoplay_at = None;
+    }
+
+    /// Starts playing when the autoplay time comes, unless a client drives playback by then.
+    fn autoplay_when_due(&mut self, timeline: &mut Timeline, driven: bool, now: Instant) {
+        if self.autoplay_at.is_some_and(|at| now >= at) {
+            self.autoplay_at = None;
             if !driven {
                 timeline.playing = true;
                 timeline.anchor_wall = now;
             }
         }
+    }
+
+    /// Acts on a pending seek: goes on from there, after the latched topics' last messages before it
+    /// (returned, to be sent).
+    fn take_seek(&mut self, timeline: &mut Timeline) -> Vec<usize> {
         let mut due = Vec::new();
         if let Some(seek) = timeline.seek.take() {
-            due.extend(bag.latched_before(seek));
-            next = bag.first_at(seek);
-            ended_said = false;
+            due.extend(self.bag.latched_before(seek));
+            self.next = self.bag.first_at(seek);
+            self.ended_said = false;
         }
-        let position = timeline.position(now);
-        if timeline.playing {
-            while next < bag.messages.len() && bag.messages[next].0 <= position {
-                due.push(next);
-                next += 1;
-            }
+        due
+    }
+
+    /// At the end of the data, stops; with `--loop` (until a client drives playback) seeks back to the start,
+    /// to play again after --delay, no sooner than MIN_PASS after this pass started.
+    fn stop_at_end(&mut self, timeline: &mut Timeline, position: u64, now: Instant) {
+        if !(timeline.playing && self.next == self.bag.messages.len() && position >= self.range.1) {
+            return;
         }
-        let mut ended = None;
-        if timeline.playing {
-            ended_said = false;
+        timeline.end(now);
+        if self.options.repeat && !self.controls.driven.load(Ordering::Relaxed) {
+            // Over again from the start offset, after --delay, as `bag play -l` over DDS.
+            let span = crate::model::time::scaled(
+                Duration::from_nanos(self.range.1 - self.start.clamp(self.range.0, self.range.1)),
+                1.0 / timeline.speed,
+            );
+            timeline.anchor_bag = self.start.clamp(self.range.0, self.range.1);
+            timeline.seek = Some(timeline.anchor_bag);
+            self.autoplay_at = Some(now + self.options.delay + crate::play::MIN_PASS.saturating_sub(span));
+            self.ended_said = true;
         }
-        if timeline.playing && next == bag.messages.len() && position >= range.1 {
-            timeline.end(now);
-            if options.repeat && !controls.driven.load(Ordering::Relaxed) {
-                // Over again from the start offset, after --delay, as `bag play -l` over DDS.
-                let span = crate::model::time::scaled(
-                    Duration::from_nanos(range.1 - start.clamp(range.0, range.1)),
-                    1.0 / timeline.speed,
-                );
-                timeline.anchor_bag = start.clamp(range.0, range.1);
-                timeline.seek = Some(timeline.anchor_bag);
-                autoplay_at = Some(now + options.delay + crate::play::MIN_PASS.saturating_sub(span));
-                ended_said = true;
-            }
+    }
+
+    /// The "ended" state to tell clients, once, when paused at the end of the data.
+    fn unsaid_end(&mut self, timeline: &Timeline, position: u64, now: Instant) -> Option<PlaybackState> {
+        if !timeline.playing && position >= self.range.1 && !self.ended_said {
+            self.ended_said = true;
+            return Some(timeline.state(now, false));
         }
-        if !timeline.playing && position >= range.1 && !ended_said {
-            ended_said = true;
-            ended = Some(timeline.state(now, false));
-        }
-        let wait = match bag.messages.get(next) {
+        None
+    }
+
+    /// Wall time until the next message is due (at most a tick).
+    fn until_next_message(&self, timeline: &Timeline, position: u64) -> Duration {
+        match self.bag.messages.get(self.next) {
             Some((t, _, _)) if timeline.playing => {
                 let ahead = Duration::from_nanos(t.saturating_sub(position));
                 crate::model::time::scaled(ahead, 1.0 / timeline.speed).min(TICK)
             }
             _ => TICK,
-        };
-        drop(timeline);
-        for k in due {
-            let (log_time, topic, cdr) = &bag.messages[k];
-            server.send(*topic, cdr, *log_time);
-            sent += 1;
-        }
-        if let Some(state) = ended {
-            server.broadcast_playback_state(state);
-        }
-        if now.duration_since(last_tick) >= TICK {
-            last_tick = now;
-            server.broadcast_time(position);
-        }
-        if let Ok(timeline) = controls.timeline.lock() {
-            // Woken early by a control request.
-            let _ = controls.changed.wait_timeout(timeline, wait.max(Duration::from_micros(200)));
         }
     }
-    server.stop();
-    Ok(sent)
+
+    /// Sends the `due` messages, the end of the data if `ended`, and the position once per tick.
+    fn send(&mut self, due: Vec<usize>, ended: Option<PlaybackState>, position: u64, now: Instant) {
+        for k in due {
+            let (log_time, topic, cdr) = &self.bag.messages[k];
+            self.server.send(*topic, cdr, *log_time);
+            self.sent += 1;
+        }
+        if let Some(state) = ended {
+            self.server.broadcast_playback_state(state);
+        }
+        if now.duration_since(self.last_tick) >= TICK {
+            self.last_tick = now;
+            self.server.broadcast_time(position);
+        }
+    }
 }
 
 #[cfg(test)]

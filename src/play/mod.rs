@@ -339,6 +339,35 @@ enum Writer {
     Swing(rustdds::no_key::DataWriterCdr<Swing>),
 }
 
+impl Writer {
+    /// Brings `count`, this writer's matched subscriptions, up to date.
+    fn update_matched(&self, count: &mut usize) {
+        match self {
+            Writer::Bat(w) => matched(w, count),
+            Writer::Ball(w) => matched(w, count),
+            Writer::Swing(w) => matched(w, count),
+        }
+    }
+
+    fn write(&self, item: &PlayItem, timeout: Duration, stop: &AtomicBool) -> Result<(), BagError> {
+        match self {
+            Writer::Bat(w) => write_one(w, item, timeout, stop),
+            Writer::Ball(w) => write_one(w, item, timeout, stop),
+            Writer::Swing(w) => write_one(w, item, timeout, stop),
+        }
+    }
+
+    /// Whether every matched subscription acknowledged everything within `timeout`.
+    fn wait_for_acknowledgments(&self, timeout: Duration) -> bool {
+        let acked = match self {
+            Writer::Bat(w) => w.wait_for_acknowledgments(timeout),
+            Writer::Ball(w) => w.wait_for_acknowledgments(timeout),
+            Writer::Swing(w) => w.wait_for_acknowledgments(timeout),
+        };
+        matches!(acked, Ok(true))
+    }
+}
+
 fn make_writer<T: RosMessage>(
     ctx: &ros2_client::Context,
     topic: &str,
@@ -379,11 +408,7 @@ fn matched<T: RosMessage>(writer: &rustdds::no_key::DataWriterCdr<T>, current: &
 /// Brings each writer's count of matched subscriptions up to date; whether any has one.
 fn any_matched(writers: &mut [(String, Writer, usize)]) -> bool {
     for (_, writer, count) in writers.iter_mut() {
-        match writer {
-            Writer::Bat(w) => matched(w, count),
-            Writer::Ball(w) => matched(w, count),
-            Writer::Swing(w) => matched(w, count),
-        }
+        writer.update_matched(count);
     }
     writers.iter().any(|(_, _, count)| *count > 0)
 }
@@ -452,11 +477,7 @@ fn wait_for_discovered(
     loop {
         let mut status: Vec<(String, usize, usize)> = Vec::new();
         for (topic, writer, count) in writers.iter_mut() {
-            match writer {
-                Writer::Bat(w) => matched(w, count),
-                Writer::Ball(w) => matched(w, count),
-                Writer::Swing(w) => matched(w, count),
-            }
+            writer.update_matched(count);
             let type_name = types.iter().find(|(t, _)| t == topic).map_or("", |(_, ty)| ty.as_str());
             let dds_type = dds_type_of(type_name);
             let (discovered, others) = discovered_subscriptions(ctx, topic, dds_type);
@@ -533,140 +554,236 @@ pub fn play(
     stop: &AtomicBool,
     mut on_event: impl FnMut(PlayEvent<'_>),
 ) -> Result<PlayStats, BagError> {
-    if let Some(hz) = options.clock_hz {
-        if !(hz > 0.0 && hz.is_finite()) {
-            return Err(BagError::Options(format!("--clock {hz} is out of range: expected a finite rate > 0 Hz")));
-        }
-    }
+    check_clock_rate(options.clock_hz)?;
     let Schedule { items, origin_ns } = options.schedule(path)?;
     if items.is_empty() {
         return Err(BagError::Format(format!("{}: no input messages to play", path.display())));
     }
     let (ctx, _config) = crate::ros::context_from_env().map_err(|e| BagError::Options(format!("DDS: {e}")))?;
+    let names = topic_types(&items);
+    let mut writers = open_writers(&ctx, &names)?;
+    let clock = open_clock(&ctx, options.clock_hz)?;
+    if options.wait_subscribers > 0 {
+        if !wait_for_subscribers(&mut writers, options, stop)? {
+            return Ok(PlayStats::default());
+        }
+    } else if options.wait_discovered {
+        wait_for_discovered(&ctx, &mut writers, &names, options.timeout, stop, &mut on_event)?;
+    }
+    let mut player = Player { writers, clock, origin_ns, options, stop };
+    let stats = player.play_passes(&items, &mut on_event)?;
+    player.wait_for_acknowledgments();
+    // Readers drop untaken samples of a writer whose participant left: linger a moment (as `pub` does).
+    std::thread::sleep(Duration::from_millis(500));
+    Ok(stats)
+}
+
+/// Refuses a `--clock` rate that is not a finite rate > 0.
+fn check_clock_rate(clock_hz: Option<f64>) -> Result<(), BagError> {
+    if let Some(hz) = clock_hz {
+        if !(hz > 0.0 && hz.is_finite()) {
+            return Err(BagError::Options(format!("--clock {hz} is out of range: expected a finite rate > 0 Hz")));
+        }
+    }
+    Ok(())
+}
+
+/// The (topic, type) pairs of a schedule, in order of first appearance.
+fn topic_types(items: &[PlayItem]) -> Vec<(String, String)> {
     let mut names: Vec<(String, String)> = Vec::new();
-    for item in &items {
+    for item in items {
         if !names.iter().any(|(n, _)| *n == item.topic) {
             names.push((item.topic.clone(), item.type_name.clone()));
         }
     }
+    names
+}
+
+/// A writer per (topic, type), with the QoS of its type, none matched yet.
+fn open_writers(
+    ctx: &ros2_client::Context,
+    names: &[(String, String)],
+) -> Result<Vec<(String, Writer, usize)>, BagError> {
     let mut writers: Vec<(String, Writer, usize)> = Vec::new();
-    for (topic, type_name) in names.clone() {
+    for (topic, type_name) in names {
         let writer = match type_name.as_str() {
-            BatParams::TYPE_NAME => Writer::Bat(make_writer(&ctx, &topic, &crate::ros::qos::params_qos())?),
-            BallParams::TYPE_NAME => Writer::Ball(make_writer(&ctx, &topic, &crate::ros::qos::params_qos())?),
-            _ => Writer::Swing(make_writer(&ctx, &topic, &crate::ros::qos::swing_qos())?),
+            BatParams::TYPE_NAME => Writer::Bat(make_writer(ctx, topic, &crate::ros::qos::params_qos())?),
+            BallParams::TYPE_NAME => Writer::Ball(make_writer(ctx, topic, &crate::ros::qos::params_qos())?),
+            _ => Writer::Swing(make_writer(ctx, topic, &crate::ros::qos::swing_qos())?),
         };
-        writers.push((topic, writer, 0));
+        writers.push((topic.clone(), writer, 0));
     }
-    let mut clock = match options.clock_hz {
+    Ok(writers)
+}
+
+/// The `/clock` publisher `--clock` asks for, if it does.
+fn open_clock(ctx: &ros2_client::Context, clock_hz: Option<f64>) -> Result<Option<ClockOut>, BagError> {
+    Ok(match clock_hz {
         Some(hz) => Some(ClockOut {
-            writer: make_writer::<Clock>(&ctx, "/clock", &clock_qos())?,
+            writer: make_writer::<Clock>(ctx, "/clock", &clock_qos())?,
             period: crate::model::time::period_of(hz),
             next: Instant::now(),
         }),
         None => None,
-    };
-    if options.wait_subscribers > 0 {
-        let start = Instant::now();
+    })
+}
+
+/// Waits (at most `timeout`) until every writer matched `wait_subscribers` subscriptions; `false` if
+/// stopped first. Refuses, naming the topics short of them, when the time runs out.
+fn wait_for_subscribers(
+    writers: &mut [(String, Writer, usize)],
+    options: &PlayOptions,
+    stop: &AtomicBool,
+) -> Result<bool, BagError> {
+    let start = Instant::now();
+    loop {
+        for (_, writer, count) in writers.iter_mut() {
+            writer.update_matched(count);
+        }
+        if writers.iter().all(|(_, _, c)| *c >= options.wait_subscribers) {
+            break;
+        }
+        if stop.load(Ordering::Relaxed) {
+            return Ok(false);
+        }
+        if start.elapsed() >= options.timeout {
+            let missing: Vec<&str> =
+                writers.iter().filter(|(_, _, c)| *c < options.wait_subscribers).map(|(t, _, _)| t.as_str()).collect();
+            return Err(BagError::Options(format!(
+                "no {} subscription(s) on {} within {:.1} s",
+                options.wait_subscribers,
+                missing.join(", "),
+                options.timeout.as_secs_f64()
+            )));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // Our side saw the match first; give the subscribers' side of the handshake a moment (see `pub`).
+    std::thread::sleep(MATCH_SETTLE);
+    Ok(true)
+}
+
+/// The publishing side of a play, once the writers are open and matched: the passes over the schedule.
+struct Player<'a> {
+    writers: Vec<(String, Writer, usize)>,
+    clock: Option<ClockOut>,
+    /// The recorded time a pass starts from (see [`Schedule::origin_ns`]).
+    origin_ns: u64,
+    options: &'a PlayOptions,
+    stop: &'a AtomicBool,
+}
+
+impl Player<'_> {
+    fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    fn is_paused(&self) -> bool {
+        self.options.paused.as_ref().is_some_and(|p| p.load(Ordering::Relaxed))
+    }
+
+    /// Plays `items` once, or over and over with `repeat`, each pass after the delay, until done or stopped.
+    fn play_passes(
+        &mut self,
+        items: &[PlayItem],
+        on_event: &mut impl FnMut(PlayEvent<'_>),
+    ) -> Result<PlayStats, BagError> {
+        let mut stats = PlayStats { heard: any_matched(&mut self.writers), ..PlayStats::default() };
         loop {
-            for (_, writer, count) in writers.iter_mut() {
-                match writer {
-                    Writer::Bat(w) => matched(w, count),
-                    Writer::Ball(w) => matched(w, count),
-                    Writer::Swing(w) => matched(w, count),
-                }
-            }
-            if writers.iter().all(|(_, _, c)| *c >= options.wait_subscribers) {
+            if !self.sit_out_delay() {
                 break;
             }
-            if stop.load(Ordering::Relaxed) {
-                return Ok(PlayStats::default());
+            let mut pass = PassClock::start();
+            if !self.play_pass(items, &mut pass, &mut stats, on_event)? {
+                break;
             }
-            if start.elapsed() >= options.timeout {
-                let missing: Vec<&str> = writers
-                    .iter()
-                    .filter(|(_, _, c)| *c < options.wait_subscribers)
-                    .map(|(t, _, _)| t.as_str())
-                    .collect();
-                return Err(BagError::Options(format!(
-                    "no {} subscription(s) on {} within {:.1} s",
-                    options.wait_subscribers,
-                    missing.join(", "),
-                    options.timeout.as_secs_f64()
-                )));
+            stats.passes += 1;
+            if !self.options.repeat || !self.sit_out_min_pass(&mut pass) {
+                break;
             }
-            std::thread::sleep(Duration::from_millis(20));
         }
-        // Our side saw the match first; give the subscribers' side of the handshake a moment (see `pub`).
-        std::thread::sleep(MATCH_SETTLE);
-    } else if options.wait_discovered {
-        wait_for_discovered(&ctx, &mut writers, &names, options.timeout, stop, &mut on_event)?;
+        Ok(stats)
     }
-    let is_paused = || options.paused.as_ref().is_some_and(|p| p.load(Ordering::Relaxed));
-    let mut stats = PlayStats { heard: any_matched(&mut writers), ..PlayStats::default() };
-    'passes: loop {
-        let delay_end = Instant::now() + options.delay;
+
+    /// Waits out the delay before a pass; `false` if stopped meanwhile.
+    fn sit_out_delay(&self) -> bool {
+        let delay_end = Instant::now() + self.options.delay;
         while Instant::now() < delay_end {
-            if stop.load(Ordering::Relaxed) {
-                break 'passes;
+            if self.stopped() {
+                return false;
             }
             std::thread::sleep((delay_end - Instant::now()).min(Duration::from_millis(20)));
         }
-        let mut pass = PassClock::start();
-        for item in &items {
-            loop {
-                if stop.load(Ordering::Relaxed) {
-                    break 'passes;
-                }
-                let position = pass.elapsed(is_paused());
-                if let Some(clock) = clock.as_mut() {
-                    clock.tick(origin_ns, position, options.rate);
-                }
-                if position >= item.at && !is_paused() {
-                    break;
-                }
-                let mut nap = item.at.saturating_sub(position).min(Duration::from_millis(20));
-                if let Some(clock) = &clock {
-                    nap = nap.min(clock.until_next());
-                }
-                std::thread::sleep(nap.max(Duration::from_micros(200)));
-            }
-            let Some((_, writer, _)) = writers.iter().find(|(t, _, _)| *t == item.topic) else { continue };
-            match writer {
-                Writer::Bat(w) => write_one(w, item, options.timeout, stop)?,
-                Writer::Ball(w) => write_one(w, item, options.timeout, stop)?,
-                Writer::Swing(w) => write_one(w, item, options.timeout, stop)?,
-            }
-            stats.published += 1;
-            stats.heard = stats.heard || any_matched(&mut writers);
-            on_event(PlayEvent::Published(item));
-        }
-        stats.passes += 1;
-        if !options.repeat {
-            break;
-        }
-        // The next pass follows the bag's own timing: it starts when this one's span is over, and no sooner
-        // than MIN_PASS after this one started.
-        while pass.elapsed(is_paused()) < MIN_PASS {
-            if stop.load(Ordering::Relaxed) {
-                break 'passes;
+        true
+    }
+
+    /// The next pass follows the bag's own timing: it starts when this one's span is over, and no sooner
+    /// than MIN_PASS after this one started. `false` if stopped meanwhile.
+    fn sit_out_min_pass(&self, pass: &mut PassClock) -> bool {
+        while pass.elapsed(self.is_paused()) < MIN_PASS {
+            if self.stopped() {
+                return false;
             }
             std::thread::sleep(Duration::from_millis(20));
         }
+        true
     }
-    for (topic, writer, _) in &writers {
-        let acked = match writer {
-            Writer::Bat(w) => w.wait_for_acknowledgments(options.timeout),
-            Writer::Ball(w) => w.wait_for_acknowledgments(options.timeout),
-            Writer::Swing(w) => w.wait_for_acknowledgments(options.timeout),
-        };
-        if !matches!(acked, Ok(true)) {
-            tracing::warn!("not every subscription on {topic} acknowledged everything within {:?}", options.timeout);
+
+    /// Publishes each item at its time; `false` if stopped before the end.
+    fn play_pass(
+        &mut self,
+        items: &[PlayItem],
+        pass: &mut PassClock,
+        stats: &mut PlayStats,
+        on_event: &mut impl FnMut(PlayEvent<'_>),
+    ) -> Result<bool, BagError> {
+        for item in items {
+            if !self.wait_until_due(item, pass) {
+                return Ok(false);
+            }
+            let Some((_, writer, _)) = self.writers.iter().find(|(t, _, _)| *t == item.topic) else { continue };
+            writer.write(item, self.options.timeout, self.stop)?;
+            stats.published += 1;
+            stats.heard = stats.heard || any_matched(&mut self.writers);
+            on_event(PlayEvent::Published(item));
+        }
+        Ok(true)
+    }
+
+    /// Waits until the pass reaches `item`'s time and is not paused, ticking `/clock` meanwhile; `false` if
+    /// stopped first.
+    fn wait_until_due(&mut self, item: &PlayItem, pass: &mut PassClock) -> bool {
+        loop {
+            if self.stopped() {
+                return false;
+            }
+            let position = pass.elapsed(self.is_paused());
+            if let Some(clock) = self.clock.as_mut() {
+                clock.tick(self.origin_ns, position, self.options.rate);
+            }
+            if position >= item.at && !self.is_paused() {
+                return true;
+            }
+            let mut nap = item.at.saturating_sub(position).min(Duration::from_millis(20));
+            if let Some(clock) = &self.clock {
+                nap = nap.min(clock.until_next());
+            }
+            std::thread::sleep(nap.max(Duration::from_micros(200)));
         }
     }
-    // Readers drop untaken samples of a writer whose participant left: linger a moment (as `pub` does).
-    std::thread::sleep(Duration::from_millis(500));
-    Ok(stats)
+
+    /// Waits (at most `timeout` per topic) until every subscription acknowledged everything; warns of those
+    /// that did not.
+    fn wait_for_acknowledgments(&self) {
+        for (topic, writer, _) in &self.writers {
+            if !writer.wait_for_acknowledgments(self.options.timeout) {
+                tracing::warn!(
+                    "not every subscription on {topic} acknowledged everything within {:?}",
+                    self.options.timeout
+                );
+            }
+        }
+    }
 }
 
 #[cfg(test)]

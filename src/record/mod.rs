@@ -311,84 +311,147 @@ pub fn record(
     };
     let recorder = Recorder::start_with(config, options.storage)?;
     on_event(&RecordEvent::Started { dir: options.output.clone() });
-    let mut subscribed: Vec<Subscribed> = Vec::new();
-    let mut reorder = Reorder::default();
-    let mut decided: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
+    let mut session = Session {
+        ctx: &ctx,
+        options,
+        recorder,
+        subscribed: Vec::new(),
+        reorder: Reorder::default(),
+        decided: std::collections::BTreeSet::new(),
+    };
     let mut next_discovery = Instant::now();
     while !stop.load(Ordering::Relaxed) {
         if Instant::now() >= next_discovery {
             next_discovery = Instant::now() + options.polling_interval;
-            for (dds_topic, publications) in discovered_publications(&ctx) {
-                if decided.contains(&dds_topic) {
-                    continue;
-                }
-                let topic = match ros_topic_name(&dds_topic) {
-                    Ok(topic) => topic,
-                    Err(reason) => {
-                        // Only worth a word when the user asked for everything.
-                        if options.selection.all {
-                            on_event(&RecordEvent::Skipped { topic: dds_topic.clone(), reason });
-                        }
-                        decided.insert(dds_topic);
-                        continue;
-                    }
-                };
-                if let Err(reason) = options.selection.admits(&topic) {
-                    if reason != "not selected" {
-                        on_event(&RecordEvent::Skipped { topic, reason });
-                    }
-                    decided.insert(dds_topic);
-                    continue;
-                }
-                decided.insert(dds_topic.clone());
-                let dds_type = match publications.type_names.as_slice() {
-                    [one] => one.clone(),
-                    several => {
-                        let reason = format!("published with several types ({})", several.join(", "));
-                        on_event(&RecordEvent::Skipped { topic, reason });
-                        continue;
-                    }
-                };
-                let Some(type_name) = ros_type_name(&dds_type) else {
-                    let reason = format!("DDS type {dds_type} is not a ROS message type (pkg::msg::dds_::Type_)");
-                    on_event(&RecordEvent::Skipped { topic, reason });
-                    continue;
-                };
-                let known = crate::msgs::ALL_TYPES.iter().find(|t| t.dds_type_name == dds_type);
-                let qos = options.qos_overrides.apply(&topic, adapted_qos(&publications));
-                let reader = raw_reader(&ctx, &topic, &dds_type, &qos)?;
-                let info = TopicInfo {
-                    name: topic.clone(),
-                    type_name: type_name.clone(),
-                    schema_text: known.map(|t| t.schema_text.to_string()).unwrap_or_default(),
-                    // What the publishers offered, as far as discovery tells (it does not carry the depth).
-                    qos: RecordedQos {
-                        reliable: publications.all_reliable,
-                        transient_local: publications.all_transient_local,
-                        depth: 0,
-                    },
-                    // Known types carry the hash build.rs computed; for others it stays empty, as rosbag2
-                    // writes it when the publisher announced none.
-                    type_hash: known.map(|t| t.type_hash.to_string()).unwrap_or_default(),
-                };
-                let id = recorder.register_topic(info)?;
-                on_event(&RecordEvent::Subscribed { topic: topic.clone(), type_name, schema: known.is_some() });
-                subscribed.push(Subscribed { topic, id, reader, count: 0 });
+            session.subscribe_to_discovered(&mut on_event)?;
+        }
+        let took = session.take_available();
+        session.release_settled();
+        if !took {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+    session.finish()
+}
+
+impl Subscribed {
+    /// Takes one sample into `reorder`, if there is one; whether there was.
+    fn take_one(&mut self, reorder: &mut Reorder) -> rustdds::dds::ReadResult<bool> {
+        let Some(sample) = self.reader.try_take_one()? else { return Ok(false) };
+        let log_time = unix_ns(sample.receive_instant);
+        let publish_time = sample.source_timestamp().map(unix_ns).unwrap_or(log_time);
+        let RawCdr(bytes) = sample.into_value();
+        reorder.push(self.id, bytes, log_time, publish_time);
+        self.count += 1;
+        Ok(true)
+    }
+}
+
+/// A recording under way: the bag, the subscriptions and the messages held for reordering.
+struct Session<'a> {
+    ctx: &'a ros2_client::Context,
+    options: &'a RecordOptions,
+    recorder: Recorder,
+    subscribed: Vec<Subscribed>,
+    reorder: Reorder,
+    /// DDS topics already subscribed to or skipped.
+    decided: std::collections::BTreeSet<String>,
+}
+
+impl Session<'_> {
+    /// Subscribes to every topic discovery shows that was not decided on yet and is selected.
+    fn subscribe_to_discovered(&mut self, on_event: &mut impl FnMut(&RecordEvent)) -> Result<(), RecordError> {
+        for (dds_topic, publications) in discovered_publications(self.ctx) {
+            if !self.decided.contains(&dds_topic) {
+                self.decide(dds_topic, &publications, on_event)?;
             }
         }
+        Ok(())
+    }
+
+    /// Subscribes to `dds_topic` if it is a selected ROS topic of one ROS type; else says why not (unless it
+    /// is merely not selected).
+    fn decide(
+        &mut self,
+        dds_topic: String,
+        publications: &Publications,
+        on_event: &mut impl FnMut(&RecordEvent),
+    ) -> Result<(), RecordError> {
+        let topic = match ros_topic_name(&dds_topic) {
+            Ok(topic) => topic,
+            Err(reason) => {
+                // Only worth a word when the user asked for everything.
+                if self.options.selection.all {
+                    on_event(&RecordEvent::Skipped { topic: dds_topic.clone(), reason });
+                }
+                self.decided.insert(dds_topic);
+                return Ok(());
+            }
+        };
+        if let Err(reason) = self.options.selection.admits(&topic) {
+            if reason != "not selected" {
+                on_event(&RecordEvent::Skipped { topic, reason });
+            }
+            self.decided.insert(dds_topic);
+            return Ok(());
+        }
+        self.decided.insert(dds_topic);
+        let dds_type = match publications.type_names.as_slice() {
+            [one] => one.clone(),
+            several => {
+                let reason = format!("published with several types ({})", several.join(", "));
+                on_event(&RecordEvent::Skipped { topic, reason });
+                return Ok(());
+            }
+        };
+        let Some(type_name) = ros_type_name(&dds_type) else {
+            let reason = format!("DDS type {dds_type} is not a ROS message type (pkg::msg::dds_::Type_)");
+            on_event(&RecordEvent::Skipped { topic, reason });
+            return Ok(());
+        };
+        self.subscribe(topic, &dds_type, type_name, publications, on_event)
+    }
+
+    /// Registers `topic` in the bag and subscribes to it with QoS adapted to its publishers.
+    fn subscribe(
+        &mut self,
+        topic: String,
+        dds_type: &str,
+        type_name: String,
+        publications: &Publications,
+        on_event: &mut impl FnMut(&RecordEvent),
+    ) -> Result<(), RecordError> {
+        let known = crate::msgs::ALL_TYPES.iter().find(|t| t.dds_type_name == dds_type);
+        let qos = self.options.qos_overrides.apply(&topic, adapted_qos(publications));
+        let reader = raw_reader(self.ctx, &topic, dds_type, &qos)?;
+        let info = TopicInfo {
+            name: topic.clone(),
+            type_name: type_name.clone(),
+            schema_text: known.map(|t| t.schema_text.to_string()).unwrap_or_default(),
+            // What the publishers offered, as far as discovery tells (it does not carry the depth).
+            qos: RecordedQos {
+                reliable: publications.all_reliable,
+                transient_local: publications.all_transient_local,
+                depth: 0,
+            },
+            // Known types carry the hash build.rs computed; for others it stays empty, as rosbag2
+            // writes it when the publisher announced none.
+            type_hash: known.map(|t| t.type_hash.to_string()).unwrap_or_default(),
+        };
+        let id = self.recorder.register_topic(info)?;
+        on_event(&RecordEvent::Subscribed { topic: topic.clone(), type_name, schema: known.is_some() });
+        self.subscribed.push(Subscribed { topic, id, reader, count: 0 });
+        Ok(())
+    }
+
+    /// Drains every subscription into the reorder window; whether anything was taken.
+    fn take_available(&mut self) -> bool {
         let mut took = false;
-        for sub in &mut subscribed {
+        for sub in &mut self.subscribed {
             loop {
-                match sub.reader.try_take_one() {
-                    Ok(Some(sample)) => {
-                        let log_time = unix_ns(sample.receive_instant);
-                        let publish_time = sample.source_timestamp().map(unix_ns).unwrap_or(log_time);
-                        let RawCdr(bytes) = sample.into_value();
-                        reorder.push(sub.id, bytes, log_time, publish_time);
-                        sub.count += 1;
-                        took = true;
-                    }
-                    Ok(None) => break,
+                match sub.take_one(&mut self.reorder) {
+                    Ok(true) => took = true,
+                    Ok(false) => break,
                     Err(e) => {
                         tracing::warn!("{}: {e}", sub.topic);
                         break;
@@ -396,36 +459,38 @@ pub fn record(
                 }
             }
         }
+        took
+    }
+
+    /// Writes what has been held for the reorder window.
+    fn release_settled(&mut self) {
         // Every sample received before now − window has been taken by now (each subscription was just
         // drained), so what is released comes out in receive order across topics.
         let window = u64::try_from(REORDER_WINDOW.as_nanos()).unwrap_or(u64::MAX);
         let until = unix_ns(rustdds::Timestamp::now()).saturating_sub(window);
-        reorder.release(until, |id, cdr, log_time, publish_time| {
+        let recorder = &self.recorder;
+        self.reorder.release(until, |id, cdr, log_time, publish_time| {
             recorder.record(id, cdr, log_time, publish_time);
         });
-        if !took {
-            std::thread::sleep(Duration::from_millis(2));
-        }
     }
-    // One last look at every subscription, then everything held goes out in order.
-    for sub in &mut subscribed {
-        while let Ok(Some(sample)) = sub.reader.try_take_one() {
-            let log_time = unix_ns(sample.receive_instant);
-            let publish_time = sample.source_timestamp().map(unix_ns).unwrap_or(log_time);
-            let RawCdr(bytes) = sample.into_value();
-            reorder.push(sub.id, bytes, log_time, publish_time);
-            sub.count += 1;
+
+    /// Takes what is left, writes everything held in order and finishes the bag.
+    fn finish(mut self) -> Result<RecordStats, RecordError> {
+        // One last look at every subscription, then everything held goes out in order.
+        for sub in &mut self.subscribed {
+            while let Ok(true) = sub.take_one(&mut self.reorder) {}
         }
+        let recorder = self.recorder;
+        self.reorder.release(u64::MAX, |id, cdr, log_time, publish_time| {
+            recorder.record(id, cdr, log_time, publish_time);
+        });
+        let finished = recorder.finish()?;
+        Ok(RecordStats {
+            per_topic: self.subscribed.into_iter().map(|s| (s.topic, s.count)).collect(),
+            dropped: finished.dropped,
+            late: self.reorder.late(),
+        })
     }
-    reorder.release(u64::MAX, |id, cdr, log_time, publish_time| {
-        recorder.record(id, cdr, log_time, publish_time);
-    });
-    let finished = recorder.finish()?;
-    Ok(RecordStats {
-        per_topic: subscribed.into_iter().map(|s| (s.topic, s.count)).collect(),
-        dropped: finished.dropped,
-        late: reorder.late(),
-    })
 }
 
 #[cfg(test)]
