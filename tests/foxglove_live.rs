@@ -170,7 +170,7 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
         match v["topic"].as_str() {
             Some("/bat_frame") => {
                 assert_eq!(v["type"], "foxglove.FrameTransform", "{line}");
-                frames.push((n, v["message"].clone()));
+                frames.push((n, v.clone()));
             }
             Some("/exit_velocity") => live.push(v["message"].clone()),
             Some("/modal_energies") => {
@@ -178,14 +178,25 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
                 energies += 1;
             }
             Some("/sweet_spot") => sweet_spots += 1,
-            Some("/swing_scene") => scenes.push(v["message"].clone()),
+            Some("/swing_scene") => {
+                // The frame again, at the scene's own log time, sent just before it: a 3D panel that cleared
+                // its transforms when time jumped back gets `bat` back with the next scene.
+                let log_time = &v["log_time"];
+                assert!(frames.iter().any(|(_, f)| f["log_time"] == *log_time), "scene at {log_time} without its frame");
+                scenes.push(v["message"].clone());
+            }
             _ => panic!("unexpected line {line}"),
         }
     }
     check_scenes(&scenes, &live);
-    assert_eq!(frames.len(), 1, "one latched frame transform");
+    assert_eq!(frames.len(), 1 + scenes.len(), "the latched frame transform, then one before each scene");
     let (at, frame) = &frames[0];
     assert!(first_answer.is_some_and(|first| *at < first), "the frame came after the answers: {frames:?}");
+    // Latched at the latest log time sent (the default bat's SweetSpot's), not at 0: a client's clock that
+    // jumps back to 1970 makes a 3D panel clear its transforms.
+    let since_epoch = frame["log_time"].as_str().and_then(|t| t.parse::<u64>().ok()).unwrap_or(0);
+    assert!(since_epoch > 1_600_000_000_000_000_000, "the latched frame's log time: {}", frame["log_time"]);
+    let frame = &frame["message"];
     assert_eq!((frame["parent_frame_id"].as_str(), frame["child_frame_id"].as_str()), (Some("world"), Some("bat")));
     let at_origin =
         |object: &Value, fields: &[(&str, f64)]| fields.iter().all(|(k, v)| object[*k].as_f64() == Some(*v));

@@ -33,9 +33,13 @@
 //! connects mid-session sees the bats and balls in use.
 //!
 //! Where swing scenes are served (a `visualization_msgs/msg/MarkerArray` topic), the server also serves the
-//! scenes' frame on [`FRAME_TOPIC`]: one `foxglove.FrameTransform` (JSON) placing `bat` at the origin of
+//! scenes' frame on [`FRAME_TOPIC`]: a `foxglove.FrameTransform` (JSON) placing `bat` at the origin of
 //! `world`, latched, so Foxglove's and Lichtblick's 3D panels know the frame as soon as they subscribe instead
-//! of warning "Frame bat not found" until the first scene arrives.
+//! of warning "Frame bat not found" until the first scene arrives. The latched copy goes out at the latest
+//! log time the server has sent (not at 0: a client's clock jumping back to 1970 makes a 3D panel clear its
+//! transforms), and the frame is sent again just before every scene, at the scene's log time: a 3D panel
+//! clears its transforms whenever time jumps back (a seek or `--loop` of `bag play`, a rig whose clock
+//! restarts), and the next scene brings the frame back instead of leaving the panel without it.
 //!
 //! With [`Playback`] (`bag play`) the server also declares the bag's time range and answers Foxglove's
 //! playback controls (play, pause, seek, speed) through a [`PlaybackHandler`].
@@ -67,7 +71,7 @@ const FRAME_TRANSFORM_SCHEMA: &str = r#"{"title":"foxglove.FrameTransform","type
 "y":{"type":"number"},"z":{"type":"number"},"w":{"type":"number"}},"required":["x","y","z","w"]}},
 "required":["timestamp","parent_frame_id","child_frame_id","translation","rotation"]}"#;
 
-/// The one message of [`FRAME_TOPIC`]: the scenes' frame at the origin of [`WORLD_FRAME`], unrotated, valid
+/// The message of [`FRAME_TOPIC`]: the scenes' frame at the origin of [`WORLD_FRAME`], unrotated, valid
 /// from time 0 on.
 fn frame_transform_json() -> Vec<u8> {
     serde_json::json!({
@@ -191,12 +195,16 @@ struct Listener {
     clients: AtomicU64,
     subscriptions: AtomicU64,
     playback: Option<Arc<dyn PlaybackHandler>>,
+    /// The latest log time sent on any channel, ns.
+    last_log_time: AtomicU64,
 }
 
 struct Latch {
     channel: Arc<RawChannel>,
     depth: usize,
     last: VecDeque<(Vec<u8>, u64)>,
+    /// Replayed at the latest log time sent rather than its own ([`FRAME_TOPIC`]: valid at any time).
+    at_latest_time: bool,
 }
 
 impl ServerListener for Listener {
@@ -204,8 +212,10 @@ impl ServerListener for Listener {
         self.subscriptions.fetch_add(1, Ordering::Relaxed);
         let Ok(slots) = self.slots.lock() else { return };
         if let Some(latch) = slots.get(&channel.id()) {
+            let latest = self.last_log_time.load(Ordering::Relaxed);
             for (cdr, log_time) in &latch.last {
-                let meta = PartialMetadata { log_time: Some(*log_time) };
+                let log_time = if latch.at_latest_time { latest.max(*log_time) } else { *log_time };
+                let meta = PartialMetadata { log_time: Some(log_time) };
                 latch.channel.log_with_meta_to_sink(cdr, meta, client.sink_id());
             }
         }
@@ -233,10 +243,13 @@ impl ServerListener for Listener {
 pub struct LiveServer {
     /// Kept alive: a channel whose context is dropped is closed.
     _context: Arc<Context>,
-    /// [`FRAME_TOPIC`], when scenes are served (kept open; its one message is latched).
-    _frame: Option<Arc<RawChannel>>,
+    /// [`FRAME_TOPIC`], when scenes are served (its message latched, and sent again before each scene).
+    frame: Option<Arc<RawChannel>>,
     channels: Vec<Arc<RawChannel>>,
     latched: Vec<bool>,
+    /// Whether each topic is a scene topic (brings the frame with each message).
+    scenes: Vec<bool>,
+
     listener: Arc<Listener>,
     served: AtomicU64,
     port: u16,
@@ -274,7 +287,8 @@ impl LiveServer {
                 .map_err(|e| format!("channel {}: {e}", topic.name))?;
             if topic.qos.transient_local {
                 let depth = (topic.qos.depth as usize).max(1);
-                let latch = Latch { channel: Arc::clone(&channel), depth, last: VecDeque::new() };
+                let latch =
+                    Latch { channel: Arc::clone(&channel), depth, last: VecDeque::new(), at_latest_time: false };
                 listener.slots.get_mut().map_err(|_| "latch table poisoned".to_string())?.insert(channel.id(), latch);
             }
             latched.push(topic.qos.transient_local);
@@ -289,7 +303,7 @@ impl LiveServer {
                 .build_raw()
                 .map_err(|e| format!("channel {FRAME_TOPIC}: {e}"))?;
             let last = VecDeque::from([(frame_transform_json(), 0)]);
-            let latch = Latch { channel: Arc::clone(&channel), depth: 1, last };
+            let latch = Latch { channel: Arc::clone(&channel), depth: 1, last, at_latest_time: true };
             listener.slots.get_mut().map_err(|_| "latch table poisoned".to_string())?.insert(channel.id(), latch);
             Some(channel)
         } else {
@@ -317,9 +331,11 @@ impl LiveServer {
         let port = handle.port();
         Ok(LiveServer {
             _context: context,
-            _frame: frame,
+            frame,
             channels,
             latched,
+            scenes: topics.iter().map(|t| t.type_name == SCENE_TYPE).collect(),
+
             listener,
             served: AtomicU64::new(0),
             port,
@@ -335,20 +351,31 @@ impl LiveServer {
     /// Hands one CDR message of topic `index` to every subscribed client's queue; never blocks on a client.
     pub fn send(&self, index: usize, cdr: &[u8], log_time_ns: u64) {
         let Some(channel) = self.channels.get(index) else { return };
+        self.listener.last_log_time.fetch_max(log_time_ns, Ordering::Relaxed);
         if self.latched.get(index).copied().unwrap_or(false) {
-            if let Ok(mut slots) = self.listener.slots.lock() {
-                if let Some(latch) = slots.get_mut(&channel.id()) {
-                    if latch.last.len() == latch.depth {
-                        latch.last.pop_front();
-                    }
-                    latch.last.push_back((cdr.to_vec(), log_time_ns));
-                }
-            }
+            self.latch(channel, cdr.to_vec(), log_time_ns);
+        }
+        if let (Some(frame), true) = (&self.frame, self.scenes.get(index).copied().unwrap_or(false)) {
+            let json = frame_transform_json();
+            frame.log_with_meta(&json, PartialMetadata { log_time: Some(log_time_ns) });
+            self.latch(frame, json, log_time_ns);
         }
         if channel.has_sinks() {
             self.served.fetch_add(1, Ordering::Relaxed);
         }
         channel.log_with_meta(cdr, PartialMetadata { log_time: Some(log_time_ns) });
+    }
+
+    /// Keeps `message` as the latest of `channel`'s latched ones (its oldest dropped past the topic's depth).
+    fn latch(&self, channel: &RawChannel, message: Vec<u8>, log_time_ns: u64) {
+        if let Ok(mut slots) = self.listener.slots.lock() {
+            if let Some(latch) = slots.get_mut(&channel.id()) {
+                if latch.last.len() == latch.depth {
+                    latch.last.pop_front();
+                }
+                latch.last.push_back((message, log_time_ns));
+            }
+        }
     }
 
     /// Whether any client subscribes to topic `index` now.
