@@ -182,7 +182,10 @@ fn a_foxglove_client_decodes_what_the_bag_records_and_a_stalled_one_changes_noth
                 // The frame again, at the scene's own log time, sent just before it: a 3D panel that cleared
                 // its transforms when time jumped back gets `bat` back with the next scene.
                 let log_time = &v["log_time"];
-                assert!(frames.iter().any(|(_, f)| f["log_time"] == *log_time), "scene at {log_time} without its frame");
+                assert!(
+                    frames.iter().any(|(_, f)| f["log_time"] == *log_time),
+                    "scene at {log_time} without its frame"
+                );
                 scenes.push(v["message"].clone());
             }
             _ => panic!("unexpected line {line}"),

@@ -268,6 +268,16 @@ fn params_file_and_dash_p_set_parameters_that_ros2_param_sees_validates_and_appl
         "{}",
         refused.message
     );
+
+    // Accepted BatParams make their bat the one of swings with an empty bat_id: default_bat no longer
+    // applies, and a set of it is refused with the bat in force instead of a success that changes nothing.
+    let (ok, reason) = set(&peer, &clients, "default_bat", ParameterValue::String("aluminum".into()));
+    assert!(ok, "before any accepted BatParams default_bat applies: {reason}");
+    bat_pub.publish(sweetspot::model::convert::params_from_bat("rig_bat", &r161, 0, Header::default())).unwrap();
+    peer.collect_until(&spots, WAIT, |got| got.iter().any(|s| s.bat_id == "rig_bat"));
+    let (ok, reason) = set(&peer, &clients, "default_bat", ParameterValue::String("r161".into()));
+    assert!(!ok && reason.contains("'rig_bat'") && reason.contains("BatParams"), "{reason}");
+    assert_eq!(get(&peer, &clients, &["default_bat"]), vec![ParameterValue::String("aluminum".into())]);
     drop(node);
 }
 

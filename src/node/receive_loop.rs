@@ -349,6 +349,7 @@ impl NodeLoop {
             Ok(entry) => {
                 NodeStats::bump(&self.stats.params_accepted);
                 let entry = self.registry.set_bat(entry);
+                self.settings.note_bat_params(&entry.bat_id);
                 self.report_evictions();
                 self.log
                     .info(&format!("bat '{}' set ({} modes); computing its SweetSpot", entry.bat_id, entry.max_modes));
@@ -376,6 +377,7 @@ impl NodeLoop {
             Ok(ball) => {
                 NodeStats::bump(&self.stats.params_accepted);
                 self.registry.set_ball(&params.ball_id, ball);
+                self.settings.note_ball_params(&params.ball_id);
                 self.report_evictions();
                 self.log.info(&format!("ball '{}' set", params.ball_id));
             }
