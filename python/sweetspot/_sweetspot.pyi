@@ -58,18 +58,9 @@ def simulate_document(
     bat_angular_speed: float,
     impact_z: list[float],
     *,
-    undercut: float | None = None,
-    attack_angle: float | None = None,
-    pitch_angle: float | None = None,
-    pitch_spin: float | None = None,
-    tangential_cor: float | None = None,
-    friction: float | None = None,
-    tangential_stiffness_ratio: float | None = None,
-    bat_tilt: float | None = None,
-    swing_direction: float | None = None,
-    batter_side: str | None = None,
     modes: int = 18,
     dt: float = 5e-6,
+    **oblique: float | str | None,
 ) -> str: ...
 def simulate_columns(
     bat: Bat, ball: Ball, columns: dict[str, npt.NDArray[np.float64]], *, modes: int = 18, dt: float = 5e-6
@@ -130,17 +121,9 @@ def sweep_document(
     to: float | None = None,
     step: float | None = None,
     points: int | None = None,
-    attack_angle: float | None = None,
-    pitch_angle: float | None = None,
-    pitch_spin: float | None = None,
-    tangential_cor: float | None = None,
-    friction: float | None = None,
-    tangential_stiffness_ratio: float | None = None,
-    bat_tilt: float | None = None,
-    swing_direction: float | None = None,
-    batter_side: str | None = None,
     modes: int = 18,
     dt: float = 5e-6,
+    **oblique: float | str | None,
 ) -> str: ...
 def validate_document(
     data: str | None = None,

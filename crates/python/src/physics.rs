@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -204,6 +204,34 @@ fn swing_of(
     Ok(swing)
 }
 
+/// The oblique keyword arguments `simulate` and `sweep` share (`sweep` has no `undercut`), as the command
+/// line's flags (undercut m, angles degrees, spin rpm; None = not given). An unknown keyword is a `TypeError`,
+/// as for any Python function.
+fn oblique_flags(oblique: Option<&Bound<'_, PyDict>>, takes_undercut: bool) -> PyResult<ObliqueFlags> {
+    let mut flags = ObliqueFlags::default();
+    for (key, value) in oblique.into_iter().flat_map(|kwargs| kwargs.iter()) {
+        let key: String = key.extract()?;
+        if key == "batter_side" {
+            flags.batter_side = side_of(value.extract::<Option<String>>()?.as_deref())?;
+            continue;
+        }
+        let slot = match key.as_str() {
+            "undercut" if takes_undercut => &mut flags.undercut,
+            "attack_angle" => &mut flags.attack_angle,
+            "pitch_angle" => &mut flags.pitch_angle,
+            "pitch_spin" => &mut flags.pitch_spin,
+            "tangential_cor" => &mut flags.tangential_cor,
+            "friction" => &mut flags.friction,
+            "tangential_stiffness_ratio" => &mut flags.tangential_stiffness_ratio,
+            "bat_tilt" => &mut flags.bat_tilt,
+            "swing_direction" => &mut flags.swing_direction,
+            _ => return Err(PyTypeError::new_err(format!("got an unexpected keyword argument '{key}'"))),
+        };
+        *slot = value.extract()?;
+    }
+    Ok(flags)
+}
+
 fn side_of(text: Option<&str>) -> PyResult<Option<physics::BatterSide>> {
     text.map(batter_side).transpose().map_err(PyValueError::new_err)
 }
@@ -211,9 +239,8 @@ fn side_of(text: Option<&str>) -> PyResult<Option<physics::BatterSide>> {
 /// `sweetspot simulate --json` with these inputs: the document as JSON text (the command line's own
 /// function, so every number is the command line's).
 #[pyfunction]
-#[pyo3(signature = (bat, ball, ball_speed, bat_cm_speed, bat_angular_speed, impact_z, *, undercut=None,
-    attack_angle=None, pitch_angle=None, pitch_spin=None, tangential_cor=None, friction=None,
-    tangential_stiffness_ratio=None, bat_tilt=None, swing_direction=None, batter_side=None, modes=18, dt=5e-6))]
+#[pyo3(signature = (bat, ball, ball_speed, bat_cm_speed, bat_angular_speed, impact_z, *, modes=18, dt=5e-6,
+    **oblique))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate_document(
     py: Python<'_>,
@@ -223,31 +250,11 @@ pub fn simulate_document(
     bat_cm_speed: f64,
     bat_angular_speed: f64,
     impact_z: Vec<f64>,
-    undercut: Option<f64>,
-    attack_angle: Option<f64>,
-    pitch_angle: Option<f64>,
-    pitch_spin: Option<f64>,
-    tangential_cor: Option<f64>,
-    friction: Option<f64>,
-    tangential_stiffness_ratio: Option<f64>,
-    bat_tilt: Option<f64>,
-    swing_direction: Option<f64>,
-    batter_side: Option<&str>,
     modes: usize,
     dt: f64,
+    oblique: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<String> {
-    let flags = ObliqueFlags {
-        undercut,
-        attack_angle,
-        pitch_angle,
-        pitch_spin,
-        tangential_cor,
-        friction,
-        tangential_stiffness_ratio,
-        bat_tilt,
-        swing_direction,
-        batter_side: side_of(batter_side)?,
-    };
+    let flags = oblique_flags(oblique, true)?;
     let (bat, ball) = (&bat.bat, &ball.ball);
     let document = py.allow_threads(|| -> anyhow::Result<_> {
         let swing = swing_of(ball_speed, bat_cm_speed, bat_angular_speed, &flags)?;
@@ -627,9 +634,7 @@ pub fn compare_document(
 /// `impact_z`, the other oblique inputs held, in the command line's units).
 #[pyfunction]
 #[pyo3(signature = (bat, ball, ball_speed, bat_cm_speed, bat_angular_speed, *, over="z", impact_z=None,
-    from_=None, to=None, step=None, points=None, attack_angle=None, pitch_angle=None, pitch_spin=None,
-    tangential_cor=None, friction=None, tangential_stiffness_ratio=None, bat_tilt=None, swing_direction=None,
-    batter_side=None, modes=18, dt=5e-6))]
+    from_=None, to=None, step=None, points=None, modes=18, dt=5e-6, **oblique))]
 #[allow(clippy::too_many_arguments)]
 pub fn sweep_document(
     py: Python<'_>,
@@ -644,17 +649,9 @@ pub fn sweep_document(
     to: Option<f64>,
     step: Option<f64>,
     points: Option<usize>,
-    attack_angle: Option<f64>,
-    pitch_angle: Option<f64>,
-    pitch_spin: Option<f64>,
-    tangential_cor: Option<f64>,
-    friction: Option<f64>,
-    tangential_stiffness_ratio: Option<f64>,
-    bat_tilt: Option<f64>,
-    swing_direction: Option<f64>,
-    batter_side: Option<&str>,
     modes: usize,
     dt: f64,
+    oblique: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<String> {
     use crate::engine::answer::sweep::{sweep, SweepOver};
     use crate::engine::report::sweep::SweepRange;
@@ -663,18 +660,7 @@ pub fn sweep_document(
         "undercut" => SweepOver::Undercut,
         other => return Err(PyValueError::new_err(format!("over = {other:?}: expected \"z\" or \"undercut\""))),
     };
-    let flags = ObliqueFlags {
-        undercut: None,
-        attack_angle,
-        pitch_angle,
-        pitch_spin,
-        tangential_cor,
-        friction,
-        tangential_stiffness_ratio,
-        bat_tilt,
-        swing_direction,
-        batter_side: side_of(batter_side)?,
-    };
+    let flags = oblique_flags(oblique, false)?;
     let (bat, ball) = (&bat.bat, &ball.ball);
     let document = py.allow_threads(|| -> anyhow::Result<_> {
         let swing = swing_of(ball_speed, bat_cm_speed, bat_angular_speed, &flags)?;
