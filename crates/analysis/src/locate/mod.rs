@@ -87,6 +87,7 @@ use rayon::prelude::*;
 
 mod bat_speed;
 pub mod figure;
+pub mod text;
 
 use bat_speed::fit_bat_speed;
 pub use bat_speed::{BatSpeedFit, BatSpeedSolution, MAX_FIT_Z_SIGMA, MAX_SCALE_SIGMA};
