@@ -102,7 +102,18 @@ fn a_level_square_swing_is_drawn_byte_for_byte_as_before_with_the_spin_arrow_add
         let mut drawn = scene(&bat, &modes, &me, &ev, &g);
         let spin_markers: Vec<Marker> = drawn.markers.iter().filter(|m| m.ns == SPIN_NS).cloned().collect();
         drawn.markers.retain(|m| m.ns != SPIN_NS);
+        // The label says the same in four short lines, taller than the golden's one long line of 3 cm; the
+        // golden's label is put in its place, so everything else is compared byte for byte.
+        let label_at = drawn.markers.iter().position(|m| m.ns == "label").expect("label");
+        let label = drawn.markers[label_at].clone();
         let golden = std::fs::read(golden_path(n)).unwrap();
+        let as_golden: MarkerArray = sweetspot::msgs::decode_cdr(&golden).unwrap();
+        let one_line = &as_golden.markers[label_at].text;
+        let lines = one_line.replacen(" · ", "\u{0}", 1).replace(" · ", "\n").replace('\u{0}', " · ");
+        assert_eq!(label.text, lines, "the golden's label {one_line:?} in lines");
+        assert_eq!(label.text.lines().count(), 4, "{}", label.text);
+        assert_eq!((label.scale.z, as_golden.markers[label_at].scale.z), (0.04, 0.03));
+        drawn.markers[label_at] = as_golden.markers[label_at].clone();
         assert!(sweetspot::msgs::encode_cdr(&drawn).unwrap() == golden, "planar scene {n} differs from its golden");
         // The spin arrow of a planar swing lies along the bat's axis (z), toward the barrel for backspin,
         // 1e-4 m per rpm long, centred on the ball.

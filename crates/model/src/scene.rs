@@ -32,8 +32,8 @@
 //!   ringing amplitude after the ball has left, |aₙ| = √(2 Eₙ)/ωₙ (Eₙ, ωₙ = 2π fₙ of ModalEnergies), signed as
 //!   the ball's push drives it: aₙ Yₙ(impact_z) ≤ 0, each mode swinging first away from the ball under the
 //!   impact point. It is each mode at its peak (the impulse response's phase), not one instant of the motion.
-//! - `label` 0: TEXT_VIEW_FACING above the ball: swing, bat, impact point, exit speed, launch angle and the
-//!   exaggeration.
+//! - `label` 0: TEXT_VIEW_FACING above the ball, four short lines [`TEXT_LINE_HEIGHT`] tall: swing and bat,
+//!   impact point, exit speed and launch angle, and the exaggeration.
 //! - `spin_axis` 0: ARROW through the ball's centre along the spin vector ω (right-hand rule: the arrow
 //!   points along the axis the ball turns about, counter-clockwise seen from its head), centred on the ball,
 //!   [`SPIN_ARROW_METRES_PER_RPM`] m long per rpm of total spin. ω = backspin b̂ + sidespin ŵ + gyro v̂ from
@@ -62,6 +62,8 @@ pub const ARROW_METRES_PER_MPS: f64 = 0.01;
 pub const LINE_WIDTH: f64 = 0.002;
 /// Length of the spin arrow per rpm of total spin, m (2,000 rpm → 0.2 m, the size of the exit arrow).
 pub const SPIN_ARROW_METRES_PER_RPM: f64 = 1e-4;
+/// Height of a line of the scene's labels, m: ~15 px in a 3D panel a few hundred pixels tall framing the bat.
+pub const TEXT_LINE_HEIGHT: f64 = 0.04;
 /// Namespace of the spin arrow and its label.
 pub const SPIN_NS: &str = "spin_axis";
 
@@ -292,11 +294,12 @@ pub fn swing_scene(input: &SceneInput<'_>) -> MarkerArray {
         .collect();
     markers.push(bent);
 
-    let text_size = Vector3 { x: 0.0, y: 0.0, z: 0.03 };
+    let text_size = Vector3 { x: 0.0, y: 0.0, z: TEXT_LINE_HEIGHT };
     let mut label = marker(&header, "label", 0, Marker::TEXT_VIEW_FACING, text_size.clone(), color(1.0, 1.0, 1.0, 1.0));
     label.pose.position = point(centre.x, centre.y + 0.1, centre.z);
+    // Short lines rather than one: at a readable height one 70-character line would be wider than the view.
     label.text = format!(
-        "swing {} · {} · z = {:.3} m · {:.1} m/s at {:.1}° · deflection ×{}",
+        "swing {} · {}\nz = {:.3} m\n{:.1} m/s at {:.1}°\ndeflection ×{}",
         answer.swing_id,
         answer.bat_id,
         z_k,
