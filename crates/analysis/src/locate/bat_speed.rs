@@ -184,6 +184,8 @@ impl SwingModel<'_> {
 
 /// A fit's unknowns (z, D, scale), their covariance (None if singular) and χ².
 type Found = ([f64; 3], Option<Matrix3>, f64);
+/// Where fits start, (z, D, scale), each with the side of the sweet spot it is kept on.
+type Starts = Vec<([f64; 3], Side)>;
 
 /// Fits the bat speed of one swing together with its impact point and undercut, from the 2-unknown
 /// solutions of `outcome` (or the sweet spot for a swing too fast for the assumed bat speed).
@@ -230,14 +232,10 @@ pub(super) fn fit_bat_speed(
 
 /// Where the fits start, each with the side of the sweet spot it is kept on, and the sweet spot; or why
 /// there is nothing to start from.
-fn starts(
-    model: &SwingModel<'_>,
-    outcome: &Outcome,
-    measured: &[f64; 3],
-) -> Result<(Vec<([f64; 3], Side)>, f64), String> {
+fn starts(model: &SwingModel<'_>, outcome: &Outcome, measured: &[f64; 3]) -> Result<(Starts, f64), String> {
     // One start per side of the sweet spot, each fit kept on its side: with z as loosely held as it is near
     // the sweet spot, a free fit would wander to the mirror solution and leave its own side unexplored.
-    let (mut starts, peak_z): (Vec<([f64; 3], Side)>, f64) = match outcome {
+    let (mut starts, peak_z): (Starts, f64) = match outcome {
         // A fit that misses at the assumed bat speed is where a fitted one starts too.
         Outcome::Located { solutions, .. } | Outcome::NotReproducible { solutions, .. } if !solutions.is_empty() => {
             (solutions.iter().map(|s| ([s.impact_z, s.undercut, 1.0], s.side)).collect(), solutions[0].sweet_spot_z)
@@ -276,7 +274,7 @@ fn starts(
 /// sweet spot at `peak_z`, and the closest miss (unknowns, χ²) for the report when there is none.
 fn solve_from(
     model: &SwingModel<'_>,
-    starts: Vec<([f64; 3], Side)>,
+    starts: Starts,
     peak_z: f64,
     measured: &[f64; 3],
     sigma: &[f64; 3],
