@@ -53,14 +53,13 @@ fn main() {
     if arg.as_deref() == Some("--count") {
         let kind = std::env::args().nth(2).unwrap_or_default();
         let n: usize = std::env::args().nth(3).and_then(|a| a.parse().ok()).unwrap_or(0);
+        let section = if kind == "hoop" { None } else { Some(None) };
         for _ in 0..n {
-            let hoop = if kind == "hoop" { None } else { Some(None) };
-            match hoop {
-                None => black_box(collide(&alloy, &ball, black_box(&impact), &options).expect("collide")),
-                Some(none) => {
-                    black_box(collide_with_hoop(&alloy, &ball, black_box(&impact), &options, none).expect("collide"))
-                }
-            };
+            black_box(match section {
+                None => collide(&alloy, &ball, black_box(&impact), &options),
+                Some(none) => collide_with_hoop(&alloy, &ball, black_box(&impact), &options, none),
+            })
+            .expect("collide");
         }
         return;
     }
@@ -78,7 +77,9 @@ fn main() {
         let a = per_call_us(2_000, hoop);
         let b = per_call_us(2_000, solid);
         println!("hoop {a:.2} µs  no hoop {b:.2} µs  ratio {:.3}", a / b);
-        (with.push(a), without.push(b), ratios.push(a / b));
+        with.push(a);
+        without.push(b);
+        ratios.push(a / b);
     }
     let spread = |x: &[f64]| x.iter().cloned().fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
     let (lo, hi) = spread(&ratios);

@@ -31,8 +31,15 @@
 //! δ = Σ Y_n q_n − s the beam's approach as without a wall, so the ball's potential V(u) is a function of the
 //! coordinates and its exact gradients are the forces: the beam modes and the ball feel F·g (g = 1/(1 − ψ′W),
 //! of order 1 ± 1e-2), the wall F·g·ψ; with ψ constant (g = 1, [`collide_with_hoop`]) this is the linear
-//! coupling u = Σ Y_n q_n + ψ W − s. The step loop solves u by two Newton steps at each RK4 stage and
-//! integrates the wall as a scalar beside the ball, the beam's closed-form update driven by F·g. The ball
+//! coupling u = Σ Y_n q_n + ψ W − s. The step loop integrates the wall as a scalar beside the ball, the
+//! beam's closed-form update driven by F·g. It solves u at each RK4 stage without evaluating ψ there: the
+//! stage's u and W are predicted from the two accepted step ends before the current one (cubic Hermite,
+//! RK4's middle stages shifted by ∓h²ü/8), ψ, ψ′, ψ″ are evaluated at those predictions before the step's
+//! forces are known, and the solve is one affine map about them, ψ and g following by Taylor's formula;
+//! where the neglected terms could exceed 1e-13 m (the first steps, after a located event) it falls back to
+//! Newton's method on the polynomial. Stage 3's and 4's compressions and the step end's are affine in the
+//! one force they depend on and are computed in that form, so the force-to-force chain is as short as
+//! without the wall. The ball
 //! thus pushes on the wall (inertia m_h/ψ²), the wall deflects against the hoop spring k_h, and the hoop
 //! spring rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia
 //! acts in the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of
