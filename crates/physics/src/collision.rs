@@ -31,8 +31,15 @@
 //! δ = Σ Y_n q_n − s the beam's approach as without a wall, so the ball's potential V(u) is a function of the
 //! coordinates and its exact gradients are the forces: the beam modes and the ball feel F·g (g = 1/(1 − ψ′W),
 //! of order 1 ± 1e-2), the wall F·g·ψ; with ψ constant (g = 1, [`collide_with_hoop`]) this is the linear
-//! coupling u = Σ Y_n q_n + ψ W − s. The step loop solves u by two Newton steps at each RK4 stage and
-//! integrates the wall as a scalar beside the ball, the beam's closed-form update driven by F·g. The ball
+//! coupling u = Σ Y_n q_n + ψ W − s. The step loop integrates the wall as a scalar beside the ball, the
+//! beam's closed-form update driven by F·g. It solves u at each RK4 stage without evaluating ψ there: the
+//! stage's u and W are predicted from the two accepted step ends before the current one (cubic Hermite,
+//! RK4's middle stages shifted by ∓h²ü/8), ψ, ψ′, ψ″ are evaluated at those predictions before the step's
+//! forces are known, and the solve is one affine map about them, ψ and g following by Taylor's formula;
+//! where the neglected terms could exceed 1e-13 m (the first steps, after a located event) it falls back to
+//! Newton's method on the polynomial. Stage 3's and 4's compressions and the step end's are affine in the
+//! one force they depend on and are computed in that form, so the force-to-force chain is as short as
+//! without the wall. The ball
 //! thus pushes on the wall (inertia m_h/ψ²), the wall deflects against the hoop spring k_h, and the hoop
 //! spring rests on the beam surface at z_k: compliances add, ball ↔ wall ↔ k_h ↔ beam. The wall's inertia
 //! acts in the ovalling coordinate, relative to the section's beam motion: the wall's mass is already part of
@@ -619,34 +626,215 @@ struct HoopScalar {
     inv_root_mass: f64,
     /// The coupling ψ(u).
     law: PatchLaw,
-    /// Where the coupling was last evaluated: compression (m), ψ and ψ′ (1/m) there; the next solve starts
-    /// from it.
-    last: std::cell::Cell<(f64, f64, f64)>,
+    /// The accepted step ends that predict the compressions of the step being taken.
+    history: History,
+    /// ψ expanded about the compressions predicted for the step's second and third stages (both at its
+    /// middle, off the path by ∓h²ü/8) and for its end (where the fourth stage also falls, off it by O(h³)).
+    second: Expansion,
+    third: Expansion,
+    end: Expansion,
+    /// Length of the step being taken, s.
+    step_length: f64,
+    /// The solve at the current state, (δ, w) → (u, g, ψ): the step's first stage asks for it again.
+    start: std::cell::Cell<(f64, f64, (f64, f64, f64))>,
     /// The last solve's (δ, w) and result: the loop asks again for the same state (the end of a step is the
-    /// start of the next and its first stage), which then costs a comparison.
+    /// start of the next), which then costs a comparison.
     memo: std::cell::Cell<(f64, f64, (f64, f64, f64))>,
+    /// The last compression solved, m: where a solve that no expansion serves starts.
+    last: std::cell::Cell<f64>,
+}
+
+/// Compression u, its rate u̇, wall deflection w and its rate ẇ at the last accepted step ends (m, m/s).
+#[derive(Clone, Copy, Default)]
+struct History {
+    /// The two ends before the current state's, oldest first, and the current state's.
+    older: [f64; 4],
+    old: [f64; 4],
+    latest: [f64; 4],
+    /// Time from `older` to `old` and from `old` to `latest`, s.
+    spacing: f64,
+    gap: f64,
+    /// How many ends were recorded (the contact's start counts as one).
+    count: u32,
+}
+
+impl History {
+    fn record(&mut self, node: [f64; 4], step: f64) {
+        (self.older, self.old, self.latest) = (self.old, self.latest, node);
+        (self.spacing, self.gap) = (self.gap, step);
+        self.count += 1;
+    }
+
+    /// u and w a time `ahead` (s) past the current state, and their second derivatives (m/s²), by the cubic
+    /// Hermite interpolant through the two ends before it (their values and rates). They were accepted a
+    /// step or more ago, so the prediction, and the ψ evaluated there, do not wait for the step before; u is
+    /// off by ~h⁴ u⁗ (~1e-8 m at a 5-µs step). `None` until three ends are known.
+    #[inline(always)]
+    fn predict(&self, ahead: f64) -> Option<[[f64; 2]; 2]> {
+        if self.count < 3 || !(self.spacing > 0.0) {
+            return None;
+        }
+        let span = self.spacing;
+        let x = 1.0 + (self.gap + ahead) / span;
+        let (x2, x3) = (x * x, x * x * x);
+        let (h00, h10, h01, h11) = (2.0 * x3 - 3.0 * x2 + 1.0, x3 - 2.0 * x2 + x, 3.0 * x2 - 2.0 * x3, x3 - x2);
+        let inv_span2 = 1.0 / (span * span);
+        let (c00, c10, c01, c11) = (12.0 * x - 6.0, 6.0 * x - 4.0, 6.0 - 12.0 * x, 6.0 * x - 2.0);
+        let (a, b) = (self.older, self.old);
+        let value = |i: usize| h00 * a[i] + h10 * span * a[i + 1] + h01 * b[i] + h11 * span * b[i + 1];
+        let second = |i: usize| (c00 * a[i] + c10 * span * a[i + 1] + c01 * b[i] + c11 * span * b[i + 1]) * inv_span2;
+        Some([[value(0), value(2)], [second(0), second(2)]])
+    }
+}
+
+/// Largest error (m) the expansion's first-order solve may leave in the compression; beyond it the solve
+/// falls back to Newton's method on the polynomial itself.
+const EXPANSION_TOLERANCE: f64 = 1e-13;
+
+/// ψ expanded about a predicted compression u_p and wall deflection w_p, so that solving u = δ + ψ(u)·w near
+/// them is one affine map, u = u_p + G·(δ + ψ_p·w − u_p) with G = 1/(1 − ψ′_p·w_p), and ψ, g at the solution
+/// follow from the expansion without evaluating the polynomial (see [`HoopScalar::solve`]).
+#[derive(Clone, Copy, Default)]
+struct Expansion {
+    u: f64,
+    w: f64,
+    psi: f64,
+    slope: f64,
+    curvature: f64,
+    /// G, and u_p − G·u_p and G·ψ_p: u = offset + G·δ + G·ψ_p·w.
+    gain: f64,
+    offset: f64,
+    gain_psi: f64,
+    /// Whether a prediction was made (else every solve takes Newton's method).
+    valid: bool,
+}
+
+impl Expansion {
+    #[inline(always)]
+    fn new(u: f64, w: f64, psi: f64, slope: f64, curvature: f64) -> Expansion {
+        let gain = 1.0 / (1.0 - slope * w);
+        Expansion { u, w, psi, slope, curvature, gain, offset: u - gain * u, gain_psi: gain * psi, valid: true }
+    }
+
+    /// Finishes a solve whose affine compression `u` was computed for the approach `delta` and deflection
+    /// `w`: ψ and g = 1/(1 − ψ′(u)·w) at u from the expansion, or `None` when u lies too far from the
+    /// expansion point for the first-order solve (its neglected terms, ½ψ″·w·G·(u − u_p)² and
+    /// G²·ψ′_p·(w − w_p)·(u − u_p), above [`EXPANSION_TOLERANCE`]).
+    #[inline(always)]
+    fn finish(&self, u: f64, w: f64) -> Option<(f64, f64, f64)> {
+        let (d, dw) = (u - self.u, w - self.w);
+        let error = d.abs() * self.gain * (0.5 * (self.curvature * w).abs() * d.abs() + (self.slope * dw).abs());
+        if !(self.valid && error <= EXPANSION_TOLERANCE) {
+            return None;
+        }
+        let psi = self.psi + d * (self.slope + 0.5 * self.curvature * d);
+        // ψ′(u)·w − ψ′_p·w_p, and g = G/(1 − G·x) to second order in G·x (~1e-7).
+        let x = self.slope * dw + self.curvature * d * w;
+        let y = self.gain * x;
+        Some((u, self.gain + self.gain * (y + y * y), psi))
+    }
 }
 
 impl HoopScalar {
+    fn new(w2: f64, inv_root_mass: f64, law: PatchLaw) -> HoopScalar {
+        HoopScalar {
+            w2,
+            inv_root_mass,
+            law,
+            start: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
+            memo: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
+            ..HoopScalar::default()
+        }
+    }
+
+    /// Expands ψ about the compressions predicted for the stages of a step of length `h`: RK4's second and
+    /// third stages reach the step's middle along its start's and its second stage's slopes, ∓h²ü/8
+    /// (~2e-7 m) off the path, so their expansions follow from the middle's by Taylor's formula (its
+    /// remainder, ψ‴·(h²ü/8)³/6, is ~1e-17); the polynomial is evaluated at the middle and the end.
+    #[inline(always)]
+    fn expand<V: Lane4>(&mut self, h: f64) {
+        self.step_length = h;
+        let (Some([middle, acc]), Some([end, _])) = (self.history.predict(0.5 * h), self.history.predict(h)) else {
+            (self.second, self.third, self.end) = (Expansion::default(), Expansion::default(), Expansion::default());
+            return;
+        };
+        let (psi, slope, curvature) = self.law.value_slope_and_curvature_in::<V>(middle[0]);
+        let off = 0.125 * h * h;
+        let stage = |sign: f64| {
+            let (du, dw) = (sign * off * acc[0], sign * off * acc[1]);
+            let psi = psi + du * (slope + 0.5 * curvature * du);
+            Expansion::new(middle[0] + du, middle[1] + dw, psi, slope + curvature * du, curvature)
+        };
+        self.second = stage(-1.0);
+        self.third = stage(1.0);
+        let (psi, slope, curvature) = self.law.value_slope_and_curvature_in::<V>(end[0]);
+        self.end = Expansion::new(end[0], end[1], psi, slope, curvature);
+    }
+
     /// The compression u solving u = δ + ψ(u)·w, with g = 1/(1 − ψ′(u)·w) and ψ(u) there, for the beam's
-    /// approach δ (m) and the wall's deflection w (m): a Newton step from where ψ was last evaluated (within
-    /// about a half step's travel, ~1e-4 m), ψ and ψ′ evaluated there, and a second Newton step with them.
-    /// With ψ′·w of order 1e-2 and ψ″·w ~ 1 /m, u is then exact to ~1e-11 m, and ψ, g taken a Newton
-    /// step's ~1e-11 m away are exact to ~1e-9 of themselves.
+    /// approach δ (m) and the wall's deflection w (m), near the expansion `at`: one affine map when the
+    /// prediction was close (nearly always), else [`HoopScalar::newton`].
+    #[inline(always)]
+    fn solve(&self, at: &Expansion, delta: f64, w: f64) -> (f64, f64, f64) {
+        let u = at.offset + at.gain * delta + at.gain_psi * w;
+        self.finish(at, u, delta, w)
+    }
+
+    /// [`HoopScalar::solve`] for an affine compression `u` the caller computed (in a form with a shorter
+    /// dependency chain) for δ = `delta` and w = `w`.
+    #[inline(always)]
+    fn finish(&self, at: &Expansion, u: f64, delta: f64, w: f64) -> (f64, f64, f64) {
+        let solved = match at.finish(u, w) {
+            Some(solved) => solved,
+            None => self.newton(delta, w),
+        };
+        self.last.set(solved.0);
+        solved
+    }
+
+    /// The solve by Newton's method on the polynomial, from the last compression solved, to convergence:
+    /// ψ′·w is of order 1e-2, so each iteration gains about four digits once close.
+    #[inline(never)]
+    fn newton(&self, delta: f64, w: f64) -> (f64, f64, f64) {
+        let mut u = self.last.get();
+        let mut result = (u, 1.0, 1.0);
+        for _ in 0..12 {
+            let (psi, slope) = self.law.value_and_slope(u);
+            let g = 1.0 / (1.0 - slope * w);
+            let next = u - (u - delta - psi * w) * g;
+            let step = next - u;
+            result = (next, g, psi + slope * step);
+            u = next;
+            if step.abs() <= 1e-16 + 1e-14 * u.abs() {
+                break;
+            }
+        }
+        result
+    }
+
+    /// [`HoopScalar::solve`] for the end of the step being taken, remembered for the loop's next question.
+    #[inline(always)]
+    fn solve_end(&self, u: f64, delta: f64, w: f64) -> (f64, f64, f64) {
+        let solved = self.finish(&self.end, u, delta, w);
+        self.memo.set((delta, w, solved));
+        solved
+    }
+
+    /// The solve at (δ, w) for a state the loop asks about: the remembered end of the last step taken, or
+    /// the current state, or a fresh solve near the step's end.
     #[inline(always)]
     fn contact(&self, delta: f64, w: f64) -> (f64, f64, f64) {
         let (memo_delta, memo_w, memo) = self.memo.get();
         if delta == memo_delta && w == memo_w {
             return memo;
         }
-        let (guess, psi0, slope0) = self.last.get();
-        let u1 = guess - (guess - delta - psi0 * w) / (1.0 - slope0 * w);
-        let (psi, slope) = self.law.value_and_slope(u1);
-        let g = 1.0 / (1.0 - slope * w);
-        let u = u1 - (u1 - delta - psi * w) * g;
-        self.last.set((u1, psi, slope));
-        self.memo.set((delta, w, (u, g, psi)));
-        (u, g, psi)
+        let (start_delta, start_w, start) = self.start.get();
+        if delta == start_delta && w == start_w {
+            return start;
+        }
+        let solved = self.solve(&self.end, delta, w);
+        self.memo.set((delta, w, solved));
+        solved
     }
 }
 
@@ -755,6 +943,20 @@ impl Work {
         (u, g * (delta_rate + psi * p * r))
     }
 
+    /// Solves the current state's compression once more (the solve is remembered) and records the state as
+    /// an accepted step end for the hoop's predictions; `sc` is the current ball state.
+    #[inline(always)]
+    fn record_hoop(&mut self, sc: &Scalars) {
+        let c = self.current;
+        let (delta, rate) = (self.proj[0] - sc.s, self.proj[1] - sc.v);
+        let r = self.hoop.inv_root_mass;
+        let (w, w_rate) = (self.hoop.q[c] * r, self.hoop.p[c] * r);
+        let (u, g, psi) = self.hoop.contact(delta, w);
+        self.hoop.start.set((delta, w, (u, g, psi)));
+        let step = self.hoop.step_length;
+        self.hoop.history.record([u, g * (rate + psi * w_rate), w, w_rate], step);
+    }
+
     /// The hoop mode's amplitude and velocity in the current state.
     fn hoop_state(&self) -> (f64, f64) {
         (self.hoop.q[self.current], self.hoop.p[self.current])
@@ -801,7 +1003,7 @@ impl Work {
         let d0 = a0 - s;
         let e0 = b0 - v;
         if HOOP {
-            return self.step_with_hoop(powers, sc, law, inv_mass, [h0, h1, h2, h3]);
+            return self.step_with_hoop::<V>(powers, sc, law, inv_mass, [h0, h1, h2, h3]);
         }
         // Stages 1 and 2: compressions independent of the forces.
         let u1 = d0;
@@ -858,7 +1060,7 @@ impl Work {
     /// force F·g; the hoop mode takes the classical RK4 stages of q̈_h = −ω_h² q_h − F·g·ψ/√m_h; the
     /// compression at each stage solves u = δ + ψ(u)·q_h/√m_h (see the module docs).
     #[inline(always)]
-    fn step_with_hoop(
+    fn step_with_hoop<V: Lane4>(
         &mut self,
         powers: StepPowers,
         sc: &Scalars,
@@ -877,10 +1079,12 @@ impl Work {
         let cur = self.current;
         let (qh, ph) = (self.hoop.q[cur], self.hoop.p[cur]);
         let (w2h, r) = (self.hoop.w2, self.hoop.inv_root_mass);
+        self.hoop.expand::<V>(h);
+        let (second, third, end) = (self.hoop.second, self.hoop.third, self.hoop.end);
         // Stages 1 and 2: approaches and wall amplitudes independent of the forces.
         let (q1, q2) = (qh, qh + a * ph);
         let (x1, g1, psi1) = self.hoop.contact(d0, q1 * r);
-        let (x2, g2, psi2) = self.hoop.contact(d0 + a * e0, q2 * r);
+        let (x2, g2, psi2) = self.hoop.solve(&second, d0 + a * e0, q2 * r);
         let u_free = d0 + h * e0;
         self.anchor.prepare(law, x1, x1 + (x1 - self.previous_start));
         self.this_start = x1;
@@ -888,24 +1092,45 @@ impl Work {
         let (f1, f2) = (raw1 * g1, raw2 * g2);
         let acc1 = -w2h * q1 - f1 * psi1 * r;
         let acc2 = -w2h * q2 - f2 * psi2 * r;
-        // Stages 3 and 4.
+        // Stages 3 and 4. Each compression is affine in the one force it depends on, u3 = K3 − M3·F1 and
+        // u4 = K4 − M4·F2 (δ and w both are), and is computed in that form: one multiply and one subtraction
+        // after the force, as without the wall; δ and w separately only check the expansion.
         let (p2, p3) = (ph + a * acc1, ph + a * acc2);
         let (q3, q4) = (qh + a * p2, qh + h * p3);
-        let d3 = ((d0 + a * e0) - a * a * a1) - a * a * k * f1;
-        let d4 = (u_free - h * a * a1 - h * a * a * b1) - h * a * k * f2;
-        let (x3, g3, psi3) = self.hoop.contact(d3, q3 * r);
-        let (x4, g4, psi4) = self.hoop.contact(d4, q4 * r);
-        let [f3, f4] = self.anchor.force_pair(law, [x3, x4]);
-        let (f3, f4) = (f3 * g3, f4 * g4);
+        let d3_free = (d0 + a * e0) - a * a * a1;
+        let d4_free = u_free - h * a * a1 - h * a * a * b1;
+        let (d3, d4) = (d3_free - a * a * k * f1, d4_free - h * a * k * f2);
+        let q3_free = qh + a * ph - a * a * w2h * q1;
+        let q4_free = qh + h * ph - h * a * w2h * q2;
+        let k3 = third.offset + third.gain * d3_free + third.gain_psi * (r * q3_free);
+        let m3 = (third.gain * (a * a * k) + third.gain_psi * (a * a * r * r * psi1)) * g1;
+        let k4 = end.offset + end.gain * d4_free + end.gain_psi * (r * q4_free);
+        let m4 = (end.gain * (h * a * k) + end.gain_psi * (h * a * r * r * psi2)) * g2;
+        let (x3, g3, psi3) = self.hoop.finish(&third, k3 - m3 * raw1, d3, q3 * r);
+        let (x4, g4, psi4) = self.hoop.finish(&end, k4 - m4 * raw2, d4, q4 * r);
+        let [raw3, raw4] = self.anchor.force_pair(law, [x3, x4]);
+        let (f3, f4) = (raw3 * g3, raw4 * g4);
         let acc3 = -w2h * q3 - f3 * psi3 * r;
         let p4 = ph + h * acc3;
         let acc4 = -w2h * q4 - f4 * psi4 * r;
         let h_6 = powers.h_6;
-        self.hoop.q[1 - cur] = qh + h_6 * (ph + 2.0 * p2 + 2.0 * p3 + p4);
+        let q_end = qh + h_6 * (ph + 2.0 * p2 + 2.0 * p3 + p4);
+        self.hoop.q[1 - cur] = q_end;
         self.hoop.p[1 - cur] = ph + h_6 * (acc1 + 2.0 * acc2 + 2.0 * acc3 + acc4);
 
         // The beam and the ball, as in `step`, with the beam's forces F·g.
-        (self.finish_step(powers, sc, inv_mass, [h0, h1, h2, h3], [f1, f2, f3, f4]), raw1)
+        let next = self.finish_step(powers, sc, inv_mass, [h0, h1, h2, h3], [f1, f2, f3, f4]);
+        // The step end's compression, affine in F3 the same way (δ and w at the end do not depend on F4).
+        let delta_end = self.proj_next[0] - next.s;
+        let w_end = q_end * r;
+        let k_end = end.offset
+            + end.gain
+                * ((h0 + powers.h4_24 * f1 * self.c1 - powers.h2_6 * c0 * (f1 + f2))
+                    - (s + h * v + powers.h2_6 * inv_mass * (f1 + f2)))
+            + end.gain_psi * r * (qh + h_6 * (ph + 2.0 * p2 + 2.0 * p3 + ph - h * w2h * q3));
+        let m_end = (end.gain * powers.h2_6 * k + end.gain_psi * h_6 * h * r * r * psi3) * g3;
+        self.hoop.solve_end(k_end - m_end * raw3, delta_end, w_end);
+        (next, raw1)
     }
 
     /// Compression and its rate at the end of the step just taken.
@@ -1138,6 +1363,9 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
     let mut just_peaked = false;
     let max_steps = (MAX_CONTACT_TIME / h).ceil() as usize + 1;
     let mut separated = false;
+    if HOOP {
+        work.record_hoop(&sc);
+    }
     for _ in 0..max_steps {
         let (u0, ud0) = work.u_and_rate::<HOOP>(&sc);
         let loading = u0 >= law.um && ud0 > 0.0 && !just_peaked;
@@ -1169,6 +1397,9 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
             }
             peak_force = peak_force.max(law.force(u_peak));
             just_peaked = true;
+            if HOOP {
+                work.record_hoop(&sc);
+            }
             continue;
         }
         if u1 <= 0.0 && law.um > 0.0 {
@@ -1198,6 +1429,9 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
         if u1 > law.um {
             law.set_max_compression(u1);
             work.anchor.forget_unloading();
+        }
+        if HOOP {
+            work.record_hoop(&sc);
         }
     }
     Ok(Contact { scalars: sc, time: t, peak_force, separated })
@@ -1236,15 +1470,7 @@ fn work_for(modes: &ModeSet, impact: &Impact, options: &CollisionOptions, hoop: 
     let rigid_p = [impact.bat_cm_speed * mp.mass.sqrt(), impact.bat_angular_speed * mp.moment_of_inertia.sqrt()];
     let mut work = Work::new(&phi, &w2, rigid_p, options.time_step);
     if let Some((mode, law)) = hoop {
-        let (psi, slope) = law.value_and_slope(0.0);
-        work.hoop = HoopScalar {
-            w2: mode.stiffness / mode.effective_mass,
-            inv_root_mass: 1.0 / mode.effective_mass.sqrt(),
-            law,
-            last: std::cell::Cell::new((0.0, psi, slope)),
-            memo: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
-            ..HoopScalar::default()
-        };
+        work.hoop = HoopScalar::new(mode.stiffness / mode.effective_mass, 1.0 / mode.effective_mass.sqrt(), law);
     }
     work
 }
@@ -1697,6 +1923,36 @@ mod tests {
     }
 
     #[test]
+    fn the_expanded_solve_meets_the_fixed_point_found_by_bisection() {
+        let section = HoopMode::of_section(0.0333, 0.0309, &crate::Material::ALUMINUM, false).expect("hollow");
+        let law = PatchLaw::following(&section, 0.0366, 0.02);
+        let hoop = HoopScalar::new(1.0, 1.0, law);
+        for (u_p, w_p) in [(0.002, 1e-5), (0.008, 4e-4), (0.015, 1.5e-3)] {
+            let (psi, slope, curvature) = law.value_slope_and_curvature(u_p);
+            let at = Expansion::new(u_p, w_p, psi, slope, curvature);
+            // A stage 3e-7 m and 1e-7 m from the prediction, as RK4's middle stages fall.
+            let (u_true, w) = (u_p + 3e-7, w_p - 1e-7);
+            let delta = u_true - law.value_and_slope(u_true).0 * w;
+            let (u, g, psi_u) = hoop.solve(&at, delta, w);
+            // u − ψ(u)·w − δ is increasing (ψ′·w ≪ 1): bisect it.
+            let (mut lo, mut hi) = (u_true - 1e-5, u_true + 1e-5);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if mid - law.value_and_slope(mid).0 * w - delta > 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            let exact = 0.5 * (lo + hi);
+            let (psi_exact, slope_exact) = law.value_and_slope(exact);
+            assert!((u - exact).abs() < 1e-15, "u {u} vs {exact}");
+            assert!((psi_u - psi_exact).abs() < 1e-13, "ψ {psi_u} vs {psi_exact}");
+            assert!((g - 1.0 / (1.0 - slope_exact * w)).abs() < 1e-13, "g {g}");
+        }
+    }
+
+    #[test]
     fn a_linear_ball_on_a_rigidly_backed_wall_spring_matches_the_two_mass_closed_form() {
         for (k_b, m_h, k_h) in [(2.0e6, 0.1f64, 1.3e7), (2.0e6, 0.03, 2.0e6), (5.0e5, 0.2, 4.0e6)] {
             let ball = Ball { stiffness: k_b, exponent: 1.0, cor: 1.0, ..Ball::default() };
@@ -1704,14 +1960,7 @@ mod tests {
             let h = 1e-6;
             // Rigid modes with zero shape at the impact point: the wall's base does not move.
             let mut work = Work::new(&[0.0, 0.0], &[0.0, 0.0], [0.0, 0.0], h);
-            work.hoop = HoopScalar {
-                w2: k_h / m_h,
-                inv_root_mass: 1.0 / m_h.sqrt(),
-                law: PatchLaw::constant(1.0),
-                last: std::cell::Cell::new((0.0, 1.0, 0.0)),
-                memo: std::cell::Cell::new((f64::NAN, f64::NAN, (0.0, 0.0, 0.0))),
-                ..HoopScalar::default()
-            };
+            work.hoop = HoopScalar::new(k_h / m_h, 1.0 / m_h.sqrt(), PatchLaw::constant(1.0));
             let mut law = ForceLaw::new(&ball);
             let mut meter = HoopMeter { w2: k_h / m_h, ..HoopMeter::default() };
             let contact =

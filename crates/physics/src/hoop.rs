@@ -128,6 +128,7 @@
 //! No constant in this module is tuned: k_h, m_h and f_h follow from a, h, E, G and ρ, ψ(u) from the ball's
 //! radius and the barrel's geometry.
 
+use super::lanes::{Lane4, Lanes, Portable};
 use super::{Ball, Bat, CoreFill, Material, PhysicsError, Station};
 
 /// Circumferential wave number of the hoop (ovalling) mode.
@@ -300,10 +301,10 @@ pub const PATCH_DEGREE: usize = 12;
 /// 1e-4 on [0, U] (tested).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PatchLaw {
-    /// Coefficients of t⁰ … t^PATCH_DEGREE, each paired with the coefficient of the same power in the
-    /// derivative dψ/dt (t⁰ … t^(PATCH_DEGREE − 1), and a zero), so that one two-lane multiply–add advances
-    /// both polynomials ([`estrin_pair`]).
-    pairs: [[f64; 2]; PATCH_DEGREE + 1],
+    /// Coefficients of t⁰ … t^PATCH_DEGREE, each with the coefficients of the same power in the derivatives
+    /// dψ/dt and d²ψ/dt² (zeros past their degrees) and a zero lane, so that one four-lane multiply–add
+    /// advances the three polynomials ([`estrin_lanes`]).
+    lanes: [Lanes; PATCH_DEGREE + 1],
     /// 2/U, 1/m.
     scale: f64,
     /// Upper end U of the interpolated range of compressions, m.
@@ -313,9 +314,9 @@ pub struct PatchLaw {
 impl PatchLaw {
     /// A coupling that does not depend on the compression: ψ(u) = `coupling` (dimensionless).
     pub fn constant(coupling: f64) -> PatchLaw {
-        let mut pairs = [[0.0; 2]; PATCH_DEGREE + 1];
-        pairs[0][0] = coupling;
-        PatchLaw { pairs, scale: 0.0, range: f64::INFINITY }
+        let mut lanes = [[0.0; 4]; PATCH_DEGREE + 1];
+        lanes[0][0] = coupling;
+        PatchLaw { lanes, scale: 0.0, range: f64::INFINITY }
     }
 
     /// The coupling of `mode` (its point-load coupling, [`HoopMode::of_section`]) to a ball of radius
@@ -356,18 +357,37 @@ impl PatchLaw {
         for k in 0..PATCH_DEGREE {
             slopes[k] = (k + 1) as f64 * coeffs[k + 1];
         }
-        let pairs = std::array::from_fn(|k| [coeffs[k], slopes[k]]);
-        PatchLaw { pairs, scale: 2.0 / range, range }
+        let mut curvatures = [0.0; PATCH_DEGREE + 1];
+        for k in 0..PATCH_DEGREE - 1 {
+            curvatures[k] = (k + 1) as f64 * slopes[k + 1];
+        }
+        let lanes = std::array::from_fn(|k| [coeffs[k], slopes[k], curvatures[k], 0.0]);
+        PatchLaw { lanes, scale: 2.0 / range, range }
     }
 
     /// ψ(u) and its slope dψ/du (1/m) at compression `u` (m).
     #[inline(always)]
     pub fn value_and_slope(&self, u: f64) -> (f64, f64) {
+        let (value, slope, _) = self.value_slope_and_curvature(u);
+        (value, slope)
+    }
+
+    /// ψ(u), dψ/du (1/m) and d²ψ/du² (1/m²) at compression `u` (m): the collision expands ψ about a
+    /// predicted compression, off its critical path (see [`crate::collision`]).
+    #[inline(always)]
+    pub fn value_slope_and_curvature(&self, u: f64) -> (f64, f64, f64) {
+        self.value_slope_and_curvature_in::<Portable>(u)
+    }
+
+    /// [`PatchLaw::value_slope_and_curvature`] on the lane arithmetic `V` (the same bits on either).
+    #[inline(always)]
+    pub(crate) fn value_slope_and_curvature_in<V: Lane4>(&self, u: f64) -> (f64, f64, f64) {
         let t = u * self.scale - 1.0;
-        // Estrin's scheme: four levels of multiply–add instead of a chain of twelve (the collision evaluates
-        // this twice per RK4 stage, on its critical path).
-        let [value, slope] = estrin_pair(&self.pairs, t);
-        (value, slope * self.scale)
+        // Estrin's scheme: four levels of multiply–add instead of a chain of twelve.
+        let mut lanes = [0.0; 4];
+        estrin_lanes::<V>(&self.lanes, t).store(&mut lanes);
+        let [value, slope, curvature, _] = lanes;
+        (value, slope * self.scale, curvature * (self.scale * self.scale))
     }
 }
 
@@ -392,33 +412,28 @@ fn chebyshev_cosines() -> &'static [[f64; PATCH_DEGREE + 1]; PATCH_DEGREE + 1] {
     })
 }
 
-/// Σ c_k t^k for two polynomials at once, lane by lane, from their PATCH_DEGREE + 1 = 13 coefficient pairs
-/// `c`, by Estrin's scheme. Each lane takes exactly the operations of the one-polynomial scheme (plain IEEE
-/// multiplies and adds, no fused multiply–add), so the pairing changes no bit; it lets the compiler advance
-/// both polynomials with one two-lane multiply and add per term pair, about half the instructions of two
-/// separate evaluations.
+/// Σ c_k t^k for four polynomials at once, lane by lane, from their PATCH_DEGREE + 1 = 13 coefficient
+/// lanes `c`, by Estrin's scheme. Each lane takes exactly the operations of the one-polynomial scheme (plain
+/// IEEE multiplies and adds, no fused multiply–add), so the grouping changes no bit; on AVX one register
+/// carries the four.
 #[inline(always)]
-fn estrin_pair(c: &[[f64; 2]; PATCH_DEGREE + 1], t: f64) -> [f64; 2] {
+fn estrin_lanes<V: Lane4>(c: &[Lanes; PATCH_DEGREE + 1], t: f64) -> V {
     let t2 = t * t;
     let t4 = t2 * t2;
     let t8 = t4 * t4;
+    let mul_add = |a: V, b: V, x: f64| a.add(b.mul(V::splat(x)));
+    let l = |k: usize| V::load(&c[k]);
     let p = [
-        mul_add_lanes(c[0], c[1], t),
-        mul_add_lanes(c[2], c[3], t),
-        mul_add_lanes(c[4], c[5], t),
-        mul_add_lanes(c[6], c[7], t),
-        mul_add_lanes(c[8], c[9], t),
-        mul_add_lanes(c[10], c[11], t),
+        mul_add(l(0), l(1), t),
+        mul_add(l(2), l(3), t),
+        mul_add(l(4), l(5), t),
+        mul_add(l(6), l(7), t),
+        mul_add(l(8), l(9), t),
+        mul_add(l(10), l(11), t),
     ];
-    let q = [mul_add_lanes(p[0], p[1], t2), mul_add_lanes(p[2], p[3], t2), mul_add_lanes(p[4], p[5], t2), c[12]];
-    let r = [mul_add_lanes(q[0], q[1], t4), mul_add_lanes(q[2], q[3], t4)];
-    mul_add_lanes(r[0], r[1], t8)
-}
-
-/// a + b·x lane by lane (a multiply, then an add: not fused).
-#[inline(always)]
-fn mul_add_lanes(a: [f64; 2], b: [f64; 2], x: f64) -> [f64; 2] {
-    [a[0] + b[0] * x, a[1] + b[1] * x]
+    let q = [mul_add(p[0], p[1], t2), mul_add(p[2], p[3], t2), mul_add(p[4], p[5], t2), l(12)];
+    let r = [mul_add(q[0], q[1], t4), mul_add(q[2], q[3], t4)];
+    mul_add(r[0], r[1], t8)
 }
 
 /// Peak compression of a ball against a wall that does not give, m: ½ μ v² = k₁ u^{α+1}/(α+1) for the
