@@ -1385,16 +1385,10 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
             if O::ACTIVE {
                 observer.step(tau, observed_start, law.force_and_stiffness(u_peak, true));
             }
-            work.accept();
-            if HOOP {
-                meter.update(work);
-            }
+            accept_step::<HOOP>(work, meter);
             t += tau;
             sc = sc_peak;
-            if u_peak > law.um {
-                law.set_max_compression(u_peak);
-                work.anchor.forget_unloading();
-            }
+            raise_max_compression(work, law, u_peak);
             peak_force = peak_force.max(law.force(u_peak));
             just_peaked = true;
             if HOOP {
@@ -1408,10 +1402,7 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
             if O::ACTIVE {
                 observer.step(tau, observed_start, (0.0, 0.0));
             }
-            work.accept();
-            if HOOP {
-                meter.update(work);
-            }
+            accept_step::<HOOP>(work, meter);
             t += tau;
             sc = sc_sep;
             separated = true;
@@ -1420,21 +1411,33 @@ fn integrate_loop<V: Lane4, const HOOP: bool, O: ContactObserver>(
         if O::ACTIVE {
             observer.step(h, observed_start, law.force_and_stiffness(u1, loading));
         }
-        work.accept();
-        if HOOP {
-            meter.update(work);
-        }
+        accept_step::<HOOP>(work, meter);
         t += h;
         sc = next;
-        if u1 > law.um {
-            law.set_max_compression(u1);
-            work.anchor.forget_unloading();
-        }
+        raise_max_compression(work, law, u1);
         if HOOP {
             work.record_hoop(&sc);
         }
     }
     Ok(Contact { scalars: sc, time: t, peak_force, separated })
+}
+
+/// Accepts the step just taken; with a hoop mode, meters what the wall stored or gave back over it.
+#[inline(always)]
+fn accept_step<const HOOP: bool>(work: &mut Work, meter: &mut HoopMeter) {
+    work.accept();
+    if HOOP {
+        meter.update(work);
+    }
+}
+
+/// Makes `u` the maximum compression when it exceeds it (the unloading branch then starts from it).
+#[inline(always)]
+fn raise_max_compression(work: &mut Work, law: &mut ForceLaw, u: f64) {
+    if u > law.um {
+        law.set_max_compression(u);
+        work.anchor.forget_unloading();
+    }
 }
 
 /// Watches the normal contact as the step loop integrates it, for a model that rides along with it (the
