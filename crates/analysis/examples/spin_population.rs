@@ -207,6 +207,21 @@ impl Setup {
             typical.bat_cm_speed + typical.bat_angular_speed * (six - modes.mass_properties().center_of_mass);
         Ok(Setup { bat, modes, ball, contact: TangentialContact::default(), options, pitch, typical, typical_six })
     }
+
+    /// The suite's scan of the bin's median swing over the swing direction, as the radar rows make it.
+    fn median_swing_scan(
+        &self,
+        inputs: &validate::Inputs,
+        b: &RadarBin,
+    ) -> anyhow::Result<Option<Vec<validate::cases::SpatialGamePoint>>> {
+        Ok(Lab::new(self.options, &inputs.measurements.game_ball).spatial_spray_scan(
+            &self.pitch,
+            b.attack_median_deg,
+            b.tilt_median_deg,
+            b.launch_deg,
+            b.exit_median_mph,
+        )?)
+    }
 }
 
 /// The swings of the bat-tracking CSV whose ball left at 80–88 mph (the radar rows' range).
@@ -240,15 +255,7 @@ fn read_swings(csv_path: &str) -> anyhow::Result<Vec<Swing>> {
 /// `row` mode: each row's own median swing located as the population's are, beside the row's centre point.
 fn locate_row_swings(setup: &Setup, inputs: &validate::Inputs) -> anyhow::Result<()> {
     for b in inputs.radar.iter().filter(|b| (10.0..=40.0).contains(&b.launch_deg)) {
-        let lab = Lab::new(setup.options, &inputs.measurements.game_ball);
-        let scan = lab.spatial_spray_scan(
-            &setup.pitch,
-            b.attack_median_deg,
-            b.tilt_median_deg,
-            b.launch_deg,
-            b.exit_median_mph,
-        )?;
-        let Some(scan) = scan else { continue };
+        let Some(scan) = setup.median_swing_scan(inputs, b)? else { continue };
         let centre = validate::cases::SpatialGamePoint::at_spray(&scan, 0.0);
         let s = Swing {
             launch: b.launch_deg,
@@ -282,14 +289,7 @@ fn spray_directions(
     b: &RadarBin,
     mine: &[&Swing],
 ) -> anyhow::Result<Vec<f64>> {
-    let scan = Lab::new(setup.options, &inputs.measurements.game_ball).spatial_spray_scan(
-        &setup.pitch,
-        b.attack_median_deg,
-        b.tilt_median_deg,
-        b.launch_deg,
-        b.exit_median_mph,
-    )?;
-    let scan = scan.ok_or_else(|| anyhow::anyhow!("no scan at {}", b.launch_deg))?;
+    let scan = setup.median_swing_scan(inputs, b)?.ok_or_else(|| anyhow::anyhow!("no scan at {}", b.launch_deg))?;
     Ok(mine
         .iter()
         .enumerate()
