@@ -317,6 +317,8 @@ struct Replayer<'a> {
 }
 
 impl<'a> Replayer<'a> {
+    /// The replay's node with `settings` and the "what if" changes; a tolerance, mode count or preset out of
+    /// range is refused before the bag is read.
     fn new(settings: &ModelSettings, what_if: &'a WhatIf, tolerance: f64) -> Result<Replayer<'a>, BagError> {
         if !(tolerance >= 0.0 && tolerance.is_finite()) {
             return Err(BagError::Format(format!(
