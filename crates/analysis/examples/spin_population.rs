@@ -192,32 +192,40 @@ fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().collect();
-    let csv_path =
-        args.get(1).ok_or_else(|| anyhow::anyhow!("usage: spin_population CSV [centre|spray|row] [MAX_PER_BIN]"))?;
-    let spray_mode = args.get(2).map(String::as_str) == Some("spray");
-    let max_per_bin: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(usize::MAX);
-    let inputs = validate::read_inputs(Path::new("validation"))?;
-    let pitch = trackman::pitch_medians(&inputs.trackman).ok_or_else(|| anyhow::anyhow!("no pitch"))?;
-    let options = CollisionOptions::default();
-    let bat = Bat::preset("r161")?;
-    let modes = ModeSet::compute(&bat, options.modes.max(2))?;
-    let ball = Ball::preset(&inputs.measurements.game_ball)?;
-    let swing = Batter::typical(modes.mass_properties())?.predict(&modes.mass_properties())?;
-    let typical = swing.impact(pitch.zone_speed_mph * MPH);
-    let six = modes.length() - SIX_INCHES;
-    let typical_six = typical.bat_cm_speed + typical.bat_angular_speed * (six - modes.mass_properties().center_of_mass);
-    let setup = Setup { bat, modes, ball, contact: TangentialContact::default(), options, pitch, typical, typical_six };
-    eprintln!(
-        "pitch {:.1} mph descending {:.1}° {:.0} rpm; typical swing {:.1} mph 6 in from the head; ball {}",
-        pitch.zone_speed_mph,
-        -pitch.vert_appr_angle_deg,
-        pitch.spin_rpm,
-        typical_six / MPH,
-        inputs.measurements.game_ball
-    );
+impl Setup {
+    /// The suite's R161 and game ball, the rows' pitch (the TrackMan medians) and the typical batter's swing.
+    fn new(inputs: &validate::Inputs) -> anyhow::Result<Setup> {
+        let pitch = trackman::pitch_medians(&inputs.trackman).ok_or_else(|| anyhow::anyhow!("no pitch"))?;
+        let options = CollisionOptions::default();
+        let bat = Bat::preset("r161")?;
+        let modes = ModeSet::compute(&bat, options.modes.max(2))?;
+        let ball = Ball::preset(&inputs.measurements.game_ball)?;
+        let swing = Batter::typical(modes.mass_properties())?.predict(&modes.mass_properties())?;
+        let typical = swing.impact(pitch.zone_speed_mph * MPH);
+        let six = modes.length() - SIX_INCHES;
+        let typical_six =
+            typical.bat_cm_speed + typical.bat_angular_speed * (six - modes.mass_properties().center_of_mass);
+        Ok(Setup { bat, modes, ball, contact: TangentialContact::default(), options, pitch, typical, typical_six })
+    }
 
+    /// The suite's scan of the bin's median swing over the swing direction, as the radar rows make it.
+    fn median_swing_scan(
+        &self,
+        inputs: &validate::Inputs,
+        b: &RadarBin,
+    ) -> anyhow::Result<Option<Vec<validate::cases::SpatialGamePoint>>> {
+        Ok(Lab::new(self.options, &inputs.measurements.game_ball).spatial_spray_scan(
+            &self.pitch,
+            b.attack_median_deg,
+            b.tilt_median_deg,
+            b.launch_deg,
+            b.exit_median_mph,
+        )?)
+    }
+}
+
+/// The swings of the bat-tracking CSV whose ball left at 80–88 mph (the radar rows' range).
+fn read_swings(csv_path: &str) -> anyhow::Result<Vec<Swing>> {
     let mut reader = csv::Reader::from_path(csv_path)?;
     let headers = reader.headers()?.clone();
     let col = |name: &str| headers.iter().position(|h| h == name).ok_or_else(|| anyhow::anyhow!("no column {name}"));
@@ -241,41 +249,119 @@ fn main() -> anyhow::Result<()> {
             }
         }
     }
+    Ok(swings)
+}
 
+/// `row` mode: each row's own median swing located as the population's are, beside the row's centre point.
+fn locate_row_swings(setup: &Setup, inputs: &validate::Inputs) -> anyhow::Result<()> {
+    for b in inputs.radar.iter().filter(|b| (10.0..=40.0).contains(&b.launch_deg)) {
+        let Some(scan) = setup.median_swing_scan(inputs, b)? else { continue };
+        let centre = validate::cases::SpatialGamePoint::at_spray(&scan, 0.0);
+        let s = Swing {
+            launch: b.launch_deg,
+            exit: b.exit_median_mph,
+            bat_speed: scan[0].scale * setup.typical_six / MPH,
+            attack: b.attack_median_deg,
+            tilt: b.tilt_median_deg,
+            left: false,
+        };
+        let (h, e, _) = setup.locate(&s, 0.0);
+        println!(
+            "{}°: row swing {:.1} mph; row centre point {:?}; located handle {:?} end {:?} (z from end, in: {:?} {:?}; typical {:.2})",
+            b.launch_deg,
+            s.bat_speed,
+            centre.map(|c| (c.total_spin_rpm.round(), c.direction_deg, c.spray_deg)),
+            h.map(|x| x.spin.round()),
+            e.map(|x| x.spin.round()),
+            h.map(|x| x.z_from_end / INCH),
+            e.map(|x| x.z_from_end / INCH),
+            (setup.bat.length() - setup.typical.impact_z) / INCH
+        );
+    }
+    Ok(())
+}
+
+/// `spray` mode: the swing direction of each of a bin's balls, the k-th taking the bin's (k mod 19)-th radar
+/// spray percentile (mirrored for a left-handed batter).
+fn spray_directions(
+    setup: &Setup,
+    inputs: &validate::Inputs,
+    b: &RadarBin,
+    mine: &[&Swing],
+) -> anyhow::Result<Vec<f64>> {
+    let scan = setup.median_swing_scan(inputs, b)?.ok_or_else(|| anyhow::anyhow!("no scan at {}", b.launch_deg))?;
+    Ok(mine
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let p = b.spray_percentiles_deg[k % b.spray_percentiles_deg.len()];
+            let at = if s.left { -p } else { p };
+            validate::cases::SpatialGamePoint::at_spray(&scan, at).map_or(0.0, |q| q.direction_deg)
+        })
+        .collect())
+}
+
+/// A bin's row of the table (to stdout) and its undercut and distance from the sweet spot (to stderr).
+fn print_bin(b: &RadarBin, mine: &[&Swing], results: &[(Option<Hit>, Option<Hit>, bool)]) {
+    let mut handle: Vec<f64> = results.iter().filter_map(|r| r.0.map(|h| h.spin)).collect();
+    let mut end: Vec<f64> = results.iter().filter_map(|r| r.1.map(|h| h.spin)).collect();
+    let mut both: Vec<f64> = handle.iter().chain(end.iter()).copied().collect();
+    let hits = || results.iter().flat_map(|r| [r.0, r.1]).flatten();
+    let mut back: Vec<f64> = hits().map(|h| h.backspin).collect();
+    let mut undercut: Vec<f64> = hits().map(|h| h.undercut * 1000.0).collect();
+    let mut off: Vec<f64> = hits().map(|h| (h.z_from_end - h.sweet_from_end).abs() / INCH).collect();
+    let too_fast = results.iter().filter(|r| r.2).count();
+    let mut bat: Vec<f64> = mine.iter().map(|s| s.bat_speed).collect();
+    let mut attack: Vec<f64> = mine.iter().map(|s| s.attack).collect();
+    let low = b.spin_q1_rpm.max(0.88 * b.spin_median_rpm);
+    let high = b.spin_q3_rpm.min(1.12 * b.spin_median_rpm);
+    let (nh, ne) = (handle.len(), end.len());
+    println!(
+        "| {}° | {} | {}/{} | {} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} ({:.0}–{:.0}) | {:.0}–{:.0} |",
+        b.launch_deg,
+        mine.len(),
+        nh,
+        ne,
+        too_fast,
+        median(&mut bat),
+        median(&mut attack),
+        median(&mut handle),
+        median(&mut end),
+        median(&mut both),
+        median(&mut back),
+        b.spin_median_rpm,
+        b.spin_q1_rpm,
+        b.spin_q3_rpm,
+        low,
+        high
+    );
+    eprintln!(
+        "  {}°: undercut median {:.1} mm, impact |off the sweet spot| median {:.2} in",
+        b.launch_deg,
+        median(&mut undercut),
+        median(&mut off)
+    );
+}
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    let csv_path =
+        args.get(1).ok_or_else(|| anyhow::anyhow!("usage: spin_population CSV [centre|spray|row] [MAX_PER_BIN]"))?;
+    let spray_mode = args.get(2).map(String::as_str) == Some("spray");
+    let max_per_bin: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(usize::MAX);
+    let inputs = validate::read_inputs(Path::new("validation"))?;
+    let setup = Setup::new(&inputs)?;
+    eprintln!(
+        "pitch {:.1} mph descending {:.1}° {:.0} rpm; typical swing {:.1} mph 6 in from the head; ball {}",
+        setup.pitch.zone_speed_mph,
+        -setup.pitch.vert_appr_angle_deg,
+        setup.pitch.spin_rpm,
+        setup.typical_six / MPH,
+        inputs.measurements.game_ball
+    );
+    let swings = read_swings(csv_path)?;
     if args.get(2).map(String::as_str) == Some("row") {
-        for b in inputs.radar.iter().filter(|b| (10.0..=40.0).contains(&b.launch_deg)) {
-            let lab = Lab::new(options, &inputs.measurements.game_ball);
-            let scan = lab.spatial_spray_scan(
-                &pitch,
-                b.attack_median_deg,
-                b.tilt_median_deg,
-                b.launch_deg,
-                b.exit_median_mph,
-            )?;
-            let Some(scan) = scan else { continue };
-            let centre = validate::cases::SpatialGamePoint::at_spray(&scan, 0.0);
-            let s = Swing {
-                launch: b.launch_deg,
-                exit: b.exit_median_mph,
-                bat_speed: scan[0].scale * typical_six / MPH,
-                attack: b.attack_median_deg,
-                tilt: b.tilt_median_deg,
-                left: false,
-            };
-            let (h, e, _) = setup.locate(&s, 0.0);
-            println!(
-                "{}°: row swing {:.1} mph; row centre point {:?}; located handle {:?} end {:?} (z from end, in: {:?} {:?}; typical {:.2})",
-                b.launch_deg,
-                s.bat_speed,
-                centre.map(|c| (c.total_spin_rpm.round(), c.direction_deg, c.spray_deg)),
-                h.map(|x| x.spin.round()),
-                e.map(|x| x.spin.round()),
-                h.map(|x| x.z_from_end / INCH),
-                e.map(|x| x.z_from_end / INCH),
-                (setup.bat.length() - setup.typical.impact_z) / INCH
-            );
-        }
-        return Ok(());
+        return locate_row_swings(&setup, &inputs);
     }
     let bins: Vec<&RadarBin> = inputs.radar.iter().filter(|b| (10.0..=40.0).contains(&b.launch_deg)).collect();
     println!(
@@ -288,71 +374,10 @@ fn main() -> anyhow::Result<()> {
             .filter(|s| s.launch >= b.launch_deg - 2.5 && s.launch < b.launch_deg + 2.5)
             .take(max_per_bin)
             .collect();
-        let directions: Vec<f64> = if spray_mode {
-            let scan = Lab::new(options, &inputs.measurements.game_ball).spatial_spray_scan(
-                &pitch,
-                b.attack_median_deg,
-                b.tilt_median_deg,
-                b.launch_deg,
-                b.exit_median_mph,
-            )?;
-            let scan = scan.ok_or_else(|| anyhow::anyhow!("no scan at {}", b.launch_deg))?;
-            mine.iter()
-                .enumerate()
-                .map(|(k, s)| {
-                    let p = b.spray_percentiles_deg[k % b.spray_percentiles_deg.len()];
-                    let at = if s.left { -p } else { p };
-                    validate::cases::SpatialGamePoint::at_spray(&scan, at).map_or(0.0, |q| q.direction_deg)
-                })
-                .collect()
-        } else {
-            vec![0.0; mine.len()]
-        };
+        let directions = if spray_mode { spray_directions(&setup, &inputs, b, &mine)? } else { vec![0.0; mine.len()] };
         let results: Vec<(Option<Hit>, Option<Hit>, bool)> =
             mine.par_iter().zip(directions.par_iter()).map(|(s, &dir)| setup.locate(s, dir)).collect();
-        let mut handle: Vec<f64> = results.iter().filter_map(|r| r.0.map(|h| h.spin)).collect();
-        let mut end: Vec<f64> = results.iter().filter_map(|r| r.1.map(|h| h.spin)).collect();
-        let mut both: Vec<f64> = handle.iter().chain(end.iter()).copied().collect();
-        let mut back: Vec<f64> = results.iter().flat_map(|r| [r.0, r.1]).flatten().map(|h| h.backspin).collect();
-        let mut undercut: Vec<f64> =
-            results.iter().flat_map(|r| [r.0, r.1]).flatten().map(|h| h.undercut * 1000.0).collect();
-        let mut off: Vec<f64> = results
-            .iter()
-            .flat_map(|r| [r.0, r.1])
-            .flatten()
-            .map(|h| (h.z_from_end - h.sweet_from_end).abs() / INCH)
-            .collect();
-        let too_fast = results.iter().filter(|r| r.2).count();
-        let mut bat: Vec<f64> = mine.iter().map(|s| s.bat_speed).collect();
-        let mut attack: Vec<f64> = mine.iter().map(|s| s.attack).collect();
-        let low = b.spin_q1_rpm.max(0.88 * b.spin_median_rpm);
-        let high = b.spin_q3_rpm.min(1.12 * b.spin_median_rpm);
-        let (nh, ne) = (handle.len(), end.len());
-        println!(
-            "| {}° | {} | {}/{} | {} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} ({:.0}–{:.0}) | {:.0}–{:.0} |",
-            b.launch_deg,
-            mine.len(),
-            nh,
-            ne,
-            too_fast,
-            median(&mut bat),
-            median(&mut attack),
-            median(&mut handle),
-            median(&mut end),
-            median(&mut both),
-            median(&mut back),
-            b.spin_median_rpm,
-            b.spin_q1_rpm,
-            b.spin_q3_rpm,
-            low,
-            high
-        );
-        eprintln!(
-            "  {}°: undercut median {:.1} mm, impact |off the sweet spot| median {:.2} in",
-            b.launch_deg,
-            median(&mut undercut),
-            median(&mut off)
-        );
+        print_bin(b, &mine, &results);
     }
     Ok(())
 }

@@ -54,6 +54,7 @@
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::ops::ControlFlow;
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 
@@ -87,6 +88,14 @@ pub const MCAP_MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
 const FRAME: u64 = 9;
 /// Footer record (frame + 20 bytes) and the closing magic.
 const FOOTER_AND_MAGIC: u64 = FRAME + 20 + 8;
+
+/// A top-level record the sans-io reader yielded: its opcode, its length without the frame, and for a chunk
+/// the decoding's outcome (the library that wrote it, or its damage).
+struct TopLevelRecord {
+    opcode: u8,
+    length: u64,
+    chunk: Option<Result<String, DamageKind>>,
+}
 /// Channel id, sequence, log time, publish time at the start of a Message record.
 const MESSAGE_HEADER: usize = 22;
 
@@ -964,39 +973,9 @@ impl FileReader {
         self.spans.clear();
         self.next_span = 0;
         let start = self.at;
-        let (opcode, length, chunk) = loop {
-            match self.top.next_event() {
-                None => {
-                    self.consumed = start;
-                    self.end_of_data();
-                    return Ok(false);
-                }
-                Some(Ok(LinearReadEvent::ReadRequest(n))) => {
-                    // Never past the data section: a record that claims more is cut off there (0 = end).
-                    let left = usize::try_from(self.data_end.saturating_sub(self.fed)).unwrap_or(usize::MAX);
-                    let got = read_up_to(&mut self.file, self.top.insert(n.min(left)))?;
-                    self.top.notify_read(got);
-                    self.fed += got as u64;
-                }
-                Some(Ok(LinearReadEvent::Record { opcode, data })) => {
-                    let chunk = if opcode == op::CHUNK {
-                        Some(decode_chunk(&mut self.decoder, data, &mut self.chunk, &mut self.spans))
-                    } else {
-                        self.record.clear();
-                        self.record.extend_from_slice(data);
-                        None
-                    };
-                    break (opcode, data.len() as u64, chunk);
-                }
-                Some(Err(mcap::McapError::BadDataCrc { saved, calculated })) => {
-                    let kind = DamageKind::DataSectionCrc { stored: saved, computed: calculated };
-                    self.damage(start, None, kind, None);
-                    self.consumed = start + FRAME + self.frame_at(start)?.map_or(0, |(_, length)| length);
-                    self.end_of_data();
-                    return Ok(false);
-                }
-                Some(Err(e)) => return self.broken(start, e),
-            }
+        let TopLevelRecord { opcode, length, chunk } = match self.next_top_level_record(start)? {
+            ControlFlow::Continue(record) => record,
+            ControlFlow::Break(message) => return Ok(message),
         };
         let end = start + FRAME + length;
         self.at = end;
@@ -1014,52 +993,105 @@ impl FileReader {
                     self.take_chunk(start, decoded);
                 }
             }
-            op::MESSAGE_INDEX => {
-                let head = self.record.get(2..6).and_then(|b| b.try_into().ok()).map(u32::from_le_bytes);
-                if let (Some(chunk), Some(bytes)) = (&mut self.pending, head) {
-                    let bytes = u64::from(bytes);
-                    if bytes + 6 == length && bytes % 16 == 0 {
-                        *chunk.indexed.get_or_insert(0) += bytes / 16;
-                    }
-                }
-            }
+            op::MESSAGE_INDEX => self.count_indexed_messages(length),
             op::ATTACHMENT => self.scan.attachments += 1,
             op::DATA_END | op::FOOTER => self.end_of_data(),
-            op::MESSAGE => {
-                if mcap::parse_record(opcode, &self.record).is_ok() {
-                    if self.take_message(false, 0, self.record.len()) {
-                        self.scan.unchunked_messages += 1;
-                        return Ok(true);
-                    }
-                } else {
-                    let reason = "a message record does not parse".to_string();
-                    let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
-                    self.damage(start, None, kind, Some(1));
-                }
-            }
-            _ => {
-                let problem = match mcap::parse_record(opcode, &self.record) {
-                    Ok(Record::Header(h)) => {
-                        self.scan.profile = h.profile;
-                        self.scan.library = h.library;
-                        None
-                    }
-                    Ok(record) => {
-                        if let Record::Metadata(_) = record {
-                            self.scan.metadata += 1;
-                        }
-                        take_definition(record, &mut self.scan, &mut self.schemas);
-                        None
-                    }
-                    Err(e) => Some(format!("a record (opcode {opcode:#04x}) does not parse: {e}")),
-                };
-                if let Some(reason) = problem {
-                    let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
-                    self.damage(start, None, kind, None);
-                }
-            }
+            op::MESSAGE => return Ok(self.take_unchunked_message(start, end)),
+            _ => self.take_other_record(start, end, opcode),
         }
         Ok(false)
+    }
+
+    /// Feeds the sans-io reader from the file (never past the data section) until it yields the record at
+    /// `start` (a chunk decoded into `self.chunk`, any other record copied into `self.record`); `Break` with
+    /// what [`Self::read_top_level`] returns when the data section ends or breaks there instead.
+    fn next_top_level_record(&mut self, start: u64) -> std::io::Result<ControlFlow<bool, TopLevelRecord>> {
+        loop {
+            match self.top.next_event() {
+                None => {
+                    self.consumed = start;
+                    self.end_of_data();
+                    return Ok(ControlFlow::Break(false));
+                }
+                Some(Ok(LinearReadEvent::ReadRequest(n))) => {
+                    // Never past the data section: a record that claims more is cut off there (0 = end).
+                    let left = usize::try_from(self.data_end.saturating_sub(self.fed)).unwrap_or(usize::MAX);
+                    let got = read_up_to(&mut self.file, self.top.insert(n.min(left)))?;
+                    self.top.notify_read(got);
+                    self.fed += got as u64;
+                }
+                Some(Ok(LinearReadEvent::Record { opcode, data })) => {
+                    let chunk = if opcode == op::CHUNK {
+                        Some(decode_chunk(&mut self.decoder, data, &mut self.chunk, &mut self.spans))
+                    } else {
+                        self.record.clear();
+                        self.record.extend_from_slice(data);
+                        None
+                    };
+                    return Ok(ControlFlow::Continue(TopLevelRecord { opcode, length: data.len() as u64, chunk }));
+                }
+                Some(Err(mcap::McapError::BadDataCrc { saved, calculated })) => {
+                    let kind = DamageKind::DataSectionCrc { stored: saved, computed: calculated };
+                    self.damage(start, None, kind, None);
+                    self.consumed = start + FRAME + self.frame_at(start)?.map_or(0, |(_, length)| length);
+                    self.end_of_data();
+                    return Ok(ControlFlow::Break(false));
+                }
+                Some(Err(e)) => return self.broken(start, e).map(ControlFlow::Break),
+            }
+        }
+    }
+
+    /// A message index record (`length` bytes) after a chunk: the messages it indexes count toward the
+    /// chunk's, when its array is whole.
+    fn count_indexed_messages(&mut self, length: u64) {
+        let head = self.record.get(2..6).and_then(|b| b.try_into().ok()).map(u32::from_le_bytes);
+        if let (Some(chunk), Some(bytes)) = (&mut self.pending, head) {
+            let bytes = u64::from(bytes);
+            if bytes + 6 == length && bytes % 16 == 0 {
+                *chunk.indexed.get_or_insert(0) += bytes / 16;
+            }
+        }
+    }
+
+    /// A message record of an unchunked file at `start`..`end`: true if it is one to hand out; one that does
+    /// not parse is damage.
+    fn take_unchunked_message(&mut self, start: u64, end: u64) -> bool {
+        if mcap::parse_record(op::MESSAGE, &self.record).is_ok() {
+            if self.take_message(false, 0, self.record.len()) {
+                self.scan.unchunked_messages += 1;
+                return true;
+            }
+        } else {
+            let reason = "a message record does not parse".to_string();
+            let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
+            self.damage(start, None, kind, Some(1));
+        }
+        false
+    }
+
+    /// Any other record at `start`..`end`: the header's profile and library, a definition (schema, channel) or
+    /// metadata taken into the scan; one that does not parse is damage.
+    fn take_other_record(&mut self, start: u64, end: u64, opcode: u8) {
+        let problem = match mcap::parse_record(opcode, &self.record) {
+            Ok(Record::Header(h)) => {
+                self.scan.profile = h.profile;
+                self.scan.library = h.library;
+                None
+            }
+            Ok(record) => {
+                if let Record::Metadata(_) = record {
+                    self.scan.metadata += 1;
+                }
+                take_definition(record, &mut self.scan, &mut self.schemas);
+                None
+            }
+            Err(e) => Some(format!("a record (opcode {opcode:#04x}) does not parse: {e}")),
+        };
+        if let Some(reason) = problem {
+            let kind = DamageKind::Unparsable { reason, resumed_at: Some(end), chunks_skipped: 0 };
+            self.damage(start, None, kind, None);
+        }
     }
 
     /// The crate stopped at the record at `start` (`error`): says why from its frame, as the file has it, and

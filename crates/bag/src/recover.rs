@@ -87,57 +87,21 @@ pub fn recover(
     mut on_file: impl FnMut(&RecoveredFile),
 ) -> Result<Recovery, BagError> {
     let is_dir = path.is_dir();
-    // The files metadata.yaml lists when it is readable, else every .mcap of the directory: a bag whose
-    // metadata.yaml is missing or broken is what recovery is for.
-    let (files, metadata_unreadable, missing_files) = match bag_listing(path) {
-        Ok(listing) => {
-            let missing = listing.files.iter().filter(|f| !f.present).map(|f| f.path.clone()).collect();
-            (listing.present(), false, missing)
-        }
-        Err(_) if is_dir => (mcap_files_in_dir(path)?, true, Vec::new()),
-        Err(e) => return Err(e),
-    };
-    if files.is_empty() {
-        return Err(BagError::Format(format!("{}: no .mcap files to recover", path.display())));
-    }
-    for file in &files {
+    let listed = ListedFiles::of(path, is_dir)?;
+    for file in &listed.files {
         open_mcap(file)?;
     }
-    let scans: Vec<FileScan> = files.iter().map(|f| scan_file(f, |_| {})).collect::<Result<_, _>>()?;
-    let needs_repair = |s: &FileScan| !s.complete || s.damaged();
-    let entry = |s: &FileScan, output: Option<PathBuf>, rebuilt: bool| RecoveredFile {
-        path: s.path.clone(),
-        output,
-        rebuilt,
-        complete: s.complete,
-        messages: s.message_count(),
-        chunks: s.chunks,
-        layout: s.layout(),
-        dropped_tail_bytes: s.truncated_bytes,
-        dropped_corrupt_chunks: s.corrupt_chunks,
-        lost_messages: s.lost_messages().0,
-        lost_messages_unknown: s.lost_messages().1,
-        damage: s.damage.clone(),
-    };
+    let scans: Vec<FileScan> = listed.files.iter().map(|f| scan_file(f, |_| {})).collect::<Result<_, _>>()?;
     // A directory without metadata.yaml (the disk filled up before it was written) gets a copy with one
     // rebuilt from the MCAP files alone, even when every file is intact.
     // So does one whose metadata.yaml lists files that are gone: the copy lists what is there.
-    let metadata_missing = is_dir && (metadata_unreadable || !missing_files.is_empty());
+    let metadata_missing = is_dir && (listed.metadata_unreadable || !listed.missing.is_empty());
     if !metadata_missing && !scans.iter().any(needs_repair) {
-        let report: Vec<RecoveredFile> = scans.iter().map(|s| entry(s, None, false)).collect();
+        let report: Vec<RecoveredFile> = scans.iter().map(|s| recovered_file(s, None, false)).collect();
         report.iter().for_each(&mut on_file);
-        return Ok(Recovery { output: None, files: report, missing_files });
+        return Ok(Recovery { output: None, files: report, missing_files: listed.missing });
     }
-    let output = output.map(Path::to_path_buf).unwrap_or_else(|| default_output(path));
-    if std::fs::symlink_metadata(&output).is_ok() {
-        return Err(BagError::Format(format!(
-            "{} already exists: recovery never overwrites anything (remove it or pass --output)",
-            output.display()
-        )));
-    }
-    if is_dir {
-        std::fs::create_dir(&output).map_err(|source| BagError::Io { path: output.clone(), source })?;
-    }
+    let output = create_output(path, output, is_dir)?;
     let mut metadata = metadata_of(&scans);
     metadata
         .custom_data
@@ -152,20 +116,92 @@ pub fn recover(
     for scan in &scans {
         let name = scan.path.file_name().map(PathBuf::from).unwrap_or_default();
         let target = if is_dir { output.join(&name) } else { output.clone() };
-        let rebuilt = needs_repair(scan);
-        if rebuilt {
-            rewrite(&scan.path, &target, scan, &rosbag2_yaml)?;
-        } else if std::fs::hard_link(&scan.path, &target).is_err() {
-            std::fs::copy(&scan.path, &target).map_err(|source| BagError::Io { path: target.clone(), source })?;
-        }
-        let file = entry(scan, Some(target), rebuilt);
+        let file = copy_file(scan, target, &rosbag2_yaml)?;
         on_file(&file);
         report.push(file);
     }
     if is_dir {
         metadata.write_to_dir(&output)?;
     }
-    Ok(Recovery { output: Some(output), files: report, missing_files })
+    Ok(Recovery { output: Some(output), files: report, missing_files: listed.missing })
+}
+
+/// The files of the bag to recover.
+struct ListedFiles {
+    files: Vec<PathBuf>,
+    /// Whether metadata.yaml is missing or broken (the files are then every .mcap of the directory).
+    metadata_unreadable: bool,
+    /// Files metadata.yaml lists that are not there.
+    missing: Vec<PathBuf>,
+}
+
+impl ListedFiles {
+    /// The files metadata.yaml lists when it is readable, else every .mcap of the directory: a bag whose
+    /// metadata.yaml is missing or broken is what recovery is for.
+    fn of(path: &Path, is_dir: bool) -> Result<ListedFiles, BagError> {
+        let listed = match bag_listing(path) {
+            Ok(listing) => {
+                let missing = listing.files.iter().filter(|f| !f.present).map(|f| f.path.clone()).collect();
+                ListedFiles { files: listing.present(), metadata_unreadable: false, missing }
+            }
+            Err(_) if is_dir => {
+                ListedFiles { files: mcap_files_in_dir(path)?, metadata_unreadable: true, missing: Vec::new() }
+            }
+            Err(e) => return Err(e),
+        };
+        if listed.files.is_empty() {
+            return Err(BagError::Format(format!("{}: no .mcap files to recover", path.display())));
+        }
+        Ok(listed)
+    }
+}
+
+fn needs_repair(scan: &FileScan) -> bool {
+    !scan.complete || scan.damaged()
+}
+
+fn recovered_file(s: &FileScan, output: Option<PathBuf>, rebuilt: bool) -> RecoveredFile {
+    RecoveredFile {
+        path: s.path.clone(),
+        output,
+        rebuilt,
+        complete: s.complete,
+        messages: s.message_count(),
+        chunks: s.chunks,
+        layout: s.layout(),
+        dropped_tail_bytes: s.truncated_bytes,
+        dropped_corrupt_chunks: s.corrupt_chunks,
+        lost_messages: s.lost_messages().0,
+        lost_messages_unknown: s.lost_messages().1,
+        damage: s.damage.clone(),
+    }
+}
+
+/// Where the copy of `path` goes (`output`, else [`default_output`]), refused when something is there; for a
+/// directory the copy's directory, created.
+fn create_output(path: &Path, output: Option<&Path>, is_dir: bool) -> Result<PathBuf, BagError> {
+    let output = output.map(Path::to_path_buf).unwrap_or_else(|| default_output(path));
+    if std::fs::symlink_metadata(&output).is_ok() {
+        return Err(BagError::Format(format!(
+            "{} already exists: recovery never overwrites anything (remove it or pass --output)",
+            output.display()
+        )));
+    }
+    if is_dir {
+        std::fs::create_dir(&output).map_err(|source| BagError::Io { path: output.clone(), source })?;
+    }
+    Ok(output)
+}
+
+/// One file of the copy at `target`: rebuilt when it needs repair, else linked (or copied) as it is.
+fn copy_file(scan: &FileScan, target: PathBuf, rosbag2_yaml: &str) -> Result<RecoveredFile, BagError> {
+    let rebuilt = needs_repair(scan);
+    if rebuilt {
+        rewrite(&scan.path, &target, scan, rosbag2_yaml)?;
+    } else if std::fs::hard_link(&scan.path, &target).is_err() {
+        std::fs::copy(&scan.path, &target).map_err(|source| BagError::Io { path: target.clone(), source })?;
+    }
+    Ok(recovered_file(scan, Some(target), rebuilt))
 }
 
 /// Writes every message the reader vouches for from `original` into a new file `target`, streaming.

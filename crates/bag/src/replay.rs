@@ -18,17 +18,17 @@
 //! of more than `max_bat_slices` slices is refused (so its bat stays unknown). The bag holds the settings last
 //! in force: a run whose limits were changed by `ros2 param set` midway replays with the last ones.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeSet, HashMap, HashSet};
 use std::path::Path;
 
 use sweetspot_model::convert;
 use sweetspot_model::engine::{self, BatEntry, Registry};
 use sweetspot_model::settings::ModelSettings;
-use sweetspot_msgs::sweetspot_msgs::msg::{ExitVelocity, ModalEnergies};
+use sweetspot_msgs::sweetspot_msgs::msg::{BallParams, BatParams, ExitVelocity, ModalEnergies};
 use sweetspot_msgs::{FieldTable, FieldValue, RosMessage};
 use sweetspot_physics::{Ball, Bat};
 
-use super::export::{read_run, RunEvent};
+use super::export::{read_run, RunEvent, SwingRow};
 use super::reader::bag_listing;
 use super::BagError;
 
@@ -239,6 +239,39 @@ impl Comparer<'_> {
             }
         }
     }
+
+    /// The verdict on `row` replayed as `ev` and `me`, its differences from the recorded answer collected.
+    fn verdict(
+        &mut self,
+        row: &SwingRow,
+        ev: &ExitVelocity,
+        me: Option<&ModalEnergies>,
+        missing_input: bool,
+        recorded_fields: &HashMap<String, BTreeSet<String>>,
+    ) -> Verdict {
+        match &row.exit_velocity {
+            None => Verdict::NotRecorded,
+            Some(recorded) if recorded.status == ExitVelocity::STATUS_DROPPED => Verdict::NotRecorded,
+            Some(_) if missing_input => Verdict::MissingInput,
+            Some(recorded) => {
+                self.message(recorded, ev, recorded_fields.get(ExitVelocity::TYPE_NAME));
+                match (&row.modal_energies, me) {
+                    (Some(a), Some(b)) => self.message(a, b, recorded_fields.get(ModalEnergies::TYPE_NAME)),
+                    (None, None) => {}
+                    (a, b) => self.field(
+                        "ModalEnergies.present",
+                        f64::from(u8::from(a.is_some())),
+                        f64::from(u8::from(b.is_some())),
+                    ),
+                }
+                if self.diffs.is_empty() {
+                    Verdict::Match
+                } else {
+                    Verdict::Differs
+                }
+            }
+        }
+    }
 }
 
 /// Replays a bag. `settings` are the model settings to use (see [`recorded_settings`]); `tolerance` is the
@@ -250,165 +283,200 @@ pub fn replay(
     tolerance: f64,
     mut on_swing: impl FnMut(usize, usize),
 ) -> Result<ReplayReport, BagError> {
-    if !(tolerance >= 0.0 && tolerance.is_finite()) {
-        return Err(BagError::Format(format!("tolerance = {tolerance} is out of range: expected a finite value ≥ 0")));
-    }
-    let mut settings = settings.clone();
-    if let Some(modes) = what_if.modes {
-        if !(1..=200).contains(&modes) {
-            return Err(BagError::Format(format!("--modes {modes} is out of range: expected 1..=200")));
-        }
-        settings.default_modes = modes;
-    }
-    let override_bat = match &what_if.bat {
-        Some(name) => Some((name.clone(), Bat::preset(name).map_err(|e| BagError::Format(format!("--bat: {e}")))?)),
-        None => None,
-    };
-    let override_ball = match &what_if.ball {
-        Some(name) => Some((name.clone(), Ball::preset(name).map_err(|e| BagError::Format(format!("--ball: {e}")))?)),
-        None => None,
-    };
+    let mut replayer = Replayer::new(settings, what_if, tolerance)?;
     let run = read_run(path)?;
-    let mut registries: HashMap<String, Registry> = HashMap::new();
-    let registry_for = |registries: &mut HashMap<String, Registry>, ns: &str| -> Registry {
-        registries.remove(ns).unwrap_or_else(|| {
-            let mut registry = Registry::with_limits(settings.max_bats, settings.max_balls);
-            // As the node at start: the default bat is made (and held) before any message arrives. An error
-            // (a default_bat that is neither a preset nor sent yet) only means it is not held.
-            let _ = registry.resolve_bat("", &settings);
-            if let Some((name, bat)) = &override_bat {
-                registry.set_bat(BatEntry::new(name, bat.clone(), what_if.modes, &settings));
-            }
-            if let Some((name, ball)) = &override_ball {
-                registry.set_ball(name, *ball);
-            }
-            registry
-        })
-    };
     let total = run.rows.len();
     let mut rows = Vec::with_capacity(total);
-    // The bats and balls the bag announces (by namespace): a swing the node answered with anything else was
-    // answered with params the bag does not hold.
-    let mut announced_bats: std::collections::HashSet<(String, String)> = std::collections::HashSet::new();
-    let mut announced_balls: std::collections::HashSet<(String, String)> = std::collections::HashSet::new();
     for event in &run.events {
         match event {
-            RunEvent::BatParams(ns, params) => {
-                announced_bats.insert((ns.clone(), params.bat_id.clone()));
-                let mut registry = registry_for(&mut registries, ns);
-                if override_bat.is_none() {
-                    if let Ok(built) = convert::bat_from_params_capped(params, settings.max_bat_slices) {
-                        let modes = what_if.modes.or(built.max_modes);
-                        if let Ok(entry) = BatEntry::new_checked(&params.bat_id, built.bat, modes, &settings, &()) {
-                            registry.set_bat(entry);
-                        }
-                    }
-                }
-                registries.insert(ns.clone(), registry);
-            }
-            RunEvent::BallParams(ns, params) => {
-                announced_balls.insert((ns.clone(), params.ball_id.clone()));
-                let mut registry = registry_for(&mut registries, ns);
-                if override_ball.is_none() {
-                    if let Ok(ball) = convert::ball_from_params(params) {
-                        registry.set_ball(&params.ball_id, ball);
-                    }
-                }
-                registries.insert(ns.clone(), registry);
-            }
+            RunEvent::BatParams(ns, params) => replayer.bat_params(ns, params),
+            RunEvent::BallParams(ns, params) => replayer.ball_params(ns, params),
             RunEvent::Swing(index) => {
-                let row = &run.rows[*index];
-                let mut registry = registry_for(&mut registries, &row.namespace);
-                let swing = &row.swing;
-                let bat_id = override_bat.as_ref().map_or(swing.bat_id.as_str(), |(n, _)| n.as_str());
-                let mut ball_id = override_ball.as_ref().map_or(swing.ball_id.as_str(), |(n, _)| n.as_str());
-                // An empty ball_id before any BallParams is the node's default_ball, which its answer names. A
-                // bag that does not record the setting (another recorder, or a node from before it existed,
-                // whose default was `baseball`) is replayed with the built-in ball named there; one that does
-                // names the same.
-                let recorded_ball = row.exit_velocity.as_ref().map(|ev| ev.ball_id.as_str()).unwrap_or("");
-                if ball_id.is_empty()
-                    && registry.effective_ball_id("", &settings) == settings.default_ball
-                    && Ball::preset_names().contains(&recorded_ball)
-                {
-                    ball_id = recorded_ball;
-                }
-                let (plan, _) = convert::plan_swing_message_as(&mut registry, &settings, swing, bat_id, ball_id);
-                registries.insert(row.namespace.clone(), registry);
-                let result = engine::compute(&plan, &());
-                let ev = convert::exit_velocity(swing, plan.bat_id(), plan.ball_id(), &result);
-                let me = result.as_ref().ok().map(|c| convert::modal_energies(swing, plan.bat_id(), c));
-                let mut differences = Vec::new();
-                let mut cmp = Comparer { tolerance, diffs: &mut differences, worst: 0.0 };
-                // Recorded OK with a bat or ball the bag never announced, which the replay could not use: it
-                // replayed "unknown bat_id/ball_id" for that id, or (an empty id: the latest received) resolved
-                // another one. The bag lacks what the node had, not a difference of the model.
-                let ns = row.namespace.clone();
-                let missing_input = match &row.exit_velocity {
-                    Some(recorded) if recorded.status == ExitVelocity::STATUS_OK => {
-                        // What the node used, as its answer says (an answer naming none: what the replay used).
-                        let or_replayed = |recorded: &str, replayed: &str| {
-                            if recorded.is_empty() { replayed } else { recorded }.to_string()
-                        };
-                        let bat_id = or_replayed(&recorded.bat_id, plan.bat_id());
-                        let ball_id = or_replayed(&recorded.ball_id, plan.ball_id());
-                        let unknown_bat = override_bat.is_none()
-                            && !announced_bats.contains(&(ns.clone(), bat_id.clone()))
-                            && (ev.message.starts_with("unknown bat_id") || bat_id != plan.bat_id());
-                        let unknown_ball = override_ball.is_none()
-                            && !announced_balls.contains(&(ns.clone(), ball_id.clone()))
-                            && (ev.message.starts_with("unknown ball_id") || ball_id != plan.ball_id());
-                        let at = if ns == "/" { String::new() } else { format!(" in {ns}") };
-                        if unknown_bat {
-                            Some(format!("BatParams of bat '{bat_id}'{at}"))
-                        } else if unknown_ball {
-                            Some(format!("BallParams of ball '{ball_id}'{at}"))
-                        } else {
-                            None
-                        }
-                    }
-                    _ => None,
-                };
-                let verdict = match &row.exit_velocity {
-                    None => Verdict::NotRecorded,
-                    Some(recorded) if recorded.status == ExitVelocity::STATUS_DROPPED => Verdict::NotRecorded,
-                    Some(_) if missing_input.is_some() => Verdict::MissingInput,
-                    Some(recorded) => {
-                        cmp.message(recorded, &ev, run.recorded_fields.get(ExitVelocity::TYPE_NAME));
-                        match (&row.modal_energies, &me) {
-                            (Some(a), Some(b)) => cmp.message(a, b, run.recorded_fields.get(ModalEnergies::TYPE_NAME)),
-                            (None, None) => {}
-                            (a, b) => cmp.field(
-                                "ModalEnergies.present",
-                                f64::from(u8::from(a.is_some())),
-                                f64::from(u8::from(b.is_some())),
-                            ),
-                        }
-                        if cmp.diffs.is_empty() {
-                            Verdict::Match
-                        } else {
-                            Verdict::Differs
-                        }
-                    }
-                };
-                let worst = cmp.worst;
-                rows.push(ReplayRow {
-                    namespace: row.namespace.clone(),
-                    swing_id: swing.swing_id,
-                    bat_id: plan.bat_id().to_string(),
-                    ball_id: plan.ball_id().to_string(),
-                    recorded_exit_speed: row.exit_velocity.as_ref().map_or(f64::NAN, |e| e.exit_speed),
-                    replayed_exit_speed: ev.exit_speed,
-                    measured_exit_speed: swing.measured_exit_speed,
-                    replayed_status: ev.status,
-                    differences,
-                    worst_relative: worst,
-                    verdict,
-                    missing_input,
-                });
+                rows.push(replayer.swing(&run.rows[*index], &run.recorded_fields));
                 on_swing(rows.len(), total);
             }
         }
     }
+    let settings = replayer.settings;
     Ok(ReplayReport { rows, tolerance, what_if: what_if.any(), recorded_by: library_of(path), settings })
+}
+
+/// The node as a replay runs it: the settings with the "what if" changes, one registry per namespace, and
+/// the bats and balls the bag has announced so far.
+struct Replayer<'a> {
+    settings: ModelSettings,
+    what_if: &'a WhatIf,
+    tolerance: f64,
+    override_bat: Option<(String, Bat)>,
+    override_ball: Option<(String, Ball)>,
+    registries: HashMap<String, Registry>,
+    // The bats and balls the bag announces (by namespace): a swing the node answered with anything else was
+    // answered with params the bag does not hold.
+    announced_bats: HashSet<(String, String)>,
+    announced_balls: HashSet<(String, String)>,
+}
+
+impl<'a> Replayer<'a> {
+    /// The replay's node with `settings` and the "what if" changes; a tolerance, mode count or preset out of
+    /// range is refused before the bag is read.
+    fn new(settings: &ModelSettings, what_if: &'a WhatIf, tolerance: f64) -> Result<Replayer<'a>, BagError> {
+        if !(tolerance >= 0.0 && tolerance.is_finite()) {
+            return Err(BagError::Format(format!(
+                "tolerance = {tolerance} is out of range: expected a finite value ≥ 0"
+            )));
+        }
+        let mut settings = settings.clone();
+        if let Some(modes) = what_if.modes {
+            if !(1..=200).contains(&modes) {
+                return Err(BagError::Format(format!("--modes {modes} is out of range: expected 1..=200")));
+            }
+            settings.default_modes = modes;
+        }
+        let override_bat = match &what_if.bat {
+            Some(name) => Some((name.clone(), Bat::preset(name).map_err(|e| BagError::Format(format!("--bat: {e}")))?)),
+            None => None,
+        };
+        let override_ball = match &what_if.ball {
+            Some(name) => {
+                Some((name.clone(), Ball::preset(name).map_err(|e| BagError::Format(format!("--ball: {e}")))?))
+            }
+            None => None,
+        };
+        Ok(Replayer {
+            settings,
+            what_if,
+            tolerance,
+            override_bat,
+            override_ball,
+            registries: HashMap::new(),
+            announced_bats: HashSet::new(),
+            announced_balls: HashSet::new(),
+        })
+    }
+
+    /// The registry of namespace `ns`, taken out to be put back after use; a namespace's first is made as the
+    /// node makes its own at start.
+    fn take_registry(&mut self, ns: &str) -> Registry {
+        self.registries.remove(ns).unwrap_or_else(|| {
+            let mut registry = Registry::with_limits(self.settings.max_bats, self.settings.max_balls);
+            // As the node at start: the default bat is made (and held) before any message arrives. An error
+            // (a default_bat that is neither a preset nor sent yet) only means it is not held.
+            let _ = registry.resolve_bat("", &self.settings);
+            if let Some((name, bat)) = &self.override_bat {
+                registry.set_bat(BatEntry::new(name, bat.clone(), self.what_if.modes, &self.settings));
+            }
+            if let Some((name, ball)) = &self.override_ball {
+                registry.set_ball(name, *ball);
+            }
+            registry
+        })
+    }
+
+    /// BatParams received in `ns`: the bat is announced and, unless --bat stands in for every bat, held as the
+    /// node holds it (a bat the node refuses stays unknown).
+    fn bat_params(&mut self, ns: &str, params: &BatParams) {
+        self.announced_bats.insert((ns.to_string(), params.bat_id.clone()));
+        let mut registry = self.take_registry(ns);
+        if self.override_bat.is_none() {
+            if let Ok(built) = convert::bat_from_params_capped(params, self.settings.max_bat_slices) {
+                let modes = self.what_if.modes.or(built.max_modes);
+                if let Ok(entry) = BatEntry::new_checked(&params.bat_id, built.bat, modes, &self.settings, &()) {
+                    registry.set_bat(entry);
+                }
+            }
+        }
+        self.registries.insert(ns.to_string(), registry);
+    }
+
+    /// BallParams received in `ns`: the ball is announced and, unless --ball stands in for every ball, held.
+    fn ball_params(&mut self, ns: &str, params: &BallParams) {
+        self.announced_balls.insert((ns.to_string(), params.ball_id.clone()));
+        let mut registry = self.take_registry(ns);
+        if self.override_ball.is_none() {
+            if let Ok(ball) = convert::ball_from_params(params) {
+                registry.set_ball(&params.ball_id, ball);
+            }
+        }
+        self.registries.insert(ns.to_string(), registry);
+    }
+
+    /// The ball a swing is replayed with: --ball's, else the swing's ball_id. An empty ball_id before any
+    /// BallParams is the node's default_ball, which its answer names. A bag that does not record the setting
+    /// (another recorder, or a node from before it existed, whose default was `baseball`) is replayed with the
+    /// built-in ball named there; one that does names the same.
+    fn ball_id_of<'r>(&'r self, row: &'r SwingRow, registry: &Registry) -> &'r str {
+        let ball_id = self.override_ball.as_ref().map_or(row.swing.ball_id.as_str(), |(n, _)| n.as_str());
+        let recorded_ball = row.exit_velocity.as_ref().map(|ev| ev.ball_id.as_str()).unwrap_or("");
+        if ball_id.is_empty()
+            && registry.effective_ball_id("", &self.settings) == self.settings.default_ball
+            && Ball::preset_names().contains(&recorded_ball)
+        {
+            recorded_ball
+        } else {
+            ball_id
+        }
+    }
+
+    /// Replays one recorded swing and compares the answer with the recorded one.
+    fn swing(&mut self, row: &SwingRow, recorded_fields: &HashMap<String, BTreeSet<String>>) -> ReplayRow {
+        let mut registry = self.take_registry(&row.namespace);
+        let swing = &row.swing;
+        let bat_id = self.override_bat.as_ref().map_or(swing.bat_id.as_str(), |(n, _)| n.as_str());
+        let ball_id = self.ball_id_of(row, &registry);
+        let (plan, _) = convert::plan_swing_message_as(&mut registry, &self.settings, swing, bat_id, ball_id);
+        self.registries.insert(row.namespace.clone(), registry);
+        let result = engine::compute(&plan, &());
+        let ev = convert::exit_velocity(swing, plan.bat_id(), plan.ball_id(), &result);
+        let me = result.as_ref().ok().map(|c| convert::modal_energies(swing, plan.bat_id(), c));
+        let missing_input = self.missing_input(row, &plan, &ev);
+        let mut differences = Vec::new();
+        let mut cmp = Comparer { tolerance: self.tolerance, diffs: &mut differences, worst: 0.0 };
+        let verdict = cmp.verdict(row, &ev, me.as_ref(), missing_input.is_some(), recorded_fields);
+        let worst = cmp.worst;
+        ReplayRow {
+            namespace: row.namespace.clone(),
+            swing_id: swing.swing_id,
+            bat_id: plan.bat_id().to_string(),
+            ball_id: plan.ball_id().to_string(),
+            recorded_exit_speed: row.exit_velocity.as_ref().map_or(f64::NAN, |e| e.exit_speed),
+            replayed_exit_speed: ev.exit_speed,
+            measured_exit_speed: swing.measured_exit_speed,
+            replayed_status: ev.status,
+            differences,
+            worst_relative: worst,
+            verdict,
+            missing_input,
+        }
+    }
+
+    /// Recorded OK with a bat or ball the bag never announced, which the replay could not use: it replayed
+    /// "unknown bat_id/ball_id" for that id, or (an empty id: the latest received) resolved another one. The
+    /// bag lacks what the node had, not a difference of the model: the params it lacks.
+    fn missing_input(&self, row: &SwingRow, plan: &engine::Plan, ev: &ExitVelocity) -> Option<String> {
+        let ns = row.namespace.clone();
+        match &row.exit_velocity {
+            Some(recorded) if recorded.status == ExitVelocity::STATUS_OK => {
+                // What the node used, as its answer says (an answer naming none: what the replay used).
+                let or_replayed =
+                    |recorded: &str, replayed: &str| if recorded.is_empty() { replayed } else { recorded }.to_string();
+                let bat_id = or_replayed(&recorded.bat_id, plan.bat_id());
+                let ball_id = or_replayed(&recorded.ball_id, plan.ball_id());
+                let unknown_bat = self.override_bat.is_none()
+                    && !self.announced_bats.contains(&(ns.clone(), bat_id.clone()))
+                    && (ev.message.starts_with("unknown bat_id") || bat_id != plan.bat_id());
+                let unknown_ball = self.override_ball.is_none()
+                    && !self.announced_balls.contains(&(ns.clone(), ball_id.clone()))
+                    && (ev.message.starts_with("unknown ball_id") || ball_id != plan.ball_id());
+                let at = if ns == "/" { String::new() } else { format!(" in {ns}") };
+                if unknown_bat {
+                    Some(format!("BatParams of bat '{bat_id}'{at}"))
+                } else if unknown_ball {
+                    Some(format!("BallParams of ball '{ball_id}'{at}"))
+                } else {
+                    None
+                }
+            }
+            _ => None,
+        }
+    }
 }

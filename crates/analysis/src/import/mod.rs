@@ -481,106 +481,122 @@ impl SwingBuilder {
         if !row.contact {
             return Err(Skip::NoContact { call: row.call.clone() });
         }
-        let range = |column, value: f64, ok: bool, allowed| {
-            if value.is_nan() || ok {
-                Ok(())
-            } else {
-                Err(Skip::Refused { column, value, allowed })
-            }
-        };
         // A pitch speed of 0 is no pitch: a ball on a tee (with `tee`), else a speed nobody entered.
         let on_tee = row.pitch_speed == 0.0;
         if row.pitch_speed.is_nan() || (on_tee && !self.tee) {
             return Err(Skip::Missing { column: row.pitch_speed_column });
         }
-        let v = row.pitch_speed;
-        range(
-            row.pitch_speed_column,
-            v,
-            on_tee || (v > 0.0 && v <= MAX_PITCH_SPEED),
-            "0 < pitch speed ≤ 53.6 m/s (120 mph)",
-        )?;
-        let e = row.exit_speed;
-        range("exit speed", e, e > 0.0 && e <= MAX_EXIT_SPEED, "0 < exit speed ≤ 67.1 m/s (150 mph)")?;
-        let b = row.bat_speed;
-        range("bat_speed", b, b > 0.0 && b <= MAX_BAT_SPEED, "0 < bat speed ≤ 53.6 m/s (120 mph)")?;
-        let la = row.launch_angle;
-        range("launch angle", la, la.abs() <= std::f64::consts::FRAC_PI_2, "|launch angle| ≤ 90°")?;
-        for (column, value) in [("pitch spin", row.pitch_spin), ("batted-ball spin", row.spin)] {
-            range(column, value, value.abs() <= MAX_SPIN, "|spin| ≤ 1000 rad/s (9,549 rpm)")?;
-        }
-        for (column, value) in [
-            ("pitch angle", row.pitch_angle),
-            ("attack_angle", row.attack_angle),
-            ("bat_tilt", row.bat_tilt),
-            ("swing_direction", row.swing_direction),
-        ] {
-            range(column, value, value.abs() <= MAX_SWING_ANGLE, "|angle| ≤ 80°")?;
-        }
-        let spray = row.spray_angle;
-        range("spray angle", spray, spray.abs() <= MAX_SPRAY_ANGLE, "|spray angle| ≤ 90°")?;
-        let axis = row.spin_axis_deg;
-        range("spin axis", axis.to_radians(), (0.0..=360.0).contains(&axis), "0° ≤ spin axis ≤ 360°")?;
-        if axis.is_finite() {
-            // With an axis the rate is a radar's total spin, never negative.
-            range("batted-ball spin", row.spin, row.spin >= 0.0, "total spin ≥ 0 (with a spin axis)")?;
-        }
+        check_measured_ranges(row, on_tee)?;
         let mut assumed = Assumed { impact_z: true, undercut: !self.undercut.is_nan(), ..Assumed::default() };
-        let (bat_cm_speed, bat_angular_speed) = if b.is_nan() {
-            assumed.bat_speed = true;
-            self.predicted
-        } else {
-            self.split_bat_speed(b).map_err(|_| Skip::Refused {
-                column: "bat_speed",
-                value: b,
-                allowed: "a bat speed the batter's pivot can split (pivot on the knob side of the 6-in point)",
-            })?
-        };
-        let or_zero = |v: f64, flag: &mut bool| {
-            if v.is_nan() {
-                *flag = true;
-                0.0
-            } else {
-                v
-            }
-        };
-        let attack_angle = or_zero(row.attack_angle, &mut assumed.attack_angle);
+        let (bat_cm_speed, bat_angular_speed) = self.bat_motion(row.bat_speed, &mut assumed)?;
+        let attack_angle = or_assumed_zero(row.attack_angle, &mut assumed.attack_angle);
         // No tilt or direction measured: the planar swing (level bat toward centre field), as Swing.msg's default.
         let bat_tilt = if row.bat_tilt.is_nan() { 0.0 } else { row.bat_tilt };
         let swing_direction = if row.swing_direction.is_nan() { 0.0 } else { row.swing_direction };
-        range(
+        refuse_out_of_range(
             "bat_tilt",
             bat_tilt,
             bat_tilt.abs() + attack_angle.abs() < std::f64::consts::FRAC_PI_2 - 1e-6,
             "|bat_tilt| + |attack_angle| < 90° (a bat across its path cannot tilt further)",
         )?;
         // A ball at rest has no approach angle and no spin: known, not assumed.
-        let pitch_angle = if on_tee { 0.0 } else { or_zero(row.pitch_angle, &mut assumed.pitch_angle) };
-        let pitch_spin = if on_tee { 0.0 } else { or_zero(row.pitch_spin, &mut assumed.pitch_spin) };
+        let pitch_angle = if on_tee { 0.0 } else { or_assumed_zero(row.pitch_angle, &mut assumed.pitch_angle) };
+        let pitch_spin = if on_tee { 0.0 } else { or_assumed_zero(row.pitch_spin, &mut assumed.pitch_spin) };
         let swing = Swing {
             header: Header { stamp, frame_id: String::new() },
             swing_id: id,
             bat_id: self.bat_id.clone(),
             ball_id: self.ball_id.clone(),
-            ball_speed: v,
+            ball_speed: row.pitch_speed,
             bat_cm_speed,
             bat_angular_speed,
             impact_z: self.impact_z,
-            measured_exit_speed: e,
+            measured_exit_speed: row.exit_speed,
             undercut: self.undercut,
             attack_angle,
             pitch_angle,
             pitch_spin,
-            measured_launch_angle: la,
+            measured_launch_angle: row.launch_angle,
             measured_spin: row.spin,
             bat_tilt,
             swing_direction,
             batter_side: row.batter_side.unwrap_or(Swing::BATTER_RIGHT),
-            measured_spray_angle: spray,
+            measured_spray_angle: row.spray_angle,
             // 360° is 0°: the field holds [0, 2π).
-            measured_spin_axis: axis.rem_euclid(360.0).to_radians(),
+            measured_spin_axis: row.spin_axis_deg.rem_euclid(360.0).to_radians(),
         };
         Ok((swing, assumed))
+    }
+
+    /// `bat_cm_speed` and `bat_angular_speed` of a swing with the measured `bat_speed` (6 in from the head),
+    /// or the batter's predicted swing (assumed) when it is not measured.
+    fn bat_motion(&self, bat_speed: f64, assumed: &mut Assumed) -> Result<(f64, f64), Skip> {
+        if bat_speed.is_nan() {
+            assumed.bat_speed = true;
+            return Ok(self.predicted);
+        }
+        self.split_bat_speed(bat_speed).map_err(|_| Skip::Refused {
+            column: "bat_speed",
+            value: bat_speed,
+            allowed: "a bat speed the batter's pivot can split (pivot on the knob side of the 6-in point)",
+        })
+    }
+}
+
+/// A measured `value` of `column` that is not `ok` is refused; an unmeasured one (NaN) passes.
+fn refuse_out_of_range(column: &'static str, value: f64, ok: bool, allowed: &'static str) -> Result<(), Skip> {
+    if value.is_nan() || ok {
+        Ok(())
+    } else {
+        Err(Skip::Refused { column, value, allowed })
+    }
+}
+
+/// Every measured value of `row` within what a swing can have (the pitch speed 0 only `on_tee`).
+fn check_measured_ranges(row: &TrackedRow, on_tee: bool) -> Result<(), Skip> {
+    let range = refuse_out_of_range;
+    let v = row.pitch_speed;
+    range(
+        row.pitch_speed_column,
+        v,
+        on_tee || (v > 0.0 && v <= MAX_PITCH_SPEED),
+        "0 < pitch speed ≤ 53.6 m/s (120 mph)",
+    )?;
+    let e = row.exit_speed;
+    range("exit speed", e, e > 0.0 && e <= MAX_EXIT_SPEED, "0 < exit speed ≤ 67.1 m/s (150 mph)")?;
+    let b = row.bat_speed;
+    range("bat_speed", b, b > 0.0 && b <= MAX_BAT_SPEED, "0 < bat speed ≤ 53.6 m/s (120 mph)")?;
+    let la = row.launch_angle;
+    range("launch angle", la, la.abs() <= std::f64::consts::FRAC_PI_2, "|launch angle| ≤ 90°")?;
+    for (column, value) in [("pitch spin", row.pitch_spin), ("batted-ball spin", row.spin)] {
+        range(column, value, value.abs() <= MAX_SPIN, "|spin| ≤ 1000 rad/s (9,549 rpm)")?;
+    }
+    for (column, value) in [
+        ("pitch angle", row.pitch_angle),
+        ("attack_angle", row.attack_angle),
+        ("bat_tilt", row.bat_tilt),
+        ("swing_direction", row.swing_direction),
+    ] {
+        range(column, value, value.abs() <= MAX_SWING_ANGLE, "|angle| ≤ 80°")?;
+    }
+    let spray = row.spray_angle;
+    range("spray angle", spray, spray.abs() <= MAX_SPRAY_ANGLE, "|spray angle| ≤ 90°")?;
+    let axis = row.spin_axis_deg;
+    range("spin axis", axis.to_radians(), (0.0..=360.0).contains(&axis), "0° ≤ spin axis ≤ 360°")?;
+    if axis.is_finite() {
+        // With an axis the rate is a radar's total spin, never negative.
+        range("batted-ball spin", row.spin, row.spin >= 0.0, "total spin ≥ 0 (with a spin axis)")?;
+    }
+    Ok(())
+}
+
+/// `value`, or 0 with `assumed` set when it is not measured.
+fn or_assumed_zero(value: f64, assumed: &mut bool) -> f64 {
+    if value.is_nan() {
+        *assumed = true;
+        0.0
+    } else {
+        value
     }
 }
 
@@ -906,8 +922,7 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
         let format = table_format(&table, path, options)?;
         tables.push((path.clone(), table, format));
     }
-    let mut output: Option<Output> = None;
-    let mut report = ImportReport {
+    let report = ImportReport {
         bag: dir.to_path_buf(),
         files: Vec::new(),
         swings: 0,
@@ -917,79 +932,133 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
         impact_z: builder.impact_z(),
         batters: BTreeMap::new(),
     };
-    let mut stamps = Stamps::new();
-    for (path, mut table, format) in tables {
-        let mut file_report = FileReport { path: path.clone(), format, rows: 0, swings: 0 };
-        let columns = FormatColumns::of(&table, format, options.map.as_ref())?;
+    let mut import = Import { dir, options, builder, output: None, report, stamps: Stamps::new() };
+    for (path, table, format) in tables {
+        let file_report = import.file(&path, table, format)?;
+        import.report.files.push(file_report);
+    }
+    import.finish()
+}
+
+/// An import under way: the bag (created with the first swing) and what the import has done so far.
+struct Import<'a> {
+    dir: &'a Path,
+    options: &'a ImportOptions,
+    builder: SwingBuilder,
+    output: Option<Output>,
+    report: ImportReport,
+    stamps: Stamps,
+}
+
+impl Import<'_> {
+    /// Streams the rows of one file (`path`, read in `format`) into the bag.
+    fn file(&mut self, path: &Path, mut table: Table, format: Format) -> Result<FileReport, ImportError> {
+        let mut file_report = FileReport { path: path.to_path_buf(), format, rows: 0, swings: 0 };
+        let columns = FormatColumns::of(&table, format, self.options.map.as_ref())?;
         while table.next_row()? {
             file_report.rows += 1;
             let row = table.row();
             let tracked = columns.read(&row);
             if let Ok(t) = &tracked {
-                if t.bat_speed.is_finite() && t.bat_speed > 0.0 && t.bat_speed <= MAX_BAT_SPEED {
-                    let stats = report
-                        .batters
-                        .entry(t.batter.clone())
-                        .or_insert(BatterStats { swing_length: f64::NAN, ..BatterStats::default() });
-                    stats.add(t.bat_speed, t.swing_length);
-                }
+                self.count_bat_speed(t);
             }
             let stamp_ns = match &tracked {
-                Ok(t) => stamps.of(t),
+                Ok(t) => self.stamps.of(t),
                 Err(_) => 0,
             };
             let built = tracked.and_then(|t| {
-                builder.swing(&t, report.swings + 1, Time::from_unix_ns(stamp_ns)).map(|(s, a)| (t, s, a))
+                self.builder.swing(&t, self.report.swings + 1, Time::from_unix_ns(stamp_ns)).map(|(s, a)| (t, s, a))
             });
-            let (tracked, swing, assumed) = match built {
-                Ok(b) => b,
-                Err(skip) => {
-                    *report.skipped.entry(skip.reason()).or_default() += 1;
-                    if skip.is_refusal() && report.refused.len() < MAX_REFUSALS_LISTED {
-                        report.refused.push(format!("{}, line {}: {skip}", path.display(), row.line()));
-                    }
-                    continue;
+            match built {
+                Ok((tracked, swing, assumed)) => {
+                    self.write(path, format, &tracked, &swing, &assumed, stamp_ns)?;
+                    file_report.swings += 1;
                 }
-            };
-            stamps.last = Some(stamp_ns);
-            let out = match output.as_mut() {
-                Some(out) => out,
-                None => output.insert(Output::create(dir, options, stamp_ns)?),
-            };
-            // Log times never go backwards (files need not be in time order); header.stamp keeps the row's time.
-            let log_ns = stamp_ns.max(out.last_log_ns + 1);
-            out.last_log_ns = log_ns;
-            let cdr = encode_cdr(&swing).map_err(|e| ImportError::Bag(BagError::Format(e.to_string())))?;
-            out.writer.write(out.swing_topic, &cdr, log_ns, log_ns)?;
-            let names = assumed.names();
-            for name in &names {
-                *report.assumed.entry((*name).to_string()).or_default() += 1;
+                Err(skip) => self.skip(&skip, path, row.line()),
             }
-            let length =
-                if tracked.swing_length.is_finite() { format!("{}", tracked.swing_length) } else { String::new() };
-            out.rows
-                .write_record([
-                    swing.swing_id.to_string().as_str(),
-                    &spreadsheet_safe(&path.display().to_string()),
-                    &tracked.line.to_string(),
-                    format.name(),
-                    &spreadsheet_safe(&tracked.batter),
-                    &spreadsheet_safe(&tracked.pitcher),
-                    &spreadsheet_safe(&tracked.pitch_id),
-                    &spreadsheet_safe(&tracked.call),
-                    &length,
-                    &names.join(";"),
-                ])
-                .map_err(|e| ImportError::Csv { path: dir.join(ROWS_TABLE), line: None, message: e.to_string() })?;
-            report.swings += 1;
-            file_report.swings += 1;
         }
-        report.files.push(file_report);
+        Ok(file_report)
     }
-    let Some(mut out) = output else {
-        return Err(no_swings(&report.skipped));
-    };
-    out.rows.flush().map_err(|error| ImportError::Io { path: dir.join(ROWS_TABLE), error })?;
+
+    /// A measured bat speed counts toward its batter's statistics whether or not the row becomes a swing.
+    fn count_bat_speed(&mut self, t: &TrackedRow) {
+        if t.bat_speed.is_finite() && t.bat_speed > 0.0 && t.bat_speed <= MAX_BAT_SPEED {
+            let stats = self
+                .report
+                .batters
+                .entry(t.batter.clone())
+                .or_insert(BatterStats { swing_length: f64::NAN, ..BatterStats::default() });
+            stats.add(t.bat_speed, t.swing_length);
+        }
+    }
+
+    /// Counts a row that became no swing by its reason; a refusal is also listed, up to [`MAX_REFUSALS_LISTED`].
+    fn skip(&mut self, skip: &Skip, path: &Path, line: u64) {
+        *self.report.skipped.entry(skip.reason()).or_default() += 1;
+        if skip.is_refusal() && self.report.refused.len() < MAX_REFUSALS_LISTED {
+            self.report.refused.push(format!("{}, line {line}: {skip}", path.display()));
+        }
+    }
+
+    /// Writes the swing of a row of `path` to the bag (created with the first) and the row to the side table.
+    fn write(
+        &mut self,
+        path: &Path,
+        format: Format,
+        tracked: &TrackedRow,
+        swing: &Swing,
+        assumed: &Assumed,
+        stamp_ns: u64,
+    ) -> Result<(), ImportError> {
+        self.stamps.last = Some(stamp_ns);
+        let out = match self.output.as_mut() {
+            Some(out) => out,
+            None => self.output.insert(Output::create(self.dir, self.options, stamp_ns)?),
+        };
+        // Log times never go backwards (files need not be in time order); header.stamp keeps the row's time.
+        let log_ns = stamp_ns.max(out.last_log_ns + 1);
+        out.last_log_ns = log_ns;
+        let cdr = encode_cdr(swing).map_err(|e| ImportError::Bag(BagError::Format(e.to_string())))?;
+        out.writer.write(out.swing_topic, &cdr, log_ns, log_ns)?;
+        let names = assumed.names();
+        for name in &names {
+            *self.report.assumed.entry((*name).to_string()).or_default() += 1;
+        }
+        let length = if tracked.swing_length.is_finite() { format!("{}", tracked.swing_length) } else { String::new() };
+        out.rows
+            .write_record([
+                swing.swing_id.to_string().as_str(),
+                &spreadsheet_safe(&path.display().to_string()),
+                &tracked.line.to_string(),
+                format.name(),
+                &spreadsheet_safe(&tracked.batter),
+                &spreadsheet_safe(&tracked.pitcher),
+                &spreadsheet_safe(&tracked.pitch_id),
+                &spreadsheet_safe(&tracked.call),
+                &length,
+                &names.join(";"),
+            ])
+            .map_err(|e| ImportError::Csv { path: self.dir.join(ROWS_TABLE), line: None, message: e.to_string() })?;
+        self.report.swings += 1;
+        Ok(())
+    }
+
+    /// Closes the bag with the import's custom data; [`ImportError::NoSwings`] when no row became a swing.
+    fn finish(self) -> Result<ImportReport, ImportError> {
+        let Import { dir, options, output, report, .. } = self;
+        let Some(mut out) = output else {
+            return Err(no_swings(&report.skipped));
+        };
+        out.rows.flush().map_err(|error| ImportError::Io { path: dir.join(ROWS_TABLE), error })?;
+        out.writer.set_custom_data(import_custom_data(&report, options));
+        out.writer.finish()?;
+        Ok(report)
+    }
+}
+
+/// The bag's custom data: the node's settings and what was imported (formats, files, side table, column map,
+/// the counts of assumed fields).
+fn import_custom_data(report: &ImportReport, options: &ImportOptions) -> BTreeMap<String, String> {
     let mut custom = bag_custom_data();
     let formats: std::collections::BTreeSet<&str> = report.files.iter().map(|f| f.format.name()).collect();
     custom.insert("sweetspot/import/formats".into(), formats.into_iter().collect::<Vec<_>>().join(","));
@@ -1005,9 +1074,7 @@ fn import_into(files: &[PathBuf], dir: &Path, options: &ImportOptions) -> Result
         "sweetspot/import/assumed".into(),
         report.assumed.iter().map(|(k, n)| format!("{k}:{n}")).collect::<Vec<_>>().join(","),
     );
-    out.writer.set_custom_data(custom);
-    out.writer.finish()?;
-    Ok(report)
+    custom
 }
 
 #[cfg(test)]

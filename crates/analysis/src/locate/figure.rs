@@ -161,87 +161,122 @@ fn batter_panels(
     group: &Group,
     sweet: f64,
 ) -> (LineChart, LineChart) {
-    let all = || group.favoured.iter().chain(&group.others);
     let x_range = outline.and_then(|o| Some((o.first()?.0, o.last()?.0))).unwrap_or_else(|| {
-        let (lo, hi) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+        let (lo, hi) =
+            group.solutions().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
         (lo - 0.05, hi + 0.05)
     });
-    let band =
-        || Band { from: sweet - SQUARED_UP, to: sweet + SQUARED_UP, label: "squared up (±2 cm)".into(), color: 2 };
-    let sweet_marker = || VerticalMarker { x: sweet, label: "sweet spot (median)".into(), color: 2, dashed: true };
-    // The bat: outline ±r in mm, impact points on its axis with ± σ along it.
-    let mut bat_series = Vec::new();
-    let mut r_max: f64 = 0.0;
-    if let Some(outline) = outline {
-        // One closed path: along the top edge to the end, back along the bottom edge.
-        let mut points: Vec<(f64, f64)> = outline.iter().map(|&(z, r)| (z, r * MM)).collect();
-        points.extend(outline.iter().rev().map(|&(z, r)| (z, -r * MM)));
-        points.push((outline[0].0, outline[0].1 * MM));
-        r_max = outline.iter().fold(0.0, |m, p| m.max(p.1 * MM));
-        bat_series.push(Series::solid(format!("{bat_id} outline (±radius)"), 6, points));
+    let panels = BatterPanels { title, group, sweet, x_range };
+    (panels.bat(bat_id, outline), panels.undercut())
+}
+
+impl Group {
+    /// Every solution, the favoured first.
+    fn solutions(&self) -> impl Iterator<Item = &[f64; 4]> {
+        self.favoured.iter().chain(&self.others)
     }
-    let r_max = if r_max > 0.0 { r_max } else { 35.0 };
-    bat_series.push(Series {
-        label: "impact point".into(),
-        points: all().map(|p| (p[0], 0.0)).collect(),
-        color: 0,
-        kind: LineKind::Markers { radius: 3, filled: true },
-    });
-    let upper = LineChart {
-        title: title.to_string(),
-        x_label: "z from the knob (m)".into(),
-        y_label: "bat radius (mm)".into(),
-        series: bat_series,
-        markers: vec![sweet_marker()],
-        bands: vec![band()],
-        error_bars: vec![ErrorBars {
-            label: "impact point ± σ".into(),
+}
+
+/// What a batter's two panels share: the title, the solutions, the sweet spot and the z range.
+struct BatterPanels<'a> {
+    title: &'a str,
+    group: &'a Group,
+    sweet: f64,
+    x_range: (f64, f64),
+}
+
+impl BatterPanels<'_> {
+    fn squared_up_band(&self) -> Band {
+        Band {
+            from: self.sweet - SQUARED_UP,
+            to: self.sweet + SQUARED_UP,
+            label: "squared up (±2 cm)".into(),
+            color: 2,
+        }
+    }
+
+    fn sweet_spot_marker(&self) -> VerticalMarker {
+        VerticalMarker { x: self.sweet, label: "sweet spot (median)".into(), color: 2, dashed: true }
+    }
+
+    /// The bat: outline ±r in mm, impact points on its axis with ± σ along it.
+    fn bat(&self, bat_id: &str, outline: Option<&Vec<(f64, f64)>>) -> LineChart {
+        let mut bat_series = Vec::new();
+        let mut r_max: f64 = 0.0;
+        if let Some(outline) = outline {
+            // One closed path: along the top edge to the end, back along the bottom edge.
+            let mut points: Vec<(f64, f64)> = outline.iter().map(|&(z, r)| (z, r * MM)).collect();
+            points.extend(outline.iter().rev().map(|&(z, r)| (z, -r * MM)));
+            points.push((outline[0].0, outline[0].1 * MM));
+            r_max = outline.iter().fold(0.0, |m, p| m.max(p.1 * MM));
+            bat_series.push(Series::solid(format!("{bat_id} outline (±radius)"), 6, points));
+        }
+        let r_max = if r_max > 0.0 { r_max } else { 35.0 };
+        bat_series.push(Series {
+            label: "impact point".into(),
+            points: self.group.solutions().map(|p| (p[0], 0.0)).collect(),
             color: 0,
-            bars: all().map(|p| (0.0, p[0] - p[1], p[0] + p[1])).collect(),
-            horizontal: true,
-        }],
-        x_range: Some(x_range),
-        // Room above the barrel for the legend, over the handle.
-        y_range: Some((-1.3 * r_max, 2.6 * r_max)),
-        legend: LegendAt::UpperLeft,
-        ..Default::default()
-    };
-    // The undercut of every solution, with its ± σ.
-    let to_point = |p: &[f64; 4]| (p[0], p[2] * MM);
-    let series = vec![
-        Series {
-            label: "favoured solution".into(),
-            points: group.favoured.iter().map(to_point).collect(),
-            color: 0,
-            kind: LineKind::Markers { radius: MARKER_RADIUS, filled: true },
-        },
-        Series {
-            label: "other solution".into(),
-            points: group.others.iter().map(to_point).collect(),
-            color: 1,
-            kind: LineKind::Markers { radius: MARKER_RADIUS, filled: false },
-        },
-    ];
-    let bars = all().filter(|p| p[3] > 0.0).map(|p| (p[0], (p[2] - p[3]) * MM, (p[2] + p[3]) * MM)).collect();
-    let (lo, hi) = all()
-        .flat_map(|p| [(p[2] - p[3]) * MM, (p[2] + p[3]) * MM])
-        .filter(|y| y.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y), hi.max(y)));
-    let (lo, hi) = if lo.is_finite() { (lo.min(0.0), hi.max(0.0)) } else { (-10.0, 10.0) };
-    let span = (hi - lo).max(2.0);
-    let lower = LineChart {
-        title: format!("{title}: undercut"),
-        x_label: "z from the knob (m)".into(),
-        y_label: "undercut D (mm, ball centre above the bat's path +)".into(),
-        series,
-        markers: vec![sweet_marker()],
-        bands: vec![band()],
-        error_bars: vec![ErrorBars { label: "± σ".into(), color: 0, bars, horizontal: false }],
-        x_range: Some(x_range),
-        y_range: Some((lo - 0.1 * span, hi + 0.9 * span)),
-        zero_line: true,
-        legend: LegendAt::UpperLeft,
-        ..Default::default()
-    };
-    (upper, lower)
+            kind: LineKind::Markers { radius: 3, filled: true },
+        });
+        LineChart {
+            title: self.title.to_string(),
+            x_label: "z from the knob (m)".into(),
+            y_label: "bat radius (mm)".into(),
+            series: bat_series,
+            markers: vec![self.sweet_spot_marker()],
+            bands: vec![self.squared_up_band()],
+            error_bars: vec![ErrorBars {
+                label: "impact point ± σ".into(),
+                color: 0,
+                bars: self.group.solutions().map(|p| (0.0, p[0] - p[1], p[0] + p[1])).collect(),
+                horizontal: true,
+            }],
+            x_range: Some(self.x_range),
+            // Room above the barrel for the legend, over the handle.
+            y_range: Some((-1.3 * r_max, 2.6 * r_max)),
+            legend: LegendAt::UpperLeft,
+            ..Default::default()
+        }
+    }
+
+    /// The undercut of every solution, with its ± σ.
+    fn undercut(&self) -> LineChart {
+        let to_point = |p: &[f64; 4]| (p[0], p[2] * MM);
+        let series = vec![
+            Series {
+                label: "favoured solution".into(),
+                points: self.group.favoured.iter().map(to_point).collect(),
+                color: 0,
+                kind: LineKind::Markers { radius: MARKER_RADIUS, filled: true },
+            },
+            Series {
+                label: "other solution".into(),
+                points: self.group.others.iter().map(to_point).collect(),
+                color: 1,
+                kind: LineKind::Markers { radius: MARKER_RADIUS, filled: false },
+            },
+        ];
+        let all = || self.group.solutions();
+        let bars = all().filter(|p| p[3] > 0.0).map(|p| (p[0], (p[2] - p[3]) * MM, (p[2] + p[3]) * MM)).collect();
+        let (lo, hi) = all()
+            .flat_map(|p| [(p[2] - p[3]) * MM, (p[2] + p[3]) * MM])
+            .filter(|y| y.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y), hi.max(y)));
+        let (lo, hi) = if lo.is_finite() { (lo.min(0.0), hi.max(0.0)) } else { (-10.0, 10.0) };
+        let span = (hi - lo).max(2.0);
+        LineChart {
+            title: format!("{}: undercut", self.title),
+            x_label: "z from the knob (m)".into(),
+            y_label: "undercut D (mm, ball centre above the bat's path +)".into(),
+            series,
+            markers: vec![self.sweet_spot_marker()],
+            bands: vec![self.squared_up_band()],
+            error_bars: vec![ErrorBars { label: "± σ".into(), color: 0, bars, horizontal: false }],
+            x_range: Some(self.x_range),
+            y_range: Some((lo - 0.1 * span, hi + 0.9 * span)),
+            zero_line: true,
+            legend: LegendAt::UpperLeft,
+            ..Default::default()
+        }
+    }
 }

@@ -129,165 +129,300 @@ fn preset(name: &str) -> Result<Bat> {
     Bat::preset(name).with_context(|| format!("bat preset '{name}'"))
 }
 
+/// Where the seed figures' curves start, m from the knob.
+const CURVES_FROM: f64 = 0.25;
+
+/// The seed's panel of a figure: exit speed against impact point at its printed effective COR.
+fn seed_panel(title: String, series: Vec<Series>) -> LineChart {
+    LineChart {
+        notes: vec![E_EFF_NOTE.into()],
+        title,
+        x_label: Z_LABEL.into(),
+        y_label: EXIT_SPEED_LABEL.into(),
+        series,
+        ..Default::default()
+    }
+}
+
+/// Fig. 6's swing: the bat translating at `v_bat` into the seed's ball, no rotation.
+fn fig6_swing(v_bat: f64) -> Impact {
+    Impact { ball_speed: SEED_FIG6_BALL_SPEED, bat_cm_speed: v_bat, bat_angular_speed: 0.0, impact_z: f64::NAN }
+}
+
+/// What every figure of [`write_figures`] shares: the directory it lands in and the settings it is drawn with.
+struct FigureWriter<'a> {
+    dir: &'a Path,
+    s: &'a FigureSettings,
+}
+
+impl FigureWriter<'_> {
+    /// The seed's rigid curve of a table bat over the figures' impact points.
+    fn seed(&self, bat: &RigidBat, swing: &Impact, bat_speed_at_impact: Option<f64>) -> Result<Vec<(f64, f64)>> {
+        seed_curve(bat, self.s.ball.mass, swing, bat_speed_at_impact, CURVES_FROM, self.s.points)
+    }
+
+    /// The physical model's curve of a bat over the figures' impact points.
+    fn physical(&self, bat: &Bat, swing: &Impact) -> Result<(PhysicalCurve, ModeSet)> {
+        physical_curve(bat, self.s, swing, CURVES_FROM)
+    }
+
+    /// Draws the seed's panel beside the model's into `STEM.EXT` under `title`.
+    fn seed_beside_model(
+        &self,
+        stem: &str,
+        panels: [LineChart; 2],
+        title: &str,
+        caption: String,
+    ) -> Result<FigureEntry> {
+        let file = format!("{stem}.{}", self.s.format.extension());
+        draw_panels(&self.dir.join(&file), &panels, 2, Some(title))?;
+        Ok(FigureEntry { file, caption })
+    }
+
+    /// Figure 2: rigid exit speed against impact point.
+    fn figure2(&self, normal: &RigidBat, r161: &PhysicalCurve, r161_modes: &ModeSet) -> Result<FigureEntry> {
+        let (s, swing, m) = (self.s, &self.s.swing, self.s.ball.mass);
+        let seed = LineChart {
+            markers: vec![marker(normal.optimum_impact_z(m, swing), "rigid optimum (eq. 6)", 6, false)],
+            ..seed_panel(
+                format!("Seed Table 1 bat, rigid, e_eff = {}", normal.effective_cor),
+                vec![Series::solid("seed Table 1 normal bat (rigid, eq. 4)", 0, self.seed(normal, swing, None)?)],
+            )
+        };
+        let mut model = physical_panel("R161 (Nathan), physical model", &[("R161", r161, 0)]);
+        model.markers.extend(node_markers(r161_modes, CURVES_FROM));
+        self.seed_beside_model(
+            "fig2-rigid-exit-speed",
+            [seed, model],
+            &format!("Figure 2: exit speed vs impact point ({})", swing_text(swing)),
+            format!(
+                "**Figure 2 — exit speed against impact point.** Left: the seed's rigid-bat model (its eq. 4) for \
+                 the Table 1 normal bat with its printed effective COR {}; the vertical line is the closed-form \
+                 optimum (eq. 6, re-derived). Right: the R161 wood bat as a flexible Timoshenko beam ({} modes, \
+                 solid) and as a rigid bat with the ball's e0 = {} (dashed), with the nodes of modes 1 and 2. \
+                 Swing: {}.",
+                normal.effective_cor,
+                s.options.modes,
+                s.ball.cor,
+                swing_text(swing)
+            ),
+        )
+    }
+
+    /// Figure 5: normal against corked.
+    fn figure5(&self, normal: &RigidBat, corked: &RigidBat, r161: &PhysicalCurve) -> Result<FigureEntry> {
+        let swing = &self.s.swing;
+        let (r161c, _) = self.physical(&preset("r161-corked")?, swing)?;
+        let seed = seed_panel(
+            format!("Seed Table 1, rigid, e_eff = {}", normal.effective_cor),
+            vec![
+                Series::solid("normal bat", 0, self.seed(normal, swing, None)?),
+                Series::solid("corked bat", 1, self.seed(corked, swing, None)?),
+            ],
+        );
+        let model =
+            physical_panel("Physical model: R161 vs R161 corked", &[("R161", r161, 0), ("R161 corked", &r161c, 1)]);
+        self.seed_beside_model(
+            "fig5-normal-vs-corked",
+            [seed, model],
+            &format!("Figure 5: normal vs corked bat ({})", swing_text(swing)),
+            format!(
+                "**Figure 5 — normal against corked bat.** Left: the seed's Table 1 bats as printed (rigid, e_eff = \
+                 {} for both). Right: the R161 and the same bat with a 1-in, 10-in-deep cork-filled bore at the \
+                 barrel end, flexible (solid) and rigid with e0 (dashed). Swing: {}.",
+                normal.effective_cor,
+                swing_text(swing)
+            ),
+        )
+    }
+
+    /// Figure 6: wood against aluminum at the seed's speeds (bat speed at the impact point, no rotation).
+    fn figure6(&self, wood: &RigidBat, alu: &RigidBat) -> Result<FigureEntry> {
+        let swing = fig6_swing(SEED_FIG6_BAT_SPEED);
+        let seed = seed_panel(
+            "Seed Table 2, rigid, e_eff as printed".into(),
+            vec![
+                Series::solid(
+                    format!("wood (e_eff {})", wood.effective_cor),
+                    0,
+                    self.seed(wood, &swing, Some(SEED_FIG6_BAT_SPEED))?,
+                ),
+                Series::solid(
+                    format!("aluminum (e_eff {})", alu.effective_cor),
+                    1,
+                    self.seed(alu, &swing, Some(SEED_FIG6_BAT_SPEED))?,
+                ),
+            ],
+        );
+        let (wood6, _) = self.physical(&preset("r161")?, &swing)?;
+        let (alu6, alu_modes6) = self.physical(&preset("aluminum")?, &swing)?;
+        let alu_hoop = hoop_text(&alu_modes6);
+        let model = physical_panel(
+            "Physical model: R161 wood vs hollow aluminum (with its hoop mode)",
+            &[("R161 wood", &wood6, 0), ("aluminum + trampoline", &alu6, 1)],
+        );
+        let speeds = format!("v_ball = {SEED_FIG6_BALL_SPEED} m/s, v_bat = {SEED_FIG6_BAT_SPEED} m/s");
+        self.seed_beside_model(
+            "fig6-wood-vs-aluminum",
+            [seed, model],
+            &format!("Figure 6: wood vs aluminum ({speeds})"),
+            format!(
+                "**Figure 6 — wood against aluminum** at the seed's {speeds}, taken as the bat's speed at the impact \
+                 point (no rotation, so the rigid optimum is the centre of mass). Left: the seed's Table 2 bats as \
+                 printed (rigid; e_eff {} and {}). Right: the R161 and the hollow aluminum preset (mass, length, CM \
+                 and I matched to Table 2), flexible with the barrel wall's hoop (trampoline) mode in the collision \
+                 (solid; {alu_hoop}) and rigid with e0 (dashed; no trampoline). The wood bat has no hoop mode.",
+                wood.effective_cor, alu.effective_cor
+            ),
+        )
+    }
+
+    /// Figure 5 at equal batter effort: the seed's Table 1 bats and the R161 pair, each pair's batter measured
+    /// with the normal bat.
+    fn figure5_equal_effort(&self, normal: &RigidBat, corked: &RigidBat) -> Result<FigureEntry> {
+        let swing = &self.s.swing;
+        let seed_batter = batter_with_swing(seed_props(normal), swing)?;
+        let seed_corked = seed_batter.predict(&seed_props(corked))?;
+        let r161 = preset("r161")?;
+        let r161c = preset("r161-corked")?;
+        let batter = batter_with_swing(r161.mass_properties(), swing)?;
+        let corked_swing = batter.predict(&r161c.mass_properties())?;
+        let corked_impact = swing_of(&corked_swing, swing.ball_speed);
+        let (normal_curve, _) = self.physical(&r161, swing)?;
+        let (corked_curve, _) = self.physical(&r161c, &corked_impact)?;
+        let seed = seed_panel(
+            format!("Seed Table 1, rigid, e_eff = {}, equal effort", normal.effective_cor),
+            vec![
+                Series::solid("normal bat (reference swing)", 0, self.seed(normal, swing, None)?),
+                Series::solid(
+                    format!("corked bat (×{} speed)", num(seed_corked.speed_ratio, 4)),
+                    1,
+                    self.seed(corked, &swing_of(&seed_corked, swing.ball_speed), None)?,
+                ),
+            ],
+        );
+        let model = physical_panel(
+            "Physical model at equal effort: R161 vs R161 corked",
+            &[
+                ("R161", &normal_curve, 0),
+                (&format!("R161 corked (×{} speed)", num(corked_swing.speed_ratio, 4)), &corked_curve, 1),
+            ],
+        );
+        self.seed_beside_model(
+            "fig5-normal-vs-corked-equal-effort",
+            [seed, model],
+            &format!("Figure 5 at equal batter effort (normal bat: {})", swing_text(swing)),
+            format!(
+                "**Figure 5 at equal batter effort.** As Figure 5, but the corked bat is swung as the same batter \
+                 would swing it: the normal bat at the figure's swing, the corked bat {}× faster in the seed's \
+                 Table 1 (swing weight {} vs {} kg·m² about the 6-in pivot) and {}× faster for the R161 pair ({} vs \
+                 {} kg·m²), from v ∝ I^(−{DEFAULT_EXPONENT}) with the swing's pivot kept (`physics::batter`).",
+                num(seed_corked.speed_ratio, 4),
+                num(seed_corked.swing_weight, 4),
+                num(seed_batter.reference_swing_weight(), 4),
+                num(corked_swing.speed_ratio, 4),
+                num(corked_swing.swing_weight, 4),
+                num(batter.reference_swing_weight(), 4),
+            ),
+        )
+    }
+
+    /// Figure 6 at equal batter effort: the seed's translation-only swing of the wood bat; the aluminum bat's
+    /// speed scaled by the speed ratio of the two swing weights (the swing has no rotation, so there is no
+    /// pivot to keep).
+    fn figure6_equal_effort(&self, wood: &RigidBat, alu: &RigidBat) -> Result<FigureEntry> {
+        let seed_ratio =
+            speed_ratio(swing_weight(&seed_props(alu)), swing_weight(&seed_props(wood)), DEFAULT_EXPONENT)?;
+        let wood_bat = preset("r161")?;
+        let alu_bat = preset("aluminum")?;
+        let ratio = speed_ratio(
+            swing_weight(&alu_bat.mass_properties()),
+            swing_weight(&wood_bat.mass_properties()),
+            DEFAULT_EXPONENT,
+        )?;
+        let seed_alu_speed = SEED_FIG6_BAT_SPEED * seed_ratio;
+        let alu_speed = SEED_FIG6_BAT_SPEED * ratio;
+        let seed = seed_panel(
+            "Seed Table 2, rigid, e_eff as printed, equal effort".into(),
+            vec![
+                Series::solid(
+                    format!("wood (e_eff {}, {} m/s)", wood.effective_cor, SEED_FIG6_BAT_SPEED),
+                    0,
+                    self.seed(wood, &fig6_swing(SEED_FIG6_BAT_SPEED), Some(SEED_FIG6_BAT_SPEED))?,
+                ),
+                Series::solid(
+                    format!("aluminum (e_eff {}, {} m/s)", alu.effective_cor, num(seed_alu_speed, 3)),
+                    1,
+                    self.seed(alu, &fig6_swing(seed_alu_speed), Some(seed_alu_speed))?,
+                ),
+            ],
+        );
+        let (wood_curve, _) = self.physical(&wood_bat, &fig6_swing(SEED_FIG6_BAT_SPEED))?;
+        let (alu_curve, alu_modes) = self.physical(&alu_bat, &fig6_swing(alu_speed))?;
+        let model = physical_panel(
+            "Physical model at equal effort: R161 wood vs hollow aluminum",
+            &[
+                ("R161 wood", &wood_curve, 0),
+                (&format!("aluminum + trampoline ({} m/s)", num(alu_speed, 3)), &alu_curve, 1),
+            ],
+        );
+        self.seed_beside_model(
+            "fig6-wood-vs-aluminum-equal-effort",
+            [seed, model],
+            &format!(
+                "Figure 6 at equal batter effort (v_ball = {SEED_FIG6_BALL_SPEED} m/s, wood v_bat = \
+                 {SEED_FIG6_BAT_SPEED} m/s)"
+            ),
+            format!(
+                "**Figure 6 at equal batter effort.** As Figure 6, but the aluminum bat's speed at the impact point \
+                 is the wood bat's {SEED_FIG6_BAT_SPEED} m/s times the batter model's speed ratio of the two swing \
+                 weights (n = {DEFAULT_EXPONENT}): {} m/s for the seed's Table 2 bats, {} m/s for the R161 and the \
+                 aluminum preset ({hoop}).",
+                num(seed_alu_speed, 4),
+                num(alu_speed, 4),
+                hoop = hoop_text(&alu_modes),
+            ),
+        )
+    }
+
+    /// Mode shapes of every preset.
+    fn mode_shapes(&self) -> Result<FigureEntry> {
+        let mut panels = Vec::new();
+        for name in Bat::preset_names() {
+            let bat = preset(name)?;
+            let modes = ModeSet::compute(&bat, SHAPES_PER_BAT).with_context(|| format!("normal modes of '{name}'"))?;
+            panels.push(mode_shapes_chart(name, &modes, SHAPES_PER_BAT));
+        }
+        let file = format!("mode-shapes.{}", self.s.format.extension());
+        draw_panels(&self.dir.join(&file), &panels, 2, Some("Free–free bending modes of the preset bats"))?;
+        Ok(FigureEntry {
+            file,
+            caption: format!(
+                "**Mode shapes.** Transverse displacement of the first {SHAPES_PER_BAT} vibrational modes of each \
+                 preset (free–free Timoshenko beam), scaled to a peak of 1 and signed positive at the barrel end; \
+                 legend gives the frequencies. Zero crossings are the nodes."
+            ),
+        })
+    }
+}
+
 /// Writes every figure and `DIR/README.md`; returns the figures written.
 pub fn write_figures(dir: &Path, s: &FigureSettings) -> Result<Vec<FigureEntry>> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create '{}'", dir.display()))?;
-    let ext = s.format.extension();
-    let mut entries = Vec::new();
-    let from = 0.25;
-    let swing = s.swing;
-    let m = s.ball.mass;
-
-    // Figure 2: rigid exit speed against impact point.
+    let figures = FigureWriter { dir, s };
     let normal = rigid_seed_bat("seed-table1-normal")?;
-    let (r161, r161_modes) = physical_curve(&preset("r161")?, s, &swing, from)?;
-    let seed_panel = LineChart {
-        notes: vec![E_EFF_NOTE.into()],
-        title: format!("Seed Table 1 bat, rigid, e_eff = {}", normal.effective_cor),
-        x_label: Z_LABEL.into(),
-        y_label: EXIT_SPEED_LABEL.into(),
-        series: vec![Series::solid(
-            "seed Table 1 normal bat (rigid, eq. 4)",
-            0,
-            seed_curve(&normal, m, &swing, None, from, s.points)?,
-        )],
-        markers: vec![marker(normal.optimum_impact_z(m, &swing), "rigid optimum (eq. 6)", 6, false)],
-        ..Default::default()
-    };
-    let mut model_panel = physical_panel("R161 (Nathan), physical model", &[("R161", &r161, 0)]);
-    model_panel.markers.extend(node_markers(&r161_modes, from));
-    let file = format!("fig2-rigid-exit-speed.{ext}");
-    draw_panels(
-        &dir.join(&file),
-        &[seed_panel, model_panel],
-        2,
-        Some(&format!("Figure 2: exit speed vs impact point ({})", swing_text(&swing))),
-    )?;
-    entries.push(FigureEntry {
-        file,
-        caption: format!(
-            "**Figure 2 — exit speed against impact point.** Left: the seed's rigid-bat model (its eq. 4) for the \
-             Table 1 normal bat with its printed effective COR {}; the vertical line is the closed-form optimum \
-             (eq. 6, re-derived). Right: the R161 wood bat as a flexible Timoshenko beam ({} modes, solid) and as a \
-             rigid bat with the ball's e0 = {} (dashed), with the nodes of modes 1 and 2. Swing: {}.",
-            normal.effective_cor,
-            s.options.modes,
-            s.ball.cor,
-            swing_text(&swing)
-        ),
-    });
-
-    // Figure 5: normal against corked.
+    let (r161, r161_modes) = figures.physical(&preset("r161")?, &s.swing)?;
+    let mut entries = vec![figures.figure2(&normal, &r161, &r161_modes)?];
     let corked = rigid_seed_bat("seed-table1-corked")?;
-    let (r161c, _) = physical_curve(&preset("r161-corked")?, s, &swing, from)?;
-    let seed_panel = LineChart {
-        notes: vec![E_EFF_NOTE.into()],
-        title: format!("Seed Table 1, rigid, e_eff = {}", normal.effective_cor),
-        x_label: Z_LABEL.into(),
-        y_label: EXIT_SPEED_LABEL.into(),
-        series: vec![
-            Series::solid("normal bat", 0, seed_curve(&normal, m, &swing, None, from, s.points)?),
-            Series::solid("corked bat", 1, seed_curve(&corked, m, &swing, None, from, s.points)?),
-        ],
-        ..Default::default()
-    };
-    let model_panel =
-        physical_panel("Physical model: R161 vs R161 corked", &[("R161", &r161, 0), ("R161 corked", &r161c, 1)]);
-    let file = format!("fig5-normal-vs-corked.{ext}");
-    draw_panels(
-        &dir.join(&file),
-        &[seed_panel, model_panel],
-        2,
-        Some(&format!("Figure 5: normal vs corked bat ({})", swing_text(&swing))),
-    )?;
-    entries.push(FigureEntry {
-        file,
-        caption: format!(
-            "**Figure 5 — normal against corked bat.** Left: the seed's Table 1 bats as printed (rigid, e_eff = {} \
-             for both). Right: the R161 and the same bat with a 1-in, 10-in-deep cork-filled bore at the barrel end, \
-             flexible (solid) and rigid with e0 (dashed). Swing: {}.",
-            normal.effective_cor,
-            swing_text(&swing)
-        ),
-    });
-
-    // Figure 6: wood against aluminum at the seed's speeds (bat speed at the impact point, no rotation).
+    entries.push(figures.figure5(&normal, &corked, &r161)?);
     let wood = rigid_seed_bat("seed-table2-wood")?;
     let alu = rigid_seed_bat("seed-table2-aluminum")?;
-    let fig6_swing = Impact {
-        ball_speed: SEED_FIG6_BALL_SPEED,
-        bat_cm_speed: SEED_FIG6_BAT_SPEED,
-        bat_angular_speed: 0.0,
-        impact_z: f64::NAN,
-    };
-    let seed_panel = LineChart {
-        notes: vec![E_EFF_NOTE.into()],
-        title: "Seed Table 2, rigid, e_eff as printed".into(),
-        x_label: Z_LABEL.into(),
-        y_label: EXIT_SPEED_LABEL.into(),
-        series: vec![
-            Series::solid(
-                format!("wood (e_eff {})", wood.effective_cor),
-                0,
-                seed_curve(&wood, m, &fig6_swing, Some(SEED_FIG6_BAT_SPEED), from, s.points)?,
-            ),
-            Series::solid(
-                format!("aluminum (e_eff {})", alu.effective_cor),
-                1,
-                seed_curve(&alu, m, &fig6_swing, Some(SEED_FIG6_BAT_SPEED), from, s.points)?,
-            ),
-        ],
-        ..Default::default()
-    };
-    let (wood6, _) = physical_curve(&preset("r161")?, s, &fig6_swing, from)?;
-    let (alu6, alu_modes6) = physical_curve(&preset("aluminum")?, s, &fig6_swing, from)?;
-    let alu_hoop = hoop_text(&alu_modes6);
-    let model_panel = physical_panel(
-        "Physical model: R161 wood vs hollow aluminum (with its hoop mode)",
-        &[("R161 wood", &wood6, 0), ("aluminum + trampoline", &alu6, 1)],
-    );
-    let file = format!("fig6-wood-vs-aluminum.{ext}");
-    let speeds = format!("v_ball = {SEED_FIG6_BALL_SPEED} m/s, v_bat = {SEED_FIG6_BAT_SPEED} m/s");
-    draw_panels(
-        &dir.join(&file),
-        &[seed_panel, model_panel],
-        2,
-        Some(&format!("Figure 6: wood vs aluminum ({speeds})")),
-    )?;
-    entries.push(FigureEntry {
-        file,
-        caption: format!(
-            "**Figure 6 — wood against aluminum** at the seed's {speeds}, taken as the bat's speed at the impact \
-             point (no rotation, so the rigid optimum is the centre of mass). Left: the seed's Table 2 bats as \
-             printed (rigid; e_eff {} and {}). Right: the R161 and the hollow aluminum preset (mass, length, CM and \
-             I matched to Table 2), flexible with the barrel wall's hoop (trampoline) mode in the collision (solid; \
-             {alu_hoop}) and rigid with e0 (dashed; no trampoline). The wood bat has no hoop mode.",
-            wood.effective_cor, alu.effective_cor
-        ),
-    });
-
-    entries.extend(write_equal_effort_figures(dir, s, &normal, &corked, &wood, &alu)?);
+    entries.push(figures.figure6(&wood, &alu)?);
+    entries.push(figures.figure5_equal_effort(&normal, &corked)?);
+    entries.push(figures.figure6_equal_effort(&wood, &alu)?);
     entries.push(write_compare_figure(dir, s)?);
     entries.push(write_wall_thickness_figure(dir, s)?);
-
-    // Mode shapes of every preset.
-    let mut panels = Vec::new();
-    for name in Bat::preset_names() {
-        let bat = preset(name)?;
-        let modes = ModeSet::compute(&bat, SHAPES_PER_BAT).with_context(|| format!("normal modes of '{name}'"))?;
-        panels.push(mode_shapes_chart(name, &modes, SHAPES_PER_BAT));
-    }
-    let file = format!("mode-shapes.{ext}");
-    draw_panels(&dir.join(&file), &panels, 2, Some("Free–free bending modes of the preset bats"))?;
-    entries.push(FigureEntry {
-        file,
-        caption: format!(
-            "**Mode shapes.** Transverse displacement of the first {SHAPES_PER_BAT} vibrational modes of each preset \
-             (free–free Timoshenko beam), scaled to a peak of 1 and signed positive at the barrel end; legend gives \
-             the frequencies. Zero crossings are the nodes."
-        ),
-    });
-
+    entries.push(figures.mode_shapes()?);
     std::fs::write(dir.join("README.md"), index_markdown(&entries, s))
         .with_context(|| format!("cannot write '{}'", dir.join("README.md").display()))?;
     Ok(entries)
@@ -326,147 +461,6 @@ fn swing_of(prediction: &SwingPrediction, ball_speed: f64) -> Impact {
         bat_angular_speed: prediction.bat_angular_speed,
         impact_z: f64::NAN,
     }
-}
-
-/// Figures 5 and 6 at equal batter effort: the first bat of each pair at the figure's swing, the second at the
-/// speed the batter model predicts for its swing weight.
-fn write_equal_effort_figures(
-    dir: &Path,
-    s: &FigureSettings,
-    normal: &RigidBat,
-    corked: &RigidBat,
-    wood: &RigidBat,
-    alu: &RigidBat,
-) -> Result<Vec<FigureEntry>> {
-    let ext = s.format.extension();
-    let from = 0.25;
-    let m = s.ball.mass;
-    let swing = s.swing;
-    let mut entries = Vec::new();
-
-    // Figure 5: the seed's Table 1 bats and the R161 pair, each pair's batter measured with the normal bat.
-    let seed_batter = batter_with_swing(seed_props(normal), &swing)?;
-    let seed_corked = seed_batter.predict(&seed_props(corked))?;
-    let r161 = preset("r161")?;
-    let r161c = preset("r161-corked")?;
-    let batter = batter_with_swing(r161.mass_properties(), &swing)?;
-    let corked_swing = batter.predict(&r161c.mass_properties())?;
-    let corked_impact = swing_of(&corked_swing, swing.ball_speed);
-    let (normal_curve, _) = physical_curve(&r161, s, &swing, from)?;
-    let (corked_curve, _) = physical_curve(&r161c, s, &corked_impact, from)?;
-    let seed_panel = LineChart {
-        notes: vec![E_EFF_NOTE.into()],
-        title: format!("Seed Table 1, rigid, e_eff = {}, equal effort", normal.effective_cor),
-        x_label: Z_LABEL.into(),
-        y_label: EXIT_SPEED_LABEL.into(),
-        series: vec![
-            Series::solid("normal bat (reference swing)", 0, seed_curve(normal, m, &swing, None, from, s.points)?),
-            Series::solid(
-                format!("corked bat (×{} speed)", num(seed_corked.speed_ratio, 4)),
-                1,
-                seed_curve(corked, m, &swing_of(&seed_corked, swing.ball_speed), None, from, s.points)?,
-            ),
-        ],
-        ..Default::default()
-    };
-    let model_panel = physical_panel(
-        "Physical model at equal effort: R161 vs R161 corked",
-        &[
-            ("R161", &normal_curve, 0),
-            (&format!("R161 corked (×{} speed)", num(corked_swing.speed_ratio, 4)), &corked_curve, 1),
-        ],
-    );
-    let file = format!("fig5-normal-vs-corked-equal-effort.{ext}");
-    draw_panels(
-        &dir.join(&file),
-        &[seed_panel, model_panel],
-        2,
-        Some(&format!("Figure 5 at equal batter effort (normal bat: {})", swing_text(&swing))),
-    )?;
-    entries.push(FigureEntry {
-        file,
-        caption: format!(
-            "**Figure 5 at equal batter effort.** As Figure 5, but the corked bat is swung as the same batter would \
-             swing it: the normal bat at the figure's swing, the corked bat {}× faster in the seed's Table 1 \
-             (swing weight {} vs {} kg·m² about the 6-in pivot) and {}× faster for the R161 pair ({} vs {} \
-             kg·m²), from v ∝ I^(−{DEFAULT_EXPONENT}) with the swing's pivot kept (`physics::batter`).",
-            num(seed_corked.speed_ratio, 4),
-            num(seed_corked.swing_weight, 4),
-            num(seed_batter.reference_swing_weight(), 4),
-            num(corked_swing.speed_ratio, 4),
-            num(corked_swing.swing_weight, 4),
-            num(batter.reference_swing_weight(), 4),
-        ),
-    });
-
-    // Figure 6: the seed's translation-only swing of the wood bat; the aluminum bat's speed scaled by the
-    // speed ratio of the two swing weights (the swing has no rotation, so there is no pivot to keep).
-    let seed_ratio = speed_ratio(swing_weight(&seed_props(alu)), swing_weight(&seed_props(wood)), DEFAULT_EXPONENT)?;
-    let wood_bat = preset("r161")?;
-    let alu_bat = preset("aluminum")?;
-    let ratio = speed_ratio(
-        swing_weight(&alu_bat.mass_properties()),
-        swing_weight(&wood_bat.mass_properties()),
-        DEFAULT_EXPONENT,
-    )?;
-    let fig6 = |v_bat: f64| Impact {
-        ball_speed: SEED_FIG6_BALL_SPEED,
-        bat_cm_speed: v_bat,
-        bat_angular_speed: 0.0,
-        impact_z: f64::NAN,
-    };
-    let seed_alu_speed = SEED_FIG6_BAT_SPEED * seed_ratio;
-    let alu_speed = SEED_FIG6_BAT_SPEED * ratio;
-    let seed_panel = LineChart {
-        notes: vec![E_EFF_NOTE.into()],
-        title: "Seed Table 2, rigid, e_eff as printed, equal effort".into(),
-        x_label: Z_LABEL.into(),
-        y_label: EXIT_SPEED_LABEL.into(),
-        series: vec![
-            Series::solid(
-                format!("wood (e_eff {}, {} m/s)", wood.effective_cor, SEED_FIG6_BAT_SPEED),
-                0,
-                seed_curve(wood, m, &fig6(SEED_FIG6_BAT_SPEED), Some(SEED_FIG6_BAT_SPEED), from, s.points)?,
-            ),
-            Series::solid(
-                format!("aluminum (e_eff {}, {} m/s)", alu.effective_cor, num(seed_alu_speed, 3)),
-                1,
-                seed_curve(alu, m, &fig6(seed_alu_speed), Some(seed_alu_speed), from, s.points)?,
-            ),
-        ],
-        ..Default::default()
-    };
-    let (wood_curve, _) = physical_curve(&wood_bat, s, &fig6(SEED_FIG6_BAT_SPEED), from)?;
-    let (alu_curve, alu_modes) = physical_curve(&alu_bat, s, &fig6(alu_speed), from)?;
-    let model_panel = physical_panel(
-        "Physical model at equal effort: R161 wood vs hollow aluminum",
-        &[
-            ("R161 wood", &wood_curve, 0),
-            (&format!("aluminum + trampoline ({} m/s)", num(alu_speed, 3)), &alu_curve, 1),
-        ],
-    );
-    let file = format!("fig6-wood-vs-aluminum-equal-effort.{ext}");
-    draw_panels(
-        &dir.join(&file),
-        &[seed_panel, model_panel],
-        2,
-        Some(&format!(
-            "Figure 6 at equal batter effort (v_ball = {SEED_FIG6_BALL_SPEED} m/s, wood v_bat = {SEED_FIG6_BAT_SPEED} m/s)"
-        )),
-    )?;
-    entries.push(FigureEntry {
-        file,
-        caption: format!(
-            "**Figure 6 at equal batter effort.** As Figure 6, but the aluminum bat's speed at the impact point is \
-             the wood bat's {SEED_FIG6_BAT_SPEED} m/s times the batter model's speed ratio of the two swing weights \
-             (n = {DEFAULT_EXPONENT}): {} m/s for the seed's Table 2 bats, {} m/s for the R161 and the aluminum \
-             preset ({hoop}).",
-            num(seed_alu_speed, 4),
-            num(alu_speed, 4),
-            hoop = hoop_text(&alu_modes),
-        ),
-    });
-    Ok(entries)
 }
 
 /// One bat's exit speed along the barrel as a batter swings it at the reference effort.

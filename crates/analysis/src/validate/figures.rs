@@ -38,11 +38,20 @@ pub fn paths(dir: &Path, ext: &str) -> Vec<PathBuf> {
     NAMES.iter().map(|name| dir.join(format!("{name}.{ext}"))).collect()
 }
 
-fn draw(dir: &Path, name: &str, ext: &str, chart: &LineChart) -> Result<PathBuf, ValidateError> {
+/// Draws `dir/name.ext` with `render`, naming the file in its error.
+fn draw_with(
+    dir: &Path,
+    name: &str,
+    ext: &str,
+    render: impl FnOnce(&Path) -> anyhow::Result<()>,
+) -> Result<PathBuf, ValidateError> {
     let path = dir.join(format!("{name}.{ext}"));
-    draw_line_chart(&path, chart)
-        .map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
+    render(&path).map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
     Ok(path)
+}
+
+fn draw(dir: &Path, name: &str, ext: &str, chart: &LineChart) -> Result<PathBuf, ValidateError> {
+    draw_with(dir, name, ext, |path| draw_line_chart(path, chart))
 }
 
 fn param_or(inputs: &Inputs, case: &str, key: &str, default: f64) -> f64 {
@@ -67,13 +76,25 @@ pub fn write(
     report: &Report,
     lab: &Lab,
 ) -> Result<Vec<PathBuf>, ValidateError> {
-    let mut out = Vec::new();
-    let phys = |case: &str| {
-        let case = case.to_string();
-        move |source| ValidateError::Physics { case: case.clone(), source }
-    };
+    let mut out = vec![draw(dir, NAMES[0], ext, &cor_vs_speed(inputs, lab)?)?];
+    out.push(draw(dir, NAMES[1], ext, &spin_vs_launch(inputs, report, lab)?)?);
+    let bpf_panels = bpf_vs_hoop(inputs, lab)?;
+    out.push(draw_with(dir, NAMES[2], ext, |path| {
+        draw_panels(path, &bpf_panels, 1, Some("Alloy barrel, wall varied: lab test and swing"))
+    })?);
+    out.push(draw(dir, NAMES[3], ext, &exit_vs_impact(inputs, lab)?)?);
+    if let Some(radar) = radar_spin_vs_launch(inputs, report) {
+        out.push(draw(dir, NAMES[4], ext, &radar)?);
+    }
+    if let Some(chart) = spin_axis_clock(inputs, lab)? {
+        out.push(draw_with(dir, NAMES[5], ext, |path| draw_clock_chart(path, &chart))?);
+    }
+    Ok(out)
+}
 
-    // COR against speed: the model's balls on a rigid wall, the MLB specification, the ball_cor.toml rows.
+/// COR against speed: the model's balls on a rigid wall, the MLB specification, the ball_cor.toml rows.
+fn cor_vs_speed(inputs: &Inputs, lab: &Lab) -> Result<LineChart, ValidateError> {
+    let phys = |source| ValidateError::Physics { case: "figure cor".to_string(), source };
     let speeds = linspace(5.0, 70.0, 27);
     let mut cor = LineChart {
         title: "Ball COR against a rigid wall vs impact speed".into(),
@@ -82,12 +103,12 @@ pub fn write(
         ..Default::default()
     };
     for (i, name) in [lab.game_ball.as_str(), "bbcor"].iter().enumerate() {
-        let ball = Ball::preset(name).map_err(phys("figure cor"))?;
+        let ball = Ball::preset(name).map_err(phys)?;
         let curve = speeds
             .iter()
             .map(|&v| wall_cor(&ball, v, lab.options.time_step).map(|e| (v, e)))
             .collect::<Result<Vec<_>, _>>()
-            .map_err(phys("figure cor"))?;
+            .map_err(phys)?;
         cor.series.push(Series::solid(format!("model, `{name}` ball"), i, curve));
     }
     let mlb = 85.0 * sweetspot_physics::units::FT_PER_S;
@@ -97,10 +118,12 @@ pub fn write(
     if !measured.is_empty() {
         cor.series.push(points("measured (validation/ball_cor.toml)", 1, measured));
     }
-    out.push(draw(dir, NAMES[0], ext, &cor)?);
+    Ok(cor)
+}
 
-    // Spin against launch angle: game swing and tee tests of the model, TrackMan balls and bin medians, the tee
-    // test's largest measured spin.
+/// Spin against launch angle: game swing and tee tests of the model, TrackMan balls and bin medians, the tee
+/// test's largest measured spin.
+fn spin_vs_launch(inputs: &Inputs, report: &Report, lab: &Lab) -> Result<LineChart, ValidateError> {
     let mut spin = LineChart {
         title: "Batted-ball spin vs launch angle".into(),
         x_label: "launch angle (deg)".into(),
@@ -130,9 +153,19 @@ pub fn write(
         bars: iqr,
         horizontal: false,
     });
-    out.push(draw(dir, NAMES[1], ext, &spin)?);
+    Ok(spin)
+}
 
-    // BPF against hoop frequency.
+/// `(hoop frequency, value)` of the points with a hoop frequency, in order of frequency.
+fn by_hoop_frequency<P>(curve: &[P], hoop_hz: impl Fn(&P) -> f64, value: impl Fn(&P) -> f64) -> Vec<(f64, f64)> {
+    let mut sorted: Vec<(f64, f64)> =
+        curve.iter().filter(|p| hoop_hz(p).is_finite()).map(|p| (hoop_hz(p), value(p))).collect();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    sorted
+}
+
+/// BPF against hoop frequency (the lab test), above the exit speed of a swing at equal effort against it.
+fn bpf_vs_hoop(inputs: &Inputs, lab: &Lab) -> Result<[LineChart; 2], ValidateError> {
     let ball = inputs
         .measurements
         .row
@@ -142,9 +175,7 @@ pub fn write(
         .unwrap_or_else(|| "bbcor".into());
     let speed = param_or(inputs, "bpf_hoop_trend", "ball_speed_mph", 60.0) * MPH;
     let curve = lab.bpf_curve(&ball, speed)?;
-    let mut sorted: Vec<(f64, f64)> =
-        curve.iter().filter(|p| p.hoop_hz.is_finite()).map(|p| (p.hoop_hz, p.bpf)).collect();
-    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let sorted = by_hoop_frequency(&curve, |p| p.hoop_hz, |p| p.bpf);
     let band =
         vec![marker(1000.0, "measured hoop range 1–2.5 kHz", 2), marker(2500.0, "measured hoop range 1–2.5 kHz", 2)];
     let bpf = LineChart {
@@ -162,16 +193,8 @@ pub fn write(
         markers: band.clone(),
         ..Default::default()
     };
-    let mut swing: Vec<(f64, f64)> =
-        curve.iter().filter(|p| p.hoop_hz.is_finite()).map(|p| (p.hoop_hz, p.swing_exit_speed / MPH)).collect();
-    swing.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut matched: Vec<(f64, f64)> = lab
-        .matched_swing_curve()?
-        .iter()
-        .filter(|p| p.hoop_hz.is_finite())
-        .map(|p| (p.hoop_hz, p.exit_speed / MPH))
-        .collect();
-    matched.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let swing = by_hoop_frequency(&curve, |p| p.hoop_hz, |p| p.swing_exit_speed / MPH);
+    let matched = by_hoop_frequency(lab.matched_swing_curve()?, |p| p.hoop_hz, |p| p.exit_speed / MPH);
     let field = LineChart {
         title: "Exit speed in a swing at equal effort vs hoop frequency".into(),
         x_label: "hoop frequency 6 in from the end (Hz)".into(),
@@ -183,16 +206,15 @@ pub fn write(
         markers: band,
         ..Default::default()
     };
-    let path = dir.join(format!("{}.{ext}", NAMES[2]));
-    draw_panels(&path, &[bpf, field], 1, Some("Alloy barrel, wall varied: lab test and swing"))
-        .map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
-    out.push(path);
+    Ok([bpf, field])
+}
 
-    // Exit speed against the impact point, at equal effort.
+/// Exit speed against the impact point, at equal effort.
+fn exit_vs_impact(inputs: &Inputs, lab: &Lab) -> Result<LineChart, ValidateError> {
     let pitch = param_or(inputs, "cage_exit_difference_mph", "pitch_speed", 40.0);
     let cage = lab.cage("r161", "aluminum", pitch)?;
     let (_, _, wood, metal) = &*cage;
-    let exit = LineChart {
+    Ok(LineChart {
         title: "Exit speed vs impact point, one batter at equal effort".into(),
         x_label: "distance from the barrel end (in)".into(),
         y_label: "exit speed (mph)".into(),
@@ -202,50 +224,44 @@ pub fn write(
             marker(7.0, "first-mode node, measured 5–7 in", 2),
         ],
         ..Default::default()
-    };
-    out.push(draw(dir, NAMES[3], ext, &exit)?);
+    })
+}
 
-    // Total spin against launch angle, the 3-D model over the MLB radar (the `radar-spin/…` rows).
-    if !inputs.radar.is_empty() {
-        let model: Vec<(f64, f64)> = inputs
-            .radar
-            .iter()
-            .filter_map(|b| {
-                let id = format!("radar-spin/{}deg", b.launch_deg);
-                report.rows.iter().find(|r| r.id == id).and_then(|r| r.model).map(|m| (b.launch_deg, m))
-            })
-            .collect();
-        let radar = LineChart {
-            title: "Total spin vs launch angle: 3-D model and MLB radar (80–88 mph)".into(),
-            x_label: "launch angle (deg)".into(),
-            y_label: "total spin (rpm)".into(),
-            x_range: Some((0.0, 50.0)),
-            series: vec![
-                Series::solid("model, median over the bin's sprays (R161, tilted bat)", 0, model),
-                points(
-                    "TrackMan radar, MLB 2018: median",
-                    1,
-                    inputs.radar.iter().map(|b| (b.launch_deg, b.spin_median_rpm)).collect(),
-                ),
-            ],
-            error_bars: vec![ErrorBars {
-                label: "radar interquartile range".into(),
-                color: 1,
-                bars: inputs.radar.iter().map(|b| (b.launch_deg, b.spin_q1_rpm, b.spin_q3_rpm)).collect(),
-                horizontal: false,
-            }],
-            ..Default::default()
-        };
-        out.push(draw(dir, NAMES[4], ext, &radar)?);
+/// Total spin against launch angle, the 3-D model over the MLB radar (the `radar-spin/…` rows). `None` without
+/// the radar table.
+fn radar_spin_vs_launch(inputs: &Inputs, report: &Report) -> Option<LineChart> {
+    if inputs.radar.is_empty() {
+        return None;
     }
-
-    if let Some(chart) = spin_axis_clock(inputs, lab)? {
-        let path = dir.join(format!("{}.{ext}", NAMES[5]));
-        draw_clock_chart(&path, &chart)
-            .map_err(|e| ValidateError::Figure { path: path.clone(), message: format!("{e:#}") })?;
-        out.push(path);
-    }
-    Ok(out)
+    let model: Vec<(f64, f64)> = inputs
+        .radar
+        .iter()
+        .filter_map(|b| {
+            let id = format!("radar-spin/{}deg", b.launch_deg);
+            report.rows.iter().find(|r| r.id == id).and_then(|r| r.model).map(|m| (b.launch_deg, m))
+        })
+        .collect();
+    Some(LineChart {
+        title: "Total spin vs launch angle: 3-D model and MLB radar (80–88 mph)".into(),
+        x_label: "launch angle (deg)".into(),
+        y_label: "total spin (rpm)".into(),
+        x_range: Some((0.0, 50.0)),
+        series: vec![
+            Series::solid("model, median over the bin's sprays (R161, tilted bat)", 0, model),
+            points(
+                "TrackMan radar, MLB 2018: median",
+                1,
+                inputs.radar.iter().map(|b| (b.launch_deg, b.spin_median_rpm)).collect(),
+            ),
+        ],
+        error_bars: vec![ErrorBars {
+            label: "radar interquartile range".into(),
+            color: 1,
+            bars: inputs.radar.iter().map(|b| (b.launch_deg, b.spin_q1_rpm, b.spin_q3_rpm)).collect(),
+            horizontal: false,
+        }],
+        ..Default::default()
+    })
 }
 
 /// TrackMan's spin axis (deg, [0, 360)) of a ball with `backspin` and `sidespin`: atan2(sidespin, −backspin).
